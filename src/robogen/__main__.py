@@ -1,0 +1,5 @@
+import sys
+
+from robogen.cli import main
+
+sys.exit(main())

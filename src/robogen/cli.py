@@ -1,0 +1,101 @@
+"""The ``robogen`` command. Thin: each subcommand lives next to the stage it drives.
+
+A subcommand module defines ``configure(parser)`` (adds its arguments) and ``run(args) -> int``.
+Exit codes: 0 success, 1 problems in the input (models, system files, FMUs), 2 usage errors,
+3 internal errors (a bug in robogen; the message names the model location being processed).
+"""
+
+from __future__ import annotations
+
+import argparse
+import importlib
+import os
+import sys
+import traceback
+from typing import Sequence
+
+from robogen import __version__
+from robogen.diagnostics import RobogenError, SourceMap, UsageError, current_location, render_all
+
+EXIT_OK, EXIT_INPUT, EXIT_USAGE, EXIT_INTERNAL = 0, 1, 2, 3
+
+# name -> (module, one-line help). Order is the order of `robogen --help`.
+COMMANDS: dict[str, tuple[str, str]] = {
+    "check": ("robogen.semantics.cli", "parse, resolve and check RoboChart/RoboSim models"),
+    "graph": ("robogen.semantics.graph", "draw state machines as Graphviz dot or Mermaid"),
+    "compile": ("robogen.codegen.cli", "generate the C sources of an FMI 3.0 FMU from a model"),
+    "package": ("robogen.codegen.package_cli", "compile and zip a model (or generated sources) into an .fmu"),
+    "validate": ("robogen.fmu.validate_cli", "check an .fmu against the FMI 3.0 schema and robogen's clock rules"),
+    "package-py": ("robogen.pyfmu.cli", "package a Python class as an FMI 3.0 FMU (cffi embedding)"),
+    "simulate": ("robogen.cosim.cli", "co-simulate a system of FMI 3.0 FMUs described in TOML"),
+    "plot": ("robogen.cosim.plot", "plot a results CSV written by 'robogen simulate'"),
+}
+
+
+class _Parser(argparse.ArgumentParser):
+    """argparse that raises UsageError instead of exiting, so main() owns the exit code."""
+
+    def error(self, message: str):  # type: ignore[override]
+        raise UsageError(f"{self.prog}: {message}")
+
+
+def build_parser() -> argparse.ArgumentParser:
+    parser = _Parser(
+        prog="robogen",
+        description="RoboChart/RoboSim models to FMI 3.0 co-simulation FMUs, and a clock-aware master.",
+    )
+    parser.add_argument("--version", action="version", version=f"robogen {__version__}")
+    sub = parser.add_subparsers(dest="command", metavar="COMMAND", parser_class=_Parser)
+    for name, (module_name, help_text) in COMMANDS.items():
+        p = sub.add_parser(name, help=help_text, description=help_text)
+        p.set_defaults(_module=module_name)
+        module = _load(module_name)
+        if module is not None:
+            module.configure(p)
+    return parser
+
+
+def _load(module_name: str):
+    try:
+        return importlib.import_module(module_name)
+    except ModuleNotFoundError as exc:
+        if exc.name == module_name:
+            return None
+        raise
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    try:
+        parser = build_parser()
+        args = parser.parse_args(argv)
+        if not getattr(args, "command", None):
+            parser.print_help()
+            return EXIT_USAGE
+        module = _load(args._module)
+        if module is None:
+            raise UsageError(f"robogen {args.command}: not available in this installation")
+        return int(module.run(args) or 0)
+    except UsageError as exc:
+        print(exc, file=sys.stderr)
+        return EXIT_USAGE
+    except RobogenError as exc:
+        print(render_all(exc.diagnostics, SourceMap()), file=sys.stderr)
+        return EXIT_INPUT
+    except KeyboardInterrupt:
+        print("robogen: interrupted", file=sys.stderr)
+        return 130
+    except BrokenPipeError:
+        return EXIT_OK
+    except Exception as exc:  # a bug in robogen: say so, with where it was working
+        where = current_location()
+        at = f" while processing {where}" if where else ""
+        print(f"robogen: internal error{at}: {type(exc).__name__}: {exc}", file=sys.stderr)
+        if os.environ.get("ROBOGEN_DEBUG"):
+            traceback.print_exc()
+        else:
+            print("(set ROBOGEN_DEBUG=1 for the Python traceback)", file=sys.stderr)
+        return EXIT_INTERNAL
+
+
+if __name__ == "__main__":
+    sys.exit(main())
