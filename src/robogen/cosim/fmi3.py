@@ -1,0 +1,336 @@
+"""A thin cffi binding of the FMI 3.0 Co-Simulation API, named exactly as the C header.
+
+``Library(path)`` opens an FMU's shared object (ABI mode: no compiler needed) and resolves
+every function the master uses up front, so a missing symbol is reported at load time by name.
+``Instance`` wraps one ``fmi3Instance``; each method is the C function of the same name with
+the status turned into an exception: any status above ``fmi3Warning`` raises
+:class:`FMI3Error` carrying the function name, the status and the instance name (and the last
+message the FMU logged). Output arguments are returned as tuples.
+
+Value arrays are cffi buffers so the hot loop allocates nothing: :func:`vr_array` and
+:func:`value_array` make them once; the getters fill a caller-owned buffer. An optional
+``trace`` callable receives one line per call (``fmi3DoStep(ball, 0.5, 0.5) -> fmi3OK``).
+"""
+
+from __future__ import annotations
+
+from typing import Callable, Sequence
+
+import cffi
+
+ffi = cffi.FFI()
+ffi.cdef(
+    """
+    typedef void* fmi3Instance;
+    typedef void* fmi3InstanceEnvironment;
+    typedef void* fmi3FMUState;
+    typedef uint32_t fmi3ValueReference;
+    typedef int fmi3Status;
+    typedef void (*fmi3LogMessageCallback)(fmi3InstanceEnvironment, fmi3Status, const char*, const char*);
+    typedef void (*fmi3IntermediateUpdateCallback)(fmi3InstanceEnvironment, double, bool, bool, bool, bool, bool*, double*);
+
+    const char* fmi3GetVersion(void);
+    fmi3Status fmi3SetDebugLogging(fmi3Instance, bool, size_t, const char* const[]);
+    fmi3Instance fmi3InstantiateCoSimulation(const char*, const char*, const char*, bool, bool, bool, bool,
+        const fmi3ValueReference[], size_t, fmi3InstanceEnvironment, fmi3LogMessageCallback,
+        fmi3IntermediateUpdateCallback);
+    void fmi3FreeInstance(fmi3Instance);
+    fmi3Status fmi3EnterInitializationMode(fmi3Instance, bool, double, double, bool, double);
+    fmi3Status fmi3ExitInitializationMode(fmi3Instance);
+    fmi3Status fmi3EnterEventMode(fmi3Instance);
+    fmi3Status fmi3Terminate(fmi3Instance);
+    fmi3Status fmi3Reset(fmi3Instance);
+
+    fmi3Status fmi3GetFloat32(fmi3Instance, const fmi3ValueReference[], size_t, float[], size_t);
+    fmi3Status fmi3GetFloat64(fmi3Instance, const fmi3ValueReference[], size_t, double[], size_t);
+    fmi3Status fmi3GetInt8(fmi3Instance, const fmi3ValueReference[], size_t, int8_t[], size_t);
+    fmi3Status fmi3GetUInt8(fmi3Instance, const fmi3ValueReference[], size_t, uint8_t[], size_t);
+    fmi3Status fmi3GetInt16(fmi3Instance, const fmi3ValueReference[], size_t, int16_t[], size_t);
+    fmi3Status fmi3GetUInt16(fmi3Instance, const fmi3ValueReference[], size_t, uint16_t[], size_t);
+    fmi3Status fmi3GetInt32(fmi3Instance, const fmi3ValueReference[], size_t, int32_t[], size_t);
+    fmi3Status fmi3GetUInt32(fmi3Instance, const fmi3ValueReference[], size_t, uint32_t[], size_t);
+    fmi3Status fmi3GetInt64(fmi3Instance, const fmi3ValueReference[], size_t, int64_t[], size_t);
+    fmi3Status fmi3GetUInt64(fmi3Instance, const fmi3ValueReference[], size_t, uint64_t[], size_t);
+    fmi3Status fmi3GetBoolean(fmi3Instance, const fmi3ValueReference[], size_t, bool[], size_t);
+    fmi3Status fmi3GetString(fmi3Instance, const fmi3ValueReference[], size_t, const char*[], size_t);
+    fmi3Status fmi3GetClock(fmi3Instance, const fmi3ValueReference[], size_t, bool[]);
+    fmi3Status fmi3SetFloat32(fmi3Instance, const fmi3ValueReference[], size_t, const float[], size_t);
+    fmi3Status fmi3SetFloat64(fmi3Instance, const fmi3ValueReference[], size_t, const double[], size_t);
+    fmi3Status fmi3SetInt8(fmi3Instance, const fmi3ValueReference[], size_t, const int8_t[], size_t);
+    fmi3Status fmi3SetUInt8(fmi3Instance, const fmi3ValueReference[], size_t, const uint8_t[], size_t);
+    fmi3Status fmi3SetInt16(fmi3Instance, const fmi3ValueReference[], size_t, const int16_t[], size_t);
+    fmi3Status fmi3SetUInt16(fmi3Instance, const fmi3ValueReference[], size_t, const uint16_t[], size_t);
+    fmi3Status fmi3SetInt32(fmi3Instance, const fmi3ValueReference[], size_t, const int32_t[], size_t);
+    fmi3Status fmi3SetUInt32(fmi3Instance, const fmi3ValueReference[], size_t, const uint32_t[], size_t);
+    fmi3Status fmi3SetInt64(fmi3Instance, const fmi3ValueReference[], size_t, const int64_t[], size_t);
+    fmi3Status fmi3SetUInt64(fmi3Instance, const fmi3ValueReference[], size_t, const uint64_t[], size_t);
+    fmi3Status fmi3SetBoolean(fmi3Instance, const fmi3ValueReference[], size_t, const bool[], size_t);
+    fmi3Status fmi3SetString(fmi3Instance, const fmi3ValueReference[], size_t, const char* const[], size_t);
+    fmi3Status fmi3SetClock(fmi3Instance, const fmi3ValueReference[], size_t, const bool[]);
+
+    fmi3Status fmi3GetFMUState(fmi3Instance, fmi3FMUState*);
+    fmi3Status fmi3SetFMUState(fmi3Instance, fmi3FMUState);
+    fmi3Status fmi3FreeFMUState(fmi3Instance, fmi3FMUState*);
+
+    fmi3Status fmi3GetIntervalDecimal(fmi3Instance, const fmi3ValueReference[], size_t, double[], int[]);
+    fmi3Status fmi3GetShiftDecimal(fmi3Instance, const fmi3ValueReference[], size_t, double[]);
+    fmi3Status fmi3SetIntervalDecimal(fmi3Instance, const fmi3ValueReference[], size_t, const double[]);
+    fmi3Status fmi3SetShiftDecimal(fmi3Instance, const fmi3ValueReference[], size_t, const double[]);
+
+    fmi3Status fmi3UpdateDiscreteStates(fmi3Instance, bool*, bool*, bool*, bool*, bool*, double*);
+    fmi3Status fmi3EnterStepMode(fmi3Instance);
+    fmi3Status fmi3DoStep(fmi3Instance, double, double, bool, bool*, bool*, bool*, double*);
+    """
+)
+
+STATUS_NAMES = ("fmi3OK", "fmi3Warning", "fmi3Discard", "fmi3Error", "fmi3Fatal")
+OK, WARNING, DISCARD, ERROR, FATAL = range(5)
+INTERVAL_NOT_YET_KNOWN, INTERVAL_UNCHANGED, INTERVAL_CHANGED = range(3)
+
+# FMI type -> C element type of its value arrays. Enumeration values travel as Int64.
+C_TYPES = {
+    "Float32": "float", "Float64": "double",
+    "Int8": "int8_t", "UInt8": "uint8_t", "Int16": "int16_t", "UInt16": "uint16_t",
+    "Int32": "int32_t", "UInt32": "uint32_t", "Int64": "int64_t", "UInt64": "uint64_t",
+    "Boolean": "bool", "String": "const char*", "Clock": "bool", "Enumeration": "int64_t",
+}
+ACCESSOR = {t: t for t in C_TYPES}
+ACCESSOR["Enumeration"] = "Int64"
+
+REQUIRED = [name for name in (
+    "fmi3GetVersion fmi3InstantiateCoSimulation fmi3FreeInstance fmi3EnterInitializationMode "
+    "fmi3ExitInitializationMode fmi3EnterEventMode fmi3Terminate fmi3GetFloat64 fmi3SetFloat64 "
+    "fmi3GetClock fmi3SetClock fmi3UpdateDiscreteStates fmi3EnterStepMode fmi3DoStep"
+).split()]
+
+
+class FMI3Error(Exception):
+    """An FMI call returned fmi3Discard, fmi3Error or fmi3Fatal (or failed to instantiate)."""
+
+    def __init__(self, function: str, status: int, instance: str = "", message: str = ""):
+        self.function, self.status, self.instance, self.message = function, status, instance, message
+        who = f"'{instance}': " if instance else ""
+        extra = f" ({message})" if message else ""
+        super().__init__(f"{who}{function} returned {status_name(status)}{extra}")
+
+
+class LoadError(Exception):
+    """The shared object cannot be loaded or lacks an FMI function."""
+
+
+def status_name(status: int) -> str:
+    return STATUS_NAMES[status] if 0 <= status < len(STATUS_NAMES) else f"status {status}"
+
+
+def vr_array(vrs: Sequence[int]):
+    return ffi.new("fmi3ValueReference[]", list(vrs) or [0])
+
+
+def value_array(fmi_type: str, n: int):
+    return ffi.new(f"{C_TYPES[fmi_type]}[]", max(n, 1))
+
+
+class Library:
+    """An FMU's shared object, opened once per path (several instances share it)."""
+
+    def __init__(self, path: str):
+        self.path = path
+        try:
+            self.lib = ffi.dlopen(path)
+        except OSError as exc:
+            raise LoadError(f"cannot load the FMU binary {path}: {exc}") from None
+        missing = []
+        for name in REQUIRED:
+            try:
+                getattr(self.lib, name)
+            except AttributeError:
+                missing.append(name)
+        if missing:
+            raise LoadError(f"the FMU binary {path} does not export {', '.join(missing)}")
+
+    def has(self, name: str) -> bool:
+        try:
+            getattr(self.lib, name)
+            return True
+        except AttributeError:
+            return False
+
+    def fmi3GetVersion(self) -> str:
+        return ffi.string(self.lib.fmi3GetVersion()).decode("utf-8", "replace")
+
+
+@ffi.callback("void(fmi3InstanceEnvironment, fmi3Status, const char*, const char*)")
+def _log_message(env, status, category, message):
+    try:
+        inst = ffi.from_handle(env)
+        text = ffi.string(message).decode("utf-8", "replace") if message != ffi.NULL else ""
+        inst._logged(status, text)
+    except Exception:  # a logger must never raise into C
+        pass
+
+
+class Instance:
+    """One fmi3Instance. Methods are the FMI 3.0 functions; errors raise FMI3Error."""
+
+    def __init__(self, library: Library, name: str, trace: Callable[[str], None] | None = None,
+                 log: Callable[[str, int, str], None] | None = None):
+        self.library, self.lib, self.name = library, library.lib, name
+        self.trace, self.log = trace, log
+        self.handle = ffi.NULL
+        self.last_message = ""
+        self._env = ffi.new_handle(self)
+        self._b4 = ffi.new("bool[6]")
+        self._d1 = ffi.new("double[1]")
+        self._state = ffi.new("fmi3FMUState*")
+
+    # -- plumbing ------------------------------------------------------------------------
+    def _logged(self, status: int, text: str) -> None:
+        if status >= WARNING or not self.last_message:
+            self.last_message = text
+        if self.log is not None:
+            self.log(self.name, status, text)
+
+    def _fail(self, function: str, status: int):
+        raise FMI3Error(function, status, self.name, self.last_message)
+
+    def _trace(self, function: str, args: tuple, status: int) -> None:
+        shown = ", ".join(_show(a) for a in args)
+        self.trace(f"{function}({self.name}{', ' if shown else ''}{shown}) -> {status_name(status)}")
+
+    def _call(self, function: str, *args) -> int:
+        status = getattr(self.lib, function)(self.handle, *args)
+        if self.trace is not None:
+            self._trace(function, args, status)
+        if status > WARNING:
+            self._fail(function, status)
+        return status
+
+    # -- life cycle ------------------------------------------------------------------------
+    def fmi3InstantiateCoSimulation(self, instantiationToken: str, resourcePath: str | None, visible: bool = False,
+                                    loggingOn: bool = False, eventModeUsed: bool = False,
+                                    earlyReturnAllowed: bool = False) -> None:
+        res = ffi.new("char[]", resourcePath.encode()) if resourcePath else ffi.NULL
+        self.handle = self.lib.fmi3InstantiateCoSimulation(
+            self.name.encode(), instantiationToken.encode(), res, visible, loggingOn, eventModeUsed,
+            earlyReturnAllowed, ffi.NULL, 0, self._env, _log_message, ffi.NULL)
+        if self.trace is not None:
+            self.trace(f"fmi3InstantiateCoSimulation({self.name}, eventModeUsed={eventModeUsed}, "
+                       f"earlyReturnAllowed={earlyReturnAllowed}) -> {'NULL' if self.handle == ffi.NULL else 'instance'}")
+        if self.handle == ffi.NULL:
+            self._fail("fmi3InstantiateCoSimulation", ERROR)
+
+    def fmi3FreeInstance(self) -> None:
+        if self.handle != ffi.NULL:
+            self.lib.fmi3FreeInstance(self.handle)
+            if self.trace is not None:
+                self.trace(f"fmi3FreeInstance({self.name})")
+            self.handle = ffi.NULL
+
+    def fmi3EnterInitializationMode(self, tolerance: float | None, startTime: float, stopTime: float | None) -> int:
+        return self._call("fmi3EnterInitializationMode", tolerance is not None, tolerance or 0.0, startTime,
+                          stopTime is not None, stopTime if stopTime is not None else 0.0)
+
+    def fmi3ExitInitializationMode(self) -> int:
+        return self._call("fmi3ExitInitializationMode")
+
+    def fmi3EnterEventMode(self) -> int:
+        return self._call("fmi3EnterEventMode")
+
+    def fmi3EnterStepMode(self) -> int:
+        return self._call("fmi3EnterStepMode")
+
+    def fmi3Terminate(self) -> int:
+        return self._call("fmi3Terminate")
+
+    def fmi3Reset(self) -> int:
+        return self._call("fmi3Reset")
+
+    # -- values ----------------------------------------------------------------------------
+    def get(self, fmi_type: str, vrs, n: int, values) -> None:
+        """fmi3Get<Type>(vrs, n, values, n) into a caller-owned buffer."""
+        if fmi_type == "Clock":
+            self._call("fmi3GetClock", vrs, n, values)
+        else:
+            self._call("fmi3Get" + ACCESSOR[fmi_type], vrs, n, values, n)
+
+    def set(self, fmi_type: str, vrs, n: int, values) -> None:
+        if fmi_type == "Clock":
+            self._call("fmi3SetClock", vrs, n, values)
+        else:
+            self._call("fmi3Set" + ACCESSOR[fmi_type], vrs, n, values, n)
+
+    def fmi3GetFloat64(self, vrs, n: int, values) -> int:
+        if self.trace is not None:
+            return self._call("fmi3GetFloat64", vrs, n, values, n)
+        status = self.lib.fmi3GetFloat64(self.handle, vrs, n, values, n)
+        if status > WARNING:
+            self._fail("fmi3GetFloat64", status)
+        return status
+
+    def fmi3SetFloat64(self, vrs, n: int, values) -> int:
+        return self._call("fmi3SetFloat64", vrs, n, values, n)
+
+    def fmi3GetClock(self, vrs, n: int, values) -> int:
+        return self._call("fmi3GetClock", vrs, n, values)
+
+    def fmi3SetClock(self, vrs, n: int, values) -> int:
+        return self._call("fmi3SetClock", vrs, n, values)
+
+    def fmi3GetIntervalDecimal(self, vrs, n: int) -> tuple[list[float], list[int]]:
+        intervals, qualifiers = ffi.new("double[]", max(n, 1)), ffi.new("int[]", max(n, 1))
+        self._call("fmi3GetIntervalDecimal", vrs, n, intervals, qualifiers)
+        return list(intervals)[:n], list(qualifiers)[:n]
+
+    def fmi3GetShiftDecimal(self, vrs, n: int) -> list[float]:
+        shifts = ffi.new("double[]", max(n, 1))
+        self._call("fmi3GetShiftDecimal", vrs, n, shifts)
+        return list(shifts)[:n]
+
+    def fmi3SetIntervalDecimal(self, vrs, n: int, intervals: Sequence[float]) -> int:
+        return self._call("fmi3SetIntervalDecimal", vrs, n, ffi.new("double[]", list(intervals)))
+
+    def fmi3SetShiftDecimal(self, vrs, n: int, shifts: Sequence[float]) -> int:
+        return self._call("fmi3SetShiftDecimal", vrs, n, ffi.new("double[]", list(shifts)))
+
+    # -- FMU state -------------------------------------------------------------------------
+    def fmi3GetFMUState(self):
+        self._call("fmi3GetFMUState", self._state)
+        return self._state[0]
+
+    def fmi3SetFMUState(self, state) -> int:
+        return self._call("fmi3SetFMUState", state)
+
+    def fmi3FreeFMUState(self) -> None:
+        if self._state[0] != ffi.NULL and self.handle != ffi.NULL:
+            self.lib.fmi3FreeFMUState(self.handle, self._state)
+
+    # -- Event Mode and Step Mode ------------------------------------------------------------
+    def fmi3UpdateDiscreteStates(self) -> tuple[bool, bool, bool, float]:
+        """(discreteStatesNeedUpdate, terminateSimulation, nextEventTimeDefined, nextEventTime)."""
+        b, d = self._b4, self._d1
+        status = self.lib.fmi3UpdateDiscreteStates(self.handle, b, b + 1, b + 2, b + 3, b + 4, d)
+        if self.trace is not None:
+            self._trace("fmi3UpdateDiscreteStates", (), status)
+        if status > WARNING:
+            self._fail("fmi3UpdateDiscreteStates", status)
+        return b[0], b[1], b[4], d[0]
+
+    def fmi3DoStep(self, currentCommunicationPoint: float, communicationStepSize: float,
+                   noSetFMUStatePriorToCurrentPoint: bool = True) -> tuple[bool, bool, bool, float]:
+        """(eventHandlingNeeded, terminateSimulation, earlyReturn, lastSuccessfulTime)."""
+        b, d = self._b4, self._d1
+        status = self.lib.fmi3DoStep(self.handle, currentCommunicationPoint, communicationStepSize,
+                                     noSetFMUStatePriorToCurrentPoint, b, b + 1, b + 2, d)
+        if self.trace is not None:
+            self._trace("fmi3DoStep", (currentCommunicationPoint, communicationStepSize), status)
+        if status > WARNING:
+            self._fail("fmi3DoStep", status)
+        return b[0], b[1], b[2], d[0]
+
+
+def _show(value) -> str:
+    if isinstance(value, float):
+        return repr(value)
+    if isinstance(value, (bool, int, str)):
+        return str(value)
+    return "..."
