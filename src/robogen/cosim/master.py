@@ -105,6 +105,7 @@ class Master:
                     watch[unit.name].append(var.value_reference)
             elif var.is_clocked:
                 kind = "clocked"
+                watch[unit.name] += [c for c in var.clocks if c in unit.by_vr and unit.by_vr[c].causality == "output"]
             else:
                 kind = "value"
                 observe[unit.name].append(var)

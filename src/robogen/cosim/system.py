@@ -334,7 +334,7 @@ def resolve(system: System, models: dict[str, ModelDescription]) -> list[Link]:
 
 
 def _kind(v: Variable) -> str:
-    return "a clock" if v.is_clock else f"a {v.type} variable"
+    return "a clock" if v.is_clock else f"a variable of type {v.type}"
 
 
 def _base_type(v: Variable) -> str:
