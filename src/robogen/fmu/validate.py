@@ -1,0 +1,318 @@
+"""Checking an .fmu: archive safety and layout, the FMI 3.0 XSD, fmpy's checks, and the clock
+rules neither fmpy nor fmutool make (shared/docs/fmi3.md §2.2, §3, §4, §5, §7).
+
+``validate_fmu(path) -> list[Diagnostic]`` returns errors and warnings, each located in a file
+inside the archive (``NAME.fmu/modelDescription.xml:LINE``) where a line is known.
+``validate_fmu_texts(path)`` also returns the texts of those files, for rendering excerpts.
+"""
+
+from __future__ import annotations
+
+import re
+import shutil
+import tempfile
+import zipfile
+from pathlib import Path
+
+from lxml import etree
+
+from robogen.diagnostics import Diagnostic, DiagnosticSink, RobogenError, Span, _sort_key
+from robogen.fmu.elf import ElfError, exported_symbols
+from robogen.fmu.extract import check_archive, extract_fmu
+from robogen.fmu.headers import PLATFORM_TUPLE, include_dir, schema_dir
+from robogen.fmu.modeldesc import ModelDescription, Variable, parse_xml, read_model_description
+
+TOP_LEVEL = {"modelDescription.xml", "binaries", "sources", "resources", "documentation", "extra", "terminalsAndIcons", "icons"}
+TIME_BASED = ("constant", "fixed", "tunable", "changing", "countdown")
+KINDS = TIME_BASED + ("triggered",)
+STRUCTURE_ORDER = ("Output", "ContinuousStateDerivative", "ClockedState", "InitialUnknown", "EventIndicator")
+FRACTION_ATTRS = ("resolution", "intervalCounter", "shiftCounter")
+
+
+def fmi3_function_names() -> list[str]:
+    """The 75 functions fmi3Functions.h declares (read from fmpy's copy of the header)."""
+    text = (include_dir() / "fmi3Functions.h").read_text()
+    return re.findall(r"fmi3\w+TYPE\s+(fmi3\w+);", text)
+
+
+def validate_fmu(path: str | Path) -> list[Diagnostic]:
+    return validate_fmu_texts(path)[0]
+
+
+def validate_fmu_texts(path: str | Path) -> tuple[list[Diagnostic], dict[str, str]]:
+    path = Path(path)
+    sink = DiagnosticSink()
+    texts: dict[str, str] = {}
+    whole = Span.whole_file(str(path))
+    if not path.is_file():
+        return [_error("FMU file not found", whole)], texts
+    problems = check_archive(path)
+    if problems:
+        return problems, texts
+    with zipfile.ZipFile(path) as z:
+        infos = z.infolist()
+    _check_layout(infos, sink, whole)
+    tmp = Path(tempfile.mkdtemp(prefix="robogen-validate-"))
+    try:
+        folder = extract_fmu(path, tmp / "fmu")
+        md_path = folder / "modelDescription.xml"
+        display = f"{path}/modelDescription.xml"
+        if not md_path.is_file():
+            sink.error("the archive has no modelDescription.xml at its root", whole)
+            return sink.sorted(), texts
+        data = md_path.read_bytes()
+        texts[display] = data.decode("utf-8", "replace")
+        try:
+            md = read_model_description(data, display)
+        except RobogenError as exc:
+            sink.extend(exc.diagnostics)
+            return sink.sorted(), texts
+        _check_xsd(data, display, "fmi3ModelDescription.xsd", sink)
+        _check_fmpy(folder, display, sink)
+        check_model_description(md, sink)
+        _check_binary(folder, md, path, sink)
+        bd = folder / "sources" / "buildDescription.xml"
+        if bd.is_file():
+            bd_display = f"{path}/sources/buildDescription.xml"
+            texts[bd_display] = bd.read_text("utf-8", "replace")
+            _check_build_description(bd.read_bytes(), bd_display, md, folder, sink)
+    except RobogenError as exc:
+        sink.extend(exc.diagnostics)
+    finally:
+        shutil.rmtree(tmp, ignore_errors=True)
+    return sorted(sink.items, key=_sort_key), texts
+
+
+def _error(message: str, span: Span | None) -> Diagnostic:
+    from robogen.diagnostics import error
+
+    return error(message, span)
+
+
+# ----------------------------------------------------------------------------------------
+# Archive layout (§4)
+
+
+def _check_layout(infos: list[zipfile.ZipInfo], sink: DiagnosticSink, whole: Span) -> None:
+    for info in infos:
+        top = info.filename.split("/")[0]
+        if top not in TOP_LEVEL:
+            sink.warning(f"'{info.filename}' is outside the FMI 3.0 archive layout (use extra/ for other files)", whole)
+        if info.extract_version > 20:
+            sink.error(f"'{info.filename}' needs ZIP version {info.extract_version / 10:.1f} to extract; FMI allows at most 2.0", whole)
+        parts = info.filename.split("/")
+        if parts[0] == "binaries" and len(parts) > 2 and parts[1] in ("linux64", "linux32", "win64", "win32", "darwin64"):
+            sink.error(f"'binaries/{parts[1]}' is an FMI 2.0 platform name; FMI 3.0 uses tuples such as '{PLATFORM_TUPLE}'", whole)
+
+
+# ----------------------------------------------------------------------------------------
+# XSD and fmpy
+
+
+def _check_xsd(data: bytes, display: str, xsd_name: str, sink: DiagnosticSink) -> None:
+    try:
+        schema = etree.XMLSchema(etree.parse(str(schema_dir() / xsd_name)))
+    except (etree.XMLSchemaParseError, OSError) as exc:
+        sink.warning(f"cannot load the XSD {xsd_name} from fmpy: {exc}", None)
+        return
+    doc = parse_xml(data, display)
+    if not schema.validate(doc):
+        for e in schema.error_log:
+            msg = re.sub(r"\{[^}]*\}", "", e.message)
+            sink.error(f"XSD: {msg}", Span.point(display, e.line or 1, (e.column or 0) + 1))
+
+
+def _check_fmpy(folder: Path, display: str, sink: DiagnosticSink) -> None:
+    try:
+        from fmpy.validation import validate_fmu as fmpy_validate
+    except ImportError:  # pragma: no cover - fmpy is a dependency
+        return
+    try:
+        problems = fmpy_validate(str(folder))
+    except Exception as exc:  # fmpy's own failures become one message, never a traceback
+        problems = [f"fmpy could not read the FMU: {exc}"]
+    for p in problems:
+        first = str(p).strip().splitlines()[0] if str(p).strip() else str(p)
+        if "schema" in first.lower() or first.startswith("Failed to validate"):
+            continue  # the XSD check above reports these with lines
+        sink.error(f"fmpy: {first}", Span.whole_file(display))
+
+
+# ----------------------------------------------------------------------------------------
+# robogen's rules on the model description (§2.2, §3)
+
+
+def check_model_description(md: ModelDescription, sink: DiagnosticSink) -> None:
+    at = md.span
+    by_vr = md.by_vr()
+    clocks = [v for v in md.variables if v.is_clock]
+    cs = md.co_simulation
+    if cs is None:
+        sink.error("no <CoSimulation> element: robogen's master imports FMI 3.0 Co-Simulation FMUs", at(1))
+    elif clocks and not cs.has_event_mode:
+        sink.error(f"the FMU has clocks ({', '.join(c.name for c in clocks[:3])}) but <CoSimulation> lacks hasEventMode=\"true\"", at(cs.line))
+    if cs is not None and cs.might_return_early is False and cs.attributes.get("canReturnEarlyAfterIntermediateUpdate") == "true" \
+            and cs.attributes.get("providesIntermediateUpdate") != "true":
+        sink.error("canReturnEarlyAfterIntermediateUpdate needs providesIntermediateUpdate", at(cs.line))
+
+    for v in clocks:
+        _check_clock(v, sink, at)
+    previous_seen: dict[int, str] = {}
+    for v in md.variables:
+        if v.clocks:
+            for vr in v.clocks:
+                target = by_vr.get(vr)
+                if target is None:
+                    sink.error(f"'{v.name}': clocks=\"{' '.join(map(str, v.clocks))}\" names value reference {vr}, which no variable has", at(v.line))
+                elif not target.is_clock:
+                    sink.error(f"'{v.name}': clocks= names '{target.name}' (value reference {vr}), which is a {target.type}, not a Clock", at(v.line))
+            if len(v.clocks) > 1:
+                sink.warning(f"'{v.name}' has {len(v.clocks)} clocks; robogen keeps one clock per clocked variable (some importers reject more)", at(v.line))
+            if not v.is_clock and v.variability not in ("discrete", "tunable"):
+                sink.error(f"clocked variable '{v.name}' has variability=\"{v.variability}\"; clocked variables are discrete or tunable", at(v.line))
+        if v.previous is not None:
+            prev = by_vr.get(v.previous)
+            if v.is_clock:
+                sink.error(f"clock '{v.name}' cannot have previous= (clocks are not clocked states)", at(v.line))
+            elif prev is None:
+                sink.error(f"'{v.name}': previous=\"{v.previous}\" names no variable", at(v.line))
+            elif prev is v or prev.value_reference == v.value_reference:
+                sink.error(f"'{v.name}': previous= names the variable itself", at(v.line))
+            elif prev.type != v.type or prev.variability != "discrete" or prev.causality == "input":
+                sink.error(f"'{v.name}': previous= must name a discrete, non-input variable of type {v.type}; '{prev.name}' is {prev.variability} {prev.causality} {prev.type}", at(v.line))
+            elif v.previous in previous_seen:
+                sink.error(f"'{v.name}' and '{previous_seen[v.previous]}' share previous=\"{v.previous}\"", at(v.line))
+            previous_seen.setdefault(v.previous, v.name)
+    _check_structure(md, sink)
+
+
+def _check_clock(v: Variable, sink: DiagnosticSink, at) -> None:
+    a, kind = v.attributes, v.interval_variability
+    where = at(v.line)
+    if v.variability != "discrete":
+        sink.error(f"clock '{v.name}' has variability=\"{v.variability}\"; clocks are discrete", where)
+    if kind not in KINDS:
+        sink.error(f"clock '{v.name}' needs intervalVariability (one of {', '.join(KINDS)})", where)
+        return
+    if v.causality == "output" and kind != "triggered":
+        sink.error(f"output clock '{v.name}' is {kind}; output clocks must be triggered", where)
+    if kind in TIME_BASED and v.causality != "input":
+        sink.error(f"{kind} clock '{v.name}' has causality=\"{v.causality}\"; time-based clocks are inputs", where)
+    for attr in ("start", "initial", "previous", "intermediateUpdate"):
+        if attr in a:
+            sink.error(f"clock '{v.name}' has {attr}=; a Clock has none", where)
+    if kind == "constant" and v.interval is None:
+        sink.error(f"constant clock '{v.name}' needs intervalDecimal", where)
+    if kind in ("fixed", "tunable") and v.interval is None:
+        sink.warning(f"{kind} clock '{v.name}' has no intervalDecimal (required by the 3.0.2 text; robogen emits it and uses 'constant')", where)
+    if kind in ("changing", "countdown", "triggered"):
+        for attr in ("intervalDecimal", "shiftDecimal") + FRACTION_ATTRS:
+            if attr in a:
+                sink.error(f"{kind} clock '{v.name}' must not have {attr}", where)
+    if kind == "triggered" and "supportsFraction" in a:
+        sink.error(f"triggered clock '{v.name}' must not have supportsFraction", where)
+    if v.interval is not None and v.interval <= 0:
+        sink.error(f"clock '{v.name}': intervalDecimal must be > 0", where)
+    if v.shift is not None and v.shift < 0:
+        sink.error(f"clock '{v.name}': shiftDecimal must be >= 0", where)
+    if "shiftDecimal" in a and "intervalDecimal" not in a and kind in ("constant", "fixed", "tunable"):
+        sink.error(f"clock '{v.name}': shiftDecimal needs intervalDecimal", where)
+    if any(x in a for x in FRACTION_ATTRS) and a.get("supportsFraction") != "true":
+        sink.error(f"clock '{v.name}': resolution/intervalCounter/shiftCounter need supportsFraction=\"true\"", where)
+    if v.causality == "output" and "priority" in a:
+        sink.error(f"output clock '{v.name}' must not have priority", where)
+
+
+def _check_structure(md: ModelDescription, sink: DiagnosticSink) -> None:
+    at = md.span
+    by_vr = md.by_vr()
+    rank = -1
+    for u in md.unknowns:
+        if u.kind not in STRUCTURE_ORDER:
+            continue
+        r = STRUCTURE_ORDER.index(u.kind)
+        if r < rank:
+            sink.error(f"<{u.kind}> after <{STRUCTURE_ORDER[rank]}>: ModelStructure lists {', '.join(STRUCTURE_ORDER)} in that order", at(u.line))
+        rank = max(rank, r)
+        var = by_vr.get(u.value_reference)
+        if var is None:
+            sink.error(f"<{u.kind} valueReference=\"{u.value_reference}\"> names no variable", at(u.line))
+            continue
+        if var.is_clock and var.causality == "local":
+            sink.error(f"local clock '{var.name}' must not appear in ModelStructure", at(u.line))
+        if u.kind == "Output" and var.causality != "output":
+            sink.error(f"<Output> lists '{var.name}', whose causality is {var.causality}", at(u.line))
+        if u.kind == "ClockedState" and (not var.clocks or var.previous is None):
+            sink.error(f"<ClockedState> lists '{var.name}', which is not a clocked variable with previous=", at(u.line))
+        if u.kind == "InitialUnknown" and var.clocks:
+            sink.warning(f"<InitialUnknown> lists the clocked variable '{var.name}' (legal, but fmpy's validator rejects it)", at(u.line))
+        for d in u.dependencies or ():
+            if d not in by_vr:
+                sink.error(f"<{u.kind}> for '{var.name}' depends on value reference {d}, which no variable has", at(u.line))
+    listed = {u.value_reference for u in md.unknowns if u.kind == "Output"}
+    for v in md.variables:
+        if v.causality == "output" and v.value_reference not in listed:
+            sink.error(f"output {'clock ' if v.is_clock else ''}'{v.name}' is missing from <ModelStructure><Output>", at(v.line))
+    states = {u.value_reference for u in md.unknowns if u.kind == "ClockedState"}
+    for v in md.variables:
+        if v.clocks and v.previous is not None and not v.is_clock and v.value_reference not in states:
+            sink.error(f"clocked state '{v.name}' is missing from <ModelStructure><ClockedState>", at(v.line))
+
+
+# ----------------------------------------------------------------------------------------
+# Binary (§5) and build description (§4)
+
+
+def _check_binary(folder: Path, md: ModelDescription, fmu: Path, sink: DiagnosticSink) -> None:
+    if md.co_simulation is None:
+        return
+    ident = md.co_simulation.model_identifier
+    so = folder / "binaries" / PLATFORM_TUPLE / f"{ident}.so"
+    display = f"{fmu}/binaries/{PLATFORM_TUPLE}/{ident}.so"
+    if not so.is_file():
+        if (folder / "binaries").is_dir():
+            sink.warning(f"no binary for {PLATFORM_TUPLE}: binaries/{PLATFORM_TUPLE}/{ident}.so is missing", Span.whole_file(str(fmu)))
+        return
+    try:
+        symbols = exported_symbols(so.read_bytes())
+    except ElfError as exc:
+        sink.error(f"cannot read the binary: {exc}", Span.whole_file(display))
+        return
+    missing = [f for f in fmi3_function_names() if f not in symbols]
+    if missing:
+        shown = ", ".join(missing[:8]) + (f" and {len(missing) - 8} more" if len(missing) > 8 else "")
+        sink.error(f"the binary exports {75 - len(missing)} of the 75 FMI 3.0 functions; missing: {shown}", Span.whole_file(display))
+    prefixed = sorted(s for s in symbols if s.startswith(f"{ident}_fmi3"))
+    if prefixed:
+        sink.error(f"the binary exports prefixed names ({prefixed[0]}, ...): FMI3_FUNCTION_PREFIX must not be defined for a shared object", Span.whole_file(display))
+
+
+def _check_build_description(data: bytes, display: str, md: ModelDescription, folder: Path, sink: DiagnosticSink) -> None:
+    _check_xsd(data, display, "fmi3BuildDescription.xsd", sink)
+    root = parse_xml(data, display).getroot()
+    at = lambda el: Span.point(display, el.sourceline or 1)  # noqa: E731
+    if root.get("fmiVersion") != md.fmi_version:
+        sink.error(f"buildDescription fmiVersion=\"{root.get('fmiVersion')}\" differs from the model description's \"{md.fmi_version}\"", at(root))
+    configs = root.findall("BuildConfiguration")
+    if not configs:
+        sink.error("no <BuildConfiguration>", at(root))
+    if sum(1 for c in configs if c.get("platform") is None) > 1:
+        sink.error("more than one <BuildConfiguration> without platform=", at(root))
+    if len(configs) > 1:
+        sink.warning("several <BuildConfiguration>s: fmpy compile reads only the first", at(configs[1]))
+    idents = {md.co_simulation.model_identifier} if md.co_simulation else set()
+    for c in configs:
+        if idents and c.get("modelIdentifier") not in idents:
+            sink.error(f"<BuildConfiguration modelIdentifier=\"{c.get('modelIdentifier')}\"> matches no interface's modelIdentifier", at(c))
+        sets = c.findall("SourceFileSet")
+        if len(sets) > 1:
+            sink.warning("several <SourceFileSet>s: fmpy compile reads only the first", at(sets[1]))
+        for s in sets:
+            for f in s.findall("SourceFile"):
+                if not (folder / "sources" / (f.get("name") or "")).is_file():
+                    sink.error(f"<SourceFile name=\"{f.get('name')}\"> is not in sources/", at(f))
+            for d in s.findall("PreprocessorDefinition"):
+                if d.get("name") == "FMI3_FUNCTION_PREFIX":
+                    sink.error("FMI3_FUNCTION_PREFIX must not be defined: a shared object exports unprefixed names", at(d))
+                elif d.get("value") is None:
+                    sink.warning(f"<PreprocessorDefinition name=\"{d.get('name')}\"> has no value (fmpy passes it as {d.get('name')}=None)", at(d))
