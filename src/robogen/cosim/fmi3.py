@@ -182,6 +182,8 @@ class Instance:
         self._b4 = ffi.new("bool[6]")
         self._d1 = ffi.new("double[1]")
         self._state = ffi.new("fmi3FMUState*")
+        b = self._b4
+        self.step_outputs = (b + 0, b + 1, b + 2, self._d1)  # fmi3DoStep's output pointers, made once
 
     # -- plumbing ------------------------------------------------------------------------
     def _logged(self, status: int, text: str) -> None:

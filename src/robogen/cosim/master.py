@@ -72,6 +72,10 @@ class Master:
         self.event_units = [u for u in units if u.event_mode]
         self.step_order = [u for u in units if u.early] + [u for u in units if not u.early]
         self.rollback = len([u for u in units if u.early]) > 1
+        self.any_early = any(u.early for u in units)
+        # the plain-step loop needs: nobody returns early, no call trace
+        self.plain_ok = not self.any_early and all(u.inst.trace is None for u in units)
+        self._next_event = math.inf
         self._wire(links, record)
 
     # ------------------------------------------------------------------------------------
@@ -126,25 +130,35 @@ class Master:
         opt = self.options
         progress = Progress(opt.start, opt.stop, enabled=opt.progress)
         pacer = Pacer(opt.realtime, opt.start) if opt.realtime else None
+        self._t = opt.start
         try:
             self._setup()
             t = opt.start
             self._event_iteration(t)
-            while t < opt.stop - tolerance(opt.stop) and self.stats.terminated_by is None:
+            stop_limit = opt.stop - tolerance(opt.stop)
+            while t < stop_limit and self.stats.terminated_by is None:
+                if self.plain_ok:
+                    t = self._plain_steps(t, pacer, progress)
+                    if t >= stop_limit or self.stats.terminated_by is not None:
+                        break
                 t_next = self._next_point(t)
+                self._t = t
                 t, event = self._step(t, t_next)
+                self._t = t
                 self.stats.steps += 1
                 if pacer is not None:
                     pacer.wait(t)
-                if event or self._time_event_due(t):
+                if event or self._next_event <= t + tolerance(t):
                     for u in self.event_units:
-                        self._call(u, t, u.inst.fmi3EnterEventMode)
+                        u.inst.fmi3EnterEventMode()
                     self._event_iteration(t)
                 else:
                     self._exchange_values(t)
                     self._record(t, 0)
                 progress.update(t)
             self.stats.end_time = t
+        except FMI3Error as exc:
+            raise self._as_error(exc) from None
         finally:
             self._shutdown()
             progress.close()
@@ -161,14 +175,14 @@ class Master:
             u.inst.fmi3InstantiateCoSimulation(u.md.instantiation_token, u.resource_path(), False, False,
                                                eventModeUsed=u.event_mode, earlyReturnAllowed=u.early)
         for u in self.units:
-            self._call(u, opt.start, u.inst.fmi3EnterInitializationMode, self.system.tolerance, opt.start, opt.stop)
+            u.inst.fmi3EnterInitializationMode(self.system.tolerance, opt.start, opt.stop)
         for u in self.units:
-            self._call(u, opt.start, self._start_values, u)
-            self._call(u, opt.start, self._clock_timing, u)
+            self._start_values(u)
+            self._clock_timing(u)
         # values in dependency order (Initialization Mode allows Get outputs / Set inputs)
         self._propagate(opt.start, clocks=False, event_mode=False)
         for u in self.units:
-            self._call(u, opt.start, u.inst.fmi3ExitInitializationMode)
+            u.inst.fmi3ExitInitializationMode()
 
     def _start_values(self, u: Unit) -> None:
         spec = self.system.instances[u.name]
@@ -217,21 +231,84 @@ class Master:
         grid = opt.start + (n + 1) * opt.step
         if grid <= t + tolerance(t):
             grid = opt.start + (n + 2) * opt.step
-        candidates = [grid, opt.stop]
+        return min(grid, opt.stop, self._next_event)
+
+    def _plain_steps(self, t: float, pacer, progress) -> float:
+        """The same steps as the general loop, specialised for the quiet stretch up to the next
+        time event: no early returns, so every FMU steps on the grid; stops after the first step
+        after which an FMU asks for Event Mode or to terminate. Returns the time reached."""
+        opt = self.options
+        start, h = opt.start, opt.step
+        horizon = min(self._next_event, opt.stop)
+        n = math.floor((t - start) / h + 1e-9)
+        calls = [(u, u.inst.lib.fmi3DoStep, u.inst.handle, *u.inst.step_outputs) for u in self.units]
+        event_units = self.event_units
+        linked = any(self.value_links.values())
+        stats = self.stats
+        # a step row: values from the readers' buffers, clocks 0, clocked values empty
+        cols = [(reader[0].values, reader[1]) if kind == "value" else ((0,) if kind == "clock" else (None,), 0)
+                for kind, _u, _v, reader in self.value_columns]
+        recorder = self.recorder
+        while True:
+            n += 1
+            t_next = start + n * h
+            if t_next >= horizon - 1e-9 * max(1.0, abs(horizon)) or t_next <= t:
+                return t
+            self._t = t
+            event = False
+            for u, do_step, handle, ev, term, er, lst in calls:
+                status = do_step(handle, t, t_next - t, True, ev, term, er, lst)
+                if status > 1:
+                    u.inst._fail("fmi3DoStep", status)
+                if ev[0] or term[0]:
+                    event = event or (ev[0] and u.event_mode)
+                    if term[0] and stats.terminated_by is None:
+                        stats.terminated_by = f"instance '{u.name}' asked to terminate in fmi3DoStep at t={t_next!r}"
+                u.time = t_next
+            t = self._t = t_next
+            stats.steps += 1
+            if pacer is not None:
+                pacer.wait(t)
+            if event:
+                for u in event_units:
+                    u.inst.fmi3EnterEventMode()
+                self._event_iteration(t)
+                return t
+            if linked:
+                self._exchange_values(t)
+            else:
+                for u in self.units:
+                    u.read_outputs()
+            row = [t, 0]
+            row += [src[i] for src, i in cols]
+            recorder.row(row)
+            if progress.enabled:
+                progress.update(t)
+            if stats.terminated_by is not None:
+                return t
+
+    def _refresh_timing(self, t: float) -> None:
+        """The earliest clock tick or nextEventTime after t, over all FMUs (after setup and each Event Mode)."""
+        limit = t + tolerance(t)
+        times = [math.inf]
         for u in self.units:
             tick = u.next_tick()
-            if tick > t + tolerance(t):
-                candidates.append(tick)
-            if u.next_event_time is not None and u.next_event_time > t + tolerance(t):
-                candidates.append(u.next_event_time)
-        return min(candidates)
-
-    def _time_event_due(self, t: float) -> bool:
-        limit = t + tolerance(t)
-        return any(u.next_tick() <= limit or (u.next_event_time is not None and u.next_event_time <= limit) for u in self.units)
+            times.append(tick if tick > limit else math.inf)
+            if u.next_event_time is not None and u.next_event_time > limit:
+                times.append(u.next_event_time)
+        self._next_event = min(times)
 
     def _step(self, t: float, t_next: float) -> tuple[float, bool]:
         """Step every FMU from t towards t_next; return (time reached by all, event pending)."""
+        if not self.any_early:  # nobody can return early: one DoStep each, no bookkeeping
+            event = False
+            for u in self.units:
+                ev, term, _er, _lst = u.inst.fmi3DoStep(t, t_next - t, True)
+                u.time = t_next
+                if term and self.stats.terminated_by is None:
+                    self.stats.terminated_by = f"instance '{u.name}' asked to terminate in fmi3DoStep at t={t_next!r}"
+                event = event or (ev and u.event_mode)
+            return t_next, event
         end = t_next
         stepped: list[tuple[Unit, object, float]] = []
         for u in self.units:
@@ -239,7 +316,7 @@ class Master:
         for u in self.step_order:
             if u.time >= end - tolerance(end):
                 continue  # ahead after an early return it could not be rolled back from
-            saved = self._call(u, t, u.inst.fmi3GetFMUState) if (self.rollback and u.early and u.can_state) else None
+            saved = u.inst.fmi3GetFMUState() if (self.rollback and u.early and u.can_state) else None
             t_u = u.time
             self._do_step(u, end)
             if u.time < end - tolerance(end):  # early return: nobody goes past lastSuccessfulTime
@@ -247,7 +324,7 @@ class Master:
                 self.stats.early_returns += 1
                 for v, v_saved, t_v in stepped:
                     if v.time > end + tolerance(end) and v_saved is not None:
-                        self._call(v, t_v, v.inst.fmi3SetFMUState, v_saved)
+                        v.inst.fmi3SetFMUState(v_saved)
                         v.time = t_v
                         self.stats.rollbacks += 1
                         self._do_step(v, end)
@@ -261,7 +338,7 @@ class Master:
         return end, event
 
     def _do_step(self, u: Unit, end: float) -> None:
-        ev, term, er, lst = self._call(u, u.time, u.inst.fmi3DoStep, u.time, end - u.time, not self.rollback)
+        ev, term, er, lst = u.inst.fmi3DoStep(u.time, end - u.time, not self.rollback)
         u.flags = (ev, term, er, lst)
         u.time = lst if er else end
 
@@ -272,7 +349,7 @@ class Master:
         for u in self.units:
             due = [p for p in u.periodic if p.next_time() <= limit] + [a for a in u.aperiodic if a.next is not None and a.next <= limit]
             if due:
-                self._call(u, t, u.set_clocks, sorted(c.var.value_reference for c in due))
+                u.set_clocks(sorted(c.var.value_reference for c in due))
                 for c in due:
                     if isinstance(c, Periodic):
                         c.k = max(c.k + 1, math.floor((t - c.start - c.shift) / c.interval + 1e-9) + 1)
@@ -290,7 +367,7 @@ class Master:
                 ticked_all[name] |= vrs
             needs = []
             for u in self.event_units:
-                need, term, defined, nxt = self._call(u, t, u.inst.fmi3UpdateDiscreteStates)
+                need, term, defined, nxt = u.inst.fmi3UpdateDiscreteStates()
                 u.active.clear()
                 u.next_event_time = nxt if defined else None
                 if need:
@@ -306,14 +383,15 @@ class Master:
         self._read_intervals(t, ticked_all)
         self._record(t, k)
         for u in self.event_units:
-            self._call(u, t, u.inst.fmi3EnterStepMode)
+            u.inst.fmi3EnterStepMode()
+        self._refresh_timing(t)
 
     def _read_intervals(self, t: float, ticked: dict) -> None:
         for u in self.units:
             for a in u.aperiodic:
                 kind, vr = a.var.interval_variability, a.var.value_reference
                 if kind == "countdown" or vr in ticked[u.name]:
-                    intervals, qualifiers = self._call(u, t, u.inst.fmi3GetIntervalDecimal, vr_array([vr]), 1)
+                    intervals, qualifiers = u.inst.fmi3GetIntervalDecimal(vr_array([vr]), 1)
                     if qualifiers[0] == INTERVAL_CHANGED or (qualifiers[0] != INTERVAL_NOT_YET_KNOWN and a.next is None):
                         a.next = t + intervals[0]
 
@@ -335,7 +413,7 @@ class Master:
             u = self.by_name[name]
             woken: set[str] = set()
             if clocks:
-                for vr in self._call(u, t, u.read_clocks):
+                for vr in u.read_clocks():
                     u.active.add(vr)
                     if (name, vr) in forwarded:
                         continue
@@ -345,10 +423,10 @@ class Master:
                         if not dst.event_mode:
                             continue
                         if route.target_clock not in dst.active:
-                            self._call(dst, t, dst.set_clocks, [route.target_clock])
+                            dst.set_clocks([route.target_clock])
                         for src_var, dst_var in route.values:
-                            value = self._call(u, t, u.get_one, src_var)
-                            self._call(dst, t, dst.set_values, dst_var.type, [dst_var.value_reference], [value])
+                            value = u.get_one(src_var)
+                            dst.set_values(dst_var.type, [dst_var.value_reference], [value])
                         woken.add(dst.name)
             woken |= self._forward_values(u, t)
             for w in woken:
@@ -358,14 +436,14 @@ class Master:
 
     def _forward_values(self, u: Unit, t: float) -> set[str]:
         """Read u's observed outputs; set connected inputs whose value changed. Returns targets set."""
-        self._call(u, t, u.read_outputs)
+        u.read_outputs()
         woken = set()
         for vr, dst, dst_var in self.value_links[u.name]:
             value = u.value(vr)
             key = (dst.name, dst_var.value_reference)
             if self.last_set.get(key, _UNSET) != value:
                 self.last_set[key] = value
-                self._call(dst, t, dst.set_values, dst_var.type, [dst_var.value_reference], [value])
+                dst.set_values(dst_var.type, [dst_var.value_reference], [value])
                 woken.add(dst.name)
         return woken
 
@@ -396,7 +474,7 @@ class Master:
             elif kind == "clock":
                 row.append(1 if var.value_reference in u.active else 0)
             elif any(c in u.active for c in var.clocks):
-                row.append(self._call(u, t, u.get_one, var))
+                row.append(u.get_one(var))
             else:
                 row.append(None)
         self.recorder.row(row)
@@ -407,20 +485,19 @@ class Master:
         for u in self.units:
             for vr in sorted(u.active):
                 clock = u.by_vr[vr]
-                values = {v.name: self._call(u, t, u.get_one, v) for v in u.md.variables
+                values = {v.name: u.get_one(v) for v in u.md.variables
                           if vr in v.clocks and not v.is_clock and v.causality in ("input", "output")}
                 self.recorder.event(t, k, u.name, clock.name, values)
 
     # -- errors and shutdown --------------------------------------------------------------------
-    def _call(self, u: Unit, t: float, fn, *args):
-        try:
-            return fn(*args)
-        except FMI3Error as exc:
+    def _as_error(self, exc: FMI3Error) -> RobogenError:
+        u = self.by_name.get(exc.instance)
+        if u is not None:
             u.failed_status = exc.status
-            what = "discarded the call (fmi3Discard; the master does not retry)" if exc.status == DISCARD else f"returned {status_name(exc.status)}"
-            notes = [Note(f"the FMU logged: {exc.message}")] if exc.message else []
-            raise RobogenError.at(f"instance '{u.name}': {exc.function} {what} at t={t!r}; the results recorded so far are kept",
-                                  u.span, *notes) from None
+        what = "discarded the call (fmi3Discard; the master does not retry)" if exc.status == DISCARD else f"returned {status_name(exc.status)}"
+        notes = [Note(f"the FMU logged: {exc.message}")] if exc.message else []
+        return RobogenError.at(f"instance '{exc.instance}': {exc.function} {what} at t={self._t!r}; the results recorded so far are kept",
+                               u.span if u else None, *notes)
 
     def _shutdown(self) -> None:
         """fmi3Terminate every healthy instance, free all but those that returned fmi3Fatal."""

@@ -66,10 +66,22 @@ class Reader:
         self.buffer = value_array(self.fmi_type, self.n)
         self.values = self.buffer if self.fmi_type != "String" else [""] * self.n
 
+    def bind(self, inst: Instance) -> None:
+        from robogen.cosim.fmi3 import ACCESSOR
+
+        self.inst = inst
+        self.function = "fmi3Get" + ACCESSOR[self.fmi_type]
+        self.c_function = getattr(inst.lib, self.function)
+
     def read(self, inst: Instance) -> None:
-        inst.get(self.fmi_type, self.c_vrs, self.n, self.buffer)
+        if inst.trace is not None:
+            inst.get(self.fmi_type, self.c_vrs, self.n, self.buffer)
+        else:
+            status = self.c_function(inst.handle, self.c_vrs, self.n, self.buffer, self.n)
+            if status > 1:
+                inst._fail(self.function, status)
         if self.fmi_type == "String":
-            self.values = [ffi.string(p).decode("utf-8", "replace") if p != ffi.NULL else "" for p in self.buffer[0:self.n]]
+            self.values[:] = [ffi.string(p).decode("utf-8", "replace") if p != ffi.NULL else "" for p in self.buffer[0:self.n]]
 
 
 class FmuCache:
@@ -144,6 +156,8 @@ class Unit:
             if not v.is_clock and not v.is_clocked and v.value_reference not in by_type.get(v.type, []):
                 by_type.setdefault(v.type, []).append(v.value_reference)
         self.readers = [Reader(t, vrs) for t, vrs in sorted(by_type.items())]
+        for r in self.readers:
+            r.bind(self.inst)
         self.reader_of = {vr: (r, i) for r in self.readers for vr, i in r.index.items()}
 
     def watch_clocks(self, vrs: list[int]) -> None:
@@ -152,8 +166,9 @@ class Unit:
         self.out_clock_buffer = value_array("Clock", len(self.out_clocks))
 
     def read_outputs(self) -> None:
+        inst = self.inst
         for r in self.readers:
-            r.read(self.inst)
+            r.read(inst)
 
     def value(self, vr: int):
         r, i = self.reader_of[vr]

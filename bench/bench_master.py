@@ -1,0 +1,152 @@
+"""Benchmark of robogen's co-simulation master against fmpy, run in the same process.
+
+Prints medians and ratios (never asserted anywhere):
+  1. one FMI call (fmi3GetFloat64 of one value): robogen's cffi binding vs fmpy's FMU3Slave
+  2. 100,000 communication steps of a trivial FMU: robogen.cosim vs fmpy.simulate_fmu
+     (both record the one output at every step, in memory; event mode on in both)
+  3. the cost of one event iteration (a stair FMU with a time event at every step vs none)
+  4. 1, 10 and 100 chained FMUs: time per communication step (linear growth is the target)
+
+    python bench/bench_master.py [--quick]
+"""
+
+from __future__ import annotations
+
+import importlib.util
+import statistics
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+import fmpy
+from fmpy.fmi3 import FMU3Slave
+
+from robogen.cosim import simulate_system
+from robogen.cosim.fmi3 import Instance, Library, ffi, vr_array
+
+ROOT = Path(__file__).resolve().parent.parent
+QUICK = "--quick" in sys.argv
+REPEAT = 3
+
+
+def load_builder():
+    spec = importlib.util.spec_from_file_location("robogen_test_fmus_build", ROOT / "tests" / "cosim" / "fmus" / "build.py")
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module
+
+
+def median_time(fn, repeat=REPEAT) -> float:
+    times = []
+    for _ in range(repeat):
+        t0 = time.perf_counter()
+        fn()
+        times.append(time.perf_counter() - t0)
+    return statistics.median(times)
+
+
+def system(folder: Path, name: str, text: str) -> Path:
+    path = folder / f"{name}.toml"
+    path.write_text(text)
+    return path
+
+
+def bench_calls(fmus: dict[str, Path], folder: Path) -> None:
+    n = 20_000 if QUICK else 200_000
+    unzipped = fmpy.extract(str(fmus["trivial"]), str(folder / "trivial-x"))
+    md = fmpy.read_model_description(unzipped)
+    so = str(Path(unzipped) / "binaries" / "x86_64-linux" / "trivial.so")
+    # robogen
+    inst = Instance(Library(so), "r")
+    inst.fmi3InstantiateCoSimulation(md.instantiationToken, None, eventModeUsed=False)
+    inst.fmi3EnterInitializationMode(None, 0.0, None)
+    vrs, vals = vr_array([2]), ffi.new("double[1]")
+
+    def ours():
+        get = inst.fmi3GetFloat64
+        for _ in range(n):
+            get(vrs, 1, vals)
+
+    # fmpy
+    slave = FMU3Slave(guid=md.instantiationToken, unzipDirectory=unzipped, modelIdentifier="trivial", instanceName="f")
+    slave.instantiate()
+    slave.enterInitializationMode()
+
+    def theirs():
+        get = slave.getFloat64
+        for _ in range(n):
+            get([2])
+
+    a, b = median_time(ours), median_time(theirs)
+    print(f"1. one fmi3GetFloat64 call: robogen {1e6 * a / n:.3f} us, fmpy FMU3Slave.getFloat64 {1e6 * b / n:.3f} us "
+          f"-> robogen {b / a:.1f}x faster")
+    inst.fmi3FreeInstance()
+    slave.terminate()
+    slave.freeInstance()
+
+
+def bench_steps(fmus: dict[str, Path], folder: Path) -> None:
+    steps = 10_000 if QUICK else 100_000
+    h = 1.0 / steps
+    path = system(folder, "trivial", f'[experiment]\nstop = 1.0\nstep = {h!r}\n[instances.t]\nfmu = "{fmus["trivial"]}"\n'
+                                     '[record]\nvariables = ["t.y"]\n')
+    results = {}
+
+    def ours():
+        results["ours"] = simulate_system(path)
+
+    def theirs():
+        results["theirs"] = fmpy.simulate_fmu(str(fmus["trivial"]), stop_time=1.0, output_interval=h, output=["y"],
+                                              use_event_mode=True, early_return_allowed=False)
+
+    a, b = median_time(ours), median_time(theirs)
+    assert len(results["ours"].rows) >= steps and len(results["theirs"]) >= steps
+    print(f"2. {steps} steps of a trivial FMU: robogen {a:.3f} s ({1e6 * a / steps:.2f} us/step), "
+          f"fmpy.simulate_fmu {b:.3f} s ({1e6 * b / steps:.2f} us/step) -> robogen {b / a:.2f}x faster (target >= 2.5x)")
+
+
+def bench_events(fmus: dict[str, Path], folder: Path) -> None:
+    steps = 2_000 if QUICK else 20_000
+    stop = steps * 0.1
+    template = '[experiment]\nstop = {stop}\nstep = 0.1\n[instances.s]\nfmu = "{fmu}"\nstart = {{ period = {period} }}\n'
+    every = system(folder, "stair-events", template.format(stop=stop, fmu=fmus["stair"], period=0.1))
+    never = system(folder, "stair-quiet", template.format(stop=stop, fmu=fmus["stair"], period=10 * stop))
+    runs = {}
+    a = median_time(lambda: runs.__setitem__("a", simulate_system(every)))
+    b = median_time(lambda: runs.__setitem__("b", simulate_system(never)))
+    n_events = runs["a"].stats.event_iterations - runs["b"].stats.event_iterations
+    print(f"3. one event iteration (Enter Event Mode, one instant, update, record 2 rows, Enter Step Mode): "
+          f"{1e6 * (a - b) / n_events:.1f} us over a plain step ({n_events} event iterations; "
+          f"{1e6 * b / steps:.1f} us per plain step)")
+
+
+def bench_scaling(fmus: dict[str, Path], folder: Path) -> None:
+    steps = 200 if QUICK else 2_000
+    per_step = {}
+    for n in (1, 10, 100):
+        text = "connections = [\n" + "".join(f'  "t{i}.y -> t{i + 1}.u",\n' for i in range(n - 1)) + "]\n"
+        text += f"[experiment]\nstop = {steps * 0.01}\nstep = 0.01\n"
+        text += "".join(f'[instances.t{i}]\nfmu = "{fmus["trivial"]}"\n' for i in range(n))
+        path = system(folder, f"chain{n}", text)
+        per_step[n] = median_time(lambda: simulate_system(path, keep_rows=False, output=folder / f"chain{n}.csv")) / steps
+    base = per_step[1]
+    line = ", ".join(f"{n} FMUs {1e6 * t:.1f} us/step ({t / base:.1f}x)" for n, t in per_step.items())
+    print(f"4. chained trivial FMUs, {steps} steps, CSV to disk: {line}; "
+          f"per FMU: {1e6 * per_step[10] / 10:.1f} us (10), {1e6 * per_step[100] / 100:.1f} us (100)")
+
+
+def main() -> None:
+    builder = load_builder()
+    with tempfile.TemporaryDirectory() as tmp:
+        folder = Path(tmp)
+        fmus = builder.build_all(folder / "fmus", ["trivial", "stair"])
+        print(f"robogen master benchmark ({'quick' if QUICK else 'full'}; medians of {REPEAT} runs; fmpy {fmpy.__version__})")
+        bench_calls(fmus, folder)
+        bench_steps(fmus, folder)
+        bench_events(fmus, folder)
+        bench_scaling(fmus, folder)
+
+
+if __name__ == "__main__":
+    main()
