@@ -249,6 +249,10 @@ class Master:
         cols = [(reader[0].values, reader[1]) if kind == "value" else ((0,) if kind == "clock" else (None,), 0)
                 for kind, _u, _v, reader in self.value_columns]
         recorder = self.recorder
+        reads = [(r.c_function, u.inst.handle, r.c_vrs, r.n, r.buffer, r, u.inst)
+                 for u in self.units for r in u.readers if r.fmi_type != "String"]
+        slow_reads = [u for u in self.units if any(r.fmi_type == "String" for r in u.readers)]
+        rows_append = recorder.rows.append if recorder.keep_rows and recorder._writer is None else None
         while True:
             n += 1
             t_next = start + n * h
@@ -277,11 +281,19 @@ class Master:
             if linked:
                 self._exchange_values(t)
             else:
-                for u in self.units:
+                for get, handle, vrs, count, buf, r, inst in reads:
+                    status = get(handle, vrs, count, buf, count)
+                    if status > 1:
+                        inst._fail(r.function, status)
+                for u in slow_reads:
                     u.read_outputs()
             row = [t, 0]
             row += [src[i] for src, i in cols]
-            recorder.row(row)
+            if rows_append is not None:
+                rows_append(row)
+                recorder.count += 1
+            else:
+                recorder.row(row)
             if progress.enabled:
                 progress.update(t)
             if stats.terminated_by is not None:
