@@ -136,7 +136,9 @@ class DiagnosticSink:
         return [d for d in self.items if d.severity is Severity.WARNING]
 
     def sorted(self) -> list[Diagnostic]:
-        return sorted(self.items, key=_sort_key)
+        """Diagnostics in source order, each reported once."""
+        unique = list(dict.fromkeys(self.items))
+        return sorted(unique, key=_sort_key)
 
     def raise_if_errors(self) -> None:
         if self.errors:

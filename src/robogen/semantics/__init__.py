@@ -1,1 +1,26 @@
-"""semantics"""
+"""Name resolution, types and well-formedness checks over a workspace of parsed models."""
+
+from __future__ import annotations
+
+import os
+from typing import Sequence
+
+from robogen.diagnostics import DiagnosticSink
+from robogen.semantics.checker import CheckedModel, check
+from robogen.semantics.workspace import Workspace, from_texts, load
+
+
+def check_paths(paths: Sequence[str | os.PathLike]) -> CheckedModel:
+    """Parse every model under ``paths`` as one workspace and check it. Problems of every file
+    (syntax errors included) are in ``result.diagnostics``; nothing is raised for bad models,
+    except a RobogenError when a path itself is missing or holds no model."""
+    sink = DiagnosticSink()
+    return check(load(paths, sink))
+
+
+def check_texts(texts: dict[str, str]) -> CheckedModel:
+    """The same for in-memory files (path -> text)."""
+    return check(from_texts(texts, DiagnosticSink()))
+
+
+__all__ = ["CheckedModel", "Workspace", "check", "check_paths", "check_texts", "load"]

@@ -1,0 +1,796 @@
+"""Resolution and well-formedness checks of a whole workspace (docs/robosim-robochart.md §5).
+
+:func:`check` takes a :class:`~robogen.semantics.workspace.Workspace` and returns a
+:class:`CheckedModel`: every diagnostic found (all of them: problems are collected, not raised
+one by one), the scope of every state machine and operation, and the side tables with the type
+of every expression and the symbol of every name, which the IR lowering reads.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from fractions import Fraction
+from typing import Iterable
+
+from robogen.diagnostics import Diagnostic, DiagnosticSink, Note, Span, did_you_mean, working_on
+from robogen.semantics import types as T
+from robogen.semantics.analysis import analyse_machine
+from robogen.semantics.exprs import ExprChecker, Tables, Where
+from robogen.semantics.scope import EventSym, MachineScope, Region, ScopeBuilder
+from robogen.semantics.workspace import TYPE_DECLS, Decl, Workspace
+from robogen.syntax import ast
+
+
+@dataclass
+class ModuleInfo:
+    """A module with its resolved parts (for code generation)."""
+
+    node: ast.Module
+    file: ast.File
+    qname: str
+    platform: ast.Platform | None = None
+    platform_file: ast.File | None = None
+    platform_name: str = ""  # the name connections use (rref name or inline name)
+    controllers: list[tuple[str, ast.Controller, ast.File]] = field(default_factory=list)  # (name used, node, file)
+    period: Fraction | None = None
+
+
+@dataclass
+class ControllerInfo:
+    node: ast.Controller
+    file: ast.File
+    qname: str
+    machines: list[tuple[str, ast.StateMachine, ast.File]] = field(default_factory=list)
+    operations: list[tuple[str, ast.OperationDef, ast.File]] = field(default_factory=list)
+    period: Fraction | None = None
+
+
+@dataclass
+class CheckedModel:
+    workspace: Workspace
+    diagnostics: list[Diagnostic]
+    tables: Tables
+    scopes: dict[int, MachineScope]
+    modules: dict[int, ModuleInfo]
+    controllers: dict[int, ControllerInfo]
+    checker: "Checker"
+
+    @property
+    def errors(self) -> list[Diagnostic]:
+        return [d for d in self.diagnostics if d.is_error]
+
+    @property
+    def warnings(self) -> list[Diagnostic]:
+        return [d for d in self.diagnostics if not d.is_error]
+
+    def scope(self, node: ast.Node) -> MachineScope:
+        return self.scopes[id(node)]
+
+    def resolve_type(self, t: ast.TypeExpr, file: ast.File) -> T.Type:
+        return self.checker.resolve_type(t, file)
+
+    def find(self, name: str, kinds: tuple[type, ...]) -> list[Decl]:
+        """Top-level declarations named ``name`` (simple or qualified) of the given kinds."""
+        out = []
+        for d in self.workspace.decls(kinds):
+            if d.name == name or d.qname == name:
+                out.append(d)
+        return out
+
+
+def check(workspace: Workspace) -> CheckedModel:
+    checker = Checker(workspace)
+    checker.run()
+    diagnostics = workspace.sink.sorted()
+    return CheckedModel(workspace, diagnostics, checker.tables, checker.scopes, checker.modules, checker.controllers, checker)
+
+
+class Checker:
+    def __init__(self, ws: Workspace):
+        self.ws = ws
+        self.sink = ws.sink
+        self.tables = Tables()
+        self.scopes: dict[int, MachineScope] = {}
+        self.modules: dict[int, ModuleInfo] = {}
+        self.controllers: dict[int, ControllerInfo] = {}
+        self._type_cache: dict[int, T.Type] = {}
+        self._decl_types: dict[int, T.Type] = {}
+        self._lookups: dict[tuple[int, tuple[type, ...]], tuple[Decl | None, bool]] = {}
+        self.builder = ScopeBuilder(self.sink, self.resolve_type, self.resolve_interface)
+
+    # ------------------------------------------------------------------ types and names
+
+    def lookup(self, name: ast.Name, file: ast.File, kinds: tuple[type, ...], what: str, report: bool = True) -> Decl | None:
+        """Global lookup, memoised per name occurrence so that each problem is reported once."""
+        key = (id(name), kinds)
+        if key in self._lookups:
+            found, reported = self._lookups[key]
+            if reported or not report:
+                return found
+        found = self.ws.lookup(name, file, kinds, what, report)
+        self._lookups[key] = (found, report)
+        return found
+
+    def resolve_type(self, t: ast.TypeExpr | None, file: ast.File) -> T.Type:
+        if t is None:
+            return T.UNKNOWN
+        cached = self._type_cache.get(id(t))
+        if cached is not None:
+            return cached
+        result = self._resolve_type(t, file)
+        self._type_cache[id(t)] = result
+        return result
+
+    def _resolve_type(self, t: ast.TypeExpr, file: ast.File) -> T.Type:
+        if isinstance(t, ast.TypeRef):
+            decl = self.lookup(t.name, file, TYPE_DECLS, "type")
+            if decl is None:
+                return T.UNKNOWN
+            return self.decl_type(decl)
+        if isinstance(t, ast.SetType):
+            return T.SetT(self.resolve_type(t.element, file))
+        if isinstance(t, ast.SeqType):
+            return T.SeqT(self.resolve_type(t.element, file))
+        if isinstance(t, ast.ProductType):
+            return T.ProductT(tuple(self.resolve_type(x, file) for x in t.items))
+        if isinstance(t, ast.FunctionType):
+            return T.FunctionT(self.resolve_type(t.domain, file), self.resolve_type(t.range, file))
+        if isinstance(t, ast.RelationType):
+            return T.FunctionT(self.resolve_type(t.domain, file), self.resolve_type(t.range, file), relation=True)
+        if isinstance(t, ast.TypeVar_):
+            return T.TypeVarT(t.name)
+        if isinstance(t, ast.VectorType):
+            return T.VectorT(self.resolve_type(t.element, file), self._size(t.size, file))
+        if isinstance(t, ast.MatrixType):
+            return T.MatrixT(self.resolve_type(t.element, file), self._size(t.rows, file), self._size(t.columns, file))
+        return T.UNKNOWN  # pragma: no cover
+
+    def _size(self, e: ast.Expr, file: ast.File) -> int | None:
+        if isinstance(e, ast.IntLit):
+            if e.value <= 0:
+                self.sink.error("a vector or matrix size must be positive", e.span)
+            return e.value
+        # a constant name: its value is a model parameter, unknown here
+        return None
+
+    def decl_type(self, decl: Decl) -> T.Type:
+        if decl.primitive is not None:
+            return T.PRIMITIVES[decl.primitive]
+        node = decl.node
+        cached = self._decl_types.get(id(node))
+        if cached is not None:
+            return cached
+        if isinstance(node, ast.GivenType):
+            result: T.Type = T.Given(decl.qname)
+        elif isinstance(node, ast.Enumeration):
+            result = T.EnumT(
+                decl.qname,
+                tuple(lit.name for lit in node.literals),
+                tuple(tuple(self.resolve_type(a, decl.file) for a in lit.args) for lit in node.literals),  # type: ignore[arg-type]
+            )
+        elif isinstance(node, ast.Record):
+            self._decl_types[id(node)] = T.RecordT(decl.qname, ())  # breaks recursion
+            result = T.RecordT(decl.qname, tuple((f.name, self.resolve_type(f.type, decl.file)) for f in node.fields))  # type: ignore[arg-type]
+        else:  # pragma: no cover
+            result = T.UNKNOWN
+        self._decl_types[id(node)] = result
+        return result
+
+    def resolve_interface(self, name: ast.Name, file: ast.File) -> tuple[ast.Interface, ast.File] | None:
+        decl = self.lookup(name, file, (ast.Interface,), "interface")
+        if decl is None or decl.file is None:
+            return None
+        return decl.node, decl.file  # type: ignore[return-value]
+
+    # ------------------------------------------------------------------ driver
+
+    def run(self) -> None:
+        for f in self.ws.files:
+            for item in f.items:
+                with working_on(getattr(item, "span", None)):
+                    self.item(item, f)
+        # Connections and periods need every machine's scope, so they come after.
+        for f in self.ws.files:
+            for item in f.items:
+                with working_on(getattr(item, "span", None)):
+                    if isinstance(item, ast.Controller):
+                        self.controller_connections(item, f)
+                    elif isinstance(item, ast.Module):
+                        self.module_connections(item, f)
+                        self.module_periods(self.modules[id(item)])
+                        for m in item.members:
+                            if isinstance(m, ast.Controller):
+                                self.controller_connections(m, f)
+
+    def qname(self, f: ast.File, name: str) -> str:
+        return f"{f.package.text}::{name}" if f.package else name
+
+    def item(self, item: ast.Node, f: ast.File) -> None:
+        if isinstance(item, ast.Interface):
+            self.interface(item, f)
+        elif isinstance(item, ast.Platform):
+            self.platform(item, f)
+        elif isinstance(item, ast.Record):
+            self.record(item, f)
+        elif isinstance(item, ast.Enumeration):
+            self.enumeration(item, f)
+        elif isinstance(item, ast.Controller):
+            self.controller(item, f)
+        elif isinstance(item, (ast.StateMachine, ast.OperationDef)):
+            self.machine(item, f)
+        elif isinstance(item, ast.FunctionDef):
+            self.function(item, f)
+        elif isinstance(item, ast.Module):
+            self.module(item, f)
+
+    # ------------------------------------------------------------------ simple declarations
+
+    def record(self, r: ast.Record, f: ast.File) -> None:
+        seen: dict[str, ast.FieldDecl] = {}
+        for fd in r.fields:
+            if fd.name in seen:
+                self.sink.error(f"field '{fd.name}' is declared twice in datatype '{r.name}'", fd.name_span, Note("first declared here", seen[fd.name].name_span))
+            seen[fd.name] = fd
+            self.resolve_type(fd.type, f)
+
+    def enumeration(self, e: ast.Enumeration, f: ast.File) -> None:
+        seen: dict[str, ast.EnumLiteral] = {}
+        for lit in e.literals:
+            if lit.name in seen:
+                self.sink.error(f"literal '{lit.name}' is declared twice in enumeration '{e.name}'", lit.name_span, Note("first declared here", seen[lit.name].name_span))
+            seen[lit.name] = lit
+            for a in lit.args:
+                self.resolve_type(a, f)
+
+    def function(self, fn: ast.FunctionDef, f: ast.File) -> None:
+        self._params(fn.params, f, f"function '{fn.name}'")
+        result = self.resolve_type(fn.result, f)
+        scope = MachineScope(fn, f, self.qname(f, fn.name))  # type: ignore[arg-type]
+        from robogen.semantics.scope import VarSym
+
+        for p in fn.params:
+            scope.vars[p.name] = VarSym(p.name, self.resolve_type(p.type, f), "param", p, f"function '{fn.name}'")
+        checker = self._expr_checker(scope)
+        for m in fn.members:
+            if isinstance(m, (ast.Precondition, ast.Postcondition)):
+                checker.result_type = result if isinstance(m, ast.Postcondition) else None
+                t = checker.value(m.expr, Where(pre=True))
+                if not T.is_boolean(t):
+                    self.sink.error(f"a {'pre' if isinstance(m, ast.Precondition) else 'post'}condition must be boolean, not {t.show()}", m.expr.span)
+
+    def _params(self, params: Iterable[ast.Param], f: ast.File, owner: str) -> None:
+        seen: dict[str, ast.Param] = {}
+        for p in params:
+            if p.name in seen:
+                self.sink.error(f"parameter '{p.name}' is declared twice in {owner}", p.name_span, Note("first declared here", seen[p.name].name_span))
+            seen[p.name] = p
+            self.resolve_type(p.type, f)
+
+    def interface(self, i: ast.Interface, f: ast.File) -> None:
+        names: dict[str, ast.Node] = {}
+        has_events = has_ops = False
+        scope = MachineScope(i, f, self.qname(f, i.name))  # type: ignore[arg-type]
+        checker = self._expr_checker(scope)
+        for m in i.members:
+            for name, span in _member_names(m):
+                if name in names:
+                    self.sink.error(f"'{name}' is declared twice in interface '{i.name}'", span, Note("first declared here", _first_span(names[name], name)))
+                else:
+                    names[name] = m
+            if isinstance(m, ast.EventDecl):
+                has_events = True
+                self.resolve_type(m.type, f)
+                if m.broadcast and f.language == "robosim":
+                    self.sink.error("RoboSim has no broadcast events", m.span)
+            elif isinstance(m, ast.OpSig):
+                has_ops = True
+                self._params(m.params, f, f"operation '{m.name}'")
+            elif isinstance(m, ast.VarList):
+                self._var_list(m, f, checker)
+        if has_events and has_ops:
+            self.sink.error(
+                f"interface '{i.name}' declares both events and operations",
+                i.name_span,
+                Note("an interface holds variables plus either events or operations (rule I2)"),
+            )
+
+    def _var_list(self, vl: ast.VarList, f: ast.File, checker: ExprChecker) -> None:
+        for v in vl.vars:
+            t = self.resolve_type(v.type, f)
+            if v.init is not None:
+                vt = checker.value(v.init, Where(init=True))
+                if not T.assignable(vt, t):
+                    self.sink.error(f"the initial value of '{v.name}' must be {t.show()}, but this is {vt.show()}", v.init.span)
+
+    def platform(self, p: ast.Platform, f: ast.File) -> None:
+        names: dict[str, ast.Node] = {}
+        scope = MachineScope(p, f, self.qname(f, p.name))  # type: ignore[arg-type]
+        checker = self._expr_checker(scope)
+        for m in p.members:
+            for name, span in _member_names(m):
+                if name in names:
+                    self.sink.error(f"'{name}' is declared twice in robotic platform '{p.name}'", span, Note("first declared here", _first_span(names[name], name)))
+                else:
+                    names[name] = m
+            if isinstance(m, ast.InterfaceRef):
+                if m.kind == "requires":
+                    self.sink.error("a robotic platform requires no interface", m.span, Note("platforms 'provide' operations and variables and 'use' events"))
+                self.resolve_interface(m.name, f)
+            elif isinstance(m, ast.ClockDecl):
+                self.sink.error("a robotic platform declares no clocks", m.span)
+            elif isinstance(m, ast.EventDecl):
+                self.resolve_type(m.type, f)
+            elif isinstance(m, ast.OpSig):
+                self._params(m.params, f, f"operation '{m.name}'")
+            elif isinstance(m, ast.VarList):
+                self._var_list(m, f, checker)
+
+    # ------------------------------------------------------------------ controllers and modules
+
+    def controller(self, c: ast.Controller, f: ast.File) -> ControllerInfo:
+        info = ControllerInfo(c, f, self.qname(f, c.name))
+        self.controllers[id(c)] = info
+        names: dict[str, ast.Node] = {}
+        for m in c.members:
+            if isinstance(m, ast.InterfaceRef):
+                self.resolve_interface(m.name, f)
+            elif isinstance(m, ast.Reference):
+                if m.name in names:
+                    self.sink.error(f"'{m.name}' is declared twice in controller '{c.name}'", m.name_span, Note("first declared here", _first_span(names[m.name], m.name)))
+                names[m.name] = m
+                if m.kind == "sref":
+                    d = self.lookup(m.target, f, (ast.StateMachine,), "state machine")
+                    if d is not None:
+                        info.machines.append((m.name, d.node, d.file))  # type: ignore[arg-type]
+                elif m.kind == "opref":
+                    d = self.lookup(m.target, f, (ast.OperationDef,), "operation")
+                    if d is not None:
+                        info.operations.append((m.name, d.node, d.file))  # type: ignore[arg-type]
+                else:
+                    self.sink.error(f"'{m.kind}' is not allowed in a controller", m.span, Note("a controller references state machines (sref) and operations (opref)"))
+            elif isinstance(m, ast.StateMachine):
+                if m.name in names:
+                    self.sink.error(f"'{m.name}' is declared twice in controller '{c.name}'", m.name_span)
+                names[m.name] = m
+                self.machine(m, f)
+                info.machines.append((m.name, m, f))
+            elif isinstance(m, ast.OperationDef):
+                self.machine(m, f)
+                info.operations.append((m.name, m, f))
+            elif isinstance(m, ast.OpSig):
+                self.sink.error(
+                    f"a controller declares no operation signatures: '{m.name}' belongs in an interface the controller requires or provides",
+                    m.name_span,
+                )
+            elif isinstance(m, ast.ClockDecl):
+                self.sink.error("a controller declares no clocks", m.span)
+            elif isinstance(m, ast.EventDecl):
+                self.resolve_type(m.type, f)
+                if m.broadcast and f.language == "robosim":
+                    self.sink.error("RoboSim has no broadcast events", m.span)
+            elif isinstance(m, ast.VarList):
+                self._var_list(m, f, self._expr_checker(MachineScope(c, f, info.qname)))  # type: ignore[arg-type]
+            elif isinstance(m, ast.CycleDef):
+                info.period = self.cycle_def(m, info.period, f"controller '{c.name}'")
+        if not info.machines:
+            self.sink.error(f"controller '{c.name}' has no state machine", c.name_span)
+        return info
+
+    def module(self, mod: ast.Module, f: ast.File) -> None:
+        info = ModuleInfo(mod, f, self.qname(f, mod.name))
+        self.modules[id(mod)] = info
+        platforms: list[ast.Node] = []
+        for m in mod.members:
+            if isinstance(m, ast.Platform):
+                platforms.append(m)
+                self.platform(m, f)
+                info.platform, info.platform_file, info.platform_name = m, f, m.name
+            elif isinstance(m, ast.Reference):
+                if m.kind == "rref":
+                    platforms.append(m)
+                    d = self.lookup(m.target, f, (ast.Platform,), "robotic platform")
+                    if d is not None:
+                        info.platform, info.platform_file, info.platform_name = d.node, d.file, m.name  # type: ignore[assignment]
+                elif m.kind == "cref":
+                    d = self.lookup(m.target, f, (ast.Controller,), "controller")
+                    if d is not None:
+                        info.controllers.append((m.name, d.node, d.file))  # type: ignore[arg-type]
+                else:
+                    self.sink.error(f"'{m.kind}' is not allowed in a module", m.span, Note("a module references a robotic platform (rref) and controllers (cref)"))
+            elif isinstance(m, ast.Controller):
+                self.controller(m, f)
+                info.controllers.append((m.name, m, f))
+            elif isinstance(m, ast.StateMachine):
+                self.sink.error(f"state machine '{m.name}' must be inside a controller, not directly in module '{mod.name}'", m.name_span)
+            elif isinstance(m, ast.CycleDef):
+                info.period = self.cycle_def(m, info.period, f"module '{mod.name}'")
+        if not platforms:
+            self.sink.error(f"module '{mod.name}' has no robotic platform", mod.name_span)
+        for extra in platforms[1:]:
+            self.sink.error(f"module '{mod.name}' has more than one robotic platform", getattr(extra, "name_span", None) or extra.span)
+        if not info.controllers:
+            self.sink.error(f"module '{mod.name}' has no controller", mod.name_span)
+
+    def cycle_def(self, c: ast.CycleDef, previous: Fraction | None, owner: str) -> Fraction | None:
+        """The period p of `cycleDef cycle == p` (a positive constant)."""
+        e = c.expr
+        if not (isinstance(e, ast.Binary) and e.op == "==" and isinstance(e.left, ast.Keyword) and e.left.word == "cycle"):
+            self.sink.error("a cycle definition has the form 'cycleDef cycle == p' with p a positive constant", e.span)
+            return previous
+        value = e.right
+        if isinstance(value, ast.IntLit):
+            period = Fraction(value.value)
+        elif isinstance(value, ast.RealLit):
+            period = Fraction(value.text)
+        else:
+            self.sink.error("the period in 'cycleDef cycle == p' must be a number literal", value.span)
+            return previous
+        if period <= 0:
+            self.sink.error(f"the cycle period must be positive, not {value.text if isinstance(value, ast.RealLit) else value.value}", value.span)  # type: ignore[union-attr]
+            return previous
+        if previous is not None and previous != period:
+            self.sink.error(f"{owner} declares two different cycle periods", c.span)
+        return period
+
+    def module_periods(self, info: ModuleInfo) -> None:
+        """robogen: every machine, controller and module of one model has the same period."""
+        periods: list[tuple[Fraction, str, Span | None]] = []
+        if info.period is not None:
+            periods.append((info.period, f"module '{info.node.name}'", info.node.name_span))
+        for _, c, cf in info.controllers:
+            ci = self.controllers.get(id(c))
+            if ci is not None and ci.period is not None:
+                periods.append((ci.period, f"controller '{c.name}'", c.name_span))
+            if ci is None:
+                continue
+            for _, m, mf in ci.machines:
+                scope = self.scopes.get(id(m))
+                if scope is not None and scope.cycle_defs:
+                    p = self._machine_period(scope)
+                    if p is not None:
+                        periods.append((p, f"state machine '{m.name}'", m.name_span))
+        if periods:
+            first = periods[0]
+            for p, owner, span in periods[1:]:
+                if p != first[0]:
+                    self.sink.error(
+                        f"{owner} has cycle period {_frac(p)}, but {first[1]} has {_frac(first[0])}",
+                        span,
+                        Note("robogen requires one period for every machine, controller and module of a model"),
+                    )
+            info.period = first[0]
+
+    def _machine_period(self, scope: MachineScope) -> Fraction | None:
+        period = None
+        for c in scope.cycle_defs:
+            period = self.cycle_def(c, period, f"state machine '{scope.name}'") if period is None else period
+        return period
+
+    # connections
+
+    def _endpoint_events(self, node: ast.Node, f: ast.File) -> dict[str, EventSym]:
+        if isinstance(node, (ast.StateMachine,)):
+            scope = self.scopes.get(id(node))
+            return dict(scope.events) if scope else {}
+        events: dict[str, EventSym] = {}
+        origin = f"{type(node).__name__.lower()} '{node.name}'"  # type: ignore[attr-defined]
+        for m in node.members:  # type: ignore[attr-defined]
+            if isinstance(m, ast.EventDecl):
+                events[m.name] = EventSym(m.name, self.resolve_type(m.type, f) if m.type else None, m, origin, True, True, m.broadcast)
+            elif isinstance(m, ast.InterfaceRef):
+                found = self.resolve_interface(m.name, f)
+                if found:
+                    iface, ifile = found
+                    for x in iface.members:
+                        if isinstance(x, ast.EventDecl) and x.name not in events:
+                            events[x.name] = EventSym(x.name, self.resolve_type(x.type, ifile) if x.type else None, x, f"interface '{iface.name}'", True, True, x.broadcast)
+        return events
+
+    def _connections(self, owner: str, members, ends: dict[str, tuple[ast.Node, ast.File, str]], f: ast.File, platform_name: str | None) -> None:
+        used: dict[tuple[str, str, str], ast.Connection] = {}
+        for conn in members:
+            if not isinstance(conn, ast.Connection):
+                continue
+            spans = conn.spans or (conn.span,) * 4
+            resolved = []
+            for end, event, espan, vspan, role in (
+                (conn.source, conn.source_event, spans[0], spans[1], "from"),
+                (conn.target, conn.target_event, spans[2], spans[3], "to"),
+            ):
+                if end not in ends:
+                    self.sink.error(
+                        f"'{end}' is not a part of {owner}" + did_you_mean(end, ends),
+                        espan,
+                        Note(f"the ends of a connection in {owner} are " + ", ".join(sorted(ends))),
+                    )
+                    resolved.append(None)
+                    continue
+                node, nfile, kind = ends[end]
+                events = self._endpoint_events(node, nfile)
+                ev = events.get(event)
+                if ev is None:
+                    self.sink.error(f"{kind} '{end}' has no event '{event}'" + did_you_mean(event, events), vspan)
+                    resolved.append(None)
+                    continue
+                key = (role, end, event)
+                if key in used and not conn.mult:
+                    self.sink.error(f"event '{event}' of '{end}' is connected twice", vspan, Note("first connection here", used[key].span))
+                used[key] = conn
+                resolved.append((end, node, ev, kind))
+            if resolved[0] and resolved[1]:
+                (_, _, a, ka), (_, _, b, kb) = resolved  # type: ignore[misc]
+                if (a.type is None) != (b.type is None) or (a.type is not None and b.type is not None and not T.same(a.type, b.type)):
+                    self.sink.error(
+                        f"connected events have different types: '{a.name}' carries {_show(a.type)}, '{b.name}' carries {_show(b.type)}",
+                        conn.span,
+                    )
+                if a.broadcast != b.broadcast:
+                    self.sink.error("a broadcast event connects only to a broadcast event", conn.span)
+                if platform_name is not None and platform_name in (conn.source, conn.target) and not conn.asynchronous:
+                    self.sink.error(
+                        "connections with the robotic platform must be asynchronous",
+                        conn.span,
+                        Note("append '( _async )' to the connection (rule Cn2)"),
+                    )
+                # RoboSim direction: a machine receives only on input events and sends only on output events.
+                for (end, node, ev, kind), receiving in ((resolved[0], False), (resolved[1], True)):
+                    if isinstance(node, ast.StateMachine):
+                        scope = self.scopes.get(id(node))
+                        if scope is not None and scope.robosim:
+                            if receiving and not ev.input:
+                                self.sink.error(f"'{ev.name}' is not an input of state machine '{end}'", conn.span, Note("declare it in the machine's input context"))
+                            if not receiving and not ev.output:
+                                self.sink.error(f"'{ev.name}' is not an output of state machine '{end}'", conn.span, Note("declare it in the machine's output context"))
+
+    def controller_connections(self, c: ast.Controller, f: ast.File) -> None:
+        info = self.controllers.get(id(c))
+        if info is None:
+            return
+        ends: dict[str, tuple[ast.Node, ast.File, str]] = {c.name: (c, f, "controller")}
+        for name, m, mf in info.machines:
+            ends[name] = (m, mf, "state machine")
+        self._connections(f"controller '{c.name}'", c.members, ends, f, None)
+
+    def module_connections(self, mod: ast.Module, f: ast.File) -> None:
+        info = self.modules.get(id(mod))
+        if info is None:
+            return
+        ends: dict[str, tuple[ast.Node, ast.File, str]] = {}
+        if info.platform is not None:
+            ends[info.platform_name] = (info.platform, info.platform_file or f, "robotic platform")
+        for name, c, cf in info.controllers:
+            ends[name] = (c, cf, "controller")
+        self._connections(f"module '{mod.name}'", mod.members, ends, f, info.platform_name or None)
+
+    # ------------------------------------------------------------------ state machines and operations
+
+    def _expr_checker(self, scope: MachineScope) -> ExprChecker:
+        return ExprChecker(scope, self.sink, self.tables, self.resolve_type, self.lookup)
+
+    def machine(self, node: ast.StateMachine | ast.OperationDef, f: ast.File) -> MachineScope:
+        if id(node) in self.scopes:
+            return self.scopes[id(node)]
+        scope = self.builder.build(node, f, self.qname(f, node.name))
+        self.scopes[id(node)] = scope
+        if isinstance(node, ast.OperationDef):
+            self._params(node.params, f, f"operation '{node.name}'")
+        rs = scope.robosim
+        checker = self._expr_checker(scope)
+        for m in node.members:
+            if isinstance(m, ast.OpSig):
+                self.sink.error(
+                    f"a {scope.kind} declares no operation signatures: '{m.name}' belongs in an interface it requires (rule STM6)",
+                    m.name_span,
+                )
+            elif isinstance(m, ast.InterfaceRef) and rs and m.kind == "provides":
+                self.sink.error("a RoboSim state machine provides no interface", m.span)
+            elif isinstance(m, ast.EventDecl) and rs:
+                self.sink.error(
+                    f"a RoboSim {scope.kind} declares no events directly: declare '{m.name}' in its input or output context",
+                    m.span,
+                )
+            elif isinstance(m, ast.EventDecl) and m.broadcast and rs:
+                self.sink.error("RoboSim has no broadcast events", m.span)
+            elif isinstance(m, ast.VarList):
+                self._var_list(m, f, checker)
+            elif isinstance(m, ast.CycleDef):
+                if not rs:  # pragma: no cover - the RoboChart grammar has no cycleDef
+                    self.sink.error("'cycleDef' is RoboSim syntax", m.span)
+            elif isinstance(m, ast.Context):
+                self._context(m, scope)
+        if scope.cycle_defs:
+            self._machine_period(scope)
+        assert scope.region is not None
+        for region in scope.region.walk():
+            self.region(region, scope, checker)
+        analyse_machine(scope, self.tables, self.sink)
+        return scope
+
+    def _context(self, ctx: ast.Context, scope: MachineScope) -> None:
+        for m in ctx.members:
+            if isinstance(m, ast.InterfaceRef):
+                found = self.resolve_interface(m.name, scope.file)
+                if found is None:
+                    continue
+                iface, _ = found
+                if ctx.kind == "input" and m.kind == "uses" and any(isinstance(x, ast.OpSig) for x in iface.members):
+                    self.sink.error(
+                        f"interface '{iface.name}' declares operations, but an input context uses only events",
+                        m.span,
+                        Note("operations the machine calls belong in its output context ('requires')"),
+                    )
+            elif isinstance(m, ast.EventDecl) and m.broadcast:
+                self.sink.error("RoboSim has no broadcast events", m.span)
+
+    def region(self, region: Region, scope: MachineScope, checker: ExprChecker) -> None:
+        owner = region.owner
+        where = _region_name(region)
+        initials = region.initials()
+        if not initials:
+            self.sink.error(f"{where} has no initial node", getattr(owner, "name_span", None), Note(f"add 'initial i' and a transition from it"))
+        for extra in initials[1:]:
+            self.sink.error(f"{where} has more than one initial node", extra.name_span, Note("first initial node", initials[0].name_span))
+        if isinstance(owner, ast.State) and not any(isinstance(n, (ast.State, ast.Final)) for n in region.nodes.values()):
+            self.sink.error(f"composite state '{owner.name}' has no state or final node", owner.name_span)
+        incoming: dict[str, list[ast.Transition]] = {n: [] for n in region.nodes}
+        outgoing: dict[str, list[ast.Transition]] = {n: [] for n in region.nodes}
+        for t in region.transitions:
+            with working_on(t.span):
+                self.transition(t, region, scope, checker, incoming, outgoing)
+        for name, node in region.nodes.items():
+            outs, ins = outgoing[name], incoming[name]
+            if isinstance(node, ast.Initial):
+                if len(outs) != 1:
+                    self.sink.error(
+                        f"initial node '{name}' must have exactly one outgoing transition, not {len(outs)}",
+                        node.name_span,
+                    )
+                for t in ins:
+                    self.sink.error(f"transition '{t.name}' enters initial node '{name}'", t.target_span or t.span)
+            elif isinstance(node, ast.Final):
+                for t in outs:
+                    self.sink.error(f"transition '{t.name}' leaves final node '{name}'", t.source_span or t.span)
+            elif isinstance(node, ast.Junction):
+                if not ins:
+                    self.sink.warning(f"junction '{name}' has no incoming transition", node.name_span)
+                if not outs:
+                    self.sink.error(f"junction '{name}' has no outgoing transition", node.name_span)
+            elif isinstance(node, ast.Probabilistic):
+                self._probabilistic(node, outs)
+            if isinstance(node, ast.State):
+                self.state(node, scope, checker)
+
+    def state(self, s: ast.State, scope: MachineScope, checker: ExprChecker) -> None:
+        seen: dict[str, ast.StateAction] = {}
+        for m in s.members:
+            if isinstance(m, ast.StateAction):
+                if m.kind in seen:
+                    self.sink.error(f"state '{s.name}' has two {m.kind} actions", m.span, Note("first one here", seen[m.kind].span))
+                seen[m.kind] = m
+                checker.stmt(m.stmt)
+
+    def _probabilistic(self, node: ast.Probabilistic, outs: list[ast.Transition]) -> None:
+        total = Fraction(0)
+        exact = True
+        for t in outs:
+            if t.probability is None:
+                self.sink.error(f"transition '{t.name}' from probabilistic junction '{node.name}' needs a probability", t.name_span)
+                exact = False
+            else:
+                p = t.probability
+                if isinstance(p, ast.RealLit):
+                    total += Fraction(p.text)
+                elif isinstance(p, ast.IntLit):
+                    total += p.value
+                else:
+                    exact = False
+            if t.condition is not None or t.condition_else:
+                self.sink.error(f"transition '{t.name}' from a probabilistic junction cannot have a condition", t.name_span)
+        if exact and outs and total != 1:
+            self.sink.error(f"the probabilities of the transitions from '{node.name}' sum to {_frac(total)}, not 1", node.name_span)
+
+    def transition(self, t: ast.Transition, region: Region, scope: MachineScope, checker: ExprChecker, incoming, outgoing) -> None:
+        rs = scope.robosim
+        src = self._node_ref(t.source, t.source_span or t.span, region, scope, t, "source")
+        dst = self._node_ref(t.target, t.target_span or t.span, region, scope, t, "target")
+        if src is not None:
+            outgoing[t.source].append(t)
+        if dst is not None:
+            incoming[t.target].append(t)
+        if t.trigger is not None:
+            if rs:
+                self.sink.error(
+                    "RoboSim transitions have no trigger: test inputs in the condition ($e) and use 'exec' to wait for the next cycle",
+                    t.trigger.span,
+                )
+            else:
+                if t.trigger.kind in ("!", "."):
+                    self.sink.error(
+                        f"a trigger is a plain event or an input (e or e?x), not {'an output' if t.trigger.kind == '!' else 'a synchronisation'} (rule T2)",
+                        t.trigger.span,
+                    )
+                checker.communication(t.trigger, trigger=True)
+                if isinstance(src, (ast.Junction, ast.Probabilistic)):
+                    self.sink.error(f"a transition from junction '{t.source}' cannot have a trigger (rule J3)", t.trigger.span)
+        if isinstance(src, ast.Initial):
+            if t.trigger is not None or t.condition is not None or t.exec:
+                self.sink.error(f"the transition from initial node '{t.source}' can have no trigger, condition or exec", t.name_span)
+        if t.exec and isinstance(src, (ast.Junction, ast.Initial)):
+            self.sink.error(f"an exec transition leaves a state, not {type(src).__name__.lower()} '{t.source}'", t.name_span)
+        for r in t.resets:
+            if r.clock not in scope.clocks:
+                self.sink.error(f"unknown clock '{r.clock}'" + did_you_mean(r.clock, scope.clocks), r.clock_span or r.span)
+            else:
+                self.tables.refs[id(r)] = scope.clocks[r.clock]
+        if t.deadline is not None:
+            if rs:
+                self.sink.error("RoboSim has no deadlines", t.deadline.span)
+            else:
+                if t.trigger is None:
+                    self.sink.error("a deadline '<{ d }' needs a trigger (rule TT1)", t.deadline.span)
+                dt = checker.value(t.deadline, Where())
+                if not T.is_numeric(dt):
+                    self.sink.error(f"a deadline is a number of time units, not {dt.show()}", t.deadline.span)
+        if t.probability is not None:
+            if not isinstance(src, ast.Probabilistic):
+                self.sink.error("only transitions from a probabilistic junction have a probability", t.probability.span)
+            pt = checker.value(t.probability, Where())
+            if not T.is_numeric(pt):
+                self.sink.error(f"a probability is a number, not {pt.show()}", t.probability.span)
+        if t.condition is not None:
+            checker.condition(t.condition)
+        if t.condition_else and src is not None and not isinstance(src, (ast.Junction, ast.Probabilistic)):
+            self.sink.error("'condition else' is the default branch of a junction; here it leaves a state", t.name_span)
+        if t.action is not None:
+            checker.stmt(t.action)
+
+    def _node_ref(self, name: str, span: Span | None, region: Region, scope: MachineScope, t: ast.Transition, role: str):
+        node = region.nodes.get(name)
+        if node is not None:
+            return node
+        elsewhere = [path for path, n in scope.all_states() if path[-1] == name]
+        notes = []
+        if elsewhere:
+            where = "::".join(elsewhere[0][:-1]) or scope.name
+            notes.append(Note(f"'{name}' is a node of '{where}'; a transition joins nodes of one container (rule T1)"))
+        self.sink.error(
+            f"transition '{t.name}': unknown {role} '{name}' in {_region_name(region)}" + did_you_mean(name, region.nodes),
+            span,
+            *notes,
+        )
+        return None
+
+
+def _region_name(region: Region) -> str:
+    owner = region.owner
+    if isinstance(owner, ast.State):
+        return f"state '{owner.name}'"
+    if isinstance(owner, ast.OperationDef):
+        return f"operation '{owner.name}'"
+    return f"state machine '{owner.name}'"  # type: ignore[attr-defined]
+
+
+def _member_names(m: ast.Node):
+    if isinstance(m, ast.VarList):
+        return [(v.name, v.name_span) for v in m.vars]
+    if isinstance(m, (ast.EventDecl, ast.OpSig, ast.ClockDecl)):
+        return [(m.name, m.name_span)]
+    return []
+
+
+def _first_span(node: ast.Node, name: str) -> Span | None:
+    for n, span in _member_names(node):
+        if n == name:
+            return span
+    return getattr(node, "name_span", None)
+
+
+def _frac(f: Fraction) -> str:
+    return str(f.numerator) if f.denominator == 1 else str(float(f))
+
+
+def _show(t: T.Type | None) -> str:
+    return "no value" if t is None else t.show()
+
+
+__all__ = ["check", "CheckedModel", "ModuleInfo", "ControllerInfo", "Checker"]

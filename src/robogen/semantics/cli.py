@@ -1,0 +1,33 @@
+"""`robogen check PATH...`: parse, resolve and check models; report every problem at once."""
+
+from __future__ import annotations
+
+import argparse
+import sys
+
+from robogen.diagnostics import SourceMap, render
+from robogen.semantics import check_paths
+
+
+def configure(p: argparse.ArgumentParser) -> None:
+    p.add_argument("paths", nargs="+", metavar="PATH", help="model files (.rct, .rst, .rsim) and/or directories searched recursively")
+    p.add_argument("-w", "--no-warnings", action="store_true", help="report errors only")
+    p.add_argument("--werror", action="store_true", help="treat warnings as errors (exit 1 if any)")
+
+
+def run(args: argparse.Namespace) -> int:
+    model = check_paths(args.paths)
+    sources = SourceMap()
+    shown = [d for d in model.diagnostics if d.is_error or not args.no_warnings]
+    for d in shown:
+        print(render(d, sources), file=sys.stderr)
+    n_files = len(model.workspace.files) + len({d.span.path for d in model.errors if d.span} - {f.path for f in model.workspace.files})
+    errors, warnings = len(model.errors), len(model.warnings)
+    print(
+        f"checked {n_files} file{'s' if n_files != 1 else ''}: "
+        f"{errors} error{'s' if errors != 1 else ''}, {warnings} warning{'s' if warnings != 1 else ''}",
+        file=sys.stderr,
+    )
+    if errors or (args.werror and warnings):
+        return 1
+    return 0

@@ -1,0 +1,857 @@
+"""Type checking of expressions and statements inside one state machine or operation.
+
+The checker infers a :class:`~robogen.semantics.types.Type` for every expression and records
+it, with the symbol every name resolves to, in the shared :class:`Tables`, which the IR
+lowering reads back. Problems go to the sink; an expression that fails gets ``UNKNOWN`` so that
+one mistake produces one message.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import Callable
+
+from robogen.diagnostics import DiagnosticSink, Note, did_you_mean
+from robogen.semantics import types as T
+from robogen.semantics.scope import ClockSym, EnumLitSym, EventSym, FuncSym, MachineScope, OpSym, VarSym
+from robogen.syntax import ast
+
+
+@dataclass
+class Tables:
+    """Side tables keyed by ``id(node)``: the AST stays immutable and is kept alive by the workspace."""
+
+    types: dict[int, T.Type] = field(default_factory=dict)
+    # id(node) -> symbol; ("bind", id(node)) -> the variable a $e?x or e?x binds
+    refs: dict[object, object] = field(default_factory=dict)
+
+    def type_of(self, e: ast.Expr) -> T.Type:
+        return self.types.get(id(e), T.UNKNOWN)
+
+    def ref(self, node: ast.Node):
+        return self.refs.get(id(node))
+
+    def bound_var(self, node: ast.Node):
+        return self.refs.get(("bind", id(node)))
+
+
+@dataclass
+class Where:
+    """Where an expression appears: decides which forms are allowed."""
+
+    guard: bool = False  # a transition condition (since, $e?x allowed)
+    action: bool = False
+    init: bool = False  # a variable initialiser or constant
+    pre: bool = False  # pre/postcondition (result allowed)
+
+
+class ExprChecker:
+    def __init__(
+        self,
+        scope: MachineScope,
+        sink: DiagnosticSink,
+        tables: Tables,
+        resolve_type: Callable[[ast.TypeExpr, ast.File], T.Type],
+        lookup_global: Callable[..., object],
+    ):
+        self.scope = scope
+        self.sink = sink
+        self.tables = tables
+        self.resolve_type = resolve_type
+        self.lookup_global = lookup_global  # (name, file, kinds, what, report) -> Decl | None
+        self.locals: list[dict[str, VarSym]] = []
+        self.where = Where()
+        self.result_type: T.Type | None = None
+        self.robosim = scope.robosim
+        # events used as outputs / inputs, and operations called, for later checks
+        self.outputs_used: list[tuple[str, ast.Node]] = []
+
+    # ------------------------------------------------------------------ helpers
+
+    def _set(self, e: ast.Expr, t: T.Type) -> T.Type:
+        self.tables.types[id(e)] = t
+        return t
+
+    def _err(self, message: str, node: ast.Node | None, *notes: Note) -> T.Type:
+        self.sink.error(message, getattr(node, "span", None), *notes)
+        return T.UNKNOWN
+
+    def lookup_var(self, name: str) -> VarSym | None:
+        for frame in reversed(self.locals):
+            if name in frame:
+                return frame[name]
+        return self.scope.vars.get(name)
+
+    def _visible_value_names(self) -> list[str]:
+        names = list(self.scope.vars)
+        for frame in self.locals:
+            names += list(frame)
+        return names
+
+    def expect(self, e: ast.Expr, expected: T.Type, what: str) -> T.Type:
+        t = self.expr(e)
+        if not T.assignable(t, expected):
+            self._err(f"{what} must be {expected.show()}, but this is {t.show()}", e)
+        return t
+
+    def condition(self, e: ast.Expr) -> None:
+        saved = self.where
+        self.where = Where(guard=True)
+        try:
+            t = self.expr(e)
+            if not T.is_boolean(t):
+                self._err(f"a condition must be boolean, but this is {t.show()}", e)
+        finally:
+            self.where = saved
+
+    def value(self, e: ast.Expr, where: Where) -> T.Type:
+        saved = self.where
+        self.where = where
+        try:
+            return self.expr(e)
+        finally:
+            self.where = saved
+
+    # ------------------------------------------------------------------ expressions
+
+    def expr(self, e: ast.Expr) -> T.Type:
+        method = getattr(self, "_e_" + type(e).__name__, None)
+        if method is None:  # pragma: no cover - every node class has a method
+            return self._err(f"internal: no type rule for {type(e).__name__}", e)
+        return self._set(e, method(e))
+
+    def _e_IntLit(self, e: ast.IntLit) -> T.Type:
+        return T.NAT
+
+    def _e_RealLit(self, e: ast.RealLit) -> T.Type:
+        return T.REAL
+
+    def _e_BoolLit(self, e: ast.BoolLit) -> T.Type:
+        return T.BOOLEAN
+
+    def _e_StringLit(self, e: ast.StringLit) -> T.Type:
+        return T.STRING
+
+    def _e_Keyword(self, e: ast.Keyword) -> T.Type:
+        if e.word == "result":
+            if self.result_type is None:
+                return self._err("'result' is only meaningful in a postcondition", e)
+            return self.result_type
+        if e.word == "cycle":
+            return T.REAL
+        return T.UNKNOWN  # from / to in filters
+
+    def _e_Name(self, e: ast.Name) -> T.Type:
+        if not e.qualified:
+            v = self.lookup_var(e.last)
+            if v is not None:
+                self.tables.refs[id(e)] = v
+                return v.type
+            if e.last in self.scope.events:
+                return self._err(
+                    f"'{e.last}' is an event; events are not values"
+                    + (f" (write ${e.last} to test whether it occurred)" if self.robosim else ""),
+                    e,
+                )
+            if e.last in self.scope.clocks:
+                return self._err(f"'{e.last}' is a clock; write since({e.last}) for the time since its reset", e)
+            return self._err(
+                f"unknown name '{e.last}'" + did_you_mean(e.last, self._visible_value_names()),
+                e,
+            )
+        # Pkg::E::lit or E::lit: an enumeration literal.
+        lit = self.enum_literal(e, report=True)
+        if lit is None:
+            return T.UNKNOWN
+        self.tables.refs[id(e)] = lit
+        return lit.enum
+
+    def enum_literal(self, e: ast.Name, report: bool) -> EnumLitSym | None:
+        enum_name = ast.Name(e.parts[:-1], span=e.span)
+        decl = self.lookup_global(enum_name, self.scope.file, (ast.Enumeration,), "enumeration", report)
+        if decl is None:
+            return None
+        enum_t = self.resolve_type(ast.TypeRef(enum_name, span=e.span), self.scope.file)
+        if not isinstance(enum_t, T.EnumT):
+            return None
+        if e.last not in enum_t.literals:
+            if report:
+                self._err(f"enumeration '{enum_t.qname}' has no literal '{e.last}'" + did_you_mean(e.last, enum_t.literals), e)
+            return None
+        return EnumLitSym(enum_t, e.last)
+
+    def _e_Unary(self, e: ast.Unary) -> T.Type:
+        t = self.expr(e.operand)
+        if e.op == "not":
+            if not T.is_boolean(t):
+                return self._err(f"'not' needs a boolean operand, not {t.show()}", e.operand)
+            return T.BOOLEAN
+        if not T.is_numeric(t):
+            return self._err(f"unary '-' needs a number, not {t.show()}", e.operand)
+        return T.INT if t == T.NAT else t
+
+    def _e_Binary(self, e: ast.Binary) -> T.Type:
+        op = e.op
+        a = self.expr(e.left)
+        b = self.expr(e.right)
+        if op in ("iff", "=>", "\\/", "/\\"):
+            for side, t in ((e.left, a), (e.right, b)):
+                if not T.is_boolean(t):
+                    self._err(f"'{op}' needs boolean operands, not {t.show()}", side)
+            return T.BOOLEAN
+        if op in ("==", "!="):
+            if not T.comparable(a, b):
+                self._err(f"cannot compare {a.show()} with {b.show()}", e)
+            self._since_rule(e)
+            return T.BOOLEAN
+        if op in ("<", "<=", ">", ">="):
+            for side, t in ((e.left, a), (e.right, b)):
+                if not T.is_numeric(t):
+                    self._err(f"'{op}' needs numbers, not {t.show()}", side)
+            self._since_rule(e)
+            return T.BOOLEAN
+        if op == "in":
+            if not isinstance(b, (T.SetT, T.SeqT, T.UnknownT)):
+                self._err(f"the right of 'in' must be a set or a sequence, not {b.show()}", e.right)
+            elif not isinstance(b, T.UnknownT) and not T.assignable(a, b.element):
+                self._err(f"{a.show()} cannot be a member of {b.show()}", e.left)
+            return T.BOOLEAN
+        if op in ("cat", "^"):
+            for side, t in ((e.left, a), (e.right, b)):
+                if not isinstance(t, (T.SeqT, T.UnknownT, T.TypeVarT)):
+                    self._err(f"'{op}' concatenates sequences, not {t.show()}", side)
+            return a if isinstance(a, T.SeqT) else b
+        # + - * / %
+        if isinstance(a, T.SetT) or isinstance(b, T.SetT):
+            return self._err(f"'{op}' is not defined on sets; use union, inter or diff", e)
+        bad = False
+        for side, t in ((e.left, a), (e.right, b)):
+            if not T.is_numeric(t):
+                self._err(f"'{op}' needs numbers, not {t.show()}", side)
+                bad = True
+        if bad:
+            return T.UNKNOWN
+        if op == "%":
+            for side, t in ((e.left, a), (e.right, b)):
+                if not T.is_integral(t):
+                    self._err(f"'%' needs integers, not {t.show()}", side)
+            return T.numeric_join(a, b)
+        if op == "-" and a == T.NAT and b == T.NAT:
+            return T.INT
+        return T.numeric_join(a, b)
+
+    def _since_rule(self, e: ast.Binary) -> None:
+        """RoboChart TE4 (warning): since/sinceEntry are compared with constants."""
+        for timed, other in ((e.left, e.right), (e.right, e.left)):
+            if isinstance(timed, (ast.Since, ast.SinceEntry)) and not self.robosim and not self._constant(other):
+                self.sink.warning(
+                    f"'{'since' if isinstance(timed, ast.Since) else 'sinceEntry'}' should be compared with a constant",
+                    other.span,
+                )
+
+    def _constant(self, e: ast.Expr) -> bool:
+        if isinstance(e, (ast.IntLit, ast.RealLit, ast.BoolLit)):
+            return True
+        if isinstance(e, ast.Name):
+            v = self.tables.refs.get(id(e))
+            return isinstance(v, EnumLitSym) or (isinstance(v, VarSym) and v.kind == "const")
+        if isinstance(e, ast.Unary):
+            return self._constant(e.operand)
+        if isinstance(e, ast.Binary):
+            return self._constant(e.left) and self._constant(e.right)
+        return False
+
+    def _e_Field(self, e: ast.Field) -> T.Type:
+        t = self.expr(e.obj)
+        if isinstance(t, T.UnknownT):
+            return t
+        if not isinstance(t, T.RecordT):
+            return self._err(f"'.{e.field}' selects a field, but this is {t.show()}, not a record", e.obj)
+        ft = t.field(e.field)
+        if ft is None:
+            self.sink.error(
+                f"datatype '{t.qname}' has no field '{e.field}'" + did_you_mean(e.field, [n for n, _ in t.fields]),
+                e.field_span or e.span,
+            )
+            return T.UNKNOWN
+        return ft
+
+    def _e_Index(self, e: ast.Index) -> T.Type:
+        t = self.expr(e.obj)
+        its = [self.expr(i) for i in e.indices]
+        if isinstance(t, T.UnknownT):
+            return t
+        if isinstance(t, T.ProductT):
+            if len(e.indices) != 1 or not isinstance(e.indices[0], ast.IntLit):
+                return self._err("a tuple component is selected by one integer literal, e.g. p[1]", e)
+            k = e.indices[0].value
+            if not 1 <= k <= len(t.items):
+                return self._err(f"tuple of {len(t.items)} components has no component {k}", e.indices[0])
+            return t.items[k - 1]
+        for it, ie in zip(its, e.indices):
+            if not T.is_integral(it):
+                self._err(f"an index must be an integer, not {it.show()}", ie)
+        if isinstance(t, (T.VectorT, T.SeqT)):
+            if len(e.indices) != 1:
+                return self._err(f"{t.show()} takes one index", e)
+            return t.element
+        if isinstance(t, T.MatrixT):
+            if len(e.indices) != 2:
+                return self._err("a matrix takes two indices, m[i, j]", e)
+            return t.element
+        if isinstance(t, T.FunctionT) and len(e.indices) == 1:
+            return t.range
+        return self._err(f"{t.show()} cannot be indexed", e.obj)
+
+    def _e_Call(self, e: ast.Call) -> T.Type:
+        arg_types = [self.expr(a) for a in e.args]
+        f = e.func
+        if not isinstance(f, ast.Name):
+            return self._err("only named functions can be called", f)
+        if not f.qualified:
+            if f.last in self.scope.ops:
+                return self._err(f"'{f.last}' is an operation; operations are called as statements, not in expressions", f)
+            v = self.lookup_var(f.last)
+            if v is not None and isinstance(v.type, T.FunctionT):
+                self.tables.refs[id(f)] = v
+                return v.type.range
+        # an enumeration literal with arguments: E::c(x, y)
+        if f.qualified:
+            lit = self.enum_literal(f, report=False)
+            if lit is not None:
+                self.tables.refs[id(f)] = lit
+                return lit.enum
+        decl = self.lookup_global(f, self.scope.file, (ast.FunctionDef,), "function", True)
+        if decl is None:
+            return T.UNKNOWN
+        builtin = getattr(decl, "builtin", None)
+        if builtin is not None:
+            sym = FuncSym(f.last, (), T.UNKNOWN, None, builtin, decl.qname)
+            self.tables.refs[id(f)] = sym
+            if len(arg_types) not in builtin.arity:
+                arities = " or ".join(str(n) for n in builtin.arity)
+                return self._err(f"'{f.last}' takes {arities} argument(s), not {len(arg_types)}", e, Note(builtin.doc))
+            result = builtin.result(arg_types)
+            if isinstance(result, str):
+                return self._err(result, e, Note(builtin.doc))
+            return result
+        fdef: ast.FunctionDef = decl.node  # type: ignore[assignment]
+        ffile = decl.file or self.scope.file
+        params = tuple((p.name, self.resolve_type(p.type, ffile)) for p in fdef.params)
+        result = self.resolve_type(fdef.result, ffile)
+        self.tables.refs[id(f)] = FuncSym(f.last, params, result, fdef, None, decl.qname)
+        self._check_args(f"function '{f.last}'", params, e.args, arg_types, e)
+        return result
+
+    def _check_args(self, what: str, params, args, arg_types, node) -> None:
+        if len(args) != len(params):
+            self._err(f"{what} takes {len(params)} argument{'s' if len(params) != 1 else ''}, but {len(args)} {'were' if len(args) != 1 else 'was'} given", node)
+            return
+        for (pname, ptype), a, at in zip(params, args, arg_types):
+            if not T.assignable(at, ptype):
+                self._err(f"argument '{pname}' of {what} must be {ptype.show()}, but this is {at.show()}", a)
+
+    def _e_IfExpr(self, e: ast.IfExpr) -> T.Type:
+        c = self.expr(e.cond)
+        if not T.is_boolean(c):
+            self._err(f"the condition of 'if' must be boolean, not {c.show()}", e.cond)
+        a, b = self.expr(e.then), self.expr(e.otherwise)
+        if T.assignable(b, a):
+            return a if not (a == T.NAT and b == T.INT) else b
+        if T.assignable(a, b):
+            return b
+        return self._err(f"the branches of 'if' have different types: {a.show()} and {b.show()}", e)
+
+    def _e_Cast(self, e: ast.Cast) -> T.Type:
+        self.expr(e.expr)
+        t = self.resolve_type(e.type, self.scope.file)
+        return t if e.op == "as" else T.BOOLEAN
+
+    def _bind(self, decls: tuple[ast.Decl, ...]) -> dict[str, VarSym]:
+        frame = {}
+        for d in decls:
+            frame[d.name] = VarSym(d.name, self.resolve_type(d.type, self.scope.file), "binder", d, "binder")
+        return frame
+
+    def _e_Binder(self, e: ast.Binder) -> T.Type:
+        frame = self._bind(e.decls)
+        self.locals.append(frame)
+        try:
+            if e.such_that is not None:
+                st = self.expr(e.such_that)
+                if not T.is_boolean(st):
+                    self._err(f"the predicate after '|' must be boolean, not {st.show()}", e.such_that)
+            body = self.expr(e.body)
+        finally:
+            self.locals.pop()
+        if e.kind in ("forall", "exists", "exists1"):
+            if not T.is_boolean(body):
+                self._err(f"the body of '{e.kind}' must be boolean, not {body.show()}", e.body)
+            return T.BOOLEAN
+        if e.kind == "lambda":
+            dom = frame[e.decls[0].name].type if len(e.decls) == 1 else T.ProductT(tuple(v.type for v in frame.values()))
+            return T.FunctionT(dom, body)
+        # the
+        if not T.is_boolean(body):
+            self._err(f"the body of 'the' must be boolean, not {body.show()}", e.body)
+        return frame[e.decls[0].name].type
+
+    def _e_Let(self, e: ast.Let) -> T.Type:
+        frame: dict[str, VarSym] = {}
+        self.locals.append(frame)
+        try:
+            for d in e.defs:
+                frame[d.name] = VarSym(d.name, self.expr(d.value), "let", d, "let")
+            return self.expr(e.body)
+        finally:
+            self.locals.pop()
+
+    def _e_RecordLit(self, e: ast.RecordLit) -> T.Type:
+        t = self.resolve_type(ast.TypeRef(e.type, span=e.type.span), self.scope.file)
+        for fv in e.fields:
+            self.expr(fv.value)
+        if isinstance(t, T.UnknownT):
+            return t
+        if not isinstance(t, T.RecordT):
+            return self._err(f"'{e.type.text}' is not a datatype", e.type)
+        given = {fv.name: fv for fv in e.fields}
+        for name, ft in t.fields:
+            fv = given.pop(name, None)
+            if fv is None:
+                self._err(f"field '{name}' of '{t.qname}' is not given a value", e)
+            elif not T.assignable(self.tables.type_of(fv.value), ft):
+                self._err(f"field '{name}' must be {ft.show()}, but this is {self.tables.type_of(fv.value).show()}", fv.value)
+        for name, fv in given.items():
+            self.sink.error(f"datatype '{t.qname}' has no field '{name}'", fv.name_span)
+        return t
+
+    def _e_TupleLit(self, e: ast.TupleLit) -> T.Type:
+        return T.ProductT(tuple(self.expr(i) for i in e.items))
+
+    def _element(self, items, what: str) -> T.Type:
+        ts = [self.expr(i) for i in items]
+        if not ts:
+            return T.UNKNOWN
+        t = ts[0]
+        for i, it in zip(items[1:], ts[1:]):
+            if T.assignable(it, t):
+                continue
+            if T.assignable(t, it):
+                t = it
+                continue
+            self._err(f"the elements of a {what} must have one type: {t.show()} and {it.show()}", i)
+        return t
+
+    def _e_SeqLit(self, e: ast.SeqLit) -> T.Type:
+        return T.SeqT(self._element(e.items, "sequence"))
+
+    def _e_SetLit(self, e: ast.SetLit) -> T.Type:
+        return T.SetT(self._element(e.items, "set"))
+
+    def _e_SetRange(self, e: ast.SetRange) -> T.Type:
+        for x in (e.low, e.high):
+            t = self.expr(x)
+            if not T.is_integral(t):
+                self._err(f"a set range needs integer bounds, not {t.show()}", x)
+        return T.SetT(T.INT)
+
+    def _e_Range(self, e: ast.Range) -> T.Type:
+        for x in (e.low, e.high):
+            t = self.expr(x)
+            if not T.is_numeric(t):
+                self._err(f"a range needs numeric bounds, not {t.show()}", x)
+        return T.SetT(T.INT)
+
+    def _e_SetComprehension(self, e: ast.SetComprehension) -> T.Type:
+        frame = self._bind(e.decls)
+        self.locals.append(frame)
+        try:
+            if e.such_that is not None:
+                self.expr(e.such_that)
+            body = self.expr(e.body) if e.body is not None else next(iter(frame.values())).type
+        finally:
+            self.locals.pop()
+        return T.SetT(body)
+
+    def _e_VectorLit(self, e: ast.VectorLit) -> T.Type:
+        elements = [self._element(row, "vector") for row in e.rows]
+        if len(e.rows) == 1:
+            return T.VectorT(elements[0], len(e.rows[0]))
+        widths = {len(r) for r in e.rows}
+        if len(widths) != 1:
+            return self._err("the rows of a matrix literal must have the same length", e)
+        return T.MatrixT(elements[0], len(e.rows), widths.pop())
+
+    def _e_Since(self, e: ast.Since) -> T.Type:
+        self._timed_allowed(e, "since")
+        clock = self.scope.clocks.get(e.clock)
+        if clock is None:
+            self.sink.error(
+                f"unknown clock '{e.clock}'" + did_you_mean(e.clock, self.scope.clocks),
+                e.clock_span or e.span,
+                Note(f"clocks are declared with 'clock {e.clock}' in the {self.scope.kind}"),
+            )
+            return T.NAT
+        self.tables.refs[id(e)] = clock
+        return T.NAT
+
+    def _e_SinceEntry(self, e: ast.SinceEntry) -> T.Type:
+        self._timed_allowed(e, "sinceEntry")
+        found = [(path, n) for path, n in self.scope.all_states() if path[-1] == e.state.last and (not e.state.qualified or path == e.state.parts[-len(path):])]
+        if not found:
+            self._err(f"no state '{e.state.text}' in {self.scope.kind} '{self.scope.name}'", e.state)
+        elif isinstance(found[0][1], ast.Final):
+            self._err(f"'sinceEntry' of a final state", e.state)
+        elif not isinstance(found[0][1], ast.State):
+            self._err(f"'{e.state.text}' is not a state", e.state)
+        else:
+            self.tables.refs[id(e)] = found[0]
+        return T.NAT
+
+    def _timed_allowed(self, e: ast.Expr, word: str) -> None:
+        if not self.where.guard:
+            self._err(f"'{word}' may only appear in a transition condition", e)
+
+    def _e_MatrixOp(self, e: ast.MatrixOp) -> T.Type:
+        t = self.expr(e.operand)
+        if not isinstance(t, (T.MatrixT, T.UnknownT)):
+            return self._err(f"'{e.op}' needs a matrix, not {t.show()}", e.operand)
+        if e.op == "transpose" and isinstance(t, T.MatrixT):
+            return T.MatrixT(t.element, t.columns, t.rows)
+        return t
+
+    # RoboSim $ forms in expressions
+
+    def _dollar_event(self, name: str, node, span) -> EventSym | None:
+        ev = self.scope.events.get(name)
+        if ev is None:
+            self.sink.error(
+                f"unknown event '{name}'" + did_you_mean(name, self.scope.events),
+                span,
+                Note("RoboSim machines declare the events they read in their 'input context'"),
+            )
+            return None
+        self.tables.refs[id(node)] = ev
+        if not ev.input:
+            self.sink.error(
+                f"'{name}' is an output event; output events cannot be tested in a condition",
+                span,
+                Note(f"declared in {ev.origin}", ev.span),
+            )
+        return ev
+
+    def _require_guard(self, e: ast.Expr, what: str) -> None:
+        if not self.where.guard:
+            self._err(f"'{what}' tests an input and may only appear in a transition condition", e)
+
+    def _e_Dollar(self, e: ast.Dollar) -> T.Type:
+        if not self.robosim:
+            return self._err("'$' is RoboSim syntax", e)
+        v = self.scope.vars.get(e.name)
+        if v is not None and e.name not in self.scope.events:
+            self.tables.refs[id(e)] = v
+            return v.type
+        self._require_guard(e, f"${e.name}")
+        self._dollar_event(e.name, e, e.name_span or e.span)
+        return T.BOOLEAN
+
+    def _e_DollarInput(self, e: ast.DollarInput) -> T.Type:
+        self._require_guard(e, f"${e.event}?{e.var}")
+        ev = self._dollar_event(e.event, e, e.event_span or e.span)
+        var = self.lookup_var(e.var)
+        if var is None:
+            self.sink.error(f"unknown variable '{e.var}'" + did_you_mean(e.var, self._visible_value_names()), e.var_span or e.span)
+        elif not var.assignable:
+            self.sink.error(f"cannot bind the value of '{e.event}' to {var.kind} '{e.var}'", e.var_span or e.span, Note("declared here", var.span))
+        elif ev is not None:
+            if ev.type is None:
+                self.sink.error(f"event '{e.event}' carries no value to bind to '{e.var}'", e.event_span or e.span, Note("declared here", ev.span))
+            elif not T.assignable(ev.type, var.type):
+                self.sink.error(
+                    f"cannot bind a value of event '{e.event}' ({ev.type.show()}) to '{e.var}' ({var.type.show()})",
+                    e.var_span or e.span,
+                )
+        if var is not None:
+            self.tables.refs[("bind", id(e))] = var
+        if e.predicate is not None:
+            pt = self.expr(e.predicate)
+            if not T.is_boolean(pt):
+                self._err(f"the predicate after ':' must be boolean, not {pt.show()}", e.predicate)
+        return T.BOOLEAN
+
+    def _e_DollarValue(self, e: ast.DollarValue) -> T.Type:
+        self._require_guard(e, f"${e.event}.v")
+        ev = self._dollar_event(e.event, e, e.event_span or e.span)
+        vt = self.expr(e.value)
+        if ev is not None:
+            if ev.type is None:
+                self.sink.error(f"event '{e.event}' carries no value", e.event_span or e.span)
+            elif not T.comparable(vt, ev.type):
+                self._err(f"event '{e.event}' carries {ev.type.show()}, not {vt.show()}", e.value)
+        return T.BOOLEAN
+
+    # ------------------------------------------------------------------ statements
+
+    def stmt(self, s: ast.Stmt) -> None:
+        saved = self.where
+        self.where = Where(action=True)
+        try:
+            self._stmt(s)
+        finally:
+            self.where = saved
+
+    def _stmt(self, s: ast.Stmt) -> None:
+        getattr(self, "_s_" + type(s).__name__)(s)
+
+    def _s_Skip(self, s: ast.Skip) -> None:
+        pass
+
+    def _s_Exec(self, s: ast.Exec) -> None:
+        pass
+
+    def _s_Wait(self, s: ast.Wait) -> None:
+        if self.robosim:
+            self.sink.error("RoboSim has no 'wait': time passes in cycles; count cycles with a clock and 'since'", s.span)
+            return
+        t = self.expr(s.duration)
+        if not (T.is_integral(t) or (isinstance(t, T.SetT) and T.is_integral(t.element))):
+            self._err(f"'wait' takes an integer number of time units, or a set of them; this is {t.show()}", s.duration)
+
+    def _s_ClockReset(self, s: ast.ClockReset) -> None:
+        clock = self.scope.clocks.get(s.clock)
+        if clock is None:
+            self.sink.error(f"unknown clock '{s.clock}'" + did_you_mean(s.clock, self.scope.clocks), s.clock_span or s.span)
+        else:
+            self.tables.refs[id(s)] = clock
+
+    def _s_Seq(self, s: ast.Seq) -> None:
+        for x in s.stmts:
+            self._stmt(x)
+
+    def _s_IfStmt(self, s: ast.IfStmt) -> None:
+        t = self.expr(s.cond)
+        if not T.is_boolean(t):
+            self._err(f"the condition of 'if' must be boolean, not {t.show()}", s.cond)
+        self._stmt(s.then)
+        if s.otherwise is not None:
+            self._stmt(s.otherwise)
+
+    def _s_Assign(self, s: ast.Assign) -> None:
+        target_t = self._lvalue(s.target)
+        vt = self.expr(s.value)
+        if target_t is not None and not T.assignable(vt, target_t):
+            self._err(f"cannot assign {vt.show()} to {_describe(s.target)} of type {target_t.show()}", s.value)
+
+    def _lvalue(self, e: ast.Expr) -> T.Type | None:
+        if isinstance(e, ast.Name) and not e.qualified:
+            v = self.lookup_var(e.last)
+            if v is None:
+                self.expr(e)  # reports the unknown name
+                return None
+            self.tables.refs[id(e)] = v
+            self._set(e, v.type)
+            if not v.assignable:
+                what = {"const": "constant", "param": "parameter", "binder": "bound variable", "let": "let-bound name"}[v.kind]
+                self.sink.error(f"cannot assign to {what} '{v.name}'", e.span, Note("declared here", v.span))
+            return v.type
+        if isinstance(e, ast.Field):
+            base = self._lvalue(e.obj)
+            if base is None:
+                return None
+            return self._e_Field_of(e, base)
+        if isinstance(e, ast.Index):
+            base = self._lvalue(e.obj)
+            for i in e.indices:
+                self.expr(i)
+            if base is None:
+                return None
+            t = self._set(e, self._index_type(e, base))
+            return t
+        self._err(f"cannot assign to this expression", e)
+        return None
+
+    def _e_Field_of(self, e: ast.Field, base: T.Type) -> T.Type | None:
+        if isinstance(base, T.UnknownT):
+            return None
+        if not isinstance(base, T.RecordT):
+            self._err(f"'.{e.field}' selects a field, but this is {base.show()}, not a record", e.obj)
+            return None
+        ft = base.field(e.field)
+        if ft is None:
+            self.sink.error(f"datatype '{base.qname}' has no field '{e.field}'" + did_you_mean(e.field, [n for n, _ in base.fields]), e.field_span or e.span)
+            return None
+        self._set(e, ft)
+        return ft
+
+    def _index_type(self, e: ast.Index, base: T.Type) -> T.Type:
+        if isinstance(base, (T.VectorT, T.SeqT)):
+            return base.element
+        if isinstance(base, T.MatrixT):
+            return base.element
+        if isinstance(base, T.ProductT) and len(e.indices) == 1 and isinstance(e.indices[0], ast.IntLit):
+            k = e.indices[0].value
+            if 1 <= k <= len(base.items):
+                return base.items[k - 1]
+        if not isinstance(base, T.UnknownT):
+            self._err(f"{base.show()} cannot be indexed", e.obj)
+        return T.UNKNOWN
+
+    def _s_CallStmt(self, s: ast.CallStmt) -> None:
+        call = s.call
+        f = call.func
+        arg_types = [self.expr(a) for a in call.args]
+        if not isinstance(f, ast.Name):
+            self._err("only named operations can be called", f)
+            return
+        op = self.scope.ops.get(f.last) if not f.qualified else None
+        if op is None:
+            known = [n for n in self.scope.ops]
+            glob = self.lookup_global(f, self.scope.file, (ast.OperationDef,), "operation", False)
+            notes = []
+            if glob is not None:
+                notes.append(Note(f"'{f.text}' is defined here but not required by this {self.scope.kind}: add 'requires' of an interface declaring it", glob.span))
+            fn = self.lookup_global(f, self.scope.file, (ast.FunctionDef,), "function", False)
+            if fn is not None:
+                self._err(f"'{f.text}' is a function; a function call is an expression, not a statement", f)
+                return
+            self.sink.error(f"unknown operation '{f.text}'" + did_you_mean(f.last, known), f.span, *notes)
+            return
+        self.tables.refs[id(f)] = op
+        if self.robosim and op.platform:
+            self.sink.error(
+                f"'{op.name}' is a platform operation; RoboSim calls it as ${op.name}(...)",
+                f.span,
+                Note(f"declared in {op.origin}", op.span),
+            )
+        self._check_args(f"operation '{op.name}'", op.params, call.args, arg_types, call)
+        self.outputs_used.append((op.name, s))
+
+    def _s_Communicate(self, s: ast.Communicate) -> None:
+        if self.robosim:
+            self.sink.error(
+                "RoboChart communication statements are not allowed in RoboSim; write $e, $e!v or $op(...)",
+                s.span,
+            )
+            return
+        self.communication(s.comm, trigger=False)
+
+    def communication(self, c: ast.Communication, trigger: bool) -> EventSym | None:
+        ev = self.scope.events.get(c.event)
+        if ev is None:
+            self.sink.error(
+                f"unknown event '{c.event}'" + did_you_mean(c.event, self.scope.events),
+                c.event_span or c.span,
+                Note(f"events come from 'event' declarations and the interfaces the {self.scope.kind} uses"),
+            )
+            return None
+        self.tables.refs[id(c)] = ev
+        if c.filter is not None:
+            if c.filter.bind_value is not None:
+                self.expr(c.filter.bind_value)
+            if c.filter.predicate is not None:
+                self.expr(c.filter.predicate)
+        if c.kind == "":
+            if ev.type is not None and not trigger:
+                self.sink.error(
+                    f"event '{c.event}' carries {ev.type.show()}: send a value with {c.event}!v or receive it with {c.event}?x",
+                    c.span,
+                )
+            return ev
+        if ev.type is None:
+            self.sink.error(f"event '{c.event}' carries no value", c.event_span or c.span, Note("declared here", ev.span))
+            return ev
+        if c.kind == "?":
+            var = self.lookup_var(c.var or "")
+            if var is None:
+                self.sink.error(f"unknown variable '{c.var}'" + did_you_mean(c.var or "", self._visible_value_names()), c.var_span or c.span)
+            elif not var.assignable:
+                self.sink.error(f"cannot receive into {var.kind} '{var.name}'", c.var_span or c.span, Note("declared here", var.span))
+            elif not T.assignable(ev.type, var.type):
+                self.sink.error(
+                    f"cannot receive a value of event '{c.event}' ({ev.type.show()}) into '{var.name}' ({var.type.show()})",
+                    c.var_span or c.span,
+                )
+            if var is not None:
+                self.tables.refs[("bind", id(c))] = var
+        else:
+            assert c.value is not None
+            vt = self.expr(c.value)
+            if not T.assignable(vt, ev.type):
+                self._err(f"event '{c.event}' carries {ev.type.show()}, but this value is {vt.show()}", c.value)
+            if c.kind == "!":
+                self.outputs_used.append((c.event, c))
+        return ev
+
+    def _s_StmtDeadline(self, s: ast.StmtDeadline) -> None:
+        if self.robosim:
+            self.sink.error("deadlines '<{ }' mean nothing in RoboSim and are rejected", s.span)
+            return
+        self._stmt(s.stmt)
+        t = self.expr(s.bound)
+        if not T.is_numeric(t):
+            self._err(f"a deadline is a number of time units, not {t.show()}", s.bound)
+
+    def _s_DollarOutput(self, s: ast.DollarOutput) -> None:
+        ev = self.scope.events.get(s.event)
+        if ev is None:
+            self.sink.error(
+                f"unknown event '{s.event}'" + did_you_mean(s.event, self.scope.events),
+                s.event_span or s.span,
+                Note("RoboSim machines declare the events they write in their 'output context'"),
+            )
+            return
+        self.tables.refs[id(s)] = ev
+        if not ev.output:
+            self.sink.error(
+                f"'{s.event}' is an input event; an input event cannot be written",
+                s.event_span or s.span,
+                Note(f"declared in {ev.origin}", ev.span),
+            )
+        if s.kind == "":
+            if ev.type is not None:
+                self.sink.error(f"event '{s.event}' carries {ev.type.show()}: write ${s.event}!v", s.span)
+        else:
+            assert s.value is not None
+            vt = self.expr(s.value)
+            if ev.type is None:
+                self.sink.error(f"event '{s.event}' carries no value", s.event_span or s.span, Note("declared here", ev.span))
+            elif not T.assignable(vt, ev.type):
+                self._err(f"event '{s.event}' carries {ev.type.show()}, but this value is {vt.show()}", s.value)
+        self.outputs_used.append((s.event, s))
+
+    def _s_DollarCall(self, s: ast.DollarCall) -> None:
+        arg_types = [self.expr(a) for a in s.args]
+        op = self.scope.ops.get(s.op)
+        if op is None:
+            self.sink.error(
+                f"unknown platform operation '{s.op}'" + did_you_mean(s.op, self.scope.ops),
+                s.op_span or s.span,
+                Note("RoboSim machines name the platform operations they call in their 'output context' (requires I)"),
+            )
+            return
+        self.tables.refs[id(s)] = op
+        self._check_args(f"operation '{op.name}'", op.params, s.args, arg_types, s)
+        self.outputs_used.append((op.name, s))
+
+    def _s_DollarAssign(self, s: ast.DollarAssign) -> None:
+        vt = self.expr(s.value)
+        v = self.scope.vars.get(s.var)
+        if v is None:
+            self.sink.error(f"unknown shared variable '{s.var}'" + did_you_mean(s.var, self.scope.vars), s.var_span or s.span)
+            return
+        self.tables.refs[id(s)] = v
+        if not v.assignable:
+            self.sink.error(f"cannot assign to {v.kind} '{v.name}'", s.var_span or s.span, Note("declared here", v.span))
+        elif not T.assignable(vt, v.type):
+            self._err(f"cannot assign {vt.show()} to '{v.name}' of type {v.type.show()}", s.value)
+
+
+def _describe(e: ast.Expr) -> str:
+    if isinstance(e, ast.Name):
+        return f"'{e.text}'"
+    if isinstance(e, ast.Field):
+        return f"field '{e.field}'"
+    return "this element"
+
+
+__all__ = ["ExprChecker", "Tables", "Where", "ClockSym", "OpSym"]

@@ -1,0 +1,387 @@
+"""A workspace: every model file given to robogen, parsed, indexed by package, like a RoboTool
+project. Imports and package-qualified names resolve across all its files.
+
+Global name lookup for a simple name ``N`` used in a file of package ``P`` tries, in order:
+the declarations of ``P`` (in any file), the file's explicit imports (``import Q::N``), its
+wildcard imports (``import Q::*``), declarations of files without a package (visible everywhere,
+as in RoboTool), the built-in ``core`` package. As a last resort, a declaration of that simple
+name anywhere in the workspace is used with a warning naming the import that is missing
+(RoboTool's automatic translations rely on this).
+"""
+
+from __future__ import annotations
+
+import os
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Iterable, Sequence
+
+from robogen.diagnostics import DiagnosticSink, Note, RobogenError, Span, did_you_mean, error
+from robogen.semantics.types import BUILTINS, PRIMITIVES, Builtin
+from robogen.syntax import ast
+from robogen.syntax.parser import EXTENSIONS, language_of, parse_file
+
+TOP_LEVEL_KINDS = {
+    ast.Interface: "interface",
+    ast.Platform: "robotic platform",
+    ast.GivenType: "type",
+    ast.Record: "datatype",
+    ast.Enumeration: "enumeration",
+    ast.Controller: "controller",
+    ast.StateMachine: "state machine",
+    ast.OperationDef: "operation",
+    ast.FunctionDef: "function",
+    ast.Module: "module",
+}
+TYPE_DECLS = (ast.GivenType, ast.Record, ast.Enumeration)
+
+
+@dataclass(eq=False)
+class Decl:
+    """A top-level declaration (or a built-in) registered in a package."""
+
+    name: str
+    package: str | None
+    node: ast.Node | None
+    file: ast.File | None
+    builtin: Builtin | None = None
+    primitive: str | None = None
+
+    @property
+    def qname(self) -> str:
+        return f"{self.package}::{self.name}" if self.package else self.name
+
+    @property
+    def kind(self) -> str:
+        if self.builtin is not None:
+            return "function"
+        if self.primitive is not None:
+            return "type"
+        return TOP_LEVEL_KINDS.get(type(self.node), type(self.node).__name__)
+
+    @property
+    def span(self) -> Span | None:
+        return getattr(self.node, "name_span", None) if self.node is not None else None
+
+    def is_a(self, kinds: tuple[type, ...]) -> bool:
+        if self.primitive is not None:
+            return ast.GivenType in kinds or ast.TypeRef in kinds
+        if self.builtin is not None:
+            return ast.FunctionDef in kinds
+        return isinstance(self.node, kinds)
+
+
+@dataclass
+class Package:
+    name: str | None
+    decls: dict[str, list[Decl]] = field(default_factory=dict)
+
+    def add(self, decl: Decl) -> None:
+        self.decls.setdefault(decl.name, []).append(decl)
+
+
+class Workspace:
+    def __init__(self, files: Sequence[ast.File], sink: DiagnosticSink | None = None):
+        self.files = list(files)
+        self.sink = sink or DiagnosticSink()
+        self.packages: dict[str | None, Package] = {}
+        self.by_simple: dict[str, list[Decl]] = {}
+        self._imports: dict[int, tuple[list[tuple[ast.Import, Decl]], list[tuple[ast.Import, Package]]]] = {}
+        self._builtins()
+        for f in self.files:
+            self._index(f)
+        self._check_duplicates()
+        for f in self.files:
+            self._resolve_imports(f)
+
+    # -- construction
+
+    def _builtins(self) -> None:
+        core = self.packages.setdefault("core", Package("core"))
+        for name in PRIMITIVES:
+            core.add(Decl(name, "core", None, None, primitive=name))
+        for pkg_name, functions in BUILTINS.items():
+            pkg = self.packages.setdefault(pkg_name, Package(pkg_name))
+            for name, b in functions.items():
+                pkg.add(Decl(name, pkg_name, None, None, builtin=b))
+
+    def _index(self, f: ast.File) -> None:
+        pkg_name = f.package.text if f.package else None
+        pkg = self.packages.setdefault(pkg_name, Package(pkg_name))
+        for item in f.items:
+            if isinstance(item, ast.Named) and not isinstance(item, ast.Diagram):
+                d = Decl(item.name, pkg_name, item, f)
+                pkg.add(d)
+                self.by_simple.setdefault(item.name, []).append(d)
+                if isinstance(item, ast.Module):
+                    # A module's inline platform and controllers are declarations of the package too
+                    # (RoboTool lets other modules reference them).
+                    for m in item.members:
+                        if isinstance(m, (ast.Platform, ast.Controller)):
+                            self.by_simple.setdefault(m.name, []).append(Decl(m.name, pkg_name, m, f))
+
+    def _check_duplicates(self) -> None:
+        for pkg in self.packages.values():
+            for name, decls in pkg.decls.items():
+                real = [d for d in decls if d.node is not None]
+                for d in real[1:]:
+                    first = real[0]
+                    self.sink.error(
+                        f"duplicate declaration of '{name}' in {_pkg_text(pkg.name)}",
+                        d.span,
+                        Note(f"'{name}' is first declared here as a {first.kind}", first.span),
+                    )
+
+    def _resolve_imports(self, f: ast.File) -> None:
+        singles: list[tuple[ast.Import, Decl]] = []
+        wildcards: list[tuple[ast.Import, Package]] = []
+        for imp in f.imports:
+            parts = imp.name.parts
+            if imp.wildcard:
+                pkg = self.packages.get("::".join(parts))
+                if pkg is None:
+                    self.sink.error(
+                        f"no package '{imp.name.text}' in this workspace" + did_you_mean(imp.name.text, self._package_names()),
+                        imp.name.span,
+                        Note("packages come from the 'package' line of the files given to robogen"),
+                    )
+                    continue
+                wildcards.append((imp, pkg))
+                continue
+            if len(parts) < 2:
+                self.sink.error(f"import '{imp.name.text}' must name a package and a declaration (pkg::Name or pkg::*)", imp.span)
+                continue
+            pkg_name, name = "::".join(parts[:-1]), parts[-1]
+            pkg = self.packages.get(pkg_name)
+            if pkg is None:
+                self.sink.error(
+                    f"no package '{pkg_name}' in this workspace" + did_you_mean(pkg_name, self._package_names()), imp.name.span
+                )
+                continue
+            decls = pkg.decls.get(name)
+            if not decls:
+                self.sink.error(
+                    f"package '{pkg_name}' declares no '{name}'" + did_you_mean(name, pkg.decls), imp.name.span
+                )
+                continue
+            singles.append((imp, decls[0]))
+        self._imports[id(f)] = (singles, wildcards)
+
+    def _package_names(self) -> list[str]:
+        return [p for p in self.packages if p]
+
+    # -- lookup
+
+    def lookup(
+        self,
+        name: ast.Name,
+        file: ast.File,
+        kinds: tuple[type, ...],
+        what: str,
+        report: bool = True,
+        sink: DiagnosticSink | None = None,
+    ) -> Decl | None:
+        """Resolve a global name to a declaration of one of ``kinds``; report problems at its span."""
+        sink = sink or self.sink
+        if name.qualified:
+            pkg_name, simple = "::".join(name.parts[:-1]), name.last
+            pkg = self.packages.get(pkg_name)
+            if pkg is None:
+                if report:
+                    sink.error(f"unknown package '{pkg_name}' in '{name.text}'" + did_you_mean(pkg_name, self._package_names()), name.span)
+                return None
+            found = [d for d in pkg.decls.get(simple, ()) if d.is_a(kinds)]
+            if not found:
+                if report:
+                    other = pkg.decls.get(simple)
+                    if other:
+                        sink.error(f"'{name.text}' is a {other[0].kind}, not {_article(what)}", name.span, Note("declared here", other[0].span))
+                    else:
+                        cands = [n for n, ds in pkg.decls.items() if any(d.is_a(kinds) for d in ds)]
+                        sink.error(f"package '{pkg_name}' declares no {what} '{simple}'" + did_you_mean(simple, cands), name.span)
+                return None
+            return found[0]
+        simple = name.last
+        for candidates in self._visible(simple, file):
+            matching = _unique([d for d in candidates if d.is_a(kinds)])
+            if len(matching) == 1:
+                return matching[0]
+            if len(matching) > 1:
+                if report:
+                    sink.error(
+                        f"'{simple}' is ambiguous here: " + ", ".join(d.qname for d in matching),
+                        name.span,
+                        *(Note(f"'{d.qname}' is declared here", d.span) for d in matching),
+                    )
+                return matching[0]
+            if candidates and report and not any(d.is_a(kinds) for d in candidates):
+                d = candidates[0]
+                sink.error(f"'{simple}' is a {d.kind}, not {_article(what)}", name.span, Note("declared here", d.span))
+                return None
+        # Last resort: the unique declaration with this simple name anywhere in the workspace.
+        anywhere = _unique([d for d in self.by_simple.get(simple, []) if d.is_a(kinds)])
+        anywhere += [d for pkg in BUILTINS for d in self.packages[pkg].decls.get(simple, []) if d.is_a(kinds)]
+        if anywhere:
+            best = _closest_package(anywhere, file)
+            if best is not None:
+                if report:
+                    sink.warning(
+                        f"'{simple}' is not imported here; using '{best.qname}'",
+                        name.span,
+                        Note(f"add 'import {best.package}::{simple}' (or '::*') to the file" if best.package else "declared here", best.span),
+                    )
+                return best
+            if report:
+                sink.error(
+                    f"'{simple}' is not imported here, and several packages declare it: " + ", ".join(d.qname for d in anywhere),
+                    name.span,
+                )
+            return None
+        if report:
+            sink.error(f"unknown {what} '{simple}'" + did_you_mean(simple, self._visible_names(file, kinds)), name.span)
+        return None
+
+    def _visible(self, simple: str, file: ast.File) -> Iterable[list[Decl]]:
+        pkg_name = file.package.text if file.package else None
+        yield list(self.packages[pkg_name].decls.get(simple, ())) if pkg_name in self.packages else []
+        singles, wildcards = self._imports.get(id(file), ([], []))
+        yield [d for imp, d in singles if d.name == simple]
+        yield [d for imp, pkg in wildcards for d in pkg.decls.get(simple, ())]
+        if pkg_name is not None and None in self.packages:
+            yield list(self.packages[None].decls.get(simple, ()))
+        yield list(self.packages["core"].decls.get(simple, ()))
+
+    def _visible_names(self, file: ast.File, kinds: tuple[type, ...]) -> list[str]:
+        pkg_name = file.package.text if file.package else None
+        names = []
+        pkgs = [self.packages.get(pkg_name), self.packages.get(None), self.packages["core"]]
+        singles, wildcards = self._imports.get(id(file), ([], []))
+        pkgs += [p for _, p in wildcards]
+        for pkg in pkgs:
+            if pkg:
+                names += [n for n, ds in pkg.decls.items() if any(d.is_a(kinds) for d in ds)]
+        names += [d.name for _, d in singles if d.is_a(kinds)]
+        return names
+
+    def file_of(self, node: ast.Node) -> ast.File | None:
+        for f in self.files:
+            if any(item is node for item in f.items):
+                return f
+        return None
+
+    def decls(self, kinds: tuple[type, ...]) -> list[Decl]:
+        out = []
+        for f in self.files:
+            pkg_name = f.package.text if f.package else None
+            for item in f.items:
+                if isinstance(item, kinds):
+                    out.append(Decl(item.name, pkg_name, item, f))  # type: ignore[attr-defined]
+        return out
+
+
+def _unique(decls: list[Decl]) -> list[Decl]:
+    seen: list[Decl] = []
+    for d in decls:
+        if not any(d is s or (d.node is not None and d.node is s.node) for s in seen):
+            seen.append(d)
+    return seen
+
+
+def _closest_package(decls: list[Decl], file: ast.File) -> Decl | None:
+    """Among declarations of one simple name, the one whose package shares the longest prefix
+    with the file's package; None if that does not single one out."""
+    if len(decls) == 1:
+        return decls[0]
+    here = file.package.text if file.package else ""
+
+    def common(d: Decl) -> int:
+        there = d.package or ""
+        n = 0
+        for a, b in zip(here, there):
+            if a != b:
+                break
+            n += 1
+        return n
+
+    scored = sorted(decls, key=common, reverse=True)
+    if common(scored[0]) > common(scored[1]):
+        return scored[0]
+    return None
+
+
+def _article(what: str) -> str:
+    return f"an {what}" if what[:1] in "aeiou" else f"a {what}"
+
+
+def _pkg_text(pkg: str | None) -> str:
+    return f"package '{pkg}'" if pkg else "the files without a package"
+
+
+# ---------------------------------------------------------------------------- loading
+
+
+def collect_model_paths(paths: Sequence[str | os.PathLike], problems: DiagnosticSink | None = None) -> list[str]:
+    """Files given directly, plus every .rct/.rst/.rsim file below each directory (sorted).
+    Missing paths and non-model files are reported to ``problems`` (raised if not given)."""
+    found: list[str] = []
+    own = problems is None
+    problems = problems if problems is not None else DiagnosticSink()
+    for p in paths:
+        path = Path(p)
+        if path.is_dir():
+            inside = sorted(str(q) for q in path.rglob("*") if q.suffix.lower() in EXTENSIONS and q.is_file())
+            if not inside:
+                problems.error(f"no model files (.rct, .rst, .rsim) in directory {path}", None)
+            found += inside
+        elif path.is_file():
+            if language_of(path) is None:
+                problems.error(
+                    f"{path}: not a model file; expected a .rct (RoboChart), .rst or .rsim (RoboSim) file", Span.whole_file(str(path))
+                )
+            else:
+                found.append(str(path))
+        elif path.exists():
+            problems.error(f"{path} is neither a file nor a directory", None)
+        else:
+            problems.error(f"no such file or directory: {path}", None)
+    if own:
+        problems.raise_if_errors()
+    # one copy of each file, in a stable order
+    unique: list[str] = []
+    seen: set[str] = set()
+    for f in found:
+        key = os.path.realpath(f)
+        if key not in seen:
+            seen.add(key)
+            unique.append(f)
+    return unique
+
+
+def load(paths: Sequence[str | os.PathLike], sink: DiagnosticSink | None = None) -> Workspace:
+    """Parse every model under ``paths`` into one workspace; syntax errors of a file are recorded
+    in the sink and that file is left out, so the other files are still checked."""
+    sink = sink or DiagnosticSink()
+    files = []
+    for path in collect_model_paths(paths, sink):
+        try:
+            files.append(parse_file(path))
+        except RobogenError as exc:
+            sink.extend(exc.diagnostics)
+    return Workspace(files, sink)
+
+
+def from_texts(texts: dict[str, str], sink: DiagnosticSink | None = None) -> Workspace:
+    """A workspace from in-memory files (path -> text), for tests and tools."""
+    from robogen.syntax.parser import parse_text
+
+    sink = sink or DiagnosticSink()
+    files = []
+    for path, text in texts.items():
+        try:
+            files.append(parse_text(text, path))
+        except RobogenError as exc:
+            sink.extend(exc.diagnostics)
+    return Workspace(files, sink)
+
+
+__all__ = ["Decl", "Package", "Workspace", "load", "from_texts", "collect_model_paths", "TYPE_DECLS", "error"]
