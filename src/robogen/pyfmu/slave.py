@@ -1,0 +1,357 @@
+"""The FMI 3.0 Co-Simulation state machine of a Python-implemented FMU.
+
+:class:`Slave` owns one :class:`robogen.pyfmu.model.Model` instance and answers the importer's
+calls as the FMI 3.0 standard requires (../shared/docs/fmi3.md §1-§2): allowed calls per
+state, clocked variables only while one of their clocks is active, output clocks deactivated by
+``update_discrete_states``, a periodic clock at most once per Event Mode, ``doStep`` only from
+``lastSuccessfulTime``. A rule violation raises :class:`FmiUsageError` (the embedding turns it
+into ``fmi3Error`` and a log message); an exception from the model propagates with its
+traceback. The embedding (``_embedded.py``) converts C arguments; this module is plain Python,
+so it is tested without compiling anything.
+"""
+
+from __future__ import annotations
+
+import enum
+import math
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any, Callable, Iterable, Sequence
+
+from robogen.pyfmu.model import Clock, FmiUsageError, Model, Step, Update, Var
+
+OK, WARNING, DISCARD, ERROR, FATAL = 0, 1, 2, 3, 4
+INTERVAL_UNCHANGED, INTERVAL_CHANGED = 1, 2
+LOG_CATEGORIES = ("logEvents", "logStatusWarning", "logStatusError")
+
+# Relative tolerance for comparing times (communication points, stop time).
+TIME_TOLERANCE = 1e-9
+
+
+class State(enum.Enum):
+    INSTANTIATED = "Instantiated"
+    INITIALIZATION = "Initialization Mode"
+    EVENT = "Event Mode"
+    STEP = "Step Mode"
+    TERMINATED = "Terminated"
+
+
+@dataclass(frozen=True)
+class StepResult:
+    event_handling_needed: bool
+    terminate: bool
+    early_return: bool
+    last_successful_time: float
+
+
+@dataclass(frozen=True)
+class UpdateResult:
+    discrete_states_need_update: bool
+    terminate: bool
+    next_event_time_defined: bool
+    next_event_time: float
+
+
+def same_time(a: float, b: float) -> bool:
+    return abs(a - b) <= TIME_TOLERANCE * max(1.0, abs(a), abs(b))
+
+
+Logger = Callable[[int, str, str], None]
+
+
+class Slave:
+    """One FMU instance: the FMI state machine around a model object."""
+
+    def __init__(
+        self,
+        model_class: type[Model],
+        *,
+        instance_name: str = "",
+        resource_path: Path | None = None,
+        event_mode_used: bool = True,
+        early_return_allowed: bool = False,
+        logger: Logger | None = None,
+    ) -> None:
+        self.model_class = model_class
+        self.instance_name = instance_name
+        self.resource_path = resource_path
+        self.event_mode_used = event_mode_used
+        self.early_return_allowed = early_return_allowed
+        self.logger = logger
+        self._by_vr: dict[int, Var] = {v.vr: v for v in model_class.variables()}
+        self._clocks = [v for v in model_class.variables() if isinstance(v, Clock)]
+        if self._clocks and not event_mode_used:
+            raise FmiUsageError(f"{model_class.__name__} has clocks: it must be instantiated with eventModeUsed = true")
+        self._new_model()
+
+    def _new_model(self) -> None:
+        self.model = self.model_class(instance_name=self.instance_name, resource_path=self.resource_path,
+                                      logger=self.logger)
+        self.model.early_return_allowed = self.early_return_allowed
+        self.state = State.INSTANTIATED
+        self._reset_event_bookkeeping()
+        self._set_since_step = False
+        self.model.setup()
+
+    def _reset_event_bookkeeping(self) -> None:
+        self._new_input_clocks: set[str] = set()   # activated since the last react()
+        self._reacted = False                       # react() ran in this instant
+        self._updated_in_event_mode = False         # an update closed an instant in this Event Mode
+        self._periodic_ticked: set[str] = set()     # periodic clocks activated in this Event Mode
+
+    # -- helpers --------------------------------------------------------------------------------
+
+    def _require(self, function: str, *states: State) -> None:
+        if self.state not in states:
+            allowed = " or ".join(s.value for s in states)
+            raise FmiUsageError(f"{function} is not allowed in {self.state.value} (only in {allowed})")
+
+    def _variable(self, function: str, vr: int, type_name: str) -> Var:
+        var = self._by_vr.get(vr)
+        if var is None:
+            raise FmiUsageError(f"{function}: unknown value reference {vr}")
+        if var.type_name != type_name:
+            raise FmiUsageError(f"{function}: '{var.name}' (value reference {vr}) is a {var.type_name}")
+        return var
+
+    def _clock_is_active(self, var: Var) -> bool:
+        return var.clock is not None and self.model.clock_active(var.clock)
+
+    def _react_if_needed(self) -> None:
+        """Let the model compute the instant's outputs once its inputs are complete."""
+        if self.state is State.EVENT and (not self._reacted or self._new_input_clocks):
+            clocks = frozenset(self._new_input_clocks)
+            self._new_input_clocks.clear()
+            self._reacted = True
+            self.model.react(clocks)
+
+    # -- life cycle -----------------------------------------------------------------------------
+
+    def enter_initialization_mode(self, tolerance: float | None, start_time: float, stop_time: float | None) -> None:
+        self._require("fmi3EnterInitializationMode", State.INSTANTIATED)
+        if stop_time is not None and stop_time < start_time:
+            raise FmiUsageError(f"stopTime {stop_time} is before startTime {start_time}")
+        self.model.time = self.model.start_time = float(start_time)
+        self.model.stop_time = stop_time
+        self.state = State.INITIALIZATION
+        self.model.enter_initialization_mode()
+
+    def exit_initialization_mode(self) -> None:
+        self._require("fmi3ExitInitializationMode", State.INITIALIZATION)
+        self.model.exit_initialization_mode()
+        self._reset_event_bookkeeping()
+        self.state = State.EVENT if self.event_mode_used else State.STEP
+
+    def enter_event_mode(self) -> None:
+        self._require("fmi3EnterEventMode", State.STEP)
+        if not self.event_mode_used:
+            raise FmiUsageError("fmi3EnterEventMode: the instance was created with eventModeUsed = false")
+        self._reset_event_bookkeeping()
+        self.state = State.EVENT
+
+    def enter_step_mode(self) -> None:
+        self._require("fmi3EnterStepMode", State.EVENT)
+        if not self._updated_in_event_mode:
+            raise FmiUsageError("fmi3EnterStepMode: call fmi3UpdateDiscreteStates at least once per event instant")
+        self.state = State.STEP
+        self._set_since_step = False
+
+    def terminate(self) -> None:
+        self._require("fmi3Terminate", State.INITIALIZATION, State.EVENT, State.STEP)
+        self.model.terminate()
+        self.model._active_clocks.clear()
+        self.state = State.TERMINATED
+
+    def reset(self) -> None:
+        self.model.free()
+        self._new_model()
+
+    def free(self) -> None:
+        self.model.free()
+
+    # -- values ---------------------------------------------------------------------------------
+
+    def get(self, function: str, type_name: str, vrs: Sequence[int]) -> list[Any]:
+        if self.state is State.INSTANTIATED:
+            raise FmiUsageError(f"{function} is not allowed in {self.state.value}")
+        if self.state is State.STEP and self._set_since_step:
+            raise FmiUsageError(f"{function} after a Set in Step Mode needs an fmi3DoStep in between")
+        variables = [self._variable(function, vr, type_name) for vr in vrs]
+        if self.state is State.EVENT and any(v.causality in ("output", "local") for v in variables):
+            self._react_if_needed()  # outputs (and their clocks) of this instant
+        for var in variables:
+            if var.clock is not None:
+                self._check_clocked_access(function, var)
+        return [self.model.get(var.name) for var in variables]
+
+    def set(self, function: str, type_name: str, vrs: Sequence[int], values: Sequence[Any]) -> None:
+        if len(values) != len(vrs):
+            raise FmiUsageError(f"{function}: {len(vrs)} value references but {len(values)} values")
+        checked = []
+        for vr, value in zip(vrs, values):
+            var = self._variable(function, vr, type_name)
+            self._check_settable(function, var)
+            try:
+                checked.append((var, var.coerce(value)))
+            except (TypeError, OverflowError) as exc:
+                raise FmiUsageError(f"{function}: {exc}") from None
+        for var, value in checked:
+            self.model.set(var.name, value)
+        if self.state is State.STEP:
+            self._set_since_step = True
+
+    def _check_clocked_access(self, function: str, var: Var) -> None:
+        if self.state is State.INITIALIZATION:
+            return
+        if self.state is State.EVENT and self._clock_is_active(var):
+            return
+        raise FmiUsageError(f"{function}: '{var.name}' is clocked by '{var.clock}', which is not active "
+                            f"({self.state.value})")
+
+    def _check_settable(self, function: str, var: Var) -> None:
+        state, name = self.state, var.name
+        if var.variability == "constant" or var.causality in ("output", "calculatedParameter", "local"):
+            raise FmiUsageError(f"{function}: '{name}' ({var.causality}, {var.variability}) cannot be set")
+        if var.clock is not None:
+            if state is State.INITIALIZATION or (state is State.EVENT and self._clock_is_active(var)):
+                return
+            raise FmiUsageError(f"{function}: '{name}' is clocked by '{var.clock}', which is not active ({state.value})")
+        if state is State.INSTANTIATED:
+            ok = var.causality == "input" or var.initial in ("exact", "approx")
+        elif state is State.INITIALIZATION:
+            ok = var.causality == "input" or var.initial == "exact"
+        elif state in (State.EVENT, State.STEP):
+            ok = var.causality == "input" or (var.causality == "parameter" and var.variability == "tunable")
+        else:
+            ok = False
+        if not ok:
+            raise FmiUsageError(f"{function}: '{name}' ({var.causality}, {var.variability}) cannot be set "
+                                f"in {state.value}")
+
+    # -- clocks ---------------------------------------------------------------------------------
+
+    def _clock(self, function: str, vr: int) -> Clock:
+        var = self._variable(function, vr, "Clock")
+        assert isinstance(var, Clock)
+        return var
+
+    def set_clock(self, vrs: Sequence[int], values: Sequence[bool]) -> None:
+        self._require("fmi3SetClock", State.EVENT)
+        clocks = [self._clock("fmi3SetClock", vr) for vr in vrs]
+        for clock, value in zip(clocks, values):
+            if clock.causality != "input":
+                raise FmiUsageError(f"fmi3SetClock: '{clock.name}' is an {clock.causality} clock")
+            if not value:
+                raise FmiUsageError(f"fmi3SetClock: '{clock.name}' cannot be deactivated (canBeDeactivated=false)")
+            if clock.periodic and clock.name in self._periodic_ticked and not self.model.clock_active(clock.name):
+                raise FmiUsageError(f"fmi3SetClock: periodic clock '{clock.name}' was already active in this Event Mode")
+        for clock in clocks:
+            if not self.model.clock_active(clock.name):
+                self.model._active_clocks.add(clock.name)
+                self._new_input_clocks.add(clock.name)
+                if clock.periodic:
+                    self._periodic_ticked.add(clock.name)
+                self.model.log(f"t={self.model.time:.9g}: input clock {clock.name} active")
+
+    def get_clock(self, vrs: Sequence[int]) -> list[bool]:
+        self._require("fmi3GetClock", State.INITIALIZATION, State.EVENT)
+        clocks = [self._clock("fmi3GetClock", vr) for vr in vrs]
+        for clock in clocks:
+            if clock.causality == "input":
+                raise FmiUsageError(f"fmi3GetClock: '{clock.name}' is an input clock")
+        if self.state is State.INITIALIZATION:
+            return [False] * len(clocks)
+        self._react_if_needed()
+        return [self.model.clock_active(c.name) for c in clocks]
+
+    def get_interval_decimal(self, vrs: Sequence[int]) -> tuple[list[float], list[int]]:
+        self._require("fmi3GetIntervalDecimal", State.INITIALIZATION, State.EVENT)
+        intervals, qualifiers = [], []
+        for vr in vrs:
+            clock = self._clock("fmi3GetIntervalDecimal", vr)
+            if not clock.periodic:
+                raise FmiUsageError(f"fmi3GetIntervalDecimal: '{clock.name}' is a {clock.kind} clock")
+            intervals.append(self.model_class.clock_seconds(clock.interval))  # type: ignore[arg-type]
+            qualifiers.append(INTERVAL_UNCHANGED)
+        return intervals, qualifiers
+
+    def get_shift_decimal(self, vrs: Sequence[int]) -> list[float]:
+        self._require("fmi3GetShiftDecimal", State.INITIALIZATION, State.EVENT)
+        shifts = []
+        for vr in vrs:
+            clock = self._clock("fmi3GetShiftDecimal", vr)
+            if not clock.periodic:
+                raise FmiUsageError(f"fmi3GetShiftDecimal: '{clock.name}' is a {clock.kind} clock")
+            shifts.append(self.model_class.clock_seconds(clock.shift))
+        return shifts
+
+    # -- event instants and steps ---------------------------------------------------------------
+
+    def update_discrete_states(self) -> UpdateResult:
+        self._require("fmi3UpdateDiscreteStates", State.EVENT)
+        self._react_if_needed()
+        update = self.model.update_discrete_states() or Update()
+        if not isinstance(update, Update):
+            raise TypeError(f"{type(self.model).__name__}.update_discrete_states must return Update or None")
+        self.model._active_clocks.clear()
+        self._new_input_clocks.clear()
+        self._reacted = False
+        self._updated_in_event_mode = True
+        next_time = update.next_event_time
+        defined = next_time is not None and math.isfinite(next_time)
+        return UpdateResult(update.need_update, update.terminate, defined, float(next_time) if defined else 0.0)
+
+    def do_step(self, t: float, h: float) -> StepResult:
+        self._require("fmi3DoStep", State.STEP)
+        model = self.model
+        if not same_time(t, model.time):
+            raise FmiUsageError(f"fmi3DoStep: currentCommunicationPoint {t!r} is not the FMU's time {model.time!r}")
+        if not h > 0:
+            raise FmiUsageError(f"fmi3DoStep: communicationStepSize must be > 0, got {h!r}")
+        target = t + h
+        if model.stop_time is not None and target > model.stop_time and not same_time(target, model.stop_time):
+            raise FmiUsageError(f"fmi3DoStep: t + h = {target!r} is past stopTime {model.stop_time!r}")
+        model.time = t  # snap to the FMU's own representation of t
+        result = model.do_step(t, h) or Step(target)
+        if not isinstance(result, Step):
+            raise TypeError(f"{type(model).__name__}.do_step must return Step or None")
+        reached = result.time
+        if reached > target and not same_time(reached, target):
+            raise RuntimeError(f"{type(model).__name__}.do_step went past t + h ({reached!r} > {target!r})")
+        early = not same_time(reached, target) and reached < target
+        if early and not self.early_return_allowed:
+            raise RuntimeError(f"{type(model).__name__}.do_step returned early although earlyReturnAllowed is false")
+        model.time = reached if early else target
+        self._set_since_step = False
+        event = bool(result.event)
+        if event and not self.event_mode_used:
+            self._internal_event_iteration()
+            event = False
+        return StepResult(event, bool(result.terminate), early, model.time)
+
+    def _internal_event_iteration(self) -> None:
+        """Without Event Mode the FMU handles its own events inside fmi3DoStep (no clocks then)."""
+        for _ in range(1000):
+            self.model.react(frozenset())
+            update = self.model.update_discrete_states() or Update()
+            if not update.need_update:
+                return
+        raise RuntimeError("event iteration did not converge in 1000 instants")
+
+    # -- logging --------------------------------------------------------------------------------
+
+    def log(self, status: int, category: str, message: str) -> None:
+        if self.logger is not None:
+            self.logger(status, category, message)
+
+
+def log_categories(requested: Iterable[str]) -> set[str]:
+    """Check SetDebugLogging categories (an empty list means all of them)."""
+    requested = list(requested)
+    if not requested:
+        return set(LOG_CATEGORIES)
+    unknown = [c for c in requested if c not in LOG_CATEGORIES]
+    if unknown:
+        raise FmiUsageError(f"fmi3SetDebugLogging: unknown log category '{unknown[0]}' "
+                            f"(known: {', '.join(LOG_CATEGORIES)})")
+    return set(requested)

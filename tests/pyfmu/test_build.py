@@ -1,0 +1,135 @@
+"""robogen package-py: the archive, the binary's exports and links, the model description, the
+validators, reproducibility, settings and the command line's errors."""
+
+from __future__ import annotations
+
+import re
+import subprocess
+import xml.etree.ElementTree as ET
+import zipfile
+
+import pytest
+from fmpy.validation import validate_fmu as fmpy_validate
+
+from robogen.cli import main
+from robogen.fmu.elf import exported_symbols
+from robogen.fmu.validate import fmi3_function_names, validate_fmu
+from robogen.pyfmu.build import collect_python, package
+
+
+def members(fmu) -> set[str]:
+    with zipfile.ZipFile(fmu) as z:
+        return set(z.namelist())
+
+
+def read(fmu, name: str) -> bytes:
+    with zipfile.ZipFile(fmu) as z:
+        return z.read(name)
+
+
+def test_archive_layout_and_the_python_code_that_travels_with_it(fmus):
+    names = members(fmus["counter"])
+    assert {
+        "modelDescription.xml",
+        "binaries/x86_64-linux/counter.so",
+        "documentation/externalDependencies.txt",
+        "resources/pyfmu.json",
+        "resources/python/pyfmu_fixture_models.py",
+        "resources/python/robogen/__init__.py",
+        "resources/python/robogen/pyfmu/__init__.py",
+        "resources/python/robogen/pyfmu/model.py",
+        "resources/python/robogen/pyfmu/slave.py",
+    } == names  # exactly the modules the model needs, not the packager itself
+
+
+def test_import_scan_follows_first_party_imports_only():
+    files = collect_python("robogen.platforms.controller")
+    assert "robogen/platforms/plan.py" in files and "robogen/diagnostics.py" in files
+    assert not any(name.startswith(("numpy", "fmpy", "tomllib")) for name in files)
+    assert "robogen/pyfmu/build.py" not in files
+
+
+def test_the_binary_exports_the_75_fmi3_functions_and_the_module_init_only(fmus):
+    exported = exported_symbols(read(fmus["counter"], "binaries/x86_64-linux/counter.so"))
+    fmi3 = {name for name in exported if name.startswith("fmi3")}
+    assert fmi3 == set(fmi3_function_names()) and len(fmi3) == 75
+    others = exported - fmi3
+    assert len(others) == 1 and re.fullmatch(r"PyInit__pyfmu_counter_[0-9a-f]{12}", others.pop())
+
+
+def test_the_binary_needs_libpython_and_is_never_unloaded(fmus, tmp_path):
+    so = tmp_path / "counter.so"
+    so.write_bytes(read(fmus["counter"], "binaries/x86_64-linux/counter.so"))
+    dynamic = subprocess.run(["readelf", "-d", str(so)], capture_output=True, text=True, check=True).stdout
+    assert re.search(r"NEEDED.*\[libpython3\.\d+\.so\.1\.0\]", dynamic)
+    assert re.search(r"FLAGS_1.*NODELETE", dynamic)  # the interpreter keeps pointers into it
+    assert "RUNPATH" in dynamic
+
+
+def test_model_description_from_the_declarations(fmus):
+    root = ET.fromstring(read(fmus["counter"], "modelDescription.xml"))
+    assert root.attrib["fmiVersion"] == "3.0"
+    cs = root.find("CoSimulation").attrib
+    assert (cs["modelIdentifier"], cs["hasEventMode"], cs["mightReturnEarlyFromDoStep"]) == ("counter", "true", "true")
+    by_name = {v.attrib["name"]: v for v in root.find("ModelVariables")}
+    tick = by_name["tick"].attrib
+    assert (tick["intervalVariability"], tick["intervalDecimal"], tick["shiftDecimal"]) == ("constant", "0.5", "0.0")
+    assert by_name["ticked.count"].attrib["clocks"] == by_name["ticked"].attrib["valueReference"]
+    assert "start" not in by_name["ticked.count"].attrib  # calculated
+    structure = root.find("ModelStructure")
+    outputs = [e.attrib["valueReference"] for e in structure.findall("Output")]
+    assert by_name["ticked"].attrib["valueReference"] in outputs and by_name["alarm"].attrib["valueReference"] in outputs
+    unknowns = {e.attrib["valueReference"] for e in structure.findall("InitialUnknown")}
+    assert by_name["ticked.count"].attrib["valueReference"] not in unknowns  # clocked: never
+    assert by_name["ticked"].attrib["valueReference"] in unknowns  # an unclocked output clock
+    dependencies = {e.attrib["valueReference"]: e.attrib.get("dependencies") for e in structure.findall("Output")}
+    assert dependencies[by_name["ticked"].attrib["valueReference"]] == by_name["tick"].attrib["valueReference"]
+
+
+def test_a_setting_changes_the_constant_clock_in_the_xml(fmus):
+    root = ET.fromstring(read(fmus["counter_fast"], "modelDescription.xml"))
+    tick = next(v for v in root.find("ModelVariables") if v.attrib["name"] == "tick")
+    assert tick.attrib["intervalDecimal"] == "0.25"
+    assert root.attrib["instantiationToken"] != ET.fromstring(read(fmus["counter"], "modelDescription.xml")).attrib[
+        "instantiationToken"]
+
+
+@pytest.mark.parametrize("name", ["counter", "two_instants", "uses_numpy"])
+def test_fmpy_and_robogen_validators_accept_the_fmus(fmus, name):
+    assert fmpy_validate(str(fmus[name])) == []
+    assert [d.render() for d in validate_fmu(fmus[name]) if d.is_error] == []
+
+
+def test_external_dependencies_name_python_and_cffi(fmus):
+    text = read(fmus["counter"], "documentation/externalDependencies.txt").decode()
+    assert re.search(r"libpython3\.\d+\.so\.1\.0", text)
+    assert "cffi " in text and "site-packages" in text
+
+
+def test_packaging_is_reproducible(tmp_path):
+    a = package("pyfmu_fixture_models:TwoInstants", tmp_path / "a.fmu").path.read_bytes()
+    b = package("pyfmu_fixture_models:TwoInstants", tmp_path / "b.fmu").path.read_bytes()
+    assert a == b
+
+
+@pytest.mark.parametrize("argv, message", [
+    (["no_such_module:Thing"], "no module named 'no_such_module'"),
+    (["pyfmu_fixture_models"], "is not MODULE:CLASS"),
+    (["pyfmu_fixture_models:Countr"], "has no class 'Countr' (did you mean 'Counter'?)"),
+    (["pyfmu_fixture_models:Counter", "--set", "perod=1"], "has no setting 'perod' (did you mean 'period'?)"),
+    (["pyfmu_fixture_models:Counter", "--set", "period=fast"], "--set period=fast: could not convert"),
+    (["robogen.diagnostics:Span"], "is not a subclass of robogen.pyfmu.Model"),
+])
+def test_command_line_errors_are_reported_without_a_traceback(argv, message, tmp_path, capsys):
+    status = main(["package-py", *argv, "-o", str(tmp_path / "x.fmu")])
+    err = capsys.readouterr().err
+    assert status == 1
+    assert message in err and "Traceback" not in err
+    assert not (tmp_path / "x.fmu").exists()
+
+
+def test_command_line_writes_the_fmu(tmp_path, capsys):
+    target = tmp_path / "counter.fmu"
+    assert main(["package-py", "pyfmu_fixture_models:Counter", "-o", str(target), "--set", "period=0.1"]) == 0
+    assert "wrote" in capsys.readouterr().err
+    assert b'intervalDecimal="0.1"' in read(target, "modelDescription.xml")
