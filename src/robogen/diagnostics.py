@@ -30,6 +30,9 @@ class Span:
     column: int
     end_line: int
     end_column: int
+    # character offsets into the file, when the parser knows them (not part of equality)
+    offset: int = field(default=-1, compare=False, repr=False)
+    end_offset: int = field(default=-1, compare=False, repr=False)
 
     @classmethod
     def point(cls, path: str, line: int = 1, column: int = 1) -> "Span":
@@ -41,7 +44,7 @@ class Span:
 
     def to(self, other: "Span") -> "Span":
         """The span from the start of ``self`` to the end of ``other``."""
-        return Span(self.path, self.line, self.column, other.end_line, other.end_column)
+        return Span(self.path, self.line, self.column, other.end_line, other.end_column, self.offset, other.end_offset)
 
     def __str__(self) -> str:
         return f"{self.path}:{self.line}:{self.column}"

@@ -216,6 +216,8 @@ def _guard_leaves(exprs: Iterable[ast.Expr], tables: Tables) -> dict[object, _Le
 
     for e in exprs:
         visit(e)
+    if not numeric:
+        return leaves
     points = sorted(literals)
     candidates = sorted({p + d for p in points for d in (Fraction(-1), Fraction(0), Fraction(1))})
     mids = [(a + b) / 2 for a, b in zip(candidates, candidates[1:])]

@@ -2,8 +2,8 @@
 
 The grammars are loaded from the package data ``robogen.grammar`` (the top-level ``grammar/``
 folder of the repository): ``robochart.lark``, and for RoboSim the same text followed by
-``robosim.lark``, which only extends it. Both are LALR(1) with Lark's contextual lexer,
-``strict=True`` (conflicts fail at load time) and ``propagate_positions=True``.
+``robosim.lark``, which only extends it. Both are LALR(1) with Lark's contextual lexer and
+``strict=True`` (conflicts fail at load time); source spans come from the tokens.
 
 This module is the only one that sees Lark: syntax errors are translated here into located
 :class:`~robogen.diagnostics.Diagnostic` values, and the tree is transformed into AST nodes.
@@ -11,14 +11,16 @@ This module is the only one that sees Lark: syntax errors are translated here in
 
 from __future__ import annotations
 
+import bisect
 import functools
+import threading
 import importlib.resources
 import os
 import re
 from pathlib import Path
 
-from lark import Lark, Token, Transformer, v_args
-from lark.exceptions import UnexpectedCharacters, UnexpectedEOF, UnexpectedInput, UnexpectedToken, VisitError
+from lark import Lark, Token, Transformer
+from lark.exceptions import UnexpectedCharacters, UnexpectedEOF, UnexpectedInput, UnexpectedToken
 
 from robogen.diagnostics import Diagnostic, RobogenError, Span, error
 from robogen.syntax import ast
@@ -42,24 +44,45 @@ def _grammar_text(name: str) -> str:
 
 @functools.lru_cache(maxsize=None)
 def _parser(language: str) -> Lark:
+    """The bare parser of a language (for keywords, error tables and benchmarks)."""
+    return Lark(_grammar(language), parser="lalr", lexer="contextual", strict=True, maybe_placeholders=False)
+
+
+def _grammar(language: str) -> str:
     text = _grammar_text("robochart.lark")
     if language == ROBOSIM:
         text += "\n" + _grammar_text("robosim.lark")
-    return Lark(
-        text,
+    return text
+
+
+@functools.lru_cache(maxsize=None)
+def _ast_parser(language: str) -> tuple[Lark, "_ToAst"]:
+    """The parser that builds the AST while it parses: the transformer's callbacks run at each
+    LALR reduction, so no intermediate tree is built. Positions are computed by the callbacks
+    from the tokens (Lark's generic position propagation would cost as much as the parse)."""
+    transformer = _ToAst(language)
+    parser = Lark(
+        _grammar(language),
         parser="lalr",
         lexer="contextual",
         strict=True,
-        propagate_positions=True,
         maybe_placeholders=False,
+        transformer=transformer,
+        # The LALR tables are cached in the temp folder, keyed by the grammar text: a cold
+        # `robogen check` then starts in ~0.1 s instead of ~0.5 s per language.
+        cache=True,
     )
+    return parser, transformer
+
+
+_lock = threading.Lock()
 
 
 @functools.lru_cache(maxsize=None)
 def keywords(language: str) -> frozenset[str]:
     """The reserved words of a language: every word the grammar uses as a literal."""
     words = set()
-    for terminal in _parser(language).terminals:
+    for terminal in _ast_parser(language)[0].terminals:
         pattern = terminal.pattern
         if pattern.type == "str" and re.fullmatch(r"[A-Za-z_][A-Za-z0-9_]*", pattern.value):
             words.add(pattern.value)
@@ -76,7 +99,7 @@ def _terminal_texts(language: str) -> dict[str, str]:
         "STRING": "a string",
         "$END": "end of file",
     }
-    for terminal in _parser(language).terminals:
+    for terminal in _ast_parser(language)[0].terminals:
         if terminal.name in names:
             continue
         if terminal.pattern.type == "str":
@@ -95,21 +118,18 @@ def parse_text(text: str, path: str = "<string>", language: str | None = None) -
     if "\x00" in text:
         line = text.count("\n", 0, text.index("\x00")) + 1
         raise RobogenError(error("file contains NUL bytes; is it a binary file, not a model?", Span.point(path, line, 1)))
-    parser = _parser(language)
-    try:
-        tree = parser.parse(text)
-    except UnexpectedInput as exc:
-        raise RobogenError(_syntax_error(exc, text, path, language)) from None
-    transformer = _ToAst(path, language)
-    try:
-        items = transformer.transform(tree)
-    except VisitError as exc:
-        if isinstance(exc.orig_exc, RobogenError):
-            raise exc.orig_exc from None
-        raise exc.orig_exc from None
-    if transformer.problems:
-        raise RobogenError(transformer.problems)
-    return items
+    parser, transformer = _ast_parser(language)
+    with _lock:  # the transformer holds the state of the file being parsed
+        transformer.begin(path, text)
+        try:
+            result = parser.parse(text)
+        except UnexpectedInput as exc:
+            raise RobogenError(_syntax_error(exc, text, path, language)) from None
+        finally:
+            problems = transformer.end()
+    if problems:
+        raise RobogenError(problems)
+    return result
 
 
 def parse_file(path: str | os.PathLike, language: str | None = None) -> ast.File:
@@ -232,27 +252,157 @@ def _strip(name: str) -> str:
     return name[1:] if name.startswith("^") else name
 
 
-@v_args(meta=True)
+class _Positioned:
+    """Helper values passed between callbacks that are not AST nodes but keep a position."""
+
+    __slots__ = ("pos",)
+
+
+class _Package(_Positioned):
+    __slots__ = ("name",)
+
+    def __init__(self, name: ast.Name):
+        self.name = name
+        self.pos = _node_pos(name)
+
+
+class _Flag(_Positioned):
+    __slots__ = ("what",)
+
+    def __init__(self, what: str, pos=None):
+        self.what = what
+        self.pos = pos
+
+
+class _Clause(_Positioned):
+    __slots__ = ("key", "value")
+
+    def __init__(self, key: str, value, pos=None):
+        self.key = key
+        self.value = value
+        self.pos = pos
+
+
+class _SuchThat(_Positioned):
+    __slots__ = ("expr",)
+
+    def __init__(self, expr):
+        self.expr = expr
+        self.pos = _node_pos(expr)
+
+
+class _Body(_Positioned):
+    __slots__ = ("expr",)
+
+    def __init__(self, expr):
+        self.expr = expr
+        self.pos = _node_pos(expr)
+
+
+def _node_pos(x) -> tuple[int, int] | None:
+    span = getattr(x, "span", None)
+    if span is not None and span.offset >= 0:
+        return (span.offset, span.end_offset)
+    return None
+
+
+def _pos(x) -> tuple[int, int] | None:
+    """(start, end) character offsets of a callback child, if it has any."""
+    if isinstance(x, Token):
+        return (x.start_pos, x.end_pos) if x.start_pos is not None else None
+    if isinstance(x, ast.Node):
+        return _node_pos(x)
+    if isinstance(x, _Positioned):
+        return x.pos
+    if isinstance(x, (tuple, list)) and x:
+        a, b = _pos(x[0]), _pos(x[-1])
+        if a and b:
+            return (a[0], b[1])
+    return None
+
+
 class _ToAst(Transformer):
-    """Builds AST nodes bottom-up. Reserved words used as names are reported, not raised, so
-    that every such problem in a file is listed."""
+    """Builds AST nodes bottom-up, with spans computed from the children's positions.
 
-    def __init__(self, path: str, language: str):
+    Lark drops the anonymous keyword and punctuation tokens, so a rule's span starts at its
+    first kept child; where the grammar guarantees a token before or after (a leading keyword,
+    a closing parenthesis), ``_span(children, left=..., right=...)`` grows the span over it.
+    Reserved words used as names are reported, not raised, so all such problems are listed.
+    """
+
+    def __init__(self, language: str):
         super().__init__(visit_tokens=False)
-        self.path = path
         self.language = language
-        self.keywords = keywords(language)
+        self._keywords: frozenset[str] | None = None
+        self.begin("<string>", "")
+
+    def begin(self, path: str, text: str) -> None:
+        self.path = path
+        self.text = text
         self.problems: list[Diagnostic] = []
+        self._line_starts = [0] + [m.end() for m in re.finditer("\n", text)]
 
-    # -- helpers
+    def end(self) -> list[Diagnostic]:
+        problems = self.problems
+        self.begin("<string>", "")
+        return problems
 
-    def _span(self, meta) -> Span | None:
-        if getattr(meta, "empty", True):
+    @property
+    def keywords(self) -> frozenset[str]:
+        if self._keywords is None:
+            self._keywords = keywords(self.language)
+        return self._keywords
+
+    # -- positions
+
+    def _line_col(self, offset: int) -> tuple[int, int]:
+        line = bisect.bisect_right(self._line_starts, offset)
+        return line, offset - self._line_starts[line - 1] + 1
+
+    def _make(self, start: int, end: int) -> Span:
+        line, col = self._line_col(start)
+        end_line, end_col = self._line_col(end)
+        return Span(self.path, line, col, end_line, end_col, start, end)
+
+    def _span(self, children, left: tuple[str, ...] = (), right: tuple[str, ...] = ()) -> Span | None:
+        first = last = None
+        for c in children:
+            first = _pos(c)
+            if first:
+                break
+        for c in reversed(children):
+            last = _pos(c)
+            if last:
+                break
+        if first is None or last is None:
             return None
-        return Span(self.path, meta.line, meta.column, meta.end_line, meta.end_column)
+        start, end = first[0], last[1]
+        text = self.text
+        for word in reversed(left):
+            p = start
+            while p > 0 and text[p - 1].isspace():
+                p -= 1
+            if p >= len(word) and text.startswith(word, p - len(word)):
+                start = p - len(word)
+            else:
+                break
+        for word in right:
+            p = end
+            n = len(text)
+            while p < n and text[p].isspace():
+                p += 1
+            if text.startswith(word, p):
+                end = p + len(word)
+            else:
+                break
+        return self._make(start, end)
 
     def _tspan(self, token: Token) -> Span:
-        return _token_span(self.path, token)
+        return Span(
+            self.path, token.line or 1, token.column or 1, token.end_line or token.line or 1,
+            token.end_column or (token.column or 1) + len(token), token.start_pos if token.start_pos is not None else -1,
+            token.end_pos if token.end_pos is not None else -1,
+        )
 
     def _name(self, token: Token) -> str:
         text = str(token)
@@ -266,105 +416,105 @@ class _ToAst(Transformer):
 
     # -- file structure
 
-    def start(self, meta, children):
+    def start(self, c):
         package = None
         imports, items = [], []
-        for c in children:
-            if isinstance(c, _Package):
-                package = c.name
-            elif isinstance(c, ast.Import):
-                imports.append(c)
+        for x in c:
+            if isinstance(x, _Package):
+                package = x.name
+            elif isinstance(x, ast.Import):
+                imports.append(x)
             else:
-                items.append(c)
-        return ast.File(self.path, self.language, package, tuple(imports), tuple(items), span=self._span(meta))
+                items.append(x)
+        return ast.File(self.path, self.language, package, tuple(imports), tuple(items), span=self._span(c))
 
-    def package(self, meta, children):
-        return _Package(children[0])
+    def package(self, c):
+        return _Package(c[0])
 
-    def import_(self, meta, children):
-        return ast.Import(children[0], len(children) > 1, span=self._span(meta))
+    def import_(self, c):
+        return ast.Import(c[0], len(c) > 1, span=self._span(c, left=("import",)))
 
-    def diagram(self, meta, children):
-        return ast.Diagram(self._name(children[0]), span=self._span(meta), name_span=self._tspan(children[0]))
+    def diagram(self, c):
+        return ast.Diagram(self._name(c[0]), span=self._span(c, left=("diagram",)), name_span=self._tspan(c[0]))
 
-    def qname(self, meta, children):
-        return ast.Name(tuple(self._name(t) for t in children), span=self._span(meta))
+    def qname(self, c):
+        return ast.Name(tuple(self._name(t) for t in c), span=self._span(c))
 
     # -- types
 
-    def given_type(self, meta, c):
-        return ast.GivenType(self._name(c[0]), span=self._span(meta), name_span=self._tspan(c[0]))
+    def given_type(self, c):
+        return ast.GivenType(self._name(c[0]), span=self._span(c, left=("type",)), name_span=self._tspan(c[0]))
 
-    def record(self, meta, c):
-        return ast.Record(self._name(c[0]), tuple(c[1:]), span=self._span(meta), name_span=self._tspan(c[0]))
+    def record(self, c):
+        return ast.Record(self._name(c[0]), tuple(c[1:]), span=self._span(c, right=("}",)), name_span=self._tspan(c[0]))
 
-    def record_field(self, meta, c):
-        return ast.FieldDecl(self._name(c[0]), c[1], span=self._span(meta), name_span=self._tspan(c[0]))
+    def record_field(self, c):
+        return ast.FieldDecl(self._name(c[0]), c[1], span=self._span(c), name_span=self._tspan(c[0]))
 
-    def field(self, meta, c):
-        return ast.Field(c[0], self._name(c[1]), span=self._span(meta), field_span=self._tspan(c[1]))
+    def enumeration(self, c):
+        return ast.Enumeration(
+            self._name(c[0]), tuple(c[1:]), span=self._span(c, left=("enumeration",), right=("}",)), name_span=self._tspan(c[0])
+        )
 
-    def enumeration(self, meta, c):
-        return ast.Enumeration(self._name(c[0]), tuple(c[1:]), span=self._span(meta), name_span=self._tspan(c[0]))
+    def literal(self, c):
+        return ast.EnumLiteral(self._name(c[0]), tuple(c[1:]), span=self._span(c, right=(")",) if len(c) > 1 else ()), name_span=self._tspan(c[0]))
 
-    def literal(self, meta, c):
-        return ast.EnumLiteral(self._name(c[0]), tuple(c[1:]), span=self._span(meta), name_span=self._tspan(c[0]))
+    def function_type(self, c):
+        return ast.FunctionType(c[0], c[1], span=self._span(c))
 
-    def function_type(self, meta, c):
-        return ast.FunctionType(c[0], c[1], span=self._span(meta))
+    def relation_type(self, c):
+        return ast.RelationType(c[0], c[1], span=self._span(c))
 
-    def relation_type(self, meta, c):
-        return ast.RelationType(c[0], c[1], span=self._span(meta))
+    def product_type(self, c):
+        return ast.ProductType(tuple(c), span=self._span(c))
 
-    def product_type(self, meta, c):
-        return ast.ProductType(tuple(c), span=self._span(meta))
+    def type_ref(self, c):
+        return ast.TypeRef(c[0], span=self._span(c))
 
-    def type_ref(self, meta, c):
-        return ast.TypeRef(c[0], span=self._span(meta))
+    def set_type(self, c):
+        return ast.SetType(c[0], span=self._span(c, left=("Set", "("), right=(")",)))
 
-    def set_type(self, meta, c):
-        return ast.SetType(c[0], span=self._span(meta))
+    def seq_type(self, c):
+        return ast.SeqType(c[0], span=self._span(c, left=("Seq", "("), right=(")",)))
 
-    def seq_type(self, meta, c):
-        return ast.SeqType(c[0], span=self._span(meta))
+    def type_var(self, c):
+        return ast.TypeVar_(self._name(c[0]), span=self._span(c, left=("?",)))
 
-    def type_var(self, meta, c):
-        return ast.TypeVar_(self._name(c[0]), span=self._span(meta))
+    def vector_type(self, c):
+        return ast.VectorType(c[0], c[1], span=self._span(c, left=("vector", "("), right=(")",)))
 
-    def vector_type(self, meta, c):
-        return ast.VectorType(c[0], c[1], span=self._span(meta))
-
-    def matrix_type(self, meta, c):
-        return ast.MatrixType(c[0], c[1], c[2], span=self._span(meta))
+    def matrix_type(self, c):
+        return ast.MatrixType(c[0], c[1], c[2], span=self._span(c, left=("matrix", "("), right=(")",)))
 
     # -- declarations
 
-    def broadcast(self, meta, c):
-        return _Flag("broadcast")
+    def broadcast(self, c):
+        return _Flag("broadcast", _pos(c[0]))
 
-    def event_decl(self, meta, c):
+    def event_decl(self, c):
         broadcast = bool(c) and isinstance(c[0], _Flag)
-        if broadcast:
-            c = c[1:]
+        rest = c[1:] if broadcast else c
         return ast.EventDecl(
-            self._name(c[0]), c[1] if len(c) > 1 else None, broadcast, span=self._span(meta), name_span=self._tspan(c[0])
+            self._name(rest[0]),
+            rest[1] if len(rest) > 1 else None,
+            broadcast,
+            span=self._span(c, left=() if broadcast else ("event",)),
+            name_span=self._tspan(rest[0]),
         )
 
-    def var_kind(self, meta, c):
-        return str(c[0])
+    def var_kind(self, c):
+        return c[0]
 
-    def var_list(self, meta, c):
-        return ast.VarList(c[0] == "const", tuple(c[1:]), span=self._span(meta))
+    def var_list(self, c):
+        return ast.VarList(c[0] == "const", tuple(c[1:]), span=self._span(c))
 
-    def var_decl(self, meta, c):
-        return ast.VarDecl(
-            self._name(c[0]), c[1], c[2] if len(c) > 2 else None, span=self._span(meta), name_span=self._tspan(c[0])
-        )
+    def var_decl(self, c):
+        return ast.VarDecl(self._name(c[0]), c[1], c[2] if len(c) > 2 else None, span=self._span(c), name_span=self._tspan(c[0]))
 
-    def clock_decl(self, meta, c):
-        return ast.ClockDecl(self._name(c[0]), span=self._span(meta), name_span=self._tspan(c[0]))
+    def clock_decl(self, c):
+        return ast.ClockDecl(self._name(c[0]), span=self._span(c, left=("clock",)), name_span=self._tspan(c[0]))
 
-    def op_sig(self, meta, c):
+    def op_sig(self, c):
         params: tuple = ()
         terminates = False
         for x in c[1:]:
@@ -372,121 +522,130 @@ class _ToAst(Transformer):
                 params = x
             elif isinstance(x, _Flag):
                 terminates = True
-        return ast.OpSig(self._name(c[0]), params, terminates, span=self._span(meta), name_span=self._tspan(c[0]))
+        return ast.OpSig(
+            self._name(c[0]), params, terminates, span=self._span(c, right=() if terminates else (")",)) if params or terminates else self._span(c, right=("(", ")")),
+            name_span=self._tspan(c[0]),
+        )
 
-    def terminates_flag(self, meta, c):
-        return _Flag("terminates")
+    def terminates_flag(self, c):
+        return _Flag("terminates", _pos(self._span(c, right=("]",))))
 
-    def params(self, meta, c):
+    def params(self, c):
         return tuple(c)
 
-    def param(self, meta, c):
-        return ast.Param(self._name(c[0]), c[1], span=self._span(meta), name_span=self._tspan(c[0]))
+    def param(self, c):
+        return ast.Param(self._name(c[0]), c[1], span=self._span(c), name_span=self._tspan(c[0]))
 
-    def iface_kind(self, meta, c):
-        return str(c[0])
+    def iface_kind(self, c):
+        return c[0]
 
-    def iface_ref(self, meta, c):
-        return ast.InterfaceRef(c[0], c[1], span=self._span(meta))
+    def iface_ref(self, c):
+        return ast.InterfaceRef(str(c[0]), c[1], span=self._span(c))
 
-    def interface(self, meta, c):
-        return ast.Interface(self._name(c[0]), tuple(c[1:]), span=self._span(meta), name_span=self._tspan(c[0]))
+    def _container(self, cls, c, keyword: tuple[str, ...]):
+        return cls(self._name(c[0]), tuple(c[1:]), span=self._span(c, left=keyword, right=("}",)), name_span=self._tspan(c[0]))
 
-    def platform(self, meta, c):
-        return ast.Platform(self._name(c[0]), tuple(c[1:]), span=self._span(meta), name_span=self._tspan(c[0]))
+    def interface(self, c):
+        return self._container(ast.Interface, c, ("interface",))
 
-    def controller(self, meta, c):
-        return ast.Controller(self._name(c[0]), tuple(c[1:]), span=self._span(meta), name_span=self._tspan(c[0]))
+    def platform(self, c):
+        return self._container(ast.Platform, c, ("robotic", "platform"))
 
-    def module(self, meta, c):
-        return ast.Module(self._name(c[0]), tuple(c[1:]), span=self._span(meta), name_span=self._tspan(c[0]))
+    def controller(self, c):
+        return self._container(ast.Controller, c, ("controller",))
 
-    def ref_kind(self, meta, c):
-        return str(c[0])
+    def module(self, c):
+        return self._container(ast.Module, c, ("module",))
 
-    def reference(self, meta, c):
-        return ast.Reference(self._name(c[1]), c[0], c[2], span=self._span(meta), name_span=self._tspan(c[1]))
+    def stm(self, c):
+        return self._container(ast.StateMachine, c, ("stm",))
 
-    def async_flag(self, meta, c):
-        return _Flag("async")
+    def ref_kind(self, c):
+        return c[0]
 
-    def mult_flag(self, meta, c):
-        return _Flag("mult")
+    def reference(self, c):
+        return ast.Reference(self._name(c[1]), str(c[0]), c[2], span=self._span(c), name_span=self._tspan(c[1]))
 
-    def connection(self, meta, c):
+    def async_flag(self, c):
+        return _Flag("async", _pos(self._span(c, left=("(",), right=(")",))))
+
+    def mult_flag(self, c):
+        return _Flag("mult", _pos(self._span(c, left=("[",), right=("]",))))
+
+    def connection(self, c):
         names, flags = c[:4], {f.what for f in c[4:]}
         return ast.Connection(
             *(self._name(t) for t in names),
             asynchronous="async" in flags,
             mult="mult" in flags,
-            span=self._span(meta),
+            span=self._span(c, left=("connection",)),
             spans=tuple(self._tspan(t) for t in names),
         )
 
-    def stm(self, meta, c):
-        return ast.StateMachine(self._name(c[0]), tuple(c[1:]), span=self._span(meta), name_span=self._tspan(c[0]))
-
-    def operation_def(self, meta, c):
+    def _with_params(self, c):
         params: tuple = ()
         rest = c[1:]
         if rest and isinstance(rest[0], tuple):
             params, rest = rest[0], rest[1:]
-        return ast.OperationDef(self._name(c[0]), params, tuple(rest), span=self._span(meta), name_span=self._tspan(c[0]))
+        return params, rest
 
-    def function_def(self, meta, c):
-        params: tuple = ()
-        rest = c[1:]
-        if rest and isinstance(rest[0], tuple):
-            params, rest = rest[0], rest[1:]
-        return ast.FunctionDef(
-            self._name(c[0]), params, rest[0], tuple(rest[1:]), span=self._span(meta), name_span=self._tspan(c[0])
+    def operation_def(self, c):
+        params, rest = self._with_params(c)
+        return ast.OperationDef(
+            self._name(c[0]), params, tuple(rest), span=self._span(c, left=("operation",), right=("}",)), name_span=self._tspan(c[0])
         )
 
-    def terminates(self, meta, c):
-        return ast.Terminates(span=self._span(meta))
+    def function_def(self, c):
+        params, rest = self._with_params(c)
+        return ast.FunctionDef(
+            self._name(c[0]), params, rest[0], tuple(rest[1:]), span=self._span(c, left=("function",), right=("{", "}")), name_span=self._tspan(c[0])
+        )
 
-    def precondition(self, meta, c):
-        return ast.Precondition(c[0], span=self._span(meta))
+    def terminates(self, c):
+        return ast.Terminates(span=self._span(c))
 
-    def postcondition(self, meta, c):
-        return ast.Postcondition(c[0], span=self._span(meta))
+    def precondition(self, c):
+        return ast.Precondition(c[0], span=self._span(c, left=("precondition",)))
 
-    def cycle_def(self, meta, c):
-        return ast.CycleDef(c[0], span=self._span(meta))
+    def postcondition(self, c):
+        return ast.Postcondition(c[0], span=self._span(c, left=("postcondition",)))
 
-    def context_kind(self, meta, c):
-        return str(c[0])
+    def cycle_def(self, c):
+        return ast.CycleDef(c[0], span=self._span(c, left=("cycleDef",)))
 
-    def context(self, meta, c):
-        return ast.Context(c[0], tuple(c[1:]), span=self._span(meta))
+    def context_kind(self, c):
+        return c[0]
+
+    def context(self, c):
+        return ast.Context(str(c[0]), tuple(c[1:]), span=self._span(c, right=("}",)) if len(c) > 1 else self._span(c, right=("context", "{", "}")))
 
     # -- nodes and transitions
 
-    def _node(self, cls, meta, c):
-        return cls(self._name(c[0]), span=self._span(meta), name_span=self._tspan(c[0]))
+    def _node(self, cls, c, keyword: str):
+        return cls(self._name(c[0]), span=self._span(c, left=(keyword,)), name_span=self._tspan(c[0]))
 
-    def initial(self, meta, c):
-        return self._node(ast.Initial, meta, c)
+    def initial(self, c):
+        return self._node(ast.Initial, c, "initial")
 
-    def junction(self, meta, c):
-        return self._node(ast.Junction, meta, c)
+    def junction(self, c):
+        return self._node(ast.Junction, c, "junction")
 
-    def final(self, meta, c):
-        return self._node(ast.Final, meta, c)
+    def final(self, c):
+        return self._node(ast.Final, c, "final")
 
-    def probabilistic(self, meta, c):
-        return self._node(ast.Probabilistic, meta, c)
+    def probabilistic(self, c):
+        return self._node(ast.Probabilistic, c, "probabilistic")
 
-    def state(self, meta, c):
-        return ast.State(self._name(c[0]), tuple(c[1:]), span=self._span(meta), name_span=self._tspan(c[0]))
+    def state(self, c):
+        return self._container(ast.State, c, ("state",))
 
-    def action_kind(self, meta, c):
-        return str(c[0])
+    def action_kind(self, c):
+        return c[0]
 
-    def state_action(self, meta, c):
-        return ast.StateAction(c[0], c[1], span=self._span(meta))
+    def state_action(self, c):
+        return ast.StateAction(str(c[0]), c[1], span=self._span(c))
 
-    def transition(self, meta, c):
+    def transition(self, c):
         name, source, target = c[0], c[1], c[2]
         fields: dict = {}
         resets = []
@@ -507,37 +666,37 @@ class _ToAst(Transformer):
             condition=fields.get("condition"),
             condition_else=fields.get("condition_else", False),
             action=fields.get("action"),
-            span=self._span(meta),
+            span=self._span(c, left=("transition",), right=("}",)),
             name_span=self._tspan(name),
             source_span=self._tspan(source),
             target_span=self._tspan(target),
         )
 
-    def trigger(self, meta, c):
-        return _Clause("trigger", c[0])
+    def trigger(self, c):
+        return _Clause("trigger", c[0], _pos(c[0]))
 
-    def exec_trigger(self, meta, c):
-        return _Clause("exec", True)
+    def exec_trigger(self, c):
+        return _Clause("exec", True, _pos(c[0]))
 
-    def probability(self, meta, c):
-        return _Clause("probability", c[0])
+    def probability(self, c):
+        return _Clause("probability", c[0], _pos(c[0]))
 
-    def reset(self, meta, c):
-        return ast.ClockReset(self._name(c[0]), span=self._span(meta), clock_span=self._tspan(c[0]))
+    def reset(self, c):
+        return ast.ClockReset(self._name(c[0]), span=self._span(c, left=("#",)), clock_span=self._tspan(c[0]))
 
-    def deadline(self, meta, c):
-        return _Clause("deadline", c[0])
+    def deadline(self, c):
+        return _Clause("deadline", c[0], _pos(c[0]))
 
-    def condition(self, meta, c):
-        return _Clause("condition", c[0])
+    def condition(self, c):
+        return _Clause("condition", c[0], _pos(c[0]))
 
-    def condition_else(self, meta, c):
-        return _Clause("condition_else", True)
+    def condition_else(self, c):
+        return _Clause("condition_else", True, _pos(c[0]))
 
-    def action(self, meta, c):
-        return _Clause("action", c[0])
+    def action(self, c):
+        return _Clause("action", c[0], _pos(c[0]))
 
-    def communication(self, meta, c):
+    def communication(self, c):
         event = c[0]
         filt = None
         suffix = None
@@ -553,57 +712,58 @@ class _ToAst(Transformer):
                 var, var_span = self._name(payload), self._tspan(payload)
             else:
                 value = payload
+        parts = [event] + ([filt] if filt else []) + ([suffix[1]] if suffix else [])
         return ast.Communication(
-            self._name(event), kind, var, value, filt, span=self._span(meta), event_span=self._tspan(event), var_span=var_span
+            self._name(event), kind, var, value, filt, span=self._span(parts), event_span=self._tspan(event), var_span=var_span
         )
 
-    def comm_input(self, meta, c):
+    def comm_input(self, c):
         return ("?", c[0])
 
-    def comm_output(self, meta, c):
+    def comm_output(self, c):
         return ("!", c[0])
 
-    def comm_sync(self, meta, c):
+    def comm_sync(self, c):
         return (".", c[0])
 
-    def filter_bind(self, meta, c):
-        return ast.Filter(self._name(c[0]), c[1], c[2] if len(c) > 2 else None, span=self._span(meta))
+    def filter_bind(self, c):
+        return ast.Filter(self._name(c[0]), c[1], c[2] if len(c) > 2 else None, span=self._span(c, left=("[|",), right=("|]",)))
 
-    def filter_pred(self, meta, c):
-        return ast.Filter(None, None, c[0], span=self._span(meta))
+    def filter_pred(self, c):
+        return ast.Filter(None, None, c[0], span=self._span(c, left=("[|",), right=("|]",)))
 
     # -- statements
 
-    def seq(self, meta, c):
+    def seq(self, c):
         left, right = c
         items = left.stmts if isinstance(left, ast.Seq) else (left,)
-        return ast.Seq(items + (right,), span=self._span(meta))
+        return ast.Seq(items + (right,), span=self._span(c))
 
-    def stmt_deadline(self, meta, c):
-        return ast.StmtDeadline(c[0], c[1], span=self._span(meta))
+    def stmt_deadline(self, c):
+        return ast.StmtDeadline(c[0], c[1], span=self._span(c, right=("}",)))
 
-    def skip(self, meta, c):
-        return ast.Skip(span=self._span(meta))
+    def skip(self, c):
+        return ast.Skip(span=self._span(c))
 
-    def exec_stmt(self, meta, c):
-        return ast.Exec(span=self._span(meta))
+    def exec_stmt(self, c):
+        return ast.Exec(span=self._span(c))
 
-    def wait(self, meta, c):
-        return ast.Wait(c[0], span=self._span(meta))
+    def wait(self, c):
+        return ast.Wait(c[0], span=self._span(c, left=("wait", "("), right=(")",)))
 
-    def clock_reset(self, meta, c):
-        return ast.ClockReset(self._name(c[0]), span=self._span(meta), clock_span=self._tspan(c[0]))
+    def clock_reset(self, c):
+        return ast.ClockReset(self._name(c[0]), span=self._span(c, left=("#",)), clock_span=self._tspan(c[0]))
 
-    def if_stmt(self, meta, c):
-        return ast.IfStmt(c[0], c[1], c[2] if len(c) > 2 else None, span=self._span(meta))
+    def if_stmt(self, c):
+        return ast.IfStmt(c[0], c[1], c[2] if len(c) > 2 else None, span=self._span(c, left=("if",), right=("end",)))
 
-    def send(self, meta, c):
-        return ast.Communicate(c[0], True, span=self._span(meta))
+    def send(self, c):
+        return ast.Communicate(c[0], True, span=self._span(c, left=("send",)))
 
-    def bare_stmt(self, meta, c):
+    def bare_stmt(self, c):
         """A statement that is only a target: a call `op(args)`, a plain event `e`, or `e.v`."""
         target = c[0]
-        span = self._span(meta)
+        span = self._span(c)
         if isinstance(target, ast.Call):
             return ast.CallStmt(target, span=span)
         if isinstance(target, ast.Name) and not target.qualified:
@@ -616,12 +776,12 @@ class _ToAst(Transformer):
         self.problems.append(error("this expression is not a statement (expected an assignment, a call or a communication)", span))
         return ast.Skip(span=span)
 
-    def assign(self, meta, c):
-        return ast.Assign(c[0], c[1], span=self._span(meta))
+    def assign(self, c):
+        return ast.Assign(c[0], c[1], span=self._span(c))
 
-    def _stmt_comm(self, meta, c, kind):
+    def _stmt_comm(self, c, kind):
         target, payload = c
-        span = self._span(meta)
+        span = self._span(c)
         if not (isinstance(target, ast.Name) and not target.qualified):
             self.problems.append(error("a communication must name an event", target.span or span))
             return ast.Skip(span=span)
@@ -631,259 +791,232 @@ class _ToAst(Transformer):
             comm = ast.Communication(target.last, "!", value=payload, span=span, event_span=target.span)
         return ast.Communicate(comm, False, span=span)
 
-    def comm_input_stmt(self, meta, c):
-        return self._stmt_comm(meta, c, "?")
+    def comm_input_stmt(self, c):
+        return self._stmt_comm(c, "?")
 
-    def comm_output_stmt(self, meta, c):
-        return self._stmt_comm(meta, c, "!")
+    def comm_output_stmt(self, c):
+        return self._stmt_comm(c, "!")
 
-    def dollar_stmt(self, meta, c):
-        return ast.DollarOutput(self._name(c[0]), "", None, span=self._span(meta), event_span=self._tspan(c[0]))
+    def dollar_stmt(self, c):
+        return ast.DollarOutput(self._name(c[0]), "", None, span=self._span(c, left=("$",)), event_span=self._tspan(c[0]))
 
-    def dollar_output(self, meta, c):
-        return ast.DollarOutput(self._name(c[0]), "!", c[1], span=self._span(meta), event_span=self._tspan(c[0]))
+    def dollar_output(self, c):
+        return ast.DollarOutput(self._name(c[0]), "!", c[1], span=self._span(c, left=("$",)), event_span=self._tspan(c[0]))
 
-    def dollar_sync(self, meta, c):
-        return ast.DollarOutput(self._name(c[0]), ".", c[1], span=self._span(meta), event_span=self._tspan(c[0]))
+    def dollar_sync(self, c):
+        return ast.DollarOutput(self._name(c[0]), ".", c[1], span=self._span(c, left=("$",)), event_span=self._tspan(c[0]))
 
-    def dollar_call(self, meta, c):
+    def dollar_call(self, c):
         args = c[1] if len(c) > 1 else ()
-        return ast.DollarCall(self._name(c[0]), args, span=self._span(meta), op_span=self._tspan(c[0]))
+        right = (")",) if args else ("(", ")")
+        return ast.DollarCall(self._name(c[0]), args, span=self._span(c, left=("$",), right=right), op_span=self._tspan(c[0]))
 
-    def dollar_assign(self, meta, c):
-        return ast.DollarAssign(self._name(c[0]), c[1], span=self._span(meta), var_span=self._tspan(c[0]))
+    def dollar_assign(self, c):
+        return ast.DollarAssign(self._name(c[0]), c[1], span=self._span(c, left=("$",)), var_span=self._tspan(c[0]))
 
     # -- expressions
 
-    def binder_kind(self, meta, c):
-        return str(c[0])
+    def binder_kind(self, c):
+        return c[0]
 
-    def binder(self, meta, c):
+    def binder(self, c):
         kind, decls = c[0], c[1]
         such_that = c[2].expr if len(c) == 4 else None
-        return ast.Binder(kind, decls, such_that, c[-1], span=self._span(meta))
+        return ast.Binder(str(kind), decls, such_that, c[-1], span=self._span(c))
 
-    def decls(self, meta, c):
+    def decls(self, c):
         return tuple(c)
 
-    def decl(self, meta, c):
-        return ast.Decl(self._name(c[0]), c[1], span=self._span(meta), name_span=self._tspan(c[0]))
+    def decl(self, c):
+        return ast.Decl(self._name(c[0]), c[1], span=self._span(c), name_span=self._tspan(c[0]))
 
-    def such_that(self, meta, c):
+    def such_that(self, c):
         return _SuchThat(c[0])
 
-    def _binary(self, op, meta, c):
-        return ast.Binary(op, c[0], c[-1], span=self._span(meta))
+    def _binary(self, op, c):
+        return ast.Binary(op, c[0], c[-1], span=self._span(c))
 
-    def iff(self, meta, c):
-        return self._binary("iff", meta, c)
+    def iff(self, c):
+        return self._binary("iff", c)
 
-    def implies(self, meta, c):
-        return self._binary("=>", meta, c)
+    def implies(self, c):
+        return self._binary("=>", c)
 
-    def or_(self, meta, c):
-        return self._binary("\\/", meta, c)
+    def or_(self, c):
+        return self._binary("\\/", c)
 
-    def and_(self, meta, c):
-        return self._binary("/\\", meta, c)
+    def and_(self, c):
+        return self._binary("/\\", c)
 
-    def not_(self, meta, c):
-        return ast.Unary("not", c[0], span=self._span(meta))
+    def not_(self, c):
+        return ast.Unary("not", c[0], span=self._span(c, left=("not",)))
 
-    def cmp_op(self, meta, c):
-        return str(c[0])
+    def cmp_op(self, c):
+        return c[0]
 
-    def compare(self, meta, c):
-        return ast.Binary(c[1], c[0], c[2], span=self._span(meta))
+    def compare(self, c):
+        return ast.Binary(str(c[1]), c[0], c[2], span=self._span(c))
 
-    def member(self, meta, c):
-        return self._binary("in", meta, c)
+    def member(self, c):
+        return self._binary("in", c)
 
-    def the(self, meta, c):
+    def the(self, c):
         decls = c[0]
         such_that = c[1].expr if len(c) == 3 else None
-        return ast.Binder("the", decls, such_that, c[-1], span=self._span(meta))
+        return ast.Binder("the", decls, such_that, c[-1], span=self._span(c, left=("the",)))
 
-    def let(self, meta, c):
-        return ast.Let(tuple(c[:-1]), c[-1], span=self._span(meta))
+    def let(self, c):
+        return ast.Let(tuple(c[:-1]), c[-1], span=self._span(c, left=("let",)))
 
-    def let_def(self, meta, c):
-        return ast.LetDef(self._name(c[0]), c[1], span=self._span(meta), name_span=self._tspan(c[0]))
+    def let_def(self, c):
+        return ast.LetDef(self._name(c[0]), c[1], span=self._span(c), name_span=self._tspan(c[0]))
 
-    def if_expr(self, meta, c):
-        return ast.IfExpr(c[0], c[1], c[2], span=self._span(meta))
+    def if_expr(self, c):
+        return ast.IfExpr(c[0], c[1], c[2], span=self._span(c, left=("if",), right=("end",)))
 
-    def cast_op(self, meta, c):
-        return str(c[0])
+    def cast_op(self, c):
+        return c[0]
 
-    def cast(self, meta, c):
-        return ast.Cast(c[1], c[0], c[2], span=self._span(meta))
+    def cast(self, c):
+        return ast.Cast(str(c[1]), c[0], c[2], span=self._span(c))
 
     add_op = mul_op = cat_op = cast_op
 
-    def arith(self, meta, c):
-        return ast.Binary(c[1], c[0], c[2], span=self._span(meta))
+    def arith(self, c):
+        return ast.Binary(str(c[1]), c[0], c[2], span=self._span(c))
 
-    def neg(self, meta, c):
-        return ast.Unary("-", c[0], span=self._span(meta))
+    def neg(self, c):
+        return ast.Unary("-", c[0], span=self._span(c, left=("-",)))
 
-    def index(self, meta, c):
-        return ast.Index(c[0], c[1], span=self._span(meta))
+    def field(self, c):
+        return ast.Field(c[0], self._name(c[1]), span=self._span(c), field_span=self._tspan(c[1]))
 
-    def call(self, meta, c):
-        return ast.Call(c[0], c[1] if len(c) > 1 else (), span=self._span(meta))
+    def index(self, c):
+        return ast.Index(c[0], c[1], span=self._span(c, right=("]",)))
 
-    def args(self, meta, c):
+    def call(self, c):
+        args = c[1] if len(c) > 1 else ()
+        return ast.Call(c[0], args, span=self._span(c, right=(")",) if args else ("(", ")")))
+
+    def args(self, c):
         return tuple(c)
 
-    def int_lit(self, meta, c):
-        return ast.IntLit(int(c[0]), span=self._span(meta))
+    def int_lit(self, c):
+        return ast.IntLit(int(c[0]), span=self._span(c))
 
-    def real_lit(self, meta, c):
-        return ast.RealLit(str(c[0]), span=self._span(meta))
+    def real_lit(self, c):
+        return ast.RealLit(str(c[0]), span=self._span(c))
 
-    def string_lit(self, meta, c):
+    def string_lit(self, c):
         raw = str(c[0])[1:-1]
-        return ast.StringLit(re.sub(r"\\(.)", r"\1", raw), span=self._span(meta))
+        return ast.StringLit(re.sub(r"\\(.)", r"\1", raw), span=self._span(c))
 
-    def true_lit(self, meta, c):
-        return ast.BoolLit(True, span=self._span(meta))
+    def true_lit(self, c):
+        return ast.BoolLit(True, span=self._span(c))
 
-    def false_lit(self, meta, c):
-        return ast.BoolLit(False, span=self._span(meta))
+    def false_lit(self, c):
+        return ast.BoolLit(False, span=self._span(c))
 
-    def name(self, meta, c):
+    def name(self, c):
         return c[0]  # a qname already built as ast.Name
 
-    def result(self, meta, c):
-        return ast.Keyword("result", span=self._span(meta))
+    def result(self, c):
+        return ast.Keyword("result", span=self._span(c))
 
-    def from_atom(self, meta, c):
-        return ast.Keyword("from", span=self._span(meta))
+    def from_atom(self, c):
+        return ast.Keyword("from", span=self._span(c))
 
-    def to_atom(self, meta, c):
-        return ast.Keyword("to", span=self._span(meta))
+    def to_atom(self, c):
+        return ast.Keyword("to", span=self._span(c))
 
-    def cycle_atom(self, meta, c):
-        return ast.Keyword("cycle", span=self._span(meta))
+    def cycle_atom(self, c):
+        return ast.Keyword("cycle", span=self._span(c))
 
-    def _range(self, meta, c, low_closed, high_closed):
-        return ast.Range(c[0], c[1], low_closed, high_closed, span=self._span(meta))
+    def _range(self, c, low_closed, high_closed):
+        return ast.Range(
+            c[0], c[1], low_closed, high_closed,
+            span=self._span(c, left=("[" if low_closed else "(",), right=("]" if high_closed else ")",)),
+        )
 
-    def range_oo(self, meta, c):
-        return self._range(meta, c, False, False)
+    def range_oo(self, c):
+        return self._range(c, False, False)
 
-    def range_oc(self, meta, c):
-        return self._range(meta, c, False, True)
+    def range_oc(self, c):
+        return self._range(c, False, True)
 
-    def range_cc(self, meta, c):
-        return self._range(meta, c, True, True)
+    def range_cc(self, c):
+        return self._range(c, True, True)
 
-    def range_co(self, meta, c):
-        return self._range(meta, c, True, False)
+    def range_co(self, c):
+        return self._range(c, True, False)
 
-    def since(self, meta, c):
-        return ast.Since(self._name(c[0]), span=self._span(meta), clock_span=self._tspan(c[0]))
+    def since(self, c):
+        return ast.Since(self._name(c[0]), span=self._span(c, left=("since", "("), right=(")",)), clock_span=self._tspan(c[0]))
 
-    def since_entry(self, meta, c):
-        return ast.SinceEntry(c[0], span=self._span(meta))
+    def since_entry(self, c):
+        return ast.SinceEntry(c[0], span=self._span(c, left=("sinceEntry", "("), right=(")",)))
 
-    def seq_lit(self, meta, c):
-        return ast.SeqLit(c[0] if c else (), span=self._span(meta))
+    def seq_lit(self, c):
+        items = c[0] if c else ()
+        return ast.SeqLit(items, span=self._span(c, left=("<",), right=(">",)))
 
-    def seq_items(self, meta, c):
+    def seq_items(self, c):
         return tuple(c)
 
-    def set_empty(self, meta, c):
-        return ast.SetLit((), span=self._span(meta))
+    def set_empty(self, c):
+        return ast.SetLit((), span=self._span(c, left=("{",)))
 
-    def set_lit(self, meta, c):
-        return ast.SetLit(tuple(c), span=self._span(meta))
+    def set_lit(self, c):
+        return ast.SetLit(tuple(c), span=self._span(c, left=("{",), right=("}",)))
 
-    def set_range(self, meta, c):
-        return ast.SetRange(c[0], c[1], span=self._span(meta))
+    def set_range(self, c):
+        return ast.SetRange(c[0], c[1], span=self._span(c, left=("{",), right=("}",)))
 
-    def set_comprehension(self, meta, c):
+    def set_comprehension(self, c):
         decls = c[0]
         such_that = next((x.expr for x in c[1:] if isinstance(x, _SuchThat)), None)
         body = next((x.expr for x in c[1:] if isinstance(x, _Body)), None)
-        return ast.SetComprehension(decls, such_that, body, span=self._span(meta))
+        return ast.SetComprehension(decls, such_that, body, span=self._span(c, left=("{",), right=("}",)))
 
-    def set_body(self, meta, c):
+    def set_body(self, c):
         return _Body(c[0])
 
-    def tuple_lit(self, meta, c):
-        return ast.TupleLit(tuple(c), span=self._span(meta))
+    def tuple_lit(self, c):
+        return ast.TupleLit(tuple(c), span=self._span(c, left=("(|",), right=("|)",)))
 
-    def record_lit(self, meta, c):
-        return ast.RecordLit(c[0], tuple(c[1:]), span=self._span(meta))
+    def record_lit(self, c):
+        return ast.RecordLit(c[0], tuple(c[1:]), span=self._span(c, right=("|)",)))
 
-    def field_value(self, meta, c):
-        return ast.FieldValue(self._name(c[0]), c[1], span=self._span(meta), name_span=self._tspan(c[0]))
+    def field_value(self, c):
+        return ast.FieldValue(self._name(c[0]), c[1], span=self._span(c), name_span=self._tspan(c[0]))
 
-    def vector_lit(self, meta, c):
-        return ast.VectorLit(c[0], span=self._span(meta))
+    def vector_lit(self, c):
+        return ast.VectorLit(c[0], span=self._span(c, left=("[|",), right=("|]",)))
 
-    def matrix_rows(self, meta, c):
+    def matrix_rows(self, c):
         return tuple(c)
 
-    def matrix_row(self, meta, c):
+    def matrix_row(self, c):
         return tuple(c)
 
-    def inverse(self, meta, c):
-        return ast.MatrixOp("inverse", c[0], span=self._span(meta))
+    def inverse(self, c):
+        return ast.MatrixOp("inverse", c[0], span=self._span(c, left=("inverse", "("), right=(")",)))
 
-    def transpose(self, meta, c):
-        return ast.MatrixOp("transpose", c[0], span=self._span(meta))
+    def transpose(self, c):
+        return ast.MatrixOp("transpose", c[0], span=self._span(c, left=("transpose", "("), right=(")",)))
 
-    def dollar(self, meta, c):
-        return ast.Dollar(self._name(c[0]), span=self._span(meta), name_span=self._tspan(c[0]))
+    def dollar(self, c):
+        return ast.Dollar(self._name(c[0]), span=self._span(c, left=("$",)), name_span=self._tspan(c[0]))
 
-    def dollar_input(self, meta, c):
+    def dollar_input(self, c):
         return ast.DollarInput(
             self._name(c[0]),
             self._name(c[1]),
             c[2] if len(c) > 2 else None,
-            span=self._span(meta),
+            span=self._span(c, left=("$",)),
             event_span=self._tspan(c[0]),
             var_span=self._tspan(c[1]),
         )
 
-    def dollar_value(self, meta, c):
-        return ast.DollarValue(self._name(c[0]), c[1], span=self._span(meta), event_span=self._tspan(c[0]))
-
-
-class _Package:
-    __slots__ = ("name",)
-
-    def __init__(self, name: ast.Name):
-        self.name = name
-
-
-class _Flag:
-    __slots__ = ("what",)
-
-    def __init__(self, what: str):
-        self.what = what
-
-
-class _Clause:
-    __slots__ = ("key", "value")
-
-    def __init__(self, key: str, value):
-        self.key = key
-        self.value = value
-
-
-class _SuchThat:
-    __slots__ = ("expr",)
-
-    def __init__(self, expr):
-        self.expr = expr
-
-
-class _Body:
-    __slots__ = ("expr",)
-
-    def __init__(self, expr):
-        self.expr = expr
+    def dollar_value(self, c):
+        return ast.DollarValue(self._name(c[0]), c[1], span=self._span(c, left=("$",)), event_span=self._tspan(c[0]))
