@@ -548,6 +548,9 @@ static void fmu_state_cases(void)
 
     c = counter_at(AT_STEP, 0.0);
     require("GetFMUState", counter.GetFMUState(c, &state));
+    copy = state;
+    require("GetFMUState into the same state", counter.GetFMUState(c, &state));
+    report("FMU state: fmi3GetFMUState with *FMUState set reuses that state", state == copy, "a new state was made");
     stale = (uintptr_t)state;
     require("FreeFMUState", counter.FreeFMUState(c, &state));
     report("FMU state: fmi3FreeFMUState sets the pointer to NULL", state == NULL, "pointer not cleared");
