@@ -1,0 +1,130 @@
+"""The PyBullet scene of the UR5e platform: the arm, its mounting plane, its motors.
+
+One :class:`ArmScene` owns one PyBullet physics client in DIRECT mode (headless, in-process),
+so several platform instances in one process never share state. Every PyBullet call passes
+that client's id explicitly.
+
+The scene: the arm of ``ur5e.urdf`` with its base fixed at the origin of the world (= the DH
+base frame), gravity along -z of that frame, and a plane at z = 0 (the surface the arm is
+mounted on). The case study's hole table is not modelled as a body: its holes are only the
+targets of the grid mapping, expressed in the base frame with the tilted mounting
+(:func:`robogen.platforms.kinematics.grid_position`).
+
+Joints are position controlled (PyBullet's constraint motor) with the UR5e torque limits and a
+common speed limit. Contacts count as a collision when two bodies (or two links of the arm that
+are not neighbours) touch or penetrate: contact distance <= 0. The base and the shoulder link
+rest on the plane by construction, so those two pairs are filtered out.
+"""
+
+from __future__ import annotations
+
+import math
+from pathlib import Path
+from typing import Sequence
+
+import pybullet
+
+from robogen.platforms.kinematics import MAX_JOINT_TORQUE
+
+JOINTS = (0, 1, 2, 3, 4, 5)
+TOOL_LINK = 6
+GRAVITY = 9.81
+# Motor gains of PyBullet's position constraint: the position error term and the velocity
+# error term of the motor's target velocity. Chosen so that a move settles without overshoot
+# far below the 0.005 rad completion tolerance.
+POSITION_GAIN = 0.3
+VELOCITY_GAIN = 1.0
+
+
+class ArmScene:
+    def __init__(self, urdf: Path, time_step: float, q_initial: Sequence[float], speed: float) -> None:
+        self.client = pybullet.connect(pybullet.DIRECT)
+        if self.client < 0:
+            raise RuntimeError("PyBullet could not open a DIRECT physics client")
+        cid = self.client
+        pybullet.setTimeStep(time_step, physicsClientId=cid)
+        pybullet.setGravity(0.0, 0.0, -GRAVITY, physicsClientId=cid)
+        flags = (pybullet.URDF_USE_INERTIA_FROM_FILE | pybullet.URDF_USE_SELF_COLLISION
+                 | pybullet.URDF_USE_SELF_COLLISION_EXCLUDE_PARENT)
+        self.robot = pybullet.loadURDF(str(urdf), useFixedBase=True, flags=flags, physicsClientId=cid)
+        plane_shape = pybullet.createCollisionShape(pybullet.GEOM_PLANE, physicsClientId=cid)
+        self.plane = pybullet.createMultiBody(0.0, plane_shape, physicsClientId=cid)
+        for link in (-1, 0):  # the base and the shoulder sit on the plane
+            pybullet.setCollisionFilterPair(self.plane, self.robot, -1, link, 0, physicsClientId=cid)
+        for j, q in zip(JOINTS, q_initial):
+            pybullet.resetJointState(self.robot, j, q, 0.0, physicsClientId=cid)
+        self.speed = speed
+        self.target = tuple(float(q) for q in q_initial)
+        self.apply_targets(self.target)
+        self.steps = 0
+
+    # -- motors ---------------------------------------------------------------------------------
+
+    def apply_targets(self, target: Sequence[float], speed: float | None = None) -> None:
+        """Position-control every joint to ``target`` at most at ``speed`` rad/s."""
+        if speed is not None:
+            self.speed = speed
+        self.target = tuple(float(q) for q in target)
+        for j, q, torque in zip(JOINTS, self.target, MAX_JOINT_TORQUE):
+            pybullet.setJointMotorControl2(
+                self.robot, j, pybullet.POSITION_CONTROL, targetPosition=q, targetVelocity=0.0, force=torque,
+                positionGain=POSITION_GAIN, velocityGain=VELOCITY_GAIN, maxVelocity=self.speed,
+                physicsClientId=self.client)
+
+    # -- stepping and reading -----------------------------------------------------------------
+
+    def step(self) -> None:
+        pybullet.stepSimulation(physicsClientId=self.client)
+        self.steps += 1
+
+    def joint_states(self) -> tuple[tuple[float, ...], tuple[float, ...]]:
+        states = pybullet.getJointStates(self.robot, JOINTS, physicsClientId=self.client)
+        return tuple(s[0] for s in states), tuple(s[1] for s in states)
+
+    def in_collision(self) -> bool:
+        for contact in pybullet.getContactPoints(bodyA=self.robot, physicsClientId=self.client):
+            if contact[8] <= 0.0:
+                return True
+        return False
+
+    def flange(self) -> tuple[tuple[float, float, float], tuple[float, ...]]:
+        """Position and rotation matrix (row-major 9-tuple) of tool0 in the base frame."""
+        state = pybullet.getLinkState(self.robot, TOOL_LINK, computeForwardKinematics=True,
+                                      physicsClientId=self.client)
+        return state[4], pybullet.getMatrixFromQuaternion(state[5], physicsClientId=self.client)
+
+    def close(self) -> None:
+        if self.client >= 0:
+            pybullet.disconnect(physicsClientId=self.client)
+            self.client = -1
+
+
+class CollisionProbe:
+    """A second, never stepped client holding a copy of the arm and the plane, to ask whether
+    a joint configuration collides without touching the running simulation."""
+
+    def __init__(self, urdf: Path) -> None:
+        self.client = pybullet.connect(pybullet.DIRECT)
+        cid = self.client
+        flags = pybullet.URDF_USE_SELF_COLLISION | pybullet.URDF_USE_SELF_COLLISION_EXCLUDE_PARENT
+        self.robot = pybullet.loadURDF(str(urdf), useFixedBase=True, flags=flags, physicsClientId=cid)
+        plane_shape = pybullet.createCollisionShape(pybullet.GEOM_PLANE, physicsClientId=cid)
+        self.plane = pybullet.createMultiBody(0.0, plane_shape, physicsClientId=cid)
+        for link in (-1, 0):
+            pybullet.setCollisionFilterPair(self.plane, self.robot, -1, link, 0, physicsClientId=cid)
+
+    def collides(self, q: Sequence[float]) -> bool:
+        cid = self.client
+        for j, value in zip(JOINTS, q):
+            pybullet.resetJointState(self.robot, j, value, 0.0, physicsClientId=cid)
+        pybullet.performCollisionDetection(physicsClientId=cid)
+        return any(c[8] <= 0.0 for c in pybullet.getContactPoints(bodyA=self.robot, physicsClientId=cid))
+
+    def close(self) -> None:
+        if self.client >= 0:
+            pybullet.disconnect(physicsClientId=self.client)
+            self.client = -1
+
+
+def speed_ok(value: float) -> bool:
+    return math.isfinite(value) and value > 0.0
