@@ -86,12 +86,13 @@ def forward(q: Sequence[float]) -> np.ndarray:
 def jacobian(q: Sequence[float]) -> np.ndarray:
     """The 6x6 geometric Jacobian (linear velocity rows first) of the flange."""
     fs = frames(q)
-    end = fs[-1][:3, 3]
+    ex, ey, ez = fs[-1][:3, 3]
     jac = np.empty((6, 6))
     for i in range(6):
-        z, origin = fs[i][:3, 2], fs[i][:3, 3]
-        jac[:3, i] = np.cross(z, end - origin)
-        jac[3:, i] = z
+        zx, zy, zz = fs[i][:3, 2]
+        ox, oy, oz = fs[i][:3, 3]
+        rx, ry, rz = ex - ox, ey - oy, ez - oz
+        jac[:, i] = (zy * rz - zz * ry, zz * rx - zx * rz, zx * ry - zy * rx, zx, zy, zz)  # z x r, then z
     return jac
 
 

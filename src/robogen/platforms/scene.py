@@ -56,7 +56,7 @@ class ArmScene:
         self.speed = speed
         self.target = tuple(float(q) for q in q_initial)
         self.apply_targets(self.target)
-        self.steps = 0
+        self.steps = 0  # physics steps done; the owner steps the client (a hot loop) and counts
 
     # -- motors ---------------------------------------------------------------------------------
 
@@ -71,11 +71,7 @@ class ArmScene:
                 positionGain=POSITION_GAIN, velocityGain=VELOCITY_GAIN, maxVelocity=self.speed,
                 physicsClientId=self.client)
 
-    # -- stepping and reading -----------------------------------------------------------------
-
-    def step(self) -> None:
-        pybullet.stepSimulation(physicsClientId=self.client)
-        self.steps += 1
+    # -- reading ------------------------------------------------------------------------------
 
     def joint_states(self) -> tuple[tuple[float, ...], tuple[float, ...]]:
         states = pybullet.getJointStates(self.robot, JOINTS, physicsClientId=self.client)

@@ -48,6 +48,9 @@ import shutil
 import tempfile
 from pathlib import Path
 
+import numpy as np
+import pybullet
+
 from robogen.platforms.kinematics import (
     HOME, IK_SEED, JOINT_LIMIT, MAX_JOINT_SPEED, forward, grid_in_table, grid_pose, inverse, nearest_equivalent,
     rotation_from_vector, rotation_vector,
@@ -55,8 +58,6 @@ from robogen.platforms.kinematics import (
 from robogen.platforms.scene import ArmScene, CollisionProbe, speed_ok
 from robogen.platforms.urdf import ur5e_urdf
 from robogen.pyfmu import Clock, Float64, FmiUsageError, Int64, Model, Setting, Step
-
-import numpy as np
 
 COMPLETION_TOLERANCE = 0.005  # rad, every joint
 STOPPED_SPEED = 0.1  # rad/s, every joint
@@ -169,6 +170,7 @@ class UR5ePlatform(Model):
         self._pending = False                             # that motion is under way
         self._discrete: tuple[int, int, int] | None = None  # the current movediscrete command
         self._discrete_feasible = False
+        self._ik: dict[tuple[int, int, int], tuple[float, ...] | None] = {}  # grid cell -> IK solution
         self._holds = dict.fromkeys(EVENTS, False)
         self._edges: set[str] = set()                     # conditions that became true in a step
 
@@ -194,6 +196,7 @@ class UR5ePlatform(Model):
             if not abs(q) <= limit:
                 raise FmiUsageError(f"initial_q{i} = {q!r} rad is outside the joint's range +-{limit:.6g} rad")
         self._scene = ArmScene(self._urdf(), dt, q0, speed)
+        self._probe = CollisionProbe(self._urdf())
         q, dq = self._scene.joint_states()
         self._evaluate(q, dq, self._scene.in_collision())
         self._dirty = True
@@ -293,17 +296,22 @@ class UR5ePlatform(Model):
         self._scene.apply_targets(self._commanded)
         self._dirty = True
 
-    def _solve(self, position, rotation) -> tuple[tuple[float, ...] | None, str]:
-        """A collision-free joint solution for a flange pose, or None and why not."""
-        assert self._scene is not None
+    def _solve(self, position, rotation, cell: tuple[int, int, int] | None = None
+               ) -> tuple[tuple[float, ...] | None, str]:
+        """A collision-free joint solution for a flange pose, or None and why not. Grid cells
+        keep their IK solution (the grid is fixed; the scenario revisits its cells)."""
+        assert self._scene is not None and self._probe is not None
         q_now, _ = self._scene.joint_states()
-        result = inverse(position, rotation, seeds=(IK_SEED, q_now))
-        if not result.converged:
-            return None, (f"out of reach (best IK: {result.position_error * 1000:.1f} mm, "
-                          f"{math.degrees(result.orientation_error):.2f} deg off)")
-        q = nearest_equivalent(result.q, q_now)
-        if self._probe is None:
-            self._probe = CollisionProbe(self._urdf())
+        solution = self._ik.get(cell) if cell is not None else None
+        if solution is None:
+            result = inverse(position, rotation, seeds=(IK_SEED, q_now))
+            if not result.converged:
+                return None, (f"out of reach (best IK: {result.position_error * 1000:.1f} mm, "
+                              f"{math.degrees(result.orientation_error):.2f} deg off)")
+            solution = result.q
+            if cell is not None:
+                self._ik[cell] = solution
+        q = nearest_equivalent(solution, q_now)
         if self._probe.collides(q):
             return None, "the arm would collide in the target pose"
         return q, ""
@@ -318,7 +326,7 @@ class UR5ePlatform(Model):
             if not grid_in_table(X, Y, Z):
                 q, why = None, "outside the table (X 0..15, Y 0..23, Z >= 0)"
             else:
-                q, why = self._solve(*grid_pose(X, Y, Z))
+                q, why = self._solve(*grid_pose(X, Y, Z), cell=cell)
             self._discrete_feasible = q is not None
             if q is not None:
                 self._start_motion(q)
@@ -377,8 +385,10 @@ class UR5ePlatform(Model):
         dt = self.physics_step
         last = math.floor((t + h - self.start_time) / dt + 1e-6)
         early = self.early_return_allowed
+        step, client = pybullet.stepSimulation, scene.client  # the hot loop: no method lookups
         while scene.steps < last:
-            scene.step()
+            step(physicsClientId=client)
+            scene.steps += 1
             if self._watching():
                 q, dq = scene.joint_states()
                 rising = self._evaluate(q, dq, scene.in_collision())
