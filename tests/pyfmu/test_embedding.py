@@ -172,7 +172,7 @@ def test_an_fmu_loads_again_after_its_library_was_closed(fmus):
 
 # ---- the C host: dlopen with RTLD_LOCAL, a process without Python ------------------------------
 
-def host_script(fmu_dir, identifier, tok, *calls) -> list[str]:
+def host_script(fmu_dir, identifier, *calls) -> list[str]:
     return [f"load {fmu_dir}/binaries/x86_64-linux/{identifier}.so", *calls]
 
 
@@ -182,7 +182,7 @@ def test_c_host_runs_the_fmu_with_rtld_local(fmus, host, tmp_path):
           for v in ET.parse(directory / "modelDescription.xml").getroot().find("ModelVariables")}
     tok = token(fmus["counter"])
     out = run_host(host, host_script(
-        directory, "counter", tok,
+        directory, "counter",
         f"instantiate a {tok} {directory}/resources/ 1 1",
         f"instantiate b {tok} {directory}/resources/ 1 1",
         "init 0 0", "init 1 0", "exit_init 0", "exit_init 1",
@@ -210,7 +210,7 @@ def test_c_host_imports_extension_modules_inside_the_fmu(fmus, host, tmp_path):
     norm_vr = next(v.attrib["valueReference"] for v in
                    ET.parse(directory / "modelDescription.xml").getroot().find("ModelVariables")
                    if v.attrib["name"] == "norm")
-    out = run_host(host, host_script(directory, "uses_numpy", tok,
+    out = run_host(host, host_script(directory, "uses_numpy",
                                      f"instantiate n {tok} {directory}/resources/ 1 0",
                                      "init 0 0", "exit_init 0", "update 0", "step_mode 0", "do_step 0 0 2",
                                      f"get_f64 0 {norm_vr}", "free 0"))
@@ -223,7 +223,50 @@ def test_without_promoting_libpython_a_c_host_cannot_import_extension_modules(ho
                   promote_libpython=False).path
     directory = unzip(fmu, tmp_path / "local")
     tok = token(fmu)
-    out = run_host(host, host_script(directory, "local_only", tok, f"instantiate x {tok} {directory}/resources/ 1 0"))
+    out = run_host(host, host_script(directory, "local_only", f"instantiate x {tok} {directory}/resources/ 1 0"))
     assert "undefined symbol: PyExc_" in out
     assert "instance NULL" in out
     assert "log 3 logStatusError: the FMU's Python part failed to start" in out
+
+
+OTHER_PYTHON_HOST = """
+import ctypes, sys
+lib = ctypes.CDLL(sys.argv[1])
+LOG = ctypes.CFUNCTYPE(None, ctypes.c_void_p, ctypes.c_int, ctypes.c_char_p, ctypes.c_char_p)
+log = LOG(lambda env, status, category, message: print("log", status, message.decode()))
+f = lib.fmi3InstantiateCoSimulation
+f.restype = ctypes.c_void_p
+f.argtypes = [ctypes.c_char_p] * 3 + [ctypes.c_bool] * 4 + [ctypes.c_void_p, ctypes.c_size_t, ctypes.c_void_p, LOG,
+                                                           ctypes.c_void_p]
+print("instance", f(b"x", sys.argv[2].encode(), sys.argv[3].encode(), False, True, True, False, None, 0, None, log,
+                    None))
+"""
+
+
+def other_python() -> str | None:
+    """Another CPython minor version on this machine (pyenv keeps several), or None."""
+    import shutil
+    import sys
+    from pathlib import Path
+
+    mine = f"python{sys.version_info.major}.{sys.version_info.minor}"
+    candidates = sorted(Path(sys.base_prefix).parent.glob("3.*/bin/python3.*"))
+    candidates += [Path(p) for p in (shutil.which("python3.12"), shutil.which("python3.13")) if p]
+    for path in candidates:
+        if re.fullmatch(r"python3\.\d+", path.name) and path.name != mine and path.is_file():
+            return str(path)
+    return None
+
+
+def test_a_host_running_another_python_is_refused(fmus, tmp_path):
+    import subprocess
+
+    python = other_python()
+    if python is None:
+        pytest.skip("no second CPython minor version on this machine")
+    directory = unzip(fmus["counter"], tmp_path / "other")
+    result = subprocess.run([python, "-c", OTHER_PYTHON_HOST, f"{directory}/binaries/x86_64-linux/counter.so",
+                             token(fmus["counter"]), f"{directory}/resources/"],
+                            capture_output=True, text=True, env={"PATH": "/usr/bin:/bin"}, timeout=60)
+    assert "instance None" in result.stdout
+    assert re.search(r"log 3 this FMU was built for Python 3\.\d+; the host runs Python 3\.\d+\.\d+\n", result.stdout)

@@ -36,6 +36,19 @@ POSITION_GAIN = 0.3
 VELOCITY_GAIN = 1.0
 
 
+SELF_COLLISION = pybullet.URDF_USE_SELF_COLLISION | pybullet.URDF_USE_SELF_COLLISION_EXCLUDE_PARENT
+
+
+def _load_arm(client: int, urdf: Path, flags: int) -> tuple[int, int]:
+    """The arm (base fixed at the origin) and the mounting plane in ``client``: (robot, plane)."""
+    robot = pybullet.loadURDF(str(urdf), useFixedBase=True, flags=flags, physicsClientId=client)
+    plane_shape = pybullet.createCollisionShape(pybullet.GEOM_PLANE, physicsClientId=client)
+    plane = pybullet.createMultiBody(0.0, plane_shape, physicsClientId=client)
+    for link in (-1, 0):  # the base and the shoulder sit on the plane
+        pybullet.setCollisionFilterPair(plane, robot, -1, link, 0, physicsClientId=client)
+    return robot, plane
+
+
 class ArmScene:
     def __init__(self, urdf: Path, time_step: float, q_initial: Sequence[float], speed: float) -> None:
         self.client = pybullet.connect(pybullet.DIRECT)
@@ -44,13 +57,7 @@ class ArmScene:
         cid = self.client
         pybullet.setTimeStep(time_step, physicsClientId=cid)
         pybullet.setGravity(0.0, 0.0, -GRAVITY, physicsClientId=cid)
-        flags = (pybullet.URDF_USE_INERTIA_FROM_FILE | pybullet.URDF_USE_SELF_COLLISION
-                 | pybullet.URDF_USE_SELF_COLLISION_EXCLUDE_PARENT)
-        self.robot = pybullet.loadURDF(str(urdf), useFixedBase=True, flags=flags, physicsClientId=cid)
-        plane_shape = pybullet.createCollisionShape(pybullet.GEOM_PLANE, physicsClientId=cid)
-        self.plane = pybullet.createMultiBody(0.0, plane_shape, physicsClientId=cid)
-        for link in (-1, 0):  # the base and the shoulder sit on the plane
-            pybullet.setCollisionFilterPair(self.plane, self.robot, -1, link, 0, physicsClientId=cid)
+        self.robot, self.plane = _load_arm(cid, urdf, pybullet.URDF_USE_INERTIA_FROM_FILE | SELF_COLLISION)
         for j, q in zip(JOINTS, q_initial):
             pybullet.resetJointState(self.robot, j, q, 0.0, physicsClientId=cid)
         self.speed = speed
@@ -101,13 +108,7 @@ class CollisionProbe:
 
     def __init__(self, urdf: Path) -> None:
         self.client = pybullet.connect(pybullet.DIRECT)
-        cid = self.client
-        flags = pybullet.URDF_USE_SELF_COLLISION | pybullet.URDF_USE_SELF_COLLISION_EXCLUDE_PARENT
-        self.robot = pybullet.loadURDF(str(urdf), useFixedBase=True, flags=flags, physicsClientId=cid)
-        plane_shape = pybullet.createCollisionShape(pybullet.GEOM_PLANE, physicsClientId=cid)
-        self.plane = pybullet.createMultiBody(0.0, plane_shape, physicsClientId=cid)
-        for link in (-1, 0):
-            pybullet.setCollisionFilterPair(self.plane, self.robot, -1, link, 0, physicsClientId=cid)
+        self.robot, self.plane = _load_arm(self.client, urdf, SELF_COLLISION)
 
     def collides(self, q: Sequence[float]) -> bool:
         cid = self.client

@@ -25,7 +25,6 @@ import json
 import os
 import re
 import shlex
-import shutil
 import subprocess
 import sys
 import sysconfig
@@ -368,6 +367,3 @@ def package(spec: str, output: str | os.PathLike, assignments: Iterable[str] = (
         write_fmu(output, files)
     return Packaged(output, identifier, token, sorted(files))
 
-
-def compiler_available() -> bool:
-    return shutil.which(shlex.split(os.environ.get("CC", "cc"))[0]) is not None

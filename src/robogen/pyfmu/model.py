@@ -415,11 +415,9 @@ class Model:
         unknown = [k for k in values if k not in cls._settings]
         if unknown:
             raise KeyError(unknown[0])
-        namespace = {k: _SettingValue(cls._settings[k], v) for k, v in values.items()}
-        namespace["_configured_from"] = cls
+        namespace: dict[str, Any] = {k: _SettingValue(cls._settings[k], v) for k, v in values.items()}
         namespace["__module__"] = cls.__module__
-        sub = type(cls.__name__, (cls,), namespace)
-        return sub
+        return type(cls.__name__, (cls,), namespace)
 
     @classmethod
     def setting_values(cls) -> dict[str, Any]:

@@ -85,8 +85,8 @@ int pyfmu_start_python(char *message, size_t size)
         const char *running = Py_GetVersion();
         size_t n = strlen(PYFMU_PYTHON_VERSION);
         if (strncmp(running, PYFMU_PYTHON_VERSION, n) != 0 || running[n] != '.') {
-            snprintf(message, size, "this FMU was built for Python %s; the host runs Python %.20s",
-                     PYFMU_PYTHON_VERSION, running);
+            snprintf(message, size, "this FMU was built for Python %s; the host runs Python %.*s",
+                     PYFMU_PYTHON_VERSION, (int)strcspn(running, " "), running);
             return -1;
         }
     }
