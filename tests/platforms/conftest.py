@@ -3,29 +3,20 @@ session, and the C host of tests/pyfmu compiled once per session."""
 
 from __future__ import annotations
 
-import importlib.util
 import sys
 from pathlib import Path
 
 import pytest
 
-from robogen.pyfmu.build import package
-
 ROOT = Path(__file__).resolve().parents[2]
+if str(ROOT / "tests" / "pyfmu") not in sys.path:
+    sys.path.insert(0, str(ROOT / "tests" / "pyfmu"))  # pyfmu_testing: the fmpy and C-host helpers
+
+import pyfmu_testing  # noqa: E402
+
+from robogen.pyfmu.build import package  # noqa: E402
+
 PLAN = ROOT / "models" / "ur5e" / "plan.toml"
-
-
-def _load_testing():
-    name = "robogen_pyfmu_testing"  # unique: other test folders have their own helpers
-    if name not in sys.modules:
-        spec = importlib.util.spec_from_file_location(name, ROOT / "tests" / "pyfmu" / "pyfmu_testing.py")
-        module = importlib.util.module_from_spec(spec)
-        sys.modules[name] = module
-        spec.loader.exec_module(module)
-    return sys.modules[name]
-
-
-testing = _load_testing()
 
 
 @pytest.fixture(scope="session")
@@ -42,4 +33,4 @@ def controller_fmu(tmp_path_factory) -> Path:
 
 @pytest.fixture(scope="session")
 def host(tmp_path_factory) -> Path:
-    return testing.compile_host(tmp_path_factory.mktemp("host"))
+    return pyfmu_testing.compile_host(tmp_path_factory.mktemp("host"))
