@@ -157,7 +157,7 @@ class Slave:
         self._set_since_step = False
 
     def terminate(self) -> None:
-        self._require("fmi3Terminate", State.INITIALIZATION, State.EVENT, State.STEP)
+        self._require("fmi3Terminate", State.EVENT, State.STEP)
         self.model.terminate()
         self.model._active_clocks.clear()
         self.state = State.TERMINATED
