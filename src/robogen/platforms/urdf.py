@@ -33,6 +33,7 @@ VISUAL_RADIUS = (0.06, 0.054, 0.045, 0.04, 0.04, 0.035)
 COLLISION_RADIUS = (0.05, 0.045, 0.035, 0.03, 0.03, 0.03)
 COLLISION_END_GAP = 0.05
 MIN_CYLINDER = 0.04  # m: the length given to links whose DH segment is shorter
+BASE_MASS = 4.0  # kg; the base is fixed, its mass does not enter the dynamics
 
 
 def _f(value: float) -> str:
@@ -59,34 +60,39 @@ def _inertia(mass: float, radius: float, length: float, along_x: bool) -> dict[s
     return {"ixx": transverse, "iyy": transverse, "izz": axial}
 
 
+def _cylinder_link(name: str, mass: float, com, inertia: dict[str, float], centre, rpy, visual: tuple[float, float],
+                   collision: tuple[float, float], material: str) -> str:
+    """A link drawn and collided as one cylinder (radius, length) placed at ``centre``, ``rpy``."""
+    return f"""  <link name="{name}">
+    <inertial>
+      <origin xyz="{_vec(com)}" rpy="0 0 0"/>
+      <mass value="{_f(mass)}"/>
+      <inertia ixx="{_f(inertia['ixx'])}" ixy="0" ixz="0" iyy="{_f(inertia['iyy'])}" iyz="0" izz="{_f(inertia['izz'])}"/>
+    </inertial>
+    <visual>
+      <origin xyz="{_vec(centre)}" rpy="{_vec(rpy)}"/>
+      <geometry><cylinder radius="{_f(visual[0])}" length="{_f(visual[1])}"/></geometry>
+      <material name="{material}"/>
+    </visual>
+    <collision>
+      <origin xyz="{_vec(centre)}" rpy="{_vec(rpy)}"/>
+      <geometry><cylinder radius="{_f(collision[0])}" length="{_f(collision[1])}"/></geometry>
+    </collision>
+  </link>
+"""
+
+
 def _link(index: int) -> str:
-    name = LINK_NAMES[index]
     segment = np.array([DH_A[index], 0.0, DH_D[index]])
     length = float(np.linalg.norm(segment))
     com = segment + rotation_x(DH_ALPHA[index]) @ np.array(LINK_COM[index])
     along_x = abs(segment[0]) > abs(segment[2])
     shown = max(length, MIN_CYLINDER)
     centre = segment / 2 if length > 0 else np.zeros(3)
-    rpy = _segment_rpy(segment)
     inertia = _inertia(LINK_MASS[index], VISUAL_RADIUS[index], shown, along_x)
-    collision_length = max(length - 2 * COLLISION_END_GAP, 0.01)
-    return f"""  <link name="{name}">
-    <inertial>
-      <origin xyz="{_vec(com)}" rpy="0 0 0"/>
-      <mass value="{_f(LINK_MASS[index])}"/>
-      <inertia ixx="{_f(inertia['ixx'])}" ixy="0" ixz="0" iyy="{_f(inertia['iyy'])}" iyz="0" izz="{_f(inertia['izz'])}"/>
-    </inertial>
-    <visual>
-      <origin xyz="{_vec(centre)}" rpy="{_vec(rpy)}"/>
-      <geometry><cylinder radius="{_f(VISUAL_RADIUS[index])}" length="{_f(shown)}"/></geometry>
-      <material name="ur_grey"/>
-    </visual>
-    <collision>
-      <origin xyz="{_vec(centre)}" rpy="{_vec(rpy)}"/>
-      <geometry><cylinder radius="{_f(COLLISION_RADIUS[index])}" length="{_f(collision_length)}"/></geometry>
-    </collision>
-  </link>
-"""
+    collision = (COLLISION_RADIUS[index], max(length - 2 * COLLISION_END_GAP, 0.01))
+    return _cylinder_link(LINK_NAMES[index], LINK_MASS[index], com, inertia, centre, _segment_rpy(segment),
+                          (VISUAL_RADIUS[index], shown), collision, "ur_grey")
 
 
 def _joint(index: int) -> str:
@@ -117,23 +123,8 @@ def ur5e_urdf() -> str:
         '<robot name="ur5e">\n',
         '  <material name="ur_grey"><color rgba="0.7 0.7 0.72 1"/></material>\n',
         '  <material name="ur_blue"><color rgba="0.2 0.4 0.7 1"/></material>\n',
-        """  <link name="base">
-    <inertial>
-      <origin xyz="0 0 0.03" rpy="0 0 0"/>
-      <mass value="4"/>
-      <inertia ixx="0.0072" ixy="0" ixz="0" iyy="0.0072" iyz="0" izz="0.0113"/>
-    </inertial>
-    <visual>
-      <origin xyz="0 0 0.03" rpy="0 0 0"/>
-      <geometry><cylinder radius="0.075" length="0.06"/></geometry>
-      <material name="ur_blue"/>
-    </visual>
-    <collision>
-      <origin xyz="0 0 0.03" rpy="0 0 0"/>
-      <geometry><cylinder radius="0.075" length="0.06"/></geometry>
-    </collision>
-  </link>
-""",
+        _cylinder_link("base", BASE_MASS, (0.0, 0.0, 0.03), _inertia(BASE_MASS, 0.075, 0.06, False), (0.0, 0.0, 0.03),
+                       (0.0, 0.0, 0.0), (0.075, 0.06), (0.075, 0.06), "ur_blue"),
     ]
     for i in range(6):
         parts.append(_joint(i))
