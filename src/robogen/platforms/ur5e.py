@@ -170,7 +170,7 @@ class UR5ePlatform(Model):
         self._pending = False                             # that motion is under way
         self._discrete: tuple[int, int, int] | None = None  # the current movediscrete command
         self._discrete_feasible = False
-        self._ik: dict[tuple[int, int, int], tuple[float, ...] | None] = {}  # grid cell -> IK solution
+        self._ik: dict[tuple[int, int, int], tuple[float, ...]] = {}  # grid cell -> IK solution
         self._holds = dict.fromkeys(EVENTS, False)
         self._edges: set[str] = set()                     # conditions that became true in a step
 
