@@ -120,10 +120,11 @@ def bind(ffi: Any, lib: Any, config: dict) -> None:
                 logger(c_instance)(ERROR, "logStatusError",
                                    "resourcePath is NULL: this FMU's Python code lives in its resources/ folder")
                 return 0
-            model_class, slave_module = load(_resource_folder(text(resource_path)))
+            resources = _resource_folder(text(resource_path))
+            model_class, slave_module = load(resources)
             usage_error = slave_module.FmiUsageError
             slave = slave_module.Slave(
-                model_class, instance_name=text(name), resource_path=_resource_folder(text(resource_path)),
+                model_class, instance_name=text(name), resource_path=resources,
                 event_mode_used=bool(event_mode_used), early_return_allowed=bool(early_return_allowed),
                 logger=logger(c_instance))
         except BaseException as exc:  # noqa: BLE001
