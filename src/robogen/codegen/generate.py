@@ -1,0 +1,401 @@
+"""Render an IR FMU into its sources: ``config.h``, ``model.c``, the unity file
+``<modelIdentifier>.c``, ``modelDescription.xml``, ``sources/buildDescription.xml`` and
+``documentation/``. Everything comes from the one IR, so value references cannot drift between
+the C tables and the XML; output is deterministic (no time stamps, declaration order).
+"""
+
+from __future__ import annotations
+
+import hashlib
+from dataclasses import dataclass, field
+from fractions import Fraction
+from pathlib import Path
+
+import jinja2
+
+from robogen import __version__
+from robogen.codegen.c import Emitter, c_comment, c_string, ctype, literal, mangle
+from robogen.ir import model as ir
+from robogen.ir.dump import dump
+from robogen.semantics import types as T
+
+FMI_TYPE = {"int64_t": "Int64", "uint64_t": "UInt64", "double": "Float64", "bool": "Boolean"}
+RG_TYPE = {"Int64": "RG_INT64", "UInt64": "RG_UINT64", "Float64": "RG_FLOAT64", "Boolean": "RG_BOOLEAN", "Enumeration": "RG_INT64", "Clock": "RG_CLOCK"}
+
+
+@dataclass
+class FmiVar:
+    name: str
+    vr: int
+    fmi_type: str  # Float64 Int64 UInt64 Boolean Enumeration Clock
+    causality: str
+    variability: str
+    field: str = ""  # C member of rg_model_data ("" for clocks)
+    initial: str | None = None
+    start: str | None = None
+    clock: int | None = None  # value reference of its clock
+    clock_index: int = -1  # rg_clocks index of its clock
+    declared_type: str | None = None
+    description: str = ""
+    size: int | None = None  # arrays
+    # clocks
+    interval_variability: str | None = None
+    interval: str | None = None
+    shift: str | None = None
+
+    @property
+    def rg_type(self) -> str:
+        return RG_TYPE[self.fmi_type]
+
+    @property
+    def rg_causality(self) -> str:
+        return {"parameter": "RG_PARAMETER", "input": "RG_INPUT", "output": "RG_OUTPUT", "local": "RG_LOCAL"}[self.causality]
+
+    @property
+    def rg_variability(self) -> str:
+        return {"fixed": "RG_FIXED", "tunable": "RG_TUNABLE", "discrete": "RG_DISCRETE", "constant": "RG_CONSTANT"}[self.variability]
+
+    @property
+    def settable_in_init(self) -> bool:
+        return self.causality in ("parameter", "input")
+
+
+@dataclass
+class EnumType:
+    name: str
+    items: list[tuple[str, int]]
+
+
+@dataclass
+class Generated:
+    """The files of an FMU's sources, by relative path inside the FMU archive."""
+
+    fmu: ir.Fmu
+    model_identifier: str
+    token: str
+    files: dict[str, str] = field(default_factory=dict)
+    variables: list[FmiVar] = field(default_factory=list)
+
+    def write(self, folder: Path) -> list[Path]:
+        written = []
+        for rel, text in self.files.items():
+            path = folder / rel
+            path.parent.mkdir(parents=True, exist_ok=True)
+            path.write_text(text, encoding="utf-8")
+            written.append(path)
+        return written
+
+
+def _env() -> jinja2.Environment:
+    env = jinja2.Environment(
+        loader=jinja2.PackageLoader("robogen", "templates"),
+        undefined=jinja2.StrictUndefined,
+        keep_trailing_newline=True,
+        trim_blocks=True,
+        lstrip_blocks=True,
+        autoescape=False,
+    )
+    env.filters["xml"] = _xml
+    env.filters["c_string"] = c_string
+    env.filters["c_comment"] = c_comment
+    return env
+
+
+def _xml(text: object) -> str:
+    return str(text).replace("&", "&amp;").replace("<", "&lt;").replace(">", "&gt;").replace('"', "&quot;")
+
+
+def _decimal(value: Fraction) -> str:
+    """A decimal text of a time in seconds, exact when the fraction has a finite expansion."""
+    f = float(value)
+    text = repr(f)
+    return text[:-2] if text.endswith(".0") else text
+
+
+def generate(fmu: ir.Fmu, *, line_comments: bool = True, diagrams: dict[int, str] | None = None) -> Generated:
+    """The sources of ``fmu``. ``diagrams`` (machine index -> Mermaid text) go into the
+    documentation; ``line_comments=False`` leaves the model file:line out of the C comments."""
+    layout = _Layout(fmu)
+    token = "{" + _token_hash(fmu) + "}"
+    gen = Generated(fmu, fmu.model_identifier, token, variables=layout.variables)
+    env = _env()
+    machines = [_machine_code(fmu, m, layout, line_comments) for m in fmu.machines]
+    needed = {t for mc in machines for t in mc["equalities"]}
+    equalities, bodies = _equalities(layout.types, needed)
+    context = dict(
+        typedefs=[_typedef(t) for t in layout.types],
+        equality_bodies=bodies,
+        param_starts={p.fmi_name: _param_starts(p) for p in fmu.params},
+        diagrams={m.index: (diagrams or {}).get(m.index, "stateDiagram-v2\n  %% (no diagram)") for m in fmu.machines},
+        fmu=fmu,
+        version=__version__,
+        token=token,
+        layout=layout,
+        machines=machines,
+        equalities=equalities,
+        line_comments=line_comments,
+        sources=", ".join(fmu.sources),
+        interval=_decimal(fmu.clock_interval),
+        ctype=ctype,
+        literal=literal,
+    )
+    ident = fmu.model_identifier
+    gen.files["modelDescription.xml"] = env.get_template("modelDescription.xml.j2").render(**context)
+    gen.files["sources/config.h"] = env.get_template("config.h.j2").render(**context)
+    gen.files["sources/model.c"] = env.get_template("model.c.j2").render(**context)
+    gen.files[f"sources/{ident}.c"] = env.get_template("unity.c.j2").render(**context)
+    gen.files["sources/buildDescription.xml"] = env.get_template("buildDescription.xml.j2").render(**context)
+    gen.files["documentation/index.md"] = env.get_template("documentation.md.j2").render(**context)
+    gen.files["documentation/externalDependencies.txt"] = "none beyond libc and libm\n"
+    gen.files["documentation/ir.txt"] = dump(fmu)
+    return gen
+
+
+def _token_hash(fmu: ir.Fmu) -> str:
+    h = hashlib.sha256(dump(fmu).encode("utf-8")).hexdigest()
+    return f"{h[0:8]}-{h[8:12]}-{h[12:16]}-{h[16:20]}-{h[20:32]}"
+
+
+def _typedef(t: T.Type) -> str:
+    if isinstance(t, T.RecordT):
+        fields = "\n".join(f"    {ctype(ft)} {n};" for n, ft in t.fields)
+        return f"/* datatype {t.qname} */\ntypedef struct {{\n{fields}\n}} {ctype(t)};"
+    if isinstance(t, T.VectorT):
+        return f"typedef struct {{ {ctype(t.element)} a[{t.size}]; }} {ctype(t)};  /* {t.show()} */"
+    assert isinstance(t, T.MatrixT)
+    return f"typedef struct {{ {ctype(t.element)} a[{(t.rows or 0) * (t.columns or 0)}]; }} {ctype(t)};  /* {t.show()}, row-major */"
+
+
+def _equalities(types: list[T.Type], needed: set[str]) -> tuple[list[str], dict[str, str]]:
+    """Equality functions of the struct types ``needed`` and of the struct types they contain,
+    in dependency order (``types`` is already dependency-ordered)."""
+    by_name = {ctype(t): t for t in types}
+    closure = set()
+
+    def add(name: str) -> None:
+        if name in closure:
+            return
+        closure.add(name)
+        t = by_name[name]
+        inner = [ft for _, ft in t.fields] if isinstance(t, T.RecordT) else [t.element]  # type: ignore[union-attr]
+        for ft in inner:
+            if isinstance(ft, (T.RecordT, T.VectorT, T.MatrixT)):
+                add(ctype(ft))
+
+    for name in needed:
+        add(name)
+    order = [ctype(t) for t in types if ctype(t) in closure]
+    bodies = {}
+    for name in order:
+        t = by_name[name]
+        if isinstance(t, T.RecordT):
+            tests = [
+                f"rg_eq_{ctype(ft)}(a.{n}, b.{n})" if isinstance(ft, (T.RecordT, T.VectorT, T.MatrixT)) else f"a.{n} == b.{n}"
+                for n, ft in t.fields
+            ]
+            bodies[name] = "    return " + " && ".join(tests) + ";"
+        else:
+            size = t.size if isinstance(t, T.VectorT) else (t.rows or 0) * (t.columns or 0)  # type: ignore[union-attr]
+            bodies[name] = (f"    int i;\n    for (i = 0; i < {size}; i++)\n        if (a.a[i] != b.a[i]) return false;\n    return true;")
+    return order, bodies
+
+
+def _param_starts(p: ir.Param) -> list[tuple[str, str]]:
+    if p.value is None:
+        return []
+    return [("", literal(p.value, p.var.type))]
+
+
+# ---------------------------------------------------------------------------- layout
+
+
+class _Layout:
+    """FMI variables (value references in a stable order), their C storage, and the C types."""
+
+    def __init__(self, fmu: ir.Fmu):
+        self.fmu = fmu
+        self.variables: list[FmiVar] = []
+        self.clocks: list[FmiVar] = []
+        self.clock_index: dict[str, int] = {}
+        self.port_fields_in: dict[int, list[tuple[str, ir.Field_]]] = {}
+        self.port_fields_out: dict[int, list[tuple[str, ir.Field_]]] = {}
+        self.data_fields: list[tuple[str, str, str]] = []  # (C type, member, comment)
+        self.enums: list[EnumType] = []
+        self.types: list[T.Type] = []  # struct types, dependencies first
+        self.node_enums: list[str] = []
+        self._vr = 0
+        self._build()
+
+    def _next_vr(self) -> int:
+        self._vr += 1
+        return self._vr
+
+    def _enum(self, t: T.EnumT) -> str:
+        name = t.qname.replace("::", ".")
+        if not any(e.name == name for e in self.enums):
+            self.enums.append(EnumType(name, [(lit, i) for i, lit in enumerate(t.literals)]))
+        return name
+
+    def _type(self, t: T.Type) -> None:
+        """Register a struct type (and what it contains) in dependency order."""
+        if isinstance(t, T.RecordT):
+            for _, ft in t.fields:
+                self._type(ft)
+        elif isinstance(t, (T.VectorT, T.MatrixT)):
+            self._type(t.element)
+        else:
+            if isinstance(t, T.EnumT):
+                self._enum(t)
+            return
+        if not any(ctype(x) == ctype(t) for x in self.types):
+            self.types.append(t)
+
+    def _scalar(self, t: T.Type) -> tuple[str, str | None]:
+        """(FMI type, declaredType) of a scalar or array element type."""
+        if isinstance(t, T.EnumT):
+            return "Enumeration", self._enum(t)
+        return FMI_TYPE[ctype(t)], None
+
+    def _start(self, t: T.Type, value: object = None) -> str:
+        if isinstance(t, T.VectorT):
+            return " ".join([self._start(t.element)] * (t.size or 0))
+        if t == T.BOOLEAN:
+            return "true" if value else "false"
+        if t == T.REAL:
+            return repr(float(value or 0))
+        return str(int(value or 0))
+
+    def _build(self) -> None:
+        fmu = self.fmu
+        # the periodic clock
+        clock = FmiVar(fmu.clock_name, self._next_vr(), "Clock", "input", "discrete",
+                       interval_variability="constant", interval=_decimal(fmu.clock_interval), shift="0",
+                       description=("one RoboSim cycle" if fmu.language == "robosim" else "one RoboChart time unit (tock)"))
+        self._add_clock(clock, "RG_CLOCK_INPUT_CONSTANT")
+        for port in fmu.inputs:
+            c = FmiVar(port.name, self._next_vr(), "Clock", "input", "discrete", interval_variability="triggered",
+                       description=f"input event {port.name}")
+            self._add_clock(c, "RG_CLOCK_INPUT_TRIGGERED")
+            self.port_fields_in[port.index] = []
+            for f in port.fields:
+                member = "in_" + mangle(f.fmi_name)
+                self._data(f.type, member, f"clocked input {f.fmi_name}")
+                fmi_type, declared = self._scalar(f.type.element if isinstance(f.type, T.VectorT) else f.type)
+                self.variables.append(FmiVar(
+                    f.fmi_name, self._next_vr(), fmi_type, "input", "discrete", member, start=self._start(f.type),
+                    clock=c.vr, clock_index=self.clock_index[port.name], declared_type=declared,
+                    size=f.type.size if isinstance(f.type, T.VectorT) else None))
+                self.port_fields_in[port.index].append((member, f))
+        for port in fmu.outputs:
+            c = FmiVar(port.name, self._next_vr(), "Clock", "output", "discrete", interval_variability="triggered",
+                       description=("call of platform operation " if port.kind == "operation" else "output event ") + port.name)
+            self._add_clock(c, "RG_CLOCK_OUTPUT_TRIGGERED")
+            self.port_fields_out[port.index] = []
+            for f in port.fields:
+                member = "out_" + mangle(f.fmi_name)
+                self._data(f.type, member, f"clocked output {f.fmi_name}")
+                fmi_type, declared = self._scalar(f.type.element if isinstance(f.type, T.VectorT) else f.type)
+                self.variables.append(FmiVar(
+                    f.fmi_name, self._next_vr(), fmi_type, "output", "discrete", member,
+                    clock=c.vr, clock_index=self.clock_index[port.name], declared_type=declared,
+                    size=f.type.size if isinstance(f.type, T.VectorT) else None))
+                self.port_fields_out[port.index].append((member, f))
+        for p in fmu.params:
+            member = f"m{p.machine}.v_{p.var.name}"
+            for name, t, access in _flat(p.fmi_name, p.var.type, ""):
+                fmi_type, declared = self._scalar(t.element if isinstance(t, T.VectorT) else t)
+                value = p.value if not access else None
+                self.variables.append(FmiVar(
+                    name, self._next_vr(), fmi_type, "parameter", "fixed", member + access,
+                    start=self._start(t, value), declared_type=declared, size=t.size if isinstance(t, T.VectorT) else None,
+                    description=f"constant {p.var.display}"))
+        for m in fmu.machines:
+            enum_name = f"{m.name}.Node"
+            self.enums.append(EnumType(enum_name, [(n.label, n.id) for n in m.nodes]))
+            self.node_enums.append(enum_name)
+            self.variables.append(FmiVar(
+                f"{m.name}.state", self._next_vr(), "Enumeration", "output", "discrete", f"m{m.index}.node",
+                initial="exact", start=str(m.initial_node), declared_type=enum_name,
+                description=f"the node where state machine {m.name} rests"))
+        self.variables.append(FmiVar("cycles", self._next_vr(), "UInt64", "output", "discrete", "cycles", initial="exact", start="0",
+                                     description=f"ticks of {fmu.clock_name} processed"))
+        self.variables.append(FmiVar("dropped_events", self._next_vr(), "UInt64", "output", "discrete", "dropped_events", initial="exact", start="0",
+                                     description="input events overwritten or expired before a machine used them"))
+        for m in fmu.machines:
+            for v in m.vars:
+                self._type(v.type)
+                if v.kind != "var":
+                    continue
+                for name, t, access in _flat(f"{m.name}.{v.display}", v.type, ""):
+                    fmi_type, declared = self._scalar(t.element if isinstance(t, T.VectorT) else t)
+                    self.variables.append(FmiVar(
+                        name, self._next_vr(), fmi_type, "local", "discrete", f"m{m.index}.v_{v.name}{access}",
+                        initial="calculated", declared_type=declared, size=t.size if isinstance(t, T.VectorT) else None,
+                        description=f"variable {v.display} of {m.name}"))
+            for e in m.events:
+                if e.type is not None:
+                    self._type(e.type)
+
+    def _add_clock(self, c: FmiVar, kind: str) -> None:
+        self.clock_index[c.name] = len(self.clocks)
+        c.field = kind  # the rg_clock_kind, for the clock table
+        self.clocks.append(c)
+        self.variables.append(c)
+
+    def _data(self, t: T.Type, member: str, comment: str) -> None:
+        self._type(t)
+        self.data_fields.append((ctype(t), member, comment))
+
+    @property
+    def outputs(self) -> list[FmiVar]:
+        return [v for v in self.variables if v.causality == "output"]
+
+    @property
+    def output_clocks(self) -> list[FmiVar]:
+        return [v for v in self.variables if v.causality == "output" and v.fmi_type == "Clock"]
+
+    @property
+    def input_clock_vrs(self) -> str:
+        return " ".join(str(v.vr) for v in self.variables if v.fmi_type == "Clock" and v.causality == "input")
+
+    @property
+    def table(self) -> list[FmiVar]:
+        return self.variables
+
+
+def _flat(name: str, t: T.Type, access: str):
+    """(FMI name, scalar or array type, C member access) of each scalar part of a value."""
+    if isinstance(t, T.RecordT):
+        for n, ft in t.fields:
+            yield from _flat(f"{name}.{n}", ft, f"{access}.{n}")
+    else:
+        yield name, t, access
+
+
+# ---------------------------------------------------------------------------- machines
+
+
+def _machine_code(fmu: ir.Fmu, m: ir.Machine, layout: _Layout, line_comments: bool) -> dict:
+    em = Emitter(fmu, m, layout.port_fields_out, layout.clock_index)
+    cases = []
+    for b in m.blocks:
+        if b.label == "(unused)":
+            continue
+        where = f"  {b.span.path}:{b.span.line}" if (line_comments and b.span is not None) else ""
+        lines = [f"        case {b.id}: /* b{b.id}: {c_comment(b.label)}{where} */"]
+        lines += em.stmts(b.stmts, "            ")
+        assert b.term is not None
+        lines += em.terminator(b.term, "            ")
+        cases.append("\n".join(lines))
+    inits = []
+    for v in m.vars:
+        if v.kind == "var" and v.init is not None:
+            em.fallible = False
+            value = em.expr(v.init)
+            inits.append((f"m->v_{v.name}", value, em.fallible, v.display))
+    labels = [c_string(f"b{b.id}: {b.label}" + (f" ({b.span.path}:{b.span.line})" if b.span else "")) for b in m.blocks]
+    return dict(machine=m, cases=cases, inits=inits, labels=labels, equalities=em.equalities,
+                event_types=[(e.index, ctype(e.type) if e.type is not None else None) for e in m.events])
+
+
+__all__ = ["generate", "Generated", "FmiVar"]

@@ -1,0 +1,392 @@
+"""The IR: state machines lowered to control-flow graphs, inside one FMU.
+
+Every state machine becomes a list of basic blocks. A block holds simple statements and ends in
+one terminator that says where control goes next:
+
+- ``Goto(b)``: continue at block b;
+- ``Micro(b)``: a micro-step boundary (a transition segment has ended): in stepwise semantics the
+  FMU stops here until the next ``fmi3UpdateDiscreteStates``; in exhaustive semantics it goes on;
+- ``Suspend(b)``: the cycle (RoboChart: the run to quiescence) ends; it resumes at b next time;
+- ``Branch(cases, default)``: guards tried in priority order, the first that holds wins;
+- ``Fail(message)``: a deadlock, reported at run time.
+
+That one mechanism expresses RoboSim's exec transitions (decide now, act next cycle), exec
+statements in the middle of actions, RoboChart's ``wait(n)`` and quiescence, entry and exit
+chains of composite states, and software operations inlined at their call sites. The reference
+interpreter (:mod:`robogen.ir.interp`) and the C emitter (:mod:`robogen.codegen`) both execute
+the blocks one for one, so they cannot disagree about the semantics.
+
+Types are :mod:`robogen.semantics.types` values in which given types are already replaced by
+their concrete scalar type.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from fractions import Fraction
+
+from robogen.diagnostics import Span
+from robogen.semantics.types import Type
+
+
+# ============================================================================ storage
+
+
+@dataclass(eq=False)
+class Var:
+    """A memory cell of a machine: a variable, a constant (FMI parameter), an operation
+    parameter or local (one per inlined call site)."""
+
+    name: str  # unique within the machine, a C identifier after mangling
+    display: str  # the model name, for the FMI variable and diagnostics
+    type: Type
+    kind: str  # var, const, param, local
+    init: "Expr | None" = None  # initial value (computed at exit of initialization)
+    span: Span | None = None
+    shared: bool = False  # declared by an interface (shared with the controller)
+    index: int = 0  # position in the machine's var list
+
+
+@dataclass(eq=False)
+class Param:
+    """An FMI parameter: a model constant. ``value`` is the start value (a Python value); a
+    constant declared without a value has value None until configured."""
+
+    fmi_name: str
+    var: Var
+    machine: int
+    value: object
+
+
+@dataclass(frozen=True)
+class Field_:
+    """One scalar FMI variable of a port payload: its name, scalar type and the path of record
+    fields (and array length) inside the payload value."""
+
+    fmi_name: str
+    type: Type  # scalar (or VectorT of scalars, an FMI array)
+    path: tuple[str, ...]
+
+
+@dataclass(eq=False)
+class Port:
+    """A clock at the FMU boundary, with its clocked payload variables."""
+
+    name: str  # the FMI clock name
+    kind: str  # input-event, output-event, operation
+    type: Type | None  # payload type (records flattened in fields); operations: None
+    fields: tuple[Field_, ...]
+    params: tuple[tuple[str, Type], ...] = ()  # operations: the parameters (name, type)
+    span: Span | None = None
+    # input ports: where the event goes inside the FMU, (machine index, event index)
+    routes: list[tuple[int, int]] = field(default_factory=list)
+    index: int = 0
+
+
+@dataclass(eq=False)
+class Event:
+    """An event a machine reads (its input register and sample)."""
+
+    name: str
+    type: Type | None
+    index: int
+    span: Span | None = None
+
+
+@dataclass(eq=False)
+class Node:
+    """A machine node that can be the value of the machine's state output."""
+
+    id: int
+    path: tuple[str, ...]
+    kind: str  # state, junction, final, initial
+    span: Span | None = None
+
+    @property
+    def label(self) -> str:
+        return ".".join(self.path)
+
+
+# ============================================================================ expressions
+
+
+@dataclass(frozen=True)
+class Expr:
+    type: Type
+
+
+@dataclass(frozen=True)
+class Lit(Expr):
+    value: object  # int, float (Fraction for exact reals), bool, or an enum literal index (int)
+
+
+@dataclass(frozen=True)
+class Ref(Expr):
+    var: Var
+
+
+@dataclass(frozen=True)
+class FieldOf(Expr):
+    base: Expr
+    name: str
+
+
+@dataclass(frozen=True)
+class IndexOf(Expr):
+    """1-based element of a vector, or (row, column) of a matrix; out of range is a run-time error."""
+
+    base: Expr
+    indices: tuple[Expr, ...]
+
+
+@dataclass(frozen=True)
+class Un(Expr):
+    op: str  # neg, not
+    operand: Expr
+
+
+@dataclass(frozen=True)
+class Bin(Expr):
+    """``op`` in and or implies iff eq ne lt le gt ge add sub mul div mod. Operands of arithmetic
+    and ordering have the operation's numeric type already (``Conv`` inserted by lowering)."""
+
+    op: str
+    left: Expr
+    right: Expr
+
+
+@dataclass(frozen=True)
+class Conv(Expr):
+    """Numeric conversion of ``operand`` to ``type`` (nat/int/real)."""
+
+    operand: Expr
+
+
+@dataclass(frozen=True)
+class Cond(Expr):
+    cond: Expr
+    then: Expr
+    otherwise: Expr
+
+
+@dataclass(frozen=True)
+class Occurred(Expr):
+    """Input event ``event`` of the machine is present (RoboSim: in this cycle's sample;
+    RoboChart: in the machine's event buffer)."""
+
+    event: int
+
+
+@dataclass(frozen=True)
+class Payload(Expr):
+    event: int
+
+
+@dataclass(frozen=True)
+class BindIn(Expr):
+    """``$e?x`` / ``e?x``: true if event ``event`` is present, and then its value is stored in
+    ``target`` (as a side effect of evaluating the guard)."""
+
+    event: int
+    target: Expr
+
+
+@dataclass(frozen=True)
+class Since(Expr):
+    clock: int  # index in the machine's clock list
+
+
+@dataclass(frozen=True)
+class SinceEntry(Expr):
+    node: int
+
+
+@dataclass(frozen=True)
+class WaitLeft(Expr):
+    """RoboChart: time units left of the current wait (0 when none)."""
+
+
+@dataclass(frozen=True)
+class RecordLit(Expr):
+    values: tuple[tuple[str, Expr], ...]
+
+
+@dataclass(frozen=True)
+class VectorLit(Expr):
+    items: tuple[Expr, ...]  # row-major for matrices
+
+
+@dataclass(frozen=True)
+class CallB(Expr):
+    """A built-in function: min, max, abs."""
+
+    name: str
+    args: tuple[Expr, ...]
+
+
+# ============================================================================ statements
+
+
+@dataclass(frozen=True)
+class Stmt:
+    span: Span | None
+
+
+@dataclass(frozen=True)
+class Assign(Stmt):
+    target: Expr  # Ref, FieldOf or IndexOf chain
+    value: Expr
+
+
+@dataclass(frozen=True)
+class Emit(Stmt):
+    """An output event or operation call. ``args`` is () for plain events, (value,) for typed
+    events, the arguments for operations. Routes: ("port", port index) for the FMU boundary,
+    ("machine", machine index, event index) for a connection inside the FMU."""
+
+    name: str
+    args: tuple[Expr, ...]
+    routes: tuple[tuple, ...]
+
+
+@dataclass(frozen=True)
+class If(Stmt):
+    cond: Expr
+    then: tuple[Stmt, ...]
+    otherwise: tuple[Stmt, ...]
+
+
+@dataclass(frozen=True)
+class ResetClock(Stmt):
+    clock: int
+
+
+@dataclass(frozen=True)
+class Enter(Stmt):
+    """The machine rests in, or passes through, ``node`` (its state output; sinceEntry)."""
+
+    node: int
+
+
+@dataclass(frozen=True)
+class Consume(Stmt):
+    """RoboChart: the taken transition consumes event ``event`` from the buffer."""
+
+    event: int
+
+
+@dataclass(frozen=True)
+class StartWait(Stmt):
+    """RoboChart ``wait(n)``: n time units must pass before control goes on."""
+
+    duration: Expr
+
+
+@dataclass(frozen=True)
+class Trace(Stmt):
+    """A transition was taken (logged in the category logTransitions, and in interpreter traces)."""
+
+    text: str
+
+
+# ============================================================================ control
+
+
+@dataclass(frozen=True)
+class Terminator:
+    pass
+
+
+@dataclass(frozen=True)
+class Goto(Terminator):
+    target: int
+
+
+@dataclass(frozen=True)
+class Micro(Terminator):
+    target: int
+
+
+@dataclass(frozen=True)
+class Suspend(Terminator):
+    target: int
+
+
+@dataclass(frozen=True)
+class Case:
+    guard: Expr
+    target: int
+    label: str  # the transition, for traces and comments
+    span: Span | None
+
+
+@dataclass(frozen=True)
+class Branch(Terminator):
+    cases: tuple[Case, ...]
+    default: Terminator
+
+
+@dataclass(frozen=True)
+class Fail(Terminator):
+    message: str
+
+
+@dataclass(eq=False)
+class Block:
+    id: int
+    label: str  # what the block does, e.g. "EVAL ArmMove", "t2_1: exit ArmMove"
+    span: Span | None
+    stmts: list[Stmt] = field(default_factory=list)
+    term: Terminator | None = None
+
+
+@dataclass(eq=False)
+class Machine:
+    name: str
+    qname: str
+    span: Span | None
+    vars: list[Var] = field(default_factory=list)
+    clocks: list[str] = field(default_factory=list)
+    events: list[Event] = field(default_factory=list)
+    nodes: list[Node] = field(default_factory=list)
+    blocks: list[Block] = field(default_factory=list)
+    start: int = 0  # the block of the first cycle (the initial transition)
+    initial_node: int = 0
+    index: int = 0
+
+    def event(self, name: str) -> Event | None:
+        for e in self.events:
+            if e.name == name:
+                return e
+        return None
+
+
+@dataclass(eq=False)
+class Fmu:
+    name: str  # the boundary's model name
+    model_identifier: str
+    language: str  # robosim or robochart
+    semantics: str  # exhaustive or stepwise
+    trigger: str  # cycle or on-input (RoboSim)
+    period: Fraction  # RoboSim cycle period in model time units; RoboChart: 1 (one tock)
+    time_unit: Fraction  # seconds per model time unit
+    sources: tuple[str, ...]
+    span: Span | None
+    machines: list[Machine] = field(default_factory=list)
+    inputs: list[Port] = field(default_factory=list)
+    outputs: list[Port] = field(default_factory=list)
+    params: list[Param] = field(default_factory=list)
+    max_steps: int = 1000  # transitions per cycle before a runaway cycle is reported
+
+    @property
+    def clock_name(self) -> str:
+        return "cycle" if self.language == "robosim" else "tock"
+
+    @property
+    def clock_interval(self) -> Fraction:
+        """Seconds between ticks of the periodic clock (cycle or tock)."""
+        return self.period * self.time_unit
+
+    @property
+    def robochart(self) -> bool:
+        return self.language == "robochart"
