@@ -1,0 +1,141 @@
+"""The code generator as a library: model files -> FMU sources -> ``.fmu``.
+
+``compile_model`` checks the models, lowers the chosen boundary to the IR and writes the FMU's
+unpacked layout (``modelDescription.xml``, ``sources/``, ``documentation/``); ``build_fmu``
+compiles ``sources/`` with the system C compiler against fmpy's FMI headers and zips the archive.
+"""
+
+from __future__ import annotations
+
+import os
+import shutil
+import tempfile
+from dataclasses import dataclass
+from fractions import Fraction
+from pathlib import Path
+from typing import Sequence
+
+from robogen.codegen import cc
+from robogen.codegen.generate import Generated, generate
+from robogen.diagnostics import RobogenError, Span, error
+from robogen.fmu.archive import write_fmu
+from robogen.fmu.headers import PLATFORM_TUPLE
+from robogen.ir import model as ir
+from robogen.ir.lower import Options, lower, select_boundary
+from robogen.semantics import CheckedModel, check_paths
+from robogen.semantics.graph import mermaid
+
+
+@dataclass
+class Compiled:
+    fmu: ir.Fmu
+    generated: Generated
+    folder: Path
+    model: CheckedModel
+
+
+def lower_paths(paths: Sequence[str | os.PathLike], *, module: str | None = None, machine: str | None = None,
+                options: Options | None = None) -> tuple[ir.Fmu, CheckedModel]:
+    """Check the models and lower the chosen boundary (raises RobogenError on any problem)."""
+    model = check_paths(paths)
+    if model.errors:
+        raise RobogenError(model.errors)
+    boundary = select_boundary(model, module=module, machine=machine)
+    return lower(model, boundary, options or Options()), model
+
+
+def compile_model(paths: Sequence[str | os.PathLike], output: str | os.PathLike | None = None, *,
+                  module: str | None = None, machine: str | None = None, options: Options | None = None,
+                  line_comments: bool = True) -> Compiled:
+    """Write the unpacked FMU (everything but the binary) to ``output`` (default build/<Name>)."""
+    fmu, model = lower_paths(paths, module=module, machine=machine, options=options)
+    scopes = {s.node.name: s for s in model.scopes.values()}
+    diagrams = {}
+    for m in fmu.machines:
+        scope = next((s for s in model.scopes.values() if s.qname == m.qname), None) or scopes.get(m.name)
+        if scope is not None:
+            diagrams[m.index] = mermaid(scope)
+    generated = generate(fmu, line_comments=line_comments, diagrams=diagrams)
+    folder = Path(output) if output is not None else Path("build") / fmu.model_identifier
+    if folder.exists() and not folder.is_dir():
+        raise RobogenError(error(f"{folder} exists and is not a directory", None))
+    # Replace what a previous compile wrote, keep anything else (e.g. a user's notes).
+    for sub in ("sources", "documentation"):
+        if (folder / sub).is_dir():
+            shutil.rmtree(folder / sub)
+    generated.write(folder)
+    for src in cc.runtime_sources():
+        shutil.copyfile(src, folder / "sources" / src.name)
+    return Compiled(fmu, generated, folder, model)
+
+
+def model_identifier_of(folder: Path) -> str:
+    """The modelIdentifier of an unpacked FMU folder (from its buildDescription.xml)."""
+    from xml.etree import ElementTree
+
+    path = folder / "sources" / "buildDescription.xml"
+    if not path.is_file():
+        raise RobogenError(error(f"{folder} is not an FMU source folder: sources/buildDescription.xml is missing", None))
+    try:
+        root = ElementTree.parse(path).getroot()
+        config = root.find("BuildConfiguration")
+        ident = config.get("modelIdentifier") if config is not None else None
+    except ElementTree.ParseError as exc:
+        line, col = exc.position
+        raise RobogenError(error(f"malformed XML: {exc}", Span.point(str(path), line, col + 1))) from None
+    if not ident:
+        raise RobogenError(error("no BuildConfiguration with a modelIdentifier", Span.whole_file(str(path))))
+    return ident
+
+
+def build_fmu(folder: str | os.PathLike, output: str | os.PathLike, *, validate: bool = True) -> Path:
+    """Compile ``folder/sources`` into ``binaries/x86_64-linux/<id>.so`` and zip the FMU."""
+    folder = Path(folder)
+    ident = model_identifier_of(folder)
+    if not (folder / "modelDescription.xml").is_file():
+        raise RobogenError(error(f"{folder}/modelDescription.xml is missing", None))
+    with tempfile.TemporaryDirectory(prefix="robogen-build-") as tmp:
+        so = cc.compile_fmu_binary(folder / "sources", ident, Path(tmp) / f"{ident}.so")
+        files: dict[str, bytes | str | os.PathLike] = {
+            "modelDescription.xml": folder / "modelDescription.xml",
+            f"binaries/{PLATFORM_TUPLE}/{ident}.so": so.read_bytes(),
+        }
+        for sub in ("sources", "documentation", "resources"):
+            base = folder / sub
+            if base.is_dir():
+                for path in sorted(base.rglob("*")):
+                    if path.is_file():
+                        files[f"{sub}/{path.relative_to(base).as_posix()}"] = path
+        target = write_fmu(output, files)
+    if validate:
+        from robogen.fmu.validate import validate_fmu
+
+        problems = [d for d in validate_fmu(target) if d.is_error]
+        if problems:
+            raise RobogenError(problems)
+    return target
+
+
+def package_model(paths: Sequence[str | os.PathLike], output: str | os.PathLike, *, module: str | None = None,
+                  machine: str | None = None, options: Options | None = None, line_comments: bool = True,
+                  validate: bool = True, work: str | os.PathLike | None = None) -> tuple[Path, Compiled]:
+    """Compile the model (into ``work``, default a temporary folder) and package it as ``output``."""
+    if work is None:
+        with tempfile.TemporaryDirectory(prefix="robogen-src-") as tmp:
+            compiled = compile_model(paths, Path(tmp) / "fmu", module=module, machine=machine, options=options, line_comments=line_comments)
+            return build_fmu(compiled.folder, output, validate=validate), compiled
+    compiled = compile_model(paths, work, module=module, machine=machine, options=options, line_comments=line_comments)
+    return build_fmu(compiled.folder, output, validate=validate), compiled
+
+
+def parse_time_unit(text: str) -> Fraction:
+    try:
+        value = Fraction(text)
+    except (ValueError, ZeroDivisionError):
+        value = Fraction(-1)
+    if value <= 0:
+        raise RobogenError(error(f"--time-unit must be a positive number of seconds, not {text!r}", None))
+    return value
+
+
+__all__ = ["Compiled", "compile_model", "build_fmu", "package_model", "lower_paths", "Options", "parse_time_unit"]
