@@ -17,6 +17,7 @@ import contextvars
 import difflib
 import enum
 import os
+import re
 from dataclasses import dataclass, field
 from typing import Iterable, Iterator, Mapping, Sequence
 
@@ -239,6 +240,9 @@ def _excerpt(span: Span, sources: SourceMap) -> list[str]:
     text = sources.line(span.path, span.line)
     if text is None:
         return []
+    # Control characters (binary input) would garble the terminal: show them as U+FFFD, one
+    # character for one, so the caret stays aligned.
+    text = _CONTROL.sub("\ufffd", text)
     expanded = text.expandtabs(4)
     if len(expanded) > 200:
         return []
@@ -252,6 +256,9 @@ def _excerpt(span: Span, sources: SourceMap) -> list[str]:
     gutter = f"{span.line:>5}"
     marker = " " * (start - 1) + "^" + "~" * (width - 1)
     return [f"{gutter} | {expanded.rstrip()}", f"{' ' * len(gutter)} | {marker}"]
+
+
+_CONTROL = re.compile(r"[\x00-\x08\x0b-\x1f\x7f-\x9f]")
 
 
 def _visual_column(text: str, column: int) -> int:

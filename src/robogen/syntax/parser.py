@@ -12,6 +12,7 @@ This module is the only one that sees Lark: syntax errors are translated here in
 from __future__ import annotations
 
 import bisect
+import dataclasses
 import functools
 import threading
 import importlib.resources
@@ -115,9 +116,11 @@ def _terminal_texts(language: str) -> dict[str, str]:
 def parse_text(text: str, path: str = "<string>", language: str | None = None) -> ast.File:
     """Parse one model. Raises RobogenError with located diagnostics on bad input."""
     language = language or language_of(path) or ROBOCHART
-    if "\x00" in text:
-        line = text.count("\n", 0, text.index("\x00")) + 1
-        raise RobogenError(error("file contains NUL bytes; is it a binary file, not a model?", Span.point(path, line, 1)))
+    nul = text.find("\x00")
+    if nul >= 0:
+        line = text.count("\n", 0, nul) + 1
+        column = nul - (text.rfind("\n", 0, nul) + 1) + 1
+        raise RobogenError(error("file contains NUL bytes; is it a binary file, not a model?", Span.point(path, line, column)))
     parser, transformer = _ast_parser(language)
     with _lock:  # the transformer holds the state of the file being parsed
         transformer.begin(path, text)
@@ -167,6 +170,9 @@ def decode(data: bytes, path: str) -> str:
 
 _MAX_EXPECTED = 8
 
+# How deeply expressions, statements, types and states may nest (real models stay below 20).
+MAX_NESTING = 100
+
 # Terminals that can start an expression: a list containing all of these is shown as
 # "an expression" rather than token by token.
 _EXPRESSION_STARTERS = {"NAME", "INT", "REAL", "STRING", "LPAR"}
@@ -179,9 +185,14 @@ def _syntax_error(exc: UnexpectedInput, text: str, path: str, language: str) -> 
     line, column = getattr(exc, "line", 1) or 1, getattr(exc, "column", 1) or 1
     if isinstance(exc, UnexpectedCharacters):
         ch = text[exc.pos_in_stream] if exc.pos_in_stream < len(text) else ""
-        what = f"character {ch!r}" if ch.isprintable() else f"character U+{ord(ch):04X}"
         span = Span(path, line, column, line, column + 1)
-        return error(f"unexpected {what}", span)
+        if ch in "\"'":
+            return error(f"unterminated string: no closing {ch} on this line", span)
+        what = f"character {ch!r}" if ch.isprintable() else f"character U+{ord(ch):04X}"
+        diagnostic = error(f"unexpected {what}", span)
+        if text.startswith("&&", exc.pos_in_stream):
+            diagnostic = diagnostic.with_note("'and' is written /\\")
+        return diagnostic
     expected = _expected(exc, names)
     if isinstance(exc, UnexpectedEOF) or (isinstance(exc, UnexpectedToken) and exc.token.type == "$END"):
         lines = text.splitlines() or [""]
@@ -192,6 +203,9 @@ def _syntax_error(exc: UnexpectedInput, text: str, path: str, language: str) -> 
     token = exc.token
     span = _token_span(path, token)
     word = str(token.value)
+    start = token.start_pos if token.start_pos is not None else 0
+    if word == "/" and text.startswith("/*", start):
+        return error("unterminated comment: '/*' has no matching '*/'", Span(path, span.line, span.column, span.line, span.column + 2))
     if token.type == "NAME" and word in keywords(language):
         shown = f"'{word}'"
     elif token.type in ("NAME", "INT", "REAL", "STRING"):
@@ -204,7 +218,29 @@ def _syntax_error(exc: UnexpectedInput, text: str, path: str, language: str) -> 
             "the clauses of a transition come in this order: from, to, trigger (or exec, or probability), "
             "#clock resets, <{deadline}, condition, action"
         )
+    for note in _hints(text, start, word, expected):
+        diagnostic = diagnostic.with_note(note)
     return diagnostic
+
+
+def _hints(text: str, start: int, word: str, expected: str) -> list[str]:
+    """Notes for mistakes people coming from other languages make."""
+    hints = []
+    if word == "|" and text.startswith("||", start):
+        hints.append("'or' is written \\/")
+    elif word == "!" and "an expression" in expected:
+        hints.append("negation is written 'not'")
+    elif word == ":" and text.startswith(":=", start):
+        hints.append("assignment is written '='")
+    before = text[:start].rstrip()
+    if before.endswith(";") and "'skip'" in expected:
+        hints.append("';' separates statements: there is none after the last one")
+    return hints
+
+
+# Tokens that close a construct: listed first among the expected tokens, as forgetting one is
+# the commonest reason for an error at the end of a file or block.
+_CLOSERS = ("'}'", "')'", "']'", "'|)'", "'|]'", "'end'", "'>'")
 
 
 def _expected(exc: UnexpectedInput, names: dict[str, str]) -> str:
@@ -220,11 +256,11 @@ def _expected(exc: UnexpectedInput, names: dict[str, str]) -> str:
         expected = {t for t in expected - _EXPRESSION_STARTERS if not _starts_expression(names.get(t, ""))}
         shown.append("an expression")
     words = sorted({names.get(t, t.lower()) for t in expected})
-    words.sort(key=lambda s: (s.startswith("a ") or s.startswith("an "), s))
+    words.sort(key=lambda s: (s not in _CLOSERS, s.startswith("a ") or s.startswith("an "), s))
     shown = words + shown if shown else words
     if not shown:
         return "something else"
-    if len(shown) > _MAX_EXPECTED:
+    if len(shown) > _MAX_EXPECTED + 1:  # never "(1 more)": the one would fit in its place
         return f"one of {', '.join(shown[:_MAX_EXPECTED])}, ... ({len(shown) - _MAX_EXPECTED} more)"
     if len(shown) == 1:
         return shown[0]
@@ -300,7 +336,10 @@ class _Body(_Positioned):
 
 
 def _node_pos(x) -> tuple[int, int] | None:
-    span = getattr(x, "span", None)
+    return _span_pos(getattr(x, "span", None))
+
+
+def _span_pos(span: Span | None) -> tuple[int, int] | None:
     if span is not None and span.offset >= 0:
         return (span.offset, span.end_offset)
     return None
@@ -341,9 +380,14 @@ class _ToAst(Transformer):
         self.text = text
         self.problems: list[Diagnostic] = []
         self._line_starts = [0] + [m.end() for m in re.finditer("\n", text)]
+        # nesting depth of the nodes of recursive constructs, by id (see _nest)
+        self._depth: dict[int, int] = {}
+        self._alive: list = []  # keeps those nodes alive, so that their ids stay unique
+        self._too_deep = False
 
     def end(self) -> list[Diagnostic]:
-        problems = self.problems
+        # in source order (callbacks run at reductions, an enclosing construct after its parts)
+        problems = sorted(self.problems, key=lambda d: (d.span.line, d.span.column) if d.span else (0, 0))
         self.begin("<string>", "")
         return problems
 
@@ -352,6 +396,42 @@ class _ToAst(Transformer):
         if self._keywords is None:
             self._keywords = keywords(self.language)
         return self._keywords
+
+    # -- nesting
+
+    def _nest(self, node, c):
+        """Record how deeply ``node`` nests constructs of its own kind (expressions, statements,
+        types, states), from the depths of its children. Later stages walk the tree
+        recursively, so a file nested deeper than MAX_NESTING is rejected here, with its
+        location, rather than overflowing the interpreter's stack somewhere downstream."""
+        depth = self._depth
+        d = 0
+        for x in c:
+            if type(x) is tuple:
+                for y in x:
+                    if type(y) is tuple:
+                        for z in y:
+                            v = depth.get(id(z), 0)
+                            d = v if v > d else d
+                    else:
+                        v = depth.get(id(y), 0)
+                        d = v if v > d else d
+            else:
+                v = depth.get(id(x), 0)
+                d = v if v > d else d
+        d += 1
+        depth[id(node)] = d
+        self._alive.append(node)
+        if d > MAX_NESTING and not self._too_deep:
+            self._too_deep = True
+            self.problems.append(
+                error(
+                    f"nested too deeply: robogen accepts at most {MAX_NESTING} levels of nested expressions, "
+                    "statements, types or states",
+                    getattr(node, "span", None) or self._span(c),
+                )
+            )
+        return node
 
     # -- positions
 
@@ -429,7 +509,9 @@ class _ToAst(Transformer):
         return ast.File(self.path, self.language, package, tuple(imports), tuple(items), span=self._span(c))
 
     def package(self, c):
-        return _Package(c[0])
+        package = _Package(c[0])
+        package.pos = _span_pos(self._span(c, left=("package",)))
+        return package
 
     def import_(self, c):
         return ast.Import(c[0], len(c) > 1, span=self._span(c, left=("import",)))
@@ -446,14 +528,19 @@ class _ToAst(Transformer):
         return ast.GivenType(self._name(c[0]), span=self._span(c, left=("type",)), name_span=self._tspan(c[0]))
 
     def record(self, c):
-        return ast.Record(self._name(c[0]), tuple(c[1:]), span=self._span(c, right=("}",)), name_span=self._tspan(c[0]))
+        right = ("}",) if len(c) > 1 else ("{", "}")
+        span = self._span(c, left=("datatype",), right=right)
+        if span is not None and span.offset == c[0].start_pos:
+            span = self._span(c, left=("record",), right=right)
+        return ast.Record(self._name(c[0]), tuple(c[1:]), span=span, name_span=self._tspan(c[0]))
 
     def record_field(self, c):
         return ast.FieldDecl(self._name(c[0]), c[1], span=self._span(c), name_span=self._tspan(c[0]))
 
     def enumeration(self, c):
+        right = ("}",) if len(c) > 1 else ("{", "}")
         return ast.Enumeration(
-            self._name(c[0]), tuple(c[1:]), span=self._span(c, left=("enumeration",), right=("}",)), name_span=self._tspan(c[0])
+            self._name(c[0]), tuple(c[1:]), span=self._span(c, left=("enumeration",), right=right), name_span=self._tspan(c[0])
         )
 
     def literal(self, c):
@@ -528,7 +615,7 @@ class _ToAst(Transformer):
         )
 
     def terminates_flag(self, c):
-        return _Flag("terminates", _pos(self._span(c, right=("]",))))
+        return _Flag("terminates", _span_pos(self._span(c, left=("[",), right=("]",))))
 
     def params(self, c):
         return tuple(c)
@@ -543,7 +630,8 @@ class _ToAst(Transformer):
         return ast.InterfaceRef(str(c[0]), c[1], span=self._span(c))
 
     def _container(self, cls, c, keyword: tuple[str, ...]):
-        return cls(self._name(c[0]), tuple(c[1:]), span=self._span(c, left=keyword, right=("}",)), name_span=self._tspan(c[0]))
+        right = ("}",) if len(c) > 1 else ("{", "}")
+        return cls(self._name(c[0]), tuple(c[1:]), span=self._span(c, left=keyword, right=right), name_span=self._tspan(c[0]))
 
     def interface(self, c):
         return self._container(ast.Interface, c, ("interface",))
@@ -567,10 +655,10 @@ class _ToAst(Transformer):
         return ast.Reference(self._name(c[1]), str(c[0]), c[2], span=self._span(c), name_span=self._tspan(c[1]))
 
     def async_flag(self, c):
-        return _Flag("async", _pos(self._span(c, left=("(",), right=(")",))))
+        return _Flag("async", _span_pos(self._span(c, left=("(",), right=(")",))))
 
     def mult_flag(self, c):
-        return _Flag("mult", _pos(self._span(c, left=("[",), right=("]",))))
+        return _Flag("mult", _span_pos(self._span(c, left=("[",), right=("]",))))
 
     def connection(self, c):
         names, flags = c[:4], {f.what for f in c[4:]}
@@ -591,14 +679,16 @@ class _ToAst(Transformer):
 
     def operation_def(self, c):
         params, rest = self._with_params(c)
+        right = ("}",) if rest else ("(", ")", "{", "}")[0 if not params else 1:]
         return ast.OperationDef(
-            self._name(c[0]), params, tuple(rest), span=self._span(c, left=("operation",), right=("}",)), name_span=self._tspan(c[0])
+            self._name(c[0]), params, tuple(rest), span=self._span(c, left=("operation",), right=right), name_span=self._tspan(c[0])
         )
 
     def function_def(self, c):
         params, rest = self._with_params(c)
+        right = ("}",) if len(rest) > 1 else ("{", "}")
         return ast.FunctionDef(
-            self._name(c[0]), params, rest[0], tuple(rest[1:]), span=self._span(c, left=("function",), right=("{", "}")), name_span=self._tspan(c[0])
+            self._name(c[0]), params, rest[0], tuple(rest[1:]), span=self._span(c, left=("function",), right=right), name_span=self._tspan(c[0])
         )
 
     def terminates(self, c):
@@ -685,7 +775,7 @@ class _ToAst(Transformer):
         return ast.ClockReset(self._name(c[0]), span=self._span(c, left=("#",)), clock_span=self._tspan(c[0]))
 
     def deadline(self, c):
-        return _Clause("deadline", c[0], _pos(c[0]))
+        return _Clause("deadline", c[0], _span_pos(self._span(c, left=("<{",), right=("}",))))
 
     def condition(self, c):
         return _Clause("condition", c[0], _pos(c[0]))
@@ -737,7 +827,15 @@ class _ToAst(Transformer):
     def seq(self, c):
         left, right = c
         items = left.stmts if isinstance(left, ast.Seq) else (left,)
-        return ast.Seq(items + (right,), span=self._span(c))
+        node = ast.Seq(items + (right,), span=self._span(c))
+        # a sequence is flat: its depth is one more than its deepest statement
+        if isinstance(left, ast.Seq):
+            depth = self._depth
+            d = max(depth.get(id(left), 1), depth.get(id(right), 0) + 1)
+            depth[id(node)] = d
+            self._alive.append(node)
+            return node
+        return self._nest(node, c)
 
     def stmt_deadline(self, c):
         return ast.StmtDeadline(c[0], c[1], span=self._span(c, right=("}",)))
@@ -957,8 +1055,19 @@ class _ToAst(Transformer):
         return ast.SinceEntry(c[0], span=self._span(c, left=("sinceEntry", "("), right=(")",)))
 
     def seq_lit(self, c):
-        items = c[0] if c else ()
-        return ast.SeqLit(items, span=self._span(c, left=("<",), right=(">",)))
+        items = c[0] if len(c) > 1 else ()
+        return ast.SeqLit(items, span=self._span(c, left=("<",)))
+
+    def paren(self, c):
+        """`( e )`, `( S )` or `( T )`: the node inside, its span widened over the parentheses."""
+        node = c[0]
+        span = self._span(c, left=("(",), right=(")",))
+        if span is None or node.span is None:
+            return node
+        wider = dataclasses.replace(node, span=span)
+        self._depth[id(wider)] = self._depth.get(id(node), 0)
+        self._alive.append(wider)
+        return wider
 
     def seq_items(self, c):
         return tuple(c)
@@ -1020,3 +1129,30 @@ class _ToAst(Transformer):
 
     def dollar_value(self, c):
         return ast.DollarValue(self._name(c[0]), c[1], span=self._span(c, left=("$",)), event_span=self._tspan(c[0]))
+
+
+def _tracked(method):
+    def callback(self, c):
+        return self._nest(method(self, c), c)
+
+    callback.__name__ = method.__name__
+    return callback
+
+
+# The callbacks of recursive constructs, whose nodes _nest measures.
+for _callback in (
+    # types
+    "function_type", "relation_type", "product_type", "set_type", "seq_type", "vector_type", "matrix_type",
+    # states (only nested states count: transitions and actions have no depth entry)
+    "state",
+    # statements (seq and paren keep their own accounts)
+    "stmt_deadline", "if_stmt", "assign", "bare_stmt", "comm_input_stmt", "comm_output_stmt", "send", "wait",
+    "dollar_output", "dollar_sync", "dollar_call", "dollar_assign",
+    # expressions
+    "binder", "decl", "such_that", "iff", "implies", "or_", "and_", "not_", "compare", "member", "the", "let",
+    "let_def", "if_expr", "cast", "arith", "neg", "field", "index", "call", "range_oo", "range_oc", "range_cc", "range_co", "seq_lit", "set_lit",
+    "set_range", "set_comprehension", "set_body", "tuple_lit", "record_lit", "field_value", "vector_lit", "inverse",
+    "transpose", "dollar_input", "dollar_value", "communication",
+):
+    setattr(_ToAst, _callback, _tracked(getattr(_ToAst, _callback)))
+del _callback

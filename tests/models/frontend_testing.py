@@ -1,0 +1,68 @@
+"""Helpers shared by tests/syntax and tests/semantics: where the models are, walking ASTs, and
+diagnostics reduced to comparable tuples."""
+
+from __future__ import annotations
+
+import dataclasses
+from pathlib import Path
+from typing import Iterator
+
+from robogen.diagnostics import Diagnostic
+from robogen.semantics import check_texts
+from robogen.syntax import ast
+
+MODELS = Path(__file__).resolve().parent
+VALID = MODELS / "valid"
+ROOT = MODELS.parent.parent
+REFERENCE = ROOT.parent / "shared" / "reference-models"
+UR5E = ROOT / "models" / "ur5e"
+MODEL_SUFFIXES = (".rct", ".rst", ".rsim")
+
+
+def valid_entries() -> list[Path]:
+    """The valid corpus: each file, or folder of files read as one workspace, is one model."""
+    return sorted(p for p in VALID.iterdir() if p.is_dir() or p.suffix in MODEL_SUFFIXES)
+
+
+def model_files(root: Path) -> list[Path]:
+    if not root.is_dir():
+        return []
+    return sorted(p for p in root.rglob("*") if p.suffix in MODEL_SUFFIXES)
+
+
+def corpus_files() -> list[Path]:
+    """Every model file of the project's own: the valid corpus and the UR5e case study."""
+    return model_files(VALID) + model_files(UR5E)
+
+
+def reference_files() -> list[Path]:
+    return model_files(REFERENCE)
+
+
+def relative_ids(paths: list[Path], root: Path) -> list[str]:
+    return [str(p.relative_to(root)) for p in paths]
+
+
+def walk(node) -> Iterator[ast.Node]:
+    """Every AST node below ``node`` (fields that take part in equality only)."""
+    todo = [node]
+    while todo:
+        n = todo.pop()
+        if isinstance(n, (tuple, list)):
+            todo.extend(reversed(n))
+        elif isinstance(n, ast.Node):
+            yield n
+            todo.extend(getattr(n, f.name) for f in reversed(dataclasses.fields(n)) if f.compare)
+
+
+def brief(d: Diagnostic) -> tuple:
+    """(severity, line, column, message) of a diagnostic with a span; (severity, message) otherwise."""
+    if d.span is None:
+        return (d.severity.value, d.message)
+    return (d.severity.value, d.span.line, d.span.column, d.message)
+
+
+def diagnostics(text: str, path: str = "m.rct", others: dict[str, str] | None = None) -> list[tuple]:
+    """The diagnostics of one model text (plus other files, path -> text), as ``brief`` tuples."""
+    texts = {path: text, **(others or {})}
+    return [brief(d) for d in check_texts(texts).diagnostics]
