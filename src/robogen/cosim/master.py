@@ -118,6 +118,8 @@ class Master:
             u.observe(observe[u.name])
             u.watch_clocks(watch[u.name])
         self.value_columns = [(kind, u, var, u.reader_of.get(var.value_reference)) for kind, u, var in self.columns]
+        recorded = {u.name for kind, u, _ in self.columns if kind == "value"}
+        self.record_reads = [u for u in self.units if u.name in recorded and not self.value_links[u.name]]
         self.clocked_by = {}
         for kind, u, var in self.columns:
             if kind == "clocked":
@@ -448,9 +450,12 @@ class Master:
 
     def _forward_values(self, u: Unit, t: float) -> set[str]:
         """Read u's observed outputs; set connected inputs whose value changed. Returns targets set."""
+        links = self.value_links[u.name]
+        if not links:
+            return set()  # nothing to forward: recording reads what it records
         u.read_outputs()
         woken = set()
-        for vr, dst, dst_var in self.value_links[u.name]:
+        for vr, dst, dst_var in links:
             value = u.value(vr)
             key = (dst.name, dst_var.value_reference)
             if self.last_set.get(key, _UNSET) != value:
@@ -478,6 +483,9 @@ class Master:
 
     # -- recording ----------------------------------------------------------------------------
     def _record(self, t: float, k: int) -> None:
+        # Instances with value connections were read while forwarding; read the others here.
+        for u in self.record_reads:
+            u.read_outputs()
         row = [t, k]
         for kind, u, var, reader in self.value_columns:
             if kind == "value":

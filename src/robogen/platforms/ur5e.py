@@ -151,9 +151,10 @@ class UR5ePlatform(Model):
     ee_ry = Float64(causality="output", unit="rad", depends_on=(), description="flange rotation vector y")
     ee_rz = Float64(causality="output", unit="rad", depends_on=(), description="flange rotation vector z")
     physics_steps = Int64(causality="output", depends_on=(), description="physics steps simulated so far")
+    motions = Int64(causality="output", depends_on=(), description="motions started so far (a repeated identical command is not a new motion)")
 
     _LIVE = frozenset([*(f"q{i}" for i in range(6)), *(f"dq{i}" for i in range(6)),
-                       "ee_x", "ee_y", "ee_z", "ee_rx", "ee_ry", "ee_rz", "physics_steps"])
+                       "ee_x", "ee_y", "ee_z", "ee_rx", "ee_ry", "ee_rz", "physics_steps", "motions"])
 
     @classmethod
     def package_resources(cls) -> dict[str, bytes]:
@@ -166,6 +167,7 @@ class UR5ePlatform(Model):
         self._probe: CollisionProbe | None = None
         self._scratch: Path | None = None
         self._dirty = True
+        self._motions = 0
         self._commanded: tuple[float, ...] | None = None  # target of the last motion command
         self._pending = False                             # that motion is under way
         self._discrete: tuple[int, int, int] | None = None  # the current movediscrete command
@@ -234,6 +236,7 @@ class UR5ePlatform(Model):
         values["ee_x"], values["ee_y"], values["ee_z"] = (float(v) for v in position)
         values["ee_rx"], values["ee_ry"], values["ee_rz"] = (float(v) for v in rotation_vector(rotation))
         values["physics_steps"] = steps
+        values["motions"] = self._motions
         self._dirty = self._scene is None
 
     # -- events ---------------------------------------------------------------------------------
@@ -292,6 +295,7 @@ class UR5ePlatform(Model):
     def _start_motion(self, target: tuple[float, ...]) -> None:
         assert self._scene is not None
         self._commanded = tuple(target)
+        self._motions += 1
         self._pending = True
         self._scene.apply_targets(self._commanded)
         self._dirty = True

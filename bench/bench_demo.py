@@ -1,0 +1,104 @@
+"""Benchmark of the UR5e co-simulation (`make demo`'s main run) against a bare PyBullet loop doing
+the same physics, measured in the same run (interleaved, medians). Prints, never asserts.
+
+- co-simulation: `robogen.cosim.simulate_system(models/ur5e/system.toml)` — controller FMU,
+  generated d-model FMU, PyBullet platform FMU, 100 s, step 0.5 s, results streamed to a CSV;
+  the wall time includes loading and instantiating the three FMUs.
+- peer: one PyBullet client in this process, the same URDF, motors, physics step (1/240 s),
+  the same 16 joint-space targets applied at the command times, joint states read every 0.5 s;
+  the wall time includes connecting and loading the URDF.
+
+Targets: co-simulation / bare <= 1.5, and >= 100x faster than real time.
+
+    python bench/bench_demo.py [--quick]
+"""
+
+from __future__ import annotations
+
+import statistics
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+import pybullet
+
+from robogen.casestudy.build import build_all
+from robogen.cosim import simulate_system
+from robogen.platforms import scene
+from robogen.platforms.kinematics import HOME, IK_SEED, MAX_JOINT_SPEED, MAX_JOINT_TORQUE, grid_pose, inverse, nearest_equivalent
+from robogen.platforms.plan import load_plan
+from robogen.platforms.urdf import ur5e_urdf
+
+ROOT = Path(__file__).resolve().parent.parent
+QUICK = "--quick" in sys.argv
+REPEAT = 3 if QUICK else 7
+STOP, SAMPLE, PHYSICS_STEP = 100.0, 0.5, 1.0 / 240.0
+
+
+def bare(urdf: Path, targets: list[tuple[float, tuple[float, ...]]]) -> tuple[float, int]:
+    t0 = time.perf_counter()
+    cid = pybullet.connect(pybullet.DIRECT)
+    pybullet.setTimeStep(PHYSICS_STEP, physicsClientId=cid)
+    pybullet.setGravity(0, 0, -scene.GRAVITY, physicsClientId=cid)
+    robot = pybullet.loadURDF(str(urdf), useFixedBase=True, physicsClientId=cid,
+                              flags=pybullet.URDF_USE_INERTIA_FROM_FILE | pybullet.URDF_USE_SELF_COLLISION
+                              | pybullet.URDF_USE_SELF_COLLISION_EXCLUDE_PARENT)
+    for j in range(6):
+        pybullet.resetJointState(robot, j, HOME[j], 0.0, physicsClientId=cid)
+
+    def command(q):
+        for j in range(6):
+            pybullet.setJointMotorControl2(robot, j, pybullet.POSITION_CONTROL, targetPosition=q[j], targetVelocity=0.0,
+                                           force=MAX_JOINT_TORQUE[j], positionGain=scene.POSITION_GAIN,
+                                           velocityGain=scene.VELOCITY_GAIN, maxVelocity=MAX_JOINT_SPEED,
+                                           physicsClientId=cid)
+
+    command(HOME)
+    pending = list(targets)
+    per_interval = round(SAMPLE / PHYSICS_STEP)
+    steps = 0
+    for k in range(round(STOP / SAMPLE)):
+        if pending and abs(pending[0][0] - k * SAMPLE) < 1e-9:
+            command(pending.pop(0)[1])
+        for _ in range(per_interval):
+            pybullet.stepSimulation(physicsClientId=cid)
+        steps += per_interval
+        pybullet.getJointStates(robot, range(6), physicsClientId=cid)
+    pybullet.disconnect(physicsClientId=cid)
+    return time.perf_counter() - t0, steps
+
+
+def main() -> int:
+    with tempfile.TemporaryDirectory(prefix="robogen-bench-demo-") as tmp:
+        folder = Path(tmp)
+        print("== UR5e co-simulation vs a bare PyBullet loop (same run, interleaved)")
+        t0 = time.perf_counter()
+        built = build_all(folder / "fmus")
+        print(f"  building the 5 FMUs: {time.perf_counter() - t0:.2f} s")
+        system = built.systems["exhaustive"]
+        urdf = folder / "ur5e.urdf"
+        urdf.write_text(ur5e_urdf())
+        commands = [(c.time, c.target) for c in load_plan(ROOT / "models" / "ur5e" / "plan.toml").events(until=STOP)]
+        targets, q = [], HOME
+        for t, cell in commands:
+            q = nearest_equivalent(inverse(*grid_pose(*cell), seeds=(IK_SEED, q)).q, q)
+            targets.append((t, q))
+        cosim, peer = [], []
+        for i in range(REPEAT):
+            t0 = time.perf_counter()
+            result = simulate_system(system, output=folder / f"results-{i}.csv", keep_rows=False)
+            cosim.append(time.perf_counter() - t0)
+            wall, steps = bare(urdf, targets)
+            peer.append(wall)
+        c, b = statistics.median(cosim), statistics.median(peer)
+        s = result.stats
+        print(f"  co-simulation (3 FMUs, {s.steps} steps, {s.event_iterations} event iterations, {s.early_returns} early returns):"
+              f" median {c:.3f} s of {REPEAT}  -> {STOP / c:.0f}x faster than real time")
+        print(f"  bare PyBullet loop ({steps} physics steps):  median {b:.3f} s of {REPEAT}")
+        print(f"  ratio co-simulation / bare: {c / b:.2f}  (target <= 1.5)")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
