@@ -151,7 +151,8 @@ class DiagnosticSink:
 
 def _sort_key(d: Diagnostic) -> tuple:
     s = d.span
-    return (s.path, s.line, s.column, d.message) if s else ("", 0, 0, d.message)
+    # problems without a location (paths on the command line) keep the order they were found in
+    return (s.path, s.line, s.column, d.message) if s else ("", 0, 0, "")
 
 
 def did_you_mean(name: str, candidates: Iterable[str]) -> str:

@@ -66,3 +66,13 @@ def diagnostics(text: str, path: str = "m.rct", others: dict[str, str] | None = 
     """The diagnostics of one model text (plus other files, path -> text), as ``brief`` tuples."""
     texts = {path: text, **(others or {})}
     return [brief(d) for d in check_texts(texts).diagnostics]
+
+
+def at(text: str, snippet: str, occurrence: int = 1) -> tuple[int, int]:
+    """(line, column) where the ``occurrence``-th ``snippet`` starts in ``text``: golden
+    locations are written as the text they must point at."""
+    start = -1
+    for _ in range(occurrence):
+        start = text.index(snippet, start + 1)
+    line = text.count("\n", 0, start) + 1
+    return line, start - (text.rfind("\n", 0, start) + 1) + 1

@@ -22,7 +22,7 @@ from typing import Iterable, Iterator
 from robogen.diagnostics import DiagnosticSink, Note
 from robogen.semantics import types as T
 from robogen.semantics.exprs import Tables
-from robogen.semantics.scope import MachineScope, Region
+from robogen.semantics.scope import EnumLitSym, MachineScope, Region, VarSym
 from robogen.syntax import ast
 
 _MAX_ASSIGNMENTS = 4096
@@ -113,7 +113,7 @@ def _never_firing(scope: MachineScope, tables: Tables, sink: DiagnosticSink) -> 
                     )
                     never.add(id(t))
                     continue
-                if t.condition is not None and not _abstract_satisfiable(t.condition):
+                if t.condition is not None and (not _abstract_satisfiable(t.condition) or _exactly_unsatisfiable(t.condition, tables)):
                     sink.warning(f"transition '{t.name}' can never fire: its condition is always false", t.condition.span)
                     never.add(id(t))
                     continue
@@ -193,8 +193,14 @@ def _guard_leaves(exprs: Iterable[ast.Expr], tables: Tables) -> dict[object, _Le
             if e.predicate is not None:
                 leaves.setdefault(("opaque", e.predicate), _Leaf(("opaque", e.predicate), [False, True]))
             return
-        if isinstance(e, ast.Name) and isinstance(tables.ref(e), object) and type(tables.ref(e)).__name__ == "EnumLitSym":
+        if isinstance(e, ast.Name) and isinstance(tables.ref(e), EnumLitSym):
             return
+        if isinstance(e, ast.Name):
+            value = _const_value(e, tables)
+            if value is not None:
+                if isinstance(value, Fraction):
+                    literals.add(value)
+                return
         if isinstance(e, ast.Dollar) and type(tables.ref(e)).__name__ == "EventSym":
             leaves.setdefault(("ev", e.name), _Leaf(("ev", e.name), [False, True]))
             return
@@ -234,6 +240,29 @@ class _Unknown(Exception):
     pass
 
 
+def _const_value(e: ast.Name, tables: Tables):
+    """The value of a constant declared with a literal value (a number, boolean or enumeration
+    literal), or None: such a constant is not an unknown of the guard."""
+    ref = tables.ref(e)
+    if not isinstance(ref, VarSym) or ref.kind != "const" or ref.init is None:
+        return None
+    init = ref.init
+    negate = isinstance(init, ast.Unary) and init.op == "-"
+    if negate:
+        init = init.operand  # type: ignore[union-attr]
+    if isinstance(init, ast.IntLit):
+        value = Fraction(init.value)
+    elif isinstance(init, ast.RealLit):
+        value = Fraction(init.text)
+    elif isinstance(init, ast.BoolLit) and not negate:
+        return init.value
+    elif isinstance(init, ast.Name) and isinstance(tables.ref(init), EnumLitSym) and not negate:
+        return tables.ref(init).literal  # type: ignore[union-attr]
+    else:
+        return None
+    return -value if negate else value
+
+
 def _eval(e: ast.Expr, env: dict, tables: Tables):
     if isinstance(e, ast.BoolLit):
         return e.value
@@ -243,8 +272,11 @@ def _eval(e: ast.Expr, env: dict, tables: Tables):
         return Fraction(e.text)
     if isinstance(e, ast.Name):
         ref = tables.ref(e)
-        if type(ref).__name__ == "EnumLitSym":
-            return ref.literal  # type: ignore[union-attr]
+        if isinstance(ref, EnumLitSym):
+            return ref.literal
+        value = _const_value(e, tables)
+        if value is not None:
+            return value
     if isinstance(e, ast.Dollar) and ("ev", e.name) in env:
         return env[("ev", e.name)]
     if isinstance(e, ast.DollarInput):
@@ -330,9 +362,84 @@ def _abstract_satisfiable(g: ast.Expr) -> bool:
 
     collect(g)
     keys = list(atoms)
-    if len(keys) > 12:
+    if len(keys) > 12 or _rebinds(g):
         return True
     return any(ev(g, dict(zip(keys, values))) for values in itertools.product((False, True), repeat=len(keys)))
+
+
+_ORDER = ("<", "<=", ">", ">=")
+_LOGIC = ("/\\", "\\/", "=>", "iff")
+_EXACT_LIMIT = 512
+
+
+def _numeric_constant(e: ast.Expr, tables: Tables) -> bool:
+    if isinstance(e, ast.Unary) and e.op == "-":
+        return _numeric_constant(e.operand, tables)
+    if isinstance(e, ast.Name):
+        return isinstance(_const_value(e, tables), Fraction)
+    return isinstance(e, (ast.IntLit, ast.RealLit))
+
+
+def _exactly_unsatisfiable(g: ast.Expr, tables: Tables) -> bool:
+    """Is ``g`` false for every value of its leaves? Decided by evaluating it over the leaves'
+    sample domains, which is exhaustive only when each comparison of numbers sets a leaf
+    against a number literal (the samples then meet every interval the literals delimit), so
+    the check declines any other guard."""
+
+    def exact(e: ast.Expr) -> bool:
+        if isinstance(e, ast.BoolLit):
+            return True
+        if isinstance(e, ast.Unary) and e.op == "not":
+            return exact(e.operand)
+        if isinstance(e, ast.Binary) and e.op in _LOGIC:
+            return exact(e.left) and exact(e.right)
+        if isinstance(e, ast.Binary) and (e.op in _ORDER or (e.op in ("==", "!=") and tables.type_of(e.left) in T.NUMERIC)):
+            return any(_numeric_constant(a, tables) and _plain_leaf(b) for a, b in ((e.left, e.right), (e.right, e.left)))
+        if isinstance(e, ast.Binary) and e.op in ("==", "!="):
+            return _plain_leaf(e.left) and _plain_leaf(e.right) and not isinstance(tables.type_of(e.left), T.Given)
+        return _plain_leaf(e)
+
+    if not exact(g) or _rebinds(g):
+        return False
+    try:
+        leaves = _guard_leaves([g], tables)
+        total = 1
+        for leaf in leaves.values():
+            total *= max(1, len(leaf.domain))
+        if total > _EXACT_LIMIT:
+            return False
+        return not any(_eval(g, env, tables) is True for env in _assignments(leaves))
+    except _Unknown:
+        return False
+
+
+def _rebinds(g: ast.Expr) -> bool:
+    """Does ``g`` bind a variable with `$e?x` that it also reads? Then `x` has one value before
+    the binding and another after it (guards bind as they are evaluated, left to right), and
+    analyses that give each leaf one value do not apply."""
+    bound: set[str] = set()
+    names: list[str] = []
+
+    def visit(e: ast.Expr) -> None:
+        if isinstance(e, ast.DollarInput):
+            bound.add(e.var)
+            if e.predicate is not None:
+                visit(e.predicate)
+        elif isinstance(e, ast.Name):
+            names.append(e.last)
+        elif isinstance(e, ast.Unary):
+            visit(e.operand)
+        elif isinstance(e, ast.Binary):
+            visit(e.left)
+            visit(e.right)
+
+    visit(g)
+    return bool(bound) and any(n in bound for n in names)
+
+
+def _plain_leaf(e: ast.Expr) -> bool:
+    """A sub-expression the evaluator takes as one unknown value (or a literal)."""
+    return not isinstance(e, (ast.Binary, ast.Unary, ast.IfExpr, ast.Let, ast.Binder))
 
 
 def _witness(g1: ast.Expr | None, g2: ast.Expr | None, tables: Tables) -> dict | None:

@@ -93,9 +93,11 @@ class Checker:
         self.scopes: dict[int, MachineScope] = {}
         self.modules: dict[int, ModuleInfo] = {}
         self.controllers: dict[int, ControllerInfo] = {}
-        self._type_cache: dict[int, T.Type] = {}
+        # Caches keyed by id(node) also hold the node, so that its id cannot be reused by another
+        # node while the entry exists (the checkers build temporary names and type references).
+        self._type_cache: dict[int, tuple[ast.TypeExpr, T.Type]] = {}
         self._decl_types: dict[int, T.Type] = {}
-        self._lookups: dict[tuple[int, tuple[type, ...]], tuple[Decl | None, bool]] = {}
+        self._lookups: dict[tuple[int, tuple[type, ...]], tuple[Decl | None, bool, ast.Name]] = {}
         self.builder = ScopeBuilder(self.sink, self.resolve_type, self.resolve_interface)
 
     # ------------------------------------------------------------------ types and names
@@ -103,12 +105,13 @@ class Checker:
     def lookup(self, name: ast.Name, file: ast.File, kinds: tuple[type, ...], what: str, report: bool = True) -> Decl | None:
         """Global lookup, memoised per name occurrence so that each problem is reported once."""
         key = (id(name), kinds)
-        if key in self._lookups:
-            found, reported = self._lookups[key]
+        entry = self._lookups.get(key)
+        if entry is not None:
+            found, reported, _ = entry
             if reported or not report:
                 return found
         found = self.ws.lookup(name, file, kinds, what, report)
-        self._lookups[key] = (found, report)
+        self._lookups[key] = (found, report, name)
         return found
 
     def resolve_type(self, t: ast.TypeExpr | None, file: ast.File) -> T.Type:
@@ -116,9 +119,9 @@ class Checker:
             return T.UNKNOWN
         cached = self._type_cache.get(id(t))
         if cached is not None:
-            return cached
+            return cached[1]
         result = self._resolve_type(t, file)
-        self._type_cache[id(t)] = result
+        self._type_cache[id(t)] = (t, result)
         return result
 
     def _resolve_type(self, t: ast.TypeExpr, file: ast.File) -> T.Type:
@@ -186,6 +189,8 @@ class Checker:
 
     def run(self) -> None:
         for f in self.ws.files:
+            if not f.items and not f.imports and f.package is None:
+                self.sink.warning("the file is empty: it declares nothing", Span.point(f.path))
             for item in f.items:
                 with working_on(getattr(item, "span", None)):
                     self.item(item, f)
@@ -226,6 +231,8 @@ class Checker:
     # ------------------------------------------------------------------ simple declarations
 
     def record(self, r: ast.Record, f: ast.File) -> None:
+        if not r.fields:
+            self.sink.error(f"datatype '{r.name}' has no fields", r.name_span, Note("a datatype declares at least one field, e.g. 'x: real'"))
         seen: dict[str, ast.FieldDecl] = {}
         for fd in r.fields:
             if fd.name in seen:
@@ -372,7 +379,7 @@ class Checker:
                 self._var_list(m, f, self._expr_checker(MachineScope(c, f, info.qname)))  # type: ignore[arg-type]
             elif isinstance(m, ast.CycleDef):
                 info.period = self.cycle_def(m, info.period, f"controller '{c.name}'")
-        if not info.machines:
+        if not any(isinstance(m, ast.StateMachine) or (isinstance(m, ast.Reference) and m.kind == "sref") for m in c.members):
             self.sink.error(f"controller '{c.name}' has no state machine", c.name_span)
         return info
 
@@ -408,14 +415,14 @@ class Checker:
             self.sink.error(f"module '{mod.name}' has no robotic platform", mod.name_span)
         for extra in platforms[1:]:
             self.sink.error(f"module '{mod.name}' has more than one robotic platform", getattr(extra, "name_span", None) or extra.span)
-        if not info.controllers:
+        if not any(isinstance(m, ast.Controller) or (isinstance(m, ast.Reference) and m.kind == "cref") for m in mod.members):
             self.sink.error(f"module '{mod.name}' has no controller", mod.name_span)
 
     def cycle_def(self, c: ast.CycleDef, previous: Fraction | None, owner: str) -> Fraction | None:
         """The period p of `cycleDef cycle == p` (a positive constant)."""
         e = c.expr
         if not (isinstance(e, ast.Binary) and e.op == "==" and isinstance(e.left, ast.Keyword) and e.left.word == "cycle"):
-            self.sink.error("a cycle definition has the form 'cycleDef cycle == p' with p a positive constant", e.span)
+            self.sink.error("a cycle definition has the form 'cycleDef cycle == p' with p a positive number", e.span)
             return previous
         value = e.right
         if isinstance(value, ast.IntLit):
@@ -463,7 +470,7 @@ class Checker:
     def _machine_period(self, scope: MachineScope) -> Fraction | None:
         period = None
         for c in scope.cycle_defs:
-            period = self.cycle_def(c, period, f"state machine '{scope.name}'") if period is None else period
+            period = self.cycle_def(c, period, f"state machine '{scope.name}'")
         return period
 
     # connections
@@ -521,8 +528,11 @@ class Checker:
                 (_, _, a, ka), (_, _, b, kb) = resolved  # type: ignore[misc]
                 if (a.type is None) != (b.type is None) or (a.type is not None and b.type is not None and not T.same(a.type, b.type)):
                     self.sink.error(
-                        f"connected events have different types: '{a.name}' carries {_show(a.type)}, '{b.name}' carries {_show(b.type)}",
+                        f"connected events have different types: '{a.name}' of '{conn.source}' carries {_show(a.type)}, "
+                        f"'{b.name}' of '{conn.target}' carries {_show(b.type)}",
                         conn.span,
+                        Note(f"'{a.name}' is declared in {a.origin}", a.span),
+                        Note(f"'{b.name}' is declared in {b.origin}", b.span),
                     )
                 if a.broadcast != b.broadcast:
                     self.sink.error("a broadcast event connects only to a broadcast event", conn.span)

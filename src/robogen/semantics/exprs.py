@@ -164,6 +164,13 @@ class ExprChecker:
         if lit is None:
             return T.UNKNOWN
         self.tables.refs[id(e)] = lit
+        carried = _literal_args(lit)
+        if carried:
+            return self._err(
+                f"enumeration literal '{e.text}' carries {_plural(len(carried), 'value')}: write {e.text}("
+                + ", ".join(t.show() for t in carried) + ")",
+                e,
+            )
         return lit.enum
 
     def enum_literal(self, e: ast.Name, report: bool) -> EnumLitSym | None:
@@ -235,7 +242,8 @@ class ExprChecker:
             for side, t in ((e.left, a), (e.right, b)):
                 if not T.is_integral(t):
                     self._err(f"'%' needs integers, not {t.show()}", side)
-            return T.numeric_join(a, b)
+                    bad = True
+            return T.UNKNOWN if bad else T.numeric_join(a, b)
         if op == "-" and a == T.NAT and b == T.NAT:
             return T.INT
         return T.numeric_join(a, b)
@@ -320,6 +328,8 @@ class ExprChecker:
             lit = self.enum_literal(f, report=False)
             if lit is not None:
                 self.tables.refs[id(f)] = lit
+                params = tuple((f"{i + 1}", t) for i, t in enumerate(_literal_args(lit)))
+                self._check_args(f"enumeration literal '{f.text}'", params, e.args, arg_types, e)
                 return lit.enum
         decl = self.lookup_global(f, self.scope.file, (ast.FunctionDef,), "function", True)
         if decl is None:
@@ -345,11 +355,12 @@ class ExprChecker:
 
     def _check_args(self, what: str, params, args, arg_types, node) -> None:
         if len(args) != len(params):
-            self._err(f"{what} takes {len(params)} argument{'s' if len(params) != 1 else ''}, but {len(args)} {'were' if len(args) != 1 else 'was'} given", node)
+            self._err(f"{what} takes {_plural(len(params), 'argument')}, but {len(args)} {'were' if len(args) != 1 else 'was'} given", node)
             return
         for (pname, ptype), a, at in zip(params, args, arg_types):
             if not T.assignable(at, ptype):
-                self._err(f"argument '{pname}' of {what} must be {ptype.show()}, but this is {at.show()}", a)
+                which = f"argument {pname}" if pname.isdigit() else f"argument '{pname}'"
+                self._err(f"{which} of {what} must be {ptype.show()}, but this is {at.show()}", a)
 
     def _e_IfExpr(self, e: ast.IfExpr) -> T.Type:
         c = self.expr(e.cond)
@@ -391,10 +402,8 @@ class ExprChecker:
         if e.kind == "lambda":
             dom = frame[e.decls[0].name].type if len(e.decls) == 1 else T.ProductT(tuple(v.type for v in frame.values()))
             return T.FunctionT(dom, body)
-        # the
-        if not T.is_boolean(body):
-            self._err(f"the body of 'the' must be boolean, not {body.show()}", e.body)
-        return frame[e.decls[0].name].type
+        # the x: T | p @ e: the value of e for the unique x that satisfies p (Z's mu-expression)
+        return body
 
     def _e_Let(self, e: ast.Let) -> T.Type:
         frame: dict[str, VarSym] = {}
@@ -562,7 +571,7 @@ class ExprChecker:
         if var is None:
             self.sink.error(f"unknown variable '{e.var}'" + did_you_mean(e.var, self._visible_value_names()), e.var_span or e.span)
         elif not var.assignable:
-            self.sink.error(f"cannot bind the value of '{e.event}' to {var.kind} '{e.var}'", e.var_span or e.span, Note("declared here", var.span))
+            self.sink.error(f"cannot bind the value of '{e.event}' to {_KIND_WORDS[var.kind]} '{e.var}'", e.var_span or e.span, Note("declared here", var.span))
         elif ev is not None:
             if ev.type is None:
                 self.sink.error(f"event '{e.event}' carries no value to bind to '{e.var}'", e.event_span or e.span, Note("declared here", ev.span))
@@ -651,7 +660,7 @@ class ExprChecker:
             self.tables.refs[id(e)] = v
             self._set(e, v.type)
             if not v.assignable:
-                what = {"const": "constant", "param": "parameter", "binder": "bound variable", "let": "let-bound name"}[v.kind]
+                what = _KIND_WORDS[v.kind]
                 self.sink.error(f"cannot assign to {what} '{v.name}'", e.span, Note("declared here", v.span))
             return v.type
         if isinstance(e, ast.Field):
@@ -765,7 +774,7 @@ class ExprChecker:
             if var is None:
                 self.sink.error(f"unknown variable '{c.var}'" + did_you_mean(c.var or "", self._visible_value_names()), c.var_span or c.span)
             elif not var.assignable:
-                self.sink.error(f"cannot receive into {var.kind} '{var.name}'", c.var_span or c.span, Note("declared here", var.span))
+                self.sink.error(f"cannot receive into {_KIND_WORDS[var.kind]} '{var.name}'", c.var_span or c.span, Note("declared here", var.span))
             elif not T.assignable(ev.type, var.type):
                 self.sink.error(
                     f"cannot receive a value of event '{c.event}' ({ev.type.show()}) into '{var.name}' ({var.type.show()})",
@@ -841,9 +850,23 @@ class ExprChecker:
             return
         self.tables.refs[id(s)] = v
         if not v.assignable:
-            self.sink.error(f"cannot assign to {v.kind} '{v.name}'", s.var_span or s.span, Note("declared here", v.span))
+            self.sink.error(f"cannot assign to {_KIND_WORDS[v.kind]} '{v.name}'", s.var_span or s.span, Note("declared here", v.span))
         elif not T.assignable(vt, v.type):
             self._err(f"cannot assign {vt.show()} to '{v.name}' of type {v.type.show()}", s.value)
+
+
+def _literal_args(lit: EnumLitSym) -> tuple[T.Type, ...]:
+    enum = lit.enum
+    if not isinstance(enum, T.EnumT) or not enum.literal_args:
+        return ()
+    return enum.literal_args[enum.literals.index(lit.literal)]
+
+
+def _plural(n: int, word: str) -> str:
+    return f"{n} {word}{'' if n == 1 else 's'}"
+
+
+_KIND_WORDS = {"var": "variable", "const": "constant", "param": "parameter", "binder": "bound variable", "let": "let-bound name"}
 
 
 def _describe(e: ast.Expr) -> str:

@@ -238,7 +238,7 @@ class ScopeBuilder:
         if old is not None:
             if old.decl is sym.decl or old.origin != sym.origin:
                 return  # the same clock brought in by an interface, or by two
-            self.sink.error(f"clock '{sym.name}' is declared twice", sym.span, Note("first declared here", old.span))
+            self.sink.error(f"clock '{sym.name}' is declared twice in {scope.kind} '{scope.name}'", sym.span, Note("first declared here", old.span))
             return
         scope.clocks[sym.name] = sym
 
@@ -249,7 +249,7 @@ class ScopeBuilder:
             if old.decl is e:
                 pass
             elif old.origin == origin and not context:
-                self.sink.error(f"event '{e.name}' is declared twice", e.name_span, Note("first declared here", old.span))
+                self.sink.error(f"event '{e.name}' is declared twice in {scope.kind} '{scope.name}'", e.name_span, Note("first declared here", old.span))
                 return
             elif (old.type is None) != (t is None) or (t is not None and old.type is not None and str(old.type) != str(t) and not _same(old.type, t)):
                 self.sink.error(

@@ -149,7 +149,7 @@ class Workspace:
                 wildcards.append((imp, pkg))
                 continue
             if len(parts) < 2:
-                self.sink.error(f"import '{imp.name.text}' must name a package and a declaration (pkg::Name or pkg::*)", imp.span)
+                self.sink.error(f"import '{imp.name.text}' must name a package and a declaration (pkg::Name or pkg::*)", imp.name.span)
                 continue
             pkg_name, name = "::".join(parts[:-1]), parts[-1]
             pkg = self.packages.get(pkg_name)
@@ -195,7 +195,7 @@ class Workspace:
                 if report:
                     other = pkg.decls.get(simple)
                     if other:
-                        sink.error(f"'{name.text}' is a {other[0].kind}, not {_article(what)}", name.span, Note("declared here", other[0].span))
+                        sink.error(f"'{name.text}' is {_article(other[0].kind)}, not {_article(what)}", name.span, Note("declared here", other[0].span))
                     else:
                         cands = [n for n, ds in pkg.decls.items() if any(d.is_a(kinds) for d in ds)]
                         sink.error(f"package '{pkg_name}' declares no {what} '{simple}'" + did_you_mean(simple, cands), name.span)
@@ -216,7 +216,7 @@ class Workspace:
                 return matching[0]
             if candidates and report and not any(d.is_a(kinds) for d in candidates):
                 d = candidates[0]
-                sink.error(f"'{simple}' is a {d.kind}, not {_article(what)}", name.span, Note("declared here", d.span))
+                sink.error(f"'{simple}' is {_article(d.kind)}, not {_article(what)}", name.span, Note("declared here", d.span))
                 return None
         # Last resort: the unique declaration with this simple name anywhere in the workspace.
         anywhere = _unique([d for d in self.by_simple.get(simple, []) if d.is_a(kinds)])
@@ -335,9 +335,7 @@ def collect_model_paths(paths: Sequence[str | os.PathLike], problems: Diagnostic
             found += inside
         elif path.is_file():
             if language_of(path) is None:
-                problems.error(
-                    f"{path}: not a model file; expected a .rct (RoboChart), .rst or .rsim (RoboSim) file", Span.whole_file(str(path))
-                )
+                problems.error(f"not a model file: {path} (expected a .rct (RoboChart), .rst or .rsim (RoboSim) file)", None)
             else:
                 found.append(str(path))
         elif path.exists():

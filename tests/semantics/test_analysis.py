@@ -1,0 +1,228 @@
+"""robogen.semantics.analysis: the warnings about behaviour (unreachable states, transitions
+that can never fire, guards that overlap, RoboSim cycles that may never end)."""
+
+from __future__ import annotations
+
+from frontend_testing import at, diagnostics
+
+from robogen.semantics import check_texts
+
+
+def lines(*text: str) -> str:
+    return "\n".join(text)
+
+
+def test_unreachable_states_are_reported_once():
+    text = lines(
+        "stm S {",
+        "\tinitial i",
+        "\tstate A { }",
+        "\tstate B { initial j state C { } transition u { from j to C } }",
+        "\tstate D { }",
+        "\ttransition t0 { from i to A }",
+        "\ttransition t1 { from D to A }",
+        "}",
+    )
+    # B is reported, not its inner C; D leads to A but nothing enters D
+    assert diagnostics(text) == [
+        ("warning", *at(text, "B {"), "state 'B' is unreachable: no path from the initial node enters it"),
+        ("warning", *at(text, "D {"), "state 'D' is unreachable: no path from the initial node enters it"),
+    ]
+
+
+def test_a_transition_behind_an_always_enabled_one_never_fires():
+    text = lines(
+        "stm S {",
+        "\tvar x: nat",
+        "\tinitial i",
+        "\tstate A { }",
+        "\tstate B { }",
+        "\ttransition t0 { from i to A }",
+        "\ttransition t1 { from A to A condition true }",
+        "\ttransition t2 { from A to B condition x > 1 }",
+        "}",
+    )
+    result = check_texts({"m.rct": text})
+    assert [(d.span.line, d.span.column, d.message) for d in result.diagnostics] == [
+        (*at(text, "B { }"), "state 'B' is unreachable: no path from the initial node enters it"),
+        (*at(text, "t2"), "transition 't2' can never fire: 't1' leaves 'A' first and is always enabled"),
+    ]
+    assert [n.message for n in result.diagnostics[1].notes] == [
+        "'t1' is declared here; transitions of one source are tried in declaration order"
+    ]
+
+
+def test_a_guard_that_no_value_satisfies_never_fires():
+    text = lines(
+        "stm S {",
+        "\tvar x: nat, b: boolean",
+        "\tconst k: nat = 5",
+        "\tinitial i",
+        "\tstate A { }",
+        "\ttransition t0 { from i to A }",
+        "\ttransition t1 { from A to A condition b /\\ not b }",
+        "\ttransition t2 { from A to A condition x > 3 /\\ x < 2 }",
+        "\ttransition t3 { from A to A condition x > k /\\ x < 4 }",
+        "\ttransition t4 { from A to A condition false \\/ (x < 1 /\\ x >= 1) }",
+        "}",
+    )
+    assert diagnostics(text) == [
+        ("warning", *at(text, "b /\\ not b"), "transition 't1' can never fire: its condition is always false"),
+        ("warning", *at(text, "x > 3"), "transition 't2' can never fire: its condition is always false"),
+        ("warning", *at(text, "x > k"), "transition 't3' can never fire: its condition is always false"),
+        ("warning", *at(text, "false"), "transition 't4' can never fire: its condition is always false"),
+    ]
+
+
+def test_guards_the_analysis_cannot_decide_are_left_alone():
+    # x + y > 3 /\ x + y < 2 is unsatisfiable, but arithmetic of two unknowns is beyond the
+    # exhaustive sampling, so nothing is claimed; x > 3 /\ x < 5 is satisfiable (x = 4)
+    text = lines(
+        "stm S {",
+        "\tvar x: nat, y: nat",
+        "\tinitial i",
+        "\tstate A { }",
+        "\ttransition t0 { from i to A }",
+        "\ttransition t1 { from A to A condition x + y > 3 /\\ x + y < 2 }",
+        "\ttransition t2 { from A to A condition x > 3 /\\ x < 5 /\\ y > 100 }",
+        "}",
+    )
+    assert diagnostics(text) == []
+
+
+def test_overlapping_guards_are_reported_with_a_witness():
+    text = lines(
+        "enumeration Mode { up off }",
+        "stm S {",
+        "\tevent go",
+        "\tvar x: int, m: Mode",
+        "\tinitial i",
+        "\tstate A { }",
+        "\ttransition t0 { from i to A }",
+        "\ttransition t1 { from A to A trigger go condition x > 3 }",
+        "\ttransition t2 { from A to A trigger go condition x < 5 /\\ m == Mode::off }",
+        "\ttransition t3 { from A to A condition x < 0 }",
+        "}",
+    )
+    result = check_texts({"m.rct": text})
+    assert [(d.severity.value, d.span.line, d.span.column, d.message) for d in result.diagnostics] == [
+        (
+            "warning",
+            *at(text, "t2"),
+            "transitions 't1' and 't2' leave 'A' and can be enabled together (for example when x = 4, m = off); "
+            "'t1' is taken, as it is declared first",
+        ),
+    ]
+    assert result.diagnostics[0].notes[0].message == "'t1' is declared here"
+    assert result.diagnostics[0].notes[0].span.line == 8
+
+
+def test_constants_with_values_are_not_unknowns_of_a_guard():
+    # with band = 0.5 the two guards exclude each other; as an unknown, band = -1 would overlap them
+    text = lines(
+        "stm S {",
+        "\tconst band: real = 0.5",
+        "\tvar t: real, target: real",
+        "\tinitial i",
+        "\tjunction j",
+        "\tstate A { }",
+        "\ttransition t0 { from i to A }",
+        "\ttransition t1 { from A to j }",
+        "\ttransition t2 { from j to A condition t < target - band }",
+        "\ttransition t3 { from j to A condition t > target + band }",
+        "\ttransition t4 { from j to A condition else }",
+        "}",
+    )
+    assert diagnostics(text) == []
+
+
+def test_no_behaviour_warnings_for_a_machine_with_errors():
+    text = "stm S { initial i state A { } state B { } transition t0 { from i to A } transition t1 { from A to A condition zz } }"
+    assert diagnostics(text) == [("error", *at(text, "zz"), "unknown name 'zz'")]
+
+
+# ---------------------------------------------------------------------------- RoboSim
+
+
+def robosim(*members: str) -> str:
+    return lines("stm S {", "\tcycleDef cycle == 1", "\tinput context { event e event f: nat }", "\tvar x: nat",
+                 "\tinitial i", *(f"\t{m}" for m in members), "}")  # fmt: skip
+
+
+def test_states_that_cannot_reach_exec():
+    text = robosim(
+        "state A { }",
+        "state B { }",
+        "state C { entry exec }",
+        "transition t0 { from i to A }",
+        "transition t1 { from A to B condition $e }",
+        "transition t2 { from A to C condition not $e }",
+        "transition t3 { from C to A }",
+    )
+    result = check_texts({"m.rst": text})
+    assert [(d.severity.value, d.span.line, d.span.column, d.message) for d in result.diagnostics] == [
+        ("warning", *at(text, "B { }"), "no path from state 'B' reaches exec: a cycle that enters it may never end"),
+    ]
+    assert result.diagnostics[0].notes[0].message == "every RoboSim cycle ends at an exec transition or an exec statement"
+
+
+def test_cycles_without_exec():
+    text = robosim(
+        "state A { }",
+        "state B { }",
+        "state C { }",
+        "transition t0 { from i to A }",
+        "transition t1 { from A to B condition $e }",
+        "transition t4 { from B to C condition $f?x }",
+        "transition t2 { from B to A condition not $f }",
+        "transition t3 { from A to A exec condition not $e }",
+        "transition t5 { from C to B exec }",
+    )
+    result = check_texts({"m.rst": text})
+    assert [(d.severity.value, d.span.line, d.span.column, d.message) for d in result.diagnostics] == [
+        ("warning", *at(text, "t1"), "transitions 't1', 't2' form a cycle without exec: a cycle that takes them may never end"),
+    ]
+    assert result.diagnostics[0].notes[0].message == "robogen stops such a cycle after a bound and reports an error at run time"
+
+
+def test_an_exec_statement_breaks_a_cycle_and_an_operation_may_end_without_exec():
+    text = robosim(
+        "state A { }",
+        "state B { entry x = 1 ; exec }",
+        "transition t0 { from i to A }",
+        "transition t1 { from A to B condition $e }",
+        "transition t2 { from B to A action x = 2 }",
+        "transition t3 { from A to A condition not $e action exec }",
+    )
+    assert diagnostics(text, "m.rst") == []
+    operation = "operation op() {\n\tinitial i\n\tfinal f\n\tstate A { }\n\ttransition t0 { from i to A }\n\ttransition t1 { from A to f }\n}"
+    assert diagnostics(operation, "o.rst") == []
+
+
+def test_in_robosim_every_pair_of_guards_of_a_state_is_compared():
+    # all transitions of a RoboSim state are tried in the same cycle, whatever they test
+    text = robosim(
+        "state A { }",
+        "transition t0 { from i to A }",
+        "transition t1 { from A to A exec condition $e }",
+        "transition t2 { from A to A exec condition $f?x /\\ x > 2 }",
+    )
+    assert diagnostics(text, "m.rst") == [
+        (
+            "warning",
+            *at(text, "t2"),
+            "transitions 't1' and 't2' leave 'A' and can be enabled together (for example when $e occurs, $f occurs, x = 3); "
+            "'t1' is taken, as it is declared first",
+        )
+    ]
+
+
+def test_a_value_bound_in_the_guard_is_not_the_value_read_before():
+    # x > 5 reads x before $f?x binds it: the guard is satisfiable and nothing is claimed
+    text = robosim(
+        "state A { }",
+        "transition t0 { from i to A }",
+        "transition t1 { from A to A exec condition x > 5 /\\ $f?x /\\ not (x > 5) }",
+        "transition t2 { from A to A exec condition not $f }",
+    )
+    assert diagnostics(text, "m.rst") == []

@@ -1,0 +1,327 @@
+"""robogen.semantics.exprs: types of expressions and statements, the rules on where each form
+may appear, and RoboSim's rules on inputs and outputs. Golden messages, located by the text
+they must point at."""
+
+from __future__ import annotations
+
+import pytest
+from frontend_testing import at, diagnostics
+
+
+def machine(*members: str, action: str = "skip", path: str = "m.rct") -> str:
+    """A machine S: ``members`` (one per line), then an initial node i and a state A entered by
+    transition t0 with ``action``."""
+    return "\n".join(["stm S {", *(f"\t{m}" for m in members), "\tinitial i", "\tstate A { }",
+                      f"\ttransition t0 {{ from i to A action {action} }}", "}"])  # fmt: skip
+
+
+def error(text: str, snippet: str, message: str, occurrence: int = 1) -> tuple:
+    return ("error", *at(text, snippet, occurrence), message)
+
+
+def warning(text: str, snippet: str, message: str, occurrence: int = 1) -> tuple:
+    return ("warning", *at(text, snippet, occurrence), message)
+
+
+# ---------------------------------------------------------------------------- RoboChart types
+
+
+def test_a_condition_must_be_boolean():
+    text = machine("var x: nat", "transition t1 { from A to A condition x + 1 }")
+    assert diagnostics(text) == [error(text, "x + 1", "a condition must be boolean, but this is nat")]
+
+
+def test_assignments_are_typed():
+    text = machine("var x: nat, r: real, b: boolean", action="x = true ; x = r ; r = x ; b = 1 < 2 ; x = -1")
+    # nat := int is accepted (RoboChart writes n = n - 1 for a nat n); real never narrows
+    assert diagnostics(text) == [
+        error(text, "true", "cannot assign boolean to 'x' of type nat"),
+        error(text, "r ;", "cannot assign real to 'x' of type nat"),
+    ]
+
+
+def test_constants_parameters_and_bound_names_cannot_be_assigned():
+    text = machine("const k: nat = 1", action="k = 2")
+    assert diagnostics(text) == [error(text, "k = 2", "cannot assign to constant 'k'")]
+    text = "operation Op(n: nat) {\n\tinitial i\n\tfinal f\n\ttransition t { from i to f action n = 1 }\n}"
+    assert diagnostics(text) == [error(text, "n = 1", "cannot assign to parameter 'n'")]
+
+
+def test_calls_check_arity_and_argument_types():
+    text = "\n".join([
+        "function f(x: nat): nat { }",
+        "interface Ops { op(a: nat, b: real) }",
+        machine("requires Ops", "var y: nat", action="y = f(1, 2) ; y = f(true) ; op(1) ; op(1, false)"),
+    ])  # fmt: skip
+    assert diagnostics(text) == [
+        error(text, "f(1, 2)", "function 'f' takes 1 argument, but 2 were given"),
+        error(text, "true", "argument 'x' of function 'f' must be nat, but this is boolean"),
+        error(text, "op(1)", "operation 'op' takes 2 arguments, but 1 was given"),
+        error(text, "false", "argument 'b' of operation 'op' must be real, but this is boolean"),
+    ]
+
+
+def test_toolkit_functions_check_their_arguments():
+    text = "\n".join([
+        "import set_toolkit::*",
+        "import sequence_toolkit::*",
+        machine("var s: Set(nat), q: Seq(nat), n: nat", action="n = size(q, q) ; s = union(s, q) ; n = head(s)"),
+    ])  # fmt: skip
+    assert [d[1:] for d in diagnostics(text)] == [
+        (*at(text, "size(q, q)"), "'size' takes 1 argument(s), not 2"),
+        (*at(text, "union(s, q)"), "'union' expects sets, not Seq(nat)"),
+        (*at(text, "head(s)"), "'head' expects a sequence, not Set(nat)"),
+    ]
+
+
+def test_enumeration_literals_with_values():
+    text = "\n".join([
+        "enumeration E { red blue(nat) }",
+        machine("var e: E", action="e = E::blue ; e = E::blue(true) ; e = E::red(1) ; e = E::blue(2) ; e = E::reed"),
+    ])  # fmt: skip
+    assert diagnostics(text) == [
+        error(text, "E::blue ;", "enumeration literal 'E::blue' carries 1 value: write E::blue(nat)"),
+        error(text, "true", "argument 1 of enumeration literal 'E::blue' must be nat, but this is boolean"),
+        error(text, "E::red(1)", "enumeration literal 'E::red' takes 0 arguments, but 1 was given"),
+        error(text, "E::reed", "enumeration 'E' has no literal 'reed' (did you mean 'red'?)"),
+    ]
+
+
+def test_operators_check_their_operands():
+    text = machine(
+        "var n: nat, r: real, b: boolean, s: Set(nat), q: Seq(nat)",
+        action="b = not n ; n = n + b ; n = r % 2 ; b = n == b ; b = b < 1 ; b = n in q ; b = b in s ; q = q cat n ; s = s + s",
+    )
+    assert diagnostics(text) == [
+        error(text, "n ;", "'not' needs a boolean operand, not nat"),
+        error(text, "b ;", "'+' needs numbers, not boolean"),
+        error(text, "r % 2", "'%' needs integers, not real"),
+        error(text, "n == b", "cannot compare nat with boolean"),
+        error(text, "b < 1", "'<' needs numbers, not boolean"),
+        error(text, "b in s", "boolean cannot be a member of Set(nat)"),
+        error(text, "n ; s", "'cat' concatenates sequences, not nat"),
+        error(text, "s + s", "'+' is not defined on sets; use union, inter or diff"),
+    ]
+
+
+def test_structured_values():
+    text = "\n".join([
+        "datatype P { x: real y: real }",
+        machine(
+            "var p: P, n: nat, t: nat * boolean, s: Set(nat)",
+            action="n = p.z ; n = n.x ; p = P(| x = 1.0 |) ; p = P(| x = true, y = 1.0, w = 2 |) ; n = t[3] ; "
+            "n = if n > 1 then 1 else true end ; s = {1, true} ; n = <1>",
+        ),
+    ])  # fmt: skip
+    assert diagnostics(text) == [
+        error(text, "z ;", "datatype 'P' has no field 'z'"),
+        error(text, "n.x", "'.x' selects a field, but this is nat, not a record", 1),
+        error(text, "P(| x = 1.0 |)", "field 'y' of 'P' is not given a value"),
+        error(text, "true,", "field 'x' must be real, but this is boolean"),
+        error(text, "w = 2", "datatype 'P' has no field 'w'"),
+        error(text, "3]", "tuple of 2 components has no component 3"),
+        error(text, "if n > 1", "the branches of 'if' have different types: nat and boolean"),
+        error(text, "true}", "the elements of a set must have one type: nat and boolean"),
+        error(text, "<1>", "cannot assign Seq(nat) to 'n' of type nat"),
+    ]
+
+
+def test_names_that_are_not_values():
+    text = "\n".join([
+        "interface Ops { op() }",
+        "function f(x: nat): nat { }",
+        machine("requires Ops", "event e", "clock C", "var n: nat, m: nat", action="n = e ; n = C ; n = op() ; f(1) ; n = nn ; nope()"),
+    ])  # fmt: skip
+    assert diagnostics(text) == [
+        error(text, "e ;", "'e' is an event; events are not values"),
+        error(text, "C ;", "'C' is a clock; write since(C) for the time since its reset"),
+        error(text, "op() ;", "'op' is an operation; operations are called as statements, not in expressions"),
+        error(text, "f(1)", "'f' is a function; a function call is an expression, not a statement"),
+        error(text, "nn", "unknown name 'nn' (did you mean 'n'?)"),
+        error(text, "nope()", "unknown operation 'nope' (did you mean 'op'?)"),
+    ]
+
+
+def test_calling_an_operation_the_machine_does_not_require():
+    text = "\n".join([
+        "operation Go() {\n\tinitial i\n\tfinal f\n\ttransition t { from i to f }\n}",
+        machine(action="Go()"),
+    ])  # fmt: skip
+    result = diagnostics(text)
+    assert result == [error(text, "Go()", "unknown operation 'Go'", 2)]
+    from robogen.semantics import check_texts
+
+    (d,) = check_texts({"m.rct": text}).diagnostics
+    assert [n.message for n in d.notes] == [
+        "'Go' is defined here but not required by this state machine: add 'requires' of an interface declaring it"
+    ]
+    assert (d.notes[0].span.line, d.notes[0].span.column) == (1, 11)
+
+
+def test_binders_and_descriptions():
+    text = machine(
+        "var b: boolean, n: nat",
+        action="b = forall x: nat | x @ x > 1 ; b = exists x: nat @ x + 1 ; n = the x: nat | x > 1 @ x * 2 ; "
+        "b = the x: nat | x > 1 @ x ; n = let k == true @ k",
+    )
+    assert diagnostics(text) == [
+        error(text, "x @ x > 1", "the predicate after '|' must be boolean, not nat"),
+        error(text, "x + 1", "the body of 'exists' must be boolean, not nat"),
+        error(text, "the x: nat | x > 1 @ x ;", "cannot assign nat to 'b' of type boolean"),
+        error(text, "let k", "cannot assign boolean to 'n' of type nat"),
+    ]
+
+
+def test_result_only_in_postconditions():
+    text = "function f(x: nat): boolean {\n\tprecondition result\n\tpostcondition result == (x > 1)\n\tpostcondition x\n}"
+    assert diagnostics(text) == [
+        error(text, "result", "'result' is only meaningful in a postcondition"),
+        error(text, "x\n}", "a postcondition must be boolean, not nat"),
+    ]
+
+
+# ---------------------------------------------------------------------------- communication
+
+
+def test_robochart_communications_are_typed():
+    text = "\n".join([
+        "interface E { event n: nat event b event r: real }",
+        machine(
+            "uses E",
+            "var x: nat, flag: boolean",
+            "const k: nat = 1",
+            "transition t1 { from A to A trigger n?flag }",
+            "transition t2 { from A to A trigger r }",
+            "transition t3 { from A to A trigger b?x }",
+            "transition t4 { from A to A trigger n!x }",
+            "transition t5 { from A to A trigger n?k }",
+            action="send n!true ; send n ; b!1 ; n?zz ; nope",
+        ),
+    ])  # fmt: skip
+    assert diagnostics(text) == [
+        error(text, "flag }", "cannot receive a value of event 'n' (nat) into 'flag' (boolean)"),
+        error(text, "b?x", "event 'b' carries no value"),
+        error(text, "n!x", "a trigger is a plain event or an input (e or e?x), not an output (rule T2)"),
+        error(text, "k }", "cannot receive into constant 'k'"),
+        error(text, "true", "event 'n' carries nat, but this value is boolean"),
+        error(text, "n ; b!1", "event 'n' carries nat: send a value with n!v or receive it with n?x"),
+        error(text, "b!1", "event 'b' carries no value"),
+        error(text, "zz", "unknown variable 'zz'"),
+        error(text, "nope", "unknown event 'nope'"),
+    ]
+
+
+def test_wait_takes_an_integer_or_a_set_of_integers():
+    text = machine("var r: real", action="wait(r) ; wait(true) ; wait({1, 2}) ; wait([1, 3]) ; wait(2)")
+    assert diagnostics(text) == [
+        error(text, "r) ;", "'wait' takes an integer number of time units, or a set of them; this is real"),
+        error(text, "true", "'wait' takes an integer number of time units, or a set of them; this is boolean"),
+    ]
+
+
+# ---------------------------------------------------------------------------- RoboChart time
+
+
+def test_since_is_allowed_only_in_guards():
+    text = machine("var n: nat", "clock C", action="n = since(C) ; n = sinceEntry(A)")
+    assert diagnostics(text) == [
+        error(text, "since(C)", "'since' may only appear in a transition condition"),
+        error(text, "sinceEntry(A)", "'sinceEntry' may only appear in a transition condition"),
+    ]
+
+
+def test_since_should_be_compared_with_a_constant():
+    text = machine(
+        "var n: nat",
+        "const k: nat = 3",
+        "clock C",
+        "transition t1 { from A to A condition since(C) > n }",
+        "transition t2 { from A to A condition since(C) > k + 1 /\\ n < sinceEntry(A) }",
+    )
+    assert diagnostics(text) == [
+        warning(text, "n }", "'since' should be compared with a constant"),
+        warning(text, "n < sinceEntry", "'sinceEntry' should be compared with a constant"),
+    ]
+
+
+def test_clocks_and_states_named_by_time_expressions_must_exist():
+    text = machine("clock C", "final F", "transition t1 { from A to A condition since(D) > 1 \\/ sinceEntry(B) > 1 \\/ sinceEntry(F) > 1 }", action="#D")
+    assert diagnostics(text) == [
+        error(text, "D) >", "unknown clock 'D'"),
+        error(text, "B)", "no state 'B' in state machine 'S'"),
+        error(text, "F) >", "'sinceEntry' of a final state"),
+        error(text, "D }", "unknown clock 'D'"),
+    ]
+
+
+# ---------------------------------------------------------------------------- RoboSim
+
+
+def robosim(*members: str, action: str = "skip") -> str:
+    return machine("cycleDef cycle == 1", *members, "transition tx { from A to A exec }", action=action, path="m.rst")
+
+
+def test_robosim_forbids_robochart_statements():
+    text = robosim("output context { event o: nat }", action="wait(1) ; send o!1 ; o!1 ; (skip <{ 2 })")
+    assert diagnostics(text, "m.rst") == [
+        error(text, "wait(1)", "RoboSim has no 'wait': time passes in cycles; count cycles with a clock and 'since'"),
+        error(text, "send o!1", "RoboChart communication statements are not allowed in RoboSim; write $e, $e!v or $op(...)"),
+        error(text, "o!1 ;", "RoboChart communication statements are not allowed in RoboSim; write $e, $e!v or $op(...)", 2),
+        error(text, "(skip <{ 2 })", "deadlines '<{ }' mean nothing in RoboSim and are rejected"),
+    ]
+
+
+def test_robosim_inputs_are_read_in_conditions_and_outputs_written_in_actions():
+    text = robosim(
+        "var x: nat, f: boolean",
+        "input context { event i1: nat }",
+        "output context { event o1: nat event o2 }",
+        "transition t1 { from A to A condition $o1 \\/ $i1?x }",
+        action="$i1!1 ; f = $i1?x ; $o2!3 ; $o1 ; $nope",
+    )
+    assert diagnostics(text, "m.rst") == [
+        error(text, "o1 \\/", "'o1' is an output event; output events cannot be tested in a condition"),
+        error(text, "i1!1", "'i1' is an input event; an input event cannot be written"),
+        error(text, "$i1?x ;", "'$i1?x' tests an input and may only appear in a transition condition"),
+        error(text, "o2!3", "event 'o2' carries no value"),
+        error(text, "$o1 ;", "event 'o1' carries nat: write $o1!v"),
+        error(text, "nope", "unknown event 'nope'"),
+    ]
+
+
+def test_robosim_bindings_and_shared_variables():
+    text = "\n".join([
+        "interface Shared { var level: real const limit: real }",
+        "interface Ops { move(x: real) }",
+        robosim(
+            "var b: boolean",
+            "const k: nat = 1",
+            "input context { event n: nat requires Shared }",
+            "output context { requires Ops }",
+            "transition t1 { from A to A condition $n?b \\/ $n?k \\/ $n?zz }",
+            action="$limit = 1.0 ; $level = true ; $volume = 2 ; move(1.0) ; $move(true) ; $stop()",
+        ),
+    ])  # fmt: skip
+    assert diagnostics(text, "m.rst") == [
+        error(text, "b \\/", "cannot bind a value of event 'n' (nat) to 'b' (boolean)"),
+        error(text, "k \\/", "cannot bind the value of 'n' to constant 'k'"),
+        error(text, "zz", "unknown variable 'zz'"),
+        error(text, "limit =", "cannot assign to constant 'limit'"),
+        error(text, "true", "cannot assign boolean to 'level' of type real"),
+        error(text, "volume", "unknown shared variable 'volume'"),
+        error(text, "move(1.0)", "'move' is a platform operation; RoboSim calls it as $move(...)"),
+        error(text, "true", "argument 'x' of operation 'move' must be real, but this is boolean", 2),
+        error(text, "stop", "unknown platform operation 'stop'"),
+    ]
+
+
+def test_robosim_time_is_compared_with_any_number():
+    text = machine(
+        "cycleDef cycle == 1",
+        "var n: nat",
+        "clock C",
+        "transition t1 { from A to A exec condition since(C) > n * cycle }",
+        "transition t2 { from A to A exec condition since(C) <= n * cycle }",
+        path="m.rst",
+    )
+    assert diagnostics(text, "m.rst") == []
