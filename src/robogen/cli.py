@@ -2,7 +2,8 @@
 
 A subcommand module defines ``configure(parser)`` (adds its arguments) and ``run(args) -> int``.
 Exit codes: 0 success, 1 problems in the input (models, system files, FMUs), 2 usage errors,
-3 internal errors (a bug in robogen; the message names the model location being processed).
+3 internal errors (a bug in robogen; the message names the model location being processed),
+4 a simulation that ended before its stop time because an FMU asked to terminate.
 """
 
 from __future__ import annotations

@@ -2,8 +2,11 @@
 
 from __future__ import annotations
 
+import csv
 import json
 import math
+import subprocess
+import sys
 
 import fmpy
 import pytest
@@ -280,3 +283,26 @@ step = 0.1
 fmu = "{trivial}"
 """))
     assert res.stats.terminated_by is None and res.stats.end_time == pytest.approx(0.3)
+
+
+def test_terminate_request_stops_the_run_with_its_results_and_exit_4(write_system, tmp_path):
+    # The stair steps up at t = 1, 2, 3 and asks to terminate when its counter reaches 3: the run
+    # ends at t = 3 (not at the stop time 10), with the rows up to then and a non-zero exit.
+    system = write_system("""
+[experiment]
+stop = 10.0
+step = 0.5
+[instances.stair]
+fmu = "{stair}"
+start = { last = 3 }
+""")
+    out = tmp_path / "r.csv"
+    proc = subprocess.run([sys.executable, "-m", "robogen", "simulate", str(system), "-o", str(out)],
+                          capture_output=True, text=True)
+    assert proc.returncode == 4, proc.stderr
+    assert "instance 'stair' asked to terminate" in proc.stderr and "t=3.0" in proc.stderr
+    assert "Traceback" not in proc.stderr
+    rows = list(csv.reader(out.open()))
+    times = [float(r[0]) for r in rows[1:]]
+    assert times[-1] == 3.0
+    assert rows[-1][rows[0].index("stair.counter")] == "3"

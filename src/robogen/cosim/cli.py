@@ -7,6 +7,9 @@ import sys
 
 from robogen.diagnostics import RobogenError, SourceMap, render_all
 
+#: Exit status when an FMU asked to terminate before the stop time (its results are on disk).
+EXIT_TERMINATED = 4
+
 
 def _factor(text: str) -> float:
     try:
@@ -53,9 +56,10 @@ def run(args: argparse.Namespace) -> int:
     print(f"simulated {args.system} to t={s.end_time!r}: {s.steps} steps, {s.event_iterations} event iterations, "
           f"{s.instants} super-dense instants, {s.early_returns} early returns -> {args.output}", file=sys.stderr)
     if s.terminated_by:
-        print(f"note: {s.terminated_by}", file=sys.stderr)
+        print(f"robogen simulate: stopped at t={s.end_time!r} before the stop time: {s.terminated_by}; "
+              f"results recorded so far are in {args.output}", file=sys.stderr)
     if s.realtime:
         r = s.realtime
         print(f"real time x{r['factor']:g}: mean lag {1000 * r['mean_lag']:.3f} ms, worst lag {1000 * r['worst_lag']:.3f} ms, "
               f"{r['overruns']} overruns (> {1000 * 1e-3:.0f} ms late) in {r['points']} communication points", file=sys.stderr)
-    return 0
+    return EXIT_TERMINATED if s.terminated_by else 0

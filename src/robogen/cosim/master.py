@@ -131,12 +131,15 @@ class Master:
     def run(self) -> Stats:
         opt = self.options
         progress = Progress(opt.start, opt.stop, enabled=opt.progress)
-        pacer = Pacer(opt.realtime, opt.start) if opt.realtime else None
+        pacer: Pacer | None = None
         self._t = opt.start
         try:
             self._setup()
             t = opt.start
             self._event_iteration(t)
+            # Pacing starts once the system is initialised: loading and instantiating the FMUs
+            # is not simulated time, and must not show as lag.
+            pacer = Pacer(opt.realtime, opt.start) if opt.realtime else None
             stop_limit = opt.stop - tolerance(opt.stop)
             while t < stop_limit and self.stats.terminated_by is None:
                 if self.plain_ok:

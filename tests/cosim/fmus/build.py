@@ -35,6 +35,7 @@ MODELS: dict[str, dict] = {
         vars=[
             V(("counter", 1, "Int64", "output", "discrete", {})),
             V(("period", 2, "Float64", "parameter", "fixed", {"start": "1.0"})),
+            V(("last", 3, "Int64", "parameter", "fixed", {"start": "0"})),
         ]),
     "ticker": dict(
         vars=[
