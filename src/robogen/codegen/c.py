@@ -170,7 +170,14 @@ class Emitter:
         return f"rg_{tag(t)}_{op}({a}, {b})"
 
     def _Conv(self, e: ir.Conv) -> str:
-        return f"(({ctype(e.type)}){self.expr(e.operand)})"
+        source, target = e.operand.type, e.type
+        a = self.expr(e.operand)
+        if source == T.REAL and target in (T.INT, T.NAT):  # out of range is a run-time error, not UB
+            self.fallible = True
+            return f"rg_r_to_{tag(target)}(d, {a})"
+        if source == T.NAT and target == T.INT:
+            return f"rg_u_to_i({a})"
+        return f"(({ctype(target)}){a})"
 
     def _Cond(self, e: ir.Cond) -> str:
         return f"({self.expr(e.cond)} ? {self.expr(e.then)} : {self.expr(e.otherwise)})"
@@ -198,6 +205,9 @@ class Emitter:
 
     def _WaitLeft(self, e: ir.WaitLeft) -> str:
         return "m->wait_left"
+
+    def _Now(self, e: ir.Now) -> str:
+        return "m->ticks"
 
     def _RecordLit(self, e: ir.RecordLit) -> str:
         parts = ", ".join(f".{n} = {self.expr(v)}" for n, v in e.values)
@@ -262,7 +272,11 @@ class Emitter:
         if isinstance(s, ir.ResetClock):
             return [f"{indent}m->clock_reset[{s.clock}] = m->ticks;"]
         if isinstance(s, ir.Enter):
+            if s.resume:
+                return [f"{indent}m->node = {s.node};"]
             return [f"{indent}m->node = {s.node}; m->entered[{s.node}] = m->ticks;"]
+        if isinstance(s, ir.DeadlineMiss):
+            return [f"{indent}rg_deadline_miss(inst, {c_string(self.m.name + ': ' + s.text)});"]
         if isinstance(s, ir.Consume):
             return [f"{indent}m->smp_present[{s.event}] = false;"]
         if isinstance(s, ir.StartWait):
@@ -298,19 +312,20 @@ class Emitter:
         lines.append(f"{indent}}}")
         return lines
 
+    def step(self, indent: str) -> list[str]:
+        """The start of a transition segment (a block marked step)."""
+        return [
+            f"{indent}if (micro && taken) return RG_RUN_MICRO;  /* stepwise: one transition per instant */",
+            f"{indent}taken = true;",
+            f"{indent}if (++m->transitions > RG_MAX_TRANSITIONS) return rg_runaway_{self.m.index}(inst);",
+        ]
+
     # ---------------------------------------------------------------- terminators
 
     def terminator(self, t: ir.Terminator, indent: str) -> list[str]:
         i = self.m.index
         if isinstance(t, ir.Goto):
             return [f"{indent}m->pc = {t.target}; continue;"]
-        if isinstance(t, ir.Micro):
-            return [
-                f"{indent}m->pc = {t.target};",
-                f"{indent}if (++transitions > RG_MAX_TRANSITIONS) return rg_runaway_{i}(inst);",
-                f"{indent}if (micro) return RG_RUN_MICRO;",
-                f"{indent}continue;",
-            ]
         if isinstance(t, ir.Suspend):
             return [f"{indent}m->pc = {t.target}; return RG_RUN_SUSPENDED;"]
         if isinstance(t, ir.Fail):

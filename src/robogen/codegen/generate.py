@@ -320,7 +320,9 @@ class _Layout:
         self.variables.append(FmiVar("cycles", self._next_vr(), "UInt64", "output", "discrete", "cycles", initial="exact", start="0",
                                      description=f"ticks of {fmu.clock_name} processed"))
         self.variables.append(FmiVar("dropped_events", self._next_vr(), "UInt64", "output", "discrete", "dropped_events", initial="exact", start="0",
-                                     description="input events overwritten or expired before a machine used them"))
+                                     description="input events overwritten by a newer one before a machine used them"))
+        self.variables.append(FmiVar("deadline_misses", self._next_vr(), "UInt64", "output", "discrete", "deadline_misses", initial="exact", start="0",
+                                     description="RoboChart deadlines missed (counted and logged, never enforced)"))
         for m in fmu.machines:
             for v in m.vars:
                 self._type(v.type)
@@ -379,10 +381,10 @@ def _machine_code(fmu: ir.Fmu, m: ir.Machine, layout: _Layout, line_comments: bo
     em = Emitter(fmu, m, layout.port_fields_out, layout.clock_index)
     cases = []
     for b in m.blocks:
-        if b.label == "(unused)":
-            continue
         where = f"  {b.span.path}:{b.span.line}" if (line_comments and b.span is not None) else ""
         lines = [f"        case {b.id}: /* b{b.id}: {c_comment(b.label)}{where} */"]
+        if b.step:
+            lines += em.step("            ")
         lines += em.stmts(b.stmts, "            ")
         assert b.term is not None
         lines += em.terminator(b.term, "            ")

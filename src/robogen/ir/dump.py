@@ -66,7 +66,7 @@ def machine(m: ir.Machine) -> str:
         out.append(f"    node n{n.id} {n.kind} {n.label}")
     out.append(f"    start b{m.start}")
     for b in m.blocks:
-        out.append(f"    b{b.id}: {b.label}")
+        out.append(f"    b{b.id}: {b.label}" + ("  [step]" if b.step else ""))
         for s in b.stmts:
             out.extend("      " + line for line in stmt(s))
         out.append(f"      {terminator(b.term)}")
@@ -76,8 +76,6 @@ def machine(m: ir.Machine) -> str:
 def terminator(t: ir.Terminator | None) -> str:
     if isinstance(t, ir.Goto):
         return f"goto b{t.target}"
-    if isinstance(t, ir.Micro):
-        return f"micro b{t.target}"
     if isinstance(t, ir.Suspend):
         return f"suspend b{t.target}"
     if isinstance(t, ir.Fail):
@@ -105,7 +103,9 @@ def stmt(s: ir.Stmt) -> list[str]:
     if isinstance(s, ir.ResetClock):
         return [f"reset c{s.clock}"]
     if isinstance(s, ir.Enter):
-        return [f"enter n{s.node}"]
+        return [f"resume n{s.node}" if s.resume else f"enter n{s.node}"]
+    if isinstance(s, ir.DeadlineMiss):
+        return [f"deadline missed {s.text!r}"]
     if isinstance(s, ir.Consume):
         return [f"consume e{s.event}"]
     if isinstance(s, ir.StartWait):
@@ -152,6 +152,8 @@ def expr(e: ir.Expr | None) -> str:
         return f"sinceEntry(n{e.node})"
     if isinstance(e, ir.WaitLeft):
         return "wait_left"
+    if isinstance(e, ir.Now):
+        return "now"
     if isinstance(e, ir.RecordLit):
         return "{" + ", ".join(f"{n} = {expr(v)}" for n, v in e.values) + "}"
     if isinstance(e, ir.VectorLit):

@@ -14,14 +14,16 @@ two's complement integer, ``nat`` a wrapping unsigned 64-bit integer, division t
 toward zero, ``real`` is an IEEE double; division by zero and vector indices out of range are
 run-time errors (:class:`RuntimeFault`), as is a runaway cycle or a deadlock.
 
-RoboSim (per machine, each instant): a tick of ``cycle`` starts a cycle: the input register
-(events latched since the previous cycle) becomes the sample and is cleared, then the machine
-runs until it suspends (exhaustive) or to its next micro-step boundary (stepwise, where later
-micro-steps of the cycle run in the following instants without a clock). RoboChart: a tick of
-``tock`` drops the events still buffered from the previous time unit and advances time (clocks,
-waits); events latched in the instant join the buffer and the machine runs to quiescence
-(exhaustive) or takes one transition (stepwise); events that arrive after the evaluation ask for
-another instant.
+RoboSim (each instant): a tick of ``cycle`` starts a cycle of every machine: first each machine's
+input register (events latched since the previous cycle, from the platform or from the other
+machines) becomes its sample and is cleared, then the machines run, in declaration order, until
+they suspend (exhaustive) or take one transition (stepwise, where later micro-steps of the cycle
+run in the following instants without a clock). Because every machine samples before any runs,
+what one machine sends another is seen in the next cycle, whatever their order. RoboChart: a tick
+of ``tock`` advances time (clocks, waits); events latched in the instant join the machine's
+buffer (one place per event; it keeps an event until a transition or an input statement consumes
+it, docs/robosim-robochart.md §7.7) and the machine runs to quiescence (exhaustive) or takes one
+transition (stepwise); events that arrive after the evaluation ask for another instant.
 """
 
 from __future__ import annotations
@@ -85,6 +87,7 @@ class MachineState:
     clocks: list[int]
     entered: dict[int, int]
     ticks: int = 0
+    transitions: int = 0  # transitions taken in the current cycle (runaway bound)
     wait_left: int = 0
     in_cycle: bool = False  # stepwise: the current cycle/run has more micro-steps
     pending: int = 0  # stepwise RoboSim: cycle ticks not started yet
@@ -110,6 +113,7 @@ class Interpreter:
             self.parameters.update(parameters)
         self.cycles = 0
         self.dropped = 0
+        self.deadline_misses = 0
         self.machines: list[MachineState] = []
         self.active: dict[str, dict[str, object]] = {}
         self.evaluated = False
@@ -121,6 +125,7 @@ class Interpreter:
     def reset(self) -> None:
         self.cycles = 0
         self.dropped = 0
+        self.deadline_misses = 0
         self.machines = []
         for m in self.fmu.machines:
             self.machines.append(
@@ -183,40 +188,44 @@ class Interpreter:
         self.active = {}
         if periodic:
             self.cycles += 1
-        for m, ms in zip(self.fmu.machines, self.machines):
-            if self.fmu.robochart:
+        if self.fmu.robochart:
+            for m, ms in zip(self.fmu.machines, self.machines):
                 self._evaluate_robochart(m, ms, periodic)
-            else:
-                self._evaluate_robosim(m, ms, periodic)
+        else:
+            # every machine samples its inputs before any machine runs
+            running = [self._sample_robosim(ms, periodic) for ms in self.machines]
+            micro = self.fmu.semantics == "stepwise"
+            for m, ms, run in zip(self.fmu.machines, self.machines, running):
+                if run:
+                    ms.in_cycle = self._run(m, ms, micro=micro) == "micro"
         return self._instant()
 
-    def _evaluate_robosim(self, m: ir.Machine, ms: MachineState, periodic: bool) -> None:
-        stepwise = self.fmu.semantics == "stepwise"
+    def _sample_robosim(self, ms: MachineState, periodic: bool) -> bool:
+        """Start a cycle if one is due (sample the register); says whether the machine runs."""
         start = periodic or (self.fmu.trigger == "on-input" and ms.new_input)
-        if stepwise:
+        if self.fmu.semantics == "stepwise":
             if start:
                 ms.pending += 1
             if ms.in_cycle:
-                ms.in_cycle = self._run(m, ms, micro=True) == "micro"
-            elif ms.pending:
+                return True
+            if ms.pending:
                 ms.pending -= 1
                 self._start_cycle(ms)
-                ms.in_cycle = self._run(m, ms, micro=True) == "micro"
-            return
+                return True
+            return False
         if start:
             self._start_cycle(ms)
-            self._run(m, ms, micro=False)
+        return start
 
     def _start_cycle(self, ms: MachineState) -> None:
         ms.sample = ms.register
         ms.register = {}
         ms.new_input = False
         ms.ticks += 1
+        ms.transitions = 0
 
     def _evaluate_robochart(self, m: ir.Machine, ms: MachineState, periodic: bool) -> None:
         if periodic:
-            self.dropped += len(ms.sample)  # events not taken within their time unit
-            ms.sample = {}
             ms.ticks += 1
             if ms.wait_left > 0:
                 ms.wait_left -= 1
@@ -228,6 +237,8 @@ class Interpreter:
         ms.register = {}
         ms.new_input = False
         if periodic or arrived or ms.in_cycle:
+            if not ms.in_cycle:
+                ms.transitions = 0  # a new run to quiescence
             ms.in_cycle = self._run(m, ms, micro=self.fmu.semantics == "stepwise") == "micro"
 
     def update(self) -> bool:
@@ -262,14 +273,25 @@ class Interpreter:
     # ------------------------------------------------------------------ execution
 
     def _run(self, m: ir.Machine, ms: MachineState, micro: bool) -> str:
-        transitions = 0
+        """Run from ms.pc until the machine suspends ("suspend") or, with ``micro``, until it
+        reaches a second transition segment ("micro")."""
         steps = 0
+        taken = False
         limit = self.fmu.max_steps
         while True:
             steps += 1
             if steps > 64 * limit:
                 raise RuntimeFault(f"machine {m.name}: a cycle ran more than {64 * limit} steps without ending")
             block = m.blocks[ms.pc]
+            if block.step:
+                if micro and taken:
+                    return "micro"
+                taken = True
+                ms.transitions += 1
+                if ms.transitions > limit:
+                    raise RuntimeFault(
+                        f"machine {m.name}: more than {limit} transitions in one cycle without exec (a runaway cycle) at {block.label}"
+                    )
             for s in block.stmts:
                 self._exec(s, m, ms)
             term = block.term
@@ -282,15 +304,6 @@ class Interpreter:
                     term = term.default
             if isinstance(term, ir.Goto):
                 ms.pc = term.target
-            elif isinstance(term, ir.Micro):
-                ms.pc = term.target
-                transitions += 1
-                if transitions > limit:
-                    raise RuntimeFault(
-                        f"machine {m.name}: more than {limit} transitions in one cycle without exec (a runaway cycle) at {block.label}"
-                    )
-                if micro:
-                    return "micro"
             elif isinstance(term, ir.Suspend):
                 ms.pc = term.target
                 return "suspend"
@@ -317,12 +330,16 @@ class Interpreter:
             ms.clocks[s.clock] = ms.ticks
         elif isinstance(s, ir.Enter):
             ms.node = s.node
-            ms.entered[s.node] = ms.ticks
+            if not s.resume:
+                ms.entered[s.node] = ms.ticks
         elif isinstance(s, ir.Consume):
             ms.sample.pop(s.event, None)
         elif isinstance(s, ir.StartWait):
             ms.wait_left = max(0, int(self._eval(s.duration, m, ms)))  # type: ignore[arg-type]
         elif isinstance(s, ir.Trace):
+            self.trace.append(f"{m.name}: {s.text}")
+        elif isinstance(s, ir.DeadlineMiss):
+            self.deadline_misses += 1
             self.trace.append(f"{m.name}: {s.text}")
         else:  # pragma: no cover
             raise RuntimeFault(f"unknown statement {type(s).__name__}")
@@ -412,6 +429,8 @@ class Interpreter:
             return self._since(ms.ticks - ms.entered.get(e.node, 0), e.type)
         if isinstance(e, ir.WaitLeft):
             return ms.wait_left
+        if isinstance(e, ir.Now):
+            return ms.ticks
         if isinstance(e, ir.RecordLit):
             return {n: self._eval(v, m, ms) for n, v in e.values}
         if isinstance(e, ir.VectorLit):
@@ -459,8 +478,14 @@ class Interpreter:
 
 
 def convert(v, source: T.Type, target: T.Type):
+    """A numeric conversion. A real becomes an integer by truncation toward zero; a real outside
+    the target's range (or not a number) is a run-time error, as in the generated C."""
     if target == T.REAL:
         return float(v)
+    if source == T.REAL and target in (T.INT, T.NAT):
+        low, high = (-(2.0**63), 2.0**63) if target == T.INT else (-1.0, 2.0**64)
+        if not (low <= v < high) or (target == T.NAT and v <= -1.0):
+            raise RuntimeFault(f"the real {v!r} is out of range for {target.show()}")
     if target == T.INT:
         return wrap_int(int(v))
     if target == T.NAT:

@@ -422,6 +422,8 @@ class _MachineLowering:
         self.completions: dict[tuple[int, int], int] = {}
         self.inline_stack: list[str] = []
         self.site = 0
+        self.node_now = 0  # the machine's state output where the statement being lowered runs
+        self.deadline_flags: dict[tuple[int, int], ir.Var] = {}  # (graph, transition) -> missed flag
         # storage: machine variables and constants, events, clocks
         for name, v in scope.vars.items():
             self._declare_var(v, name, name)
@@ -505,11 +507,13 @@ class _MachineLowering:
         root = self.scope.region
         assert root is not None
         start = self.block(f"start {self.scope.name}", self.scope.node.name_span)
+        start.step = True  # the initial transition is the first transition segment
         self.machine.start = start.id
         initials = root.initials()
         if not initials:
             raise RobogenError.at(f"state machine '{self.scope.name}' has no initial node", self.scope.node.name_span)
         self.machine.initial_node = graph.node_ids[id(initials[0])]
+        self.node_now = self.machine.initial_node
         self._initial(graph, root, start)
 
     def _clock(self, name: str) -> int:
@@ -550,7 +554,7 @@ class _MachineLowering:
         target = region.nodes[t.target]
         cur, leaf = self._enter(graph, target, cur)
         if region.owner is graph.scope.node and cur.term is None:
-            cur.term = ir.Micro(self._eval(graph, leaf))
+            cur.term = ir.Goto(self._eval(graph, leaf))
         return cur, leaf
 
     def _enter(self, graph: _Graph, node: ast.NodeDecl, cur: ir.Block) -> tuple[ir.Block, ast.Node]:
@@ -558,6 +562,11 @@ class _MachineLowering:
         transition, recursively. Returns the open block and the leaf node reached."""
         nid = graph.node_ids[id(node)]
         cur.stmts.append(ir.Enter(node.name_span, nid))
+        self.node_now = nid
+        for t in self._outgoing(graph, node):
+            if t.deadline is not None:  # a new activation of the source: its deadline runs again
+                flag = self._deadline_flag(graph, t)
+                cur.stmts.append(ir.Assign(t.deadline.span, ir.Ref(T.BOOLEAN, flag), ir.Lit(T.BOOLEAN, False)))
         if isinstance(node, ast.State):
             entry = _action(node, "entry")
             if entry is not None:
@@ -598,6 +607,7 @@ class _MachineLowering:
         name = ".".join(self.machine.nodes[key[1]].path)
         b = self.block(f"EVAL {name}", getattr(leaf, "span", None))
         self.evals[key] = b.id
+        self.node_now = key[1]
         cur = b
         cases: list[ir.Case] = []
         if isinstance(leaf, (ast.State, ast.Final)):
@@ -612,10 +622,13 @@ class _MachineLowering:
         else:
             sources = [leaf]
         for src in sources:
-            region = self._region_of(graph, src)
-            for t in region.transitions:
-                if t.source == src.name:  # type: ignore[attr-defined]
-                    cases.append(self._case(graph, t, src, leaf))
+            for t in self._outgoing(graph, src):
+                if t.deadline is not None and not self.robosim:
+                    cur.stmts.append(self._deadline_check(graph, t, src))
+        for src in sources:
+            # declaration order, except that 'condition else' is the default: tried last
+            for t in sorted(self._outgoing(graph, src), key=lambda t: t.condition_else):
+                cases.append(self._case(graph, t, src, leaf))
         is_top_final = isinstance(leaf, ast.Final) and graph.parent.get(id(leaf)) is None
         if is_top_final and graph.exit_block is not None:
             cur.term = ir.Goto(graph.exit_block)  # an operation ends at its final node
@@ -651,18 +664,60 @@ class _MachineLowering:
             guard = ir.Lit(T.BOOLEAN, True)
         label = f"{t.name}: {src.name} -> {t.target}"  # type: ignore[attr-defined]
         if t.exec:
+            # decide now, act next cycle: the completion is the first segment of the next cycle
             decide = self.block(f"{t.name}: exec decided", t.span)
             decide.stmts.append(ir.Trace(t.span, f"{t.name}: exec"))
             decide.term = ir.Suspend(self._completion(graph, t, src, leaf, None))
             return ir.Case(guard, decide.id, label + " (exec)", t.name_span)
         return ir.Case(guard, self._completion(graph, t, src, leaf, event_index), label, t.name_span)
 
+    def _outgoing(self, graph: _Graph, src: ast.Node) -> list[ast.Transition]:
+        """The transitions leaving ``src``, in declaration order."""
+        if id(src) not in graph.parent:
+            return []
+        region = self._region_of(graph, src)
+        return [t for t in region.transitions if t.source == src.name]  # type: ignore[attr-defined]
+
+    # -- deadlines (RoboChart; RoboSim rejects them in the checker)
+
+    def _deadline_flag(self, graph: _Graph, t: ast.Transition) -> ir.Var:
+        """The flag that says the deadline of ``t`` was already reported for this activation of
+        its source (one per transition and inlined operation)."""
+        key = (id(graph), id(t))
+        if key not in self.deadline_flags:
+            name = "_".join(graph.prefix) + ("_" if graph.prefix else "") + f"{t.name}_deadline"
+            var = ir.Var(_cname(name), f"{'.'.join(graph.prefix + (t.name,))}.deadline", T.BOOLEAN, "local", None,
+                         t.deadline.span if t.deadline is not None else None, False, len(self.machine.vars))
+            self.machine.vars.append(var)
+            self.deadline_flags[key] = var
+        return self.deadline_flags[key]
+
+    def _deadline_check(self, graph: _Graph, t: ast.Transition, src: ast.Node) -> ir.Stmt:
+        """In the source's evaluation: the trigger of ``t`` is late if the source has been active
+        longer than the deadline; reported once per activation."""
+        assert t.deadline is not None
+        flag = self._deadline_flag(graph, t)
+        elapsed = ir.SinceEntry(self._since_type(), graph.node_ids[id(src)])
+        late = self._later(elapsed, self.expr(t.deadline, graph), t.deadline.span)
+        guard = ir.Bin(T.BOOLEAN, "and", ir.Un(T.BOOLEAN, "not", ir.Ref(T.BOOLEAN, flag)), late)
+        text = (f"{t.name}: deadline missed: trigger '{t.trigger.event if t.trigger else ''}' not within "
+                f"{show_expr(t.deadline)} time unit(s) of entering {src.name} ({_at(t)})")  # type: ignore[attr-defined]
+        return ir.If(t.deadline.span, guard, (ir.Assign(t.deadline.span, ir.Ref(T.BOOLEAN, flag), ir.Lit(T.BOOLEAN, True)),
+                                               ir.DeadlineMiss(t.deadline.span, text)), ())
+
+    def _later(self, elapsed: ir.Expr, bound: ir.Expr, span: Span | None) -> ir.Expr:
+        """elapsed > bound, compared as reals if the bound is real, else as integers."""
+        t = T.REAL if bound.type == T.REAL else T.INT
+        return ir.Bin(T.BOOLEAN, "gt", self._conv(elapsed, t, span), self._conv(bound, t, span))
+
     def _completion(self, graph: _Graph, t: ast.Transition, src: ast.Node, leaf: ast.Node, consume: int | None) -> int:
         key = (id(t), graph.node_ids[id(leaf)])
         if key in self.completions:
             return self.completions[key]
         b = self.block(f"{t.name}: {src.name} -> {t.target}", t.span)  # type: ignore[attr-defined]
+        b.step = True
         self.completions[key] = b.id
+        self.node_now = graph.node_ids[id(leaf)]
         cur = b
         if consume is not None:
             cur.stmts.append(ir.Consume(t.span, consume))
@@ -681,7 +736,7 @@ class _MachineLowering:
         target = region.nodes[t.target]
         cur, arrived = self._enter(graph, target, cur)
         if cur.term is None:
-            cur.term = ir.Micro(self._eval(graph, arrived))
+            cur.term = ir.Goto(self._eval(graph, arrived))
         return b.id
 
     # -- statements
@@ -717,15 +772,9 @@ class _MachineLowering:
         if isinstance(s, ast.IfStmt):
             cond = self.expr(s.cond, graph)
             if not _has_control(s.then) and (s.otherwise is None or not _has_control(s.otherwise)):
-                then_b = self.block("then", s.then.span)
-                end_then = self.stmts(s.then, then_b, graph)
-                else_stmts: list[ir.Stmt] = []
-                if s.otherwise is not None:
-                    else_b = self.block("else", s.otherwise.span)
-                    self.stmts(s.otherwise, else_b, graph)
-                    else_stmts = self._steal(else_b)
-                cur.stmts.append(ir.If(s.span, cond, tuple(self._steal(then_b)), tuple(else_stmts)))
-                assert end_then is then_b
+                then = self._straight(s.then, graph)
+                otherwise = self._straight(s.otherwise, graph) if s.otherwise is not None else []
+                cur.stmts.append(ir.If(s.span, cond, tuple(then), tuple(otherwise)))
                 return cur
             then_b = self.block("then", s.then.span)
             join = self.block("end if", s.span)
@@ -782,16 +831,28 @@ class _MachineLowering:
                 return nxt
             raise not_supported("a synchronisation communication e.v in an action", s.span)
         if isinstance(s, ast.StmtDeadline):
-            return self.stmts(s.stmt, cur, graph)
+            if not _has_control(s.stmt):  # takes no time: cannot miss its deadline
+                return self.stmts(s.stmt, cur, graph)
+            self.site += 1
+            start = ir.Var(f"deadline_{self.site}", f"deadline#{self.site}.start", T.NAT, "local", None, s.span, False,
+                           len(self.machine.vars))
+            self.machine.vars.append(start)
+            cur.stmts.append(ir.Assign(s.span, ir.Ref(T.NAT, start), ir.Now(T.NAT)))
+            cur = self.stmts(s.stmt, cur, graph)
+            elapsed = ir.Bin(T.NAT, "sub", ir.Now(T.NAT), ir.Ref(T.NAT, start))
+            late = self._later(elapsed, self.expr(s.bound, graph), s.bound.span)
+            text = f"deadline missed: the statement at {_at(s)} took longer than {show_expr(s.bound)} time unit(s)"
+            cur.stmts.append(ir.If(s.span, late, (ir.DeadlineMiss(s.span, text),), ()))
+            return cur
         raise not_supported(f"the statement '{type(s).__name__}'", s.span)  # pragma: no cover
 
-    def _steal(self, b: ir.Block) -> list[ir.Stmt]:
-        """Take the statements of a scratch block (used for if-statements without control flow)."""
-        stmts = b.stmts
-        b.stmts = []
-        b.term = ir.Fail("unreachable")
-        b.label = "(unused)"
-        return stmts
+    def _straight(self, s: ast.Stmt, graph: _Graph) -> list[ir.Stmt]:
+        """The statements of ``s``, which has no control flow of its own (no exec, wait, input or
+        call: see _has_control), lowered into a detached block that never joins the machine."""
+        detached = ir.Block(-1, "detached", s.span)
+        end = self.stmts(s, detached, graph)
+        assert end is detached and detached.term is None, "a statement with control flow in an if without blocks"
+        return detached.stmts
 
     def _payload(self, event: str, value: ast.Expr, graph: _Graph) -> ir.Expr:
         t = self.event_type(event)
@@ -857,6 +918,7 @@ class _MachineLowering:
             if v.kind in ("var", "const") and not v.shared and v.init is not None:
                 var = env[name]
                 cur.stmts.append(ir.Assign(v.span, ir.Ref(var.type, var), self._conv(self.expr(v.init, sub), var.type, v.init.span)))
+        caller_node = self.node_now
         self.inline_stack.append(op.name)
         try:
             start = self.block(f"call {op.name}()", span)
@@ -864,6 +926,9 @@ class _MachineLowering:
             end, leaf = self._initial_op(sub, start)
         finally:
             self.inline_stack.pop()
+        # back in the caller: its node is the machine's state again (no new entry)
+        after.stmts.insert(0, ir.Enter(span, caller_node, resume=True))
+        self.node_now = caller_node
         return after
 
     def _initial_op(self, graph: _Graph, start: ir.Block) -> tuple[ir.Block, ast.Node]:
@@ -871,7 +936,7 @@ class _MachineLowering:
         assert region is not None
         cur, leaf = self._initial_inner(graph, region, start)
         if cur.term is None:
-            cur.term = ir.Micro(self._eval(graph, leaf)) if not isinstance(leaf, ast.Final) else ir.Goto(self._eval(graph, leaf))
+            cur.term = ir.Goto(self._eval(graph, leaf))
         return cur, leaf
 
     # -- expressions
@@ -1075,6 +1140,13 @@ class _MachineLowering:
                 raise not_supported(f"'{e.op}' on {a.type.show()}", e.span)
             if not (is_scalar(a.type) or isinstance(a.type, (T.RecordT, T.VectorT, T.MatrixT))):
                 raise not_supported(f"comparing values of type {a.type.show()}", e.span)
+            if a.type != b.type:  # a literal takes the type of the other side: [| 0, 0 |] is vector(nat, 2)
+                if self._conv(b, a.type, e.right.span).type == a.type:
+                    b = self._conv(b, a.type, e.right.span)
+                elif self._conv(a, b.type, e.left.span).type == b.type:
+                    a = self._conv(a, b.type, e.left.span)
+                else:
+                    raise not_supported(f"comparing a {a.type.show()} with a {b.type.show()}", e.span)
             return ir.Bin(T.BOOLEAN, op, a, b)
         t = self._type(e)
         if t not in T.NUMERIC:

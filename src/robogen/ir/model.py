@@ -4,11 +4,18 @@ Every state machine becomes a list of basic blocks. A block holds simple stateme
 one terminator that says where control goes next:
 
 - ``Goto(b)``: continue at block b;
-- ``Micro(b)``: a micro-step boundary (a transition segment has ended): in stepwise semantics the
-  FMU stops here until the next ``fmi3UpdateDiscreteStates``; in exhaustive semantics it goes on;
 - ``Suspend(b)``: the cycle (RoboChart: the run to quiescence) ends; it resumes at b next time;
 - ``Branch(cases, default)``: guards tried in priority order, the first that holds wins;
 - ``Fail(message)``: a deadlock, reported at run time.
+
+A block marked ``step`` starts a transition segment (the exit actions of its source, its action,
+the entry into its target). Entering it counts one transition of the cycle (a runaway cycle is
+one that counts more than ``Fmu.max_steps``). In stepwise semantics a run stops in front of the
+second ``step`` block it reaches, so every ``fmi3UpdateDiscreteStates`` takes exactly one
+transition, together with the evaluation of the guards that follow it: the run that enters a
+state also finds out whether the state's next transition is an ``exec`` (the cycle ends there,
+``discreteStatesNeedUpdate = false``) or another transition (``true``), as
+docs/robosim-robochart.md §7.5 asks. In exhaustive semantics ``step`` only counts.
 
 That one mechanism expresses RoboSim's exec transitions (decide now, act next cycle), exec
 statements in the middle of actions, RoboChart's ``wait(n)`` and quiescence, entry and exit
@@ -202,6 +209,11 @@ class SinceEntry(Expr):
 
 
 @dataclass(frozen=True)
+class Now(Expr):
+    """The machine's tick count (cycles or tocks seen), a ``nat``: the time base of deadlines."""
+
+
+@dataclass(frozen=True)
 class WaitLeft(Expr):
     """RoboChart: time units left of the current wait (0 when none)."""
 
@@ -263,9 +275,12 @@ class ResetClock(Stmt):
 
 @dataclass(frozen=True)
 class Enter(Stmt):
-    """The machine rests in, or passes through, ``node`` (its state output; sinceEntry)."""
+    """The machine rests in, or passes through, ``node`` (its state output; sinceEntry). With
+    ``resume``, control only returns to ``node`` (after a software operation call): the state
+    output changes, the entry time does not."""
 
     node: int
+    resume: bool = False
 
 
 @dataclass(frozen=True)
@@ -280,6 +295,14 @@ class StartWait(Stmt):
     """RoboChart ``wait(n)``: n time units must pass before control goes on."""
 
     duration: Expr
+
+
+@dataclass(frozen=True)
+class DeadlineMiss(Stmt):
+    """A RoboChart deadline was missed: counted in the output ``deadline_misses`` and logged;
+    never enforced (docs/robosim-robochart.md §4.3)."""
+
+    text: str
 
 
 @dataclass(frozen=True)
@@ -299,11 +322,6 @@ class Terminator:
 
 @dataclass(frozen=True)
 class Goto(Terminator):
-    target: int
-
-
-@dataclass(frozen=True)
-class Micro(Terminator):
     target: int
 
 
@@ -338,6 +356,7 @@ class Block:
     span: Span | None
     stmts: list[Stmt] = field(default_factory=list)
     term: Terminator | None = None
+    step: bool = False  # a transition segment starts here (see the module documentation)
 
 
 @dataclass(eq=False)
