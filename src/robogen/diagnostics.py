@@ -195,20 +195,26 @@ class SourceMap:
             self.add(path, text)
 
     def add(self, path: str, text: str) -> None:
-        self._lines[path] = text.splitlines()
+        self._lines[path] = _lines(text)
 
     def line(self, path: str, number: int) -> str | None:
         lines = self._lines.get(path)
         if lines is None:
             try:
                 with open(path, "rb") as f:
-                    lines = f.read().decode("utf-8", errors="replace").splitlines()
+                    lines = _lines(f.read().decode("utf-8", errors="replace"))
             except OSError:
                 lines = []
             self._lines[path] = lines
         if 1 <= number <= len(lines):
             return lines[number - 1]
         return None
+
+
+def _lines(text: str) -> list[str]:
+    """Lines as the parser numbers them: split at "\n" only (str.splitlines would also split at a
+    lone "\r", form feeds and U+2028, and the excerpt would show another line than the one meant)."""
+    return [line.removesuffix("\r") for line in text.split("\n")]
 
 
 def _display(path: str) -> str:

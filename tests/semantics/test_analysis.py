@@ -226,3 +226,40 @@ def test_a_value_bound_in_the_guard_is_not_the_value_read_before():
         "transition t2 { from A to A exec condition not $f }",
     )
     assert diagnostics(text, "m.rst") == []
+
+
+def test_arithmetic_the_evaluator_does_not_follow_is_declined_not_a_crash():
+    # division of two literals used to reach an unsupported operator in the evaluator
+    text = lines(
+        "stm S {",
+        "\tvar x: nat",
+        "\tinitial i",
+        "\tstate A { }",
+        "\ttransition t0 { from i to A }",
+        "\ttransition t1 { from A to A condition 4 / 2 > 1 }",
+        "\ttransition t2 { from A to A condition x % 2 == 1 /\\ 6 / 3 == 2 }",
+        "}",
+    )
+    assert diagnostics(text) == []
+
+
+def test_the_robosim_period_is_a_value_not_an_unknown():
+    # cycle is 2 here: since(C) > 3 * cycle and since(C) < 5 cannot hold together; an unknown
+    # cycle could be 1 and would make them overlap
+    text = robosim(
+        "clock C",
+        "state A { }",
+        "transition t0 { from i to A }",
+        "transition t1 { from A to A exec condition since(C) > 3 * cycle }",
+        "transition t2 { from A to A exec condition since(C) < 5 }",
+    ).replace("cycle == 1", "cycle == 2")
+    assert diagnostics(text, "m.rst") == []
+    overlapping = text.replace("since(C) < 5", "since(C) < 8")
+    assert diagnostics(overlapping, "m.rst") == [
+        (
+            "warning",
+            *at(overlapping, "t2"),
+            "transitions 't1' and 't2' leave 'A' and can be enabled together (for example when since(C) = 7); "
+            "'t1' is taken, as it is declared first",
+        )
+    ]

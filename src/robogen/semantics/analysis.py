@@ -7,25 +7,22 @@
   reported only with a concrete witness, so the warning is never speculative;
 - RoboSim: states from which no path reaches ``exec``, and cycles of transitions without ``exec``.
 
-Guards are evaluated over small domains: each input event ``$e`` and boolean leaf is true or
-false, an enumeration-valued leaf ranges over its literals, a numeric leaf over the literals of
-the guards and their neighbours. "Never fires" uses an abstraction in which every comparison is
-an independent proposition (an over-approximation: if even that is unsatisfiable, the guard is).
+Guards are evaluated by :mod:`robogen.semantics.guards` over small sample domains. "Never
+fires" is claimed when an abstraction in which every comparison is an independent proposition
+is unsatisfiable (an over-approximation: then so is the guard), or when the sampling is
+exhaustive for the guard and no sample satisfies it.
 """
 
 from __future__ import annotations
 
 import itertools
-from fractions import Fraction
-from typing import Iterable, Iterator
+from typing import Iterator
 
 from robogen.diagnostics import DiagnosticSink, Note
-from robogen.semantics import types as T
 from robogen.semantics.exprs import Tables
-from robogen.semantics.scope import EnumLitSym, MachineScope, Region, VarSym
+from robogen.semantics.guards import Guards, abstractly_satisfiable, period_of
+from robogen.semantics.scope import MachineScope, Region
 from robogen.syntax import ast
-
-_MAX_ASSIGNMENTS = 4096
 
 
 def analyse_machine(scope: MachineScope, tables: Tables, sink: DiagnosticSink) -> None:
@@ -34,9 +31,10 @@ def analyse_machine(scope: MachineScope, tables: Tables, sink: DiagnosticSink) -
     assert scope.region is not None
     if sink.errors and any(_in_machine(d.span, scope) for d in sink.errors):
         return
-    never = _never_firing(scope, tables, sink)
+    guards = Guards(tables, period_of(scope.cycle_defs))
+    never = _never_firing(scope, guards, sink)
     _unreachable(scope, never, sink)
-    _nondeterminism(scope, tables, never, sink)
+    _nondeterminism(scope, guards, never, sink)
     if scope.robosim:
         _exec_reachability(scope, never, sink)
         _exec_free_cycles(scope, never, sink)
@@ -99,7 +97,7 @@ def _always_enabled(t: ast.Transition) -> bool:
 # ---------------------------------------------------------------------------- never firing
 
 
-def _never_firing(scope: MachineScope, tables: Tables, sink: DiagnosticSink) -> set[int]:
+def _never_firing(scope: MachineScope, guards: Guards, sink: DiagnosticSink) -> set[int]:
     never: set[int] = set()
     for region in _regions(scope):
         for source, ts in _by_source(region).items():
@@ -113,7 +111,7 @@ def _never_firing(scope: MachineScope, tables: Tables, sink: DiagnosticSink) -> 
                     )
                     never.add(id(t))
                     continue
-                if t.condition is not None and (not _abstract_satisfiable(t.condition) or _exactly_unsatisfiable(t.condition, tables)):
+                if t.condition is not None and (not abstractly_satisfiable(t.condition) or guards.unsatisfiable(t.condition)):
                     sink.warning(f"transition '{t.name}' can never fire: its condition is always false", t.condition.span)
                     never.add(id(t))
                     continue
@@ -156,340 +154,7 @@ def _unreachable(scope: MachineScope, never: set[int], sink: DiagnosticSink) -> 
                 sink.warning(f"state '{name}' is unreachable: no path from the initial node enters it", node.name_span)
 
 
-# ---------------------------------------------------------------------------- guards
-
-
-class _Leaf:
-    """A sub-expression the evaluator treats as a variable, with its candidate values."""
-
-    def __init__(self, key: object, domain: list):
-        self.key = key
-        self.domain = domain
-
-
-def _guard_leaves(exprs: Iterable[ast.Expr], tables: Tables) -> dict[object, _Leaf]:
-    literals: set[Fraction] = {Fraction(0), Fraction(1), Fraction(2)}
-    leaves: dict[object, _Leaf] = {}
-    numeric: list[tuple[object, T.Type]] = []
-
-    def visit(e: ast.Expr) -> None:
-        if isinstance(e, ast.IntLit):
-            literals.add(Fraction(e.value))
-            return
-        if isinstance(e, ast.RealLit):
-            literals.add(Fraction(e.text))
-            return
-        if isinstance(e, (ast.BoolLit, ast.StringLit)):
-            return
-        if isinstance(e, ast.Unary) and e.op in ("not", "-"):
-            visit(e.operand)
-            return
-        if isinstance(e, ast.Binary) and e.op in ("/\\", "\\/", "=>", "iff", "==", "!=", "<", "<=", ">", ">=", "+", "-", "*"):
-            visit(e.left)
-            visit(e.right)
-            return
-        if isinstance(e, ast.DollarInput):
-            leaves.setdefault(("ev", e.event), _Leaf(("ev", e.event), [False, True]))
-            if e.predicate is not None:
-                leaves.setdefault(("opaque", e.predicate), _Leaf(("opaque", e.predicate), [False, True]))
-            return
-        if isinstance(e, ast.Name) and isinstance(tables.ref(e), EnumLitSym):
-            return
-        if isinstance(e, ast.Name):
-            value = _const_value(e, tables)
-            if value is not None:
-                if isinstance(value, Fraction):
-                    literals.add(value)
-                return
-        if isinstance(e, ast.Dollar) and type(tables.ref(e)).__name__ == "EventSym":
-            leaves.setdefault(("ev", e.name), _Leaf(("ev", e.name), [False, True]))
-            return
-        t = tables.type_of(e)
-        key = ("leaf", e)
-        if key in leaves:
-            return
-        if t == T.BOOLEAN:
-            leaves[key] = _Leaf(key, [False, True])
-        elif isinstance(t, T.EnumT):
-            leaves[key] = _Leaf(key, list(t.literals))
-        elif isinstance(t, T.Given):
-            leaves[key] = _Leaf(key, [f"{t.simple}#1", f"{t.simple}#2", f"{t.simple}#3"])
-        elif t in T.NUMERIC:
-            leaves[key] = _Leaf(key, [])
-            numeric.append((key, t))
-        else:
-            leaves[key] = _Leaf(key, [False, True])  # opaque
-
-    for e in exprs:
-        visit(e)
-    if not numeric:
-        return leaves
-    points = sorted(literals)
-    candidates = sorted({p + d for p in points for d in (Fraction(-1), Fraction(0), Fraction(1))})
-    mids = [(a + b) / 2 for a, b in zip(candidates, candidates[1:])]
-    for key, t in numeric:
-        if t == T.REAL:
-            domain = set(candidates + mids)
-        else:
-            domain = {c for c in candidates if c.denominator == 1 and (t == T.INT or c >= 0)}
-        leaves[key].domain = sorted(domain)
-    return leaves
-
-
-class _Unknown(Exception):
-    pass
-
-
-def _const_value(e: ast.Name, tables: Tables):
-    """The value of a constant declared with a literal value (a number, boolean or enumeration
-    literal), or None: such a constant is not an unknown of the guard."""
-    ref = tables.ref(e)
-    if not isinstance(ref, VarSym) or ref.kind != "const" or ref.init is None:
-        return None
-    init = ref.init
-    negate = isinstance(init, ast.Unary) and init.op == "-"
-    if negate:
-        init = init.operand  # type: ignore[union-attr]
-    if isinstance(init, ast.IntLit):
-        value = Fraction(init.value)
-    elif isinstance(init, ast.RealLit):
-        value = Fraction(init.text)
-    elif isinstance(init, ast.BoolLit) and not negate:
-        return init.value
-    elif isinstance(init, ast.Name) and isinstance(tables.ref(init), EnumLitSym) and not negate:
-        return tables.ref(init).literal  # type: ignore[union-attr]
-    else:
-        return None
-    return -value if negate else value
-
-
-def _eval(e: ast.Expr, env: dict, tables: Tables):
-    if isinstance(e, ast.BoolLit):
-        return e.value
-    if isinstance(e, ast.IntLit):
-        return Fraction(e.value)
-    if isinstance(e, ast.RealLit):
-        return Fraction(e.text)
-    if isinstance(e, ast.Name):
-        ref = tables.ref(e)
-        if isinstance(ref, EnumLitSym):
-            return ref.literal
-        value = _const_value(e, tables)
-        if value is not None:
-            return value
-    if isinstance(e, ast.Dollar) and ("ev", e.name) in env:
-        return env[("ev", e.name)]
-    if isinstance(e, ast.DollarInput):
-        occurred = env[("ev", e.event)]
-        if e.predicate is not None:
-            return occurred and env[("opaque", e.predicate)]
-        return occurred
-    if isinstance(e, ast.Unary):
-        v = _eval(e.operand, env, tables)
-        return (not v) if e.op == "not" else -v
-    if isinstance(e, ast.Binary):
-        op = e.op
-        if op == "/\\":
-            return _eval(e.left, env, tables) and _eval(e.right, env, tables)
-        if op == "\\/":
-            return _eval(e.left, env, tables) or _eval(e.right, env, tables)
-        if op == "=>":
-            return (not _eval(e.left, env, tables)) or _eval(e.right, env, tables)
-        if op == "iff":
-            return _eval(e.left, env, tables) == _eval(e.right, env, tables)
-        a, b = _eval(e.left, env, tables), _eval(e.right, env, tables)
-        if op == "==":
-            return a == b
-        if op == "!=":
-            return a != b
-        if not isinstance(a, Fraction) or not isinstance(b, Fraction):
-            raise _Unknown
-        return {"<": a < b, "<=": a <= b, ">": a > b, ">=": a >= b, "+": a + b, "-": a - b, "*": a * b}[op]
-    key = ("leaf", e)
-    if key in env:
-        return env[key]
-    raise _Unknown
-
-
-def _assignments(leaves: dict[object, _Leaf]) -> Iterator[dict]:
-    keys = list(leaves)
-    total = 1
-    for k in keys:
-        total *= max(1, len(leaves[k].domain))
-        if total > _MAX_ASSIGNMENTS:
-            raise _Unknown
-    for values in itertools.product(*(leaves[k].domain for k in keys)):
-        yield dict(zip(keys, values))
-
-
-def _abstract_satisfiable(g: ast.Expr) -> bool:
-    """Is ``g`` satisfiable when every comparison/atom is a free proposition? (sound 'no')"""
-    atoms: dict[object, None] = {}
-
-    def norm(e: ast.Expr):
-        """A key for an atom and whether it is negated: a > b is not (a <= b)."""
-        if isinstance(e, ast.Binary) and e.op in (">", ">="):
-            return ("cmp", "<=" if e.op == ">" else "<", e.left, e.right), e.op == ">"
-        if isinstance(e, ast.Binary) and e.op == "!=":
-            return ("cmp", "==", e.left, e.right), True
-        if isinstance(e, ast.Binary) and e.op in ("<", "<=", "=="):
-            return ("cmp", e.op, e.left, e.right), False
-        if isinstance(e, ast.DollarInput):
-            return ("ev", e.event, e.predicate), False
-        return ("atom", e), False
-
-    def collect(e: ast.Expr) -> None:
-        if isinstance(e, ast.BoolLit):
-            return
-        if isinstance(e, ast.Unary) and e.op == "not":
-            collect(e.operand)
-        elif isinstance(e, ast.Binary) and e.op in ("/\\", "\\/", "=>", "iff"):
-            collect(e.left)
-            collect(e.right)
-        else:
-            atoms[norm(e)[0]] = None
-
-    def ev(e: ast.Expr, env: dict) -> bool:
-        if isinstance(e, ast.BoolLit):
-            return e.value
-        if isinstance(e, ast.Unary) and e.op == "not":
-            return not ev(e.operand, env)
-        if isinstance(e, ast.Binary) and e.op in ("/\\", "\\/", "=>", "iff"):
-            a, b = ev(e.left, env), ev(e.right, env)
-            return {"/\\": a and b, "\\/": a or b, "=>": (not a) or b, "iff": a == b}[e.op]
-        key, negated = norm(e)
-        return env[key] != negated
-
-    collect(g)
-    keys = list(atoms)
-    if len(keys) > 12 or _rebinds(g):
-        return True
-    return any(ev(g, dict(zip(keys, values))) for values in itertools.product((False, True), repeat=len(keys)))
-
-
-_ORDER = ("<", "<=", ">", ">=")
-_LOGIC = ("/\\", "\\/", "=>", "iff")
-_EXACT_LIMIT = 512
-
-
-def _numeric_constant(e: ast.Expr, tables: Tables) -> bool:
-    if isinstance(e, ast.Unary) and e.op == "-":
-        return _numeric_constant(e.operand, tables)
-    if isinstance(e, ast.Name):
-        return isinstance(_const_value(e, tables), Fraction)
-    return isinstance(e, (ast.IntLit, ast.RealLit))
-
-
-def _exactly_unsatisfiable(g: ast.Expr, tables: Tables) -> bool:
-    """Is ``g`` false for every value of its leaves? Decided by evaluating it over the leaves'
-    sample domains, which is exhaustive only when each comparison of numbers sets a leaf
-    against a number literal (the samples then meet every interval the literals delimit), so
-    the check declines any other guard."""
-
-    def exact(e: ast.Expr) -> bool:
-        if isinstance(e, ast.BoolLit):
-            return True
-        if isinstance(e, ast.Unary) and e.op == "not":
-            return exact(e.operand)
-        if isinstance(e, ast.Binary) and e.op in _LOGIC:
-            return exact(e.left) and exact(e.right)
-        if isinstance(e, ast.Binary) and (e.op in _ORDER or (e.op in ("==", "!=") and tables.type_of(e.left) in T.NUMERIC)):
-            return any(_numeric_constant(a, tables) and _plain_leaf(b) for a, b in ((e.left, e.right), (e.right, e.left)))
-        if isinstance(e, ast.Binary) and e.op in ("==", "!="):
-            return _plain_leaf(e.left) and _plain_leaf(e.right) and not isinstance(tables.type_of(e.left), T.Given)
-        return _plain_leaf(e)
-
-    if not exact(g) or _rebinds(g):
-        return False
-    try:
-        leaves = _guard_leaves([g], tables)
-        total = 1
-        for leaf in leaves.values():
-            total *= max(1, len(leaf.domain))
-        if total > _EXACT_LIMIT:
-            return False
-        return not any(_eval(g, env, tables) is True for env in _assignments(leaves))
-    except _Unknown:
-        return False
-
-
-def _rebinds(g: ast.Expr) -> bool:
-    """Does ``g`` bind a variable with `$e?x` that it also reads? Then `x` has one value before
-    the binding and another after it (guards bind as they are evaluated, left to right), and
-    analyses that give each leaf one value do not apply."""
-    bound: set[str] = set()
-    names: list[str] = []
-
-    def visit(e: ast.Expr) -> None:
-        if isinstance(e, ast.DollarInput):
-            bound.add(e.var)
-            if e.predicate is not None:
-                visit(e.predicate)
-        elif isinstance(e, ast.Name):
-            names.append(e.last)
-        elif isinstance(e, ast.Unary):
-            visit(e.operand)
-        elif isinstance(e, ast.Binary):
-            visit(e.left)
-            visit(e.right)
-
-    visit(g)
-    return bool(bound) and any(n in bound for n in names)
-
-
-def _plain_leaf(e: ast.Expr) -> bool:
-    """A sub-expression the evaluator takes as one unknown value (or a literal)."""
-    return not isinstance(e, (ast.Binary, ast.Unary, ast.IfExpr, ast.Let, ast.Binder))
-
-
-def _witness(g1: ast.Expr | None, g2: ast.Expr | None, tables: Tables) -> dict | None:
-    exprs = [g for g in (g1, g2) if g is not None]
-    try:
-        leaves = _guard_leaves(exprs, tables)
-        for env in _assignments(leaves):
-            try:
-                if all(_eval(g, env, tables) is True for g in exprs):
-                    return env
-            except _Unknown:
-                return None
-    except _Unknown:
-        return None
-    return None
-
-
-def _describe_witness(env: dict) -> str:
-    parts = []
-    for key, value in env.items():
-        if key[0] == "ev" and value:
-            parts.append(f"${key[1]} occurs")
-        elif key[0] == "leaf":
-            e = key[1]
-            text = _text(e)
-            if text is None:
-                continue
-            if isinstance(value, bool):
-                parts.append(f"{text} is {'true' if value else 'false'}")
-            elif isinstance(value, Fraction):
-                parts.append(f"{text} = {value.numerator if value.denominator == 1 else float(value)}")
-            else:
-                parts.append(f"{text} = {value}")
-    return ", ".join(parts) if parts else "always"
-
-
-def _text(e: ast.Expr) -> str | None:
-    if isinstance(e, ast.Name):
-        return e.text
-    if isinstance(e, ast.Dollar):
-        return f"${e.name}"
-    if isinstance(e, ast.Since):
-        return f"since({e.clock})"
-    if isinstance(e, ast.Field):
-        inner = _text(e.obj)
-        return f"{inner}.{e.field}" if inner else None
-    return None
-
-
-def _nondeterminism(scope: MachineScope, tables: Tables, never: set[int], sink: DiagnosticSink) -> None:
+def _nondeterminism(scope: MachineScope, guards: Guards, never: set[int], sink: DiagnosticSink) -> None:
     for region in _regions(scope):
         for source, ts in _by_source(region).items():
             live = [t for t in ts if id(t) not in never and not t.condition_else and t.probability is None]
@@ -501,12 +166,12 @@ def _nondeterminism(scope: MachineScope, tables: Tables, never: set[int], sink: 
                     eb = b.trigger.event if b.trigger else None
                     if ea != eb:
                         continue
-                env = _witness(a.condition, b.condition, tables)
+                env = guards.witness(a.condition, b.condition)
                 if env is None:
                     continue
                 sink.warning(
                     f"transitions '{a.name}' and '{b.name}' leave '{source}' and can be enabled together "
-                    f"(for example when {_describe_witness(env)}); '{a.name}' is taken, as it is declared first",
+                    f"(for example when {guards.describe(env)}); '{a.name}' is taken, as it is declared first",
                     b.name_span,
                     Note(f"'{a.name}' is declared here", a.name_span),
                 )

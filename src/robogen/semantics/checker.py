@@ -12,13 +12,14 @@ from dataclasses import dataclass, field
 from fractions import Fraction
 from typing import Iterable
 
-from robogen.diagnostics import Diagnostic, DiagnosticSink, Note, Span, did_you_mean, working_on
+from robogen.diagnostics import Diagnostic, Note, Span, did_you_mean, working_on
 from robogen.semantics import types as T
 from robogen.semantics.analysis import analyse_machine
 from robogen.semantics.exprs import ExprChecker, Tables, Where
 from robogen.semantics.scope import EventSym, MachineScope, Region, ScopeBuilder
 from robogen.semantics.workspace import TYPE_DECLS, Decl, Workspace
 from robogen.syntax import ast
+from robogen.syntax.parser import without_gc
 
 
 @dataclass
@@ -80,7 +81,8 @@ class CheckedModel:
 
 def check(workspace: Workspace) -> CheckedModel:
     checker = Checker(workspace)
-    checker.run()
+    with without_gc():
+        checker.run()
     diagnostics = workspace.sink.sorted()
     return CheckedModel(workspace, diagnostics, checker.tables, checker.scopes, checker.modules, checker.controllers, checker)
 
@@ -637,7 +639,7 @@ class Checker:
         where = _region_name(region)
         initials = region.initials()
         if not initials:
-            self.sink.error(f"{where} has no initial node", getattr(owner, "name_span", None), Note(f"add 'initial i' and a transition from it"))
+            self.sink.error(f"{where} has no initial node", getattr(owner, "name_span", None), Note("add 'initial i' and a transition from it"))
         for extra in initials[1:]:
             self.sink.error(f"{where} has more than one initial node", extra.name_span, Note("first initial node", initials[0].name_span))
         if isinstance(owner, ast.State) and not any(isinstance(n, (ast.State, ast.Final)) for n in region.nodes.values()):

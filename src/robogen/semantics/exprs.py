@@ -510,7 +510,7 @@ class ExprChecker:
         if not found:
             self._err(f"no state '{e.state.text}' in {self.scope.kind} '{self.scope.name}'", e.state)
         elif isinstance(found[0][1], ast.Final):
-            self._err(f"'sinceEntry' of a final state", e.state)
+            self._err("'sinceEntry' of a final state", e.state)
         elif not isinstance(found[0][1], ast.State):
             self._err(f"'{e.state.text}' is not a state", e.state)
         else:
@@ -676,7 +676,7 @@ class ExprChecker:
                 return None
             t = self._set(e, self._index_type(e, base))
             return t
-        self._err(f"cannot assign to this expression", e)
+        self._err("cannot assign to this expression", e)
         return None
 
     def _e_Field_of(self, e: ast.Field, base: T.Type) -> T.Type | None:

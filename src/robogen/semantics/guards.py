@@ -1,0 +1,473 @@
+"""Guards evaluated over small sample domains, for the analyses of robogen.semantics.analysis.
+
+A guard's *leaves* are the sub-expressions the evaluator does not look into: each input event
+``$e`` (occurred or not), each boolean, enumeration or given-type value, each number. A boolean
+leaf ranges over true and false, an enumeration leaf over its literals, a given-type leaf over
+three distinct tokens, a numeric leaf over the number literals of the guards and their
+neighbours (and, for reals, the midpoints between those). Constants declared with a literal
+value and the RoboSim period ``cycle`` are their values, not leaves.
+
+The sampling finds real examples (a witness is an assignment under which the guards hold, so
+a warning built on one is never speculative), and it is exhaustive only in the case
+:meth:`Guards.unsatisfiable` admits. Anything the evaluator cannot follow (a division, a
+function of a leaf, a value bound by ``$e?x`` and read before) makes it decline to judge.
+
+Each distinct leaf of a machine gets a small integer; a guard is compiled once into a closure
+over an environment that maps those integers to values (evaluation is the analyses' hot spot).
+"""
+
+from __future__ import annotations
+
+import itertools
+from fractions import Fraction
+from typing import Callable, Iterator
+
+from robogen.semantics import types as T
+from robogen.semantics.exprs import Tables
+from robogen.semantics.scope import EnumLitSym, EventSym, VarSym
+from robogen.syntax import ast
+
+Number = int | Fraction
+_NUMBERS = (int, Fraction)  # compared with type(x) in ..., so that booleans are not numbers
+
+MAX_ASSIGNMENTS = 4096  # a witness search gives up beyond this many assignments
+EXACT_LIMIT = 512  # unsatisfiable() evaluates at most this many
+
+_LOGIC = ("/\\", "\\/", "=>", "iff")
+_ORDER = ("<", "<=", ">", ">=")
+_VISITED = _LOGIC + ("==", "!=") + _ORDER + ("+", "-", "*")
+
+
+class Unknown(Exception):
+    """The evaluator cannot decide a guard (it declines rather than guess)."""
+
+
+def number(x: Fraction) -> Number:
+    return x.numerator if x.denominator == 1 else x
+
+
+def real_value(text: str) -> Number:
+    return number(Fraction(text))
+
+
+def const_value(e: ast.Name, tables: Tables) -> Number | bool | str | None:
+    """The value of a constant declared with a literal value (a number, boolean or enumeration
+    literal), or None: such a constant is not an unknown of a guard."""
+    ref = tables.ref(e)
+    if not isinstance(ref, VarSym) or ref.kind != "const" or ref.init is None:
+        return None
+    init = ref.init
+    negate = isinstance(init, ast.Unary) and init.op == "-"
+    if negate:
+        init = init.operand  # type: ignore[union-attr]
+    if isinstance(init, ast.IntLit):
+        value: Number = init.value
+    elif isinstance(init, ast.RealLit):
+        value = real_value(init.text)
+    elif isinstance(init, ast.BoolLit) and not negate:
+        return init.value
+    elif isinstance(init, ast.Name) and isinstance(tables.ref(init), EnumLitSym) and not negate:
+        return tables.ref(init).literal  # type: ignore[union-attr]
+    else:
+        return None
+    return -value if negate else value
+
+
+def period_of(cycle_defs: list[ast.CycleDef]) -> Number | None:
+    """The period p of a well-formed `cycleDef cycle == p`, if the machine has one."""
+    for c in cycle_defs:
+        e = c.expr
+        if isinstance(e, ast.Binary) and e.op == "==" and isinstance(e.left, ast.Keyword) and e.left.word == "cycle":
+            if isinstance(e.right, ast.IntLit) and e.right.value > 0:
+                return e.right.value
+            if isinstance(e.right, ast.RealLit) and Fraction(e.right.text) > 0:
+                return real_value(e.right.text)
+    return None
+
+
+class _Leaf:
+    __slots__ = ("key", "finite", "numeric")
+
+    def __init__(self, key: tuple, finite: list | None, numeric: T.Type | None):
+        self.key = key  # ("ev", name), ("opaque", expr) or ("leaf", expr): also how a witness is described
+        self.finite = finite  # the domain of a non-numeric leaf
+        self.numeric = numeric  # the type of a numeric leaf, whose domain depends on the literals
+
+
+class Guards:
+    """The guards of one machine: their leaves, compiled evaluators, witnesses."""
+
+    def __init__(self, tables: Tables, period: Number | None = None):
+        self.tables = tables
+        self.period = period
+        self._ids: dict[tuple, int] = {}
+        self._leaves: list[_Leaf] = []
+        self._facts: dict[int, tuple[tuple[int, ...], frozenset]] = {}  # id(guard) -> (leaf ids in order, literals)
+        self._compiled: dict[int, Callable[[dict], object]] = {}
+        self._keep: list[ast.Expr] = []  # the guards cached by id stay alive
+
+    # ------------------------------------------------------------------ leaves
+
+    def _leaf(self, key: tuple, finite: list | None = None, numeric: T.Type | None = None) -> int:
+        n = self._ids.get(key)
+        if n is None:
+            n = self._ids[key] = len(self._leaves)
+            self._leaves.append(_Leaf(key, finite, numeric))
+        return n
+
+    def facts(self, g: ast.Expr) -> tuple[tuple[int, ...], frozenset]:
+        """The leaves of ``g`` in the order first met, and the number literals it mentions."""
+        cached = self._facts.get(id(g))
+        if cached is not None:
+            return cached
+        order: dict[int, None] = {}
+        literals: set[Number] = set()
+        tables = self.tables
+
+        def visit(e: ast.Expr) -> None:
+            if isinstance(e, ast.IntLit):
+                literals.add(e.value)
+            elif isinstance(e, ast.RealLit):
+                literals.add(real_value(e.text))
+            elif isinstance(e, (ast.BoolLit, ast.StringLit)):
+                pass
+            elif isinstance(e, ast.Unary) and e.op in ("not", "-"):
+                visit(e.operand)
+            elif isinstance(e, ast.Binary) and e.op in _VISITED:
+                visit(e.left)
+                visit(e.right)
+            elif isinstance(e, ast.DollarInput):
+                order[self._leaf(("ev", e.event), [False, True])] = None
+                if e.predicate is not None:
+                    order[self._leaf(("opaque", e.predicate), [False, True])] = None
+            elif isinstance(e, ast.Name) and isinstance(tables.ref(e), EnumLitSym):
+                pass
+            elif isinstance(e, ast.Name) and const_value(e, tables) is not None:
+                value = const_value(e, tables)
+                if type(value) in _NUMBERS:
+                    literals.add(value)  # type: ignore[arg-type]
+            elif isinstance(e, ast.Keyword) and e.word == "cycle":
+                if self.period is not None:
+                    literals.add(self.period)
+            elif isinstance(e, ast.Dollar) and isinstance(tables.ref(e), EventSym):
+                order[self._leaf(("ev", e.name), [False, True])] = None
+            else:
+                t = tables.type_of(e)
+                key = ("leaf", e)
+                if t == T.BOOLEAN:
+                    n = self._leaf(key, [False, True])
+                elif isinstance(t, T.EnumT):
+                    n = self._leaf(key, list(t.literals))
+                elif isinstance(t, T.Given):
+                    n = self._leaf(key, [f"{t.simple}#1", f"{t.simple}#2", f"{t.simple}#3"])
+                elif t in T.NUMERIC:
+                    n = self._leaf(key, numeric=t)
+                else:
+                    n = self._leaf(key, [False, True])  # opaque
+                order[n] = None
+
+        visit(g)
+        result = (tuple(order), frozenset(literals))
+        self._facts[id(g)] = result
+        self._keep.append(g)
+        return result
+
+    def _domains(self, ids: tuple[int, ...], literals: frozenset) -> list[list]:
+        domains: list[list] = []
+        candidates: list[Number] | None = None
+        mids: list[Number] | None = None
+        for n in ids:
+            leaf = self._leaves[n]
+            if leaf.numeric is None:
+                domains.append(leaf.finite)  # type: ignore[arg-type]
+                continue
+            if candidates is None:
+                points = sorted(literals | {0, 1, 2})
+                candidates = sorted({p + d for p in points for d in (-1, 0, 1)})
+            if leaf.numeric == T.REAL:
+                if mids is None:
+                    mids = [number(Fraction(a + b) / 2) for a, b in zip(candidates, candidates[1:])]
+                domains.append(sorted(set(candidates + mids)))
+            else:
+                signed = leaf.numeric == T.INT
+                domains.append([c for c in candidates if c.denominator == 1 and (signed or c >= 0)])
+        return domains
+
+    def _assignments(self, guards: list[ast.Expr], limit: int) -> Iterator[dict[int, object]]:
+        """Every assignment of the leaves of ``guards`` (raises Unknown beyond ``limit``)."""
+        ids: dict[int, None] = {}
+        literals: frozenset = frozenset()
+        for g in guards:
+            leaf_ids, lits = self.facts(g)
+            ids.update(dict.fromkeys(leaf_ids))
+            literals |= lits
+        order = tuple(ids)
+        domains = self._domains(order, literals)
+        total = 1
+        for d in domains:
+            total *= max(1, len(d))
+            if total > limit:
+                raise Unknown
+        for values in itertools.product(*domains):
+            yield dict(zip(order, values))
+
+    # ------------------------------------------------------------------ evaluation
+
+    def evaluator(self, g: ast.Expr) -> Callable[[dict], object]:
+        f = self._compiled.get(id(g))
+        if f is None:
+            self.facts(g)  # registers the leaves the closures look up
+            f = self._compiled[id(g)] = self._compile(g)
+        return f
+
+    def _compile(self, e: ast.Expr) -> Callable[[dict], object]:
+        tables = self.tables
+        if isinstance(e, ast.BoolLit):
+            return _constant(e.value)
+        if isinstance(e, ast.IntLit):
+            return _constant(e.value)
+        if isinstance(e, ast.RealLit):
+            return _constant(real_value(e.text))
+        if isinstance(e, ast.Name):
+            ref = tables.ref(e)
+            if isinstance(ref, EnumLitSym):
+                return _constant(ref.literal)
+            value = const_value(e, tables)
+            if value is not None:
+                return _constant(value)
+        if isinstance(e, ast.Keyword) and e.word == "cycle":
+            return _constant(self.period) if self.period is not None else _unknown
+        if isinstance(e, ast.Dollar) and ("ev", e.name) in self._ids:
+            n = self._ids[("ev", e.name)]
+            return lambda env: env[n]
+        if isinstance(e, ast.DollarInput):
+            occurred = self._ids[("ev", e.event)]
+            if e.predicate is None:
+                return lambda env: env[occurred]
+            holds = self._ids[("opaque", e.predicate)]
+            return lambda env: env[occurred] and env[holds]
+        if isinstance(e, ast.Unary):
+            operand = self._compile(e.operand)
+            if e.op == "not":
+                return lambda env: not operand(env)
+            return lambda env: _negate(operand(env))
+        if isinstance(e, ast.Binary):
+            return self._binary(e.op, self._compile(e.left), self._compile(e.right))
+        n = self._ids.get(("leaf", e))
+        if n is None:
+            return _unknown
+        return lambda env: env[n]
+
+    @staticmethod
+    def _binary(op: str, a: Callable, b: Callable) -> Callable[[dict], object]:
+        if op == "/\\":
+            return lambda env: a(env) and b(env)
+        if op == "\\/":
+            return lambda env: a(env) or b(env)
+        if op == "=>":
+            return lambda env: (not a(env)) or b(env)
+        if op == "iff":
+            return lambda env: a(env) == b(env)
+        if op == "==":
+            return lambda env: a(env) == b(env)
+        if op == "!=":
+            return lambda env: a(env) != b(env)
+        arith = _ARITHMETIC.get(op)
+        if arith is None:  # division, modulus, membership, concatenation: not followed
+            return _unknown
+
+        def numeric(env: dict) -> object:
+            x, y = a(env), b(env)
+            if type(x) not in _NUMBERS or type(y) not in _NUMBERS:
+                raise Unknown
+            return arith(x, y)
+
+        return numeric
+
+    # ------------------------------------------------------------------ questions
+
+    def witness(self, g1: ast.Expr | None, g2: ast.Expr | None) -> dict[int, object] | None:
+        """An assignment under which both guards hold, or None (also when undecided)."""
+        guards = [g for g in (g1, g2) if g is not None]
+        evaluators = [self.evaluator(g) for g in guards]
+        try:
+            for env in self._assignments(guards, MAX_ASSIGNMENTS):
+                if all(f(env) is True for f in evaluators):
+                    return env
+        except Unknown:
+            return None
+        return None
+
+    def unsatisfiable(self, g: ast.Expr) -> bool:
+        """Is ``g`` false for every value of its leaves? Decided by evaluating it over the
+        sample domains, which is exhaustive only when each comparison of numbers sets a leaf
+        against a number constant (the samples then meet every interval the constants delimit);
+        any other guard is declined."""
+        if not self._exact(g) or rebinds(g):
+            return False
+        f = self.evaluator(g)
+        try:
+            return not any(f(env) is True for env in self._assignments([g], EXACT_LIMIT))
+        except Unknown:
+            return False
+
+    def _exact(self, e: ast.Expr) -> bool:
+        tables = self.tables
+        if isinstance(e, ast.BoolLit):
+            return True
+        if isinstance(e, ast.Unary) and e.op == "not":
+            return self._exact(e.operand)
+        if isinstance(e, ast.Binary) and e.op in _LOGIC:
+            return self._exact(e.left) and self._exact(e.right)
+        if isinstance(e, ast.Binary) and (e.op in _ORDER or (e.op in ("==", "!=") and tables.type_of(e.left) in T.NUMERIC)):
+            return any(self._numeric_constant(a) and _plain_leaf(b) for a, b in ((e.left, e.right), (e.right, e.left)))
+        if isinstance(e, ast.Binary) and e.op in ("==", "!="):
+            return _plain_leaf(e.left) and _plain_leaf(e.right) and not isinstance(tables.type_of(e.left), T.Given)
+        return _plain_leaf(e)
+
+    def _numeric_constant(self, e: ast.Expr) -> bool:
+        if isinstance(e, ast.Unary) and e.op == "-":
+            return self._numeric_constant(e.operand)
+        if isinstance(e, ast.Name):
+            return type(const_value(e, self.tables)) in _NUMBERS
+        if isinstance(e, ast.Keyword) and e.word == "cycle":
+            return self.period is not None
+        return isinstance(e, (ast.IntLit, ast.RealLit))
+
+    def describe(self, env: dict[int, object]) -> str:
+        """A witness in words: `$e occurs, x = 4, m = off`."""
+        parts = []
+        for n, value in env.items():
+            key = self._leaves[n].key
+            if key[0] == "ev" and value:
+                parts.append(f"${key[1]} occurs")
+            elif key[0] == "leaf":
+                text = _text(key[1])
+                if text is None:
+                    continue
+                if isinstance(value, bool):
+                    parts.append(f"{text} is {'true' if value else 'false'}")
+                elif isinstance(value, Fraction):
+                    parts.append(f"{text} = {float(value)}")
+                else:
+                    parts.append(f"{text} = {value}")
+        return ", ".join(parts) if parts else "always"
+
+
+_ARITHMETIC: dict[str, Callable[[Number, Number], object]] = {
+    "<": lambda x, y: x < y,
+    "<=": lambda x, y: x <= y,
+    ">": lambda x, y: x > y,
+    ">=": lambda x, y: x >= y,
+    "+": lambda x, y: x + y,
+    "-": lambda x, y: x - y,
+    "*": lambda x, y: x * y,
+}
+
+
+def _constant(value: object) -> Callable[[dict], object]:
+    return lambda env: value
+
+
+def _unknown(env: dict) -> object:
+    raise Unknown
+
+
+def _negate(x: object) -> object:
+    if type(x) not in _NUMBERS:
+        raise Unknown
+    return -x  # type: ignore[operator]
+
+
+def _plain_leaf(e: ast.Expr) -> bool:
+    """A sub-expression the evaluator takes as one unknown value (or a literal)."""
+    return not isinstance(e, (ast.Binary, ast.Unary, ast.IfExpr, ast.Let, ast.Binder))
+
+
+def _text(e: ast.Expr) -> str | None:
+    if isinstance(e, ast.Name):
+        return e.text
+    if isinstance(e, ast.Dollar):
+        return f"${e.name}"
+    if isinstance(e, ast.Since):
+        return f"since({e.clock})"
+    if isinstance(e, ast.Field):
+        inner = _text(e.obj)
+        return f"{inner}.{e.field}" if inner else None
+    return None
+
+
+# ---------------------------------------------------------------------------- propositional view
+
+
+def rebinds(g: ast.Expr) -> bool:
+    """Does ``g`` bind a variable with `$e?x` that it also reads? Then `x` has one value before
+    the binding and another after it (guards bind as they are evaluated, left to right), and
+    analyses that give each leaf one value do not apply."""
+    bound: set[str] = set()
+    names: list[str] = []
+
+    def visit(e: ast.Expr) -> None:
+        if isinstance(e, ast.DollarInput):
+            bound.add(e.var)
+            if e.predicate is not None:
+                visit(e.predicate)
+        elif isinstance(e, ast.Name):
+            names.append(e.last)
+        elif isinstance(e, ast.Unary):
+            visit(e.operand)
+        elif isinstance(e, ast.Binary):
+            visit(e.left)
+            visit(e.right)
+
+    visit(g)
+    return bool(bound) and any(n in bound for n in names)
+
+
+def abstractly_satisfiable(g: ast.Expr) -> bool:
+    """Is ``g`` satisfiable when every comparison or other atom is a free proposition? (An
+    over-approximation: a 'no' is sound.)"""
+    atoms: dict[object, None] = {}
+
+    def norm(e: ast.Expr):
+        """A key for an atom and whether it is negated: a > b is not (a <= b)."""
+        if isinstance(e, ast.Binary) and e.op in (">", ">="):
+            return ("cmp", "<=" if e.op == ">" else "<", e.left, e.right), e.op == ">"
+        if isinstance(e, ast.Binary) and e.op == "!=":
+            return ("cmp", "==", e.left, e.right), True
+        if isinstance(e, ast.Binary) and e.op in ("<", "<=", "=="):
+            return ("cmp", e.op, e.left, e.right), False
+        if isinstance(e, ast.DollarInput):
+            return ("ev", e.event, e.predicate), False
+        return ("atom", e), False
+
+    def collect(e: ast.Expr) -> None:
+        if isinstance(e, ast.BoolLit):
+            return
+        if isinstance(e, ast.Unary) and e.op == "not":
+            collect(e.operand)
+        elif isinstance(e, ast.Binary) and e.op in _LOGIC:
+            collect(e.left)
+            collect(e.right)
+        else:
+            atoms[norm(e)[0]] = None
+
+    def holds(e: ast.Expr, env: dict) -> bool:
+        if isinstance(e, ast.BoolLit):
+            return e.value
+        if isinstance(e, ast.Unary) and e.op == "not":
+            return not holds(e.operand, env)
+        if isinstance(e, ast.Binary) and e.op in _LOGIC:
+            a, b = holds(e.left, env), holds(e.right, env)
+            return {"/\\": a and b, "\\/": a or b, "=>": (not a) or b, "iff": a == b}[e.op]
+        key, negated = norm(e)
+        return env[key] != negated
+
+    collect(g)
+    keys = list(atoms)
+    if len(keys) > 12 or rebinds(g):
+        return True
+    return any(holds(g, dict(zip(keys, values))) for values in itertools.product((False, True), repeat=len(keys)))
+
+
+__all__ = ["Guards", "Unknown", "abstractly_satisfiable", "const_value", "period_of", "rebinds"]
