@@ -420,7 +420,14 @@ static void clock_cases(void)
     c = counter_at(AT_EVENT, 0.0);
     require("UpdateDiscreteStates without ticking", update(&counter, c));
     require("EnterStepMode", counter.EnterStepMode(c));
-    MISUSE("periodic clock: first tick at t=0 lost, fmi3DoStep refuses", "would pass tick k=0 of 'cycle' at t=0,", do_step(&counter, c, 0.0, 0.05));
+    /* an importer that never activates the periodic clock has no clocks (fmpy's simulate_fmu):
+     * its ticks pass with a warning instead of stopping the FMU */
+    {
+        fmi3Status status = do_step(&counter, c, 0.0, 0.15);
+        report("periodic clock never activated: fmi3DoStep lets ticks k=0..1 pass with fmi3Warning",
+               status == fmi3Warning && strstr(last_log, "ticks k=0..1 of 'cycle' passed without being activated") != NULL,
+               last_log);
+    }
     counter.FreeInstance(c);
     MISUSE_FRESH(AT_INITIALIZATION, "interval: fmi3SetIntervalDecimal on a constant clock", "its interval is fixed",
                  counter.SetIntervalDecimal(fresh, &cycle, 1, &value));

@@ -38,7 +38,9 @@
  * see rg_tick_time); fmi3SetClock accepts only the next tick k, at a time equal to t_k under
  * RG_TIME_RELATIVE_TOLERANCE, and before the instant was evaluated; k then advances, so a tick
  * is activated at most once (and at most once per Event Mode). fmi3DoStep refuses to step past
- * a tick that was not activated, so a lost first tick is reported instead of silently skipped.
+ * a tick that was not activated, so a lost tick is reported instead of silently skipped - unless
+ * the importer has never activated that clock since fmi3ExitInitializationMode: such an importer
+ * has no clocks (fmpy's simulate_fmu), and its ticks pass with fmi3Warning and a log message.
  *
  * FMU state. A snapshot is the rg_snapshot_part of the instance: mode, start and stop time, time,
  * super-dense index,

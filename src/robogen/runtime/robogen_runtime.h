@@ -169,6 +169,10 @@ typedef struct {
     uint64_t clock_next_tick[RG_CLOCK_ARRAY_SIZE]; /* constant clocks: k of the next tick not yet
                                                      activated; at most one activation per tick,
                                                      hence at most one per Event Mode */
+    bool clock_ever_activated[RG_CLOCK_ARRAY_SIZE]; /* constant clocks: the importer has activated
+                                                      it since fmi3ExitInitializationMode (an
+                                                      importer that never does has no clocks:
+                                                      fmi3DoStep lets its ticks pass, warning) */
     bool evaluated;               /* rg_model_evaluate ran in the current instant */
     bool update_pending;          /* Event Mode: no fmi3UpdateDiscreteStates yet, or the last one
                                      asked for another iteration; fmi3EnterStepMode refuses */

@@ -115,7 +115,10 @@ fmi3Status fmi3SetClock(fmi3Instance instance, const fmi3ValueReference valueRef
         if (c < 0 || !rg_read_flag(&values[i]) || inst->s.clock_active[c]) continue;
         inst->s.clock_active[c] = true;
         inst->s.clock_latched[c] = false;
-        if (rg_clocks[c].kind == RG_CLOCK_INPUT_CONSTANT) inst->s.clock_next_tick[c] += 1;
+        if (rg_clocks[c].kind == RG_CLOCK_INPUT_CONSTANT) {
+            inst->s.clock_next_tick[c] += 1;
+            inst->s.clock_ever_activated[c] = true;
+        }
         rg_log(inst, RG_LOG_EVENTS, fmi3OK, "%s: '%s' activated at t=%.17g (instant %" PRIu64 ")%s", fn,
                rg_clocks[c].name, inst->s.time, inst->s.superdense,
                inst->s.evaluated ? "; the model receives it at fmi3UpdateDiscreteStates" : "");

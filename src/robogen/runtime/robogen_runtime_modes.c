@@ -224,6 +224,7 @@ fmi3Status fmi3ExitInitializationMode(fmi3Instance instance)
         inst->s.clock_active[c] = false;
         inst->s.clock_latched[c] = false;
         inst->s.clock_next_tick[c] = 0;
+        inst->s.clock_ever_activated[c] = false;
     }
     inst->s.superdense = 0;
     inst->s.evaluated = false;
@@ -343,6 +344,18 @@ fmi3Status fmi3EnterStepMode(fmi3Instance instance)
  * Step Mode: DoStep
  * ============================================================================================ */
 
+/* The index of the first tick of constant clock c at or after time t (equal under the time
+ * tolerance), from the integer grid; capped so that no conversion overflows. */
+static uint64_t rg_first_tick_at_or_after(const rg_instance *inst, int c, double t)
+{
+    double origin = inst->s.start_time + rg_clocks[c].shift;
+    double n = floor((t - origin) / rg_clocks[c].interval);
+    uint64_t k = n < 0.0 ? 0 : (n > 4.0e18 ? UINT64_C(4000000000000000000) : (uint64_t)n);
+    while (k > 0 && (rg_tick_time(inst, c, k - 1) > t || rg_time_equal(rg_tick_time(inst, c, k - 1), t))) --k;
+    while (rg_tick_time(inst, c, k) < t && !rg_time_equal(rg_tick_time(inst, c, k), t)) ++k;
+    return k;
+}
+
 fmi3Status fmi3DoStep(fmi3Instance instance, fmi3Float64 currentCommunicationPoint,
                       fmi3Float64 communicationStepSize, fmi3Boolean noSetFMUStatePriorToCurrentPoint,
                       fmi3Boolean *eventHandlingNeeded, fmi3Boolean *terminateSimulation, fmi3Boolean *earlyReturn,
@@ -380,7 +393,7 @@ fmi3Status fmi3DoStep(fmi3Instance instance, fmi3Float64 currentCommunicationPoi
     for (c = 0; c < RG_NUM_CLOCKS; ++c) {
         if (rg_clocks[c].kind == RG_CLOCK_INPUT_CONSTANT) {
             double due = rg_tick_time(inst, c, inst->s.clock_next_tick[c]);
-            if (t_end > due && !rg_time_equal(t_end, due)) {
+            if (t_end > due && !rg_time_equal(t_end, due) && inst->s.clock_ever_activated[c]) {
                 return rg_fail(inst, fn, "the step to %.17g would pass tick k=%" PRIu64 " of '%s' at t=%.17g, which "
                                "was not activated: step to the tick and activate it in Event Mode", t_end,
                                inst->s.clock_next_tick[c], rg_clocks[c].name, due);
@@ -413,6 +426,20 @@ fmi3Status fmi3DoStep(fmi3Instance instance, fmi3Float64 currentCommunicationPoi
     if (event && !inst->event_mode_used) {
         rg_log(inst, RG_LOG_EVENTS, fmi3OK, "%s: event at t=%.17g handled inside the FMU (eventModeUsed=false)", fn, last);
         event = false;
+    }
+    /* An importer that has never activated a periodic clock has no clocks at all (fmpy's
+     * simulate_fmu, for one): the ticks before lastSuccessfulTime pass unused, with a warning, so
+     * that the FMU still runs. An importer that does use the clock was refused above. */
+    for (c = 0; c < RG_NUM_CLOCKS; ++c) {
+        uint64_t first = inst->s.clock_next_tick[c], next;
+        if (rg_clocks[c].kind != RG_CLOCK_INPUT_CONSTANT || inst->s.clock_ever_activated[c]) continue;
+        next = rg_first_tick_at_or_after(inst, c, last);
+        if (next <= first) continue;
+        inst->s.clock_next_tick[c] = next;
+        status = rg_worse(status, fmi3Warning);
+        rg_log(inst, RG_LOG_WARNING, fmi3Warning, "%s: ticks k=%" PRIu64 "..%" PRIu64 " of '%s' passed without being "
+               "activated (this importer has not used the clock): no cycle ran for them", fn, first, next - 1,
+               rg_clocks[c].name);
     }
     inst->s.time = last;
     inst->s.superdense = 0;
