@@ -9,55 +9,13 @@ from __future__ import annotations
 
 import threading
 from concurrent.futures import ThreadPoolExecutor
-from dataclasses import dataclass, field
 from pathlib import Path
 
 import pytest
 
 from codegen_driver import Built, build
+from codegen_models import SEMANTICS, TEST_MODELS
 from robogen.ir.lower import Options
-
-HERE = Path(__file__).resolve().parent
-ROOT = HERE.parent.parent
-MODELS = HERE / "models"
-UR5E = ROOT / "models" / "ur5e" / "ur5e.rst"
-
-
-@dataclass(frozen=True)
-class TestModel:
-    name: str
-    path: Path
-    max_steps: int = 1000
-    # payload choices for the random scenarios (FMI name -> values), to keep run-time errors rare
-    choices: dict[str, list] = field(default_factory=dict)
-
-
-NONZERO = [-7, -3, -2, -1, 1, 2, 3, 5, 9]
-
-TEST_MODELS = {
-    m.name: m
-    for m in (
-        TestModel("ur5e", UR5E),
-        TestModel("composite", MODELS / "composite.rst"),
-        TestModel("data", MODELS / "data.rst", choices={
-            "divisor.value": NONZERO * 4 + [0],
-            "pick.value": [1, 2, 3, 1, 2, 3, 1, 2, 3, 0, 7, 4],
-        }),
-        TestModel("ops", MODELS / "ops.rst"),
-        TestModel("pipeline", MODELS / "pipeline.rst"),
-        TestModel("arith", MODELS / "arith.rst", max_steps=40, choices={
-            "b.value": NONZERO * 3 + [0, 2**63 - 1, -(2**63)],
-            "n.value": [0, 1, 2, 3, 4, 5, 6, 2**64 - 1, 7, 7],
-            "x.value": [-2.5, -1.0, -0.5, 0.0, 0.25, 0.5, 1.0, 1.5, 1e300, -1e300, 3.0],
-        }),
-        TestModel("beacon", MODELS / "beacon.rst"),
-        TestModel("timers", MODELS / "timers.rct"),
-        TestModel("inputs", MODELS / "inputs.rct"),
-        TestModel("relay", MODELS / "relay.rct"),
-    )
-}
-OWN_MODELS = [n for n in TEST_MODELS if n != "ur5e"]
-SEMANTICS = ("exhaustive", "stepwise")
 
 
 class Builds:

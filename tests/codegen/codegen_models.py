@@ -1,0 +1,49 @@
+"""The code generator's test models and how the tests drive them (imported by name: the
+conftest modules of several test folders cannot be imported by name in one session)."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from pathlib import Path
+
+HERE = Path(__file__).resolve().parent
+ROOT = HERE.parent.parent
+MODELS = HERE / "models"
+UR5E = ROOT / "models" / "ur5e" / "ur5e.rst"
+
+
+@dataclass(frozen=True)
+class ModelCase:
+    name: str
+    path: Path
+    max_steps: int = 1000
+    # payload choices for the random scenarios (FMI name -> values), to keep run-time errors rare
+    choices: dict[str, list] = field(default_factory=dict)
+
+
+NONZERO = [-7, -3, -2, -1, 1, 2, 3, 5, 9]
+
+TEST_MODELS = {
+    m.name: m
+    for m in (
+        ModelCase("ur5e", UR5E),
+        ModelCase("composite", MODELS / "composite.rst"),
+        ModelCase("data", MODELS / "data.rst", choices={
+            "divisor.value": NONZERO * 4 + [0],
+            "pick.value": [1, 2, 3, 1, 2, 3, 1, 2, 3, 0, 7, 4],
+        }),
+        ModelCase("ops", MODELS / "ops.rst"),
+        ModelCase("pipeline", MODELS / "pipeline.rst"),
+        ModelCase("arith", MODELS / "arith.rst", max_steps=40, choices={
+            "b.value": NONZERO * 3 + [0, 2**63 - 1, -(2**63)],
+            "n.value": [0, 1, 2, 3, 4, 5, 6, 2**64 - 1, 7, 7],
+            "x.value": [-2.5, -1.0, -0.5, 0.0, 0.25, 0.5, 1.0, 1.5, 3.0] * 2 + [1e19],
+        }),
+        ModelCase("beacon", MODELS / "beacon.rst"),
+        ModelCase("timers", MODELS / "timers.rct"),
+        ModelCase("inputs", MODELS / "inputs.rct"),
+        ModelCase("relay", MODELS / "relay.rct"),
+    )
+}
+OWN_MODELS = [n for n in TEST_MODELS if n != "ur5e"]
+SEMANTICS = ("exhaustive", "stepwise")
