@@ -410,3 +410,28 @@ def test_every_part_of_a_module_has_the_same_period():
         ("error", 3, 12, "controller 'C' has cycle period 2, but module 'M' has 1"),
     ]
     assert result.diagnostics[0].notes[0].message == "robogen requires one period for every machine, controller and module of a model"
+
+
+def test_recursive_types():
+    text = "\n".join([
+        "enumeration Tree { leaf node(Tree, Tree) }",
+        "enumeration F { f(G) stop }",
+        "enumeration G { g(F) }",
+        "datatype List { value: nat rest: Seq(List) }",
+        "datatype Loop { again: Loop }",
+        "datatype P { a: Q }",
+        "datatype Q { b: P * nat }",
+        "stm S {",
+        "\tvar t: Tree = Tree::node(Tree::leaf, Tree::node(Tree::leaf, Tree::leaf))",
+        "\tvar l: List, n: nat",
+        "\tinitial i",
+        "\tstate A { entry l.rest[1].rest[2].value = 3 ; n = l.rest[1].value ; l = l.rest[1] ; t = Tree::node(t, t) }",
+        "\ttransition t0 { from i to A }",
+        "}",
+    ])  # fmt: skip
+    # a value of Loop, P or Q would be infinite; Tree, F, G and List have finite values
+    assert diagnostics(text) == [
+        ("error", 5, 17, "datatype 'Loop' contains itself through field 'again': its values would be infinite"),
+        ("error", 6, 14, "datatype 'P' contains itself through field 'a': its values would be infinite"),
+        ("error", 7, 14, "datatype 'Q' contains itself through field 'b': its values would be infinite"),
+    ]

@@ -141,10 +141,11 @@ def _unreachable(scope: MachineScope, never: set[int], sink: DiagnosticSink) -> 
 
     for i in scope.region.initials():
         enter(scope.region, i.name)
+    outgoing = {id(region): _by_source(region) for region in _regions(scope)}
     while todo:
         region, name = todo.pop()
-        for t in region.transitions:
-            if t.source == name and id(t) not in never:
+        for t in outgoing[id(region)].get(name, ()):
+            if id(t) not in never:
                 enter(region, t.target)
     for region in _regions(scope):
         if region.parent is not None and id(region.owner) not in reached:
@@ -232,13 +233,17 @@ def _exec_reachability(scope: MachineScope, never: set[int], sink: DiagnosticSin
         for nid, (region, node) in nodes.items():
             if isinstance(node, ast.Final):
                 good.add(nid)  # an operation may end without exec: its caller goes on
-    changed = True
-    while changed:
-        changed = False
-        for nid in nodes:
-            if nid not in good and any(d in good for _, d in succ[nid]):
-                good.add(nid)
-                changed = True
+    # backwards from the nodes that reach exec by themselves (linear, not a fixpoint over all nodes)
+    predecessors: dict[int, list[int]] = {nid: [] for nid in nodes}
+    for nid, edges in succ.items():
+        for _, d in edges:
+            predecessors[d].append(nid)
+    todo = list(good)
+    while todo:
+        for p in predecessors[todo.pop()]:
+            if p not in good:
+                good.add(p)
+                todo.append(p)
     for nid, (region, node) in nodes.items():
         if isinstance(node, ast.State) and nid not in good:
             sink.warning(
@@ -255,39 +260,7 @@ def _exec_free_cycles(scope: MachineScope, never: set[int], sink: DiagnosticSink
         nid: [(t, d) for t, d in succ[nid] if (t is None or not (t.exec or has_exec(t.action))) and d not in runs_exec]
         for nid in nodes
     }
-    # Tarjan's strongly connected components
-    index: dict[int, int] = {}
-    low: dict[int, int] = {}
-    stack: list[int] = []
-    on: set[int] = set()
-    sccs: list[list[int]] = []
-    counter = [0]
-
-    def strong(v: int) -> None:
-        index[v] = low[v] = counter[0]
-        counter[0] += 1
-        stack.append(v)
-        on.add(v)
-        for _, w in edges[v]:
-            if w not in index:
-                strong(w)
-                low[v] = min(low[v], low[w])
-            elif w in on:
-                low[v] = min(low[v], index[w])
-        if low[v] == index[v]:
-            comp = []
-            while True:
-                w = stack.pop()
-                on.discard(w)
-                comp.append(w)
-                if w == v:
-                    break
-            sccs.append(comp)
-
-    for v in nodes:
-        if v not in index:
-            strong(v)
-    for comp in sccs:
+    for comp in _strongly_connected(nodes, edges):
         members = set(comp)
         inner = [t for v in comp for t, w in edges[v] if w in members and t is not None]
         if not inner:
@@ -299,6 +272,51 @@ def _exec_free_cycles(scope: MachineScope, never: set[int], sink: DiagnosticSink
             first.name_span,
             Note("robogen stops such a cycle after a bound and reports an error at run time"),
         )
+
+
+def _strongly_connected(nodes, edges: dict[int, list[tuple[ast.Transition | None, int]]]) -> list[list[int]]:
+    """Tarjan's strongly connected components, with an explicit stack: a machine may have
+    thousands of states in a row, deeper than Python's recursion allows."""
+    index: dict[int, int] = {}
+    low: dict[int, int] = {}
+    stack: list[int] = []
+    on: set[int] = set()
+    sccs: list[list[int]] = []
+    for root in nodes:
+        if root in index:
+            continue
+        index[root] = low[root] = len(index)
+        stack.append(root)
+        on.add(root)
+        work = [(root, 0)]  # (node, position of its next edge)
+        while work:
+            v, i = work[-1]
+            out = edges[v]
+            if i < len(out):
+                work[-1] = (v, i + 1)
+                w = out[i][1]
+                if w not in index:
+                    index[w] = low[w] = len(index)
+                    stack.append(w)
+                    on.add(w)
+                    work.append((w, 0))
+                elif w in on:
+                    low[v] = min(low[v], index[w])
+                continue
+            work.pop()
+            if work:
+                parent = work[-1][0]
+                low[parent] = min(low[parent], low[v])
+            if low[v] == index[v]:
+                component = []
+                while True:
+                    w = stack.pop()
+                    on.discard(w)
+                    component.append(w)
+                    if w == v:
+                        break
+                sccs.append(component)
+    return sccs
 
 
 __all__ = ["analyse_machine", "has_exec"]

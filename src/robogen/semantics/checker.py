@@ -99,6 +99,7 @@ class Checker:
         # node while the entry exists (the checkers build temporary names and type references).
         self._type_cache: dict[int, tuple[ast.TypeExpr, T.Type]] = {}
         self._decl_types: dict[int, T.Type] = {}
+        self.records: dict[str, T.RecordT] = {}  # qname -> record type with its fields
         self._lookups: dict[tuple[int, tuple[type, ...]], tuple[Decl | None, bool, ast.Name]] = {}
         self.builder = ScopeBuilder(self.sink, self.resolve_type, self.resolve_interface)
 
@@ -168,14 +169,17 @@ class Checker:
         if isinstance(node, ast.GivenType):
             result: T.Type = T.Given(decl.qname)
         elif isinstance(node, ast.Enumeration):
+            literals = tuple(lit.name for lit in node.literals)
+            self._decl_types[id(node)] = T.EnumT(decl.qname, literals)  # breaks recursion: E { a(E) }
             result = T.EnumT(
                 decl.qname,
-                tuple(lit.name for lit in node.literals),
+                literals,
                 tuple(tuple(self.resolve_type(a, decl.file) for a in lit.args) for lit in node.literals),  # type: ignore[arg-type]
             )
         elif isinstance(node, ast.Record):
-            self._decl_types[id(node)] = T.RecordT(decl.qname, ())  # breaks recursion
+            self._decl_types[id(node)] = T.RecordT(decl.qname, ())  # breaks recursion (see ExprChecker._record)
             result = T.RecordT(decl.qname, tuple((f.name, self.resolve_type(f.type, decl.file)) for f in node.fields))  # type: ignore[arg-type]
+            self.records[decl.qname] = result
         else:  # pragma: no cover
             result = T.UNKNOWN
         self._decl_types[id(node)] = result
@@ -236,11 +240,34 @@ class Checker:
         if not r.fields:
             self.sink.error(f"datatype '{r.name}' has no fields", r.name_span, Note("a datatype declares at least one field, e.g. 'x: real'"))
         seen: dict[str, ast.FieldDecl] = {}
+        qname = self.qname(f, r.name)
         for fd in r.fields:
             if fd.name in seen:
                 self.sink.error(f"field '{fd.name}' is declared twice in datatype '{r.name}'", fd.name_span, Note("first declared here", seen[fd.name].name_span))
             seen[fd.name] = fd
-            self.resolve_type(fd.type, f)
+            if self._contains(self.resolve_type(fd.type, f), qname, set()):
+                self.sink.error(
+                    f"datatype '{r.name}' contains itself through field '{fd.name}': its values would be infinite",
+                    fd.name_span,
+                    Note("a datatype may refer to itself inside a set or a sequence, e.g. 'kids: Seq(R)'"),
+                )
+
+    def _contains(self, t: T.Type, qname: str, seen: set[str]) -> bool:
+        """Does every value of type ``t`` hold a value of record ``qname`` (outside sets,
+        sequences, functions and enumerations, which can be empty or finite)?"""
+        if isinstance(t, T.RecordT):
+            if t.qname == qname:
+                return True
+            if t.qname in seen:
+                return False
+            seen.add(t.qname)
+            full = self.records.get(t.qname, t)
+            return any(self._contains(ft, qname, seen) for _, ft in full.fields)
+        if isinstance(t, T.ProductT):
+            return any(self._contains(x, qname, seen) for x in t.items)
+        if isinstance(t, (T.VectorT, T.MatrixT)):
+            return self._contains(t.element, qname, seen)
+        return False
 
     def enumeration(self, e: ast.Enumeration, f: ast.File) -> None:
         seen: dict[str, ast.EnumLiteral] = {}
@@ -577,7 +604,7 @@ class Checker:
     # ------------------------------------------------------------------ state machines and operations
 
     def _expr_checker(self, scope: MachineScope) -> ExprChecker:
-        return ExprChecker(scope, self.sink, self.tables, self.resolve_type, self.lookup)
+        return ExprChecker(scope, self.sink, self.tables, self.resolve_type, self.lookup, self.records)
 
     def machine(self, node: ast.StateMachine | ast.OperationDef, f: ast.File) -> MachineScope:
         if id(node) in self.scopes:

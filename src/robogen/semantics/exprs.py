@@ -53,12 +53,14 @@ class ExprChecker:
         tables: Tables,
         resolve_type: Callable[[ast.TypeExpr, ast.File], T.Type],
         lookup_global: Callable[..., object],
+        records: dict[str, T.RecordT] | None = None,
     ):
         self.scope = scope
         self.sink = sink
         self.tables = tables
         self.resolve_type = resolve_type
         self.lookup_global = lookup_global  # (name, file, kinds, what, report) -> Decl | None
+        self.records = records if records is not None else {}  # qname -> complete record type
         self.locals: list[dict[str, VarSym]] = []
         self.where = Where()
         self.result_type: T.Type | None = None
@@ -269,8 +271,15 @@ class ExprChecker:
             return self._constant(e.left) and self._constant(e.right)
         return False
 
+    def _record(self, t: T.Type) -> T.Type:
+        """A record type with its fields: a recursive datatype refers to itself through a
+        placeholder without fields while it is being resolved (R { kids: Seq(R) })."""
+        if isinstance(t, T.RecordT) and not t.fields:
+            return self.records.get(t.qname, t)
+        return t
+
     def _e_Field(self, e: ast.Field) -> T.Type:
-        t = self.expr(e.obj)
+        t = self._record(self.expr(e.obj))
         if isinstance(t, T.UnknownT):
             return t
         if not isinstance(t, T.RecordT):
@@ -680,6 +689,7 @@ class ExprChecker:
         return None
 
     def _e_Field_of(self, e: ast.Field, base: T.Type) -> T.Type | None:
+        base = self._record(base)
         if isinstance(base, T.UnknownT):
             return None
         if not isinstance(base, T.RecordT):

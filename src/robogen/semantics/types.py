@@ -182,6 +182,8 @@ def same(a: Type, b: Type) -> bool:
     if isinstance(a, EnumT) and isinstance(b, EnumT):
         return a.literals == b.literals
     if isinstance(a, RecordT) and isinstance(b, RecordT):
+        if a.qname == b.qname:  # one declaration (a recursive one refers to itself without its fields)
+            return True
         return len(a.fields) == len(b.fields) and all(
             na == nb and same(ta, tb) for (na, ta), (nb, tb) in zip(a.fields, b.fields)
         )
