@@ -263,3 +263,19 @@ def test_the_robosim_period_is_a_value_not_an_unknown():
             "'t1' is taken, as it is declared first",
         )
     ]
+
+
+def test_a_machine_with_more_states_in_a_row_than_python_recursion_allows():
+    n = 1500
+    states = [f"state S{j} {{ }}" for j in range(n)]
+    moves = [f"transition a{j} {{ from S{j} to S{j + 1} condition $e }}" for j in range(n - 1)]
+    waits = [f"transition b{j} {{ from S{j} to S{j} exec condition not $e }}" for j in range(n - 1)]
+    text = robosim(*states, "transition t0 { from i to S0 }", *moves, *waits, f"transition z {{ from S{n - 1} to S0 exec }}")
+    assert diagnostics(text, "m.rst") == []
+    # the same chain closed without exec is one cycle of every move
+    looping = text.replace(f"transition z {{ from S{n - 1} to S0 exec }}", f"transition z {{ from S{n - 1} to S0 }}")
+    (warning,) = diagnostics(looping, "m.rst")
+    assert warning[:3] == ("warning", *at(looping, "a0 "))
+    assert warning[3].startswith("transitions 'a0', 'a1', 'a10', 'a100', 'a1000', ") and warning[3].endswith(
+        "'z' form a cycle without exec: a cycle that takes them may never end"
+    )
