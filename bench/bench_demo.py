@@ -21,52 +21,17 @@ import tempfile
 import time
 from pathlib import Path
 
-import pybullet
+from bench_platform import joint_targets, run_bare  # the same bare loop as the platform benchmark
 
 from robogen.casestudy.build import build_all
 from robogen.cosim import simulate_system
-from robogen.platforms import scene
-from robogen.platforms.kinematics import HOME, IK_SEED, MAX_JOINT_SPEED, MAX_JOINT_TORQUE, grid_pose, inverse, nearest_equivalent
 from robogen.platforms.plan import load_plan
 from robogen.platforms.urdf import ur5e_urdf
 
 ROOT = Path(__file__).resolve().parent.parent
 QUICK = "--quick" in sys.argv
 REPEAT = 3 if QUICK else 7
-STOP, SAMPLE, PHYSICS_STEP = 100.0, 0.5, 1.0 / 240.0
-
-
-def bare(urdf: Path, targets: list[tuple[float, tuple[float, ...]]]) -> tuple[float, int]:
-    t0 = time.perf_counter()
-    cid = pybullet.connect(pybullet.DIRECT)
-    pybullet.setTimeStep(PHYSICS_STEP, physicsClientId=cid)
-    pybullet.setGravity(0, 0, -scene.GRAVITY, physicsClientId=cid)
-    robot = pybullet.loadURDF(str(urdf), useFixedBase=True, physicsClientId=cid,
-                              flags=pybullet.URDF_USE_INERTIA_FROM_FILE | pybullet.URDF_USE_SELF_COLLISION
-                              | pybullet.URDF_USE_SELF_COLLISION_EXCLUDE_PARENT)
-    for j in range(6):
-        pybullet.resetJointState(robot, j, HOME[j], 0.0, physicsClientId=cid)
-
-    def command(q):
-        for j in range(6):
-            pybullet.setJointMotorControl2(robot, j, pybullet.POSITION_CONTROL, targetPosition=q[j], targetVelocity=0.0,
-                                           force=MAX_JOINT_TORQUE[j], positionGain=scene.POSITION_GAIN,
-                                           velocityGain=scene.VELOCITY_GAIN, maxVelocity=MAX_JOINT_SPEED,
-                                           physicsClientId=cid)
-
-    command(HOME)
-    pending = list(targets)
-    per_interval = round(SAMPLE / PHYSICS_STEP)
-    steps = 0
-    for k in range(round(STOP / SAMPLE)):
-        if pending and abs(pending[0][0] - k * SAMPLE) < 1e-9:
-            command(pending.pop(0)[1])
-        for _ in range(per_interval):
-            pybullet.stepSimulation(physicsClientId=cid)
-        steps += per_interval
-        pybullet.getJointStates(robot, range(6), physicsClientId=cid)
-    pybullet.disconnect(physicsClientId=cid)
-    return time.perf_counter() - t0, steps
+STOP = 100.0
 
 
 def main() -> int:
@@ -80,16 +45,13 @@ def main() -> int:
         urdf = folder / "ur5e.urdf"
         urdf.write_text(ur5e_urdf())
         commands = [(c.time, c.target) for c in load_plan(ROOT / "models" / "ur5e" / "plan.toml").events(until=STOP)]
-        targets, q = [], HOME
-        for t, cell in commands:
-            q = nearest_equivalent(inverse(*grid_pose(*cell), seeds=(IK_SEED, q)).q, q)
-            targets.append((t, q))
+        targets = joint_targets(commands)
         cosim, peer = [], []
         for i in range(REPEAT):
             t0 = time.perf_counter()
             result = simulate_system(system, output=folder / f"results-{i}.csv", keep_rows=False)
             cosim.append(time.perf_counter() - t0)
-            wall, steps = bare(urdf, targets)
+            wall, steps = run_bare(urdf, targets, include_setup=True)
             peer.append(wall)
         c, b = statistics.median(cosim), statistics.median(peer)
         s = result.stats

@@ -141,8 +141,10 @@ def joint_targets(commands) -> list[tuple[float, tuple[float, ...]]]:
     return out
 
 
-def run_bare(urdf: Path, targets) -> tuple[float, int]:
-    """The same physics without the FMU: PyBullet calls only."""
+def run_bare(urdf: Path, targets, include_setup: bool = False) -> tuple[float, int]:
+    """The same physics without the FMU: PyBullet calls only. The wall time covers the loop, or
+    also connecting and loading the URDF (``include_setup``, to compare with a whole co-simulation)."""
+    t_setup = time.perf_counter()
     cid = pybullet.connect(pybullet.DIRECT)
     pybullet.setTimeStep(PHYSICS_STEP, physicsClientId=cid)
     pybullet.setGravity(0, 0, -scene.GRAVITY, physicsClientId=cid)
@@ -167,7 +169,7 @@ def run_bare(urdf: Path, targets) -> tuple[float, int]:
     pending = list(targets)
     per_interval = round(SAMPLE / PHYSICS_STEP)
     steps = 0
-    t0 = time.perf_counter()
+    t0 = t_setup if include_setup else time.perf_counter()
     for k in range(round(STOP / SAMPLE)):
         if pending and abs(pending[0][0] - k * SAMPLE) < 1e-9:
             command(pending.pop(0)[1])
