@@ -4,7 +4,6 @@ they must point at."""
 
 from __future__ import annotations
 
-import pytest
 from frontend_testing import at, diagnostics
 
 

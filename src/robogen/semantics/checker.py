@@ -15,8 +15,10 @@ from typing import Iterable
 from robogen.diagnostics import Diagnostic, Note, Span, did_you_mean, working_on
 from robogen.semantics import types as T
 from robogen.semantics.analysis import analyse_machine
-from robogen.semantics.exprs import ExprChecker, Tables, Where
-from robogen.semantics.scope import EventSym, MachineScope, Region, ScopeBuilder
+from robogen.semantics.connections import ConnectionChecks, frac
+from robogen.semantics.exprs import Tables, Where
+from robogen.semantics.stmts import StmtChecker
+from robogen.semantics.scope import MachineScope, Region, ScopeBuilder
 from robogen.semantics.workspace import TYPE_DECLS, Decl, Workspace
 from robogen.syntax import ast
 from robogen.syntax.parser import without_gc
@@ -87,7 +89,7 @@ def check(workspace: Workspace) -> CheckedModel:
     return CheckedModel(workspace, diagnostics, checker.tables, checker.scopes, checker.modules, checker.controllers, checker)
 
 
-class Checker:
+class Checker(ConnectionChecks):
     def __init__(self, ws: Workspace):
         self.ws = ws
         self.sink = ws.sink
@@ -330,7 +332,7 @@ class Checker:
                 Note("an interface holds variables plus either events or operations (rule I2)"),
             )
 
-    def _var_list(self, vl: ast.VarList, f: ast.File, checker: ExprChecker) -> None:
+    def _var_list(self, vl: ast.VarList, f: ast.File, checker: StmtChecker) -> None:
         for v in vl.vars:
             t = self.resolve_type(v.type, f)
             if v.init is not None:
@@ -447,164 +449,10 @@ class Checker:
         if not any(isinstance(m, ast.Controller) or (isinstance(m, ast.Reference) and m.kind == "cref") for m in mod.members):
             self.sink.error(f"module '{mod.name}' has no controller", mod.name_span)
 
-    def cycle_def(self, c: ast.CycleDef, previous: Fraction | None, owner: str) -> Fraction | None:
-        """The period p of `cycleDef cycle == p` (a positive constant)."""
-        e = c.expr
-        if not (isinstance(e, ast.Binary) and e.op == "==" and isinstance(e.left, ast.Keyword) and e.left.word == "cycle"):
-            self.sink.error("a cycle definition has the form 'cycleDef cycle == p' with p a positive number", e.span)
-            return previous
-        value = e.right
-        if isinstance(value, ast.IntLit):
-            period = Fraction(value.value)
-        elif isinstance(value, ast.RealLit):
-            period = Fraction(value.text)
-        else:
-            self.sink.error("the period in 'cycleDef cycle == p' must be a number literal", value.span)
-            return previous
-        if period <= 0:
-            self.sink.error(f"the cycle period must be positive, not {value.text if isinstance(value, ast.RealLit) else value.value}", value.span)  # type: ignore[union-attr]
-            return previous
-        if previous is not None and previous != period:
-            self.sink.error(f"{owner} declares two different cycle periods", c.span)
-        return period
-
-    def module_periods(self, info: ModuleInfo) -> None:
-        """robogen: every machine, controller and module of one model has the same period."""
-        periods: list[tuple[Fraction, str, Span | None]] = []
-        if info.period is not None:
-            periods.append((info.period, f"module '{info.node.name}'", info.node.name_span))
-        for _, c, cf in info.controllers:
-            ci = self.controllers.get(id(c))
-            if ci is not None and ci.period is not None:
-                periods.append((ci.period, f"controller '{c.name}'", c.name_span))
-            if ci is None:
-                continue
-            for _, m, mf in ci.machines:
-                scope = self.scopes.get(id(m))
-                if scope is not None and scope.cycle_defs:
-                    p = self._machine_period(scope)
-                    if p is not None:
-                        periods.append((p, f"state machine '{m.name}'", m.name_span))
-        if periods:
-            first = periods[0]
-            for p, owner, span in periods[1:]:
-                if p != first[0]:
-                    self.sink.error(
-                        f"{owner} has cycle period {_frac(p)}, but {first[1]} has {_frac(first[0])}",
-                        span,
-                        Note("robogen requires one period for every machine, controller and module of a model"),
-                    )
-            info.period = first[0]
-
-    def _machine_period(self, scope: MachineScope) -> Fraction | None:
-        period = None
-        for c in scope.cycle_defs:
-            period = self.cycle_def(c, period, f"state machine '{scope.name}'")
-        return period
-
-    # connections
-
-    def _endpoint_events(self, node: ast.Node, f: ast.File) -> dict[str, EventSym]:
-        if isinstance(node, (ast.StateMachine,)):
-            scope = self.scopes.get(id(node))
-            return dict(scope.events) if scope else {}
-        events: dict[str, EventSym] = {}
-        origin = f"{type(node).__name__.lower()} '{node.name}'"  # type: ignore[attr-defined]
-        for m in node.members:  # type: ignore[attr-defined]
-            if isinstance(m, ast.EventDecl):
-                events[m.name] = EventSym(m.name, self.resolve_type(m.type, f) if m.type else None, m, origin, True, True, m.broadcast)
-            elif isinstance(m, ast.InterfaceRef):
-                found = self.resolve_interface(m.name, f)
-                if found:
-                    iface, ifile = found
-                    for x in iface.members:
-                        if isinstance(x, ast.EventDecl) and x.name not in events:
-                            events[x.name] = EventSym(x.name, self.resolve_type(x.type, ifile) if x.type else None, x, f"interface '{iface.name}'", True, True, x.broadcast)
-        return events
-
-    def _connections(self, owner: str, members, ends: dict[str, tuple[ast.Node, ast.File, str]], f: ast.File, platform_name: str | None) -> None:
-        used: dict[tuple[str, str, str], ast.Connection] = {}
-        for conn in members:
-            if not isinstance(conn, ast.Connection):
-                continue
-            spans = conn.spans or (conn.span,) * 4
-            resolved = []
-            for end, event, espan, vspan, role in (
-                (conn.source, conn.source_event, spans[0], spans[1], "from"),
-                (conn.target, conn.target_event, spans[2], spans[3], "to"),
-            ):
-                if end not in ends:
-                    self.sink.error(
-                        f"'{end}' is not a part of {owner}" + did_you_mean(end, ends),
-                        espan,
-                        Note(f"the ends of a connection in {owner} are " + ", ".join(sorted(ends))),
-                    )
-                    resolved.append(None)
-                    continue
-                node, nfile, kind = ends[end]
-                events = self._endpoint_events(node, nfile)
-                ev = events.get(event)
-                if ev is None:
-                    self.sink.error(f"{kind} '{end}' has no event '{event}'" + did_you_mean(event, events), vspan)
-                    resolved.append(None)
-                    continue
-                key = (role, end, event)
-                if key in used and not conn.mult:
-                    self.sink.error(f"event '{event}' of '{end}' is connected twice", vspan, Note("first connection here", used[key].span))
-                used[key] = conn
-                resolved.append((end, node, ev, kind))
-            if resolved[0] and resolved[1]:
-                (_, _, a, ka), (_, _, b, kb) = resolved  # type: ignore[misc]
-                if (a.type is None) != (b.type is None) or (a.type is not None and b.type is not None and not T.same(a.type, b.type)):
-                    self.sink.error(
-                        f"connected events have different types: '{a.name}' of '{conn.source}' carries {_show(a.type)}, "
-                        f"'{b.name}' of '{conn.target}' carries {_show(b.type)}",
-                        conn.span,
-                        Note(f"'{a.name}' is declared in {a.origin}", a.span),
-                        Note(f"'{b.name}' is declared in {b.origin}", b.span),
-                    )
-                if a.broadcast != b.broadcast:
-                    self.sink.error("a broadcast event connects only to a broadcast event", conn.span)
-                if platform_name is not None and platform_name in (conn.source, conn.target) and not conn.asynchronous:
-                    self.sink.error(
-                        "connections with the robotic platform must be asynchronous",
-                        conn.span,
-                        Note("append '( _async )' to the connection (rule Cn2)"),
-                    )
-                # RoboSim direction: a machine receives only on input events and sends only on output events.
-                for (end, node, ev, kind), receiving in ((resolved[0], False), (resolved[1], True)):
-                    if isinstance(node, ast.StateMachine):
-                        scope = self.scopes.get(id(node))
-                        if scope is not None and scope.robosim:
-                            if receiving and not ev.input:
-                                self.sink.error(f"'{ev.name}' is not an input of state machine '{end}'", conn.span, Note("declare it in the machine's input context"))
-                            if not receiving and not ev.output:
-                                self.sink.error(f"'{ev.name}' is not an output of state machine '{end}'", conn.span, Note("declare it in the machine's output context"))
-
-    def controller_connections(self, c: ast.Controller, f: ast.File) -> None:
-        info = self.controllers.get(id(c))
-        if info is None:
-            return
-        ends: dict[str, tuple[ast.Node, ast.File, str]] = {c.name: (c, f, "controller")}
-        for name, m, mf in info.machines:
-            ends[name] = (m, mf, "state machine")
-        self._connections(f"controller '{c.name}'", c.members, ends, f, None)
-
-    def module_connections(self, mod: ast.Module, f: ast.File) -> None:
-        info = self.modules.get(id(mod))
-        if info is None:
-            return
-        ends: dict[str, tuple[ast.Node, ast.File, str]] = {}
-        if info.platform is not None:
-            ends[info.platform_name] = (info.platform, info.platform_file or f, "robotic platform")
-        for name, c, cf in info.controllers:
-            ends[name] = (c, cf, "controller")
-        self._connections(f"module '{mod.name}'", mod.members, ends, f, info.platform_name or None)
-
     # ------------------------------------------------------------------ state machines and operations
 
-    def _expr_checker(self, scope: MachineScope) -> ExprChecker:
-        return ExprChecker(scope, self.sink, self.tables, self.resolve_type, self.lookup, self.records)
+    def _expr_checker(self, scope: MachineScope) -> StmtChecker:
+        return StmtChecker(scope, self.sink, self.tables, self.resolve_type, self.lookup, self.records)
 
     def machine(self, node: ast.StateMachine | ast.OperationDef, f: ast.File) -> MachineScope:
         if id(node) in self.scopes:
@@ -661,7 +509,7 @@ class Checker:
             elif isinstance(m, ast.EventDecl) and m.broadcast:
                 self.sink.error("RoboSim has no broadcast events", m.span)
 
-    def region(self, region: Region, scope: MachineScope, checker: ExprChecker) -> None:
+    def region(self, region: Region, scope: MachineScope, checker: StmtChecker) -> None:
         owner = region.owner
         where = _region_name(region)
         initials = region.initials()
@@ -699,7 +547,7 @@ class Checker:
             if isinstance(node, ast.State):
                 self.state(node, scope, checker)
 
-    def state(self, s: ast.State, scope: MachineScope, checker: ExprChecker) -> None:
+    def state(self, s: ast.State, scope: MachineScope, checker: StmtChecker) -> None:
         seen: dict[str, ast.StateAction] = {}
         for m in s.members:
             if isinstance(m, ast.StateAction):
@@ -726,9 +574,9 @@ class Checker:
             if t.condition is not None or t.condition_else:
                 self.sink.error(f"transition '{t.name}' from a probabilistic junction cannot have a condition", t.name_span)
         if exact and outs and total != 1:
-            self.sink.error(f"the probabilities of the transitions from '{node.name}' sum to {_frac(total)}, not 1", node.name_span)
+            self.sink.error(f"the probabilities of the transitions from '{node.name}' sum to {frac(total)}, not 1", node.name_span)
 
-    def transition(self, t: ast.Transition, region: Region, scope: MachineScope, checker: ExprChecker, incoming, outgoing) -> None:
+    def transition(self, t: ast.Transition, region: Region, scope: MachineScope, checker: StmtChecker, incoming, outgoing) -> None:
         rs = scope.robosim
         src = self._node_ref(t.source, t.source_span or t.span, region, scope, t, "source")
         dst = self._node_ref(t.target, t.target_span or t.span, region, scope, t, "target")
@@ -822,14 +670,6 @@ def _first_span(node: ast.Node, name: str) -> Span | None:
         if n == name:
             return span
     return getattr(node, "name_span", None)
-
-
-def _frac(f: Fraction) -> str:
-    return str(f.numerator) if f.denominator == 1 else str(float(f))
-
-
-def _show(t: T.Type | None) -> str:
-    return "no value" if t is None else t.show()
 
 
 __all__ = ["check", "CheckedModel", "ModuleInfo", "ControllerInfo", "Checker"]
