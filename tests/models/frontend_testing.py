@@ -76,3 +76,24 @@ def at(text: str, snippet: str, occurrence: int = 1) -> tuple[int, int]:
         start = text.index(snippet, start + 1)
     line = text.count("\n", 0, start) + 1
     return line, start - (text.rfind("\n", 0, start) + 1) + 1
+
+
+def machine(*members: str, action: str = "skip", path: str = "m.rct") -> str:
+    """A machine S: ``members`` (one per line), then an initial node i and a state A entered by
+    transition t0 with ``action``."""
+    return "\n".join(["stm S {", *(f"\t{m}" for m in members), "\tinitial i", "\tstate A { }",
+                      f"\ttransition t0 {{ from i to A action {action} }}", "}"])  # fmt: skip
+
+
+def error(text: str, snippet: str, message: str, occurrence: int = 1) -> tuple:
+    """The brief form of an error located at the ``occurrence``-th ``snippet`` of ``text``."""
+    return ("error", *at(text, snippet, occurrence), message)
+
+
+def warning(text: str, snippet: str, message: str, occurrence: int = 1) -> tuple:
+    return ("warning", *at(text, snippet, occurrence), message)
+
+
+def robosim(*members: str, action: str = "skip") -> str:
+    """A RoboSim machine S like ``machine``'s, with a period and an exec self-loop on A."""
+    return machine("cycleDef cycle == 1", *members, "transition tx { from A to A exec }", action=action, path="m.rst")

@@ -126,7 +126,9 @@ class StmtChecker(ExprChecker):
         if not isinstance(f, ast.Name):
             self._err("only named operations can be called", f)
             return
-        op = self.scope.ops.get(f.last) if not f.qualified else None
+        op = self.scope.ops.get(f.last)
+        if op is not None and f.qualified and self.lookup_global(f, self.scope.file, (ast.OperationDef,), "operation", False) is None:
+            op = None  # pkg::op names an operation definition of that package, which must exist
         if op is None:
             known = [n for n in self.scope.ops]
             glob = self.lookup_global(f, self.scope.file, (ast.OperationDef,), "operation", False)
