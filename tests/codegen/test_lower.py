@@ -130,3 +130,22 @@ def test_stepwise_runaway_bound_counts_the_whole_cycle(built):
     assert trace.error is not None and trace.error.instant == 1
     assert 38 <= trace.error.k <= 43
     assert "runaway" in trace.error.where
+
+
+def test_a_controller_variable_is_one_variable_for_its_machines_and_operations(built):
+    """relay.rct: Relay provides 'served'; Front requires it and resets it, the operation process
+    (called by Back, which does not name it) counts answers in it: one variable. Request 2 at
+    t=0: Front sends job 2; Back (after Front in the same instant) runs process(2, 2): answer 4,
+    served 1; pause(1) waits since(W) >= 2 then wait(1): at t=3 process(20, 1) answers 20
+    (served 2) and Back sends done 3, which Front takes one super-dense step later."""
+    b = built("relay", "exhaustive")
+    trace = run_both(b, scenario(at(tick("request", value=2)), at(), at(), at()))
+    by_step = {(s.instant, s.k): s for s in trace.steps}
+    assert by_step[0, 0].outputs == {"answer": {"answer.value": 4}, "busy": {}}
+    assert by_step[0, 0].variables["Front.served"] == 1
+    assert state_names(b, by_step[0, 0]) == ["Waiting", "pause#2.Waiting"]
+    assert by_step[3, 0].outputs == {"answer": {"answer.value": 20}}
+    assert by_step[3, 0].variables["Front.served"] == 2
+    assert state_names(b, by_step[3, 0]) == ["Waiting", "Idle"] and by_step[3, 0].need
+    assert state_names(b, by_step[3, 1]) == ["Ready", "Idle"] and by_step[3, 1].variables["Front.back"] == 3
+    assert "Back.served" not in by_step[0, 0].variables

@@ -115,6 +115,8 @@ class Emitter:
         return literal(e.value, e.type)
 
     def _Ref(self, e: ir.Ref) -> str:
+        if e.var.owner >= 0 and e.var.owner != self.m.index:
+            return f"d->m{e.var.owner}.v_{e.var.name}"  # shared, held by another machine
         return f"m->v_{e.var.name}"
 
     def _FieldOf(self, e: ir.FieldOf) -> str:

@@ -357,7 +357,7 @@ class Interpreter:
 
     def _store(self, target: ir.Expr, value, m: ir.Machine, ms: MachineState) -> None:
         if isinstance(target, ir.Ref):
-            ms.vars[target.var.name] = value
+            self._memory(target.var, ms)[target.var.name] = value
             return
         container, key = self._place(target, m, ms)
         container[key] = value
@@ -371,9 +371,14 @@ class Interpreter:
             return base, self._offset(target, m, ms)
         raise RuntimeFault("bad assignment target")  # pragma: no cover
 
+    def _memory(self, var: ir.Var, ms: MachineState) -> dict[str, object]:
+        """The variables of the machine that holds ``var`` (its controller's shared ones live in
+        the first machine that uses them)."""
+        return ms.vars if var.owner < 0 else self.machines[var.owner].vars
+
     def _location(self, e: ir.Expr, m: ir.Machine, ms: MachineState):
         if isinstance(e, ir.Ref):
-            return ms.vars[e.var.name]
+            return self._memory(e.var, ms)[e.var.name]
         container, key = self._place(e, m, ms)
         return container[key]
 
@@ -397,7 +402,7 @@ class Interpreter:
         if isinstance(e, ir.Lit):
             return python_value(e.value, e.type)
         if isinstance(e, ir.Ref):
-            return ms.vars[e.var.name]
+            return self._memory(e.var, ms)[e.var.name]
         if isinstance(e, ir.FieldOf):
             return self._eval(e.base, m, ms)[e.name]
         if isinstance(e, ir.IndexOf):

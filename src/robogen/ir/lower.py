@@ -117,6 +117,8 @@ class _FmuLowering:
         self.fmu: ir.Fmu | None = None
         self.machine_scopes: list[tuple[str, MachineScope, ControllerInfo | None]] = []
         self.lowerings: list[_MachineLowering] = []
+        # variables a controller provides, shared by its machines: (controller, name) -> storage
+        self.shared_vars: dict[tuple[int, str], ir.Var] = {}
 
     def run(self) -> ir.Fmu:
         b = self.b
@@ -442,10 +444,19 @@ class _MachineLowering:
     def _declare_var(self, v: VarSym, name: str, display: str) -> ir.Var:
         t = self._norm(v.type)
         check_codegen_type(t, v.span, f"variable '{display}'")
+        key = (id(self.ctrl.node) if self.ctrl is not None else 0, name)
+        if v.shared and v.kind == "var" and key in self.fl.shared_vars:
+            var = self.fl.shared_vars[key]  # another machine of the controller holds it
+            if var.type != t:
+                raise not_supported(f"shared variable '{name}' with two types ({var.type.show()}, {t.show()})", v.span)
+            self.vars[name] = var
+            return var
         var = ir.Var(_cname(name), display, t, "const" if v.kind == "const" else ("param" if v.kind == "param" else "var"),
-                     None, v.span, v.shared, len(self.machine.vars))
+                     None, v.span, v.shared, len(self.machine.vars), owner=self.machine.index)
         self.machine.vars.append(var)
         self.vars[name] = var
+        if v.shared and v.kind == "var":
+            self.fl.shared_vars[key] = var
         if v.kind == "const":
             self._constant(var, v)
         return var
@@ -945,6 +956,9 @@ class _MachineLowering:
         if not isinstance(sym, VarSym):
             raise not_supported("this variable reference", span)
         var = graph.env.get(sym.name) or self.vars.get(sym.name)
+        if var is None and sym.shared and sym.kind == "var":
+            # a variable the controller provides, used by an operation the machine calls
+            var = self._declare_var(sym, sym.name, sym.name)
         if var is None:
             raise not_supported(f"variable '{sym.name}' here", span)
         return ir.Ref(var.type, var)

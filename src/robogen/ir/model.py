@@ -52,6 +52,10 @@ class Var:
     span: Span | None = None
     shared: bool = False  # declared by an interface (shared with the controller)
     index: int = 0  # position in the machine's var list
+    # a variable its controller provides lives in the memory of the controller's first machine
+    # that uses it; the other machines (and inlined operations) refer to that one: its index, or
+    # -1 for the machine whose var list holds it
+    owner: int = -1
 
 
 @dataclass(eq=False)
