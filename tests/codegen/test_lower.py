@@ -149,3 +149,25 @@ def test_a_controller_variable_is_one_variable_for_its_machines_and_operations(b
     assert state_names(b, by_step[3, 0]) == ["Waiting", "Idle"] and by_step[3, 0].need
     assert state_names(b, by_step[3, 1]) == ["Ready", "Idle"] and by_step[3, 1].variables["Front.back"] == 3
     assert "Back.served" not in by_step[0, 0].variables
+
+
+@pytest.mark.parametrize("semantics", ["exhaustive", "stepwise"])
+def test_robochart_inputs_inside_actions_wait_for_their_event(built, semantics):
+    """inputs.rct: confirm at t=0 finds Parked, which does not take it: it stays buffered. go
+    (East, 5) at t=1 enters Driving, whose sub-state Confirming's entry 'confirm?ok' takes the
+    buffered confirm at once and goes on (log digits 1 Parked, 2 Driving, 4 and 5 Confirming),
+    through the junction to Moving: heading East, total 5, during (6). abort at t=3 leaves the
+    composite state: exits inner first (7, then 3), report (East, 5), Parked (1). amount 3 at
+    t=4 starts t3, whose action waits for a second amount: 4 at t=5, moved 7."""
+    b = built("inputs", semantics)
+    go = tick("go", dir=1, steps=5)
+    trace = run_both(b, scenario(at(tick("confirm", value=True)), at(go), at(), at(tick("abort")),
+                                 at(tick("amount", value=3)), at(tick("amount", value=4))))
+    steps = last_steps(trace)
+    outputs = {s.instant: s.outputs for s in trace.steps if s.outputs}
+    assert outputs == {1: {"heading": {"heading.value": 1}}, 3: {"report": {"report.dir": 1, "report.steps": 5}},
+                       5: {"moved": {"moved.value": 7}}}
+    assert [state_names(b, steps[i])[0] for i in range(6)] == ["Parked", "Driving.Moving", "Driving.Moving", "Parked",
+                                                              "Parked", "Parked"]
+    assert [steps[i].variables["Rover.log"] for i in (0, 1, 3, 5)] == [1, 12456, 12456731, 124567311]
+    assert steps[5].variables["Rover.total"] == 7 and steps[1].variables["Rover.ok"] is True

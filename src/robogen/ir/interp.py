@@ -229,13 +229,18 @@ class Interpreter:
             ms.ticks += 1
             if ms.wait_left > 0:
                 ms.wait_left -= 1
-        arrived = bool(ms.register)
-        for ei, value in ms.register.items():
-            if ei in ms.sample:
-                self.dropped += 1
-            ms.sample[ei] = value
-        ms.register = {}
-        ms.new_input = False
+        # Events join the buffer between runs: in the middle of a stepwise run they wait, so that
+        # the transition a micro-step decided on finds, in the next one, the buffer it was
+        # decided on (docs §7.5: inputs that arrive during the micro-steps are for the next run).
+        arrived = bool(ms.register) and not ms.in_cycle
+        if arrived:
+            for ei, value in ms.register.items():
+                if ei in ms.sample:
+                    self.dropped += 1
+                ms.sample[ei] = value
+            ms.register = {}
+        if not ms.in_cycle:
+            ms.new_input = False
         if periodic or arrived or ms.in_cycle:
             if not ms.in_cycle:
                 ms.transitions = 0  # a new run to quiescence
