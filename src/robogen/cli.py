@@ -40,7 +40,9 @@ class _Parser(argparse.ArgumentParser):
         raise UsageError(f"{self.prog}: {message}")
 
 
-def build_parser() -> argparse.ArgumentParser:
+def build_parser(selected: str | None = None) -> argparse.ArgumentParser:
+    """The parser; only ``selected``'s module is imported (to add its arguments), so a command
+    never pays for, or depends on, the other stages."""
     parser = _Parser(
         prog="robogen",
         description="RoboChart/RoboSim models to FMI 3.0 co-simulation FMUs, and a clock-aware master.",
@@ -50,9 +52,10 @@ def build_parser() -> argparse.ArgumentParser:
     for name, (module_name, help_text) in COMMANDS.items():
         p = sub.add_parser(name, help=help_text, description=help_text)
         p.set_defaults(_module=module_name)
-        module = _load(module_name)
-        if module is not None:
-            module.configure(p)
+        if name == selected:
+            module = _load(module_name)
+            if module is not None:
+                module.configure(p)
     return parser
 
 
@@ -65,9 +68,18 @@ def _load(module_name: str):
         raise
 
 
+def _selected(argv: Sequence[str]) -> str | None:
+    """The subcommand named on the command line (the first argument that is not an option)."""
+    for arg in argv:
+        if not arg.startswith("-"):
+            return arg if arg in COMMANDS else None
+    return None
+
+
 def main(argv: Sequence[str] | None = None) -> int:
+    argv = list(sys.argv[1:] if argv is None else argv)
     try:
-        parser = build_parser()
+        parser = build_parser(_selected(argv))
         args = parser.parse_args(argv)
         if not getattr(args, "command", None):
             parser.print_help()

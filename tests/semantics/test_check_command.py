@@ -120,15 +120,36 @@ def test_graph_draws_a_machine_as_dot(tmp_path):
     assert '"Idle" -> "Run" [label="[$go]"];' in dot
 
 
+def _mermaid_ids(text: str) -> dict[str, str]:
+    """label -> id, from the `state "Label" as sN` lines and the junction notes."""
+    import re
+
+    ids = {label: ident for label, ident in re.findall(r'state "([^"]+)" as (s\d+)', text)}
+    ids.update({label: ident for ident, label in re.findall(r"note right of (s\d+) : (\S+)", text)})
+    return ids
+
+
 def test_graph_draws_composite_states_in_mermaid(capsys):
     assert main(["graph", str(VALID / "nodes.rct"), "--format", "mermaid", "--machine", "Machine"]) == 0
     text = capsys.readouterr().out
     assert text.startswith("stateDiagram-v2\n  %% state machine nodes::Machine\n")
-    assert "  state Running {\n" in text
-    assert "      state Running_Working {\n" not in text  # nested states are named by their path
-    assert "    state Running_Working {\n" in text
-    assert "  [*] --> Idle\n" in text
-    assert "  coin --> Retry : p = 0.75\n" in text
+    ids = _mermaid_ids(text)
+    running, working = ids["Running"], ids["Working"]
+    assert f"  state {running} {{\n" in text  # a composite state is a nested block
+    assert f"    state {working} {{\n" in text  # nested one level deeper
+    assert f"  [*] --> {ids['Idle']}\n" in text
+    assert f"  {ids['coin']} --> {ids['Retry']} : p = 0.75\n" in text
+
+
+def test_mermaid_ids_never_merge_states_that_differ_in_nesting(tmp_path, capsys):
+    # a top-level state A_B and a state B inside A: one diagram node each
+    (tmp_path / "m.rct").write_text(
+        "stm M { initial i state A { initial j state B { } transition u { from j to B } } state A_B { }"
+        " transition t { from i to A } transition v { from A to A_B } }"
+    )
+    assert main(["graph", str(tmp_path / "m.rct"), "--format", "mermaid"]) == 0
+    ids = _mermaid_ids(capsys.readouterr().out)
+    assert len({ids["A"], ids["B"], ids["A_B"]}) == 3
 
 
 def test_graph_of_an_unknown_machine_or_a_broken_model(tmp_path, capsys):

@@ -133,8 +133,17 @@ def _dot_region(region: Region, path: tuple[str, ...], out: list[str], pad: str)
 # ---------------------------------------------------------------------------- Mermaid
 
 
-def _mid(path: tuple[str, ...]) -> str:
-    return "_".join(path)
+class _Ids:
+    """Mermaid ids: one per node path (s0, s1, ...), so names that only differ in nesting
+    (a state `A_B` and a state `B` inside `A`) never merge; the label shows the name."""
+
+    def __init__(self) -> None:
+        self._ids: dict[tuple[str, ...], str] = {}
+
+    def __call__(self, path: tuple[str, ...]) -> str:
+        if path not in self._ids:
+            self._ids[path] = f"s{len(self._ids)}"
+        return self._ids[path]
 
 
 def _mlabel(text: str) -> str:
@@ -145,18 +154,17 @@ def _mlabel(text: str) -> str:
 def mermaid(scope: MachineScope) -> str:
     assert scope.region is not None
     out = ["stateDiagram-v2", f"  %% {scope.kind} {scope.qname}"]
-    _mermaid_region(scope.region, (), out, "  ")
+    _mermaid_region(scope.region, (), out, "  ", _Ids())
     out.append("")
     return "\n".join(out)
 
 
-def _mermaid_region(region: Region, path: tuple[str, ...], out: list[str], pad: str) -> None:
+def _mermaid_region(region: Region, path: tuple[str, ...], out: list[str], pad: str, _mid: _Ids) -> None:
     for name, node in region.nodes.items():
         p = path + (name,)
-        if isinstance(node, ast.Junction):
+        if isinstance(node, (ast.Junction, ast.Probabilistic)):
             out.append(f"{pad}state {_mid(p)} <<choice>>")
-        elif isinstance(node, ast.Probabilistic):
-            out.append(f"{pad}state {_mid(p)} <<choice>>")
+            out.append(f"{pad}note right of {_mid(p)} : {_mlabel(name)}")
         elif isinstance(node, ast.State):
             out.append(f"{pad}state \"{_mlabel(name)}\" as {_mid(p)}")
             for m in node.members:
@@ -164,7 +172,7 @@ def _mermaid_region(region: Region, path: tuple[str, ...], out: list[str], pad: 
                     out.append(f"{pad}{_mid(p)} : {_mlabel(f'{m.kind} / {stmt(m.stmt)}')}")
             if name in region.children:
                 out.append(f"{pad}state {_mid(p)} {{")
-                _mermaid_region(region.children[name], p, out, pad + "  ")
+                _mermaid_region(region.children[name], p, out, pad + "  ", _mid)
                 out.append(f"{pad}}}")
     for t in region.transitions:
         src, dst = region.nodes.get(t.source), region.nodes.get(t.target)
