@@ -103,14 +103,12 @@ def test_run_time_errors_are_reached_and_explained(built, name, semantics):
 
 def cycle_ends(trace) -> tuple[dict[int, dict], int | None]:
     """Per time instant: the outputs of all its super-dense steps, and the state, variables and
-    counters at its last step; and the instant of a run-time error. dropped_events is left out:
-    whether a second tick of an event finds the first still buffered depends on how far the
-    machine got, which differs between the modes inside an instant."""
+    counters at its last step; and the instant of a run-time error."""
     ends: dict[int, dict] = {}
     for s in trace.steps:
         end = ends.setdefault(s.instant, {"outputs": {}})
         end["outputs"].update(s.outputs)
-        end.update(states=s.states, variables=s.variables, counters=(s.cycles, s.misses))
+        end.update(states=s.states, variables=s.variables, counters=(s.cycles, s.dropped, s.misses))
     return _norm(ends), (trace.error.instant if trace.error else None)
 
 
