@@ -511,7 +511,7 @@ class Checker(ConnectionChecks):
 
     def region(self, region: Region, scope: MachineScope, checker: StmtChecker) -> None:
         owner = region.owner
-        where = _region_name(region)
+        where = region.description
         initials = region.initials()
         if not initials:
             self.sink.error(f"{where} has no initial node", getattr(owner, "name_span", None), Note("add 'initial i' and a transition from it"))
@@ -641,20 +641,11 @@ class Checker(ConnectionChecks):
             where = "::".join(elsewhere[0][:-1]) or scope.name
             notes.append(Note(f"'{name}' is a node of '{where}'; a transition joins nodes of one container (rule T1)"))
         self.sink.error(
-            f"transition '{t.name}': unknown {role} '{name}' in {_region_name(region)}" + did_you_mean(name, region.nodes),
+            f"transition '{t.name}': unknown {role} '{name}' in {region.description}" + did_you_mean(name, region.nodes),
             span,
             *notes,
         )
         return None
-
-
-def _region_name(region: Region) -> str:
-    owner = region.owner
-    if isinstance(owner, ast.State):
-        return f"state '{owner.name}'"
-    if isinstance(owner, ast.OperationDef):
-        return f"operation '{owner.name}'"
-    return f"state machine '{owner.name}'"  # type: ignore[attr-defined]
 
 
 def _member_names(m: ast.Node):

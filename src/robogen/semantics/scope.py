@@ -117,6 +117,16 @@ class Region:
             return ()
         return self.parent.path + (self.owner.name,)  # type: ignore[attr-defined]
 
+    @property
+    def description(self) -> str:
+        """How messages name the container: state 'S', operation 'o' or state machine 'M'."""
+        owner = self.owner
+        if isinstance(owner, ast.State):
+            return f"state '{owner.name}'"
+        if isinstance(owner, ast.OperationDef):
+            return f"operation '{owner.name}'"
+        return f"state machine '{owner.name}'"  # type: ignore[attr-defined]
+
     def initials(self) -> list[ast.Initial]:
         return [n for n in self.nodes.values() if isinstance(n, ast.Initial)]
 
@@ -314,7 +324,7 @@ class ScopeBuilder:
                 old = region.nodes.get(m.name)
                 if old is not None:
                     self.sink.error(
-                        f"node '{m.name}' is declared twice in {_region_text(region)}",
+                        f"node '{m.name}' is declared twice in {region.description}",
                         m.name_span,
                         Note("first declared here", old.name_span),
                     )
@@ -328,22 +338,13 @@ class ScopeBuilder:
         for t in region.transitions:
             if t.name in names:
                 self.sink.error(
-                    f"transition '{t.name}' is declared twice in {_region_text(region)}",
+                    f"transition '{t.name}' is declared twice in {region.description}",
                     t.name_span,
                     Note("first declared here", names[t.name].name_span),
                 )
             else:
                 names[t.name] = t
         return region
-
-
-def _region_text(region: Region) -> str:
-    owner = region.owner
-    if isinstance(owner, ast.State):
-        return f"state '{owner.name}'"
-    if isinstance(owner, ast.OperationDef):
-        return f"operation '{owner.name}'"
-    return f"state machine '{owner.name}'"  # type: ignore[attr-defined]
 
 
 def _show(t: Type | None) -> str:
