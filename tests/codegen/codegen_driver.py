@@ -276,7 +276,9 @@ class FmuRunner:
         counters = [seen.pop(n) for n in COUNTERS]
         return Step(instant, k, outputs, states, seen, *counters, False)
 
-    def run(self, scenario: Scenario, max_k: int = 2000) -> Trace:
+    def run(self, scenario: Scenario, max_k: int = 2000, parameters: dict[str, object] | None = None) -> Trace:
+        """Reset (or the first run: the fresh instance), set ``parameters`` (FMI name -> value) in
+        Initialization Mode, then drive the scenario."""
         inst, d = self.inst, self.desc
         trace = Trace()
         self.errors = []
@@ -288,6 +290,11 @@ class FmuRunner:
         instant, k = 0, 0
         try:
             inst.fmi3EnterInitializationMode(None, 0.0, None)
+            for name, value in (parameters or {}).items():
+                var = d.by_name[name]
+                buf = fmi3.value_array(var.type, 1)
+                buf[0] = value
+                inst._call("fmi3Set" + fmi3.ACCESSOR[var.type], fmi3.vr_array([var.vr]), 1, buf, 1)
             inst.fmi3ExitInitializationMode()
             for instant, step in enumerate(scenario):
                 k = 0
@@ -344,8 +351,9 @@ def _py(value, fmi_type: str):
 # ---------------------------------------------------------------------------- the interpreter side
 
 
-def interpret(fmu: ir.Fmu, scenario: list[Instant], desc: Description, max_k: int = 2000) -> Trace:
-    it = Interpreter(fmu)
+def interpret(fmu: ir.Fmu, scenario: list[Instant], desc: Description, max_k: int = 2000,
+              parameters: dict[str, object] | None = None) -> Trace:
+    it = Interpreter(fmu, parameters)
     trace = Trace()
     params = {p.fmi_name for p in fmu.params}
     instant, k = 0, 0

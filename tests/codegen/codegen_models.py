@@ -17,6 +17,7 @@ class ModelCase:
     name: str
     path: Path
     max_steps: int = 1000
+    settings: dict[str, str] = field(default_factory=dict)  # constants without a value (--set)
     # payload choices for the random scenarios (FMI name -> values), to keep run-time errors rare
     choices: dict[str, list] = field(default_factory=dict)
 
@@ -39,10 +40,11 @@ TEST_MODELS = {
             "n.value": [0, 1, 2, 3, 4, 5, 6, 2**64 - 1, 7, 7],
             "x.value": [-2.5, -1.0, -0.5, 0.0, 0.25, 0.5, 1.0, 1.5, 3.0] * 2 + [1e19],
         }),
-        ModelCase("beacon", MODELS / "beacon.rst"),
+        ModelCase("beacon", MODELS / "beacon.rst", settings={"step": "0.25"}),
         ModelCase("timers", MODELS / "timers.rct"),
         ModelCase("inputs", MODELS / "inputs.rct"),
         ModelCase("relay", MODELS / "relay.rct"),
+        ModelCase("ur5e_rct", ROOT / "models" / "ur5e" / "ur5e.rct"),
     )
 }
 OWN_MODELS = [n for n in TEST_MODELS if n != "ur5e"]

@@ -32,7 +32,8 @@ class Builds:
         with self.lock:
             if key not in self.futures:
                 model = TEST_MODELS[name]
-                options = Options(semantics=semantics, trigger=trigger, max_steps=model.max_steps)
+                options = Options(semantics=semantics, trigger=trigger, max_steps=model.max_steps,
+                                  settings=dict(model.settings))
                 work = self.folder / f"{name}-{semantics}-{trigger}"
                 self.futures[key] = self.pool.submit(build, [model.path], work, options=options)
             return self.futures[key]

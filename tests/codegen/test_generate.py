@@ -4,6 +4,7 @@ traceable to the model."""
 
 from __future__ import annotations
 
+import json
 import os
 import re
 import subprocess
@@ -47,14 +48,14 @@ def test_robogen_validate_command_accepts_a_generated_fmu(built, capsys):
 # ---------------------------------------------------------------------------- determinism
 
 GENERATE_ALL = """
-import hashlib, sys
+import hashlib, json, sys
 from pathlib import Path
 from robogen.codegen.api import lower_paths
 from robogen.codegen.generate import generate
 from robogen.ir.lower import Options
-for path in sys.argv[1:]:
+for path, settings in json.loads(sys.argv[1]):
     for semantics in ("exhaustive", "stepwise"):
-        fmu, _ = lower_paths([path], options=Options(semantics=semantics))
+        fmu, _ = lower_paths([path], options=Options(semantics=semantics, settings=settings))
         for rel, text in sorted(generate(fmu).files.items()):
             print(path, semantics, rel, hashlib.sha256(text.encode()).hexdigest())
 """
@@ -63,11 +64,11 @@ for path in sys.argv[1:]:
 def test_generated_sources_are_byte_identical_across_processes():
     """Two processes with different hash seeds (set and dict orders that depend on hashing would
     show) generate the same bytes for every test model, in both semantics."""
-    paths = [str(m.path.relative_to(ROOT)) for m in TEST_MODELS.values()]
+    paths = [(str(m.path.relative_to(ROOT)), m.settings) for m in TEST_MODELS.values()]
     outputs = []
     for seed in ("1", "2"):
         env = dict(os.environ, PYTHONHASHSEED=seed)
-        result = subprocess.run([sys.executable, "-c", GENERATE_ALL, *paths], cwd=ROOT, env=env,
+        result = subprocess.run([sys.executable, "-c", GENERATE_ALL, json.dumps(paths)], cwd=ROOT, env=env,
                                 capture_output=True, text=True, check=True)
         outputs.append(result.stdout)
     assert outputs[0] == outputs[1]

@@ -7,6 +7,8 @@ Scenarios tick the periodic clock at every instant (one period apart).
 
 from __future__ import annotations
 
+import re
+
 import pytest
 
 from codegen_driver import FmuRunner, Instant, Scenario, Tick, interpret
@@ -171,3 +173,24 @@ def test_robochart_inputs_inside_actions_wait_for_their_event(built, semantics):
                                                               "Parked", "Parked"]
     assert [steps[i].variables["Rover.log"] for i in (0, 1, 3, 5)] == [1, 12456, 12456731, 124567311]
     assert steps[5].variables["Rover.total"] == 7 and steps[1].variables["Rover.ok"] is True
+
+
+def test_parameters_set_in_initialization_mode_reach_the_machine(built):
+    """arith.rst: the constant k (3 in the model) is a fixed FMU parameter; set to 5 before
+    fmi3ExitInitializationMode, it also decides the initial value of base = k * 10 - 1 = 49.
+    beacon.rst's step has no value in the model: the generation setting gives it (0.25)."""
+    b = built("arith", "exhaustive")
+    runner = FmuRunner(b.folder)
+    try:
+        s = scenario(at(), at(tick("a", value=2)), at())
+        default = runner.run(s)
+        five = runner.run(s, parameters={"Alu.k": 5})
+        assert five.comparable() == interpret(b.fmu, s, runner.desc, parameters={"Alu.k": 5}).comparable()
+    finally:
+        runner.close()
+    # s = a + b * k - -a + base with a = 7, b = -2 at t=0
+    assert default.steps[0].outputs["sum"] == {"sum.value": 7 - 6 + 7 + 29}
+    assert five.steps[0].outputs["sum"] == {"sum.value": 7 - 10 + 7 + 49}
+    assert five.steps[0].variables["Alu.k"] == 5 and five.steps[0].variables["Alu.base"] == 49
+    assert re.search(r'name="Beacon.step"[^>]*causality="parameter" variability="fixed" start="0.25"',
+                     built("beacon", "exhaustive").sources["modelDescription.xml"])
