@@ -17,6 +17,7 @@ from fmpy.validation import validate_fmu as fmpy_validate
 from codegen_models import ROOT, SEMANTICS, TEST_MODELS
 from robogen.cli import main as robogen_main
 from robogen.codegen.api import compile_model
+from robogen.diagnostics import RobogenError
 from robogen.fmu.validate import validate_fmu
 from robogen.ir.lower import Options
 from robogen.semantics import check_paths
@@ -135,3 +136,25 @@ def test_line_comments_can_be_switched_off(tmp_path):
     assert re.search(r"/\* b4: t2: Idle -> ArmMove  \S*ur5e\.rst:\d+ \*/", with_lines)
     assert "/* b4: t2: Idle -> ArmMove */" in without
     assert not re.search(r"case \d+: /\*[^*]*ur5e\.rst:\d+", without)
+
+
+def test_a_model_name_that_clashes_with_an_fmi_variable_is_a_located_error(tmp_path):
+    model = tmp_path / "clash.rct"
+    model.write_text(
+        "package clash\n"
+        "interface I { event tock event cycles: nat }\n"
+        "stm M {\n"
+        "\tuses I\n"
+        "\tvar n: nat = 0\n"
+        "\tinitial i\n"
+        "\tstate S { }\n"
+        "\ttransition t0 { from i to S }\n"
+        "\ttransition t1 { from S to S trigger tock action n = n + 1 ; send cycles!n }\n"
+        "}\n")
+    with pytest.raises(RobogenError) as caught:
+        compile_model([str(model)], tmp_path / "out")
+    found = [(d.span.line, d.span.column, d.message, [n.message for n in d.notes]) for d in caught.value.diagnostics]
+    assert [f[:2] for f in found] == [(2, 21), (2, 32)]
+    assert found[0][2] == "the FMU would have two variables named 'tock' (input event tock); rename it in the model"
+    assert found[1][2] == "the FMU would have two variables named 'cycles' (output event cycles); rename it in the model"
+    assert all("robogen's own FMI variables" in f[3][0] for f in found)

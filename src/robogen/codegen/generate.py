@@ -15,6 +15,7 @@ import jinja2
 
 from robogen import __version__
 from robogen.codegen.c import Emitter, c_comment, c_string, ctype, literal, mangle
+from robogen.diagnostics import DiagnosticSink, Note, Span
 from robogen.ir import model as ir
 from robogen.ir.dump import dump
 from robogen.semantics import types as T
@@ -42,6 +43,7 @@ class FmiVar:
     interval_variability: str | None = None
     interval: str | None = None
     shift: str | None = None
+    span: Span | None = None  # the model element it comes from (None: one of robogen's own)
 
     @property
     def rg_type(self) -> str:
@@ -274,7 +276,7 @@ class _Layout:
         self._add_clock(clock, "RG_CLOCK_INPUT_CONSTANT")
         for port in fmu.inputs:
             c = FmiVar(port.name, self._next_vr(), "Clock", "input", "discrete", interval_variability="triggered",
-                       description=f"input event {port.name}")
+                       description=f"input event {port.name}", span=port.span)
             self._add_clock(c, "RG_CLOCK_INPUT_TRIGGERED")
             self.port_fields_in[port.index] = []
             for f in port.fields:
@@ -284,11 +286,13 @@ class _Layout:
                 self.variables.append(FmiVar(
                     f.fmi_name, self._next_vr(), fmi_type, "input", "discrete", member, start=self._start(f.type),
                     clock=c.vr, clock_index=self.clock_index[port.name], declared_type=declared,
-                    size=f.type.size if isinstance(f.type, T.VectorT) else None))
+                    size=f.type.size if isinstance(f.type, T.VectorT) else None, span=port.span,
+                    description=f"value of input event {port.name}"))
                 self.port_fields_in[port.index].append((member, f))
         for port in fmu.outputs:
             c = FmiVar(port.name, self._next_vr(), "Clock", "output", "discrete", interval_variability="triggered",
-                       description=("call of platform operation " if port.kind == "operation" else "output event ") + port.name)
+                       description=("call of platform operation " if port.kind == "operation" else "output event ") + port.name,
+                       span=port.span)
             self._add_clock(c, "RG_CLOCK_OUTPUT_TRIGGERED")
             self.port_fields_out[port.index] = []
             for f in port.fields:
@@ -298,7 +302,9 @@ class _Layout:
                 self.variables.append(FmiVar(
                     f.fmi_name, self._next_vr(), fmi_type, "output", "discrete", member,
                     clock=c.vr, clock_index=self.clock_index[port.name], declared_type=declared,
-                    size=f.type.size if isinstance(f.type, T.VectorT) else None))
+                    size=f.type.size if isinstance(f.type, T.VectorT) else None, span=port.span,
+                    description=(f"argument {f.path[0]} of platform operation {port.name}" if port.kind == "operation"
+                                 else f"value of output event {port.name}")))
                 self.port_fields_out[port.index].append((member, f))
         for p in fmu.params:
             member = f"m{p.machine}.v_{p.var.name}"
@@ -308,7 +314,7 @@ class _Layout:
                 self.variables.append(FmiVar(
                     name, self._next_vr(), fmi_type, "parameter", "fixed", member + access,
                     start=self._start(t, value), declared_type=declared, size=t.size if isinstance(t, T.VectorT) else None,
-                    description=f"constant {p.var.display}"))
+                    description=f"constant {p.var.display}", span=p.var.span))
         for m in fmu.machines:
             enum_name = f"{m.name}.Node"
             self.enums.append(EnumType(enum_name, [(n.label, n.id) for n in m.nodes]))
@@ -333,10 +339,31 @@ class _Layout:
                     self.variables.append(FmiVar(
                         name, self._next_vr(), fmi_type, "local", "discrete", f"m{m.index}.v_{v.name}{access}",
                         initial="calculated", declared_type=declared, size=t.size if isinstance(t, T.VectorT) else None,
-                        description=f"variable {v.display} of {m.name}"))
+                        description=f"variable {v.display} of {m.name}", span=v.span))
             for e in m.events:
                 if e.type is not None:
                     self._type(e.type)
+        self._check_names()
+
+    def _check_names(self) -> None:
+        """FMI variable names must be unique: a model name may clash with another, or with one of
+        robogen's own (the periodic clock, the counters, the state outputs)."""
+        sink = DiagnosticSink()
+        first: dict[str, FmiVar] = {}
+        for v in self.variables:
+            other = first.setdefault(v.name, v)
+            if other is v:
+                continue
+            culprit, kept = (v, other) if v.span is not None else (other, v)
+            if kept.span is None:
+                note = Note(f"'{kept.name}' is one of robogen's own FMI variables: the periodic clock (cycle in RoboSim, "
+                            "tock in RoboChart), the counters cycles, dropped_events and deadline_misses, and the "
+                            "state output <machine>.state of each state machine")
+            else:
+                note = Note(f"the {kept.description} has that name too", kept.span)
+            sink.error(f"the FMU would have two variables named '{v.name}' ({culprit.description}); rename it in the "
+                       "model", culprit.span, note)
+        sink.raise_if_errors()
 
     def _add_clock(self, c: FmiVar, kind: str) -> None:
         self.clock_index[c.name] = len(self.clocks)

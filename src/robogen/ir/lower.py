@@ -288,6 +288,10 @@ class _FmuLowering:
         assert fmu is not None
         for p in fmu.outputs:
             if p.name == name:
+                if p.kind != kind:
+                    raise RobogenError.at(
+                        f"the FMU would have two output clocks named '{name}': an output event and a platform operation; "
+                        "rename one of them in the model", span, Note(f"the other '{name}' is declared here", p.span))
                 return p
         if kind == "operation":
             fields: list[ir.Field_] = []
