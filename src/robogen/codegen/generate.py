@@ -38,12 +38,22 @@ class FmiVar:
     clock_index: int = -1  # rg_clocks index of its clock
     declared_type: str | None = None
     description: str = ""
-    size: int | None = None  # arrays
+    dims: tuple[int, ...] = ()  # arrays: one <Dimension> each (vectors: 1, matrices: rows, columns)
     # clocks
     interval_variability: str | None = None
     interval: str | None = None
     shift: str | None = None
     span: Span | None = None  # the model element it comes from (None: one of robogen's own)
+
+    @property
+    def size(self) -> int | None:
+        """Number of elements of an array (None for a scalar)."""
+        if not self.dims:
+            return None
+        n = 1
+        for d in self.dims:
+            n *= d
+        return n
 
     @property
     def rg_type(self) -> str:
@@ -259,8 +269,9 @@ class _Layout:
         return FMI_TYPE[ctype(t)], None
 
     def _start(self, t: T.Type, value: object = None) -> str:
-        if isinstance(t, T.VectorT):
-            return " ".join([self._start(t.element)] * (t.size or 0))
+        if isinstance(t, (T.VectorT, T.MatrixT)):
+            element, dims = _shape(t)
+            return " ".join([self._start(element)] * (dims[0] * (dims[1] if len(dims) > 1 else 1)))
         if t == T.BOOLEAN:
             return "true" if value else "false"
         if t == T.REAL:
@@ -282,11 +293,11 @@ class _Layout:
             for f in port.fields:
                 member = "in_" + mangle(f.fmi_name)
                 self._data(f.type, member, f"clocked input {f.fmi_name}")
-                fmi_type, declared = self._scalar(f.type.element if isinstance(f.type, T.VectorT) else f.type)
+                fmi_type, declared = self._scalar(_shape(f.type)[0])
                 self.variables.append(FmiVar(
                     f.fmi_name, self._next_vr(), fmi_type, "input", "discrete", member, start=self._start(f.type),
                     clock=c.vr, clock_index=self.clock_index[port.name], declared_type=declared,
-                    size=f.type.size if isinstance(f.type, T.VectorT) else None, span=port.span,
+                    dims=_shape(f.type)[1], span=port.span,
                     description=f"value of input event {port.name}"))
                 self.port_fields_in[port.index].append((member, f))
         for port in fmu.outputs:
@@ -298,22 +309,22 @@ class _Layout:
             for f in port.fields:
                 member = "out_" + mangle(f.fmi_name)
                 self._data(f.type, member, f"clocked output {f.fmi_name}")
-                fmi_type, declared = self._scalar(f.type.element if isinstance(f.type, T.VectorT) else f.type)
+                fmi_type, declared = self._scalar(_shape(f.type)[0])
                 self.variables.append(FmiVar(
                     f.fmi_name, self._next_vr(), fmi_type, "output", "discrete", member,
                     clock=c.vr, clock_index=self.clock_index[port.name], declared_type=declared,
-                    size=f.type.size if isinstance(f.type, T.VectorT) else None, span=port.span,
+                    dims=_shape(f.type)[1], span=port.span,
                     description=(f"argument {f.path[0]} of platform operation {port.name}" if port.kind == "operation"
                                  else f"value of output event {port.name}")))
                 self.port_fields_out[port.index].append((member, f))
         for p in fmu.params:
             member = f"m{p.machine}.v_{p.var.name}"
             for name, t, access in _flat(p.fmi_name, p.var.type, ""):
-                fmi_type, declared = self._scalar(t.element if isinstance(t, T.VectorT) else t)
+                fmi_type, declared = self._scalar(_shape(t)[0])
                 value = p.value if not access else None
                 self.variables.append(FmiVar(
                     name, self._next_vr(), fmi_type, "parameter", "fixed", member + access,
-                    start=self._start(t, value), declared_type=declared, size=t.size if isinstance(t, T.VectorT) else None,
+                    start=self._start(t, value), declared_type=declared, dims=_shape(t)[1],
                     description=f"constant {p.var.display}", span=p.var.span))
         for m in fmu.machines:
             enum_name = f"{m.name}.Node"
@@ -335,10 +346,10 @@ class _Layout:
                 if v.kind != "var":
                     continue
                 for name, t, access in _flat(f"{m.name}.{v.display}", v.type, ""):
-                    fmi_type, declared = self._scalar(t.element if isinstance(t, T.VectorT) else t)
+                    fmi_type, declared = self._scalar(_shape(t)[0])
                     self.variables.append(FmiVar(
                         name, self._next_vr(), fmi_type, "local", "discrete", f"m{m.index}.v_{v.name}{access}",
-                        initial="calculated", declared_type=declared, size=t.size if isinstance(t, T.VectorT) else None,
+                        initial="calculated", declared_type=declared, dims=_shape(t)[1],
                         description=f"variable {v.display} of {m.name}", span=v.span))
             for e in m.events:
                 if e.type is not None:
@@ -390,6 +401,15 @@ class _Layout:
     @property
     def table(self) -> list[FmiVar]:
         return self.variables
+
+
+def _shape(t: T.Type) -> tuple[T.Type, tuple[int, ...]]:
+    """The element type and the dimensions of an FMI variable of type ``t`` (() for a scalar)."""
+    if isinstance(t, T.VectorT):
+        return t.element, (t.size or 0,)
+    if isinstance(t, T.MatrixT):
+        return t.element, (t.rows or 0, t.columns or 0)
+    return t, ()
 
 
 def _flat(name: str, t: T.Type, access: str):
