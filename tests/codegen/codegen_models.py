@@ -44,6 +44,7 @@ TEST_MODELS = {
         ModelCase("timers", MODELS / "timers.rct"),
         ModelCase("inputs", MODELS / "inputs.rct"),
         ModelCase("relay", MODELS / "relay.rct"),
+        ModelCase("nested", MODELS / "nested.rct"),
         ModelCase("ur5e_rct", ROOT / "models" / "ur5e" / "ur5e.rct"),
     )
 }

@@ -14,9 +14,9 @@ from pathlib import Path
 import pytest
 from fmpy.validation import validate_fmu as fmpy_validate
 
-from codegen_models import ROOT, SEMANTICS, TEST_MODELS
+from codegen_models import MODELS, ROOT, SEMANTICS, TEST_MODELS
 from robogen.cli import main as robogen_main
-from robogen.codegen.api import compile_model
+from robogen.codegen.api import compile_model, package_model
 from robogen.diagnostics import RobogenError
 from robogen.fmu.validate import validate_fmu
 from robogen.ir.lower import Options
@@ -158,3 +158,17 @@ def test_a_model_name_that_clashes_with_an_fmi_variable_is_a_located_error(tmp_p
     assert found[0][2] == "the FMU would have two variables named 'tock' (input event tock); rename it in the model"
     assert found[1][2] == "the FMU would have two variables named 'cycles' (output event cycles); rename it in the model"
     assert all("robogen's own FMI variables" in f[3][0] for f in found)
+
+
+def test_events_connected_to_nothing_compile(tmp_path):
+    """nested.rct without its controller's connections: the platform's events reach no machine and
+    the machine's output goes nowhere; the generated C must still build with -Werror."""
+    text = (MODELS / "nested.rct").read_text()
+    text = re.sub(r"\n\tconnection Ctl on a to m on a\n\tconnection Ctl on b to m on b\n\tconnection m on out to Ctl on out", "", text)
+    assert "connection Ctl" not in text
+    model = tmp_path / "unconnected.rct"
+    model.write_text(text)
+    archive, compiled = package_model([str(model)], tmp_path / "unconnected.fmu")
+    assert archive.is_file()
+    assert all(not p.routes for p in compiled.fmu.inputs)
+    assert "reaches no state machine" in compiled.generated.files["sources/model.c"]

@@ -311,6 +311,9 @@ class Emitter:
                 _, mi, ei = route
                 value = "a0_" if s.args else None
                 lines.append(f"{inner}rg_deliver_{mi}_{ei}(d{', ' + value if value else ''});")
+        if not s.routes:
+            lines.append(f"{inner}/* {c_comment(s.name)} is connected to nothing: evaluated, sent nowhere */")
+            lines += [f"{inner}(void)a{k}_;" for k in range(len(s.args))]
         lines.append(f"{indent}}}")
         return lines
 

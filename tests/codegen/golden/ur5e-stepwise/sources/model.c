@@ -519,6 +519,7 @@ static fmi3Status rg_model_exit_initialization(rg_instance *inst)
 static void rg_model_latch(rg_instance *inst, int clock_index)
 {
     rg_model_data *d = &inst->s.data;
+    (void)d;
     switch (clock_index) {
     case 1: /* moveDiscreteCommand */
     {
