@@ -91,18 +91,18 @@ class Trace:
     error: Error | None = None
 
     def comparable(self) -> list:
-        out: list = [(s.instant, s.k, _norm(s.outputs), s.states, _norm(s.variables), s.cycles, s.dropped, s.misses, s.need) for s in self.steps]
+        out: list = [(s.instant, s.k, canonical(s.outputs), s.states, canonical(s.variables), s.cycles, s.dropped, s.misses, s.need) for s in self.steps]
         if self.error is not None:
             out.append(self.error.key())
         return out
 
 
-def _norm(value):
+def canonical(value):
     """NaN equals NaN in traces; ints and bools keep their type."""
     if isinstance(value, dict):
-        return {k: _norm(v) for k, v in sorted(value.items())}
+        return {k: canonical(v) for k, v in sorted(value.items())}
     if isinstance(value, (list, tuple)):
-        return [_norm(v) for v in value]
+        return [canonical(v) for v in value]
     if isinstance(value, float) and math.isnan(value):
         return "nan"
     return value
@@ -426,4 +426,4 @@ def build(paths: list[Path], work: Path, *, module: str | None = None, machine: 
     return Built(compiled.fmu, archive, folder, dict(compiled.generated.files))
 
 
-__all__ = ["Tick", "Instant", "Scenario", "Step", "Trace", "Description", "FmuRunner", "interpret", "random_scenario", "build", "Built"]
+__all__ = ["Tick", "Instant", "Scenario", "canonical", "Step", "Trace", "Description", "FmuRunner", "interpret", "random_scenario", "build", "Built"]
