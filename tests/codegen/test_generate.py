@@ -172,3 +172,10 @@ def test_events_connected_to_nothing_compile(tmp_path):
     assert archive.is_file()
     assert all(not p.routes for p in compiled.fmu.inputs)
     assert "reaches no state machine" in compiled.generated.files["sources/model.c"]
+
+
+def test_packaging_twice_gives_byte_identical_archives(tmp_path):
+    """The .fmu too: same binary, same ZIP entries and times."""
+    first, _ = package_model([str(TEST_MODELS["ur5e"].path)], tmp_path / "a.fmu")
+    second, _ = package_model([str(TEST_MODELS["ur5e"].path)], tmp_path / "b.fmu")
+    assert first.read_bytes() == second.read_bytes()
