@@ -214,6 +214,10 @@ def assignable(value: Type, target: Type) -> bool:
         return assignable(value.element, target.element) and (
             value.size is None or target.size is None or value.size == target.size
         )
+    if isinstance(value, MatrixT) and isinstance(target, MatrixT):
+        return assignable(value.element, target.element) and all(
+            a is None or b is None or a == b for a, b in ((value.rows, target.rows), (value.columns, target.columns))
+        )
     if isinstance(value, (SetT, SeqT)) and type(value) is type(target):
         return assignable(value.element, target.element)  # type: ignore[attr-defined]
     if isinstance(value, ProductT) and isinstance(target, ProductT):
