@@ -352,8 +352,8 @@ def _py(value, fmi_type: str):
 
 
 def interpret(fmu: ir.Fmu, scenario: list[Instant], desc: Description, max_k: int = 2000,
-              parameters: dict[str, object] | None = None) -> Trace:
-    it = Interpreter(fmu, parameters)
+              parameters: dict[str, object] | None = None, functions: dict | None = None) -> Trace:
+    it = Interpreter(fmu, parameters, functions)
     trace = Trace()
     params = {p.fmi_name for p in fmu.params}
     instant, k = 0, 0

@@ -218,6 +218,9 @@ class Emitter:
     def _VectorLit(self, e: ir.VectorLit) -> str:
         return f"(({ctype(e.type)}){{ {{ {', '.join(self.expr(x) for x in e.items)} }} }})"
 
+    def _CallU(self, e: ir.CallU) -> str:
+        return f"rg_user_{e.name}({', '.join(self.expr(a) for a in e.args)})"
+
     def _CallB(self, e: ir.CallB) -> str:
         args = [self.expr(a) for a in e.args]
         t = tag(e.type) if e.type != T.REAL else "r"

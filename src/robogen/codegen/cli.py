@@ -27,6 +27,8 @@ def add_model_options(p: argparse.ArgumentParser) -> None:
     p.add_argument("--given-type", choices=("int", "nat", "real"), default="int", help="the scalar type of given types (default int)")
     p.add_argument("--max-transitions", type=int, default=1000, metavar="N",
                    help="transitions per cycle before a runaway cycle is reported (default 1000)")
+    p.add_argument("--functions", metavar="FILE.c",
+                   help="C file implementing the model's user functions, each as static <type> rg_user_<name>(...)")
     p.add_argument("--no-line-comments", action="store_true", help="leave the model file:line out of the generated C comments")
 
 
@@ -46,6 +48,7 @@ def options_from(args: argparse.Namespace) -> Options:
         settings=settings,
         given=args.given_type,
         max_steps=args.max_transitions,
+        functions=args.functions,
     )
 
 

@@ -135,6 +135,7 @@ def generate(fmu: ir.Fmu, *, line_comments: bool = True, diagrams: dict[int, str
     needed = {t for mc in machines for t in mc["equalities"]}
     equalities, bodies = _equalities(layout.types, needed)
     context = dict(
+        user_functions=[(u, _prototype(u)) for u in fmu.user_functions],
         typedefs=[_typedef(t) for t in layout.types],
         equality_bodies=bodies,
         param_starts={p.fmi_name: _param_starts(p) for p in fmu.params},
@@ -156,6 +157,8 @@ def generate(fmu: ir.Fmu, *, line_comments: bool = True, diagrams: dict[int, str
     gen.files["sources/config.h"] = env.get_template("config.h.j2").render(**context)
     gen.files["sources/model.c"] = env.get_template("model.c.j2").render(**context)
     gen.files[f"sources/{ident}.c"] = env.get_template("unity.c.j2").render(**context)
+    if fmu.user_functions:
+        gen.files["sources/user_functions.c"] = _functions_file(fmu)
     gen.files["sources/buildDescription.xml"] = env.get_template("buildDescription.xml.j2").render(**context)
     gen.files["documentation/index.md"] = env.get_template("documentation.md.j2").render(**context)
     gen.files["documentation/externalDependencies.txt"] = "none beyond libc and libm\n"
@@ -166,6 +169,22 @@ def generate(fmu: ir.Fmu, *, line_comments: bool = True, diagrams: dict[int, str
 def _token_hash(fmu: ir.Fmu) -> str:
     h = hashlib.sha256(dump(fmu).encode("utf-8")).hexdigest()
     return f"{h[0:8]}-{h[8:12]}-{h[12:16]}-{h[16:20]}-{h[20:32]}"
+
+
+def _prototype(u: ir.UserFunction) -> str:
+    args = ", ".join(f"{ctype(t)} {n}" for n, t in u.params) or "void"
+    return f"static {ctype(u.result)} rg_user_{u.name}({args})"
+
+
+def _functions_file(fmu: ir.Fmu) -> str:
+    """The user's C file with the model's functions, copied verbatim into sources/."""
+    from robogen.diagnostics import RobogenError, Span
+
+    path = Path(fmu.functions_file or "")
+    try:
+        return path.read_text(encoding="utf-8")
+    except (OSError, UnicodeDecodeError) as exc:
+        raise RobogenError.at(f"cannot read the functions file {path}: {exc}", Span.whole_file(str(path))) from None
 
 
 def _typedef(t: T.Type) -> str:

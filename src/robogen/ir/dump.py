@@ -158,6 +158,8 @@ def expr(e: ir.Expr | None) -> str:
         return "{" + ", ".join(f"{n} = {expr(v)}" for n, v in e.values) + "}"
     if isinstance(e, ir.VectorLit):
         return "[" + ", ".join(expr(x) for x in e.items) + "]"
+    if isinstance(e, ir.CallU):
+        return f"user {e.name}({', '.join(expr(a) for a in e.args)})"
     if isinstance(e, ir.CallB):
         return f"{e.name}({', '.join(expr(a) for a in e.args)})"
     return f"<{type(e).__name__}>"

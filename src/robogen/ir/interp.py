@@ -106,8 +106,11 @@ class Instant:
 
 
 class Interpreter:
-    def __init__(self, fmu: ir.Fmu, parameters: dict[str, object] | None = None):
+    def __init__(self, fmu: ir.Fmu, parameters: dict[str, object] | None = None, functions: dict | None = None):
+        """``functions``: Python implementations of the model's user functions (name -> callable),
+        the counterparts of the C file given to the code generator with --functions."""
         self.fmu = fmu
+        self.functions = dict(functions or {})
         self.parameters = {p.fmi_name: p.value for p in fmu.params}
         if parameters:
             self.parameters.update(parameters)
@@ -452,6 +455,11 @@ class Interpreter:
             if e.name == "min":
                 return args[0] if args[0] <= args[1] else args[1]
             return args[0] if args[0] >= args[1] else args[1]
+        if isinstance(e, ir.CallU):
+            f = self.functions.get(e.name)
+            if f is None:
+                raise RuntimeFault(f"user function '{e.name}' has no implementation in the reference interpreter")
+            return python_value(f(*(self._eval(a, m, ms) for a in e.args)), e.type)
         raise RuntimeFault(f"unknown expression {type(e).__name__}")  # pragma: no cover
 
     def _since(self, elapsed: int, t: T.Type):

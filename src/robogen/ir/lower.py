@@ -36,6 +36,7 @@ class Options:
     settings: dict[str, str] = field(default_factory=dict)  # constant name -> value text
     given: str = "int"  # the scalar type of given types
     max_steps: int = 1000
+    functions: str | None = None  # a C file implementing the model's user functions
 
 
 class Unsupported(Exception):
@@ -135,6 +136,7 @@ class _FmuLowering:
             sources=tuple(sorted({f.path for f in self.model.workspace.files})),
             span=getattr(b.node, "name_span", None),
             max_steps=self.o.max_steps,
+            functions_file=self.o.functions,
         )
         self.fmu = fmu
         self._collect_machines()
@@ -876,30 +878,30 @@ class _MachineLowering:
 
     def _call(self, op: OpSym, args, cur: ir.Block, graph: _Graph, span: Span | None) -> ir.Block:
         values = tuple(self._conv(self.expr(a, graph), self._norm(pt), a.span) for a, (_, pt) in zip(args, op.params))
-        definition = self._software_operation(op.name) if not op.platform else None
+        definition = self._software_operation(op.name, graph.scope.file) if not op.platform else None
         if definition is None:
             cur.stmts.append(ir.Emit(span, op.name, values, self.fl.output_routes(self, op.name, "operation", span)))
             return cur
         return self._inline(definition, values, cur, graph, span)
 
-    def _software_operation(self, name: str) -> MachineScope | None:
+    def _software_operation(self, name: str, file: ast.File | None = None) -> MachineScope | None:
         """The definition of a software operation the machine calls, if it has one (otherwise
-        the operation belongs to the robotic platform)."""
-        candidates = []
-        if self.ctrl is not None:
-            for used, node, f in self.ctrl.operations:
-                if node.name == name or used == name:
-                    candidates.append(self.fl.model.scopes.get(id(node)))
-        if not candidates:
-            for s in self.fl.model.scopes.values():
-                if isinstance(s.node, ast.OperationDef) and s.name == name:
-                    candidates.append(s)
-        candidates = [c for c in candidates if c is not None]
+        the operation belongs to the robotic platform): the one its controller references
+        (opref), else the one visible from the calling file (its package, its imports, files
+        without a package), never an operation of the same name elsewhere in the workspace."""
+        model = self.fl.model
         if self.fl.b.kind == "module":
-            info = self.fl.model.modules[id(self.fl.b.node)]
-            if info.platform is not None and _platform_provides(self.fl.model, info, name):
+            info = model.modules[id(self.fl.b.node)]
+            if info.platform is not None and _platform_provides(model, info, name):
                 return None
-        return candidates[0] if candidates else None
+        if self.ctrl is not None:
+            for used, node, _ in self.ctrl.operations:
+                if node.name == name or used == name:
+                    scope = model.scopes.get(id(node))
+                    if scope is not None:
+                        return scope
+        decl = model.workspace.lookup(ast.Name((name,)), file or self.scope.file, (ast.OperationDef,), "operation", report=False)
+        return model.scopes.get(id(decl.node)) if decl is not None else None
 
     def _inline(self, op: MachineScope, values, cur: ir.Block, graph: _Graph, span: Span | None) -> ir.Block:
         if op.name in self.inline_stack:
@@ -1059,6 +1061,8 @@ class _MachineLowering:
                 if t not in T.NUMERIC or any(self._type(a) not in T.NUMERIC for a in e.args):
                     raise not_supported(f"'{sym.name}' of a set or sequence", e.span)
                 return ir.CallB(t, sym.name, tuple(self._conv(self.expr(a, graph), t, a.span) for a in e.args))
+            if isinstance(sym, FuncSym) and sym.builtin is None and sym.decl is not None:
+                return self._user_call(sym, e, graph)
             name = sym.name if isinstance(sym, FuncSym) else "?"
             raise not_supported(f"a call of function '{name}' (robogen has no implementation of it)", e.span)
         if isinstance(e, ast.Cast):
@@ -1129,6 +1133,29 @@ class _MachineLowering:
         }.get(type(e), type(e).__name__)
         raise not_supported(what, e.span)
 
+    def _user_call(self, sym: FuncSym, e: ast.Call, graph: _Graph) -> ir.Expr:
+        """A call of a function the model declares by its contract: implemented in C by the
+        file given with --functions (the reference interpreter takes Python implementations)."""
+        fmu = self.fl.fmu
+        assert fmu is not None
+        params = tuple((n, self._norm(t)) for n, t in sym.params)
+        result = self._norm(sym.result)
+        for n, t in params + (("result", result),):
+            if not is_scalar(t):
+                raise not_supported(f"function '{sym.name}': {n} of type {t.show()}", e.span)
+        signature = f"static {_c_signature(sym.name, params, result)}"
+        if self.fl.o.functions is None:
+            raise RobogenError.at(
+                f"function '{sym.name}' has no implementation: give robogen a C file with --functions",
+                e.span,
+                Note(f"the file must define: {signature} {{ ... }}"),
+            )
+        known = next((u for u in fmu.user_functions if u.name == sym.name), None)
+        if known is None:
+            fmu.user_functions.append(ir.UserFunction(sym.name, params, result, sym.decl.name_span if sym.decl else e.span))
+        args = tuple(self._conv(self.expr(a, graph), pt, a.span) for a, (_, pt) in zip(e.args, params))
+        return ir.CallU(result, sym.name, args)
+
     def _since_type(self) -> T.Type:
         p = self.fl.fmu.period  # type: ignore[union-attr]
         return T.NAT if p.denominator == 1 else T.REAL
@@ -1170,6 +1197,16 @@ class _MachineLowering:
         if t not in T.NUMERIC:
             raise not_supported(f"'{e.op}' on {t.show()}", e.span)
         return ir.Bin(t, op, self._conv(a, t, e.left.span), self._conv(b, t, e.right.span))
+
+
+def _c_signature(name: str, params, result: T.Type) -> str:
+    """The C prototype a --functions file must define (for the error note; scalars only)."""
+
+    def c(t: T.Type) -> str:
+        return {T.NAT: "uint64_t", T.REAL: "double", T.BOOLEAN: "bool"}.get(t, "int64_t")
+
+    args = ", ".join(f"{c(t)} {n}" for n, t in params) or "void"
+    return f"{c(result)} rg_user_{name}({args})"
 
 
 def _platform_provides(model: CheckedModel, info: ModuleInfo, op: str) -> bool:

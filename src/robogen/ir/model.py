@@ -240,6 +240,23 @@ class CallB(Expr):
     args: tuple[Expr, ...]
 
 
+@dataclass(frozen=True)
+class CallU(Expr):
+    """A user function (declared in the model by its contract only), implemented in the C file
+    given with --functions as ``static <result> rg_user_<name>(<params>)``."""
+
+    name: str
+    args: tuple[Expr, ...]
+
+
+@dataclass(frozen=True)
+class UserFunction:
+    name: str  # the C name is rg_user_<name>
+    params: tuple[tuple[str, Type], ...]
+    result: Type
+    span: Span | None
+
+
 # ============================================================================ statements
 
 
@@ -399,6 +416,8 @@ class Fmu:
     inputs: list[Port] = field(default_factory=list)
     outputs: list[Port] = field(default_factory=list)
     params: list[Param] = field(default_factory=list)
+    user_functions: list[UserFunction] = field(default_factory=list)
+    functions_file: str | None = None  # the C file implementing them (--functions)
     max_steps: int = 1000  # transitions per cycle before a runaway cycle is reported
 
     @property
