@@ -258,51 +258,63 @@ class Master:
                  for u in self.units for r in u.readers if r.fmi_type != "String"]
         slow_reads = [u for u in self.units if any(r.fmi_type == "String" for r in u.readers)]
         rows_append = recorder.rows.append if recorder.keep_rows and recorder._writer is None else None
-        while True:
-            n += 1
-            t_next = start + n * h
-            if t_next >= horizon - 1e-9 * max(1.0, abs(horizon)) or t_next <= t:
-                return t
-            self._t = t
-            event = False
-            for u, do_step, handle, ev, term, er, lst in calls:
-                status = do_step(handle, t, t_next - t, True, ev, term, er, lst)
-                if status > 1:
-                    u.inst._fail("fmi3DoStep", status)
-                if ev[0] or term[0]:
-                    event = event or (ev[0] and u.event_mode)
-                    if term[0] and stats.terminated_by is None:
-                        stats.terminated_by = f"instance '{u.name}' asked to terminate in fmi3DoStep at t={t_next!r}"
-                u.time = t_next
-            t = self._t = t_next
-            stats.steps += 1
-            if pacer is not None:
-                pacer.wait(t)
-            if event:
-                for u in event_units:
-                    u.inst.fmi3EnterEventMode()
-                self._event_iteration(t)
-                return t
-            if linked:
-                self._exchange_values(t)
-            else:
-                for get, handle, vrs, count, buf, r, inst in reads:
-                    status = get(handle, vrs, count, buf, count)
+        limit = horizon - 1e-9 * max(1.0, abs(horizon))  # the last grid point before the horizon
+        show_progress = progress.enabled
+        # Counters live in locals while stepping (this loop runs millions of times) and are
+        # added to the statistics and the recorder on the way out.
+        steps = rows = 0
+        try:
+            while True:
+                n += 1
+                t_next = start + n * h
+                if t_next >= limit or t_next <= t:
+                    return t
+                event = terminated = False
+                for u, do_step, handle, ev, term, er, lst in calls:
+                    status = do_step(handle, t, t_next - t, True, ev, term, er, lst)
                     if status > 1:
-                        inst._fail(r.function, status)
-                for u in slow_reads:
-                    u.read_outputs()
-            row = [t, 0]
-            row += [src[i] for src, i in cols]
-            if rows_append is not None:
-                rows_append(row)
-                recorder.count += 1
-            else:
-                recorder.row(row)
-            if progress.enabled:
-                progress.update(t)
-            if stats.terminated_by is not None:
-                return t
+                        u.inst._fail("fmi3DoStep", status)
+                    if ev[0] or term[0]:
+                        event = event or (ev[0] and u.event_mode)
+                        if term[0]:
+                            terminated = True
+                            if stats.terminated_by is None:
+                                stats.terminated_by = f"instance '{u.name}' asked to terminate in fmi3DoStep at t={t_next!r}"
+                    u.time = t_next
+                t = self._t = t_next
+                steps += 1
+                if pacer is not None:
+                    pacer.wait(t)
+                if event:
+                    for u in event_units:
+                        u.inst.fmi3EnterEventMode()
+                    stats.steps += steps
+                    steps = 0
+                    self._event_iteration(t)
+                    return t
+                if linked:
+                    self._exchange_values(t)
+                else:
+                    for get, handle, vrs, count, buf, r, inst in reads:
+                        status = get(handle, vrs, count, buf, count)
+                        if status > 1:
+                            inst._fail(r.function, status)
+                    for u in slow_reads:
+                        u.read_outputs()
+                row = [t, 0]
+                row += [src[i] for src, i in cols]
+                if rows_append is not None:
+                    rows_append(row)
+                    rows += 1
+                else:
+                    recorder.row(row)
+                if show_progress:
+                    progress.update(t)
+                if terminated:
+                    return t
+        finally:
+            stats.steps += steps
+            recorder.count += rows
 
     def _refresh_timing(self, t: float) -> None:
         """The earliest clock tick or nextEventTime after t, over all FMUs (after setup and each Event Mode)."""
