@@ -70,6 +70,9 @@ def test_the_installed_wheel_parses_and_checks_a_model_outside_the_source_tree(t
     with zipfile.ZipFile(wheel) as z:
         names = set(z.namelist())
     assert {"robogen/grammar/robochart.lark", "robogen/grammar/robosim.lark", "robogen/syntax/parser.py"} <= names
+    # what code generation reads at run time ships too: the C runtime and the templates
+    assert {"robogen/runtime/robogen_runtime.c", "robogen/runtime/robogen_runtime.h",
+            "robogen/templates/model.c.j2", "robogen/templates/modelDescription.xml.j2"} <= names
 
     env = tmp_path / "env"
     run(sys.executable, "-m", "venv", "--without-pip", env)
@@ -95,3 +98,13 @@ def test_the_installed_wheel_parses_and_checks_a_model_outside_the_source_tree(t
     assert "Traceback" not in command.stderr, command.stderr
     assert command.returncode == 1
     assert command.stderr.splitlines()[0] == "bad.rct:1:17: error: initial node 'i' must have exactly one outgoing transition, not 0"
+
+    # ... and it generates, compiles and validates an FMU with its own runtime and templates
+    (tmp_path / "pulse.rst").write_text(model)
+    package = subprocess.run([env / "bin" / "robogen", "package", "pulse.rst", "-o", "pulse.fmu"],
+                             capture_output=True, text=True, cwd=tmp_path, env=clean)
+    assert package.returncode == 0, package.stderr
+    with zipfile.ZipFile(tmp_path / "pulse.fmu") as z:
+        members = set(z.namelist())
+    assert {"modelDescription.xml", "sources/robogen_runtime.c", "sources/model.c"} <= members
+    assert any(m.startswith("binaries/x86_64-linux/") and m.endswith(".so") for m in members)
