@@ -32,6 +32,11 @@ from robogen.cosim.units import APERIODIC, PERIODIC, Aperiodic, Periodic, Unit, 
 from robogen.diagnostics import Note, RobogenError
 
 
+def _when(t: float) -> str:
+    """A time for a message: 12 significant digits hide the grid's rounding (301 * 0.01 is 3.0100000000000002)."""
+    return f"{t:.12g}"
+
+
 @dataclass
 class Options:
     start: float
@@ -75,6 +80,7 @@ class Master:
         self.any_early = any(u.early for u in units)
         # the plain-step loop needs: nobody returns early, no call trace
         self.plain_ok = not self.any_early and all(u.inst.trace is None for u in units)
+        self._stepper = None  # the C plain-step loop, built at its first use (False: unavailable)
         self._next_event = math.inf
         self._wire(links, record)
 
@@ -260,6 +266,10 @@ class Master:
         rows_append = recorder.rows.append if recorder.keep_rows and recorder._writer is None else None
         limit = horizon - 1e-9 * max(1.0, abs(horizon))  # the last grid point before the horizon
         show_progress = progress.enabled
+        if pacer is None and not linked and not slow_reads:
+            stepper = self._c_stepper(calls, reads, cols)
+            if stepper is not None:
+                return self._plain_steps_in_c(stepper, t, n, start, h, limit, calls, reads, progress)
         # Counters live in locals while stepping (this loop runs millions of times) and are
         # added to the statistics and the recorder on the way out.
         steps = rows = 0
@@ -279,7 +289,7 @@ class Master:
                         if term[0]:
                             terminated = True
                             if stats.terminated_by is None:
-                                stats.terminated_by = f"instance '{u.name}' asked to terminate in fmi3DoStep at t={t_next!r}"
+                                stats.terminated_by = f"instance '{u.name}' asked to terminate in fmi3DoStep at t={_when(t_next)}"
                     u.time = t_next
                 t = self._t = t_next
                 steps += 1
@@ -316,6 +326,63 @@ class Master:
             stats.steps += steps
             recorder.count += rows
 
+    def _c_stepper(self, calls, reads, cols):
+        """The C plain-step loop bound to this system (built once per run), or None."""
+        if self._stepper is False:
+            return None
+        if self._stepper is None:
+            from robogen.cosim import stepper as c_stepper
+
+            lib = c_stepper.load()
+            if lib is None:
+                self._stepper = False
+                return None
+            units = [(do_step, handle) for _u, do_step, handle, *_ in calls]
+            read_index = {id(r): i for i, (*_, r, _inst) in enumerate(reads)}
+            c_reads = [(get, handle, vrs, count, buf, r.fmi_type) for get, handle, vrs, count, buf, r, _inst in reads]
+            c_cols = []
+            for kind, _u, _v, reader in self.value_columns:
+                if kind == "value":
+                    c_cols.append((read_index[id(reader[0])], reader[1]))
+                else:
+                    c_cols.append(("const", 0 if kind == "clock" else None))
+            event_mode = [u.event_mode for u, *_ in calls]
+            self._stepper = c_stepper.Stepper(lib, units, c_reads, event_mode, c_cols)
+        return self._stepper
+
+    def _plain_steps_in_c(self, stepper, t: float, n: int, start: float, h: float, limit: float,
+                          calls, reads, progress) -> float:
+        """_plain_steps through the C stepper: the same steps, rows and outcomes, chunk by chunk."""
+        from robogen.cosim.stepper import CHUNK, WHY_EVENT, WHY_GET_FAILED, WHY_LIMIT, WHY_STEP_FAILED
+
+        stats = self.stats
+        while True:
+            steps, rows, n, t_new, why, who, status = stepper.run(start, h, n, t, limit)
+            self.recorder.rows_many(stepper.rows(rows))
+            stats.steps += steps
+            if steps:
+                t = self._t = t_new
+                for u, *_ in calls:
+                    u.time = t
+            if why == WHY_STEP_FAILED:
+                calls[who][0].inst._fail("fmi3DoStep", status)
+            if why == WHY_GET_FAILED:
+                get, handle, vrs, count, buf, r, inst = reads[who]
+                inst._fail(r.function, status)
+            flags = stepper.s.flags
+            for i, (u, *_) in enumerate(calls):
+                if steps and flags[4 * i + 1] and stats.terminated_by is None:
+                    stats.terminated_by = f"instance '{u.name}' asked to terminate in fmi3DoStep at t={_when(t)}"
+            if progress.enabled:
+                progress.update(t)
+            if why == WHY_EVENT:
+                for u in self.event_units:
+                    u.inst.fmi3EnterEventMode()
+                self._event_iteration(t)
+                return t
+            if why != WHY_LIMIT or rows < CHUNK:
+                return t
+
     def _refresh_timing(self, t: float) -> None:
         """The earliest clock tick or nextEventTime after t, over all FMUs (after setup and each Event Mode)."""
         limit = t + tolerance(t)
@@ -335,7 +402,7 @@ class Master:
                 ev, term, _er, _lst = u.inst.fmi3DoStep(t, t_next - t, True)
                 u.time = t_next
                 if term and self.stats.terminated_by is None:
-                    self.stats.terminated_by = f"instance '{u.name}' asked to terminate in fmi3DoStep at t={t_next!r}"
+                    self.stats.terminated_by = f"instance '{u.name}' asked to terminate in fmi3DoStep at t={_when(t_next)}"
                 event = event or (ev and u.event_mode)
             return t_next, event
         end = t_next
@@ -362,7 +429,7 @@ class Master:
         for u in self.units:
             ev, term, _er, _lst = u.flags
             if term and self.stats.terminated_by is None:
-                self.stats.terminated_by = f"instance '{u.name}' asked to terminate in fmi3DoStep at t={u.time!r}"
+                self.stats.terminated_by = f"instance '{u.name}' asked to terminate in fmi3DoStep at t={_when(u.time)}"
             event = event or (ev and u.event_mode)
         return end, event
 
@@ -402,7 +469,7 @@ class Master:
                 if need:
                     needs.append(u)
                 if term and self.stats.terminated_by is None:
-                    self.stats.terminated_by = f"instance '{u.name}' asked to terminate in fmi3UpdateDiscreteStates at t={t!r}"
+                    self.stats.terminated_by = f"instance '{u.name}' asked to terminate in fmi3UpdateDiscreteStates at t={_when(t)}"
             k += 1
             changed = self._exchange_values(t) if not needs else False
             if not needs and not changed:
@@ -436,7 +503,7 @@ class Master:
             budget -= 1
             if budget < 0:
                 names = ", ".join(sorted(queued))
-                raise RobogenError.at(f"values did not settle at t={t!r}: an algebraic loop between {names}", self.system.span("connections"))
+                raise RobogenError.at(f"values did not settle at t={_when(t)}: an algebraic loop between {names}", self.system.span("connections"))
             _, name = heapq.heappop(heap)
             queued.discard(name)
             u = self.by_name[name]
@@ -493,7 +560,7 @@ class Master:
         diag_notes = [Note(f"instance '{u.name}' is declared here", u.span) for u in needs]
         diag_notes.append(Note(f"clocks active in the last instant: {', '.join(active) or 'none'}"))
         raise RobogenError.at(
-            f"event iteration at t={t!r} did not settle after {k} super-dense instants (Zeno behaviour): "
+            f"event iteration at t={_when(t)} did not settle after {k} super-dense instants (Zeno behaviour): "
             f"FMUs still asking for an update: {who}", (needs[0].span if needs else self.system.span("experiment")), *diag_notes)
 
     # -- recording ----------------------------------------------------------------------------
@@ -531,7 +598,7 @@ class Master:
             u.failed_status = exc.status
         what = "discarded the call (fmi3Discard; the master does not retry)" if exc.status == DISCARD else f"returned {status_name(exc.status)}"
         notes = [Note(f"the FMU logged: {exc.message}")] if exc.message else []
-        return RobogenError.at(f"instance '{exc.instance}': {exc.function} {what} at t={self._t!r}; the results recorded so far are kept",
+        return RobogenError.at(f"instance '{exc.instance}': {exc.function} {what} at t={_when(self._t)}; the results recorded so far are kept",
                                u.span if u else None, *notes)
 
     def _shutdown(self) -> None:

@@ -49,6 +49,19 @@ class Recorder:
                 if now - self._last_flush > FLUSH_SECONDS:
                     self.flush()
 
+    def rows_many(self, rows: list[list]) -> None:
+        """Several rows at once (the C stepper's chunks); the same as calling row() on each."""
+        if not rows:
+            return
+        self.count += len(rows)
+        if self.keep_rows:
+            self.rows.extend(rows)
+        if self._writer is not None:
+            self._writer.writerows(rows)
+            now = _time.monotonic()
+            if now - self._last_flush > FLUSH_SECONDS:
+                self.flush()
+
     def event(self, t: float, k: int, fmu: str, clock: str, values: dict) -> None:
         if self._events is not None:
             self._events.write(json.dumps({"time": t, "index": k, "fmu": fmu, "clock": clock, "values": values}) + "\n")

@@ -73,6 +73,7 @@ MODELS: dict[str, dict] = {
         vars=[
             V(("u", 1, "Float64", "input", "continuous", {"start": "0"})),
             V(("y", 2, "Float64", "output", "continuous", {})),
+            V(("stop_at", 3, "Float64", "parameter", "fixed", {"start": "0"})),
         ]),
 }
 
