@@ -14,16 +14,10 @@
  * Output: "ok <n> - <kind>: <name>" or "not ok <n> - <kind>: <name>: <why>" per case, kind
  * "misuse" or "check", then "# cases <n> misuse <k> failures <m>"; exit 0 only without failures.
  */
-#include <dlfcn.h>
 #include <math.h>
 #include <stdint.h>
-#include <stdio.h>
-#include <stdlib.h>
-#include <string.h>
 
-#include "fmi3FunctionTypes.h"
-
-#define API(X)                                                                                     \
+#define HARNESS_FUNCTIONS(X)                                                                       \
     X(InstantiateCoSimulation) X(InstantiateModelExchange) X(InstantiateScheduledExecution)         \
     X(FreeInstance) X(EnterInitializationMode) X(ExitInitializationMode) X(EnterEventMode)          \
     X(EnterStepMode) X(Terminate) X(Reset) X(DoStep) X(UpdateDiscreteStates) X(GetFloat64)          \
@@ -32,101 +26,7 @@
     X(SerializedFMUStateSize) X(SerializeFMUState) X(DeserializeFMUState) X(SetTime)                 \
     X(GetDirectionalDerivative) X(EvaluateDiscreteStates) X(GetNumberOfVariableDependencies)
 
-typedef struct {
-#define FIELD(name) fmi3##name##TYPE *name;
-    API(FIELD)
-#undef FIELD
-} fmu_api;
-
-static int load(const char *path, fmu_api *api)
-{
-    void *library = dlopen(path, RTLD_NOW | RTLD_LOCAL);
-    void *symbol;
-    if (library == NULL) {
-        fprintf(stderr, "cannot load %s: %s\n", path, dlerror());
-        return 0;
-    }
-#define LOOKUP(name)                                                              \
-    symbol = dlsym(library, "fmi3" #name);                                        \
-    if (symbol == NULL) {                                                         \
-        fprintf(stderr, "%s does not export fmi3" #name "\n", path);              \
-        return 0;                                                                 \
-    }                                                                             \
-    memcpy(&api->name, &symbol, sizeof symbol);
-    API(LOOKUP)
-#undef LOOKUP
-    return 1;
-}
-
-/* ---- bookkeeping -------------------------------------------------------------------------- */
-
-static size_t logs = 0;
-static char last_log[2048];
-static char case_logs[16384]; /* every message since the current case began */
-static size_t case_length = 0;
-
-static void capture(fmi3InstanceEnvironment env, fmi3Status status, fmi3String category, fmi3String message)
-{
-    int n;
-    (void)env;
-    logs += 1;
-    snprintf(last_log, sizeof last_log, "[%d %s] %s", (int)status, category, message);
-    n = snprintf(case_logs + case_length, sizeof case_logs - case_length, "%s\n", last_log);
-    if (n > 0 && (size_t)n < sizeof case_logs - case_length) case_length += (size_t)n;
-}
-
-static void begin_case(void)
-{
-    case_length = 0;
-    case_logs[0] = '\0';
-}
-
-static int cases = 0, misuse_cases = 0, failures = 0;
-
-static void report_kind(const char *kind, const char *name, int ok, const char *why)
-{
-    cases += 1;
-    if (ok) {
-        printf("ok %d - %s: %s\n", cases, kind, name);
-    } else {
-        failures += 1;
-        printf("not ok %d - %s: %s: %s\n", cases, kind, name, why);
-    }
-}
-
-static void check(const char *name, int ok, const char *why) { report_kind("check", name, ok, why); }
-
-static void misuse_result(const char *name, fmi3Status status, size_t before, const char *expected)
-{
-    char why[2300];
-    misuse_cases += 1;
-    if (status != fmi3Error && status != fmi3Discard) {
-        snprintf(why, sizeof why, "returned status %d", (int)status);
-        report_kind("misuse", name, 0, why);
-    } else if (expected != NULL && logs == before) {
-        report_kind("misuse", name, 0, "no log message");
-    } else if (expected != NULL && strstr(case_logs, expected) == NULL) {
-        snprintf(why, sizeof why, "log lacks \"%s\": %s", expected, last_log);
-        report_kind("misuse", name, 0, why);
-    } else {
-        report_kind("misuse", name, 1, "");
-    }
-}
-
-#define MISUSE(name, expected, call)                     \
-    do {                                                 \
-        size_t before_ = logs;                           \
-        begin_case();                                    \
-        misuse_result(name, (call), before_, expected);  \
-    } while (0)
-
-static void require(const char *what, fmi3Status status)
-{
-    if (status != fmi3OK && status != fmi3Warning) {
-        printf("Bail out! '%s' returned %d (last log: %s)\n", what, (int)status, last_log);
-        exit(2);
-    }
-}
+#include "misuse_harness.h"
 
 /* ---- driving an instance ------------------------------------------------------------------ */
 
@@ -137,7 +37,7 @@ typedef enum { INSTANTIATED, INITIALIZATION, EVENT, STEP } target;
 static fmi3Instance create(const fmu_api *f, const char *token, const char *name)
 {
     fmi3Instance inst = f->InstantiateCoSimulation(name, token, NULL, fmi3False, fmi3True, fmi3True, fmi3False,
-                                                   NULL, 0, NULL, capture, NULL);
+                                                   NULL, 0, NULL, capture_log, NULL);
     if (inst == NULL) {
         printf("Bail out! cannot instantiate %s (last log: %s)\n", name, last_log);
         exit(2);
@@ -246,30 +146,28 @@ static void instantiation(void)
     const fmi3ValueReference vr = UR5E_VR_STATE;
     size_t before;
 #define REFUSED(name, expected, expr)                                                              \
-    before = logs;                                                                                 \
+    before = log_count;                                                                            \
     {                                                                                              \
         fmi3Instance made = (expr);                                                                \
-        misuse_cases += 1;                                                                         \
-        report_kind("misuse", name, made == NULL && logs > before && strstr(last_log, expected) != NULL, \
-                    made != NULL ? "an instance was returned" : last_log);                         \
+        report_misuse(name, made == NULL && log_count > before && strstr(last_log, expected) != NULL, \
+                      made != NULL ? "an instance was returned" : last_log);                       \
     }
     REFUSED("instantiate: wrong token", "does not match this binary",
-            ur5e.InstantiateCoSimulation("u", "{0}", NULL, 0, 1, 1, 0, NULL, 0, NULL, capture, NULL))
+            ur5e.InstantiateCoSimulation("u", "{0}", NULL, 0, 1, 1, 0, NULL, 0, NULL, capture_log, NULL))
     REFUSED("instantiate: NULL token", "instantiationToken '(NULL)'",
-            ur5e.InstantiateCoSimulation("u", NULL, NULL, 0, 1, 1, 0, NULL, 0, NULL, capture, NULL))
+            ur5e.InstantiateCoSimulation("u", NULL, NULL, 0, 1, 1, 0, NULL, 0, NULL, capture_log, NULL))
     REFUSED("instantiate: NULL instance name", "instanceName must be a non-empty string",
-            ur5e.InstantiateCoSimulation(NULL, UR5E_TOKEN, NULL, 0, 1, 1, 0, NULL, 0, NULL, capture, NULL))
+            ur5e.InstantiateCoSimulation(NULL, UR5E_TOKEN, NULL, 0, 1, 1, 0, NULL, 0, NULL, capture_log, NULL))
     REFUSED("instantiate: eventModeUsed=false on an FMU with clocks", "eventModeUsed must be true",
-            ur5e.InstantiateCoSimulation("u", UR5E_TOKEN, NULL, 0, 1, 0, 0, NULL, 0, NULL, capture, NULL))
+            ur5e.InstantiateCoSimulation("u", UR5E_TOKEN, NULL, 0, 1, 0, 0, NULL, 0, NULL, capture_log, NULL))
     REFUSED("instantiate: requiredIntermediateVariables", "provides no intermediate update",
-            ur5e.InstantiateCoSimulation("u", UR5E_TOKEN, NULL, 0, 1, 1, 0, &vr, 1, NULL, capture, NULL))
+            ur5e.InstantiateCoSimulation("u", UR5E_TOKEN, NULL, 0, 1, 1, 0, &vr, 1, NULL, capture_log, NULL))
     REFUSED("instantiate: Model Exchange", "supports Co-Simulation only",
-            ur5e.InstantiateModelExchange("u", UR5E_TOKEN, NULL, 0, 1, NULL, capture))
+            ur5e.InstantiateModelExchange("u", UR5E_TOKEN, NULL, 0, 1, NULL, capture_log))
     REFUSED("instantiate: Scheduled Execution", "supports Co-Simulation only",
-            ur5e.InstantiateScheduledExecution("u", UR5E_TOKEN, NULL, 0, 1, NULL, capture, NULL, NULL, NULL))
+            ur5e.InstantiateScheduledExecution("u", UR5E_TOKEN, NULL, 0, 1, NULL, capture_log, NULL, NULL, NULL))
 #undef REFUSED
-    misuse_cases += 1;
-    report_kind("misuse", "instantiate: wrong token and no logMessage", ur5e.InstantiateCoSimulation(
+    report_misuse("instantiate: wrong token and no logMessage", ur5e.InstantiateCoSimulation(
         "u", "{0}", NULL, 0, 1, 1, 0, NULL, 0, NULL, NULL, NULL) == NULL, "an instance was returned");
 }
 
@@ -283,13 +181,12 @@ static void handles(void)
     MISUSE("NULL instance: fmi3DoStep", NULL, step(&ur5e, NULL, 0.0, 1.0));
     MISUSE("NULL instance: fmi3GetInt64", NULL, ur5e.GetInt64(NULL, &vr, 1, &value, 1));
     ur5e.FreeInstance(NULL);
-    check("NULL instance: fmi3FreeInstance ignores it", 1, "");
+    report("NULL instance: fmi3FreeInstance ignores it", 1, "");
     inst = ur5e_at(STEP, 0.0);
     stale = (uintptr_t)inst; /* kept as an integer: the harness never uses a dangling pointer */
     ur5e.FreeInstance(inst);
     ur5e.FreeInstance((fmi3Instance)stale);
-    misuse_cases += 1;
-    report_kind("misuse", "double fmi3FreeInstance: ignored, no crash", 1, "");
+    report_misuse("double fmi3FreeInstance: ignored, no crash", 1, "");
     MISUSE("freed instance: fmi3DoStep", NULL, step(&ur5e, (fmi3Instance)stale, 0.0, 1.0));
     MISUSE("freed instance: fmi3GetClock", NULL, ur5e.GetClock((fmi3Instance)stale, &vr, 1, &clock));
     inst = create(&arith, ARITH_TOKEN, "arith");
@@ -323,9 +220,9 @@ static void modes(void)
     require("Terminate", ur5e.Terminate(inst));
     MISUSE("wrong state: fmi3DoStep after fmi3Terminate", "not allowed in Terminated", step(&ur5e, inst, 0.0, 1.0));
     MISUSE("wrong state: fmi3Terminate twice", "not allowed in Terminated", ur5e.Terminate(inst));
-    check("Terminated: the state output can still be read", ur5e.GetInt64(inst, &state, 1, &value, 1) == fmi3OK && value == UR5E_IDLE,
+    report("Terminated: the state output can still be read", ur5e.GetInt64(inst, &state, 1, &value, 1) == fmi3OK && value == UR5E_IDLE,
           last_log);
-    check("Terminated: fmi3Reset leads back to Instantiated", ur5e.Reset(inst) == fmi3OK &&
+    report("Terminated: fmi3Reset leads back to Instantiated", ur5e.Reset(inst) == fmi3OK &&
           ur5e.EnterInitializationMode(inst, 0, 0.0, 0.0, 0, 0.0) == fmi3OK, last_log);
     ur5e.FreeInstance(inst);
     (void)cycle;
@@ -400,7 +297,7 @@ static void clocks(void)
     FRESH(INITIALIZATION, "interval: fmi3GetIntervalDecimal of a triggered clock", "only time-based clocks",
           ur5e.GetIntervalDecimal(fresh, &command, 1, &interval, &qualifier));
     inst = ur5e_at(INITIALIZATION, 0.0);
-    check("interval: the cycle clock's interval is 1 s", ur5e.GetIntervalDecimal(inst, &cycle, 1, &interval, &qualifier) ==
+    report("interval: the cycle clock's interval is 1 s", ur5e.GetIntervalDecimal(inst, &cycle, 1, &interval, &qualifier) ==
           fmi3OK && interval == 1.0, last_log);
     ur5e.FreeInstance(inst);
     (void)move;
@@ -478,7 +375,7 @@ static void model_errors(void)
         size_t before;
         require("EnterInitializationMode", arith.EnterInitializationMode(inst, 0, 0.0, 0.0, 0, 0.0));
         require("ExitInitializationMode", arith.ExitInitializationMode(inst));
-        before = logs;
+        before = log_count;
         begin_case();
         for (t = 0; t < 4 && status <= fmi3Warning; ++t) {
             if (t > 0) {
@@ -508,7 +405,7 @@ static void model_errors(void)
             }
             status = settle(&arith, inst);
         }
-        misuse_result(errors[i].name, status, before, errors[i].expected);
+        expect_failure(errors[i].name, status, before, errors[i].expected);
         arith.FreeInstance(inst);
     }
 }
@@ -530,7 +427,7 @@ static void lifecycle(void)
         if (i % 3 == 0) require("GetFMUState", ur5e.GetFMUState(inst, &state));
         ur5e.FreeInstance(inst);
     }
-    check("1000 instantiate/free cycles, 500 of them driving the UR5e story (movediscrete(0, 23, 1) twice, stop once)",
+    report("1000 instantiate/free cycles, 500 of them driving the UR5e story (movediscrete(0, 23, 1) twice, stop once)",
           wrong == 0, "a run of the story went wrong");
 }
 
@@ -549,6 +446,5 @@ int main(int argc, char **argv)
     states_and_unsupported();
     model_errors();
     lifecycle();
-    printf("# cases %d misuse %d failures %d\n", cases, misuse_cases, failures);
-    return failures == 0 ? 0 : 1;
+    return harness_finish();
 }

@@ -63,7 +63,8 @@ def header(ur5e: Description, arith: Description, ur5e_fmu) -> str:
 
 def build_program(source: Path, extra_header: Path, output: Path, *, sanitize: bool) -> Path:
     args = [*cc.CFLAGS, "-O1", *(cc.SANITIZE_FLAGS if sanitize else ()), "-include", str(extra_header),
-            "-I", str(include_dir()), str(source), "-o", str(output), "-ldl", "-lm"]
+            "-I", str(include_dir()),
+            "-I", str(Path(__file__).resolve().parent.parent / "harness"), str(source), "-o", str(output), "-ldl", "-lm"]
     cc.run_compiler(args, f"test program {output.name}")
     return output
 

@@ -14,14 +14,21 @@
  * "# cases <n> misuse <k> failures <m>". Exit status 0 only if every case passed. Calls with a NULL or dead
  * instance cannot reach a logger; the runtime reports them on stderr, which test_misuse.py checks.
  */
-#include <dlfcn.h>
 #include <math.h>
 #include <stdint.h>
-#include <stdio.h>
-#include <stdlib.h>
-#include <string.h>
 
-#include "fmi3FunctionTypes.h"
+#define HARNESS_FUNCTIONS(X)                                                                       \
+    X(InstantiateCoSimulation) X(InstantiateModelExchange) X(InstantiateScheduledExecution)         \
+    X(FreeInstance) X(SetDebugLogging) X(EnterInitializationMode) X(ExitInitializationMode)         \
+    X(EnterEventMode) X(EnterStepMode) X(Terminate) X(Reset) X(DoStep) X(UpdateDiscreteStates)      \
+    X(GetFloat64) X(SetFloat64) X(GetInt64) X(SetInt64) X(GetUInt64) X(SetInt32) X(GetBoolean)      \
+    X(GetString) X(SetBinary) X(GetClock) X(SetClock) X(GetIntervalDecimal) X(GetIntervalFraction)  \
+    X(GetShiftDecimal) X(SetIntervalDecimal) X(GetFMUState) X(SetFMUState) X(FreeFMUState)          \
+    X(SerializedFMUStateSize) X(SerializeFMUState) X(DeserializeFMUState)                           \
+    X(GetNumberOfVariableDependencies) X(GetDirectionalDerivative) X(EnterConfigurationMode)        \
+    X(SetTime) X(GetOutputDerivatives) X(EvaluateDiscreteStates) X(ActivateModelPartition)
+
+#include "misuse_harness.h"
 
 /* Must equal RG_INSTANTIATION_TOKEN in models/<name>/config.h (a mismatch fails every case). */
 #define COUNTER_TOKEN "{robogen-test-counter-7d1c0e52}"
@@ -35,114 +42,6 @@ enum {
 /* plain's value references */
 enum { VR_U = 1, VR_Y = 2, VR_EVENT_AT = 3, VR_MISBEHAVE = 4 };
 
-/* ---- the FMI functions used here, looked up per library ---------------------------------- */
-
-#define RG_FUNCTIONS(X)                                                                            \
-    X(InstantiateCoSimulation) X(InstantiateModelExchange) X(InstantiateScheduledExecution)         \
-    X(FreeInstance) X(SetDebugLogging) X(EnterInitializationMode) X(ExitInitializationMode)         \
-    X(EnterEventMode) X(EnterStepMode) X(Terminate) X(Reset) X(DoStep) X(UpdateDiscreteStates)      \
-    X(GetFloat64) X(SetFloat64) X(GetInt64) X(SetInt64) X(GetUInt64) X(SetInt32) X(GetBoolean)      \
-    X(GetString) X(SetBinary) X(GetClock) X(SetClock) X(GetIntervalDecimal) X(GetIntervalFraction)  \
-    X(GetShiftDecimal) X(SetIntervalDecimal) X(GetFMUState) X(SetFMUState) X(FreeFMUState)          \
-    X(SerializedFMUStateSize) X(SerializeFMUState) X(DeserializeFMUState)                           \
-    X(GetNumberOfVariableDependencies) X(GetDirectionalDerivative) X(EnterConfigurationMode)        \
-    X(SetTime) X(GetOutputDerivatives) X(EvaluateDiscreteStates) X(ActivateModelPartition)
-
-typedef struct {
-#define RG_FIELD(name) fmi3##name##TYPE *name;
-    RG_FUNCTIONS(RG_FIELD)
-#undef RG_FIELD
-} fmu_api;
-
-static int load(const char *path, fmu_api *api)
-{
-    void *library = dlopen(path, RTLD_NOW | RTLD_LOCAL);
-    void *symbol;
-    if (library == NULL) {
-        fprintf(stderr, "cannot load %s: %s\n", path, dlerror());
-        return 0;
-    }
-#define RG_LOOKUP(name)                                                        \
-    symbol = dlsym(library, "fmi3" #name);                                     \
-    if (symbol == NULL) {                                                      \
-        fprintf(stderr, "%s does not export fmi3" #name "\n", path);           \
-        return 0;                                                              \
-    }                                                                          \
-    memcpy(&api->name, &symbol, sizeof symbol);
-    RG_FUNCTIONS(RG_LOOKUP)
-#undef RG_LOOKUP
-    return 1; /* the libraries stay loaded until exit */
-}
-
-/* ---- log capture and case bookkeeping ---------------------------------------------------- */
-
-static size_t log_count = 0;
-static char last_log[1024];
-
-static void capture_log(fmi3InstanceEnvironment environment, fmi3Status status, fmi3String category,
-                        fmi3String message)
-{
-    (void)environment;
-    log_count += 1;
-    snprintf(last_log, sizeof last_log, "[%d %s] %s", (int)status, category, message);
-}
-
-static int cases = 0, misuse_cases = 0, failures = 0;
-
-static void report_kind(const char *kind, const char *name, int ok, const char *why)
-{
-    cases += 1;
-    if (ok) {
-        printf("ok %d - %s: %s\n", cases, kind, name);
-    } else {
-        failures += 1;
-        printf("not ok %d - %s: %s: %s\n", cases, kind, name, why);
-    }
-}
-
-/* a control check */
-static void report(const char *name, int ok, const char *why)
-{
-    report_kind("check", name, ok, why);
-}
-
-static void report_misuse(const char *name, int ok, const char *why)
-{
-    misuse_cases += 1;
-    report_kind("misuse", name, ok, why);
-}
-
-/* A misuse: fmi3Error or fmi3Discard and, if a logger can be reached, a new log message that
- * contains `expected` (so the case fails for the reason it is meant to test). */
-static void expect_failure(const char *name, fmi3Status status, size_t logs_before, const char *expected)
-{
-    char why[1400];
-    if (status != fmi3Error && status != fmi3Discard) {
-        snprintf(why, sizeof why, "returned status %d", (int)status);
-        report_misuse(name, 0, why);
-    } else if (expected != NULL && log_count == logs_before) {
-        report_misuse(name, 0, "no log message");
-    } else if (expected != NULL && strstr(last_log, expected) == NULL) {
-        snprintf(why, sizeof why, "log message lacks \"%s\": %s", expected, last_log);
-        report_misuse(name, 0, why);
-    } else {
-        report_misuse(name, 1, "");
-    }
-}
-
-#define MISUSE(name, expected, call)                         \
-    do {                                                     \
-        size_t before_ = log_count;                          \
-        expect_failure(name, (call), before_, expected);     \
-    } while (0)
-
-/* NULL or dead instance: no logger to reach (test_misuse.py checks stderr instead) */
-#define MISUSE_UNLOGGABLE(name, call)                        \
-    do {                                                     \
-        size_t before_ = log_count;                          \
-        expect_failure(name, (call), before_, NULL);         \
-    } while (0)
-
 #define INSTANTIATION_FAILS(name, expected, instance)                                          \
     do {                                                                                       \
         size_t before_ = log_count;                                                            \
@@ -150,15 +49,6 @@ static void expect_failure(const char *name, fmi3Status status, size_t logs_befo
         report_misuse(name, made_ == NULL && log_count > before_ && strstr(last_log, expected) != NULL, \
                made_ != NULL ? "an instance was returned" : last_log);                         \
     } while (0)
-
-/* A step that must work for the case to mean anything; failures abort the harness. */
-static void require(const char *what, fmi3Status status)
-{
-    if (status != fmi3OK && status != fmi3Warning) {
-        printf("Bail out! setup step '%s' returned %d (last log: %s)\n", what, (int)status, last_log);
-        exit(2);
-    }
-}
 
 /* ---- building instances in a given state -------------------------------------------------- */
 
@@ -655,6 +545,5 @@ int main(int argc, char **argv)
     fmu_state_cases();
     unsupported_cases();
     lifecycle_cycles();
-    printf("# cases %d misuse %d failures %d\n", cases, misuse_cases, failures);
-    return failures == 0 ? 0 : 1;
+    return harness_finish();
 }

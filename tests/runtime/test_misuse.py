@@ -45,6 +45,8 @@ def build_program(sources: list[Path], output: Path, *, sanitize: bool) -> Path:
         *(cc.SANITIZE_FLAGS if sanitize else ()),
         "-I",
         str(include_dir()),
+        "-I",
+        str(HERE.parent / "harness"),  # misuse_harness.h, shared with tests/codegen/misuse_generated.c
         *map(str, sources),
         "-o",
         str(output),

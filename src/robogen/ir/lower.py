@@ -560,16 +560,7 @@ class _MachineLowering:
     def _initial(self, graph: _Graph, region: Region, cur: ir.Block) -> tuple[ir.Block, ast.Node]:
         """Take the transition of ``region``'s initial node from block ``cur``: returns the open
         block and the node where control arrives (a leaf)."""
-        init = region.initials()[0]
-        ts = [t for t in region.transitions if t.source == init.name]
-        if len(ts) != 1:
-            raise RobogenError.at(f"initial node '{init.name}' must have exactly one transition", init.name_span)
-        t = ts[0]
-        cur.stmts.append(ir.Trace(t.span, f"{t.name}: {init.name} -> {t.target}"))
-        if t.action is not None:
-            cur = self.stmts(t.action, cur, graph)
-        target = region.nodes[t.target]
-        cur, leaf = self._enter(graph, target, cur)
+        cur, leaf = self._initial_inner(graph, region, cur)
         if region.owner is graph.scope.node and cur.term is None:
             cur.term = ir.Goto(self._eval(graph, leaf))
         return cur, leaf
@@ -598,6 +589,7 @@ class _MachineLowering:
         return cur, node
 
     def _initial_inner(self, graph: _Graph, region: Region, cur: ir.Block) -> tuple[ir.Block, ast.Node]:
+        """The initial transition of ``region`` and entry into its target, down to a leaf."""
         init = region.initials()[0]
         ts = [t for t in region.transitions if t.source == init.name]
         if len(ts) != 1:
