@@ -7,7 +7,6 @@ floor and random compiles."""
 from __future__ import annotations
 
 import random
-import shutil
 from pathlib import Path
 
 import pytest

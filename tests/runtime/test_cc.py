@@ -2,8 +2,10 @@
 
 from __future__ import annotations
 
+import os
 import re
 import shutil
+import sys
 from pathlib import Path
 
 import pytest
@@ -56,10 +58,12 @@ BUILD_DESCRIPTION = """<?xml version="1.0" encoding="UTF-8"?>
 """
 
 
-@pytest.mark.skipif(shutil.which("cmake") is None, reason="fmpy's build needs cmake")
-def test_a_sources_folder_builds_with_fmpy(tmp_path):
-    """What `fmpy compile` does: CMake over sources/ with only fmpy's headers added."""
+def test_a_sources_folder_builds_with_fmpy(tmp_path, monkeypatch):
+    """What `fmpy compile` does: CMake over sources/ with only fmpy's headers added (fmpy depends
+    on the cmake package, so its cmake is installed next to this Python)."""
     from fmpy.build import build_platform_binary
+
+    monkeypatch.setenv("PATH", f"{Path(sys.executable).parent}{os.pathsep}{os.environ.get('PATH', '')}")
 
     models = Path(__file__).resolve().parent / "models" / "counter"
     sources = tmp_path / "sources"

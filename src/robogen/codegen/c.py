@@ -11,7 +11,6 @@ interpreter uses, so the side effects of ``$e?x`` bindings happen in the same or
 from __future__ import annotations
 
 import re
-from fractions import Fraction
 
 from robogen.ir import model as ir
 from robogen.semantics import types as T

@@ -9,7 +9,7 @@ from robogen.cosim.master import Master, Options
 from robogen.cosim.recorder import Recorder
 from robogen.cosim.system import Link, System, load_system, resolve, split_name
 from robogen.cosim.units import FmuCache, Unit
-from robogen.diagnostics import DiagnosticSink, RobogenError, Span
+from robogen.diagnostics import DiagnosticSink, RobogenError
 
 
 def build_master(path: Path, *, stop=None, step=None, output=None, events=None, realtime=None,

@@ -31,7 +31,6 @@ from __future__ import annotations
 import copy
 import math
 from dataclasses import dataclass, field
-from fractions import Fraction
 
 from robogen.ir import model as ir
 from robogen.semantics import types as T

@@ -21,11 +21,10 @@ from fractions import Fraction
 from robogen.diagnostics import DiagnosticSink, Note, RobogenError, Span, did_you_mean, working_on
 from robogen.ir import model as ir
 from robogen.semantics import types as T
-from robogen.semantics.analysis import has_exec
 from robogen.semantics.checker import CheckedModel, ControllerInfo, ModuleInfo
-from robogen.semantics.scope import ClockSym, EnumLitSym, EventSym, FuncSym, MachineScope, OpSym, Region, VarSym
+from robogen.semantics.scope import EnumLitSym, EventSym, FuncSym, MachineScope, OpSym, Region, VarSym
 from robogen.syntax import ast
-from robogen.syntax.printer import expr as show_expr, transition_label
+from robogen.syntax.printer import expr as show_expr
 
 
 @dataclass
