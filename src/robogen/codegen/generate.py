@@ -297,6 +297,33 @@ class _Layout:
             return repr(float(value or 0))
         return str(int(value or 0))
 
+    def _port(self, port, causality: str) -> None:
+        """An event or operation port: its triggered clock, then one clocked variable per field."""
+        inward = causality == "input"
+        if inward:
+            what = f"input event {port.name}"
+        else:
+            what = ("call of platform operation " if port.kind == "operation" else "output event ") + port.name
+        c = FmiVar(port.name, self._next_vr(), "Clock", causality, "discrete", interval_variability="triggered",
+                   description=what, span=port.span)
+        self._add_clock(c, "RG_CLOCK_INPUT_TRIGGERED" if inward else "RG_CLOCK_OUTPUT_TRIGGERED")
+        fields = (self.port_fields_in if inward else self.port_fields_out)[port.index] = []
+        for f in port.fields:
+            member = ("in_" if inward else "out_") + mangle(f.fmi_name)
+            self._data(f.type, member, f"clocked {causality} {f.fmi_name}")
+            fmi_type, declared = self._scalar(_shape(f.type)[0])
+            if inward:
+                description = f"value of input event {port.name}"
+            elif port.kind == "operation":
+                description = f"argument {f.path[0]} of platform operation {port.name}"
+            else:
+                description = f"value of output event {port.name}"
+            self.variables.append(FmiVar(
+                f.fmi_name, self._next_vr(), fmi_type, causality, "discrete", member,
+                start=self._start(f.type) if inward else None, clock=c.vr, clock_index=self.clock_index[port.name],
+                declared_type=declared, dims=_shape(f.type)[1], span=port.span, description=description))
+            fields.append((member, f))
+
     def _build(self) -> None:
         fmu = self.fmu
         # the periodic clock
@@ -305,37 +332,9 @@ class _Layout:
                        description=("one RoboSim cycle" if fmu.language == "robosim" else "one RoboChart time unit (tock)"))
         self._add_clock(clock, "RG_CLOCK_INPUT_CONSTANT")
         for port in fmu.inputs:
-            c = FmiVar(port.name, self._next_vr(), "Clock", "input", "discrete", interval_variability="triggered",
-                       description=f"input event {port.name}", span=port.span)
-            self._add_clock(c, "RG_CLOCK_INPUT_TRIGGERED")
-            self.port_fields_in[port.index] = []
-            for f in port.fields:
-                member = "in_" + mangle(f.fmi_name)
-                self._data(f.type, member, f"clocked input {f.fmi_name}")
-                fmi_type, declared = self._scalar(_shape(f.type)[0])
-                self.variables.append(FmiVar(
-                    f.fmi_name, self._next_vr(), fmi_type, "input", "discrete", member, start=self._start(f.type),
-                    clock=c.vr, clock_index=self.clock_index[port.name], declared_type=declared,
-                    dims=_shape(f.type)[1], span=port.span,
-                    description=f"value of input event {port.name}"))
-                self.port_fields_in[port.index].append((member, f))
+            self._port(port, "input")
         for port in fmu.outputs:
-            c = FmiVar(port.name, self._next_vr(), "Clock", "output", "discrete", interval_variability="triggered",
-                       description=("call of platform operation " if port.kind == "operation" else "output event ") + port.name,
-                       span=port.span)
-            self._add_clock(c, "RG_CLOCK_OUTPUT_TRIGGERED")
-            self.port_fields_out[port.index] = []
-            for f in port.fields:
-                member = "out_" + mangle(f.fmi_name)
-                self._data(f.type, member, f"clocked output {f.fmi_name}")
-                fmi_type, declared = self._scalar(_shape(f.type)[0])
-                self.variables.append(FmiVar(
-                    f.fmi_name, self._next_vr(), fmi_type, "output", "discrete", member,
-                    clock=c.vr, clock_index=self.clock_index[port.name], declared_type=declared,
-                    dims=_shape(f.type)[1], span=port.span,
-                    description=(f"argument {f.path[0]} of platform operation {port.name}" if port.kind == "operation"
-                                 else f"value of output event {port.name}")))
-                self.port_fields_out[port.index].append((member, f))
+            self._port(port, "output")
         for p in fmu.params:
             member = f"m{p.machine}.v_{p.var.name}"
             for name, t, access in _flat(p.fmi_name, p.var.type, ""):

@@ -267,7 +267,7 @@ class Master:
         limit = horizon - 1e-9 * max(1.0, abs(horizon))  # the last grid point before the horizon
         show_progress = progress.enabled
         if pacer is None and not linked and not slow_reads:
-            stepper = self._c_stepper(calls, reads, cols)
+            stepper = self._c_stepper(calls, reads)
             if stepper is not None:
                 return self._plain_steps_in_c(stepper, t, n, start, h, limit, calls, reads, progress)
         # Counters live in locals while stepping (this loop runs millions of times) and are
@@ -326,7 +326,7 @@ class Master:
             stats.steps += steps
             recorder.count += rows
 
-    def _c_stepper(self, calls, reads, cols):
+    def _c_stepper(self, calls, reads):
         """The C plain-step loop bound to this system (built once per run), or None."""
         if self._stepper is False:
             return None
