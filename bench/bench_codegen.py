@@ -28,7 +28,7 @@ from pathlib import Path
 
 from fmpy import read_model_description
 
-from robogen.codegen import cc
+from robogen import toolchain
 from robogen.codegen.api import build_fmu, compile_model, lower_paths, package_model
 from robogen.cosim.fmi3 import Instance, Library, ffi, value_array, vr_array
 from robogen.fmu.headers import include_dir
@@ -172,7 +172,7 @@ def bench_c(fmus: dict[str, Ur5eFmu], folder: Path) -> None:
     source = folder / "bench_cycles.c"
     source.write_text(HARNESS)
     program = folder / "bench_cycles"
-    cc.run_compiler([*cc.CFLAGS, "-O2", "-I", str(include_dir()), str(source), "-o", str(program), "-ldl"],
+    toolchain.run_compiler([*toolchain.CFLAGS, "-O2", "-I", str(include_dir()), str(source), "-o", str(program), "-ldl"],
                     "the benchmark harness")
     cycles = 300_000 if QUICK else 2_000_000
     print(f"(b) the UR5e FMU driven from C through the FMI API, {cycles:,} cycles (median of {RUNS})")

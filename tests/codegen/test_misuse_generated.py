@@ -17,7 +17,8 @@ from pathlib import Path
 import pytest
 
 from codegen_driver import Description
-from robogen.codegen import cc
+from robogen import toolchain
+from robogen.codegen import binary
 from robogen.fmu.headers import include_dir
 
 HERE = Path(__file__).resolve().parent
@@ -62,10 +63,10 @@ def header(ur5e: Description, arith: Description, ur5e_fmu) -> str:
 
 
 def build_program(source: Path, extra_header: Path, output: Path, *, sanitize: bool) -> Path:
-    args = [*cc.CFLAGS, "-O1", *(cc.SANITIZE_FLAGS if sanitize else ()), "-include", str(extra_header),
+    args = [*toolchain.CFLAGS, "-O1", *(toolchain.SANITIZE_FLAGS if sanitize else ()), "-include", str(extra_header),
             "-I", str(include_dir()),
             "-I", str(Path(__file__).resolve().parent.parent / "harness"), str(source), "-o", str(output), "-ldl", "-lm"]
-    cc.run_compiler(args, f"test program {output.name}")
+    toolchain.run_compiler(args, f"test program {output.name}")
     return output
 
 
@@ -100,7 +101,7 @@ def test_misuse_of_generated_fmus(built, tmp_path, sanitize):
     libraries = []
     for b in (ur5e, arith):
         ident = b.fmu.model_identifier
-        libraries.append(cc.compile_fmu_binary(b.folder / "sources", ident, tmp_path / f"{ident}.so", sanitize=sanitize))
+        libraries.append(binary.compile_fmu_binary(b.folder / "sources", ident, tmp_path / f"{ident}.so", sanitize=sanitize))
     defines = tmp_path / "misuse_fmus.h"
     defines.write_text(header(ur5e.desc, arith.desc, ur5e.fmu))
     program = build_program(HERE / "misuse_generated.c", defines, tmp_path / "misuse_generated", sanitize=sanitize)

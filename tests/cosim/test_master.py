@@ -115,12 +115,12 @@ variables = ["ticker.tick", "ticker.count"]
 
 
 def _chain(n: int, stepwise: bool) -> str:
-    text = f"""
+    text = """
 [experiment]
 stop = 0.5
 step = 0.5
 [instances.ticker]
-fmu = "{{ticker}}"
+fmu = "{ticker}"
 """
     conns = ['"ticker.out -> r1.u"', '"ticker.count -> r1.x_in"']
     for i in range(1, n + 1):

@@ -77,12 +77,12 @@ def test_structure_order_and_local_clock(built, tmp_path):
 
 
 def test_missing_exports_and_layout(built, tmp_path, fmu_builder):
-    import subprocess
+    from robogen import toolchain
     from robogen.fmu.headers import include_dir
 
     so = tmp_path / "lib.so"
     (tmp_path / "few.c").write_text('#include "fmi3Functions.h"\nFMI3_Export const char* fmi3GetVersion(void) { return fmi3Version; }\n')
-    subprocess.run(["gcc", "-shared", "-fPIC", "-fvisibility=hidden", f"-I{include_dir()}", str(tmp_path / "few.c"), "-o", str(so)], check=True)
+    toolchain.compile_shared([tmp_path / "few.c"], so, includes=[include_dir()])
     fmu = rewrite(built["trivial"], tmp_path / "few.fmu", **{"binaries__x86_64-linux__trivial_DOT_so": so.read_bytes(),
                                                            "binaries__linux64__trivial_DOT_so": b"x", "stray_DOT_txt": b"x"})
     msgs = {m for _s, _l, m in messages(fmu)}

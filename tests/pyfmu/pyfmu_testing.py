@@ -13,16 +13,15 @@ from typing import Iterable, Sequence
 from fmpy import extract, read_model_description
 from fmpy.fmi3 import FMU3Slave, fmi3Float64, fmi3IntervalQualifier
 
+from robogen import toolchain
 from robogen.fmu.headers import include_dir
 
 HERE = Path(__file__).resolve().parent
-STRICT = ["-std=c99", "-Wall", "-Wextra", "-Wpedantic", "-Werror", "-fvisibility=hidden"]
 
 
 def compile_host(directory: Path) -> Path:
     target = directory / "fmi3host"
-    subprocess.run(["cc", *STRICT, "-I", str(include_dir()), str(HERE / "host.c"), "-o", str(target), "-ldl"],
-                   check=True, capture_output=True, text=True)
+    toolchain.compile_program([HERE / "host.c"], target, includes=[include_dir()], libs=["-ldl"], what="the C host")
     return target
 
 

@@ -36,6 +36,8 @@ def test_archive_layout_and_the_python_code_that_travels_with_it(fmus):
         "resources/pyfmu.json",
         "resources/python/pyfmu_fixture_models.py",
         "resources/python/robogen/__init__.py",
+        "resources/python/robogen/fmu/__init__.py",
+        "resources/python/robogen/fmu/fmi.py",  # the FMI constants the slave uses
         "resources/python/robogen/pyfmu/__init__.py",
         "resources/python/robogen/pyfmu/model.py",
         "resources/python/robogen/pyfmu/slave.py",

@@ -2,7 +2,7 @@
 
 ``models/counter`` and ``models/plain`` are what the code generator would emit for two tiny
 models (config.h, model.c, the unity file and modelDescription.xml). They are compiled with
-robogen.codegen.cc into unzipped-FMU folders under a temporary directory (binaries are never
+robogen.codegen.binary into unzipped-FMU folders under a temporary directory (binaries are never
 committed): ``<dir>/modelDescription.xml`` and ``<dir>/binaries/x86_64-linux/<id>.so``, the
 layout fmpy's FMU3Slave loads.
 """
@@ -18,7 +18,7 @@ from fmpy import read_model_description
 from fmpy.fmi3 import FMU3Slave
 from fmpy.model_description import ModelDescription
 
-from robogen.codegen import cc
+from robogen.codegen import binary
 from robogen.fmu.headers import PLATFORM_TUPLE
 
 MODELS = Path(__file__).resolve().parent / "models"
@@ -46,7 +46,7 @@ def build_test_fmu(name: str, folder: Path, *, sanitize: bool = False) -> BuiltF
     folder.mkdir(parents=True, exist_ok=True)
     shutil.copy(source / "modelDescription.xml", folder / "modelDescription.xml")
     (folder / "resources").mkdir(exist_ok=True)
-    library = cc.compile_fmu_binary(
+    library = binary.compile_fmu_binary(
         source, name, folder / "binaries" / PLATFORM_TUPLE / f"{name}.so", sanitize=sanitize
     )
     return BuiltFmu(name, folder, library, read_model_description(str(folder / "modelDescription.xml")))

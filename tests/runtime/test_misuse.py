@@ -15,7 +15,7 @@ from pathlib import Path
 
 import pytest
 
-from robogen.codegen import cc
+from robogen import toolchain
 from robogen.fmu.headers import include_dir
 
 HERE = Path(__file__).resolve().parent
@@ -40,9 +40,9 @@ BAD_HANDLE_REPORTS = [
 
 def build_program(sources: list[Path], output: Path, *, sanitize: bool) -> Path:
     args = [
-        *cc.CFLAGS,
+        *toolchain.CFLAGS,
         "-O1",
-        *(cc.SANITIZE_FLAGS if sanitize else ()),
+        *(toolchain.SANITIZE_FLAGS if sanitize else ()),
         "-I",
         str(include_dir()),
         "-I",
@@ -53,7 +53,7 @@ def build_program(sources: list[Path], output: Path, *, sanitize: bool) -> Path:
         "-ldl",
         "-lm",
     ]
-    cc.run_compiler(args, f"test program {output.name}")
+    toolchain.run_compiler(args, f"test program {output.name}")
     return output
 
 

@@ -15,7 +15,7 @@ from fractions import Fraction
 from pathlib import Path
 from typing import Sequence
 
-from robogen.codegen import cc
+from robogen.codegen import binary
 from robogen.codegen.generate import Generated, generate
 from robogen.diagnostics import RobogenError, Span, error
 from robogen.fmu.archive import write_fmu
@@ -64,7 +64,7 @@ def compile_model(paths: Sequence[str | os.PathLike], output: str | os.PathLike 
         if (folder / sub).is_dir():
             shutil.rmtree(folder / sub)
     generated.write(folder)
-    for src in cc.runtime_sources():
+    for src in binary.runtime_sources():
         shutil.copyfile(src, folder / "sources" / src.name)
     return Compiled(fmu, generated, folder, model)
 
@@ -95,7 +95,7 @@ def build_fmu(folder: str | os.PathLike, output: str | os.PathLike, *, validate:
     if not (folder / "modelDescription.xml").is_file():
         raise RobogenError(error(f"{folder}/modelDescription.xml is missing", None))
     with tempfile.TemporaryDirectory(prefix="robogen-build-") as tmp:
-        so = cc.compile_fmu_binary(folder / "sources", ident, Path(tmp) / f"{ident}.so")
+        so = binary.compile_fmu_binary(folder / "sources", ident, Path(tmp) / f"{ident}.so")
         files: dict[str, bytes | str | os.PathLike] = {
             "modelDescription.xml": folder / "modelDescription.xml",
             f"binaries/{PLATFORM_TUPLE}/{ident}.so": so.read_bytes(),

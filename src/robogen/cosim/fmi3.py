@@ -18,6 +18,9 @@ from typing import Callable, Sequence
 
 import cffi
 
+from robogen.fmu.fmi import (DISCARD, ERROR, FATAL, INTERVAL_CHANGED, INTERVAL_NOT_YET_KNOWN,  # noqa: F401 (re-exported)
+                             INTERVAL_UNCHANGED, OK, WARNING, status_name)
+
 ffi = cffi.FFI()
 ffi.cdef(
     """
@@ -83,9 +86,6 @@ ffi.cdef(
     """
 )
 
-STATUS_NAMES = ("fmi3OK", "fmi3Warning", "fmi3Discard", "fmi3Error", "fmi3Fatal")
-OK, WARNING, DISCARD, ERROR, FATAL = range(5)
-INTERVAL_NOT_YET_KNOWN, INTERVAL_UNCHANGED, INTERVAL_CHANGED = range(3)
 
 # FMI type -> C element type of its value arrays. Enumeration values travel as Int64.
 C_TYPES = {
@@ -116,10 +116,6 @@ class FMI3Error(Exception):
 
 class LoadError(Exception):
     """The shared object cannot be loaded or lacks an FMI function."""
-
-
-def status_name(status: int) -> str:
-    return STATUS_NAMES[status] if 0 <= status < len(STATUS_NAMES) else f"status {status}"
 
 
 def vr_array(vrs: Sequence[int]):

@@ -13,7 +13,6 @@ from __future__ import annotations
 import hashlib
 import importlib.resources
 import os
-import subprocess
 import tempfile
 from itertools import repeat
 from pathlib import Path
@@ -85,14 +84,13 @@ def load():
 
 def _build(source: bytes, target: Path) -> Path:
     if not target.is_file():
-        from robogen.codegen.cc import CFLAGS, compiler
+        from robogen import toolchain
 
         target.parent.mkdir(parents=True, exist_ok=True)
         with tempfile.TemporaryDirectory(dir=target.parent) as tmp:
             c_file, so = Path(tmp) / "stepper.c", Path(tmp) / "stepper.so"
             c_file.write_bytes(source)
-            subprocess.run([compiler(), *CFLAGS, "-O2", "-shared", "-fPIC", str(c_file), "-o", str(so)],
-                           check=True, capture_output=True)
+            toolchain.compile_shared([c_file], so, libs=(), what="the master's C stepper")
             os.replace(so, target)  # atomic: concurrent runs never load a half-written file
     return target
 

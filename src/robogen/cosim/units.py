@@ -17,16 +17,12 @@ from pathlib import Path
 from robogen.cosim.fmi3 import ffi, Instance, Library, LoadError, value_array, vr_array
 from robogen.diagnostics import Note, RobogenError, Span
 from robogen.fmu.extract import extract_fmu
+from robogen.fmu.fmi import tolerance  # noqa: F401 (the master's)
 from robogen.fmu.headers import PLATFORM_TUPLE
 from robogen.fmu.modeldesc import ModelDescription, Variable, load_model_description
 
 PERIODIC = ("constant", "fixed", "tunable")
 APERIODIC = ("changing", "countdown")
-
-
-def tolerance(t: float) -> float:
-    """The one relative tolerance deciding 'this time has been reached'."""
-    return 1e-9 * max(1.0, abs(t))
 
 
 @dataclass

@@ -23,7 +23,7 @@ from typing import Iterator
 from robogen.diagnostics import RobogenError, Span
 from robogen.platforms.plan import Command, Plan, load_plan
 from robogen.pyfmu import Clock, Int64, Model, Setting, Step, Update
-from robogen.pyfmu.slave import same_time
+from robogen.fmu.fmi import same_time
 
 RECEIVED = ("feasibleMoveDiscreteCommand", "nonfeasibleMoveDiscreteCommand", "moveCompleted", "robotStopped",
             "collision")

@@ -21,7 +21,7 @@ import traceback
 from pathlib import Path
 from typing import Any
 
-ERROR = 3
+ERROR = 3  # fmi3Error, as robogen.fmu.fmi.ERROR (this code runs before robogen is importable)
 
 
 def _add_site_dirs(dirs: list[str]) -> None:

@@ -24,8 +24,6 @@ import importlib.util
 import json
 import os
 import re
-import shlex
-import subprocess
 import sys
 import sysconfig
 import tempfile
@@ -33,6 +31,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Iterable, Mapping, Sequence
 
+from robogen import toolchain
 from robogen.diagnostics import RobogenError, did_you_mean
 from robogen.fmu.archive import write_fmu
 from robogen.fmu.headers import PLATFORM_TUPLE, include_dir
@@ -41,8 +40,6 @@ from robogen.pyfmu.model import Model
 
 HERE = Path(__file__).resolve().parent
 RUNTIME_MODULES = ("robogen.pyfmu.slave", "robogen.pyfmu.model")
-STRICT_CFLAGS = ("-std=c99", "-Wall", "-Wextra", "-Wpedantic", "-Werror", "-fvisibility=hidden", "-fPIC", "-O2")
-GENERATED_CFLAGS = ("-fvisibility=hidden", "-fPIC", "-O2", "-w")  # cffi's own code; not ours to lint
 _IDENTIFIER = re.compile(r"[A-Za-z_][A-Za-z0-9_]*\Z")
 
 
@@ -264,37 +261,24 @@ def build_binary(model_identifier: str, token: str, workdir: Path, *, promote_li
         f"#define PYFMU_PYTHON_VERSION {_c_string(info['version'])}\n"
         f"#define PYFMU_SITE_DIRS {{{sites}{', ' if sites else ''}NULL}}\n")
 
-    cc = shlex.split(os.environ.get("CC", "cc"))
     # Reproducible: no temporary folder names (__FILE__ in cffi's code) and no build id.
-    cc += [f"-ffile-prefix-map={workdir}=.", f"-ffile-prefix-map={HERE}=robogen/pyfmu"]
-    includes = ["-I", str(HERE), "-I", str(workdir), "-I", info["include"]]
+    prefix_maps = [f"-ffile-prefix-map={workdir}=.", f"-ffile-prefix-map={HERE}=robogen/pyfmu"]
+    includes = toolchain.include_args([HERE, workdir, info["include"]])
     shim_defines = [f"-DPYFMU_LIBPYTHON={_c_string(info['soname'])}"] if promote_libpython else []
-    jobs = [
-        [*cc, *STRICT_CFLAGS, *shim_defines, "-I", str(include_dir()), *includes, "-c", str(HERE / "shim.c"),
-         "-o", str(workdir / "shim.o")],
-        [*cc, *STRICT_CFLAGS, *includes, "-c", str(HERE / "start_python.c"), "-o", str(workdir / "start_python.o")],
-        [*cc, *GENERATED_CFLAGS, *includes, "-c", str(generated), "-o", str(workdir / "module.o")],
-    ]
-    _run_parallel(jobs)
+    ours = [*toolchain.CFLAGS, *toolchain.PIC, *toolchain.OPTIMISE, *prefix_maps]
+    foreign = [*toolchain.FOREIGN_CFLAGS, *toolchain.PIC, *toolchain.OPTIMISE, *prefix_maps]
+    toolchain.run_compilers([
+        [*ours, *shim_defines, "-I", str(include_dir()), *includes, "-c", str(HERE / "shim.c"), "-o", str(workdir / "shim.o")],
+        [*ours, *includes, "-c", str(HERE / "start_python.c"), "-o", str(workdir / "start_python.o")],
+        [*foreign, *includes, "-c", str(generated), "-o", str(workdir / "module.o")],
+    ], f"the Python FMU '{model_identifier}'")
     target = workdir / f"{model_identifier}.so"
-    _run_parallel([[*cc, "-shared", "-o", str(target),
-                    str(workdir / "shim.o"), str(workdir / "start_python.o"), str(workdir / "module.o"),
-                    "-L", info["libdir"], f"-l{info['library']}", f"-Wl,-rpath,{info['libdir']}",
-                    "-Wl,-z,nodelete",  # never unmapped: the interpreter keeps references into it
-                    "-Wl,-z,defs", "-Wl,--build-id=none", "-ldl"]])
+    toolchain.run_compiler([*prefix_maps, *toolchain.SHARED, "-o", str(target),
+                            str(workdir / "shim.o"), str(workdir / "start_python.o"), str(workdir / "module.o"),
+                            "-L", info["libdir"], f"-l{info['library']}", f"-Wl,-rpath,{info['libdir']}",
+                            "-Wl,-z,nodelete",  # never unmapped: the interpreter keeps references into it
+                            "-Wl,-z,defs", "-Wl,--build-id=none", "-ldl"], f"the Python FMU '{model_identifier}'")
     return target
-
-
-def _run_parallel(commands: Sequence[Sequence[str]]) -> None:
-    procs = [(cmd, subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True))
-             for cmd in commands]
-    failures = []
-    for cmd, proc in procs:
-        output, _ = proc.communicate()
-        if proc.returncode != 0:
-            failures.append(f"$ {shlex.join(cmd)}\n{output}")
-    if failures:
-        raise RuntimeError("compiling the FMU binary failed:\n" + "\n".join(failures))
 
 
 # --------------------------------------------------------------------------------------------

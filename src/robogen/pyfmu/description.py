@@ -16,7 +16,7 @@ from typing import Any
 
 from robogen import __version__
 from robogen.pyfmu.model import Clock, Model, Var
-from robogen.pyfmu.slave import LOG_CATEGORIES
+from robogen.fmu.fmi import LOG_CATEGORIES
 
 # SI base-unit exponents of the units models commonly declare; others are listed without.
 _BASE_UNITS = {

@@ -18,14 +18,9 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any, Callable, Iterable, Sequence
 
+from robogen.fmu.fmi import INTERVAL_UNCHANGED, LOG_CATEGORIES, same_time
 from robogen.pyfmu.model import Clock, FmiUsageError, Model, Step, Update, Var
 
-OK, WARNING, DISCARD, ERROR, FATAL = 0, 1, 2, 3, 4
-INTERVAL_UNCHANGED, INTERVAL_CHANGED = 1, 2
-LOG_CATEGORIES = ("logEvents", "logStatusWarning", "logStatusError")
-
-# Relative tolerance for comparing times (communication points, stop time).
-TIME_TOLERANCE = 1e-9
 
 
 class State(enum.Enum):
@@ -50,10 +45,6 @@ class UpdateResult:
     terminate: bool
     next_event_time_defined: bool
     next_event_time: float
-
-
-def same_time(a: float, b: float) -> bool:
-    return abs(a - b) <= TIME_TOLERANCE * max(1.0, abs(a), abs(b))
 
 
 Logger = Callable[[int, str, str], None]

@@ -9,14 +9,12 @@ disagree on it. Used by tests/cosim/conftest.py, tests/fmu/ and bench/bench_mast
 
 from __future__ import annotations
 
-import subprocess
 import sys
 import tempfile
 from pathlib import Path
 from xml.sax.saxutils import quoteattr
 
 HERE = Path(__file__).resolve().parent
-CFLAGS = ["-std=c99", "-Wall", "-Wextra", "-Wpedantic", "-Werror", "-fvisibility=hidden", "-fPIC", "-O2", "-shared"]
 
 # name, vr, type, causality, variability, extra attributes
 V = tuple
@@ -113,6 +111,7 @@ def model_description(name: str, spec: dict) -> str:
 
 def build(name: str, outdir: Path, *, xml: str | None = None) -> Path:
     """Compile MODELS[name] and write OUTDIR/NAME.fmu (``xml`` overrides the model description)."""
+    from robogen import toolchain
     from robogen.fmu.archive import write_fmu
     from robogen.fmu.headers import include_dir
 
@@ -120,9 +119,8 @@ def build(name: str, outdir: Path, *, xml: str | None = None) -> Path:
     outdir.mkdir(parents=True, exist_ok=True)
     with tempfile.TemporaryDirectory() as tmp:
         so = Path(tmp) / f"{name}.so"
-        cmd = ["gcc", *CFLAGS, f"-I{include_dir()}", f"-I{HERE}", f'-DMODEL_TOKEN="{token(name)}"',
-               str(HERE / f"{name}.c"), "-o", str(so), "-lm"]
-        subprocess.run(cmd, check=True)
+        toolchain.compile_shared([HERE / f"{name}.c"], so, includes=[include_dir(), HERE],
+                                 defines=[f'MODEL_TOKEN="{token(name)}"'], what=f"test FMU {name}")
         return write_fmu(outdir / f"{name}.fmu", {
             "modelDescription.xml": xml if xml is not None else model_description(name, MODELS[name]),
             f"binaries/x86_64-linux/{name}.so": so.read_bytes(),

@@ -1,4 +1,4 @@
-"""robogen.codegen.cc: the compiler driver, and the 75 exports of a built FMU."""
+"""robogen.codegen.binary and robogen.toolchain: building an FMU binary, the house flags, and the 75 exports of a built FMU."""
 
 from __future__ import annotations
 
@@ -10,7 +10,8 @@ from pathlib import Path
 
 import pytest
 
-from robogen.codegen import cc
+from robogen import toolchain
+from robogen.codegen import binary
 from robogen.diagnostics import RobogenError
 from robogen.fmu.headers import include_dir
 
@@ -30,20 +31,20 @@ def test_the_header_declares_75_functions():
 @pytest.mark.parametrize("fixture", ["counter_fmu", "plain_fmu"])
 def test_a_built_fmu_exports_exactly_the_75_api_functions(fixture, request):
     fmu = request.getfixturevalue(fixture)
-    assert cc.exported_symbols(fmu.library) == sorted(header_function_names())
+    assert toolchain.exported_symbols(fmu.library) == sorted(header_function_names())
 
 
 def test_runtime_dir_holds_the_runtime():
-    folder = cc.runtime_dir()
+    folder = binary.runtime_dir()
     assert (folder / "robogen_runtime.h").is_file()
     assert (folder / "robogen_runtime.c").is_file()
 
 
 def test_runtime_sources_are_the_runtime_files():
-    names = [path.name for path in cc.runtime_sources()]
+    names = [path.name for path in binary.runtime_sources()]
     assert names == sorted(names)
     assert {"robogen_runtime.h", "robogen_runtime.c"} <= set(names)
-    included = re.findall(r'#include "(robogen_runtime_\w+\.c)"', (cc.runtime_dir() / "robogen_runtime.c").read_text())
+    included = re.findall(r'#include "(robogen_runtime_\w+\.c)"', (binary.runtime_dir() / "robogen_runtime.c").read_text())
     assert set(included) == set(names) - {"robogen_runtime.h", "robogen_runtime.c"}
 
 
@@ -68,30 +69,30 @@ def test_a_sources_folder_builds_with_fmpy(tmp_path, monkeypatch):
     models = Path(__file__).resolve().parent / "models" / "counter"
     sources = tmp_path / "sources"
     sources.mkdir()
-    for path in [*cc.runtime_sources(), *(models / name for name in ("config.h", "model.c", "counter.c"))]:
+    for path in [*binary.runtime_sources(), *(models / name for name in ("config.h", "model.c", "counter.c"))]:
         shutil.copy(path, sources / path.name)
     (sources / "buildDescription.xml").write_text(BUILD_DESCRIPTION)
     shutil.copy(models / "modelDescription.xml", tmp_path / "modelDescription.xml")
     (tmp_path / "build").mkdir()
     build_platform_binary(tmp_path, build_dir=tmp_path / "build", all_warnings=True)
     library = tmp_path / "binaries" / "x86_64-linux" / "counter.so"
-    assert cc.exported_symbols(library) == sorted(header_function_names())
+    assert toolchain.exported_symbols(library) == sorted(header_function_names())
 
 
 def test_house_flags():
-    assert cc.CFLAGS == ("-std=c99", "-Wall", "-Wextra", "-Wpedantic", "-Werror", "-fvisibility=hidden")
-    assert "-fsanitize=address,undefined" in cc.SANITIZE_FLAGS
+    assert toolchain.CFLAGS == ("-std=c99", "-Wall", "-Wextra", "-Wpedantic", "-Werror", "-fvisibility=hidden")
+    assert "-fsanitize=address,undefined" in toolchain.SANITIZE_FLAGS
 
 
 def test_include_order_puts_the_sources_first(tmp_path):
-    flags = cc.include_flags(tmp_path)
-    assert flags == ["-I", str(tmp_path), "-I", str(cc.runtime_dir()), "-I", str(include_dir())]
+    assert binary.include_dirs(tmp_path) == [tmp_path, binary.runtime_dir(), include_dir()]
+    assert toolchain.include_args(binary.include_dirs(tmp_path)) == ["-I", str(tmp_path), "-I", str(binary.runtime_dir()), "-I", str(include_dir())]
 
 
 def test_a_compile_error_is_a_robogen_error_with_the_compiler_output(tmp_path):
     (tmp_path / "broken.c").write_text("int broken(void) { return undeclared_name; }\n")
     with pytest.raises(RobogenError) as caught:
-        cc.compile_fmu_binary(tmp_path, "broken", tmp_path / "out" / "broken.so")
+        binary.compile_fmu_binary(tmp_path, "broken", tmp_path / "out" / "broken.so")
     assert "undeclared_name" in str(caught.value)
     assert not (tmp_path / "out" / "broken.so").exists()
 
@@ -99,14 +100,14 @@ def test_a_compile_error_is_a_robogen_error_with_the_compiler_output(tmp_path):
 def test_a_warning_fails_the_build(tmp_path):
     (tmp_path / "warn.c").write_text("int warn(void) { int unused; return 0; }\n")
     with pytest.raises(RobogenError, match="unused"):
-        cc.compile_fmu_binary(tmp_path, "warn", tmp_path / "warn.so")
+        binary.compile_fmu_binary(tmp_path, "warn", tmp_path / "warn.so")
 
 
 def test_missing_source_and_bad_identifier_are_reported(tmp_path):
     with pytest.raises(RobogenError, match="does not exist"):
-        cc.compile_fmu_binary(tmp_path, "absent", tmp_path / "absent.so")
+        binary.compile_fmu_binary(tmp_path, "absent", tmp_path / "absent.so")
     with pytest.raises(RobogenError, match="not a C identifier"):
-        cc.compile_fmu_binary(tmp_path, "not-an-id", tmp_path / "x.so")
+        binary.compile_fmu_binary(tmp_path, "not-an-id", tmp_path / "x.so")
 
 
 def test_exported_symbols_of_a_small_library(tmp_path):
@@ -116,5 +117,29 @@ def test_exported_symbols_of_a_small_library(tmp_path):
         "static int internal(void) { return 3; }\n"
         "int use(void) { return internal(); }\n"
     )
-    library = cc.compile_fmu_binary(tmp_path, "lib", tmp_path / "lib.so")
-    assert cc.exported_symbols(library) == ["shown"]
+    library = binary.compile_fmu_binary(tmp_path, "lib", tmp_path / "lib.so")
+    assert toolchain.exported_symbols(library) == ["shown"]
+
+
+def test_cc_may_be_a_word_list(monkeypatch, tmp_path):
+    """CC="ccache gcc" style settings: the first word is the program, the rest its arguments."""
+    monkeypatch.setenv("CC", "env cc")
+    assert toolchain.compiler() == ["env", "cc"]
+    (tmp_path / "lib.c").write_text("__attribute__((visibility(\"default\"))) int shown(void) { return 1; }\n")
+    library = toolchain.compile_shared([tmp_path / "lib.c"], tmp_path / "lib.so")
+    assert toolchain.exported_symbols(library) == ["shown"]
+
+
+def test_a_missing_compiler_is_a_located_robogen_error(monkeypatch):
+    monkeypatch.setenv("CC", "no-such-compiler-xyz")
+    with pytest.raises(RobogenError, match="C compiler 'no-such-compiler-xyz' not found"):
+        toolchain.compiler()
+
+
+def test_the_runtime_tolerance_is_the_python_one():
+    """One tolerance decides 'the same time' in the C runtime and in the master and Python FMUs."""
+    from robogen.fmu.fmi import TIME_TOLERANCE
+
+    header = (binary.runtime_dir() / "robogen_runtime.h").read_text()
+    value = re.search(r"#define RG_TIME_RELATIVE_TOLERANCE (\S+)", header).group(1)
+    assert float(value) == TIME_TOLERANCE
