@@ -22,7 +22,7 @@ from robogen.fmu.archive import write_fmu
 from robogen.fmu.headers import PLATFORM_TUPLE
 from robogen.ir import model as ir
 from robogen.ir.lower import Options, lower, select_boundary
-from robogen.semantics import CheckedModel, check_paths
+from robogen.semantics import SemanticModel, check_paths
 from robogen.semantics.graph import mermaid
 
 
@@ -31,11 +31,11 @@ class Compiled:
     fmu: ir.Fmu
     generated: Generated
     folder: Path
-    model: CheckedModel
+    model: SemanticModel
 
 
 def lower_paths(paths: Sequence[str | os.PathLike], *, module: str | None = None, machine: str | None = None,
-                options: Options | None = None) -> tuple[ir.Fmu, CheckedModel]:
+                options: Options | None = None) -> tuple[ir.Fmu, SemanticModel]:
     """Check the models and lower the chosen boundary (raises RobogenError on any problem)."""
     model = check_paths(paths)
     if model.errors:
@@ -49,10 +49,10 @@ def compile_model(paths: Sequence[str | os.PathLike], output: str | os.PathLike 
                   line_comments: bool = True) -> Compiled:
     """Write the unpacked FMU (everything but the binary) to ``output`` (default build/<Name>)."""
     fmu, model = lower_paths(paths, module=module, machine=machine, options=options)
-    scopes = {s.node.name: s for s in model.scopes.values()}
+    scopes = {s.node.name: s for s in model.scopes}
     diagrams = {}
     for m in fmu.machines:
-        scope = next((s for s in model.scopes.values() if s.qname == m.qname), None) or scopes.get(m.name)
+        scope = next((s for s in model.scopes if s.qname == m.qname), None) or scopes.get(m.name)
         if scope is not None:
             diagrams[m.index] = mermaid(scope)
     generated = generate(fmu, line_comments=line_comments, diagrams=diagrams)

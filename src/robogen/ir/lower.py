@@ -21,10 +21,9 @@ from fractions import Fraction
 from robogen.diagnostics import DiagnosticSink, Note, RobogenError, Span, did_you_mean, working_on
 from robogen.ir import model as ir
 from robogen.semantics import types as T
-from robogen.semantics.checker import CheckedModel, ControllerInfo, ModuleInfo
-from robogen.semantics.scope import EnumLitSym, EventSym, FuncSym, MachineScope, OpSym, Region, VarSym
+from robogen.semantics.model import (Controller, EnumLitSym, EventSym, FuncSym, MachineScope, Module, OpSym, Region,
+                                     SemanticModel, VarSym)
 from robogen.syntax import ast
-from robogen.syntax.printer import expr as show_expr
 
 
 @dataclass
@@ -49,16 +48,26 @@ def not_supported(what: str, span: Span | None) -> RobogenError:
 # ---------------------------------------------------------------------------- boundary
 
 
-@dataclass
+@dataclass(frozen=True)
 class Boundary:
-    kind: str  # module | controller | machine
-    node: ast.Node
-    file: ast.File
+    """What one FMU holds: a module (its controllers' machines) or one state machine."""
+
+    kind: str  # module | machine
     name: str
     qname: str
+    module: Module | None = None
+    machine: MachineScope | None = None
+
+    @property
+    def node(self) -> ast.Node:
+        return self.module.node if self.module is not None else self.machine.node  # type: ignore[union-attr]
+
+    @property
+    def file(self) -> ast.File:
+        return self.module.file if self.module is not None else self.machine.file  # type: ignore[union-attr]
 
 
-def select_boundary(model: CheckedModel, module: str | None = None, machine: str | None = None) -> Boundary:
+def select_boundary(model: SemanticModel, module: str | None = None, machine: str | None = None) -> Boundary:
     """The module or machine to compile: named, or the only one in the model."""
 
     def named(candidates, name, what):
@@ -73,10 +82,8 @@ def select_boundary(model: CheckedModel, module: str | None = None, machine: str
             raise RobogenError.at(f"several {what}s are named '{name}': " + ", ".join(c.qname for c in found) + "; give the qualified name", None)
         return found[0]
 
-    modules = [Boundary("module", i.node, i.file, i.node.name, i.qname) for i in model.modules.values()]
-    machines = [
-        Boundary("machine", s.node, s.file, s.name, s.qname) for s in model.scopes.values() if isinstance(s.node, ast.StateMachine)
-    ]
+    modules = [Boundary("module", m.name, m.qname, module=m) for m in model.modules]
+    machines = [Boundary("machine", s.name, s.qname, machine=s) for s in model.machines]
     if module is not None:
         return named(modules, module, "module")
     if machine is not None:
@@ -102,20 +109,20 @@ def model_identifier(name: str) -> str:
 # ---------------------------------------------------------------------------- FMU lowering
 
 
-def lower(model: CheckedModel, boundary: Boundary, options: Options | None = None) -> ir.Fmu:
+def lower(model: SemanticModel, boundary: Boundary, options: Options | None = None) -> ir.Fmu:
     if model.errors:
         raise RobogenError(model.errors)
     return _FmuLowering(model, boundary, options or Options()).run()
 
 
 class _FmuLowering:
-    def __init__(self, model: CheckedModel, boundary: Boundary, options: Options):
+    def __init__(self, model: SemanticModel, boundary: Boundary, options: Options):
         self.model = model
         self.b = boundary
         self.o = options
         self.sink = DiagnosticSink()
         self.fmu: ir.Fmu | None = None
-        self.machine_scopes: list[tuple[str, MachineScope, ControllerInfo | None]] = []
+        self.machine_scopes: list[tuple[str, MachineScope, Controller | None]] = []
         self.lowerings: list[_MachineLowering] = []
         # variables a controller provides, shared by its machines: (controller, name) -> storage
         self.shared_vars: dict[tuple[int, str], ir.Var] = {}
@@ -132,7 +139,7 @@ class _FmuLowering:
             trigger=self.o.trigger,
             period=period,
             time_unit=self.o.time_unit,
-            sources=tuple(sorted({f.path for f in self.model.workspace.files})),
+            sources=tuple(sorted({f.path for f in self.model.files})),
             span=getattr(b.node, "name_span", None),
             max_steps=self.o.max_steps,
             functions_file=self.o.functions,
@@ -156,15 +163,7 @@ class _FmuLowering:
         if language == "robochart":
             return Fraction(1)
         b = self.b
-        period = None
-        if b.kind == "module":
-            period = self.model.modules[id(b.node)].period
-        else:
-            scope = self.model.scopes[id(b.node)]
-            for c in scope.cycle_defs:
-                e = c.expr
-                if isinstance(e, ast.Binary) and isinstance(e.right, (ast.IntLit, ast.RealLit)):
-                    period = Fraction(e.right.text if isinstance(e.right, ast.RealLit) else e.right.value)
+        period = b.module.period if b.module is not None else b.machine.period  # type: ignore[union-attr]
         if period is None:
             raise RobogenError.at(
                 f"RoboSim {b.kind} '{b.name}' has no cycle period",
@@ -175,16 +174,13 @@ class _FmuLowering:
 
     def _collect_machines(self) -> None:
         b = self.b
-        if b.kind == "machine":
-            self.machine_scopes.append((b.name, self.model.scopes[id(b.node)], None))
+        if b.machine is not None:
+            self.machine_scopes.append((b.name, b.machine, None))
             return
-        info: ModuleInfo = self.model.modules[id(b.node)]
-        for _, c, _ in info.controllers:
-            ci = self.model.controllers.get(id(c))
-            if ci is None:
-                continue
-            for used, m, _ in ci.machines:
-                self.machine_scopes.append((used, self.model.scopes[id(m)], ci))
+        assert b.module is not None
+        for _, c in b.module.controllers:
+            for used, m in c.machines:
+                self.machine_scopes.append((used, m, c))
 
     # -- ports and routes
 
@@ -207,15 +203,16 @@ class _FmuLowering:
                 if ml.is_platform_operation(op):
                     self._output_port(name, "operation", None, ml.op_params(name), op.span)
             return
-        info: ModuleInfo = self.model.modules[id(self.b.node)]
-        platform = info.platform_name
-        for conn in _connections(info.node):
+        info = self.b.module
+        assert info is not None
+        platform = info.platform.name if info.platform is not None else ""
+        for conn in info.connections:
             if conn.source == platform:
                 port = self._input_port(conn.source_event, self._platform_event_type(info, conn.source_event), conn.span)
                 for r in self._routes_into_controller(conn.target, conn.target_event, lowerings, info):
                     if r not in port.routes:
                         port.routes.append(r)
-        for conn in _connections(info.node):
+        for conn in info.connections:
             if conn.target == platform:
                 self._output_port(conn.target_event, "output-event", self._platform_event_type(info, conn.target_event), (), conn.span)
         for ml in lowerings:
@@ -223,21 +220,20 @@ class _FmuLowering:
                 if ml.is_platform_operation(op):
                     self._output_port(name, "operation", None, ml.op_params(name), op.span)
 
-    def _platform_event_type(self, info: ModuleInfo, name: str) -> T.Type | None:
-        events = self.model.checker._endpoint_events(info.platform, info.platform_file)  # type: ignore[arg-type]
-        sym = events.get(name)
+    def _platform_event_type(self, info: Module, name: str) -> T.Type | None:
+        sym = info.platform.events.get(name) if info.platform is not None else None
         return None if sym is None or sym.type is None else self._norm(sym.type)
 
-    def _routes_into_controller(self, ctrl_name: str, event: str, lowerings, info: ModuleInfo) -> list[tuple[int, int]]:
+    def _routes_into_controller(self, ctrl_name: str, event: str, lowerings, info: Module) -> list[tuple[int, int]]:
         """Machine events that receive ``event`` when it reaches controller ``ctrl_name``."""
         routes = []
-        for used, c, _ in info.controllers:
+        for used, c in info.controllers:
             if used != ctrl_name:
                 continue
-            for conn in _connections(c):
+            for conn in c.connections:
                 if conn.source == c.name and conn.source_event == event:
                     for ml in lowerings:
-                        if ml.ctrl is not None and ml.ctrl.node is c and ml.used_name == conn.target:
+                        if ml.ctrl is c and ml.used_name == conn.target:
                             ev = ml.machine.event(conn.target_event)
                             if ev is not None:
                                 routes.append((ml.machine.index, ev.index))
@@ -248,19 +244,21 @@ class _FmuLowering:
         if kind == "operation" or self.b.kind == "machine":
             t = None if kind == "operation" else ml.event_type(name)
             return (("port", self._output_port(name, kind, t, ml.op_params(name), span).index),)
-        info: ModuleInfo = self.model.modules[id(self.b.node)]
+        info = self.b.module
+        assert info is not None
         routes: list[tuple] = []
         ctrl = ml.ctrl
         if ctrl is None:
             return ()
-        ctrl_used = next((u for u, c, _ in info.controllers if c is ctrl.node), ctrl.node.name)
-        for conn in _connections(ctrl.node):
+        ctrl_used = next((u for u, c in info.controllers if c is ctrl), ctrl.name)
+        platform = info.platform.name if info.platform is not None else ""
+        for conn in ctrl.connections:
             if conn.source != ml.used_name or conn.source_event != name:
                 continue
-            if conn.target == ctrl.node.name:  # machine -> its controller -> the module's connections
-                for mconn in _connections(info.node):
+            if conn.target == ctrl.name:  # machine -> its controller -> the module's connections
+                for mconn in info.connections:
                     if mconn.source == ctrl_used and mconn.source_event == conn.target_event:
-                        if mconn.target == info.platform_name:
+                        if mconn.target == platform:
                             port = self._output_port(mconn.target_event, "output-event", ml.event_type(name), (), span)
                             routes.append(("port", port.index))
                         else:
@@ -342,10 +340,6 @@ def _event_uses(scope: MachineScope) -> tuple[set[str], set[str]]:
     return ins, outs
 
 
-def _connections(node: ast.Node) -> list[ast.Connection]:
-    return [m for m in node.members if isinstance(m, ast.Connection)]  # type: ignore[attr-defined]
-
-
 def normalise(t: T.Type, given: str = "int") -> T.Type:
     """Replace given types by their concrete scalar type, recursively."""
     if isinstance(t, T.Given):
@@ -416,13 +410,13 @@ class _Graph:
 
 
 class _MachineLowering:
-    def __init__(self, fl: _FmuLowering, scope: MachineScope, ctrl: ControllerInfo | None, index: int, used_name: str):
+    def __init__(self, fl: _FmuLowering, scope: MachineScope, ctrl: Controller | None, index: int, used_name: str):
         self.fl = fl
         self.scope = scope
         self.ctrl = ctrl
         self.used_name = used_name
         self.robosim = scope.robosim
-        self.tables = fl.model.tables
+        self.model = fl.model
         self.machine = ir.Machine(scope.name, scope.qname, scope.node.name_span, index=index)
         self.vars: dict[str, ir.Var] = {}
         self.evals: dict[tuple[int, int], int] = {}
@@ -449,7 +443,7 @@ class _MachineLowering:
     def _declare_var(self, v: VarSym, name: str, display: str) -> ir.Var:
         t = self._norm(v.type)
         check_codegen_type(t, v.span, f"variable '{display}'")
-        key = (id(self.ctrl.node) if self.ctrl is not None else 0, name)
+        key = (id(self.ctrl) if self.ctrl is not None else 0, name)
         if v.shared and v.kind == "var" and key in self.fl.shared_vars:
             var = self.fl.shared_vars[key]  # another machine of the controller holds it
             if var.type != t:
@@ -476,7 +470,7 @@ class _MachineLowering:
         if text is not None:
             value = _parse_setting(text, var.type, v.span, fmi_name)
         elif v.init is not None:
-            value = _constant_value(v.init, var.type, self.tables, {p.var.display: p.value for p in fmu.params if p.machine == self.machine.index})
+            value = _constant_value(v.init, var.type, self.model, {p.var.display: p.value for p in fmu.params if p.machine == self.machine.index})
             if value is None:
                 self.fl.sink.error(f"the value of constant '{v.name}' must be computable from literals and other constants", v.init.span)
         else:
@@ -661,7 +655,7 @@ class _MachineLowering:
                 raise not_supported(f"a trigger on '{t.trigger.event}', which this boundary never receives", t.trigger.span)
             event_index = ev.index
             if t.trigger.kind == "?":
-                var = self.tables.bound_var(t.trigger)
+                var = self.model.bound_var(t.trigger)
                 guard = ir.BindIn(T.BOOLEAN, ev.index, self._var_ref(graph, var, t.trigger.var_span))
             else:
                 guard = ir.Occurred(T.BOOLEAN, ev.index)
@@ -709,7 +703,7 @@ class _MachineLowering:
         late = self._later(elapsed, self.expr(t.deadline, graph), t.deadline.span)
         guard = ir.Bin(T.BOOLEAN, "and", ir.Un(T.BOOLEAN, "not", ir.Ref(T.BOOLEAN, flag)), late)
         text = (f"{t.name}: deadline missed: trigger '{t.trigger.event if t.trigger else ''}' not within "
-                f"{show_expr(t.deadline)} time unit(s) of entering {src.name} ({_at(t)})")  # type: ignore[attr-defined]
+                f"{self.model.text(t.deadline)} time unit(s) of entering {src.name} ({_at(t)})")  # type: ignore[attr-defined]
         return ir.If(t.deadline.span, guard, (ir.Assign(t.deadline.span, ir.Ref(T.BOOLEAN, flag), ir.Lit(T.BOOLEAN, True)),
                                                ir.DeadlineMiss(t.deadline.span, text)), ())
 
@@ -802,15 +796,15 @@ class _MachineLowering:
             cur.stmts.append(ir.Assign(s.span, target, self._conv(self.expr(s.value, graph), target.type, s.value.span)))
             return cur
         if isinstance(s, ast.DollarAssign):
-            var = self.tables.ref(s)
+            var = self.model.symbol(s)
             target = self._var_ref(graph, var, s.var_span)
             cur.stmts.append(ir.Assign(s.span, target, self._conv(self.expr(s.value, graph), target.type, s.value.span)))
             return cur
         if isinstance(s, ast.CallStmt):
-            op: OpSym = self.tables.ref(s.call.func)
+            op: OpSym = self.model.symbol(s.call.func)
             return self._call(op, s.call.args, cur, graph, s.span)
         if isinstance(s, ast.DollarCall):
-            op = self.tables.ref(s)
+            op = self.model.symbol(s)
             return self._call(op, s.args, cur, graph, s.span)
         if isinstance(s, ast.DollarOutput):
             args = () if s.value is None else (self._payload(s.event, s.value, graph),)
@@ -829,7 +823,7 @@ class _MachineLowering:
                 ev = self.machine.event(c.event)
                 if ev is None:
                     raise not_supported(f"an input of '{c.event}', which this boundary never receives", s.span)
-                var = self.tables.bound_var(c)
+                var = self.model.bound_var(c)
                 wait = self.block(f"wait for {c.event}", s.span)
                 nxt = self.block(f"after {c.event}?{c.var}", s.span)
                 cur.term = ir.Goto(wait.id)
@@ -849,7 +843,7 @@ class _MachineLowering:
             cur = self.stmts(s.stmt, cur, graph)
             elapsed = ir.Bin(T.NAT, "sub", ir.Now(T.NAT), ir.Ref(T.NAT, start))
             late = self._later(elapsed, self.expr(s.bound, graph), s.bound.span)
-            text = f"deadline missed: the statement at {_at(s)} took longer than {show_expr(s.bound)} time unit(s)"
+            text = f"deadline missed: the statement at {_at(s)} took longer than {self.model.text(s.bound)} time unit(s)"
             cur.stmts.append(ir.If(s.span, late, (ir.DeadlineMiss(s.span, text),), ()))
             return cur
         raise not_supported(f"the statement '{type(s).__name__}'", s.span)  # pragma: no cover
@@ -869,30 +863,27 @@ class _MachineLowering:
 
     def _call(self, op: OpSym, args, cur: ir.Block, graph: _Graph, span: Span | None) -> ir.Block:
         values = tuple(self._conv(self.expr(a, graph), self._norm(pt), a.span) for a, (_, pt) in zip(args, op.params))
-        definition = self._software_operation(op.name, graph.scope.file) if not op.platform else None
+        definition = self._software_operation(op.name, graph.scope) if not op.platform else None
         if definition is None:
             cur.stmts.append(ir.Emit(span, op.name, values, self.fl.output_routes(self, op.name, "operation", span)))
             return cur
         return self._inline(definition, values, cur, graph, span)
 
-    def _software_operation(self, name: str, file: ast.File | None = None) -> MachineScope | None:
-        """The definition of a software operation the machine calls, if it has one (otherwise
-        the operation belongs to the robotic platform): the one its controller references
-        (opref), else the one visible from the calling file (its package, its imports, files
-        without a package), never an operation of the same name elsewhere in the workspace."""
-        model = self.fl.model
-        if self.fl.b.kind == "module":
-            info = model.modules[id(self.fl.b.node)]
-            if info.platform is not None and _platform_provides(model, info, name):
-                return None
+    def _software_operation(self, name: str, caller: MachineScope | None = None) -> MachineScope | None:
+        """The definition of a software operation the machine (or the operation ``caller``)
+        calls, if it has one (otherwise the operation belongs to the robotic platform): the one
+        its controller references (opref), else the one visible from the calling file (its
+        package, its imports, files without a package), never an operation of the same name
+        elsewhere in the workspace."""
+        module = self.fl.b.module
+        if module is not None and module.platform is not None and name in module.platform.operations:
+            return None
         if self.ctrl is not None:
-            for used, node, _ in self.ctrl.operations:
-                if node.name == name or used == name:
-                    scope = model.scopes.get(id(node))
-                    if scope is not None:
-                        return scope
-        decl = model.workspace.lookup(ast.Name((name,)), file or self.scope.file, (ast.OperationDef,), "operation", report=False)
-        return model.scopes.get(id(decl.node)) if decl is not None else None
+            for used, scope in self.ctrl.operations:
+                if scope.name == name or used == name:
+                    return scope
+        definition = (caller or self.scope).definitions.get(name)
+        return self.model.scope_of(definition) if definition is not None else None
 
     def _inline(self, op: MachineScope, values, cur: ir.Block, graph: _Graph, span: Span | None) -> ir.Block:
         if op.name in self.inline_stack:
@@ -914,7 +905,7 @@ class _MachineLowering:
         after = self.block(f"after {op.name}()", span)
         sub = _Graph(op, (f"{op.name}#{site}",), env, {}, after.id)
         for name, clock in op.clocks.items():
-            if clock.origin.startswith("interface") and name in graph.clocks:
+            if clock.from_interface and name in graph.clocks:
                 sub.clocks[name] = graph.clocks[name]  # a clock of the caller, required by the operation
             else:
                 sub.clocks[name] = self._clock(f"{op.name}#{site}.{name}")
@@ -962,7 +953,7 @@ class _MachineLowering:
 
     def lvalue(self, e: ast.Expr, graph: _Graph) -> ir.Expr:
         if isinstance(e, ast.Name):
-            return self._var_ref(graph, self.tables.ref(e), e.span)
+            return self._var_ref(graph, self.model.symbol(e), e.span)
         if isinstance(e, ast.Field):
             base = self.lvalue(e.obj, graph)
             assert isinstance(base.type, T.RecordT)
@@ -1003,10 +994,9 @@ class _MachineLowering:
             return self._expr(e, graph)
 
     def _type(self, e: ast.Expr) -> T.Type:
-        return self._norm(self.tables.type_of(e))
+        return self._norm(self.model.type_of(e))
 
     def _expr(self, e: ast.Expr, graph: _Graph) -> ir.Expr:
-        tables = self.tables
         if isinstance(e, ast.IntLit):
             return ir.Lit(T.NAT, e.value)
         if isinstance(e, ast.RealLit):
@@ -1014,7 +1004,7 @@ class _MachineLowering:
         if isinstance(e, ast.BoolLit):
             return ir.Lit(T.BOOLEAN, e.value)
         if isinstance(e, ast.Name):
-            sym = tables.ref(e)
+            sym = self.model.symbol(e)
             if isinstance(sym, EnumLitSym):
                 enum = self._norm(sym.enum)
                 assert isinstance(enum, T.EnumT)
@@ -1044,7 +1034,7 @@ class _MachineLowering:
             t = self._type(e)
             return ir.Cond(t, self.expr(e.cond, graph), self._conv(self.expr(e.then, graph), t, e.then.span), self._conv(self.expr(e.otherwise, graph), t, e.otherwise.span))
         if isinstance(e, ast.Call):
-            sym = tables.ref(e.func)
+            sym = self.model.symbol(e.func)
             if isinstance(sym, EnumLitSym):
                 raise not_supported("an enumeration literal with arguments", e.span)
             if isinstance(sym, FuncSym) and sym.builtin is not None and sym.name in ("min", "max", "abs"):
@@ -1057,7 +1047,7 @@ class _MachineLowering:
             name = sym.name if isinstance(sym, FuncSym) else "?"
             raise not_supported(f"a call of function '{name}' (robogen has no implementation of it)", e.span)
         if isinstance(e, ast.Cast):
-            t = self._norm(self.fl.model.resolve_type(e.type, self.scope.file))
+            t = self._norm(self.model.type_of(e.type))
             inner = self.expr(e.expr, graph)
             if e.op == "as" and t in T.NUMERIC and inner.type in T.NUMERIC:
                 return ir.Conv(t, inner)
@@ -1079,7 +1069,7 @@ class _MachineLowering:
                 raise not_supported(f"clock '{e.clock}' here", e.span)
             return ir.Since(self._since_type(), clock)
         if isinstance(e, ast.SinceEntry):
-            found = tables.ref(e)
+            found = self.model.symbol(e)
             if found is None:
                 raise not_supported("sinceEntry here", e.span)
             path, node = found
@@ -1088,7 +1078,7 @@ class _MachineLowering:
                 raise not_supported("sinceEntry of a state outside this machine", e.span)
             return ir.SinceEntry(self._since_type(), nid)
         if isinstance(e, ast.Dollar):
-            sym = tables.ref(e)
+            sym = self.model.symbol(e)
             if isinstance(sym, EventSym):
                 ev = self.machine.event(e.name)
                 if ev is None:
@@ -1099,7 +1089,7 @@ class _MachineLowering:
             ev = self.machine.event(e.event)
             if ev is None:
                 raise not_supported(f"'${e.event}?{e.var}'", e.span)
-            var = tables.bound_var(e)
+            var = self.model.bound_var(e)
             guard: ir.Expr = ir.BindIn(T.BOOLEAN, ev.index, self._var_ref(graph, var, e.var_span))
             if e.predicate is not None:
                 guard = ir.Bin(T.BOOLEAN, "and", guard, self.expr(e.predicate, graph))
@@ -1200,20 +1190,6 @@ def _c_signature(name: str, params, result: T.Type) -> str:
     return f"{c(result)} rg_user_{name}({args})"
 
 
-def _platform_provides(model: CheckedModel, info: ModuleInfo, op: str) -> bool:
-    platform = info.platform
-    if platform is None:
-        return False
-    for m in platform.members:
-        if isinstance(m, ast.OpSig) and m.name == op:
-            return True
-        if isinstance(m, ast.InterfaceRef) and m.kind == "provides":
-            found = model.checker.resolve_interface(m.name, info.platform_file)  # type: ignore[arg-type]
-            if found and any(isinstance(x, ast.OpSig) and x.name == op for x in found[0].members):
-                return True
-    return False
-
-
 def _action(state: ast.Node, kind: str) -> ast.Stmt | None:
     for m in getattr(state, "members", ()):
         if isinstance(m, ast.StateAction) and m.kind == kind:
@@ -1269,10 +1245,10 @@ def _parse_setting(text: str, t: T.Type, span: Span | None, name: str) -> object
     raise RobogenError.at(f"--set {name}={text}: not a value of type {t.show()}", span)
 
 
-def _constant_value(e: ast.Expr, t: T.Type, tables, known: dict[str, object]) -> object:
+def _constant_value(e: ast.Expr, t: T.Type, model, known: dict[str, object]) -> object:
     """Evaluate a constant's initialiser at generation time (literals, enum literals, constants)."""
     try:
-        v = _eval_const(e, tables, known)
+        v = _eval_const(e, model, known)
     except (KeyError, ZeroDivisionError, TypeError):
         return None
     if t == T.REAL and isinstance(v, (int, Fraction)) and not isinstance(v, bool):
@@ -1280,7 +1256,7 @@ def _constant_value(e: ast.Expr, t: T.Type, tables, known: dict[str, object]) ->
     return v
 
 
-def _eval_const(e: ast.Expr, tables, known: dict[str, object]):
+def _eval_const(e: ast.Expr, model, known: dict[str, object]):
     if isinstance(e, ast.IntLit):
         return e.value
     if isinstance(e, ast.RealLit):
@@ -1288,17 +1264,17 @@ def _eval_const(e: ast.Expr, tables, known: dict[str, object]):
     if isinstance(e, ast.BoolLit):
         return e.value
     if isinstance(e, ast.Name):
-        sym = tables.ref(e)
+        sym = model.symbol(e)
         if isinstance(sym, EnumLitSym):
             return sym.enum.literals.index(sym.literal)  # type: ignore[attr-defined]
         if isinstance(sym, VarSym) and sym.kind == "const":
             return known[sym.name]
         raise KeyError(e.text)
     if isinstance(e, ast.Unary):
-        v = _eval_const(e.operand, tables, known)
+        v = _eval_const(e.operand, model, known)
         return (not v) if e.op == "not" else -v
     if isinstance(e, ast.Binary) and e.op in ("+", "-", "*", "/"):
-        a, b = _eval_const(e.left, tables, known), _eval_const(e.right, tables, known)
+        a, b = _eval_const(e.left, model, known), _eval_const(e.right, model, known)
         if e.op == "/" and isinstance(a, int) and isinstance(b, int):
             q = abs(a) // abs(b)
             return q if (a >= 0) == (b >= 0) else -q
