@@ -15,7 +15,7 @@ import pytest
 
 from codegen_driver import Built, build
 from codegen_models import SEMANTICS, TEST_MODELS
-from robogen.ir.lower import Options
+from robogen.ir.lower import LoweringOptions
 
 
 class Builds:
@@ -32,7 +32,7 @@ class Builds:
         with self.lock:
             if key not in self.futures:
                 model = TEST_MODELS[name]
-                options = Options(semantics=semantics, trigger=trigger, max_steps=model.max_steps,
+                options = LoweringOptions(semantics=semantics, trigger=trigger, max_steps=model.max_steps,
                                   settings=dict(model.settings))
                 work = self.folder / f"{name}-{semantics}-{trigger}"
                 self.futures[key] = self.pool.submit(build, [model.path], work, options=options)

@@ -17,9 +17,10 @@ from fmpy.validation import validate_fmu as fmpy_validate
 from codegen_models import MODELS, ROOT, SEMANTICS, TEST_MODELS
 from robogen.cli import main as robogen_main
 from robogen.codegen.api import compile_model, package_model
+from robogen.codegen.generate import CodegenOptions
 from robogen.diagnostics import RobogenError
 from robogen.fmu.validate import validate_fmu
-from robogen.ir.lower import Options
+from robogen.ir.lower import LoweringOptions
 from robogen.semantics import check_paths
 
 
@@ -53,10 +54,10 @@ import hashlib, json, sys
 from pathlib import Path
 from robogen.codegen.api import lower_paths
 from robogen.codegen.generate import generate
-from robogen.ir.lower import Options
+from robogen.ir.lower import LoweringOptions
 for path, settings in json.loads(sys.argv[1]):
     for semantics in ("exhaustive", "stepwise"):
-        fmu, _ = lower_paths([path], options=Options(semantics=semantics, settings=settings))
+        fmu, _ = lower_paths([path], options=LoweringOptions(semantics=semantics, settings=settings))
         for rel, text in sorted(generate(fmu).files.items()):
             print(path, semantics, rel, hashlib.sha256(text.encode()).hexdigest())
 """
@@ -80,7 +81,7 @@ def test_compiling_twice_writes_identical_folders(tmp_path):
     model = TEST_MODELS["pipeline"].path
     folders = []
     for i in range(2):
-        compile_model([str(model)], tmp_path / f"out{i}", options=Options(semantics="stepwise"))
+        compile_model([str(model)], tmp_path / f"out{i}", options=LoweringOptions(semantics="stepwise"))
         folders.append({p.relative_to(tmp_path / f"out{i}"): p.read_bytes()
                         for p in sorted((tmp_path / f"out{i}").rglob("*")) if p.is_file()})
     assert folders[0] == folders[1]
@@ -132,7 +133,7 @@ def test_every_block_names_its_model_element_and_line(built, name):
 def test_line_comments_can_be_switched_off(tmp_path):
     model = TEST_MODELS["ur5e"].path
     with_lines = compile_model([str(model)], tmp_path / "a").generated.files["sources/model.c"]
-    without = compile_model([str(model)], tmp_path / "b", line_comments=False).generated.files["sources/model.c"]
+    without = compile_model([str(model)], tmp_path / "b", codegen=CodegenOptions(line_comments=False)).generated.files["sources/model.c"]
     assert re.search(r"/\* b4: t2: Idle -> ArmMove  \S*ur5e\.rst:\d+ \*/", with_lines)
     assert "/* b4: t2: Idle -> ArmMove */" in without
     assert not re.search(r"case \d+: /\*[^*]*ur5e\.rst:\d+", without)

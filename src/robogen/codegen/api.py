@@ -16,12 +16,13 @@ from pathlib import Path
 from typing import Sequence
 
 from robogen.codegen import binary
-from robogen.codegen.generate import Generated, generate
+from robogen.codegen.generate import CodegenOptions, Generated, generate
 from robogen.diagnostics import RobogenError, Span, error
 from robogen.fmu.archive import write_fmu
 from robogen.fmu.headers import PLATFORM_TUPLE
 from robogen.ir import model as ir
-from robogen.ir.lower import Options, lower, select_boundary
+from robogen.ir.boundary import select_boundary
+from robogen.ir.lower import LoweringOptions, lower
 from robogen.semantics import SemanticModel, check_paths
 from robogen.semantics.graph import mermaid
 
@@ -35,18 +36,18 @@ class Compiled:
 
 
 def lower_paths(paths: Sequence[str | os.PathLike], *, module: str | None = None, machine: str | None = None,
-                options: Options | None = None) -> tuple[ir.Fmu, SemanticModel]:
+                options: LoweringOptions | None = None) -> tuple[ir.Fmu, SemanticModel]:
     """Check the models and lower the chosen boundary (raises RobogenError on any problem)."""
     model = check_paths(paths)
     if model.errors:
         raise RobogenError(model.errors)
     boundary = select_boundary(model, module=module, machine=machine)
-    return lower(model, boundary, options or Options()), model
+    return lower(model, boundary, options), model
 
 
 def compile_model(paths: Sequence[str | os.PathLike], output: str | os.PathLike | None = None, *,
-                  module: str | None = None, machine: str | None = None, options: Options | None = None,
-                  line_comments: bool = True) -> Compiled:
+                  module: str | None = None, machine: str | None = None, options: LoweringOptions | None = None,
+                  codegen: CodegenOptions | None = None) -> Compiled:
     """Write the unpacked FMU (everything but the binary) to ``output`` (default build/<Name>)."""
     fmu, model = lower_paths(paths, module=module, machine=machine, options=options)
     scopes = {s.node.name: s for s in model.scopes}
@@ -55,7 +56,7 @@ def compile_model(paths: Sequence[str | os.PathLike], output: str | os.PathLike 
         scope = next((s for s in model.scopes if s.qname == m.qname), None) or scopes.get(m.name)
         if scope is not None:
             diagrams[m.index] = mermaid(scope)
-    generated = generate(fmu, line_comments=line_comments, diagrams=diagrams)
+    generated = generate(fmu, codegen, diagrams=diagrams)
     folder = Path(output) if output is not None else Path("build") / fmu.model_identifier
     if folder.exists() and not folder.is_dir():
         raise RobogenError(error(f"{folder} exists and is not a directory", None))
@@ -117,14 +118,14 @@ def build_fmu(folder: str | os.PathLike, output: str | os.PathLike, *, validate:
 
 
 def package_model(paths: Sequence[str | os.PathLike], output: str | os.PathLike, *, module: str | None = None,
-                  machine: str | None = None, options: Options | None = None, line_comments: bool = True,
-                  validate: bool = True, work: str | os.PathLike | None = None) -> tuple[Path, Compiled]:
+                  machine: str | None = None, options: LoweringOptions | None = None,
+                  codegen: CodegenOptions | None = None, validate: bool = True, work: str | os.PathLike | None = None) -> tuple[Path, Compiled]:
     """Compile the model (into ``work``, default a temporary folder) and package it as ``output``."""
     if work is None:
         with tempfile.TemporaryDirectory(prefix="robogen-src-") as tmp:
-            compiled = compile_model(paths, Path(tmp) / "fmu", module=module, machine=machine, options=options, line_comments=line_comments)
+            compiled = compile_model(paths, Path(tmp) / "fmu", module=module, machine=machine, options=options, codegen=codegen)
             return build_fmu(compiled.folder, output, validate=validate), compiled
-    compiled = compile_model(paths, work, module=module, machine=machine, options=options, line_comments=line_comments)
+    compiled = compile_model(paths, work, module=module, machine=machine, options=options, codegen=codegen)
     return build_fmu(compiled.folder, output, validate=validate), compiled
 
 
@@ -138,4 +139,5 @@ def parse_time_unit(text: str) -> Fraction:
     return value
 
 
-__all__ = ["Compiled", "compile_model", "build_fmu", "package_model", "lower_paths", "Options", "parse_time_unit"]
+__all__ = ["Compiled", "compile_model", "build_fmu", "package_model", "lower_paths", "LoweringOptions", "CodegenOptions",
+           "parse_time_unit"]

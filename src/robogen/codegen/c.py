@@ -45,7 +45,30 @@ def tag(t: T.Type) -> str:
 
 
 def mangle(name: str) -> str:
+    """A C identifier part for a model name (qualified names, '#', '.' become '_')."""
     return re.sub(r"[^A-Za-z0-9_]", "_", name.replace("::", "_"))
+
+
+def var_identifiers(fmu: ir.Fmu) -> dict[ir.Var, str]:
+    """The C member name of every machine variable (the struct member is ``v_<name>``): its
+    model name mangled, with a number appended where two names of one machine would clash."""
+    names: dict[ir.Var, str] = {}
+    for m in fmu.machines:
+        taken: set[str] = set()
+        for v in m.vars:
+            base = name = mangle(v.name)
+            n = 2
+            while name in taken:
+                name, n = f"{base}_{n}", n + 1
+            taken.add(name)
+            names[v] = name
+    return names
+
+
+def user_function_prototype(u: ir.UserFunction) -> str:
+    """The C declaration of a user function, as the --functions file must define it."""
+    args = ", ".join(f"{ctype(t)} {n}" for n, t in u.params) or "void"
+    return f"static {ctype(u.result)} rg_user_{u.name}({args})"
 
 
 def c_string(text: str) -> str:
@@ -96,9 +119,10 @@ class Emitter:
     """Translates the IR of machine ``m`` (index ``i``) into C text. Machine memory is ``m->``,
     model data ``d->``, the instance ``inst``."""
 
-    def __init__(self, fmu: ir.Fmu, machine: ir.Machine, port_fields, clock_index):
+    def __init__(self, fmu: ir.Fmu, machine: ir.Machine, port_fields, clock_index, names: dict[ir.Var, str]):
         self.fmu = fmu
         self.m = machine
+        self.names = names  # variable -> C member name (var_identifiers)
         self.port_fields = port_fields  # port index -> [(c field name, Field_)]
         self.clock_index = clock_index  # port name -> rg_clocks index
         self.fallible = False  # the last expression may set the fault code
@@ -114,9 +138,10 @@ class Emitter:
         return literal(e.value, e.type)
 
     def _Ref(self, e: ir.Ref) -> str:
+        name = self.names[e.var]
         if e.var.owner >= 0 and e.var.owner != self.m.index:
-            return f"d->m{e.var.owner}.v_{e.var.name}"  # shared, held by another machine
-        return f"m->v_{e.var.name}"
+            return f"d->m{e.var.owner}.v_{name}"  # shared, held by another machine
+        return f"m->v_{name}"
 
     def _FieldOf(self, e: ir.FieldOf) -> str:
         return f"{self.expr(e.base)}.{e.name}"
@@ -360,4 +385,5 @@ def _at(span) -> str:
     return f" {span.path}:{span.line}" if span is not None else ""
 
 
-__all__ = ["Emitter", "ctype", "literal", "zero", "mangle", "c_string", "c_comment", "tag"]
+__all__ = ["Emitter", "ctype", "literal", "zero", "mangle", "var_identifiers", "user_function_prototype", "c_string",
+           "c_comment", "tag"]

@@ -19,12 +19,12 @@ from pathlib import Path
 from robogen.codegen.api import lower_paths
 from robogen.codegen.generate import generate
 from robogen.diagnostics import RobogenError
-from robogen.ir.lower import Options
+from robogen.ir.lower import LoweringOptions
 
 #: case name -> (model files relative to the repository root, generation options)
-CASES: dict[str, tuple[tuple[str, ...], Options]] = {
-    "ur5e-exhaustive": (("models/ur5e/ur5e.rst",), Options(semantics="exhaustive")),
-    "ur5e-stepwise": (("models/ur5e/ur5e.rst",), Options(semantics="stepwise")),
+CASES: dict[str, tuple[tuple[str, ...], LoweringOptions]] = {
+    "ur5e-exhaustive": (("models/ur5e/ur5e.rst",), LoweringOptions(semantics="exhaustive")),
+    "ur5e-stepwise": (("models/ur5e/ur5e.rst",), LoweringOptions(semantics="stepwise")),
 }
 
 

@@ -274,7 +274,7 @@ class Interpreter:
         for m, ms in zip(self.fmu.machines, self.machines):
             for v in m.vars:
                 if v.kind in ("var", "const"):
-                    _flatten_value(f"{m.name}.{v.display}", v.type, ms.vars[v.name], out)
+                    _flatten_value(f"{m.name}.{v.name}", v.type, ms.vars[v.name], out)
         return out
 
     # ------------------------------------------------------------------ execution

@@ -44,8 +44,9 @@ class Var:
     """A memory cell of a machine: a variable, a constant (FMI parameter), an operation
     parameter or local (one per inlined call site)."""
 
-    name: str  # unique within the machine, a C identifier after mangling
-    display: str  # the model name, for the FMI variable and diagnostics
+    # the model name, unique within the machine: a variable's own name; 'op#2.x' for x of the
+    # second inlined call of operation op; 't1.deadline', 'deadline#3' for deadline bookkeeping
+    name: str
     type: Type
     kind: str  # var, const, param, local
     init: "Expr | None" = None  # initial value (computed at exit of initialization)
@@ -242,8 +243,7 @@ class CallB(Expr):
 
 @dataclass(frozen=True)
 class CallU(Expr):
-    """A user function (declared in the model by its contract only), implemented in the C file
-    given with --functions as ``static <result> rg_user_<name>(<params>)``."""
+    """A call of a user function (see :class:`UserFunction`)."""
 
     name: str
     args: tuple[Expr, ...]
@@ -251,10 +251,14 @@ class CallU(Expr):
 
 @dataclass(frozen=True)
 class UserFunction:
-    name: str  # the C name is rg_user_<name>
+    """A function the model declares by its contract only; the code generator takes its body
+    from the user (``--functions``), the reference interpreter a Python implementation."""
+
+    name: str
     params: tuple[tuple[str, Type], ...]
     result: Type
-    span: Span | None
+    span: Span | None  # its declaration
+    first_call: Span | None = None  # where the model first calls it
 
 
 # ============================================================================ statements
@@ -417,7 +421,6 @@ class Fmu:
     outputs: list[Port] = field(default_factory=list)
     params: list[Param] = field(default_factory=list)
     user_functions: list[UserFunction] = field(default_factory=list)
-    functions_file: str | None = None  # the C file implementing them (--functions)
     max_steps: int = 1000  # transitions per cycle before a runaway cycle is reported
 
     @property
