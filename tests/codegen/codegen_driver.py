@@ -420,7 +420,8 @@ def build(paths: list[Path], work: Path, *, module: str | None = None, machine: 
     is the C file of the model's user functions."""
     compiled = compile_model([str(p) for p in paths], work / "src", module=module, machine=machine, options=options,
                              codegen=CodegenOptions(functions=functions))
-    archive = build_fmu(compiled.folder, work / f"{compiled.fmu.model_identifier}.fmu", validate=True)
+    archive = build_fmu(compiled.folder, work / f"{compiled.fmu.model_identifier}.fmu",
+                        model_identifier=compiled.generated.model_identifier, validate=True)
     folder = work / "unzipped"
     if folder.exists():
         shutil.rmtree(folder)

@@ -7,6 +7,7 @@ from __future__ import annotations
 import json
 import os
 import re
+import shutil
 import subprocess
 import sys
 from pathlib import Path
@@ -88,6 +89,28 @@ def test_compiling_twice_writes_identical_folders(tmp_path):
     assert Path("sources/model.c") in folders[0]
 
 
+@pytest.mark.parametrize("name", ["ur5e", "timers", "ops"])
+def test_one_model_in_two_checkouts_gives_byte_identical_sources_and_token(tmp_path, monkeypatch, name):
+    """Generated files name model files relative to the workspace root, and the token is hashed
+    from the path-free IR dump: copies of a model at two different absolute paths, one given as
+    an absolute path, the other relative to the current folder, give the same files."""
+    source = TEST_MODELS[name].path
+    outputs = []
+    for where in ("one", "two/deeper/checkout"):
+        folder = tmp_path / where / "models"
+        folder.mkdir(parents=True)
+        shutil.copyfile(source, folder / source.name)
+        outputs.append(folder / source.name)
+    monkeypatch.chdir(tmp_path / "two")
+    first = compile_model([outputs[0]], tmp_path / "out1", options=LoweringOptions(settings=dict(TEST_MODELS[name].settings)))
+    second = compile_model([Path("deeper/checkout/models") / source.name], tmp_path / "out2",
+                           options=LoweringOptions(settings=dict(TEST_MODELS[name].settings)))
+    assert first.generated.token == second.generated.token
+    assert first.generated.files == second.generated.files
+    assert f"from {source.name} (" in first.generated.files["sources/model.c"]
+    assert all(str(tmp_path) not in text for text in first.generated.files.values())
+
+
 # ---------------------------------------------------------------------------- traceability
 
 CASE = re.compile(r"^\s*case (\d+): /\* b\1: (.*?)(?:  (\S+):(\d+))? \*/$")
@@ -122,8 +145,8 @@ def test_every_block_names_its_model_element_and_line(built, name):
     for match in cases:
         label, path, line = match.group(2), match.group(3), match.group(4)
         assert path is not None, f"block without a model location: {match.group(0)}"
-        text = lines_of.setdefault(path, Path(path).read_text().splitlines() if Path(path).is_absolute()
-                                   else (ROOT / path).read_text().splitlines())[int(line) - 1]
+        root = TEST_MODELS[name].path.parent  # the workspace root: the folder of the model given
+        text = lines_of.setdefault(path, (root / path).read_text().splitlines())[int(line) - 1]
         element = element_of(label)
         assert element is None or re.search(rf"\b{re.escape(element)}\b", text), (label, f"{path}:{line}", text)
     # the machine and each transition in the machine's comments too

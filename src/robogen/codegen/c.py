@@ -305,7 +305,7 @@ class Emitter:
                 return [f"{indent}m->node = {s.node};"]
             return [f"{indent}m->node = {s.node}; m->entered[{s.node}] = m->ticks;"]
         if isinstance(s, ir.DeadlineMiss):
-            return [f"{indent}rg_deadline_miss(inst, {c_string(self.m.name + ': ' + s.text)});"]
+            return [f"{indent}rg_deadline_miss(inst, {c_string(self.m.name + ': ' + s.text.render(self.fmu.place))});"]
         if isinstance(s, ir.Consume):
             return [f"{indent}m->smp_present[{s.event}] = false;"]
         if isinstance(s, ir.StartWait):
@@ -354,6 +354,10 @@ class Emitter:
 
     # ---------------------------------------------------------------- terminators
 
+    def _place_suffix(self, span) -> str:
+        """' file:line' of a model element for a comment ('' when unknown)."""
+        return f" {self.fmu.place(span)}" if span is not None else ""
+
     def terminator(self, t: ir.Terminator, indent: str) -> list[str]:
         i = self.m.index
         if isinstance(t, ir.Goto):
@@ -361,13 +365,13 @@ class Emitter:
         if isinstance(t, ir.Suspend):
             return [f"{indent}m->pc = {t.target}; return RG_RUN_SUSPENDED;"]
         if isinstance(t, ir.Fail):
-            return [f"{indent}return rg_machine_fail(inst, {c_string(self.m.name + ': ' + t.message)});"]
+            return [f"{indent}return rg_machine_fail(inst, {c_string(self.m.name + ': ' + t.message.render(self.fmu.place))});"]
         if isinstance(t, ir.Branch):
             lines = []
             for case in t.cases:
                 self.fallible = False
                 guard = self.expr(case.guard)
-                where = f"  /* {c_comment(case.label)}{_at(case.span)} */"
+                where = f"  /* {c_comment(case.label)}{self._place_suffix(case.span)} */"
                 if self.fallible:
                     lines.append(f"{indent}{{")
                     lines.append(f"{indent}    bool g_ = {guard};{where}")
@@ -379,10 +383,6 @@ class Emitter:
             self.fallible = False
             return lines + self.terminator(t.default, indent)
         raise TypeError(f"no C for {type(t).__name__}")  # pragma: no cover
-
-
-def _at(span) -> str:
-    return f" {span.path}:{span.line}" if span is not None else ""
 
 
 __all__ = ["Emitter", "ctype", "literal", "zero", "mangle", "var_identifiers", "user_function_prototype", "c_string",

@@ -10,6 +10,7 @@ import hashlib
 from dataclasses import dataclass, field
 from fractions import Fraction
 from pathlib import Path
+from typing import Sequence
 
 import jinja2
 
@@ -132,14 +133,20 @@ def _decimal(value: Fraction) -> str:
     return text[:-2] if text.endswith(".0") else text
 
 
-def generate(fmu: ir.Fmu, options: CodegenOptions | None = None, *, diagrams: dict[int, str] | None = None) -> Generated:
-    """The sources of ``fmu``. ``diagrams`` (machine index -> Mermaid text) go into the
-    documentation."""
+def generate(fmu: ir.Fmu, options: CodegenOptions | None = None, *, diagrams: Sequence[str] = ()) -> Generated:
+    """The sources of ``fmu``.
+
+    ``diagrams`` holds a Mermaid state diagram of each machine, in IR order, for the
+    documentation. They are a finished input, drawn by the front end from the resolved model
+    before lowering (see :func:`robogen.codegen.api.compile_model`): a diagram shows the model as
+    written (composite states, transition labels in model syntax), which the IR no longer holds
+    (its transitions are blocks), and the generator reads nothing but the IR and its options."""
     options = options or CodegenOptions()
     line_comments = options.line_comments
     functions = _functions_file(fmu, options.functions)
     layout = _Layout(fmu)
-    token = "{" + _token_hash(fmu) + "}"
+    ir_text = dump(fmu)
+    token = instantiation_token(ir_text)
     gen = Generated(fmu, fmu.model_identifier, token, variables=layout.variables)
     env = _env()
     names = layout.names
@@ -152,7 +159,7 @@ def generate(fmu: ir.Fmu, options: CodegenOptions | None = None, *, diagrams: di
         typedefs=[_typedef(t) for t in layout.types],
         equality_bodies=bodies,
         param_starts={p.fmi_name: _param_starts(p) for p in fmu.params},
-        diagrams={m.index: (diagrams or {}).get(m.index, "stateDiagram-v2\n  %% (no diagram)") for m in fmu.machines},
+        diagrams={m.index: diagrams[m.index] if m.index < len(diagrams) else "stateDiagram-v2\n  %% (no diagram)" for m in fmu.machines},
         fmu=fmu,
         version=__version__,
         token=token,
@@ -160,7 +167,8 @@ def generate(fmu: ir.Fmu, options: CodegenOptions | None = None, *, diagrams: di
         machines=machines,
         equalities=equalities,
         line_comments=line_comments,
-        sources=", ".join(fmu.sources),
+        sources=", ".join(fmu.source_names),
+        place=fmu.place,
         interval=_decimal(fmu.clock_interval),
         ctype=ctype,
         literal=literal,
@@ -175,13 +183,15 @@ def generate(fmu: ir.Fmu, options: CodegenOptions | None = None, *, diagrams: di
     gen.files["sources/buildDescription.xml"] = env.get_template("buildDescription.xml.j2").render(**context)
     gen.files["documentation/index.md"] = env.get_template("documentation.md.j2").render(**context)
     gen.files["documentation/externalDependencies.txt"] = "none beyond libc and libm\n"
-    gen.files["documentation/ir.txt"] = dump(fmu)
+    gen.files["documentation/ir.txt"] = ir_text
     return gen
 
 
-def _token_hash(fmu: ir.Fmu) -> str:
-    h = hashlib.sha256(dump(fmu).encode("utf-8")).hexdigest()
-    return f"{h[0:8]}-{h[8:12]}-{h[12:16]}-{h[16:20]}-{h[20:32]}"
+def instantiation_token(ir_text: str) -> str:
+    """The FMU's instantiationToken: a GUID-shaped hash of its path-free IR dump, so it changes
+    with the model's meaning and interface, and not with where the model's files are."""
+    h = hashlib.sha256(ir_text.encode("utf-8")).hexdigest()
+    return "{" + f"{h[0:8]}-{h[8:12]}-{h[12:16]}-{h[16:20]}-{h[20:32]}" + "}"
 
 
 def _functions_file(fmu: ir.Fmu, path: Path | None) -> str | None:
@@ -463,7 +473,7 @@ def _machine_code(fmu: ir.Fmu, m: ir.Machine, layout: _Layout, line_comments: bo
     em = Emitter(fmu, m, layout.port_fields_out, layout.clock_index, layout.names)
     cases = []
     for b in m.blocks:
-        where = f"  {b.span.path}:{b.span.line}" if (line_comments and b.span is not None) else ""
+        where = f"  {fmu.place(b.span)}" if (line_comments and b.span is not None) else ""
         lines = [f"        case {b.id}: /* b{b.id}: {c_comment(b.label)}{where} */"]
         if b.step:
             lines += em.step("            ")
@@ -477,7 +487,7 @@ def _machine_code(fmu: ir.Fmu, m: ir.Machine, layout: _Layout, line_comments: bo
             em.fallible = False
             value = em.expr(v.init)
             inits.append((f"m->v_{layout.names[v]}", value, em.fallible, v.name))
-    labels = [c_string(f"b{b.id}: {b.label}" + (f" ({b.span.path}:{b.span.line})" if b.span else "")) for b in m.blocks]
+    labels = [c_string(f"b{b.id}: {b.label}" + (f" ({fmu.place(b.span)})" if b.span else "")) for b in m.blocks]
     return dict(machine=m, cases=cases, inits=inits, labels=labels, equalities=em.equalities,
                 event_types=[(e.index, ctype(e.type) if e.type is not None else None) for e in m.events])
 

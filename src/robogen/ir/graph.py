@@ -33,10 +33,9 @@ def state_action(state: ast.Node, kind: str) -> ast.Stmt | None:
     return None
 
 
-def place(node: ast.Node) -> str:
-    """file:line of a model element, for run-time messages."""
-    span = getattr(node, "name_span", None) or node.span
-    return f"{span.path}:{span.line}" if span else "?"
+def place_of(node: ast.Node) -> ir.At:
+    """The place of a model element in a run-time message: its name, or the whole element."""
+    return ir.At(getattr(node, "name_span", None) or node.span)
 
 
-__all__ = ["Graph", "state_action", "place"]
+__all__ = ["Graph", "state_action", "place_of"]

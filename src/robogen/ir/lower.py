@@ -71,6 +71,7 @@ def _header(model: SemanticModel, b: Boundary, options: LoweringOptions) -> ir.F
         sources=tuple(sorted({f.path for f in model.files})),
         span=getattr(b.node, "name_span", None),
         max_steps=options.max_steps,
+        root=model.root,
     )
 
 

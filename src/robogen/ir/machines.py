@@ -18,7 +18,7 @@ from robogen.ir import model as ir
 from robogen.ir.boundary import Boundary
 from robogen.ir.constants import constant_value, parse_setting
 from robogen.ir.expressions import ExpressionLowering
-from robogen.ir.graph import Graph, place, state_action
+from robogen.ir.graph import Graph, place_of, state_action
 from robogen.ir.ports import Ports
 from robogen.ir.statements import StatementLowering
 from robogen.ir.supported import check_codegen_type, normalise, not_supported
@@ -302,7 +302,8 @@ class MachineLowering(StatementLowering, ExpressionLowering):
             return ir.Suspend(block)
         if self.robosim or isinstance(leaf, ast.Junction):
             kind = "junction" if isinstance(leaf, ast.Junction) else "state"
-            return ir.Fail(f"deadlock in {kind} '{name}' ({place(leaf)}): no transition is enabled" + (" and no exec" if self.robosim else ""))
+            why = "no transition is enabled" + (" and no exec" if self.robosim else "")
+            return ir.Fail(ir.Text((f"deadlock in {kind} '{name}' (", place_of(leaf), f"): {why}")))
         return ir.Suspend(block)  # RoboChart: wait for an event or for time to pass
 
     def _case(self, graph: Graph, t: ast.Transition, src: ast.Node, leaf: ast.Node) -> ir.Case:
@@ -384,8 +385,8 @@ class MachineLowering(StatementLowering, ExpressionLowering):
         elapsed = ir.SinceEntry(self.since_type(), graph.node_ids[id(src)])
         late = self.later(elapsed, self.expr(t.deadline, graph), t.deadline.span)
         guard = ir.Bin(T.BOOLEAN, "and", ir.Un(T.BOOLEAN, "not", ir.Ref(T.BOOLEAN, flag)), late)
-        text = (f"{t.name}: deadline missed: trigger '{t.trigger.event if t.trigger else ''}' not within "
-                f"{self.model.text(t.deadline)} time unit(s) of entering {src.name} ({place(t)})")  # type: ignore[attr-defined]
+        text = ir.Text((f"{t.name}: deadline missed: trigger '{t.trigger.event if t.trigger else ''}' not within "
+                        f"{self.model.text(t.deadline)} time unit(s) of entering {src.name} (", place_of(t), ")"))  # type: ignore[attr-defined]
         return ir.If(t.deadline.span, guard, (ir.Assign(t.deadline.span, ir.Ref(T.BOOLEAN, flag), ir.Lit(T.BOOLEAN, True)),
                                                ir.DeadlineMiss(t.deadline.span, text)), ())
 

@@ -25,12 +25,18 @@ the blocks one for one, so they cannot disagree about the semantics.
 
 Types are :mod:`robogen.semantics.types` values in which given types are already replaced by
 their concrete scalar type.
+
+Places in the model are spans as the user gave the files; printers name a file relative to the
+workspace root (:meth:`Fmu.place`), and run-time messages keep their places apart from their text
+(:class:`Text`), so the canonical dump (and the instantiation token hashed from it) holds no path.
 """
 
 from __future__ import annotations
 
+import os
 from dataclasses import dataclass, field
 from fractions import Fraction
+from typing import Callable
 
 from robogen.diagnostics import Span
 from robogen.semantics.types import Type
@@ -261,6 +267,27 @@ class UserFunction:
     first_call: Span | None = None  # where the model first calls it
 
 
+# ============================================================================ messages
+
+
+@dataclass(frozen=True)
+class At:
+    """A place of the model that a run-time message names (None: unknown)."""
+
+    span: Span | None
+
+
+@dataclass(frozen=True)
+class Text:
+    """A run-time message: its text and the places of the model it names, in order."""
+
+    parts: tuple[str | At, ...]
+
+    def render(self, place: Callable[[Span | None], str]) -> str:
+        """The message with each place written by ``place``."""
+        return "".join(p if isinstance(p, str) else place(p.span) for p in self.parts)
+
+
 # ============================================================================ statements
 
 
@@ -327,7 +354,7 @@ class DeadlineMiss(Stmt):
     """A RoboChart deadline was missed: counted in the output ``deadline_misses`` and logged;
     never enforced (docs/robosim-robochart.md §4.3)."""
 
-    text: str
+    text: Text
 
 
 @dataclass(frozen=True)
@@ -371,7 +398,7 @@ class Branch(Terminator):
 
 @dataclass(frozen=True)
 class Fail(Terminator):
-    message: str
+    message: Text
 
 
 @dataclass(eq=False)
@@ -414,7 +441,7 @@ class Fmu:
     trigger: str  # cycle or on-input (RoboSim)
     period: Fraction  # RoboSim cycle period in model time units; RoboChart: 1 (one tock)
     time_unit: Fraction  # seconds per model time unit
-    sources: tuple[str, ...]
+    sources: tuple[str, ...]  # the model files, as given
     span: Span | None
     machines: list[Machine] = field(default_factory=list)
     inputs: list[Port] = field(default_factory=list)
@@ -422,6 +449,20 @@ class Fmu:
     params: list[Param] = field(default_factory=list)
     user_functions: list[UserFunction] = field(default_factory=list)
     max_steps: int = 1000  # transitions per cycle before a runaway cycle is reported
+    root: str = ""  # the workspace root (absolute), to which generated files name model files
+
+    def source_name(self, path: str) -> str:
+        """A model file's name in generated files: relative to the workspace root, so the same
+        model gives the same sources in any checkout."""
+        return os.path.relpath(os.path.abspath(path), self.root) if self.root else path
+
+    def place(self, span: Span | None) -> str:
+        """``file:line`` of a model element in generated files ('?' when unknown)."""
+        return f"{self.source_name(span.path)}:{span.line}" if span is not None else "?"
+
+    @property
+    def source_names(self) -> list[str]:
+        return sorted(self.source_name(p) for p in self.sources)
 
     @property
     def clock_name(self) -> str:

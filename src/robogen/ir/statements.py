@@ -12,7 +12,7 @@ from typing import TYPE_CHECKING
 
 from robogen.diagnostics import Span, working_on
 from robogen.ir import model as ir
-from robogen.ir.graph import Graph, place
+from robogen.ir.graph import Graph, place_of
 from robogen.ir.supported import check_codegen_type, not_supported
 from robogen.semantics import types as T
 from robogen.semantics.model import MachineScope, OpSym
@@ -110,7 +110,7 @@ class StatementLowering:
         cur = self.stmts(s.stmt, cur, graph)
         elapsed = ir.Bin(T.NAT, "sub", ir.Now(T.NAT), ir.Ref(T.NAT, start))
         late = self.later(elapsed, self.expr(s.bound, graph), s.bound.span)
-        text = f"deadline missed: the statement at {place(s)} took longer than {self.model.text(s.bound)} time unit(s)"
+        text = ir.Text(("deadline missed: the statement at ", place_of(s), f" took longer than {self.model.text(s.bound)} time unit(s)"))
         cur.stmts.append(ir.If(s.span, late, (ir.DeadlineMiss(s.span, text),), ()))
         return cur
 
