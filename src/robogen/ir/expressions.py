@@ -12,7 +12,7 @@ from typing import TYPE_CHECKING
 
 from robogen.diagnostics import Span, working_on
 from robogen.ir import model as ir
-from robogen.ir.graph import Graph
+from robogen.ir.region_tree import Graph
 from robogen.ir.supported import check_codegen_type, is_scalar, not_supported
 from robogen.semantics import types as T
 from robogen.semantics.model import EnumLitSym, EventSym, FuncSym, VarSym

@@ -18,7 +18,7 @@ from robogen.ir import model as ir
 from robogen.ir.boundary import Boundary
 from robogen.ir.constants import constant_value, parse_setting
 from robogen.ir.expressions import ExpressionLowering
-from robogen.ir.graph import Graph, place_of, state_action
+from robogen.ir.region_tree import Graph, place_of, state_action
 from robogen.ir.ports import Ports
 from robogen.ir.statements import StatementLowering
 from robogen.ir.supported import check_codegen_type, normalise, not_supported

@@ -12,7 +12,7 @@ from typing import TYPE_CHECKING
 
 from robogen.diagnostics import Span, working_on
 from robogen.ir import model as ir
-from robogen.ir.graph import Graph, place_of
+from robogen.ir.region_tree import Graph, place_of
 from robogen.ir.supported import check_codegen_type, not_supported
 from robogen.semantics import types as T
 from robogen.semantics.model import MachineScope, OpSym

@@ -21,7 +21,7 @@ from robogen.semantics import connections
 from robogen.semantics import types as T
 from robogen.semantics.assemble import ControllerParts, ModuleParts, assemble_controller, assemble_module
 from robogen.semantics.exprs import Where
-from robogen.semantics.analysis import analyse_machine
+from robogen.semantics.machine_analysis import analyse_machine
 from robogen.semantics.model import Controller, MachineScope, Module, Region, SemanticModel, Tables, VarSym
 from robogen.semantics.periods import cycle_period, frac
 from robogen.semantics.scope import ScopeBuilder

@@ -1,4 +1,4 @@
-"""Guards evaluated over small sample domains, for the analyses of robogen.semantics.analysis.
+"""Guards evaluated over small sample domains, for the analyses of robogen.semantics.machine_analysis.
 
 A guard's *leaves* are the sub-expressions the evaluator does not look into: each input event
 ``$e`` (occurred or not), each boolean, enumeration or given-type value, each number. A boolean
