@@ -33,7 +33,7 @@ bench: $(STAMP)
 
 # Refresh the golden files of the generated sources (review the diff afterwards).
 golden: $(STAMP)
-	$(PY) -m robogen.codegen.golden
+	$(PY) tests/codegen/golden_files.py
 
 clean:
 	rm -rf build dist .pytest_cache

@@ -33,7 +33,7 @@ from robogen.codegen.api import build_fmu, compile_model, lower_paths, package_m
 from robogen.cosim.fmi3 import Instance, Library, ffi, value_array, vr_array
 from robogen.fmu.headers import include_dir
 from robogen.ir.interp import Interpreter
-from robogen.ir.lower import Options
+from robogen.ir.lower import LoweringOptions
 
 ROOT = Path(__file__).resolve().parent.parent
 MODEL = ROOT / "models" / "ur5e" / "ur5e.rst"
@@ -150,7 +150,7 @@ class Ur5eFmu:
     """The UR5e FMU built with one semantics, unzipped, with the value references the benches use."""
 
     def __init__(self, folder: Path, semantics: str):
-        self.options = Options(semantics=semantics)
+        self.options = LoweringOptions(semantics=semantics)
         archive, compiled = package_model([str(MODEL)], folder / f"ur5e-{semantics}.fmu", options=self.options)
         self.fmu = compiled.fmu
         self.dir = folder / f"ur5e-{semantics}"

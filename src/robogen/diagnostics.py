@@ -43,10 +43,6 @@ class Span:
     def whole_file(cls, path: str) -> "Span":
         return cls(path, 1, 1, 1, 1)
 
-    def to(self, other: "Span") -> "Span":
-        """The span from the start of ``self`` to the end of ``other``."""
-        return Span(self.path, self.line, self.column, other.end_line, other.end_column, self.offset, other.end_offset)
-
     def __str__(self) -> str:
         return f"{self.path}:{self.line}:{self.column}"
 

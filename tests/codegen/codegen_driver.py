@@ -32,7 +32,8 @@ from robogen.cosim import fmi3
 from robogen.fmu.headers import PLATFORM_TUPLE
 from robogen.ir import model as ir
 from robogen.ir.interp import Interpreter, RuntimeFault
-from robogen.ir.lower import Options
+from robogen.codegen.generate import CodegenOptions
+from robogen.ir.lower import LoweringOptions
 
 # ---------------------------------------------------------------------------- scenarios
 
@@ -414,10 +415,13 @@ class Built:
 
 
 def build(paths: list[Path], work: Path, *, module: str | None = None, machine: str | None = None,
-          options: Options | None = None) -> Built:
-    """compile_model + build_fmu (validated), then unzip the archive for loading."""
-    compiled = compile_model([str(p) for p in paths], work / "src", module=module, machine=machine, options=options)
-    archive = build_fmu(compiled.folder, work / f"{compiled.fmu.model_identifier}.fmu", validate=True)
+          options: LoweringOptions | None = None, functions: Path | None = None) -> Built:
+    """compile_model + build_fmu (validated), then unzip the archive for loading; ``functions``
+    is the C file of the model's user functions."""
+    compiled = compile_model([str(p) for p in paths], work / "src", module=module, machine=machine, options=options,
+                             codegen=CodegenOptions(functions=functions))
+    archive = build_fmu(compiled.folder, work / f"{compiled.fmu.model_identifier}.fmu",
+                        model_identifier=compiled.generated.model_identifier, validate=True)
     folder = work / "unzipped"
     if folder.exists():
         shutil.rmtree(folder)

@@ -7,6 +7,7 @@ from __future__ import annotations
 import json
 import os
 import re
+import shutil
 import subprocess
 import sys
 from pathlib import Path
@@ -17,9 +18,10 @@ from fmpy.validation import validate_fmu as fmpy_validate
 from codegen_models import MODELS, ROOT, SEMANTICS, TEST_MODELS
 from robogen.cli import main as robogen_main
 from robogen.codegen.api import compile_model, package_model
+from robogen.codegen.generate import CodegenOptions
 from robogen.diagnostics import RobogenError
 from robogen.fmu.validate import validate_fmu
-from robogen.ir.lower import Options
+from robogen.ir.lower import LoweringOptions
 from robogen.semantics import check_paths
 
 
@@ -53,10 +55,10 @@ import hashlib, json, sys
 from pathlib import Path
 from robogen.codegen.api import lower_paths
 from robogen.codegen.generate import generate
-from robogen.ir.lower import Options
+from robogen.ir.lower import LoweringOptions
 for path, settings in json.loads(sys.argv[1]):
     for semantics in ("exhaustive", "stepwise"):
-        fmu, _ = lower_paths([path], options=Options(semantics=semantics, settings=settings))
+        fmu, _ = lower_paths([path], options=LoweringOptions(semantics=semantics, settings=settings))
         for rel, text in sorted(generate(fmu).files.items()):
             print(path, semantics, rel, hashlib.sha256(text.encode()).hexdigest())
 """
@@ -80,11 +82,33 @@ def test_compiling_twice_writes_identical_folders(tmp_path):
     model = TEST_MODELS["pipeline"].path
     folders = []
     for i in range(2):
-        compile_model([str(model)], tmp_path / f"out{i}", options=Options(semantics="stepwise"))
+        compile_model([str(model)], tmp_path / f"out{i}", options=LoweringOptions(semantics="stepwise"))
         folders.append({p.relative_to(tmp_path / f"out{i}"): p.read_bytes()
                         for p in sorted((tmp_path / f"out{i}").rglob("*")) if p.is_file()})
     assert folders[0] == folders[1]
     assert Path("sources/model.c") in folders[0]
+
+
+@pytest.mark.parametrize("name", ["ur5e", "timers", "ops"])
+def test_one_model_in_two_checkouts_gives_byte_identical_sources_and_token(tmp_path, monkeypatch, name):
+    """Generated files name model files relative to the workspace root, and the token is hashed
+    from the path-free IR dump: copies of a model at two different absolute paths, one given as
+    an absolute path, the other relative to the current folder, give the same files."""
+    source = TEST_MODELS[name].path
+    outputs = []
+    for where in ("one", "two/deeper/checkout"):
+        folder = tmp_path / where / "models"
+        folder.mkdir(parents=True)
+        shutil.copyfile(source, folder / source.name)
+        outputs.append(folder / source.name)
+    monkeypatch.chdir(tmp_path / "two")
+    first = compile_model([outputs[0]], tmp_path / "out1", options=LoweringOptions(settings=dict(TEST_MODELS[name].settings)))
+    second = compile_model([Path("deeper/checkout/models") / source.name], tmp_path / "out2",
+                           options=LoweringOptions(settings=dict(TEST_MODELS[name].settings)))
+    assert first.generated.token == second.generated.token
+    assert first.generated.files == second.generated.files
+    assert f"from {source.name} (" in first.generated.files["sources/model.c"]
+    assert all(str(tmp_path) not in text for text in first.generated.files.values())
 
 
 # ---------------------------------------------------------------------------- traceability
@@ -121,8 +145,8 @@ def test_every_block_names_its_model_element_and_line(built, name):
     for match in cases:
         label, path, line = match.group(2), match.group(3), match.group(4)
         assert path is not None, f"block without a model location: {match.group(0)}"
-        text = lines_of.setdefault(path, Path(path).read_text().splitlines() if Path(path).is_absolute()
-                                   else (ROOT / path).read_text().splitlines())[int(line) - 1]
+        root = TEST_MODELS[name].path.parent  # the workspace root: the folder of the model given
+        text = lines_of.setdefault(path, (root / path).read_text().splitlines())[int(line) - 1]
         element = element_of(label)
         assert element is None or re.search(rf"\b{re.escape(element)}\b", text), (label, f"{path}:{line}", text)
     # the machine and each transition in the machine's comments too
@@ -132,7 +156,7 @@ def test_every_block_names_its_model_element_and_line(built, name):
 def test_line_comments_can_be_switched_off(tmp_path):
     model = TEST_MODELS["ur5e"].path
     with_lines = compile_model([str(model)], tmp_path / "a").generated.files["sources/model.c"]
-    without = compile_model([str(model)], tmp_path / "b", line_comments=False).generated.files["sources/model.c"]
+    without = compile_model([str(model)], tmp_path / "b", codegen=CodegenOptions(line_comments=False)).generated.files["sources/model.c"]
     assert re.search(r"/\* b4: t2: Idle -> ArmMove  \S*ur5e\.rst:\d+ \*/", with_lines)
     assert "/* b4: t2: Idle -> ArmMove */" in without
     assert not re.search(r"case \d+: /\*[^*]*ur5e\.rst:\d+", without)

@@ -14,7 +14,7 @@ import pytest
 from codegen_driver import FmuRunner, build, interpret, random_scenario
 from robogen.codegen.api import compile_model
 from robogen.diagnostics import RobogenError
-from robogen.ir.lower import Options
+from robogen.ir.lower import LoweringOptions
 
 HERE = Path(__file__).resolve().parent
 MODEL, C_FILE = HERE / "models" / "userfun.rst", HERE / "models" / "userfun.c"
@@ -24,7 +24,7 @@ REFERENCE = HERE.parent.parent.parent / "shared" / "reference-models" / "alpha-u
 
 @pytest.mark.parametrize("semantics", ["exhaustive", "stepwise"])
 def test_fmu_with_user_functions_agrees_with_the_interpreter(tmp_path, semantics):
-    built = build([MODEL], tmp_path, options=Options(semantics=semantics, functions=str(C_FILE)))
+    built = build([MODEL], tmp_path, options=LoweringOptions(semantics=semantics), functions=C_FILE)
     assert "rg_user_sat(" in built.sources["sources/model.c"] and built.sources["sources/user_functions.c"] == C_FILE.read_text()
     runner = FmuRunner(built.folder)
     rng = random.Random(7)
@@ -56,7 +56,7 @@ def test_a_wrong_signature_is_a_compiler_error(tmp_path):
     bad.write_text("static float rg_user_sat(float x, float hi) { return x; }\n"
                    "static bool rg_user_even(int64_t n) { return n == 0; }\n")
     with pytest.raises(RobogenError) as exc:
-        build([MODEL], tmp_path / "w", options=Options(functions=str(bad)))
+        build([MODEL], tmp_path / "w", functions=bad)
     message = exc.value.diagnostics[0].message  # the compiler's own words, located in the sources
     assert "conflicting types for" in message and "rg_user_sat" in message and "user_functions.c:1" in message
 
@@ -69,8 +69,8 @@ def test_the_reference_robosim_movement_machine_compiles(tmp_path):
         "static uint64_t rg_user_floor(double x) { return x <= 0.0 ? 0u : (uint64_t)floor(x); }\n"
         "static double rg_user_random(void) { return 0.5; }\n"
     )
-    options = Options(functions=str(maths), settings={"lv": "0.1", "av": "30", "MB": "20", "alpha": "3"})
-    built = build([REFERENCE], tmp_path / "w", machine="pkg223_aggregation_sim::Movement", options=options)
+    options = LoweringOptions(settings={"lv": "0.1", "av": "30", "MB": "20", "alpha": "3"})
+    built = build([REFERENCE], tmp_path / "w", machine="pkg223_aggregation_sim::Movement", options=options, functions=maths)
     # the machine's RoboSim operations (not the RoboChart ones of the same name) are inlined
     assert "clone_waitOp_j_2_4_f" in built.sources["sources/model.c"]
     assert all("rc2rs/robochart" not in line for line in built.sources["sources/model.c"].splitlines() if "case" in line)

@@ -94,7 +94,7 @@ def check_mutant(seed: tuple[str, bytes], mutations: list[tuple]) -> None:
     result = check_texts({path: text})  # any other exception fails the test
     if result.errors:
         assert_located(result.diagnostics, path, text)
-    for f in result.workspace.files:
+    for f in result.files:
         assert parse_text(printer.file(f), path) == f
 
 

@@ -18,7 +18,7 @@ from robogen.semantics import check_paths, check_texts
 def test_every_model_of_the_valid_corpus_checks_clean(entry):
     model = check_paths([entry])
     assert [d.render() for d in model.diagnostics] == []
-    assert model.workspace.files
+    assert model.files
 
 
 def test_the_valid_corpus_is_large_enough():
@@ -29,20 +29,20 @@ def test_the_valid_corpus_is_large_enough():
 
 def test_the_valid_corpus_also_checks_as_one_workspace():
     """Its packages are distinct, so all of it can be given to robogen at once."""
-    assert check_paths([VALID]).diagnostics == []
+    assert check_paths([VALID]).diagnostics == ()
 
 
 @pytest.mark.parametrize("name", ["ur5e.rst", "ur5e.rct"])
 def test_the_case_study_checks_clean(name):
-    assert check_paths([UR5E / name]).diagnostics == []
+    assert check_paths([UR5E / name]).diagnostics == ()
 
 
 def test_what_the_checker_records_for_later_stages():
     model = check_paths([VALID / "pulse.rst"])
-    (module,) = model.modules.values()
-    assert module.platform_name == "board" and [name for name, *_ in module.controllers] == ["ctrl"]
+    (module,) = model.modules
+    assert module.platform.name == "board" and [name for name, _ in module.controllers] == ["ctrl"]
     assert module.period == Fraction(1)
-    (scope,) = model.scopes.values()
+    (scope,) = model.scopes
     assert scope.qname == "pulse::Pulse"
     assert sorted(scope.events) == ["go", "tick"]
     assert scope.events["go"].input and not scope.events["go"].output
@@ -56,7 +56,7 @@ def test_what_the_checker_records_for_later_stages():
 @pytest.mark.shared
 def test_the_reference_workspace_checks_without_errors():
     model = check_paths([REFERENCE / "alpha-untimed"])
-    assert len(model.workspace.files) == 16
+    assert len(model.files) == 16
     assert [d.render() for d in model.errors] == []
 
 

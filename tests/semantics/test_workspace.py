@@ -174,7 +174,7 @@ def test_undecodable_and_binary_files(tmp_path):
 
 def test_a_byte_order_mark_is_allowed(tmp_path):
     (tmp_path / "bom.rct").write_bytes(b"\xef\xbb\xbf" + f"stm S {{ {MACHINE_BODY} }}".encode())
-    assert check_paths([tmp_path]).diagnostics == []
+    assert check_paths([tmp_path]).diagnostics == ()
 
 
 def test_an_empty_file_is_a_warning(tmp_path):

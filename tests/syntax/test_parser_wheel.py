@@ -27,7 +27,7 @@ print(json.dumps({
     "robogen": robogen.__file__,
     "grammar": sorted(p.name for p in files("robogen.grammar").iterdir() if p.name.endswith(".lark")),
     "diagnostics": [d.message for d in model.diagnostics],
-    "machines": sorted(s.qname for s in model.scopes.values()),
+    "machines": sorted(s.qname for s in model.scopes),
 }))
 """
 

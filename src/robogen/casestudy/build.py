@@ -23,7 +23,7 @@ from pathlib import Path
 
 from robogen.codegen.api import package_model
 from robogen.diagnostics import RobogenError, error
-from robogen.ir.lower import Options
+from robogen.ir.lower import LoweringOptions
 
 ROOT = Path(__file__).resolve().parents[3]
 MODELS = ROOT / "models" / "ur5e"
@@ -58,7 +58,7 @@ def build_all(out: Path, models: Path = MODELS) -> Built:
     built = Built(out)
     for v in VARIANTS:
         t0 = time.perf_counter()
-        package_model([models / v.model], out / v.fmu, options=Options(semantics=v.semantics, time_unit=TIME_UNIT))
+        package_model([models / v.model], out / v.fmu, options=LoweringOptions(semantics=v.semantics, time_unit=TIME_UNIT))
         built.timings[f"package {v.fmu}"] = time.perf_counter() - t0
     from robogen.pyfmu.build import package as package_py
 

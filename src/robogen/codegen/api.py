@@ -1,8 +1,11 @@
 """The code generator as a library: model files -> FMU sources -> ``.fmu``.
 
-``compile_model`` checks the models, lowers the chosen boundary to the IR and writes the FMU's
-unpacked layout (``modelDescription.xml``, ``sources/``, ``documentation/``); ``build_fmu``
-compiles ``sources/`` with the system C compiler against fmpy's FMI headers and zips the archive.
+``compile_model`` checks the models, chooses the boundary, draws its machines' diagrams, lowers it
+to the IR and writes the FMU's unpacked layout (``modelDescription.xml``, ``sources/``,
+``documentation/``); ``build_fmu`` compiles ``sources/`` with the system C compiler against
+fmpy's FMI headers and zips the archive. Each stage hands the next a finished product: the
+resolved model and the diagrams to lowering and generation, the IR and the diagrams to the
+generator, the generated sources (with their modelIdentifier) to the build.
 """
 
 from __future__ import annotations
@@ -16,13 +19,14 @@ from pathlib import Path
 from typing import Sequence
 
 from robogen.codegen import binary
-from robogen.codegen.generate import Generated, generate
+from robogen.codegen.generate import CodegenOptions, Generated, generate
 from robogen.diagnostics import RobogenError, Span, error
 from robogen.fmu.archive import write_fmu
 from robogen.fmu.headers import PLATFORM_TUPLE
 from robogen.ir import model as ir
-from robogen.ir.lower import Options, lower, select_boundary
-from robogen.semantics import CheckedModel, check_paths
+from robogen.ir.boundary import Boundary, select_boundary
+from robogen.ir.lower import LoweringOptions, lower
+from robogen.semantics import SemanticModel, check_paths
 from robogen.semantics.graph import mermaid
 
 
@@ -31,31 +35,39 @@ class Compiled:
     fmu: ir.Fmu
     generated: Generated
     folder: Path
-    model: CheckedModel
+    model: SemanticModel
 
 
-def lower_paths(paths: Sequence[str | os.PathLike], *, module: str | None = None, machine: str | None = None,
-                options: Options | None = None) -> tuple[ir.Fmu, CheckedModel]:
-    """Check the models and lower the chosen boundary (raises RobogenError on any problem)."""
+def front_end(paths: Sequence[str | os.PathLike], *, module: str | None = None,
+              machine: str | None = None) -> tuple[SemanticModel, Boundary]:
+    """Check the models and choose the boundary (raises RobogenError on any problem)."""
     model = check_paths(paths)
     if model.errors:
         raise RobogenError(model.errors)
-    boundary = select_boundary(model, module=module, machine=machine)
-    return lower(model, boundary, options or Options()), model
+    return model, select_boundary(model, module=module, machine=machine)
+
+
+def lower_paths(paths: Sequence[str | os.PathLike], *, module: str | None = None, machine: str | None = None,
+                options: LoweringOptions | None = None) -> tuple[ir.Fmu, SemanticModel]:
+    """Check the models and lower the chosen boundary (raises RobogenError on any problem)."""
+    model, boundary = front_end(paths, module=module, machine=machine)
+    return lower(model, boundary, options), model
+
+
+def diagrams_of(boundary: Boundary) -> list[str]:
+    """The Mermaid state diagram of each machine of the boundary, in the order lowering gives
+    the machines (their IR index)."""
+    return [mermaid(scope) for _, scope, _ in boundary.machines]
 
 
 def compile_model(paths: Sequence[str | os.PathLike], output: str | os.PathLike | None = None, *,
-                  module: str | None = None, machine: str | None = None, options: Options | None = None,
-                  line_comments: bool = True) -> Compiled:
+                  module: str | None = None, machine: str | None = None, options: LoweringOptions | None = None,
+                  codegen: CodegenOptions | None = None) -> Compiled:
     """Write the unpacked FMU (everything but the binary) to ``output`` (default build/<Name>)."""
-    fmu, model = lower_paths(paths, module=module, machine=machine, options=options)
-    scopes = {s.node.name: s for s in model.scopes.values()}
-    diagrams = {}
-    for m in fmu.machines:
-        scope = next((s for s in model.scopes.values() if s.qname == m.qname), None) or scopes.get(m.name)
-        if scope is not None:
-            diagrams[m.index] = mermaid(scope)
-    generated = generate(fmu, line_comments=line_comments, diagrams=diagrams)
+    model, boundary = front_end(paths, module=module, machine=machine)
+    diagrams = diagrams_of(boundary)
+    fmu = lower(model, boundary, options)
+    generated = generate(fmu, codegen, diagrams=diagrams)
     folder = Path(output) if output is not None else Path("build") / fmu.model_identifier
     if folder.exists() and not folder.is_dir():
         raise RobogenError(error(f"{folder} exists and is not a directory", None))
@@ -70,7 +82,8 @@ def compile_model(paths: Sequence[str | os.PathLike], output: str | os.PathLike 
 
 
 def model_identifier_of(folder: Path) -> str:
-    """The modelIdentifier of an unpacked FMU folder (from its buildDescription.xml)."""
+    """The modelIdentifier of an unpacked FMU folder written earlier (`robogen package
+    SOURCE_DIR`), from its buildDescription.xml."""
     from xml.etree import ElementTree
 
     path = folder / "sources" / "buildDescription.xml"
@@ -88,10 +101,12 @@ def model_identifier_of(folder: Path) -> str:
     return ident
 
 
-def build_fmu(folder: str | os.PathLike, output: str | os.PathLike, *, validate: bool = True) -> Path:
-    """Compile ``folder/sources`` into ``binaries/x86_64-linux/<id>.so`` and zip the FMU."""
+def build_fmu(folder: str | os.PathLike, output: str | os.PathLike, *, model_identifier: str | None = None,
+              validate: bool = True) -> Path:
+    """Compile ``folder/sources`` into ``binaries/x86_64-linux/<id>.so`` and zip the FMU. The
+    modelIdentifier is read from the folder's buildDescription.xml unless given."""
     folder = Path(folder)
-    ident = model_identifier_of(folder)
+    ident = model_identifier or model_identifier_of(folder)
     if not (folder / "modelDescription.xml").is_file():
         raise RobogenError(error(f"{folder}/modelDescription.xml is missing", None))
     with tempfile.TemporaryDirectory(prefix="robogen-build-") as tmp:
@@ -117,15 +132,16 @@ def build_fmu(folder: str | os.PathLike, output: str | os.PathLike, *, validate:
 
 
 def package_model(paths: Sequence[str | os.PathLike], output: str | os.PathLike, *, module: str | None = None,
-                  machine: str | None = None, options: Options | None = None, line_comments: bool = True,
-                  validate: bool = True, work: str | os.PathLike | None = None) -> tuple[Path, Compiled]:
+                  machine: str | None = None, options: LoweringOptions | None = None,
+                  codegen: CodegenOptions | None = None, validate: bool = True, work: str | os.PathLike | None = None) -> tuple[Path, Compiled]:
     """Compile the model (into ``work``, default a temporary folder) and package it as ``output``."""
     if work is None:
         with tempfile.TemporaryDirectory(prefix="robogen-src-") as tmp:
-            compiled = compile_model(paths, Path(tmp) / "fmu", module=module, machine=machine, options=options, line_comments=line_comments)
-            return build_fmu(compiled.folder, output, validate=validate), compiled
-    compiled = compile_model(paths, work, module=module, machine=machine, options=options, line_comments=line_comments)
-    return build_fmu(compiled.folder, output, validate=validate), compiled
+            compiled = compile_model(paths, Path(tmp) / "fmu", module=module, machine=machine, options=options, codegen=codegen)
+            return build_fmu(compiled.folder, output, model_identifier=compiled.generated.model_identifier,
+                             validate=validate), compiled
+    compiled = compile_model(paths, work, module=module, machine=machine, options=options, codegen=codegen)
+    return build_fmu(compiled.folder, output, model_identifier=compiled.generated.model_identifier, validate=validate), compiled
 
 
 def parse_time_unit(text: str) -> Fraction:
@@ -138,4 +154,5 @@ def parse_time_unit(text: str) -> Fraction:
     return value
 
 
-__all__ = ["Compiled", "compile_model", "build_fmu", "package_model", "lower_paths", "Options", "parse_time_unit"]
+__all__ = ["Compiled", "compile_model", "build_fmu", "package_model", "front_end", "lower_paths", "diagrams_of", "LoweringOptions", "CodegenOptions",
+           "parse_time_unit"]

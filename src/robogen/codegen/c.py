@@ -45,7 +45,30 @@ def tag(t: T.Type) -> str:
 
 
 def mangle(name: str) -> str:
+    """A C identifier part for a model name (qualified names, '#', '.' become '_')."""
     return re.sub(r"[^A-Za-z0-9_]", "_", name.replace("::", "_"))
+
+
+def var_identifiers(fmu: ir.Fmu) -> dict[ir.Var, str]:
+    """The C member name of every machine variable (the struct member is ``v_<name>``): its
+    model name mangled, with a number appended where two names of one machine would clash."""
+    names: dict[ir.Var, str] = {}
+    for m in fmu.machines:
+        taken: set[str] = set()
+        for v in m.vars:
+            base = name = mangle(v.name)
+            n = 2
+            while name in taken:
+                name, n = f"{base}_{n}", n + 1
+            taken.add(name)
+            names[v] = name
+    return names
+
+
+def user_function_prototype(u: ir.UserFunction) -> str:
+    """The C declaration of a user function, as the --functions file must define it."""
+    args = ", ".join(f"{ctype(t)} {n}" for n, t in u.params) or "void"
+    return f"static {ctype(u.result)} rg_user_{u.name}({args})"
 
 
 def c_string(text: str) -> str:
@@ -96,9 +119,10 @@ class Emitter:
     """Translates the IR of machine ``m`` (index ``i``) into C text. Machine memory is ``m->``,
     model data ``d->``, the instance ``inst``."""
 
-    def __init__(self, fmu: ir.Fmu, machine: ir.Machine, port_fields, clock_index):
+    def __init__(self, fmu: ir.Fmu, machine: ir.Machine, port_fields, clock_index, names: dict[ir.Var, str]):
         self.fmu = fmu
         self.m = machine
+        self.names = names  # variable -> C member name (var_identifiers)
         self.port_fields = port_fields  # port index -> [(c field name, Field_)]
         self.clock_index = clock_index  # port name -> rg_clocks index
         self.fallible = False  # the last expression may set the fault code
@@ -114,9 +138,10 @@ class Emitter:
         return literal(e.value, e.type)
 
     def _Ref(self, e: ir.Ref) -> str:
+        name = self.names[e.var]
         if e.var.owner >= 0 and e.var.owner != self.m.index:
-            return f"d->m{e.var.owner}.v_{e.var.name}"  # shared, held by another machine
-        return f"m->v_{e.var.name}"
+            return f"d->m{e.var.owner}.v_{name}"  # shared, held by another machine
+        return f"m->v_{name}"
 
     def _FieldOf(self, e: ir.FieldOf) -> str:
         return f"{self.expr(e.base)}.{e.name}"
@@ -280,7 +305,7 @@ class Emitter:
                 return [f"{indent}m->node = {s.node};"]
             return [f"{indent}m->node = {s.node}; m->entered[{s.node}] = m->ticks;"]
         if isinstance(s, ir.DeadlineMiss):
-            return [f"{indent}rg_deadline_miss(inst, {c_string(self.m.name + ': ' + s.text)});"]
+            return [f"{indent}rg_deadline_miss(inst, {c_string(self.m.name + ': ' + s.text.render(self.fmu.place))});"]
         if isinstance(s, ir.Consume):
             return [f"{indent}m->smp_present[{s.event}] = false;"]
         if isinstance(s, ir.StartWait):
@@ -329,6 +354,10 @@ class Emitter:
 
     # ---------------------------------------------------------------- terminators
 
+    def _place_suffix(self, span) -> str:
+        """' file:line' of a model element for a comment ('' when unknown)."""
+        return f" {self.fmu.place(span)}" if span is not None else ""
+
     def terminator(self, t: ir.Terminator, indent: str) -> list[str]:
         i = self.m.index
         if isinstance(t, ir.Goto):
@@ -336,13 +365,13 @@ class Emitter:
         if isinstance(t, ir.Suspend):
             return [f"{indent}m->pc = {t.target}; return RG_RUN_SUSPENDED;"]
         if isinstance(t, ir.Fail):
-            return [f"{indent}return rg_machine_fail(inst, {c_string(self.m.name + ': ' + t.message)});"]
+            return [f"{indent}return rg_machine_fail(inst, {c_string(self.m.name + ': ' + t.message.render(self.fmu.place))});"]
         if isinstance(t, ir.Branch):
             lines = []
             for case in t.cases:
                 self.fallible = False
                 guard = self.expr(case.guard)
-                where = f"  /* {c_comment(case.label)}{_at(case.span)} */"
+                where = f"  /* {c_comment(case.label)}{self._place_suffix(case.span)} */"
                 if self.fallible:
                     lines.append(f"{indent}{{")
                     lines.append(f"{indent}    bool g_ = {guard};{where}")
@@ -356,8 +385,5 @@ class Emitter:
         raise TypeError(f"no C for {type(t).__name__}")  # pragma: no cover
 
 
-def _at(span) -> str:
-    return f" {span.path}:{span.line}" if span is not None else ""
-
-
-__all__ = ["Emitter", "ctype", "literal", "zero", "mangle", "c_string", "c_comment", "tag"]
+__all__ = ["Emitter", "ctype", "literal", "zero", "mangle", "var_identifiers", "user_function_prototype", "c_string",
+           "c_comment", "tag"]

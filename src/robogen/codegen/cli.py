@@ -4,11 +4,13 @@ from __future__ import annotations
 
 import argparse
 import sys
+from pathlib import Path
 
 from robogen.codegen.api import compile_model, parse_time_unit
+from robogen.codegen.generate import CodegenOptions
 from robogen.diagnostics import RobogenError, error
 from robogen.ir.dump import dump
-from robogen.ir.lower import Options
+from robogen.ir.lower import LoweringOptions
 
 
 def add_model_options(p: argparse.ArgumentParser) -> None:
@@ -32,7 +34,7 @@ def add_model_options(p: argparse.ArgumentParser) -> None:
     p.add_argument("--no-line-comments", action="store_true", help="leave the model file:line out of the generated C comments")
 
 
-def options_from(args: argparse.Namespace) -> Options:
+def options_from(args: argparse.Namespace) -> LoweringOptions:
     settings = {}
     for item in args.set:
         name, sep, value = item.partition("=")
@@ -41,15 +43,18 @@ def options_from(args: argparse.Namespace) -> Options:
         settings[name.strip()] = value
     if args.max_transitions < 1:
         raise RobogenError(error("--max-transitions must be at least 1", None))
-    return Options(
+    return LoweringOptions(
         semantics=args.semantics,
         trigger=args.trigger,
         time_unit=parse_time_unit(args.time_unit),
         settings=settings,
         given=args.given_type,
         max_steps=args.max_transitions,
-        functions=args.functions,
     )
+
+
+def codegen_options_from(args: argparse.Namespace) -> CodegenOptions:
+    return CodegenOptions(line_comments=not args.no_line_comments, functions=Path(args.functions) if args.functions else None)
 
 
 def configure(p: argparse.ArgumentParser) -> None:
@@ -61,7 +66,7 @@ def configure(p: argparse.ArgumentParser) -> None:
 
 def run(args: argparse.Namespace) -> int:
     compiled = compile_model(args.paths, args.output, module=args.module, machine=args.machine,
-                             options=options_from(args), line_comments=not args.no_line_comments)
+                             options=options_from(args), codegen=codegen_options_from(args))
     if args.dump_ir:
         sys.stdout.write(dump(compiled.fmu))
     n = len(compiled.generated.variables)

@@ -10,18 +10,27 @@ import hashlib
 from dataclasses import dataclass, field
 from fractions import Fraction
 from pathlib import Path
+from typing import Sequence
 
 import jinja2
 
 from robogen import __version__
-from robogen.codegen.c import Emitter, c_comment, c_string, ctype, literal, mangle
-from robogen.diagnostics import DiagnosticSink, Note, Span
+from robogen.codegen.c import Emitter, c_comment, c_string, ctype, literal, mangle, user_function_prototype, var_identifiers
+from robogen.diagnostics import DiagnosticSink, Note, RobogenError, Span, error
 from robogen.ir import model as ir
 from robogen.ir.dump import dump
 from robogen.semantics import types as T
 
 FMI_TYPE = {"int64_t": "Int64", "uint64_t": "UInt64", "double": "Float64", "bool": "Boolean"}
 RG_TYPE = {"Int64": "RG_INT64", "UInt64": "RG_UINT64", "Float64": "RG_FLOAT64", "Boolean": "RG_BOOLEAN", "Enumeration": "RG_INT64", "Clock": "RG_CLOCK"}
+
+
+@dataclass(frozen=True)
+class CodegenOptions:
+    """How the sources are written (the model's meaning is fixed by the IR)."""
+
+    line_comments: bool = True  # the model file:line in the C comments
+    functions: Path | None = None  # the C file implementing the model's user functions (--functions)
 
 
 @dataclass
@@ -124,22 +133,33 @@ def _decimal(value: Fraction) -> str:
     return text[:-2] if text.endswith(".0") else text
 
 
-def generate(fmu: ir.Fmu, *, line_comments: bool = True, diagrams: dict[int, str] | None = None) -> Generated:
-    """The sources of ``fmu``. ``diagrams`` (machine index -> Mermaid text) go into the
-    documentation; ``line_comments=False`` leaves the model file:line out of the C comments."""
+def generate(fmu: ir.Fmu, options: CodegenOptions | None = None, *, diagrams: Sequence[str] = ()) -> Generated:
+    """The sources of ``fmu``.
+
+    ``diagrams`` holds a Mermaid state diagram of each machine, in IR order, for the
+    documentation. They are a finished input, drawn by the front end from the resolved model
+    before lowering (see :func:`robogen.codegen.api.compile_model`): a diagram shows the model as
+    written (composite states, transition labels in model syntax), which the IR no longer holds
+    (its transitions are blocks), and the generator reads nothing but the IR and its options."""
+    options = options or CodegenOptions()
+    line_comments = options.line_comments
+    functions = _functions_file(fmu, options.functions)
     layout = _Layout(fmu)
-    token = "{" + _token_hash(fmu) + "}"
+    ir_text = dump(fmu)
+    token = instantiation_token(ir_text)
     gen = Generated(fmu, fmu.model_identifier, token, variables=layout.variables)
     env = _env()
+    names = layout.names
     machines = [_machine_code(fmu, m, layout, line_comments) for m in fmu.machines]
     needed = {t for mc in machines for t in mc["equalities"]}
     equalities, bodies = _equalities(layout.types, needed)
     context = dict(
-        user_functions=[(u, _prototype(u)) for u in fmu.user_functions],
+        user_functions=[(u, user_function_prototype(u)) for u in fmu.user_functions],
+        cname=names,
         typedefs=[_typedef(t) for t in layout.types],
         equality_bodies=bodies,
         param_starts={p.fmi_name: _param_starts(p) for p in fmu.params},
-        diagrams={m.index: (diagrams or {}).get(m.index, "stateDiagram-v2\n  %% (no diagram)") for m in fmu.machines},
+        diagrams={m.index: diagrams[m.index] if m.index < len(diagrams) else "stateDiagram-v2\n  %% (no diagram)" for m in fmu.machines},
         fmu=fmu,
         version=__version__,
         token=token,
@@ -147,7 +167,8 @@ def generate(fmu: ir.Fmu, *, line_comments: bool = True, diagrams: dict[int, str
         machines=machines,
         equalities=equalities,
         line_comments=line_comments,
-        sources=", ".join(fmu.sources),
+        sources=", ".join(fmu.source_names),
+        place=fmu.place,
         interval=_decimal(fmu.clock_interval),
         ctype=ctype,
         literal=literal,
@@ -157,30 +178,35 @@ def generate(fmu: ir.Fmu, *, line_comments: bool = True, diagrams: dict[int, str
     gen.files["sources/config.h"] = env.get_template("config.h.j2").render(**context)
     gen.files["sources/model.c"] = env.get_template("model.c.j2").render(**context)
     gen.files[f"sources/{ident}.c"] = env.get_template("unity.c.j2").render(**context)
-    if fmu.user_functions:
-        gen.files["sources/user_functions.c"] = _functions_file(fmu)
+    if functions is not None:
+        gen.files["sources/user_functions.c"] = functions
     gen.files["sources/buildDescription.xml"] = env.get_template("buildDescription.xml.j2").render(**context)
     gen.files["documentation/index.md"] = env.get_template("documentation.md.j2").render(**context)
     gen.files["documentation/externalDependencies.txt"] = "none beyond libc and libm\n"
-    gen.files["documentation/ir.txt"] = dump(fmu)
+    gen.files["documentation/ir.txt"] = ir_text
     return gen
 
 
-def _token_hash(fmu: ir.Fmu) -> str:
-    h = hashlib.sha256(dump(fmu).encode("utf-8")).hexdigest()
-    return f"{h[0:8]}-{h[8:12]}-{h[12:16]}-{h[16:20]}-{h[20:32]}"
+def instantiation_token(ir_text: str) -> str:
+    """The FMU's instantiationToken: a GUID-shaped hash of its path-free IR dump, so it changes
+    with the model's meaning and interface, and not with where the model's files are."""
+    h = hashlib.sha256(ir_text.encode("utf-8")).hexdigest()
+    return "{" + f"{h[0:8]}-{h[8:12]}-{h[12:16]}-{h[16:20]}-{h[20:32]}" + "}"
 
 
-def _prototype(u: ir.UserFunction) -> str:
-    args = ", ".join(f"{ctype(t)} {n}" for n, t in u.params) or "void"
-    return f"static {ctype(u.result)} rg_user_{u.name}({args})"
-
-
-def _functions_file(fmu: ir.Fmu) -> str:
-    """The user's C file with the model's functions, copied verbatim into sources/."""
-    from robogen.diagnostics import RobogenError, Span
-
-    path = Path(fmu.functions_file or "")
+def _functions_file(fmu: ir.Fmu, path: Path | None) -> str | None:
+    """The user's C file with the model's functions, copied verbatim into sources/ (None if the
+    model calls no user function). Each function the model calls without a C file is an error
+    at its first call, naming the definition to write."""
+    if not fmu.user_functions:
+        return None
+    if path is None:
+        raise RobogenError([
+            error(f"function '{u.name}' has no implementation: give robogen a C file with --functions", u.first_call or u.span,
+                  Note(f"the file must define: {user_function_prototype(u)} {{ ... }}"))
+            for u in fmu.user_functions
+        ])
+    path = Path(path)
     try:
         return path.read_text(encoding="utf-8")
     except (OSError, UnicodeDecodeError) as exc:
@@ -254,6 +280,7 @@ class _Layout:
         self.enums: list[EnumType] = []
         self.types: list[T.Type] = []  # struct types, dependencies first
         self.node_enums: list[str] = []
+        self.names = var_identifiers(fmu)  # machine variable -> C member name
         self._vr = 0
         self._build()
 
@@ -336,14 +363,14 @@ class _Layout:
         for port in fmu.outputs:
             self._port(port, "output")
         for p in fmu.params:
-            member = f"m{p.machine}.v_{p.var.name}"
+            member = f"m{p.machine}.v_{self.names[p.var]}"
             for name, t, access in _flat(p.fmi_name, p.var.type, ""):
                 fmi_type, declared = self._scalar(_shape(t)[0])
                 value = p.value if not access else None
                 self.variables.append(FmiVar(
                     name, self._next_vr(), fmi_type, "parameter", "fixed", member + access,
                     start=self._start(t, value), declared_type=declared, dims=_shape(t)[1],
-                    description=f"constant {p.var.display}", span=p.var.span))
+                    description=f"constant {p.var.name}", span=p.var.span))
         for m in fmu.machines:
             enum_name = f"{m.name}.Node"
             self.enums.append(EnumType(enum_name, [(n.label, n.id) for n in m.nodes]))
@@ -363,12 +390,12 @@ class _Layout:
                 self._type(v.type)
                 if v.kind != "var":
                     continue
-                for name, t, access in _flat(f"{m.name}.{v.display}", v.type, ""):
+                for name, t, access in _flat(f"{m.name}.{v.name}", v.type, ""):
                     fmi_type, declared = self._scalar(_shape(t)[0])
                     self.variables.append(FmiVar(
-                        name, self._next_vr(), fmi_type, "local", "discrete", f"m{m.index}.v_{v.name}{access}",
+                        name, self._next_vr(), fmi_type, "local", "discrete", f"m{m.index}.v_{self.names[v]}{access}",
                         initial="calculated", declared_type=declared, dims=_shape(t)[1],
-                        description=f"variable {v.display} of {m.name}", span=v.span))
+                        description=f"variable {v.name} of {m.name}", span=v.span))
             for e in m.events:
                 if e.type is not None:
                     self._type(e.type)
@@ -443,10 +470,10 @@ def _flat(name: str, t: T.Type, access: str):
 
 
 def _machine_code(fmu: ir.Fmu, m: ir.Machine, layout: _Layout, line_comments: bool) -> dict:
-    em = Emitter(fmu, m, layout.port_fields_out, layout.clock_index)
+    em = Emitter(fmu, m, layout.port_fields_out, layout.clock_index, layout.names)
     cases = []
     for b in m.blocks:
-        where = f"  {b.span.path}:{b.span.line}" if (line_comments and b.span is not None) else ""
+        where = f"  {fmu.place(b.span)}" if (line_comments and b.span is not None) else ""
         lines = [f"        case {b.id}: /* b{b.id}: {c_comment(b.label)}{where} */"]
         if b.step:
             lines += em.step("            ")
@@ -459,10 +486,10 @@ def _machine_code(fmu: ir.Fmu, m: ir.Machine, layout: _Layout, line_comments: bo
         if v.kind == "var" and v.init is not None:
             em.fallible = False
             value = em.expr(v.init)
-            inits.append((f"m->v_{v.name}", value, em.fallible, v.display))
-    labels = [c_string(f"b{b.id}: {b.label}" + (f" ({b.span.path}:{b.span.line})" if b.span else "")) for b in m.blocks]
+            inits.append((f"m->v_{layout.names[v]}", value, em.fallible, v.name))
+    labels = [c_string(f"b{b.id}: {b.label}" + (f" ({fmu.place(b.span)})" if b.span else "")) for b in m.blocks]
     return dict(machine=m, cases=cases, inits=inits, labels=labels, equalities=em.equalities,
                 event_types=[(e.index, ctype(e.type) if e.type is not None else None) for e in m.events])
 
 
-__all__ = ["generate", "Generated", "FmiVar"]
+__all__ = ["generate", "CodegenOptions", "Generated", "FmiVar"]

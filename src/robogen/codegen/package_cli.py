@@ -8,7 +8,7 @@ import sys
 from pathlib import Path
 
 from robogen.codegen.api import build_fmu, package_model
-from robogen.codegen.cli import add_model_options, options_from
+from robogen.codegen.cli import add_model_options, codegen_options_from, options_from
 
 
 def configure(p: argparse.ArgumentParser) -> None:
@@ -28,7 +28,7 @@ def run(args: argparse.Namespace) -> int:
         target = build_fmu(args.paths[0], args.output, validate=not args.no_validate)
     else:
         target, _ = package_model(args.paths, args.output, module=args.module, machine=args.machine,
-                                  options=options_from(args), line_comments=not args.no_line_comments,
+                                  options=options_from(args), codegen=codegen_options_from(args),
                                   validate=not args.no_validate)
     print(f"wrote {target}" + ("" if args.no_validate else " (valid)"), file=sys.stderr)
     return 0

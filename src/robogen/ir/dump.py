@@ -1,10 +1,14 @@
-"""The canonical text form of the IR, used by tests (pass tests compare dumps) and by
-`robogen compile --dump-ir`. Stable: no addresses, no timestamps, declaration order."""
+"""The canonical text form of the IR, used by tests (pass tests compare dumps), by
+`robogen compile --dump-ir`, as the FMU's documentation/ir.txt, and as what the instantiation
+token is hashed from. Stable: no addresses, no timestamps, declaration order; and path-free: a
+place in the model shows as its line only, so the same model gives the same dump (and token)
+wherever its files are."""
 
 from __future__ import annotations
 
 from fractions import Fraction
 
+from robogen.diagnostics import Span
 from robogen.ir import model as ir
 from robogen.semantics import types as T
 
@@ -29,6 +33,11 @@ def dump(fmu: ir.Fmu) -> str:
     for m in fmu.machines:
         out.append(machine(m))
     return "\n".join(out) + "\n"
+
+
+def _line(span: Span | None) -> str:
+    """A place in the dump: its line (no file name)."""
+    return f"line {span.line}" if span is not None else "?"
 
 
 def _fields(p: ir.Port) -> str:
@@ -79,7 +88,7 @@ def terminator(t: ir.Terminator | None) -> str:
     if isinstance(t, ir.Suspend):
         return f"suspend b{t.target}"
     if isinstance(t, ir.Fail):
-        return f"fail {t.message!r}"
+        return f"fail {t.message.render(_line)!r}"
     if isinstance(t, ir.Branch):
         parts = [f"if {expr(c.guard)} -> b{c.target}  # {c.label}" for c in t.cases]
         return "branch " + ("; ".join(parts) if parts else "(none)") + f"; else {terminator(t.default)}"
@@ -105,7 +114,7 @@ def stmt(s: ir.Stmt) -> list[str]:
     if isinstance(s, ir.Enter):
         return [f"resume n{s.node}" if s.resume else f"enter n{s.node}"]
     if isinstance(s, ir.DeadlineMiss):
-        return [f"deadline missed {s.text!r}"]
+        return [f"deadline missed {s.text.render(_line)!r}"]
     if isinstance(s, ir.Consume):
         return [f"consume e{s.event}"]
     if isinstance(s, ir.StartWait):

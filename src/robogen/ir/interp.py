@@ -274,7 +274,7 @@ class Interpreter:
         for m, ms in zip(self.fmu.machines, self.machines):
             for v in m.vars:
                 if v.kind in ("var", "const"):
-                    _flatten_value(f"{m.name}.{v.display}", v.type, ms.vars[v.name], out)
+                    _flatten_value(f"{m.name}.{v.name}", v.type, ms.vars[v.name], out)
         return out
 
     # ------------------------------------------------------------------ execution
@@ -315,7 +315,7 @@ class Interpreter:
                 ms.pc = term.target
                 return "suspend"
             elif isinstance(term, ir.Fail):
-                raise RuntimeFault(f"machine {m.name}: {term.message}")
+                raise RuntimeFault(f"machine {m.name}: {term.message.render(self.fmu.place)}")
             else:  # pragma: no cover
                 raise RuntimeFault(f"machine {m.name}: block b{block.id} has no terminator")
 
@@ -347,7 +347,7 @@ class Interpreter:
             self.trace.append(f"{m.name}: {s.text}")
         elif isinstance(s, ir.DeadlineMiss):
             self.deadline_misses += 1
-            self.trace.append(f"{m.name}: {s.text}")
+            self.trace.append(f"{m.name}: {s.text.render(self.fmu.place)}")
         else:  # pragma: no cover
             raise RuntimeFault(f"unknown statement {type(s).__name__}")
 

@@ -25,12 +25,18 @@ the blocks one for one, so they cannot disagree about the semantics.
 
 Types are :mod:`robogen.semantics.types` values in which given types are already replaced by
 their concrete scalar type.
+
+Places in the model are spans as the user gave the files; printers name a file relative to the
+workspace root (:meth:`Fmu.place`), and run-time messages keep their places apart from their text
+(:class:`Text`), so the canonical dump (and the instantiation token hashed from it) holds no path.
 """
 
 from __future__ import annotations
 
+import os
 from dataclasses import dataclass, field
 from fractions import Fraction
+from typing import Callable
 
 from robogen.diagnostics import Span
 from robogen.semantics.types import Type
@@ -44,8 +50,9 @@ class Var:
     """A memory cell of a machine: a variable, a constant (FMI parameter), an operation
     parameter or local (one per inlined call site)."""
 
-    name: str  # unique within the machine, a C identifier after mangling
-    display: str  # the model name, for the FMI variable and diagnostics
+    # the model name, unique within the machine: a variable's own name; 'op#2.x' for x of the
+    # second inlined call of operation op; 't1.deadline', 'deadline#3' for deadline bookkeeping
+    name: str
     type: Type
     kind: str  # var, const, param, local
     init: "Expr | None" = None  # initial value (computed at exit of initialization)
@@ -242,8 +249,7 @@ class CallB(Expr):
 
 @dataclass(frozen=True)
 class CallU(Expr):
-    """A user function (declared in the model by its contract only), implemented in the C file
-    given with --functions as ``static <result> rg_user_<name>(<params>)``."""
+    """A call of a user function (see :class:`UserFunction`)."""
 
     name: str
     args: tuple[Expr, ...]
@@ -251,10 +257,35 @@ class CallU(Expr):
 
 @dataclass(frozen=True)
 class UserFunction:
-    name: str  # the C name is rg_user_<name>
+    """A function the model declares by its contract only; the code generator takes its body
+    from the user (``--functions``), the reference interpreter a Python implementation."""
+
+    name: str
     params: tuple[tuple[str, Type], ...]
     result: Type
+    span: Span | None  # its declaration
+    first_call: Span | None = None  # where the model first calls it
+
+
+# ============================================================================ messages
+
+
+@dataclass(frozen=True)
+class At:
+    """A place of the model that a run-time message names (None: unknown)."""
+
     span: Span | None
+
+
+@dataclass(frozen=True)
+class Text:
+    """A run-time message: its text and the places of the model it names, in order."""
+
+    parts: tuple[str | At, ...]
+
+    def render(self, place: Callable[[Span | None], str]) -> str:
+        """The message with each place written by ``place``."""
+        return "".join(p if isinstance(p, str) else place(p.span) for p in self.parts)
 
 
 # ============================================================================ statements
@@ -323,7 +354,7 @@ class DeadlineMiss(Stmt):
     """A RoboChart deadline was missed: counted in the output ``deadline_misses`` and logged;
     never enforced (docs/robosim-robochart.md §4.3)."""
 
-    text: str
+    text: Text
 
 
 @dataclass(frozen=True)
@@ -367,7 +398,7 @@ class Branch(Terminator):
 
 @dataclass(frozen=True)
 class Fail(Terminator):
-    message: str
+    message: Text
 
 
 @dataclass(eq=False)
@@ -410,15 +441,28 @@ class Fmu:
     trigger: str  # cycle or on-input (RoboSim)
     period: Fraction  # RoboSim cycle period in model time units; RoboChart: 1 (one tock)
     time_unit: Fraction  # seconds per model time unit
-    sources: tuple[str, ...]
+    sources: tuple[str, ...]  # the model files, as given
     span: Span | None
     machines: list[Machine] = field(default_factory=list)
     inputs: list[Port] = field(default_factory=list)
     outputs: list[Port] = field(default_factory=list)
     params: list[Param] = field(default_factory=list)
     user_functions: list[UserFunction] = field(default_factory=list)
-    functions_file: str | None = None  # the C file implementing them (--functions)
     max_steps: int = 1000  # transitions per cycle before a runaway cycle is reported
+    root: str = ""  # the workspace root (absolute), to which generated files name model files
+
+    def source_name(self, path: str) -> str:
+        """A model file's name in generated files: relative to the workspace root, so the same
+        model gives the same sources in any checkout."""
+        return os.path.relpath(os.path.abspath(path), self.root) if self.root else path
+
+    def place(self, span: Span | None) -> str:
+        """``file:line`` of a model element in generated files ('?' when unknown)."""
+        return f"{self.source_name(span.path)}:{span.line}" if span is not None else "?"
+
+    @property
+    def source_names(self) -> list[str]:
+        return sorted(self.source_name(p) for p in self.sources)
 
     @property
     def clock_name(self) -> str:

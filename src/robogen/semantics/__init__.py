@@ -6,11 +6,12 @@ import os
 from typing import Sequence
 
 from robogen.diagnostics import DiagnosticSink
-from robogen.semantics.checker import CheckedModel, check
+from robogen.semantics.checker import check
+from robogen.semantics.model import SemanticModel
 from robogen.semantics.workspace import Workspace, from_texts, load
 
 
-def check_paths(paths: Sequence[str | os.PathLike]) -> CheckedModel:
+def check_paths(paths: Sequence[str | os.PathLike]) -> SemanticModel:
     """Parse every model under ``paths`` as one workspace and check it. Problems of every file
     (syntax errors included) are in ``result.diagnostics``; nothing is raised for bad models,
     except a RobogenError when a path itself is missing or holds no model."""
@@ -18,9 +19,9 @@ def check_paths(paths: Sequence[str | os.PathLike]) -> CheckedModel:
     return check(load(paths, sink))
 
 
-def check_texts(texts: dict[str, str]) -> CheckedModel:
+def check_texts(texts: dict[str, str]) -> SemanticModel:
     """The same for in-memory files (path -> text)."""
     return check(from_texts(texts, DiagnosticSink()))
 
 
-__all__ = ["CheckedModel", "Workspace", "check", "check_paths", "check_texts", "load"]
+__all__ = ["SemanticModel", "Workspace", "check", "check_paths", "check_texts", "load"]

@@ -1,109 +1,73 @@
 """Resolution and well-formedness checks of a whole workspace (docs/robosim-robochart.md §5).
 
-:func:`check` takes a :class:`~robogen.semantics.workspace.Workspace` and returns a
-:class:`CheckedModel`: every diagnostic found (all of them: problems are collected, not raised
-one by one), the scope of every state machine and operation, and the side tables with the type
-of every expression and the symbol of every name, which the IR lowering reads.
+:func:`check` takes a :class:`~robogen.semantics.workspace.Workspace` and returns the frozen
+:class:`~robogen.semantics.model.SemanticModel`: every diagnostic found (all of them: problems
+are collected, not raised one by one), the scope of every state machine and operation, the
+containers with their parts, and the tables with the type of every expression and the symbol of
+every name. The :class:`Checker` and its working records stay behind.
+
+The checks run in three passes: every declaration (scopes are built as machines are met); then
+the containers are assembled, which needs every machine's scope (periods, events); then the
+connections of the assembled containers.
 """
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
 from fractions import Fraction
 from typing import Iterable
 
-from robogen.diagnostics import Diagnostic, Note, Span, did_you_mean, working_on
+from robogen.diagnostics import Note, Span, did_you_mean, working_on
+from robogen.semantics import connections
 from robogen.semantics import types as T
-from robogen.semantics.analysis import analyse_machine
-from robogen.semantics.connections import ConnectionChecks, frac
-from robogen.semantics.exprs import Tables, Where
+from robogen.semantics.assemble import ControllerParts, ModuleParts, assemble_controller, assemble_module
+from robogen.semantics.exprs import Where
+from robogen.semantics.machine_analysis import analyse_machine
+from robogen.semantics.model import Controller, MachineScope, Module, Region, SemanticModel, Tables, VarSym
+from robogen.semantics.periods import cycle_period, frac
+from robogen.semantics.scope import ScopeBuilder
 from robogen.semantics.stmts import StmtChecker
-from robogen.semantics.scope import MachineScope, Region, ScopeBuilder
 from robogen.semantics.workspace import TYPE_DECLS, Decl, Workspace
 from robogen.syntax import ast
 from robogen.syntax.parser import without_gc
 
 
-@dataclass
-class ModuleInfo:
-    """A module with its resolved parts (for code generation)."""
-
-    node: ast.Module
-    file: ast.File
-    qname: str
-    platform: ast.Platform | None = None
-    platform_file: ast.File | None = None
-    platform_name: str = ""  # the name connections use (rref name or inline name)
-    controllers: list[tuple[str, ast.Controller, ast.File]] = field(default_factory=list)  # (name used, node, file)
-    period: Fraction | None = None
-
-
-@dataclass
-class ControllerInfo:
-    node: ast.Controller
-    file: ast.File
-    qname: str
-    machines: list[tuple[str, ast.StateMachine, ast.File]] = field(default_factory=list)
-    operations: list[tuple[str, ast.OperationDef, ast.File]] = field(default_factory=list)
-    period: Fraction | None = None
-
-
-@dataclass
-class CheckedModel:
-    workspace: Workspace
-    diagnostics: list[Diagnostic]
-    tables: Tables
-    scopes: dict[int, MachineScope]
-    modules: dict[int, ModuleInfo]
-    controllers: dict[int, ControllerInfo]
-    checker: "Checker"
-
-    @property
-    def errors(self) -> list[Diagnostic]:
-        return [d for d in self.diagnostics if d.is_error]
-
-    @property
-    def warnings(self) -> list[Diagnostic]:
-        return [d for d in self.diagnostics if not d.is_error]
-
-    def scope(self, node: ast.Node) -> MachineScope:
-        return self.scopes[id(node)]
-
-    def resolve_type(self, t: ast.TypeExpr, file: ast.File) -> T.Type:
-        return self.checker.resolve_type(t, file)
-
-    def find(self, name: str, kinds: tuple[type, ...]) -> list[Decl]:
-        """Top-level declarations named ``name`` (simple or qualified) of the given kinds."""
-        out = []
-        for d in self.workspace.decls(kinds):
-            if d.name == name or d.qname == name:
-                out.append(d)
-        return out
-
-
-def check(workspace: Workspace) -> CheckedModel:
+def check(workspace: Workspace) -> SemanticModel:
+    """Check ``workspace`` and return what it means (see the module documentation)."""
     checker = Checker(workspace)
     with without_gc():
         checker.run()
-    diagnostics = workspace.sink.sorted()
-    return CheckedModel(workspace, diagnostics, checker.tables, checker.scopes, checker.modules, checker.controllers, checker)
+        controllers, modules = checker.assemble()
+        for c in controllers:
+            connections.check_controller(c, workspace.sink)
+        for m in modules:
+            connections.check_module(m, workspace.sink)
+    return SemanticModel(
+        files=tuple(workspace.files),
+        root=workspace.root,
+        diagnostics=tuple(workspace.sink.sorted()),
+        scopes=tuple(checker.scopes.values()),
+        controllers=tuple(controllers),
+        modules=tuple(modules),
+        tables=checker.tables,
+    )
 
 
-class Checker(ConnectionChecks):
+class Checker:
     def __init__(self, ws: Workspace):
         self.ws = ws
         self.sink = ws.sink
         self.tables = Tables()
-        self.scopes: dict[int, MachineScope] = {}
-        self.modules: dict[int, ModuleInfo] = {}
-        self.controllers: dict[int, ControllerInfo] = {}
+        self.scopes: dict[int, MachineScope] = {}  # id(node) -> scope of a machine or operation
+        self.modules: dict[int, ModuleParts] = {}
+        self.controllers: dict[int, ControllerParts] = {}
         # Caches keyed by id(node) also hold the node, so that its id cannot be reused by another
         # node while the entry exists (the checkers build temporary names and type references).
-        self._type_cache: dict[int, tuple[ast.TypeExpr, T.Type]] = {}
+        # The resolved type expressions are the model's table (SemanticModel.type_of).
+        self._type_cache = self.tables.type_exprs
         self._decl_types: dict[int, T.Type] = {}
         self.records: dict[str, T.RecordT] = {}  # qname -> record type with its fields
         self._lookups: dict[tuple[int, tuple[type, ...]], tuple[Decl | None, bool, ast.Name]] = {}
-        self.builder = ScopeBuilder(self.sink, self.resolve_type, self.resolve_interface)
+        self.builder = ScopeBuilder(self.sink, self.resolve_type, self.resolve_interface, self.resolve_operation)
 
     # ------------------------------------------------------------------ types and names
 
@@ -193,6 +157,12 @@ class Checker(ConnectionChecks):
             return None
         return decl.node, decl.file  # type: ignore[return-value]
 
+    def resolve_operation(self, name: str, file: ast.File) -> ast.OperationDef | None:
+        """The software operation definition ``name`` denotes where ``file`` can see it, without
+        reporting anything (an operation without one belongs to the robotic platform)."""
+        decl = self.ws.lookup(ast.Name((name,)), file, (ast.OperationDef,), "operation", report=False)
+        return decl.node if decl is not None else None  # type: ignore[return-value]
+
     # ------------------------------------------------------------------ driver
 
     def run(self) -> None:
@@ -202,18 +172,18 @@ class Checker(ConnectionChecks):
             for item in f.items:
                 with working_on(getattr(item, "span", None)):
                     self.item(item, f)
-        # Connections and periods need every machine's scope, so they come after.
-        for f in self.ws.files:
-            for item in f.items:
-                with working_on(getattr(item, "span", None)):
-                    if isinstance(item, ast.Controller):
-                        self.controller_connections(item, f)
-                    elif isinstance(item, ast.Module):
-                        self.module_connections(item, f)
-                        self.module_periods(self.modules[id(item)])
-                        for m in item.members:
-                            if isinstance(m, ast.Controller):
-                                self.controller_connections(m, f)
+
+    def assemble(self) -> tuple[list[Controller], list[Module]]:
+        """The frozen controllers and modules (after run: they need every machine's scope)."""
+        controllers: dict[int, Controller] = {}
+        for key, parts in self.controllers.items():
+            with working_on(parts.node.span):
+                controllers[key] = assemble_controller(parts, self.scopes, self.builder)
+        modules = []
+        for parts in self.modules.values():
+            with working_on(parts.node.span):
+                modules.append(assemble_module(parts, controllers, self.builder))
+        return list(controllers.values()), modules
 
     def qname(self, f: ast.File, name: str) -> str:
         return f"{f.package.text}::{name}" if f.package else name
@@ -283,11 +253,8 @@ class Checker(ConnectionChecks):
     def function(self, fn: ast.FunctionDef, f: ast.File) -> None:
         self._params(fn.params, f, f"function '{fn.name}'")
         result = self.resolve_type(fn.result, f)
-        scope = MachineScope(fn, f, self.qname(f, fn.name))  # type: ignore[arg-type]
-        from robogen.semantics.scope import VarSym
-
-        for p in fn.params:
-            scope.vars[p.name] = VarSym(p.name, self.resolve_type(p.type, f), "param", p, f"function '{fn.name}'")
+        params = {p.name: VarSym(p.name, self.resolve_type(p.type, f), "param", p, f"function '{fn.name}'") for p in fn.params}
+        scope = MachineScope(fn, f, self.qname(f, fn.name), vars=params)
         checker = self._expr_checker(scope)
         for m in fn.members:
             if isinstance(m, (ast.Precondition, ast.Postcondition)):
@@ -365,8 +332,8 @@ class Checker(ConnectionChecks):
 
     # ------------------------------------------------------------------ controllers and modules
 
-    def controller(self, c: ast.Controller, f: ast.File) -> ControllerInfo:
-        info = ControllerInfo(c, f, self.qname(f, c.name))
+    def controller(self, c: ast.Controller, f: ast.File) -> None:
+        info = ControllerParts(c, f, self.qname(f, c.name))
         self.controllers[id(c)] = info
         names: dict[str, ast.Node] = {}
         for m in c.members:
@@ -379,11 +346,11 @@ class Checker(ConnectionChecks):
                 if m.kind == "sref":
                     d = self.lookup(m.target, f, (ast.StateMachine,), "state machine")
                     if d is not None:
-                        info.machines.append((m.name, d.node, d.file))  # type: ignore[arg-type]
+                        info.machines.append((m.name, d.node))  # type: ignore[arg-type]
                 elif m.kind == "opref":
                     d = self.lookup(m.target, f, (ast.OperationDef,), "operation")
                     if d is not None:
-                        info.operations.append((m.name, d.node, d.file))  # type: ignore[arg-type]
+                        info.operations.append((m.name, d.node))  # type: ignore[arg-type]
                 else:
                     self.sink.error(f"'{m.kind}' is not allowed in a controller", m.span, Note("a controller references state machines (sref) and operations (opref)"))
             elif isinstance(m, ast.StateMachine):
@@ -391,10 +358,10 @@ class Checker(ConnectionChecks):
                     self.sink.error(f"'{m.name}' is declared twice in controller '{c.name}'", m.name_span)
                 names[m.name] = m
                 self.machine(m, f)
-                info.machines.append((m.name, m, f))
+                info.machines.append((m.name, m))
             elif isinstance(m, ast.OperationDef):
                 self.machine(m, f)
-                info.operations.append((m.name, m, f))
+                info.operations.append((m.name, m))
             elif isinstance(m, ast.OpSig):
                 self.sink.error(
                     f"a controller declares no operation signatures: '{m.name}' belongs in an interface the controller requires or provides",
@@ -409,39 +376,38 @@ class Checker(ConnectionChecks):
             elif isinstance(m, ast.VarList):
                 self._var_list(m, f, self._expr_checker(MachineScope(c, f, info.qname)))  # type: ignore[arg-type]
             elif isinstance(m, ast.CycleDef):
-                info.period = self.cycle_def(m, info.period, f"controller '{c.name}'")
+                info.period = cycle_period(m, info.period, f"controller '{c.name}'", self.sink)
         if not any(isinstance(m, ast.StateMachine) or (isinstance(m, ast.Reference) and m.kind == "sref") for m in c.members):
             self.sink.error(f"controller '{c.name}' has no state machine", c.name_span)
-        return info
 
     def module(self, mod: ast.Module, f: ast.File) -> None:
-        info = ModuleInfo(mod, f, self.qname(f, mod.name))
+        info = ModuleParts(mod, f, self.qname(f, mod.name))
         self.modules[id(mod)] = info
         platforms: list[ast.Node] = []
         for m in mod.members:
             if isinstance(m, ast.Platform):
                 platforms.append(m)
                 self.platform(m, f)
-                info.platform, info.platform_file, info.platform_name = m, f, m.name
+                info.platform = (m.name, m, f)
             elif isinstance(m, ast.Reference):
                 if m.kind == "rref":
                     platforms.append(m)
                     d = self.lookup(m.target, f, (ast.Platform,), "robotic platform")
                     if d is not None:
-                        info.platform, info.platform_file, info.platform_name = d.node, d.file, m.name  # type: ignore[assignment]
+                        info.platform = (m.name, d.node, d.file)  # type: ignore[assignment]
                 elif m.kind == "cref":
                     d = self.lookup(m.target, f, (ast.Controller,), "controller")
                     if d is not None:
-                        info.controllers.append((m.name, d.node, d.file))  # type: ignore[arg-type]
+                        info.controllers.append((m.name, d.node))  # type: ignore[arg-type]
                 else:
                     self.sink.error(f"'{m.kind}' is not allowed in a module", m.span, Note("a module references a robotic platform (rref) and controllers (cref)"))
             elif isinstance(m, ast.Controller):
                 self.controller(m, f)
-                info.controllers.append((m.name, m, f))
+                info.controllers.append((m.name, m))
             elif isinstance(m, ast.StateMachine):
                 self.sink.error(f"state machine '{m.name}' must be inside a controller, not directly in module '{mod.name}'", m.name_span)
             elif isinstance(m, ast.CycleDef):
-                info.period = self.cycle_def(m, info.period, f"module '{mod.name}'")
+                info.period = cycle_period(m, info.period, f"module '{mod.name}'", self.sink)
         if not platforms:
             self.sink.error(f"module '{mod.name}' has no robotic platform", mod.name_span)
         for extra in platforms[1:]:
@@ -485,8 +451,6 @@ class Checker(ConnectionChecks):
                     self.sink.error("'cycleDef' is RoboSim syntax", m.span)
             elif isinstance(m, ast.Context):
                 self._context(m, scope)
-        if scope.cycle_defs:
-            self._machine_period(scope)
         assert scope.region is not None
         for region in scope.region.walk():
             self.region(region, scope, checker)
@@ -663,4 +627,4 @@ def _first_span(node: ast.Node, name: str) -> Span | None:
     return getattr(node, "name_span", None)
 
 
-__all__ = ["check", "CheckedModel", "ModuleInfo", "ControllerInfo", "Checker"]
+__all__ = ["check", "Checker"]

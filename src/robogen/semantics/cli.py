@@ -21,7 +21,7 @@ def run(args: argparse.Namespace) -> int:
     shown = [d for d in model.diagnostics if d.is_error or not args.no_warnings]
     for d in shown:
         print(render(d, sources), file=sys.stderr)
-    n_files = len(model.workspace.files) + len({d.span.path for d in model.errors if d.span} - {f.path for f in model.workspace.files})
+    n_files = len(model.files) + len({d.span.path for d in model.errors if d.span} - {f.path for f in model.files})
     errors, warnings = len(model.errors), len(model.warnings)
     print(
         f"checked {n_files} file{'s' if n_files != 1 else ''}: "

@@ -9,31 +9,13 @@ one mistake produces one message.
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from typing import Callable
 
 from robogen.diagnostics import DiagnosticSink, Note, did_you_mean
 from robogen.semantics import types as T
-from robogen.semantics.scope import ClockSym, EnumLitSym, EventSym, FuncSym, MachineScope, OpSym, VarSym
+from robogen.semantics.model import EnumLitSym, EventSym, FuncSym, MachineScope, Tables, VarSym
 from robogen.syntax import ast
-
-
-@dataclass
-class Tables:
-    """Side tables keyed by ``id(node)``: the AST stays immutable and is kept alive by the workspace."""
-
-    types: dict[int, T.Type] = field(default_factory=dict)
-    # id(node) -> symbol; ("bind", id(node)) -> the variable a $e?x or e?x binds
-    refs: dict[object, object] = field(default_factory=dict)
-
-    def type_of(self, e: ast.Expr) -> T.Type:
-        return self.types.get(id(e), T.UNKNOWN)
-
-    def ref(self, node: ast.Node):
-        return self.refs.get(id(node))
-
-    def bound_var(self, node: ast.Node):
-        return self.refs.get(("bind", id(node)))
 
 
 @dataclass
@@ -624,4 +606,4 @@ def _plural(n: int, word: str) -> str:
 KIND_WORDS = {"var": "variable", "const": "constant", "param": "parameter", "binder": "bound variable", "let": "let-bound name"}
 
 
-__all__ = ["ExprChecker", "Tables", "Where", "ClockSym", "OpSym", "KIND_WORDS"]
+__all__ = ["ExprChecker", "Where", "KIND_WORDS"]

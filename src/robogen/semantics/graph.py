@@ -12,8 +12,8 @@ import sys
 from pathlib import Path
 
 from robogen.diagnostics import RobogenError, UsageError, did_you_mean, error
-from robogen.semantics import CheckedModel, check_paths
-from robogen.semantics.scope import MachineScope, Region
+from robogen.semantics import check_paths
+from robogen.semantics.model import MachineScope, Region, SemanticModel
 from robogen.syntax import ast
 from robogen.syntax.printer import stmt, transition_label
 
@@ -41,8 +41,8 @@ def run(args: argparse.Namespace) -> int:
     return 0
 
 
-def select(model: CheckedModel, name: str | None) -> list[MachineScope]:
-    scopes = sorted(model.scopes.values(), key=lambda s: (s.file.path, s.node.span.line if s.node.span else 0))
+def select(model: SemanticModel, name: str | None) -> list[MachineScope]:
+    scopes = sorted(model.scopes, key=lambda s: (s.file.path, s.node.span.line if s.node.span else 0))
     scopes = [s for s in scopes if isinstance(s.node, (ast.StateMachine, ast.OperationDef))]
     if name is None:
         if not scopes:

@@ -1,4 +1,4 @@
-"""Guards evaluated over small sample domains, for the analyses of robogen.semantics.analysis.
+"""Guards evaluated over small sample domains, for the analyses of robogen.semantics.machine_analysis.
 
 A guard's *leaves* are the sub-expressions the evaluator does not look into: each input event
 ``$e`` (occurred or not), each boolean, enumeration or given-type value, each number. A boolean
@@ -23,8 +23,7 @@ from fractions import Fraction
 from typing import Callable, Iterator
 
 from robogen.semantics import types as T
-from robogen.semantics.exprs import Tables
-from robogen.semantics.scope import EnumLitSym, EventSym, VarSym
+from robogen.semantics.model import EnumLitSym, EventSym, Tables, VarSym
 from robogen.syntax import ast
 
 Number = int | Fraction
@@ -71,18 +70,6 @@ def const_value(e: ast.Name, tables: Tables) -> Number | bool | str | None:
     else:
         return None
     return -value if negate else value
-
-
-def period_of(cycle_defs: list[ast.CycleDef]) -> Number | None:
-    """The period p of a well-formed `cycleDef cycle == p`, if the machine has one."""
-    for c in cycle_defs:
-        e = c.expr
-        if isinstance(e, ast.Binary) and e.op == "==" and isinstance(e.left, ast.Keyword) and e.left.word == "cycle":
-            if isinstance(e.right, ast.IntLit) and e.right.value > 0:
-                return e.right.value
-            if isinstance(e.right, ast.RealLit) and Fraction(e.right.text) > 0:
-                return real_value(e.right.text)
-    return None
 
 
 class _Leaf:
@@ -470,4 +457,4 @@ def abstractly_satisfiable(g: ast.Expr) -> bool:
     return any(holds(g, dict(zip(keys, values))) for values in itertools.product((False, True), repeat=len(keys)))
 
 
-__all__ = ["Guards", "Unknown", "abstractly_satisfiable", "const_value", "period_of", "rebinds"]
+__all__ = ["Guards", "Unknown", "abstractly_satisfiable", "const_value", "number", "rebinds"]

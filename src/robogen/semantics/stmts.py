@@ -7,7 +7,7 @@ from __future__ import annotations
 from robogen.diagnostics import Note, did_you_mean
 from robogen.semantics import types as T
 from robogen.semantics.exprs import KIND_WORDS, ExprChecker, Where
-from robogen.semantics.scope import EventSym
+from robogen.semantics.model import EventSym
 from robogen.syntax import ast
 
 

@@ -81,9 +81,13 @@ class Package:
 
 
 class Workspace:
-    def __init__(self, files: Sequence[ast.File], sink: DiagnosticSink | None = None):
+    """The parsed files and their packages. ``root`` is the workspace root (see
+    :func:`workspace_root`); by default the common folder of the files."""
+
+    def __init__(self, files: Sequence[ast.File], sink: DiagnosticSink | None = None, root: str | None = None):
         self.files = list(files)
         self.sink = sink or DiagnosticSink()
+        self.root = root if root is not None else workspace_root([os.path.dirname(f.path) for f in self.files])
         self.packages: dict[str | None, Package] = {}
         self.by_simple: dict[str, list[Decl]] = {}
         self._imports: dict[int, tuple[list[tuple[ast.Import, Decl]], list[tuple[ast.Import, Package]]]] = {}
@@ -355,6 +359,15 @@ def collect_model_paths(paths: Sequence[str | os.PathLike], problems: Diagnostic
     return unique
 
 
+def workspace_root(paths: Sequence[str | os.PathLike]) -> str:
+    """The workspace root: the deepest folder holding every path robogen was given (a file's
+    folder, a directory itself), as an absolute path. Generated files name model files relative
+    to it, so `robogen compile models/ur5e/ur5e.rst` names ``ur5e.rst`` from any current folder
+    and in any checkout, and a workspace given as a directory names its files from there."""
+    folders = [os.path.abspath(p if os.path.isdir(p) else os.path.dirname(p) or os.curdir) for p in paths]
+    return os.path.commonpath(folders) if folders else os.path.abspath(os.curdir)
+
+
 def load(paths: Sequence[str | os.PathLike], sink: DiagnosticSink | None = None) -> Workspace:
     """Parse every model under ``paths`` into one workspace; syntax errors of a file are recorded
     in the sink and that file is left out, so the other files are still checked."""
@@ -365,7 +378,7 @@ def load(paths: Sequence[str | os.PathLike], sink: DiagnosticSink | None = None)
             files.append(parse_file(path))
         except RobogenError as exc:
             sink.extend(exc.diagnostics)
-    return Workspace(files, sink)
+    return Workspace(files, sink, workspace_root(paths))
 
 
 def from_texts(texts: dict[str, str], sink: DiagnosticSink | None = None) -> Workspace:
@@ -379,7 +392,7 @@ def from_texts(texts: dict[str, str], sink: DiagnosticSink | None = None) -> Wor
             files.append(parse_text(text, path))
         except RobogenError as exc:
             sink.extend(exc.diagnostics)
-    return Workspace(files, sink)
+    return Workspace(files, sink, workspace_root(list(texts)))
 
 
-__all__ = ["Decl", "Package", "Workspace", "load", "from_texts", "collect_model_paths", "TYPE_DECLS", "error"]
+__all__ = ["Decl", "Package", "Workspace", "load", "from_texts", "collect_model_paths", "workspace_root", "TYPE_DECLS", "error"]

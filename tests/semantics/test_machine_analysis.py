@@ -1,4 +1,4 @@
-"""robogen.semantics.analysis: the warnings about behaviour (unreachable states, transitions
+"""robogen.semantics.machine_analysis: the warnings about behaviour (unreachable states, transitions
 that can never fire, guards that overlap, RoboSim cycles that may never end)."""
 
 from __future__ import annotations

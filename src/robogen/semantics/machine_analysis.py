@@ -19,9 +19,8 @@ import itertools
 from typing import Iterator
 
 from robogen.diagnostics import DiagnosticSink, Note
-from robogen.semantics.exprs import Tables
-from robogen.semantics.guards import Guards, abstractly_satisfiable, period_of
-from robogen.semantics.scope import MachineScope, Region
+from robogen.semantics.guards import Guards, abstractly_satisfiable, number
+from robogen.semantics.model import MachineScope, Region, Tables
 from robogen.syntax import ast
 
 
@@ -31,7 +30,7 @@ def analyse_machine(scope: MachineScope, tables: Tables, sink: DiagnosticSink) -
     assert scope.region is not None
     if sink.errors and any(_in_machine(d.span, scope) for d in sink.errors):
         return
-    guards = Guards(tables, period_of(scope.cycle_defs))
+    guards = Guards(tables, number(scope.period) if scope.period is not None else None)
     never = _never_firing(scope, guards, sink)
     _unreachable(scope, never, sink)
     _nondeterminism(scope, guards, never, sink)
@@ -148,7 +147,7 @@ def _unreachable(scope: MachineScope, never: set[int], sink: DiagnosticSink) -> 
             if id(t) not in never:
                 enter(region, t.target)
     for region in _regions(scope):
-        if region.parent is not None and id(region.owner) not in reached:
+        if region.nested and id(region.owner) not in reached:
             continue  # inside an unreachable composite state: reported once, for the composite
         for name, node in region.nodes.items():
             if isinstance(node, ast.State) and id(node) not in reached:

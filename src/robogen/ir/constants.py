@@ -1,0 +1,76 @@
+"""Values of model constants at generation time: a ``--set NAME=VALUE`` text, or the constant's
+initialiser evaluated over literals, enumeration literals and other constants."""
+
+from __future__ import annotations
+
+from fractions import Fraction
+
+from robogen.diagnostics import RobogenError, Span
+from robogen.semantics import types as T
+from robogen.semantics.model import EnumLitSym, SemanticModel, VarSym
+from robogen.syntax import ast
+
+
+def parse_setting(text: str, t: T.Type, span: Span | None, name: str) -> object:
+    """The value of ``--set name=text`` for a constant of type ``t`` (a located error if the text
+    is not a value of that type)."""
+    text = text.strip()
+    try:
+        if t == T.BOOLEAN:
+            if text not in ("true", "false"):
+                raise ValueError
+            return text == "true"
+        if t == T.REAL:
+            return Fraction(text)
+        if t in (T.INT, T.NAT):
+            v = int(text)
+            if t == T.NAT and v < 0:
+                raise ValueError
+            return v
+        if isinstance(t, T.EnumT):
+            lit = text.rsplit("::", 1)[-1]
+            return t.literals.index(lit)
+    except (ValueError, ArithmeticError):
+        pass
+    raise RobogenError.at(f"--set {name}={text}: not a value of type {t.show()}", span)
+
+
+def constant_value(e: ast.Expr, t: T.Type, model: SemanticModel, known: dict[str, object]) -> object:
+    """Evaluate a constant's initialiser (None if it is not computable at generation time).
+    ``known`` holds the values of the constants declared before it."""
+    try:
+        v = _evaluate(e, model, known)
+    except (KeyError, ZeroDivisionError, TypeError):
+        return None
+    if t == T.REAL and isinstance(v, (int, Fraction)) and not isinstance(v, bool):
+        return Fraction(v)
+    return v
+
+
+def _evaluate(e: ast.Expr, model: SemanticModel, known: dict[str, object]):
+    if isinstance(e, ast.IntLit):
+        return e.value
+    if isinstance(e, ast.RealLit):
+        return Fraction(e.text)
+    if isinstance(e, ast.BoolLit):
+        return e.value
+    if isinstance(e, ast.Name):
+        sym = model.symbol(e)
+        if isinstance(sym, EnumLitSym):
+            return sym.enum.literals.index(sym.literal)  # type: ignore[attr-defined]
+        if isinstance(sym, VarSym) and sym.kind == "const":
+            return known[sym.name]
+        raise KeyError(e.text)
+    if isinstance(e, ast.Unary):
+        v = _evaluate(e.operand, model, known)
+        return (not v) if e.op == "not" else -v
+    if isinstance(e, ast.Binary) and e.op in ("+", "-", "*", "/"):
+        a, b = _evaluate(e.left, model, known), _evaluate(e.right, model, known)
+        if e.op == "/" and isinstance(a, int) and isinstance(b, int):
+            q = abs(a) // abs(b)
+            return q if (a >= 0) == (b >= 0) else -q
+        return {"+": a + b, "-": a - b, "*": a * b, "/": Fraction(a) / Fraction(b) if not (isinstance(a, int) and isinstance(b, int)) else None}[e.op]
+    raise KeyError(type(e).__name__)
+
+
+__all__ = ["parse_setting", "constant_value"]

@@ -1,0 +1,219 @@
+"""The FMU's ports and the routes of events inside it.
+
+For a module, events the robotic platform sends to a controller are input clocks, events sent to
+the platform and calls of the platform's operations are output clocks; connections between
+controllers and machines inside the module become routes inside the FMU. For a single machine,
+its own events and platform operations are the ports.
+"""
+
+from __future__ import annotations
+
+from typing import Protocol
+
+from robogen.diagnostics import Note, RobogenError, Span
+from robogen.ir import model as ir
+from robogen.ir.boundary import Boundary
+from robogen.ir.supported import check_codegen_type, not_supported
+from robogen.semantics import types as T
+from robogen.semantics.model import Controller, MachineScope, Module, OpSym
+from robogen.syntax import ast
+
+class MachinePorts(Protocol):
+    """What the ports need to know of a machine being lowered."""
+
+    scope: MachineScope
+    machine: ir.Machine
+    ctrl: Controller | None
+    used_name: str
+
+    def event_type(self, name: str) -> T.Type | None: ...
+    def op_params(self, name: str) -> tuple[tuple[str, T.Type], ...]: ...
+    def is_platform_operation(self, op: OpSym) -> bool: ...
+
+
+class Ports:
+    """Creates the FMU's clocks (each once, by name) and computes where events go."""
+
+    def __init__(self, fmu: ir.Fmu, boundary: Boundary, lowerings: list[MachinePorts], normalise):
+        self.fmu = fmu
+        self.b = boundary
+        self.lowerings = lowerings
+        self.normalise = normalise  # model type -> concrete type
+
+    def create(self) -> None:
+        """Create the FMU's clocks in a stable order: inputs, then outputs (events, then
+        operations), each in declaration order."""
+        if self.b.module is None:
+            self._machine_ports(self.lowerings[0])
+            return
+        info = self.b.module
+        platform = info.platform.name if info.platform is not None else ""
+        for conn in info.connections:
+            if conn.source == platform:
+                port = self.input_port(conn.source_event, self._platform_event_type(info, conn.source_event), conn.span)
+                for r in self._routes_into_controller(conn.target, conn.target_event, info):
+                    if r not in port.routes:
+                        port.routes.append(r)
+        for conn in info.connections:
+            if conn.target == platform:
+                self.output_port(conn.target_event, "output-event", self._platform_event_type(info, conn.target_event), (), conn.span)
+        for ml in self.lowerings:
+            self._operation_ports(ml)
+
+    def _machine_ports(self, ml: MachinePorts) -> None:
+        """A single machine's ports: the events it receives and sends, its platform operations."""
+        used_in, used_out = event_uses(ml.scope)
+        for ev in ml.machine.events:
+            sym = ml.scope.events[ev.name]
+            if ml.scope.robosim or ev.name in used_in:
+                self.input_port(ev.name, ev.type, sym.span).routes.append((0, ev.index))
+        for name, sym in ml.scope.events.items():
+            if sym.output and (ml.scope.robosim or name in used_out):
+                self.output_port(name, "output-event", ml.event_type(name), (), sym.span)
+        self._operation_ports(ml)
+
+    def _operation_ports(self, ml: MachinePorts) -> None:
+        for name, op in ml.scope.ops.items():
+            if ml.is_platform_operation(op):
+                self.output_port(name, "operation", None, ml.op_params(name), op.span)
+
+    def _platform_event_type(self, info: Module, name: str) -> T.Type | None:
+        sym = info.platform.events.get(name) if info.platform is not None else None
+        return None if sym is None or sym.type is None else self.normalise(sym.type)
+
+    def _routes_into_controller(self, ctrl_name: str, event: str, info: Module) -> list[tuple[int, int]]:
+        """Machine events that receive ``event`` when it reaches controller ``ctrl_name``."""
+        routes = []
+        for used, c in info.controllers:
+            if used != ctrl_name:
+                continue
+            for conn in c.connections:
+                if conn.source == c.name and conn.source_event == event:
+                    routes += self._machine_event(c, conn.target, conn.target_event)
+        return routes
+
+    def _machine_event(self, ctrl: Controller, machine: str, event: str) -> list[tuple[int, int]]:
+        """(machine index, event index) of ``event`` of the machines used as ``machine`` in ``ctrl``."""
+        routes = []
+        for ml in self.lowerings:
+            if ml.ctrl is ctrl and ml.used_name == machine:
+                ev = ml.machine.event(event)
+                if ev is not None:
+                    routes.append((ml.machine.index, ev.index))
+        return routes
+
+    def output_routes(self, ml: MachinePorts, name: str, kind: str, span: Span | None) -> tuple[tuple, ...]:
+        """Where a machine's output event or platform operation call goes: ("port", index) or
+        ("machine", machine index, event index)."""
+        if kind == "operation" or self.b.module is None:
+            t = None if kind == "operation" else ml.event_type(name)
+            return (("port", self.output_port(name, kind, t, ml.op_params(name), span).index),)
+        info = self.b.module
+        ctrl = ml.ctrl
+        if ctrl is None:
+            return ()
+        routes: list[tuple] = []
+        for conn in ctrl.connections:
+            if conn.source != ml.used_name or conn.source_event != name:
+                continue
+            if conn.target == ctrl.name:  # machine -> its controller -> the module's connections
+                routes += self._from_controller(ml, info, ctrl, conn.target_event, name, span)
+            else:  # machine -> machine of the same controller
+                routes += [("machine", mi, me) for mi, me in self._machine_event(ctrl, conn.target, conn.target_event)]
+        return tuple(routes)
+
+    def _from_controller(self, ml: MachinePorts, info: Module, ctrl: Controller, event: str, name: str,
+                         span: Span | None) -> list[tuple]:
+        """Where ``event`` of controller ``ctrl`` goes by the module's connections: to the platform
+        (an output port) or into other controllers' machines."""
+        ctrl_used = next((u for u, c in info.controllers if c is ctrl), ctrl.name)
+        platform = info.platform.name if info.platform is not None else ""
+        routes: list[tuple] = []
+        for mconn in info.connections:
+            if mconn.source == ctrl_used and mconn.source_event == event:
+                if mconn.target == platform:
+                    port = self.output_port(mconn.target_event, "output-event", ml.event_type(name), (), span)
+                    routes.append(("port", port.index))
+                else:
+                    routes += [("machine", mi, me) for mi, me in self._routes_into_controller(mconn.target, mconn.target_event, info)]
+        return routes
+
+    def input_port(self, name: str, t: T.Type | None, span: Span | None) -> ir.Port:
+        fmu = self.fmu
+        for p in fmu.inputs:
+            if p.name == name:
+                return p
+        fields = tuple(_flatten(name + ".value" if not isinstance(t, T.RecordT) else name, t, (), span)) if t is not None else ()
+        port = ir.Port(name, "input-event", t, fields, span=span, index=len(fmu.inputs))
+        fmu.inputs.append(port)
+        return port
+
+    def output_port(self, name: str, kind: str, t: T.Type | None, params, span: Span | None) -> ir.Port:
+        fmu = self.fmu
+        for p in fmu.outputs:
+            if p.name == name:
+                if p.kind != kind:
+                    raise RobogenError.at(
+                        f"the FMU would have two output clocks named '{name}': an output event and a platform operation; "
+                        "rename one of them in the model", span, Note(f"the other '{name}' is declared here", p.span))
+                return p
+        if kind == "operation":
+            fields: list[ir.Field_] = []
+            for pname, ptype in params:
+                fields += _flatten(f"{name}.{pname}", ptype, (pname,), span)
+            port = ir.Port(name, kind, None, tuple(fields), tuple(params), span=span, index=len(fmu.outputs))
+        else:
+            fields = _flatten(name + ".value" if not isinstance(t, T.RecordT) else name, t, (), span) if t is not None else []
+            port = ir.Port(name, kind, t, tuple(fields), span=span, index=len(fmu.outputs))
+        fmu.outputs.append(port)
+        return port
+
+
+def event_uses(scope: MachineScope) -> tuple[set[str], set[str]]:
+    """RoboChart events have no direction: those a machine receives (triggers, e?x) and those
+    it sends (e!v, plain sends), from its transitions and actions."""
+    ins: set[str] = set()
+    outs: set[str] = set()
+
+    def stmt(s):
+        if s is None:
+            return
+        if isinstance(s, ast.Seq):
+            for x in s.stmts:
+                stmt(x)
+        elif isinstance(s, ast.IfStmt):
+            stmt(s.then)
+            stmt(s.otherwise)
+        elif isinstance(s, ast.StmtDeadline):
+            stmt(s.stmt)
+        elif isinstance(s, ast.Communicate):
+            (ins if s.comm.kind == "?" else outs).add(s.comm.event)
+
+    assert scope.region is not None
+    for region in scope.region.walk():
+        for t in region.transitions:
+            if t.trigger is not None:
+                ins.add(t.trigger.event)
+            stmt(t.action)
+        for node in region.nodes.values():
+            for m in getattr(node, "members", ()):
+                if isinstance(m, ast.StateAction):
+                    stmt(m.stmt)
+    return ins, outs
+
+
+def _flatten(prefix: str, t: T.Type | None, path: tuple[str, ...], span: Span | None) -> list[ir.Field_]:
+    """The scalar FMI variables of a payload of type ``t`` named ``prefix``."""
+    assert t is not None
+    check_codegen_type(t, span, f"'{prefix}'")
+    if isinstance(t, T.RecordT):
+        out: list[ir.Field_] = []
+        for n, ft in t.fields:
+            out += _flatten(f"{prefix}.{n}", ft, path + (n,), span)
+        return out
+    if isinstance(t, T.MatrixT):
+        raise not_supported(f"'{prefix}': a matrix as an FMU port", span)
+    return [ir.Field_(prefix, t, path)]
+
+
+__all__ = ["Ports", "MachinePorts", "event_uses"]

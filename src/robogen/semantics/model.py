@@ -1,0 +1,343 @@
+"""The resolved semantic model: what the checker hands to later stages.
+
+:func:`robogen.semantics.check` returns a :class:`SemanticModel`, a finished product: every
+value in it is frozen once the checker returns, and nothing in it refers back to the checker.
+Later stages (IR lowering, diagrams) read only this module and :mod:`robogen.semantics.types`.
+
+- :class:`MachineScope`: each state machine and software operation with what its body can name
+  (variables, constants, clocks, events, operations, each a symbol with a resolved type), its
+  region tree (nodes and transitions), its cycle period, and the software operation definitions
+  visible from its file;
+- :class:`Controller` and :class:`Module`: the containers with their parts, connections,
+  events and periods; a module's :class:`Platform` with its events and operations;
+- the model's tables: the type of every expression and resolved type expression, the symbol
+  every name resolves to (``type_of``, ``symbol``, ``bound_var``, ``scope_of``).
+
+New constructs extend this vocabulary (a symbol kind, a field of a container) rather than
+giving later stages a way back into the checker.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from fractions import Fraction
+from types import MappingProxyType
+from typing import Iterator, Mapping
+
+from robogen.diagnostics import Diagnostic, Span
+from robogen.semantics.types import UNKNOWN, Type
+from robogen.syntax import ast
+from robogen.syntax.printer import expr as _expr_text
+
+_EMPTY: Mapping = MappingProxyType({})
+
+
+def _empty():
+    """A field whose default is the empty read-only mapping."""
+    return field(default_factory=lambda: _EMPTY)
+
+
+# ============================================================================ symbols
+
+
+@dataclass(frozen=True, eq=False)
+class VarSym:
+    """A variable, constant, operation parameter, binder or let name, with its resolved type."""
+
+    name: str
+    type: Type
+    kind: str  # var, const, param, binder, let
+    decl: ast.Node | None
+    origin: str
+    init: ast.Expr | None = None
+    shared: bool = False  # declared by an interface (provided by a controller or platform)
+
+    @property
+    def assignable(self) -> bool:
+        return self.kind == "var"
+
+    @property
+    def span(self) -> Span | None:
+        return getattr(self.decl, "name_span", None)
+
+
+@dataclass(frozen=True, eq=False)
+class ClockSym:
+    name: str
+    decl: ast.Node
+    origin: str
+
+    @property
+    def span(self) -> Span | None:
+        return getattr(self.decl, "name_span", None)
+
+    @property
+    def from_interface(self) -> bool:
+        """Declared by an interface the container requires (shared with the caller), not by the
+        container itself."""
+        return self.origin.startswith("interface")
+
+
+@dataclass(frozen=True, eq=False)
+class EventSym:
+    name: str
+    type: Type | None
+    decl: ast.EventDecl
+    origin: str
+    input: bool = False  # RoboSim: named by the input context (RoboChart: always)
+    output: bool = False  # RoboSim: named by the output context (RoboChart: always)
+    broadcast: bool = False
+
+    @property
+    def span(self) -> Span | None:
+        return self.decl.name_span
+
+
+@dataclass(frozen=True, eq=False)
+class OpSym:
+    name: str
+    params: tuple[tuple[str, Type], ...]
+    decl: ast.Node  # OpSig or OperationDef
+    origin: str
+    platform: bool = False  # RoboSim: called with $op (an output-context operation)
+
+    @property
+    def span(self) -> Span | None:
+        return getattr(self.decl, "name_span", None)
+
+
+@dataclass(frozen=True, eq=False)
+class FuncSym:
+    name: str
+    params: tuple[tuple[str, Type], ...]
+    result: Type
+    decl: ast.FunctionDef | None
+    builtin: object | None = None  # types.Builtin for toolkit functions
+    qname: str = ""
+
+
+@dataclass(frozen=True, eq=False)
+class EnumLitSym:
+    enum: Type  # EnumT
+    literal: str
+
+
+Symbol = VarSym | ClockSym | EventSym | OpSym | FuncSym | EnumLitSym
+
+
+# ============================================================================ machines
+
+
+@dataclass(frozen=True, eq=False)
+class Region:
+    """A container of nodes: a machine, an operation, or a composite state."""
+
+    owner: ast.Node  # StateMachine, OperationDef or State
+    path: tuple[str, ...]  # the composite states from the machine down to this one (() at the top)
+    nodes: Mapping[str, ast.NodeDecl] = _empty()
+    transitions: tuple[ast.Transition, ...] = ()
+    children: Mapping[str, "Region"] = _empty()  # composite states by name
+
+    @property
+    def nested(self) -> bool:
+        """A composite state's region (not the machine's or operation's own)."""
+        return bool(self.path)
+
+    @property
+    def description(self) -> str:
+        """How messages name the container: state 'S', operation 'o' or state machine 'M'."""
+        owner = self.owner
+        if isinstance(owner, ast.State):
+            return f"state '{owner.name}'"
+        if isinstance(owner, ast.OperationDef):
+            return f"operation '{owner.name}'"
+        return f"state machine '{owner.name}'"  # type: ignore[attr-defined]
+
+    def initials(self) -> list[ast.Initial]:
+        return [n for n in self.nodes.values() if isinstance(n, ast.Initial)]
+
+    def walk(self) -> Iterator["Region"]:
+        yield self
+        for child in self.children.values():
+            yield from child.walk()
+
+
+@dataclass(frozen=True, eq=False)
+class MachineScope:
+    """What the body of a state machine or operation (or the initialisers of a container's
+    variables, or a function's contract) can name, and the machine's structure."""
+
+    node: ast.Node  # StateMachine or OperationDef (a container or a function for their checks)
+    file: ast.File
+    qname: str
+    vars: Mapping[str, VarSym] = _empty()
+    clocks: Mapping[str, ClockSym] = _empty()
+    events: Mapping[str, EventSym] = _empty()
+    ops: Mapping[str, OpSym] = _empty()
+    region: Region | None = None
+    cycle_defs: tuple[ast.CycleDef, ...] = ()
+    interfaces: tuple[tuple[str, ast.InterfaceRef, ast.Interface | None], ...] = ()
+    period: Fraction | None = None  # RoboSim: the cycle period its cycleDef declares
+    # required operations that have a software definition visible from the file (its package,
+    # imports, files without a package): name -> definition (see SemanticModel.scope_of)
+    definitions: Mapping[str, ast.OperationDef] = _empty()
+
+    @property
+    def name(self) -> str:
+        return self.node.name  # type: ignore[attr-defined]
+
+    @property
+    def language(self) -> str:
+        return self.file.language
+
+    @property
+    def robosim(self) -> bool:
+        return self.file.language == "robosim"
+
+    @property
+    def is_operation(self) -> bool:
+        return isinstance(self.node, ast.OperationDef)
+
+    @property
+    def is_machine(self) -> bool:
+        return isinstance(self.node, ast.StateMachine)
+
+    @property
+    def kind(self) -> str:
+        return "operation" if self.is_operation else "state machine"
+
+    def all_states(self) -> Iterator[tuple[tuple[str, ...], ast.NodeDecl]]:
+        """Every node with its path from the machine: ('Outer', 'Inner')."""
+        assert self.region is not None
+        for region in self.region.walk():
+            for name, node in region.nodes.items():
+                yield region.path + (name,), node
+
+
+# ============================================================================ containers
+
+
+@dataclass(frozen=True, eq=False)
+class Platform:
+    """A module's robotic platform, declared inline or referenced (rref)."""
+
+    name: str  # the name connections use (the rref name or the inline platform's name)
+    node: ast.Platform
+    file: ast.File
+    events: Mapping[str, EventSym] = _empty()  # its own and those of the interfaces it uses
+    operations: Mapping[str, OpSym] = _empty()  # its own and those of the interfaces it provides
+
+
+@dataclass(frozen=True, eq=False)
+class Controller:
+    node: ast.Controller
+    file: ast.File
+    qname: str
+    machines: tuple[tuple[str, MachineScope], ...] = ()  # (name used in the controller, machine)
+    operations: tuple[tuple[str, MachineScope], ...] = ()  # (name used, definition): opref or inline
+    events: Mapping[str, EventSym] = _empty()
+    connections: tuple[ast.Connection, ...] = ()
+    period: Fraction | None = None
+
+    @property
+    def name(self) -> str:
+        return self.node.name
+
+
+@dataclass(frozen=True, eq=False)
+class Module:
+    node: ast.Module
+    file: ast.File
+    qname: str
+    platform: Platform | None = None
+    controllers: tuple[tuple[str, Controller], ...] = ()  # (name used in the module, controller)
+    connections: tuple[ast.Connection, ...] = ()
+    period: Fraction | None = None  # the one period of every part (RoboSim), if any declares one
+
+    @property
+    def name(self) -> str:
+        return self.node.name
+
+
+# ============================================================================ the model
+
+
+@dataclass(frozen=True, eq=False)
+class Tables:
+    """The checker's findings about single AST nodes, keyed by ``id(node)`` (the AST is immutable
+    and the model's files keep it alive). Filled while checking; read-only afterwards."""
+
+    types: dict[int, Type] = field(default_factory=dict)  # expressions
+    # id(node) -> symbol; ("bind", id(node)) -> the variable a $e?x or e?x binds
+    refs: dict[object, object] = field(default_factory=dict)
+    # resolved type expressions: id(node) -> (node, type); the node is held so its id stays unique
+    type_exprs: dict[int, tuple[ast.TypeExpr, Type]] = field(default_factory=dict)
+
+    def type_of(self, e: ast.Expr) -> Type:
+        return self.types.get(id(e), UNKNOWN)
+
+    def ref(self, node: ast.Node):
+        return self.refs.get(id(node))
+
+    def bound_var(self, node: ast.Node):
+        return self.refs.get(("bind", id(node)))
+
+
+@dataclass(frozen=True, eq=False)
+class SemanticModel:
+    """A checked workspace. ``diagnostics`` holds every problem found, in source order; the rest
+    is meaningful where no error was reported."""
+
+    files: tuple[ast.File, ...]
+    root: str  # the workspace root: the common folder of the paths robogen was given
+    diagnostics: tuple[Diagnostic, ...]
+    scopes: tuple[MachineScope, ...]  # every state machine and operation definition
+    controllers: tuple[Controller, ...]
+    modules: tuple[Module, ...]
+    tables: Tables = field(repr=False, default_factory=Tables)
+    _by_node: dict[int, MachineScope] = field(init=False, repr=False)
+
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "_by_node", {id(s.node): s for s in self.scopes})
+
+    @property
+    def errors(self) -> list[Diagnostic]:
+        return [d for d in self.diagnostics if d.is_error]
+
+    @property
+    def warnings(self) -> list[Diagnostic]:
+        return [d for d in self.diagnostics if not d.is_error]
+
+    @property
+    def machines(self) -> list[MachineScope]:
+        return [s for s in self.scopes if s.is_machine]
+
+    def scope_of(self, node: ast.Node) -> MachineScope | None:
+        """The scope of a state machine or operation definition node."""
+        return self._by_node.get(id(node))
+
+    def type_of(self, node: ast.Expr | ast.TypeExpr) -> Type:
+        """The type of an expression, or the type a type expression resolves to."""
+        entry = self.tables.type_exprs.get(id(node))
+        if entry is not None and entry[0] is node:
+            return entry[1]
+        return self.tables.type_of(node)  # type: ignore[arg-type]
+
+    def symbol(self, node: ast.Node):
+        """The symbol a name (or communication, $-statement, clock reset) resolves to."""
+        return self.tables.ref(node)
+
+    def bound_var(self, node: ast.Node) -> VarSym | None:
+        """The variable an input ``e?x`` or ``$e?x`` stores the event's value in."""
+        return self.tables.bound_var(node)
+
+    @staticmethod
+    def text(e: ast.Expr) -> str:
+        """An expression as model text, for messages that quote the model."""
+        return _expr_text(e)
+
+
+__all__ = [
+    "VarSym", "ClockSym", "EventSym", "OpSym", "FuncSym", "EnumLitSym", "Symbol",
+    "Region", "MachineScope", "Platform", "Controller", "Module", "Tables", "SemanticModel",
+]

@@ -1,0 +1,221 @@
+"""The transformer's foundation: spans computed from token offsets, reserved-word checks, and
+the nesting depth of recursive constructs (see :data:`MAX_NESTING`); and the small positioned
+values that rule callbacks pass to each other before they become AST nodes."""
+
+from __future__ import annotations
+
+import bisect
+import re
+from typing import Callable
+
+from lark import Token, Transformer
+
+from robogen.diagnostics import Diagnostic, Span, error
+from robogen.syntax import ast
+
+# How deeply expressions, statements, types and states may nest (real models stay below 20).
+MAX_NESTING = 100
+
+
+class Positioned:
+    """Helper values passed between callbacks that are not AST nodes but keep a position."""
+
+    __slots__ = ("pos",)
+
+
+class Package(Positioned):
+    __slots__ = ("name",)
+
+    def __init__(self, name: ast.Name):
+        self.name = name
+        self.pos = node_pos(name)
+
+
+class Flag(Positioned):
+    __slots__ = ("what",)
+
+    def __init__(self, what: str, pos=None):
+        self.what = what
+        self.pos = pos
+
+
+class Clause(Positioned):
+    __slots__ = ("key", "value")
+
+    def __init__(self, key: str, value, pos=None):
+        self.key = key
+        self.value = value
+        self.pos = pos
+
+
+class SuchThat(Positioned):
+    __slots__ = ("expr",)
+
+    def __init__(self, expr):
+        self.expr = expr
+        self.pos = node_pos(expr)
+
+
+class Body(Positioned):
+    __slots__ = ("expr",)
+
+    def __init__(self, expr):
+        self.expr = expr
+        self.pos = node_pos(expr)
+
+
+def node_pos(x) -> tuple[int, int] | None:
+    return span_pos(getattr(x, "span", None))
+
+
+def span_pos(span: Span | None) -> tuple[int, int] | None:
+    if span is not None and span.offset >= 0:
+        return (span.offset, span.end_offset)
+    return None
+
+
+def pos(x) -> tuple[int, int] | None:
+    """(start, end) character offsets of a callback child, if it has any."""
+    if isinstance(x, Token):
+        return (x.start_pos, x.end_pos) if x.start_pos is not None else None
+    if isinstance(x, ast.Node):
+        return node_pos(x)
+    if isinstance(x, Positioned):
+        return x.pos
+    if isinstance(x, (tuple, list)) and x:
+        a, b = pos(x[0]), pos(x[-1])
+        if a and b:
+            return (a[0], b[1])
+    return None
+
+
+class SpanBuilder(Transformer):
+    """Builds AST nodes bottom-up, with spans computed from the children's positions.
+
+    Lark drops the anonymous keyword and punctuation tokens, so a rule's span starts at its
+    first kept child; where the grammar guarantees a token before or after (a leading keyword,
+    a closing parenthesis), ``_span(children, left=..., right=...)`` grows the span over it.
+    Reserved words used as names are reported, not raised, so all such problems are listed.
+    """
+
+    def __init__(self, language: str, reserved: Callable[[], frozenset[str]]):
+        super().__init__(visit_tokens=False)
+        self.language = language
+        self._reserved = reserved  # the language's keywords, asked for once the parser exists
+        self._keywords: frozenset[str] | None = None
+        self.begin("<string>", "")
+
+    def begin(self, path: str, text: str) -> None:
+        self.path = path
+        self.text = text
+        self.problems: list[Diagnostic] = []
+        self._line_starts = [0] + [m.end() for m in re.finditer("\n", text)]
+        # nesting depth of the nodes of recursive constructs, by id (see _nest)
+        self._depth: dict[int, int] = {}
+        self._alive: list = []  # keeps those nodes alive, so that their ids stay unique
+        self._too_deep = False
+
+    def end(self) -> list[Diagnostic]:
+        # in source order (callbacks run at reductions, an enclosing construct after its parts)
+        problems = sorted(self.problems, key=lambda d: (d.span.line, d.span.column) if d.span else (0, 0))
+        self.begin("<string>", "")
+        return problems
+
+    @property
+    def keywords(self) -> frozenset[str]:
+        if self._keywords is None:
+            self._keywords = self._reserved()
+        return self._keywords
+
+    def _nest(self, node, c):
+        """Record how deeply ``node`` nests constructs of its own kind (expressions, statements,
+        types, states), from the depths of its children. Later stages walk the tree
+        recursively, so a file nested deeper than MAX_NESTING is rejected here, with its
+        location, rather than overflowing the interpreter's stack somewhere downstream."""
+        depth = self._depth
+        d = 0
+        for x in c:
+            if type(x) is tuple:
+                for y in x:
+                    if type(y) is tuple:
+                        for z in y:
+                            v = depth.get(id(z), 0)
+                            d = v if v > d else d
+                    else:
+                        v = depth.get(id(y), 0)
+                        d = v if v > d else d
+            else:
+                v = depth.get(id(x), 0)
+                d = v if v > d else d
+        d += 1
+        depth[id(node)] = d
+        self._alive.append(node)
+        if d > MAX_NESTING and not self._too_deep:
+            self._too_deep = True
+            self.problems.append(
+                error(
+                    f"nested too deeply: robogen accepts at most {MAX_NESTING} levels of nested expressions, "
+                    "statements, types or states",
+                    getattr(node, "span", None) or self._span(c),
+                )
+            )
+        return node
+
+    def _line_col(self, offset: int) -> tuple[int, int]:
+        line = bisect.bisect_right(self._line_starts, offset)
+        return line, offset - self._line_starts[line - 1] + 1
+
+    def _make(self, start: int, end: int) -> Span:
+        line, col = self._line_col(start)
+        end_line, end_col = self._line_col(end)
+        return Span(self.path, line, col, end_line, end_col, start, end)
+
+    def _span(self, children, left: tuple[str, ...] = (), right: tuple[str, ...] = ()) -> Span | None:
+        first = last = None
+        for c in children:
+            first = pos(c)
+            if first:
+                break
+        for c in reversed(children):
+            last = pos(c)
+            if last:
+                break
+        if first is None or last is None:
+            return None
+        start, end = first[0], last[1]
+        text = self.text
+        for word in reversed(left):
+            p = start
+            while p > 0 and text[p - 1].isspace():
+                p -= 1
+            if p >= len(word) and text.startswith(word, p - len(word)):
+                start = p - len(word)
+            else:
+                break
+        for word in right:
+            p = end
+            n = len(text)
+            while p < n and text[p].isspace():
+                p += 1
+            if text.startswith(word, p):
+                end = p + len(word)
+            else:
+                break
+        return self._make(start, end)
+
+    def _tspan(self, token: Token) -> Span:
+        return Span(
+            self.path, token.line or 1, token.column or 1, token.end_line or token.line or 1,
+            token.end_column or (token.column or 1) + len(token), token.start_pos if token.start_pos is not None else -1,
+            token.end_pos if token.end_pos is not None else -1,
+        )
+
+    def _name(self, token: Token) -> str:
+        text = str(token)
+        if text.startswith("^"):
+            return text[1:]
+        if text in self.keywords:
+            self.problems.append(
+                error(f"'{text}' is a reserved word and cannot be used as a name (write ^{text} to escape it)", self._tspan(token))
+            )
+        return text
