@@ -122,7 +122,6 @@ def run_workspace(workspace: str, package: bool) -> dict:
     from robogen.codegen.api import package_model
     from robogen.diagnostics import RobogenError
     from robogen.semantics import check_paths
-    from robogen.syntax import ast
 
     result: dict = {"workspace": workspace, "errors": [], "warnings": 0, "internal": None, "package": []}
     started = time.perf_counter()
@@ -139,9 +138,9 @@ def run_workspace(workspace: str, package: bool) -> dict:
     result["check_seconds"] = round(time.perf_counter() - started, 3)
     if not package or model.errors:
         return result
-    targets = [("module", m.qname) for m in model.modules.values()]
+    targets = [("module", m.qname) for m in model.modules]
     if not targets:
-        targets = [("machine", s.qname) for s in model.scopes.values() if isinstance(s.node, ast.StateMachine)]
+        targets = [("machine", s.qname) for s in model.machines]
     for kind, name in targets or [("default", None)]:  # nothing to name: let robogen say what it does
         entry = {"kind": kind, "name": name or "(no module or machine)", "status": "ok", "message": ""}
         with tempfile.TemporaryDirectory(prefix="robotool-corpus-") as tmp:
