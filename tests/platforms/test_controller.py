@@ -3,17 +3,17 @@ counts what it receives."""
 
 from __future__ import annotations
 
-from pathlib import Path
 
 import pytest
 from fmpy.validation import validate_fmu as fmpy_validate
 
-import pyfmu_testing as testing
+from support import pyfmu as testing
 from robogen.diagnostics import RobogenError
 from robogen.fmu.validate import validate_fmu
 from robogen.pyfmu.build import package
+from support import ROOT
 
-PLAN = Path(__file__).resolve().parents[2] / "models" / "ur5e" / "plan.toml"
+PLAN = ROOT / "models" / "ur5e" / "plan.toml"
 TARGETS = ("moveDiscreteCommand.target_X", "moveDiscreteCommand.target_Y", "moveDiscreteCommand.target_Z")
 CASE_STUDY_TIMES = [5.0, 10.5, 15.0, 23.5, 30.0, 35.5, 40.0, 48.5, 55.0, 60.5, 65.0, 73.5, 80.0, 85.5, 90.0, 98.5]
 

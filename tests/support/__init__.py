@@ -1,0 +1,14 @@
+"""What the test folders share: where the repository's files are, and helpers importable as
+``support.<module>`` (pyproject's pytest ``pythonpath`` puts tests/ on the path once).
+
+- :mod:`support.frontend`: the model corpus, AST walks and comparable diagnostics (syntax, semantics);
+- :mod:`support.pyfmu`: driving FMUs through fmpy, and the C host (pyfmu, platforms).
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parents[2]
+SHARED = ROOT.parent / "shared"
+REFERENCE_MODELS = SHARED / "reference-models"
