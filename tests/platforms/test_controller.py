@@ -97,7 +97,10 @@ def test_a_bad_plan_is_refused_when_packaging_with_its_location(tmp_path):
         package("robogen.platforms.controller:PlanController", tmp_path / "c.fmu", [f"plan={tmp_path}/none.toml"])
 
 
-def test_the_default_plan_is_the_case_study_file():
+def test_the_plan_has_no_default_and_packaging_without_one_says_so(tmp_path):
     from robogen.platforms.controller import PlanController
 
-    assert PLAN.relative_to(PLAN.parents[2]).as_posix() == PlanController.plan
+    assert PlanController.plan is None and PlanController.settings()["plan"].required
+    with pytest.raises(RobogenError, match=r"PlanController needs --set plan=VALUE: the setting 'plan' has no default"):
+        package("robogen.platforms.controller:PlanController", tmp_path / "c.fmu")
+    assert not (tmp_path / "c.fmu").exists()

@@ -2,7 +2,8 @@
 ``support.<module>`` (pyproject's pytest ``pythonpath`` puts tests/ on the path once).
 
 - :mod:`support.frontend`: the model corpus, AST walks and comparable diagnostics (syntax, semantics);
-- :mod:`support.pyfmu`: driving FMUs through fmpy, and the C host (pyfmu, platforms).
+- :mod:`support.pyfmu`: driving FMUs through fmpy, and the C host (pyfmu, platforms);
+- :mod:`support.wheel`: building robogen's wheel from a copy of the sources.
 """
 
 from __future__ import annotations

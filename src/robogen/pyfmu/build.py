@@ -103,6 +103,10 @@ def parse_settings(cls: type[Model], assignments: Iterable[str]) -> dict[str, ob
             values[name] = setting.parse(text.strip())
         except ValueError as exc:
             raise RobogenError.at(f"--set {name}={text}: {exc}", None) from None
+    for name, setting in declared.items():
+        if setting.required and name not in values:
+            raise RobogenError.at(f"{cls.__name__} needs --set {name}=VALUE: the setting '{name}' has no default "
+                                  f"({setting.description})", None)
     return values
 
 
