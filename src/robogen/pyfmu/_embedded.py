@@ -99,6 +99,7 @@ def bind(ffi: Any, lib: Any, config: dict) -> None:
             method(inst, *args)
         except BaseException as exc:  # noqa: BLE001 - nothing may escape into the host
             report(inst.c_instance, function, exc, inst.usage_error)
+            inst.slave.failed()
             return ERROR
         return 0
 
