@@ -3,6 +3,7 @@
 
 - :mod:`support.frontend`: the model corpus, AST walks and comparable diagnostics (syntax, semantics);
 - :mod:`support.pyfmu`: driving FMUs through fmpy, and the C host (pyfmu, platforms);
+- :mod:`support.harness`: the C programs on tests/harness/misuse_harness.h (runtime, pyfmu);
 - :mod:`support.wheel`: building robogen's wheel from a copy of the sources.
 """
 

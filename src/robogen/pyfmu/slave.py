@@ -7,9 +7,9 @@ state, clocked variables only while one of their clocks is active, output clocks
 Step Mode only once the event iteration is over, ``doStep`` only from ``lastSuccessfulTime``. A
 rule violation raises :class:`FmiUsageError` (the embedding turns it into ``fmi3Error`` and a log
 message, and the instance into Terminated: :meth:`Slave.failed`); an exception from the model
-propagates with its traceback. The C runtime of generated FMUs enforces the same rules
-(tests/pyfmu/test_misuse_python.py runs one set of cases against both). The embedding (``_embedded.py``) converts C arguments; this module is plain Python,
-so it is tested without compiling anything.
+propagates with its traceback. The C runtime of generated FMUs enforces the same rules (the
+tests run one set of misuse cases against both). The embedding (``_embedded.py``) converts C
+arguments; this module is plain Python, so it is tested without compiling anything.
 """
 
 from __future__ import annotations
