@@ -23,12 +23,14 @@ from pathlib import Path
 
 from bench_platform import joint_targets, run_bare  # the same bare loop as the platform benchmark
 
-from robogen.casestudy.build import build_all
 from robogen.cosim import simulate_system
 from robogen.platforms.plan import load_plan
 from robogen.platforms.urdf import ur5e_urdf
 
 ROOT = Path(__file__).resolve().parent.parent
+sys.path.insert(0, str(ROOT))  # the UR5e example is repository code (examples/ur5e), not installed
+from examples.ur5e.build import build_all  # noqa: E402
+
 QUICK = "--quick" in sys.argv
 REPEAT = 3 if QUICK else 7
 STOP = 100.0

@@ -6,9 +6,7 @@ from pathlib import Path
 
 import pytest
 
-ROOT = Path(__file__).resolve().parent.parent
-SHARED = ROOT.parent / "shared"
-REFERENCE_MODELS = SHARED / "reference-models"
+from support import ROOT, SHARED
 
 
 def pytest_collection_modifyitems(config, items):

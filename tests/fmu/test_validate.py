@@ -43,26 +43,26 @@ def test_header_declares_75_functions():
 
 @pytest.mark.parametrize("model, old, new, expected", [
     ("ticker", 'intervalDecimal="0.25" ', "",
-     (6, "constant clock 'tick' needs intervalDecimal")),
+     (12, "constant clock 'tick' needs intervalDecimal")),
     ("ticker", '<Clock name="out" valueReference="2" causality="output" variability="discrete" intervalVariability="triggered"/>',
      '<Clock name="out" valueReference="2" causality="output" variability="discrete" intervalVariability="countdown"/>',
-     (7, "output clock 'out' is countdown; output clocks must be triggered")),
+     (13, "output clock 'out' is countdown; output clocks must be triggered")),
     ("ticker", 'clocks="2"', 'clocks="5"',
-     (8, "'count': clocks= names 'phase' (value reference 5), which is a Float64, not a Clock")),
+     (14, "'count': clocks= names 'phase' (value reference 5), which is a Float64, not a Clock")),
     ("ticker", 'clocks="2"', 'clocks="42"',
-     (8, "'count': clocks=\"42\" names value reference 42, which no variable has")),
+     (14, "'count': clocks=\"42\" names value reference 42, which no variable has")),
     ("ticker", 'hasEventMode="true"', 'hasEventMode="false"',
-     (3, "the FMU has clocks (tick, out) but <CoSimulation> lacks hasEventMode=\"true\"")),
+     (6, "the FMU has clocks (tick, out) but <CoSimulation> lacks hasEventMode=\"true\"")),
     ("ticker", '<Float64 name="phase" valueReference="5" causality="output" variability="continuous"/>',
      '<Float64 name="phase" valueReference="5" causality="output" variability="continuous" clocks="2"/>',
-     (10, "clocked variable 'phase' has variability=\"continuous\"; clocked variables are discrete or tunable")),
+     (16, "clocked variable 'phase' has variability=\"continuous\"; clocked variables are discrete or tunable")),
     ("relay", 'intervalVariability="triggered"/>\n    <Int64 name="x_in"', 'intervalVariability="triggered" intervalDecimal="1.0"/>\n    <Int64 name="x_in"',
-     (6, "triggered clock 'u' must not have intervalDecimal")),
+     (12, "triggered clock 'u' must not have intervalDecimal")),
     ("relay", '<Clock name="y" valueReference="3" causality="output" variability="discrete" intervalVariability="triggered"/>',
      '<Clock name="y" valueReference="3" causality="output" variability="discrete" intervalVariability="triggered" priority="1"/>',
-     (8, "output clock 'y' must not have priority")),
+     (14, "output clock 'y' must not have priority")),
     ("relay", '    <Output valueReference="3" dependencies="1"/>\n', "",
-     (8, "output clock 'y' is missing from <ModelStructure><Output>")),
+     (14, "output clock 'y' is missing from <ModelStructure><Output>")),
 ])
 def test_clock_rules(built, tmp_path, model, old, new, expected):
     found = [(line, msg) for sev, line, msg in messages(variant(built, tmp_path, model, old, new)) if sev == "error"]
@@ -108,5 +108,5 @@ def test_cli_exit_codes_and_location(built, tmp_path, capsys):
     bad = variant(built, tmp_path, "ticker", 'intervalDecimal="0.25" ', "")
     assert main(["validate", str(bad)]) == 1
     err = capsys.readouterr().err
-    assert f"{bad}/modelDescription.xml:6:1: error: constant clock 'tick' needs intervalDecimal" in err
+    assert f"{bad}/modelDescription.xml:12:1: error: constant clock 'tick' needs intervalDecimal" in err
     assert '<Clock name="tick"' in err  # the excerpt of the line inside the archive

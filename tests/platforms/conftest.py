@@ -3,18 +3,13 @@ session, and the C host of tests/pyfmu compiled once per session."""
 
 from __future__ import annotations
 
-import sys
 from pathlib import Path
 
 import pytest
 
-ROOT = Path(__file__).resolve().parents[2]
-if str(ROOT / "tests" / "pyfmu") not in sys.path:
-    sys.path.insert(0, str(ROOT / "tests" / "pyfmu"))  # pyfmu_testing: the fmpy and C-host helpers
-
-import pyfmu_testing  # noqa: E402
-
-from robogen.pyfmu.build import package  # noqa: E402
+from robogen.pyfmu.build import package
+from support import ROOT
+from support.pyfmu import compile_host
 
 PLAN = ROOT / "models" / "ur5e" / "plan.toml"
 
@@ -33,4 +28,4 @@ def controller_fmu(tmp_path_factory) -> Path:
 
 @pytest.fixture(scope="session")
 def host(tmp_path_factory) -> Path:
-    return pyfmu_testing.compile_host(tmp_path_factory.mktemp("host"))
+    return compile_host(tmp_path_factory.mktemp("host"))

@@ -3,18 +3,12 @@ host compiled once per session."""
 
 from __future__ import annotations
 
-import sys
 from pathlib import Path
 
 import pytest
 
-HERE = Path(__file__).resolve().parent
-if str(HERE) not in sys.path:
-    sys.path.insert(0, str(HERE))  # pyfmu_fixture_models, pyfmu_testing
-
-from pyfmu_testing import compile_host  # noqa: E402
-
-from robogen.pyfmu.build import package  # noqa: E402
+from robogen.pyfmu.build import package
+from support.pyfmu import compile_host
 
 
 @pytest.fixture(scope="session")

@@ -80,6 +80,17 @@ def test_settings_parse_by_the_type_of_their_default_and_configure_a_subclass():
     assert issubclass(fast, Counter) and [v.vr for v in fast.variables()] == [v.vr for v in Counter.variables()]
 
 
+def test_a_setting_declared_by_its_type_has_no_default_until_configured():
+    required = Setting(float, "a period")
+    assert required.required and required.default is None and required.parse("0.25") == 0.25
+    assert not Setting(0.5).required
+
+    class Timed(Counter):
+        offset = Setting(float, "an offset [s]")
+
+    assert Timed.offset is None and Timed.configured({"offset": 1.5}).offset == 1.5
+
+
 def test_model_code_reads_and_writes_values_through_attributes():
     m = Counter()
     m.setup()

@@ -8,23 +8,13 @@ Sanitizers cannot run inside this Python process, hence the separate C program.
 
 from __future__ import annotations
 
-import os
-import re
-import subprocess
 from pathlib import Path
 
 import pytest
 
-from robogen import toolchain
-from robogen.fmu.headers import include_dir
+from support.harness import build_program, run, verdicts
 
 HERE = Path(__file__).resolve().parent
-
-SANITIZER_ENV = {
-    "ASAN_OPTIONS": "detect_leaks=1:halt_on_error=1:abort_on_error=0",
-    "UBSAN_OPTIONS": "halt_on_error=1:print_stacktrace=1",
-    "LSAN_OPTIONS": "",
-}
 
 # Calls with a NULL or dead instance cannot reach a logMessage callback: the runtime reports
 # them on stderr (one line each, in this order in misuse.c).
@@ -38,41 +28,12 @@ BAD_HANDLE_REPORTS = [
 ]
 
 
-def build_program(sources: list[Path], output: Path, *, sanitize: bool) -> Path:
-    args = [
-        *toolchain.CFLAGS,
-        "-O1",
-        *(toolchain.SANITIZE_FLAGS if sanitize else ()),
-        "-I",
-        str(include_dir()),
-        "-I",
-        str(HERE.parent / "harness"),  # misuse_harness.h, shared with tests/codegen/misuse_generated.c
-        *map(str, sources),
-        "-o",
-        str(output),
-        "-ldl",
-        "-lm",
-    ]
-    toolchain.run_compiler(args, f"test program {output.name}")
-    return output
-
-
-def run(program: Path, *args: Path, sanitize: bool) -> subprocess.CompletedProcess:
-    env = {key: value for key, value in os.environ.items() if key not in SANITIZER_ENV and key != "LD_PRELOAD"}
-    if sanitize:
-        env.update(SANITIZER_ENV)
-    return subprocess.run([str(program), *map(str, args)], capture_output=True, text=True, timeout=120, env=env)
-
-
-def check_suite(result: subprocess.CompletedProcess) -> None:
-    lines = result.stdout.splitlines()
-    cases = [line for line in lines if re.match(r"(not )?ok \d+ - (misuse|check): ", line)]
-    failed = [line for line in cases if line.startswith("not ok")]
-    assert result.returncode == 0, "\n".join(failed + lines[-3:] + result.stderr.splitlines()[-40:])
+def check_suite(result) -> None:
+    cases = verdicts(result)
+    failed = [text for _, passed, text in cases.values() if not passed]
+    assert result.returncode == 0, "\n".join(failed + result.stderr.splitlines()[-40:])
     assert not failed
-    misuse = [line for line in cases if " - misuse: " in line]
-    assert lines[-1] == f"# cases {len(cases)} misuse {len(misuse)} failures 0"
-    assert len(misuse) >= 30
+    assert sum(1 for kind, _, _ in cases.values() if kind == "misuse") >= 30
     reports = [line for line in result.stderr.splitlines() if line.startswith("robogen FMU ")]
     assert len(reports) == len(BAD_HANDLE_REPORTS)
     for report, expected in zip(reports, BAD_HANDLE_REPORTS):

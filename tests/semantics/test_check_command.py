@@ -10,7 +10,7 @@ import sys
 from pathlib import Path
 
 import pytest
-from frontend_testing import VALID
+from support.frontend import VALID
 
 from robogen.cli import main
 

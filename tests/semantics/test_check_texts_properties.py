@@ -7,7 +7,7 @@ from __future__ import annotations
 
 import re
 
-from frontend_testing import corpus_files
+from support.frontend import corpus_files
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 

@@ -7,7 +7,7 @@ from __future__ import annotations
 from fractions import Fraction
 
 import pytest
-from frontend_testing import REFERENCE, UR5E, VALID, at, brief, diagnostics, valid_entries
+from support.frontend import REFERENCE, UR5E, VALID, at, brief, diagnostics, valid_entries
 
 from robogen.semantics import check_paths, check_texts
 

@@ -4,7 +4,7 @@ they must point at."""
 
 from __future__ import annotations
 
-from frontend_testing import at, diagnostics, error, machine, robosim, warning
+from support.frontend import at, diagnostics, error, machine, robosim, warning
 
 
 # ---------------------------------------------------------------------------- RoboChart types

@@ -3,7 +3,7 @@ that can never fire, guards that overlap, RoboSim cycles that may never end)."""
 
 from __future__ import annotations
 
-from frontend_testing import at, diagnostics
+from support.frontend import at, diagnostics
 
 from robogen.semantics import check_texts
 

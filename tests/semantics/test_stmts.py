@@ -3,7 +3,7 @@ appear (RoboChart and RoboSim). Golden messages, located by the text they must p
 
 from __future__ import annotations
 
-from frontend_testing import diagnostics, error, machine, robosim
+from support.frontend import diagnostics, error, machine, robosim
 
 from robogen.semantics import check_texts
 

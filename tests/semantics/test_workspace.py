@@ -4,7 +4,7 @@ workspace, and the loading of files and folders."""
 from __future__ import annotations
 
 import pytest
-from frontend_testing import at, brief
+from support.frontend import at, brief
 
 from robogen.diagnostics import RobogenError
 from robogen.semantics import check_paths, check_texts

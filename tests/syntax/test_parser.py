@@ -4,7 +4,7 @@ they report (golden messages with exact line and column)."""
 from __future__ import annotations
 
 import pytest
-from frontend_testing import REFERENCE, corpus_files, reference_files, relative_ids, walk
+from support.frontend import REFERENCE, corpus_files, reference_files, relative_ids, walk
 
 from robogen.diagnostics import RobogenError, SourceMap, render
 from robogen.syntax import ast

@@ -15,7 +15,7 @@ from pathlib import Path
 
 import lark
 import pytest
-from frontend_testing import ROOT, VALID
+from support.frontend import ROOT, VALID
 
 SCRIPT = """
 import json, sys

@@ -4,7 +4,7 @@ with only the parentheses precedence needs."""
 from __future__ import annotations
 
 import pytest
-from frontend_testing import REFERENCE, corpus_files, reference_files, relative_ids
+from support.frontend import REFERENCE, corpus_files, reference_files, relative_ids
 
 from robogen.syntax import ast, printer
 from robogen.syntax.parser import parse_file, parse_text

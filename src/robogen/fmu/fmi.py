@@ -3,7 +3,7 @@
 The status codes and interval qualifiers are the values of the standard's C enumerations
 (``fmi3Status``, ``fmi3IntervalQualifier``); the master, the Python-FMU slave and the tests take
 them from here. The C runtime has its own copy of the tolerance (``RG_TIME_RELATIVE_TOLERANCE``
-in ``robogen_runtime.h``), which ``tests/runtime`` checks against :data:`TIME_TOLERANCE`.
+in ``robogen_runtime.h``), which the runtime's tests check against :data:`TIME_TOLERANCE`.
 """
 
 from __future__ import annotations

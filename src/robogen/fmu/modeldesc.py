@@ -1,47 +1,158 @@
-"""Reading ``modelDescription.xml`` of an FMI 3.0 FMU into plain dataclasses.
+"""The model description of an FMI 3.0 Co-Simulation FMU: frozen dataclasses, the reader, the token.
 
-The parser never expands entities, never loads a DTD and never touches the network (a
-third-party FMU is untrusted input). Every element keeps its source line so that the master
-and the validator can point at it. Only what robogen uses is read: the Co-Simulation interface,
-the default experiment, the variables (clocks with their timing attributes) and the model
-structure.
+One set of dataclasses serves both directions: :func:`read_model_description` returns a
+:class:`ModelDescription` and :func:`robogen.fmu.modeldesc_writer.write_model_description` takes
+one. They cover what robogen writes and what its master and validator read: the
+Co-Simulation interface, units, enumeration types, log categories, the default experiment,
+variables of every FMI 3.0 type (arrays with their dimensions, clocks with their timing,
+clocked variables) and the model structure.
+
+Decimal attributes (``start``, ``intervalDecimal``, ``shiftDecimal``, the default experiment)
+are kept as the text the producer wrote: a float cannot tell ``0`` from ``0.0``, and the text
+lets a description be read and written back byte for byte. Properties give the numbers where
+robogen computes with them.
 """
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+import hashlib
+from dataclasses import dataclass, field, fields
 from pathlib import Path
+from typing import Mapping
 
 from lxml import etree
 
 from robogen.diagnostics import RobogenError, Span
 
+#: The variable elements of FMI 3.0, in the order the standard lists them.
 TYPE_TAGS = (
     "Float32", "Float64", "Int8", "UInt8", "Int16", "UInt16", "Int32", "UInt32", "Int64", "UInt64",
     "Boolean", "String", "Binary", "Enumeration", "Clock",
 )
-MAX_XML_BYTES = 64 * 1024 * 1024
+#: Types whose start values are ``<Start value=...>`` children instead of a ``start`` attribute.
+START_ELEMENT_TYPES = ("String", "Binary")
+#: Types whose variability defaults to continuous (every other type: discrete).
+FLOAT_TYPES = ("Float32", "Float64")
+#: The SI base units a ``<BaseUnit>`` gives exponents of, in the standard's order.
+SI_BASE_UNITS = ("kg", "m", "s", "A", "K", "mol", "cd", "rad")
+#: The children of ``<ModelStructure>``, in the order the standard requires.
+STRUCTURE_ORDER = ("Output", "ContinuousStateDerivative", "ClockedState", "InitialUnknown", "EventIndicator")
+
+
+def instantiation_token(content: str | bytes) -> str:
+    """The instantiation token of an FMU defined by ``content``: its SHA-256, written like a GUID
+    (``{8-4-4-4-12}`` hexadecimal digits), so identical content gives an identical token."""
+    data = content.encode("utf-8") if isinstance(content, str) else content
+    h = hashlib.sha256(data).hexdigest()
+    return f"{{{h[0:8]}-{h[8:12]}-{h[12:16]}-{h[16:20]}-{h[20:32]}}}"
+
+
+def _flag(xml: str) -> bool:
+    """A boolean attribute of ``<CoSimulation>`` (default false), named ``xml`` in the file."""
+    return field(default=False, metadata={"xml": xml})
+
+
+@dataclass(frozen=True)
+class CoSimulation:
+    """The ``<CoSimulation>`` interface. The flags are written in declaration order, true ones only."""
+
+    model_identifier: str
+    needs_execution_tool: bool = _flag("needsExecutionTool")
+    can_handle_variable_step: bool = _flag("canHandleVariableCommunicationStepSize")
+    can_get_and_set_state: bool = _flag("canGetAndSetFMUState")
+    can_serialize_state: bool = _flag("canSerializeFMUState")
+    only_once_per_process: bool = _flag("canBeInstantiatedOnlyOncePerProcess")
+    provides_directional_derivatives: bool = _flag("providesDirectionalDerivatives")
+    provides_adjoint_derivatives: bool = _flag("providesAdjointDerivatives")
+    provides_per_element_dependencies: bool = _flag("providesPerElementDependencies")
+    provides_intermediate_update: bool = _flag("providesIntermediateUpdate")
+    can_return_early_after_intermediate_update: bool = _flag("canReturnEarlyAfterIntermediateUpdate")
+    provides_evaluate_discrete_states: bool = _flag("providesEvaluateDiscreteStates")
+    has_event_mode: bool = _flag("hasEventMode")
+    might_return_early: bool = _flag("mightReturnEarlyFromDoStep")
+    fixed_internal_step: str | None = None  # fixedInternalStepSize, decimal text
+    line: int = field(default=0, compare=False)
+
+
+@dataclass(frozen=True)
+class Unit:
+    """A ``<Unit>`` of ``<UnitDefinitions>``: its name and SI base-unit exponents (None: no
+    ``<BaseUnit>``), e.g. ``Unit("m/s", (("m", 1), ("s", -1)))``. A base unit's factor and
+    offset, and display units, are not read (robogen declares SI units only)."""
+
+    name: str
+    base_unit: tuple[tuple[str, int], ...] | None = None
+
+
+@dataclass(frozen=True)
+class Item:
+    name: str
+    value: int
+    description: str = ""
+
+
+@dataclass(frozen=True)
+class EnumerationType:
+    """An ``<EnumerationType>`` of ``<TypeDefinitions>``, named by Enumeration variables' ``declaredType``."""
+
+    name: str
+    items: tuple[Item, ...]
+
+
+@dataclass(frozen=True)
+class LogCategory:
+    name: str
+    description: str = ""
+
+
+@dataclass(frozen=True)
+class DefaultExperiment:
+    """``<DefaultExperiment>``; each attribute is decimal text, None when absent."""
+
+    start_time: str | None = None
+    stop_time: str | None = None
+    tolerance: str | None = None
+    step_size: str | None = None
+
+
+@dataclass(frozen=True)
+class Dimension:
+    """One ``<Dimension>`` of an array variable: a fixed size, or the structural parameter holding it."""
+
+    start: int | None = None
+    value_reference: int | None = None
 
 
 @dataclass(frozen=True)
 class Variable:
+    """One model variable. ``type`` is its element name (one of :data:`TYPE_TAGS`).
+
+    ``start`` holds one text per start value: the space-separated ``start`` attribute of an
+    array, or the ``<Start>`` children of a String or Binary. ``attributes`` is the element's
+    attribute table as read (the validator checks attributes that must be absent); the writer
+    never looks at it.
+    """
+
     name: str
     value_reference: int
-    type: str  # one of TYPE_TAGS
+    type: str
     causality: str = "local"
     variability: str = "continuous"
+    description: str = ""
     initial: str | None = None
-    start: str | None = None  # the raw attribute text
-    clocks: tuple[int, ...] = ()
+    start: tuple[str, ...] = ()
     declared_type: str | None = None
+    clocks: tuple[int, ...] = ()
     previous: int | None = None
+    unit: str | None = None
+    dimensions: tuple[Dimension, ...] = ()
     # Clock attributes (type == "Clock")
     interval_variability: str | None = None
-    interval: float | None = None
-    shift: float | None = None
+    interval_decimal: str | None = None
+    shift_decimal: str | None = None
     can_be_deactivated: bool = False
-    attributes: dict = field(default_factory=dict, compare=False, hash=False)
-    line: int = 0
+    attributes: Mapping[str, str] = field(default_factory=dict, compare=False, hash=False, repr=False)
+    line: int = field(default=0, compare=False)
 
     @property
     def is_clock(self) -> bool:
@@ -51,41 +162,43 @@ class Variable:
     def is_clocked(self) -> bool:
         return bool(self.clocks)
 
+    @property
+    def interval(self) -> float | None:
+        """A periodic clock's interval in seconds (None when the description gives none)."""
+        return None if self.interval_decimal is None else float(self.interval_decimal)
 
-@dataclass(frozen=True)
-class CoSimulation:
-    model_identifier: str
-    has_event_mode: bool = False
-    can_handle_variable_step: bool = False
-    might_return_early: bool = False
-    can_get_and_set_state: bool = False
-    fixed_internal_step: float | None = None
-    attributes: dict = field(default_factory=dict, compare=False, hash=False)
-    line: int = 0
+    @property
+    def shift(self) -> float | None:
+        """A periodic clock's shift in seconds (None when the description gives none)."""
+        return None if self.shift_decimal is None else float(self.shift_decimal)
 
 
 @dataclass(frozen=True)
 class Unknown:
-    kind: str  # Output, ContinuousStateDerivative, ClockedState, InitialUnknown, EventIndicator
+    """One child of ``<ModelStructure>``. ``dependencies`` None: depends on every known; (): on none."""
+
+    kind: str  # one of STRUCTURE_ORDER
     value_reference: int
-    dependencies: tuple[int, ...] | None
-    line: int = 0
+    dependencies: tuple[int, ...] | None = None
+    line: int = field(default=0, compare=False)
 
 
 @dataclass(frozen=True)
 class ModelDescription:
-    fmi_version: str
     model_name: str
     instantiation_token: str
     co_simulation: CoSimulation | None
     variables: tuple[Variable, ...]
     unknowns: tuple[Unknown, ...] = ()
-    start_time: float | None = None
-    stop_time: float | None = None
-    step_size: float | None = None
-    has_model_exchange: bool = False
-    has_scheduled_execution: bool = False
-    path: str = "modelDescription.xml"
+    fmi_version: str = "3.0"
+    description: str = ""
+    generation_tool: str = ""
+    variable_naming_convention: str | None = None
+    unit_definitions: tuple[Unit, ...] = ()
+    type_definitions: tuple[EnumerationType, ...] = ()
+    log_categories: tuple[LogCategory, ...] = ()
+    default_experiment: DefaultExperiment | None = None
+    path: str = field(default="modelDescription.xml", compare=False)
 
     def by_name(self) -> dict[str, Variable]:
         return {v.name: v for v in self.variables}
@@ -97,16 +210,27 @@ class ModelDescription:
         return Span.point(self.path, max(line, 1))
 
 
+MAX_XML_BYTES = 64 * 1024 * 1024
+
+
+# --------------------------------------------------------------------------------------------
+# Reading. The parser never expands entities, never loads a DTD and never touches the network
+# (a third-party FMU is untrusted input). Every element keeps the line where it starts, so the
+# master and the validator can point at it.
+
+
 def safe_parser() -> etree.XMLParser:
     """An lxml parser that resolves no entities, loads no DTD and uses no network."""
-    return etree.XMLParser(resolve_entities=False, no_network=True, load_dtd=False, dtd_validation=False, huge_tree=False, remove_comments=False)
+    return etree.XMLParser(resolve_entities=False, no_network=True, load_dtd=False, dtd_validation=False,
+                           huge_tree=False, remove_comments=False)
 
 
 def parse_xml(data: bytes, display_path: str) -> etree._ElementTree:
     if len(data) > MAX_XML_BYTES:
         raise RobogenError.at(f"modelDescription.xml is larger than {MAX_XML_BYTES} bytes", Span.whole_file(display_path))
     if b"<!DOCTYPE" in data[:4096] or b"<!ENTITY" in data:
-        raise RobogenError.at("modelDescription.xml declares a DOCTYPE or entities, which FMI does not allow", Span.whole_file(display_path))
+        raise RobogenError.at("modelDescription.xml declares a DOCTYPE or entities, which FMI does not allow",
+                              Span.whole_file(display_path))
     try:
         return etree.ElementTree(etree.fromstring(data, safe_parser()))
     except etree.XMLSyntaxError as exc:
@@ -114,122 +238,27 @@ def parse_xml(data: bytes, display_path: str) -> etree._ElementTree:
         raise RobogenError.at(f"malformed XML: {exc.msg}", Span.point(display_path, line or 1, (col or 0) + 1)) from None
 
 
-def _bool(value: str | None) -> bool:
-    return value in ("true", "1")
-
-
-def _float(value: str | None, what: str, where: Span) -> float | None:
-    if value is None:
-        return None
-    try:
-        return float(value)
-    except ValueError:
-        raise RobogenError.at(f"{what}: '{value}' is not a number", where) from None
-
-
-def _int(value: str | None, what: str, where: Span) -> int:
-    try:
-        return int(value)  # type: ignore[arg-type]
-    except (TypeError, ValueError):
-        raise RobogenError.at(f"{what}: '{value}' is not an integer", where) from None
-
-
-def _vr_list(value: str | None, what: str, where: Span) -> tuple[int, ...]:
-    if value is None:
-        return ()
-    try:
-        return tuple(int(x) for x in value.split())
-    except ValueError:
-        raise RobogenError.at(f"{what}: '{value}' is not a list of value references", where) from None
-
-
 def read_model_description(data: bytes, display_path: str = "modelDescription.xml") -> ModelDescription:
     """Parse the bytes of a modelDescription.xml. Raises RobogenError with a location."""
     root = parse_xml(data, display_path).getroot()
-
-    def at(el) -> Span:
-        return Span.point(display_path, el.sourceline or 1)
-
-    if root.tag != "fmiModelDescription":
-        raise RobogenError.at(f"root element is <{root.tag}>, expected <fmiModelDescription>", at(root))
-    version = root.get("fmiVersion", "")
-    if not version.startswith("3."):
-        raise RobogenError.at(f"fmiVersion is '{version}': robogen imports FMI 3.0 only", at(root))
-
-    cs = None
-    el = root.find("CoSimulation")
-    if el is not None:
-        cs = CoSimulation(
-            model_identifier=el.get("modelIdentifier", ""),
-            has_event_mode=_bool(el.get("hasEventMode")),
-            can_handle_variable_step=_bool(el.get("canHandleVariableCommunicationStepSize")),
-            might_return_early=_bool(el.get("mightReturnEarlyFromDoStep")),
-            can_get_and_set_state=_bool(el.get("canGetAndSetFMUState")),
-            fixed_internal_step=_float(el.get("fixedInternalStepSize"), "fixedInternalStepSize", at(el)),
-            attributes=dict(el.attrib),
-            line=el.sourceline or 0,
-        )
-
-    start = stop = step = None
-    de = root.find("DefaultExperiment")
-    if de is not None:
-        start = _float(de.get("startTime"), "startTime", at(de))
-        stop = _float(de.get("stopTime"), "stopTime", at(de))
-        step = _float(de.get("stepSize"), "stepSize", at(de))
-
-    variables: list[Variable] = []
-    mv = root.find("ModelVariables")
-    for v in (mv if mv is not None else []):
-        if not isinstance(v.tag, str) or v.tag not in TYPE_TAGS:
-            continue
-        where = at(v)
-        a = v.attrib
-        prev = a.get("previous")
-        variables.append(Variable(
-            name=a.get("name", ""),
-            value_reference=_int(a.get("valueReference"), "valueReference", where),
-            type=v.tag,
-            causality=a.get("causality", "local"),
-            variability=a.get("variability", "continuous" if v.tag in ("Float32", "Float64") else "discrete"),
-            initial=a.get("initial"),
-            start=a.get("start"),
-            clocks=_vr_list(a.get("clocks"), "clocks", where),
-            declared_type=a.get("declaredType"),
-            previous=_int(prev, "previous", where) if prev is not None else None,
-            interval_variability=a.get("intervalVariability"),
-            interval=_float(a.get("intervalDecimal"), "intervalDecimal", where),
-            shift=_float(a.get("shiftDecimal"), "shiftDecimal", where),
-            can_be_deactivated=_bool(a.get("canBeDeactivated")),
-            attributes=dict(a),
-            line=v.sourceline or 0,
-        ))
-
-    unknowns: list[Unknown] = []
-    ms = root.find("ModelStructure")
-    for u in (ms if ms is not None else []):
-        if not isinstance(u.tag, str):
-            continue
-        where = at(u)
-        deps = u.get("dependencies")
-        unknowns.append(Unknown(
-            kind=u.tag,
-            value_reference=_int(u.get("valueReference"), "valueReference", where),
-            dependencies=_vr_list(deps, "dependencies", where) if deps is not None else None,
-            line=u.sourceline or 0,
-        ))
-
+    source = _Source(data, display_path)
+    _check_root(root, source)
     return ModelDescription(
-        fmi_version=version,
         model_name=root.get("modelName", ""),
         instantiation_token=root.get("instantiationToken", ""),
-        co_simulation=cs,
-        variables=tuple(variables),
-        unknowns=tuple(unknowns),
-        start_time=start,
-        stop_time=stop,
-        step_size=step,
-        has_model_exchange=root.find("ModelExchange") is not None,
-        has_scheduled_execution=root.find("ScheduledExecution") is not None,
+        co_simulation=_co_simulation(root.find("CoSimulation"), source),
+        variables=tuple(_variable(el, source) for el in _children(root.find("ModelVariables"), TYPE_TAGS)),
+        unknowns=tuple(_unknown(el, source) for el in _children(root.find("ModelStructure"))),
+        fmi_version=root.get("fmiVersion", ""),
+        description=root.get("description", ""),
+        generation_tool=root.get("generationTool", ""),
+        variable_naming_convention=root.get("variableNamingConvention"),
+        unit_definitions=tuple(_unit(el, source) for el in _children(root.find("UnitDefinitions"), ("Unit",))),
+        type_definitions=tuple(_enumeration_type(el, source)
+                               for el in _children(root.find("TypeDefinitions"), ("EnumerationType",))),
+        log_categories=tuple(LogCategory(el.get("name", ""), el.get("description", ""))
+                             for el in _children(root.find("LogCategories"), ("Category",))),
+        default_experiment=_default_experiment(root.find("DefaultExperiment"), source),
         path=display_path,
     )
 
@@ -240,5 +269,142 @@ def load_model_description(folder: str | Path, display_path: str | None = None) 
     try:
         data = path.read_bytes()
     except OSError as exc:
-        raise RobogenError.at(f"cannot read modelDescription.xml: {exc.strerror}", Span.whole_file(display_path or str(path))) from None
+        raise RobogenError.at(f"cannot read modelDescription.xml: {exc.strerror}",
+                              Span.whole_file(display_path or str(path))) from None
     return read_model_description(data, display_path or str(path))
+
+
+class _Source:
+    """The file being read: locates elements and converts attribute texts, with located errors."""
+
+    def __init__(self, data: bytes, display_path: str):
+        self.path = display_path
+        self.lines = data.split(b"\n")
+
+    def line(self, el: etree._Element) -> int:
+        """The line where ``el``'s start tag opens (libxml2 gives the line where it closes)."""
+        line = min(el.sourceline or 1, len(self.lines))
+        opening = b"<" + el.tag.encode("utf-8")
+        while line > 1 and opening not in self.lines[line - 1]:
+            line -= 1
+        return line
+
+    def at(self, el: etree._Element) -> Span:
+        return Span.point(self.path, self.line(el))
+
+    def decimal(self, el: etree._Element, attr: str) -> str | None:
+        """The text of a decimal attribute, checked to be a number."""
+        value = el.get(attr)
+        if value is not None:
+            try:
+                float(value)
+            except ValueError:
+                raise RobogenError.at(f"{attr}: '{value}' is not a number", self.at(el)) from None
+        return value
+
+    def integer(self, el: etree._Element, attr: str) -> int:
+        value = el.get(attr)
+        try:
+            return int(value)  # type: ignore[arg-type]
+        except (TypeError, ValueError):
+            raise RobogenError.at(f"{attr}: '{value}' is not an integer", self.at(el)) from None
+
+    def optional_integer(self, el: etree._Element, attr: str) -> int | None:
+        return None if el.get(attr) is None else self.integer(el, attr)
+
+    def vr_list(self, el: etree._Element, attr: str) -> tuple[int, ...] | None:
+        value = el.get(attr)
+        if value is None:
+            return None
+        try:
+            return tuple(int(x) for x in value.split())
+        except ValueError:
+            raise RobogenError.at(f"{attr}: '{value}' is not a list of value references", self.at(el)) from None
+
+
+def _children(parent: etree._Element | None, tags: tuple[str, ...] | None = None) -> list[etree._Element]:
+    """The child elements of ``parent`` (none when absent), comments left out, only ``tags`` if given."""
+    if parent is None:
+        return []
+    return [el for el in parent if isinstance(el.tag, str) and (tags is None or el.tag in tags)]
+
+
+def _bool(value: str | None) -> bool:
+    return value in ("true", "1")
+
+
+def _check_root(root: etree._Element, source: _Source) -> None:
+    if root.tag != "fmiModelDescription":
+        raise RobogenError.at(f"root element is <{root.tag}>, expected <fmiModelDescription>", source.at(root))
+    version = root.get("fmiVersion", "")
+    if not version.startswith("3."):
+        raise RobogenError.at(f"fmiVersion is '{version}': robogen imports FMI 3.0 only", source.at(root))
+
+
+def _co_simulation(el: etree._Element | None, source: _Source) -> CoSimulation | None:
+    if el is None:
+        return None
+    flags = {f.name: _bool(el.get(f.metadata["xml"])) for f in fields(CoSimulation) if "xml" in f.metadata}
+    return CoSimulation(model_identifier=el.get("modelIdentifier", ""), **flags,
+                        fixed_internal_step=source.decimal(el, "fixedInternalStepSize"), line=source.line(el))
+
+
+def _unit(el: etree._Element, source: _Source) -> Unit:
+    base = el.find("BaseUnit")
+    if base is None:
+        return Unit(el.get("name", ""))
+    return Unit(el.get("name", ""), tuple((name, source.integer(base, name)) for name in SI_BASE_UNITS if name in base.attrib))
+
+
+def _enumeration_type(el: etree._Element, source: _Source) -> EnumerationType:
+    items = tuple(Item(item.get("name", ""), source.integer(item, "value"), item.get("description", ""))
+                  for item in _children(el, ("Item",)))
+    return EnumerationType(el.get("name", ""), items)
+
+
+def _default_experiment(el: etree._Element | None, source: _Source) -> DefaultExperiment | None:
+    if el is None:
+        return None
+    return DefaultExperiment(source.decimal(el, "startTime"), source.decimal(el, "stopTime"),
+                             source.decimal(el, "tolerance"), source.decimal(el, "stepSize"))
+
+
+def _variable(el: etree._Element, source: _Source) -> Variable:
+    a = el.attrib
+    if el.tag in START_ELEMENT_TYPES:
+        start = tuple(s.get("value", "") for s in _children(el, ("Start",)))
+    else:
+        start = tuple(a["start"].split()) if "start" in a else ()
+    return Variable(
+        name=a.get("name", ""),
+        value_reference=source.integer(el, "valueReference"),
+        type=el.tag,
+        causality=a.get("causality", "local"),
+        variability=a.get("variability", "continuous" if el.tag in FLOAT_TYPES else "discrete"),
+        description=a.get("description", ""),
+        initial=a.get("initial"),
+        start=start,
+        declared_type=a.get("declaredType"),
+        clocks=source.vr_list(el, "clocks") or (),
+        previous=source.optional_integer(el, "previous"),
+        unit=a.get("unit"),
+        dimensions=tuple(Dimension(source.optional_integer(d, "start"), source.optional_integer(d, "valueReference"))
+                         for d in _children(el, ("Dimension",))),
+        interval_variability=a.get("intervalVariability"),
+        interval_decimal=source.decimal(el, "intervalDecimal"),
+        shift_decimal=source.decimal(el, "shiftDecimal"),
+        can_be_deactivated=_bool(a.get("canBeDeactivated")),
+        attributes=dict(a),
+        line=source.line(el),
+    )
+
+
+def _unknown(el: etree._Element, source: _Source) -> Unknown:
+    return Unknown(kind=el.tag, value_reference=source.integer(el, "valueReference"),
+                   dependencies=source.vr_list(el, "dependencies"), line=source.line(el))
+
+
+__all__ = ["TYPE_TAGS", "START_ELEMENT_TYPES", "FLOAT_TYPES", "SI_BASE_UNITS", "STRUCTURE_ORDER", "MAX_XML_BYTES", "safe_parser",
+           "parse_xml", "read_model_description", "load_model_description", "instantiation_token", "CoSimulation", "Unit",
+           "Item", "EnumerationType", "LogCategory", "DefaultExperiment", "Dimension", "Variable", "Unknown",
+           "ModelDescription"]

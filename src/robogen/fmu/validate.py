@@ -20,12 +20,11 @@ from robogen.diagnostics import Diagnostic, DiagnosticSink, RobogenError, Span, 
 from robogen.fmu.elf import ElfError, exported_symbols
 from robogen.fmu.extract import check_archive, extract_fmu
 from robogen.fmu.headers import PLATFORM_TUPLE, include_dir, schema_dir
-from robogen.fmu.modeldesc import ModelDescription, Variable, parse_xml, read_model_description
+from robogen.fmu.modeldesc import STRUCTURE_ORDER, ModelDescription, Variable, parse_xml, read_model_description
 
 TOP_LEVEL = {"modelDescription.xml", "binaries", "sources", "resources", "documentation", "extra", "terminalsAndIcons", "icons"}
 TIME_BASED = ("constant", "fixed", "tunable", "changing", "countdown")
 KINDS = TIME_BASED + ("triggered",)
-STRUCTURE_ORDER = ("Output", "ContinuousStateDerivative", "ClockedState", "InitialUnknown", "EventIndicator")
 FRACTION_ATTRS = ("resolution", "intervalCounter", "shiftCounter")
 
 
@@ -151,8 +150,8 @@ def check_model_description(md: ModelDescription, sink: DiagnosticSink) -> None:
         sink.error("no <CoSimulation> element: robogen's master imports FMI 3.0 Co-Simulation FMUs", at(1))
     elif clocks and not cs.has_event_mode:
         sink.error(f"the FMU has clocks ({', '.join(c.name for c in clocks[:3])}) but <CoSimulation> lacks hasEventMode=\"true\"", at(cs.line))
-    if cs is not None and cs.might_return_early is False and cs.attributes.get("canReturnEarlyAfterIntermediateUpdate") == "true" \
-            and cs.attributes.get("providesIntermediateUpdate") != "true":
+    if cs is not None and not cs.might_return_early and cs.can_return_early_after_intermediate_update \
+            and not cs.provides_intermediate_update:
         sink.error("canReturnEarlyAfterIntermediateUpdate needs providesIntermediateUpdate", at(cs.line))
 
     for v in clocks:

@@ -1,8 +1,9 @@
 """The controller FMU: plays a plan of grid move commands and records what comes back.
 
 Package it with ``robogen package-py robogen.platforms.controller:PlanController -o
-ur5e_controller.fmu --set plan=models/ur5e/plan.toml`` (the default plan path is relative to the
-working directory); the plan file travels in the FMU's resources.
+ur5e_controller.fmu --set plan=PATH``: the plan has no default, and the file travels in the FMU's
+resources (a relative PATH is relative to the working directory of the command, as any path
+given on a command line).
 
 Each planned command raises the output clock ``moveDiscreteCommand`` with the clocked Int64
 outputs ``moveDiscreteCommand.target_X/Y/Z`` at its exact time: ``fmi3UpdateDiscreteStates``
@@ -22,7 +23,7 @@ from typing import Iterator
 
 from robogen.diagnostics import RobogenError, Span
 from robogen.platforms.plan import Command, Plan, load_plan
-from robogen.pyfmu import Clock, Int64, Model, Setting, Step, Update
+from robogen.pyfmu import Clock, FmiUsageError, Int64, Model, Setting, Step, Update
 from robogen.fmu.fmi import same_time
 
 RECEIVED = ("feasibleMoveDiscreteCommand", "nonfeasibleMoveDiscreteCommand", "moveCompleted", "robotStopped",
@@ -45,7 +46,7 @@ class PlanController(Model):
     might_return_early = True
     default_experiment = {"startTime": 0.0, "stopTime": 100.0, "stepSize": 0.5}
 
-    plan = Setting("models/ur5e/plan.toml", "the plan (TOML) copied into the FMU; relative to the working directory")
+    plan = Setting(str, "the plan file (TOML), copied into the FMU")
 
     moveDiscreteCommand = Clock(kind="triggered", causality="output", depends_on=(),
                                 description="a planned move command (raised by time)")
@@ -69,16 +70,16 @@ class PlanController(Model):
     def package_resources(cls) -> dict[str, bytes]:
         path = Path(cls.plan)
         if not path.is_file():
-            raise RobogenError.at(f"plan file '{path}' not found (relative to {Path.cwd()}; "
-                                  "give it with --set plan=PATH)", Span.whole_file(str(path)))
+            where = "" if path.is_absolute() else f" (relative to {Path.cwd()})"
+            raise RobogenError.at(f"plan file '{path}' not found{where}", Span.whole_file(str(path)))
         load_plan(path)  # reject a bad plan now, with located errors, not inside a simulation
         return {"plan.toml": path.read_bytes()}
 
     def setup(self) -> None:
-        if self.resource_path is not None and (self.resource_path / "plan.toml").is_file():
-            self._plan: Plan = load_plan(self.resource_path / "plan.toml")
-        else:
-            self._plan = load_plan(Path(self.plan))
+        packaged = None if self.resource_path is None else self.resource_path / "plan.toml"
+        if packaged is None or not packaged.is_file():
+            raise FmiUsageError("the plan is missing from the FMU's resources (resources/plan.toml)")
+        self._plan: Plan = load_plan(packaged)
         self._upcoming: Iterator[Command] = iter(())
         self._next: Command | None = None
         self._emitted = False  # a command was raised in the current instant

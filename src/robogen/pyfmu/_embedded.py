@@ -51,36 +51,61 @@ def _resource_folder(raw: str) -> Path:
 
 
 def bind(ffi: Any, lib: Any, config: dict) -> None:
+    """Bind every ``pyfmu_py_*`` function of bridge.h to Python (once per FMU binary)."""
     _add_site_dirs(config["site_dirs"])
-    instances: dict[int, "_Instance"] = {}
-    counter = [0]
-    loaded: dict[str, tuple[type, Any]] = {}
+    embedding = _Embedding(ffi, lib, config)
+    embedding.bind_creation()
+    embedding.bind_life_cycle()
+    embedding.bind_values()
+    embedding.bind_clocks()
+    embedding.bind_steps()
 
-    class _Instance:
-        __slots__ = ("slave", "c_instance", "strings", "usage_error")
 
-        def __init__(self, slave: Any, c_instance: Any, usage_error: type) -> None:
-            self.slave = slave
-            self.c_instance = c_instance
-            self.strings: list[Any] = []
-            self.usage_error = usage_error
+class _Instance:
+    """One live FMU instance: its slave, the C instance it logs through, and the strings the
+    last fmi3GetString returned (valid until the next call, as FMI 3.0 requires)."""
 
-    def logger(c_instance: Any):
+    __slots__ = ("slave", "c_instance", "strings", "usage_error")
+
+    def __init__(self, slave: Any, c_instance: Any, usage_error: type) -> None:
+        self.slave = slave
+        self.c_instance = c_instance
+        self.strings: list[Any] = []
+        self.usage_error = usage_error
+
+
+class _Embedding:
+    """The FMU binary's Python side: its live instances by handle (the integer the C shim keeps),
+    the model classes loaded per resources folder, and the bound functions."""
+
+    def __init__(self, ffi: Any, lib: Any, config: dict) -> None:
+        self.ffi = ffi
+        self.lib = lib
+        self.token = config["token"]
+        self.instances: dict[int, _Instance] = {}
+        self.last_handle = 0
+        self.loaded: dict[str, tuple[type, Any]] = {}
+
+    # -- helpers ----------------------------------------------------------------------------
+
+    def logger(self, c_instance: Any):
         def log(status: int, category: str, message: str) -> None:
-            lib.pyfmu_log(c_instance, status, category.encode("utf-8"), message.encode("utf-8", "replace"))
+            self.lib.pyfmu_log(c_instance, status, category.encode("utf-8"), message.encode("utf-8", "replace"))
         return log
 
-    def report(c_instance: Any, function: str, exc: BaseException, usage_error: type | None) -> None:
+    def report(self, c_instance: Any, function: str, exc: BaseException, usage_error: type | None) -> None:
+        """Log an exception: a usage error as its message, anything else with its traceback."""
         if usage_error is not None and isinstance(exc, usage_error):
             text = str(exc)
         else:
             text = f"{function}: Python exception in the FMU\n" + "".join(
                 traceback.format_exception(type(exc), exc, exc.__traceback__))
-        logger(c_instance)(ERROR, "logStatusError", text)
+        self.logger(c_instance)(ERROR, "logStatusError", text)
 
-    def load(resources: Path) -> tuple[type, Any]:
+    def load(self, resources: Path) -> tuple[type, Any]:
+        """The configured model class and the slave module of the FMU unpacked at ``resources``."""
         key = str(resources)
-        if key not in loaded:
+        if key not in self.loaded:
             meta = json.loads((resources / "pyfmu.json").read_text(encoding="utf-8"))
             python_dir = resources / "python"
             if str(python_dir) not in sys.path:
@@ -88,152 +113,170 @@ def bind(ffi: Any, lib: Any, config: dict) -> None:
             _extend_imported_packages(python_dir)
             slave_module = importlib.import_module("robogen.pyfmu.slave")
             model_class = getattr(importlib.import_module(meta["module"]), meta["class"])
-            loaded[key] = (model_class.configured(meta["settings"]), slave_module)
-        return loaded[key]
+            self.loaded[key] = (model_class.configured(meta["settings"]), slave_module)
+        return self.loaded[key]
 
-    def call(handle: int, function: str, method: Any, *args: Any) -> int:
-        inst = instances.get(handle)
+    def text(self, value: Any) -> str:
+        return self.ffi.string(value).decode("utf-8") if value != self.ffi.NULL else ""
+
+    def call(self, handle: int, function: str, method: Any, *args: Any) -> int:
+        """Run ``method(instance, *args)``; an exception becomes fmi3Error, its log message, and
+        the Terminated state FMI 3.0 leaves an instance in after an error."""
+        inst = self.instances.get(handle)
         if inst is None:
             return ERROR
         try:
             method(inst, *args)
         except BaseException as exc:  # noqa: BLE001 - nothing may escape into the host
-            report(inst.c_instance, function, exc, inst.usage_error)
+            self.report(inst.c_instance, function, exc, inst.usage_error)
+            inst.slave.failed()
             return ERROR
         return 0
 
-    def text(value: Any) -> str:
-        return ffi.string(value).decode("utf-8") if value != ffi.NULL else ""
+    def export(self, c_name: str, function: str, method: Any) -> None:
+        """Bind the bridge function ``c_name`` to ``method(instance, *C arguments)``."""
+        def entry(handle, *args):
+            return self.call(handle, function, method, *args)
+        self.ffi.def_extern(name=c_name, error=ERROR)(entry)
 
-    # -- creation -----------------------------------------------------------------------------
+    # -- creation ---------------------------------------------------------------------------
 
-    @ffi.def_extern(error=0)
-    def pyfmu_py_instantiate(c_instance, name, token, resource_path, visible, logging_on, event_mode_used,
-                             early_return_allowed):
+    def instantiate(self, c_instance, name, token, resource_path, visible, logging_on, event_mode_used,
+                    early_return_allowed) -> int:
+        """A new instance's handle, or 0 after logging why there is none."""
+        log = self.logger(c_instance)
         usage_error = None
         try:
-            if text(token) != config["token"]:
-                logger(c_instance)(ERROR, "logStatusError",
-                                   f"wrong instantiationToken {text(token)!r}; this FMU's is {config['token']!r}")
+            if self.text(token) != self.token:
+                log(ERROR, "logStatusError",
+                    f"wrong instantiationToken {self.text(token)!r}; this FMU's is {self.token!r}")
                 return 0
-            if resource_path == ffi.NULL:
-                logger(c_instance)(ERROR, "logStatusError",
-                                   "resourcePath is NULL: this FMU's Python code lives in its resources/ folder")
+            if resource_path == self.ffi.NULL:
+                log(ERROR, "logStatusError",
+                    "resourcePath is NULL: this FMU's Python code lives in its resources/ folder")
                 return 0
-            resources = _resource_folder(text(resource_path))
-            model_class, slave_module = load(resources)
+            resources = _resource_folder(self.text(resource_path))
+            model_class, slave_module = self.load(resources)
             usage_error = slave_module.FmiUsageError
             slave = slave_module.Slave(
-                model_class, instance_name=text(name), resource_path=resources,
-                event_mode_used=bool(event_mode_used), early_return_allowed=bool(early_return_allowed),
-                logger=logger(c_instance))
+                model_class, instance_name=self.text(name), resource_path=resources,
+                event_mode_used=bool(event_mode_used), early_return_allowed=bool(early_return_allowed), logger=log)
         except BaseException as exc:  # noqa: BLE001
-            report(c_instance, "fmi3InstantiateCoSimulation", exc, usage_error)
+            self.report(c_instance, "fmi3InstantiateCoSimulation", exc, usage_error)
             return 0
-        counter[0] += 1
-        instances[counter[0]] = _Instance(slave, c_instance, usage_error)
-        return counter[0]
+        self.last_handle += 1
+        self.instances[self.last_handle] = _Instance(slave, c_instance, usage_error)
+        return self.last_handle
 
-    @ffi.def_extern()
-    def pyfmu_py_free_instance(handle):
-        inst = instances.pop(handle, None)
+    def free_instance(self, handle) -> None:
+        inst = self.instances.pop(handle, None)
         if inst is not None:
             try:
                 inst.slave.free()
             except BaseException as exc:  # noqa: BLE001
-                report(inst.c_instance, "fmi3FreeInstance", exc, inst.usage_error)
+                self.report(inst.c_instance, "fmi3FreeInstance", exc, inst.usage_error)
 
-    def export(c_name: str, function: str, method: Any) -> None:
-        """Bind the bridge function ``c_name`` to ``method(instance, *C arguments)``."""
-        def entry(handle, *args):
-            return call(handle, function, method, *args)
-        ffi.def_extern(name=c_name, error=ERROR)(entry)
+    def bind_creation(self) -> None:
+        self.ffi.def_extern(name="pyfmu_py_instantiate", error=0)(self.instantiate)
+        self.ffi.def_extern(name="pyfmu_py_free_instance")(self.free_instance)
 
-    # -- life cycle ---------------------------------------------------------------------------
+    # -- life cycle -------------------------------------------------------------------------
 
-    export("pyfmu_py_enter_initialization_mode", "fmi3EnterInitializationMode",
-           lambda i, tol_defined, tol, start, stop_defined, stop: i.slave.enter_initialization_mode(
-               tol if tol_defined else None, start, stop if stop_defined else None))
-    export("pyfmu_py_exit_initialization_mode", "fmi3ExitInitializationMode",
-           lambda i: i.slave.exit_initialization_mode())
-    export("pyfmu_py_enter_event_mode", "fmi3EnterEventMode", lambda i: i.slave.enter_event_mode())
-    export("pyfmu_py_enter_step_mode", "fmi3EnterStepMode", lambda i: i.slave.enter_step_mode())
-    export("pyfmu_py_terminate", "fmi3Terminate", lambda i: i.slave.terminate())
-    export("pyfmu_py_reset", "fmi3Reset", lambda i: i.slave.reset())
+    def bind_life_cycle(self) -> None:
+        export = self.export
+        export("pyfmu_py_enter_initialization_mode", "fmi3EnterInitializationMode",
+               lambda i, tol_defined, tol, start, stop_defined, stop: i.slave.enter_initialization_mode(
+                   tol if tol_defined else None, start, stop if stop_defined else None))
+        export("pyfmu_py_exit_initialization_mode", "fmi3ExitInitializationMode",
+               lambda i: i.slave.exit_initialization_mode())
+        export("pyfmu_py_enter_event_mode", "fmi3EnterEventMode", lambda i: i.slave.enter_event_mode())
+        export("pyfmu_py_enter_step_mode", "fmi3EnterStepMode", lambda i: i.slave.enter_step_mode())
+        export("pyfmu_py_terminate", "fmi3Terminate", lambda i: i.slave.terminate())
+        export("pyfmu_py_reset", "fmi3Reset", lambda i: i.slave.reset())
 
-    # -- values -------------------------------------------------------------------------------
+    # -- values -----------------------------------------------------------------------------
 
-    def check_counts(inst, function: str, nvr: int, nvalues: int) -> None:
+    @staticmethod
+    def check_counts(inst: _Instance, function: str, nvr: int, nvalues: int) -> None:
         if nvalues != nvr:
             raise inst.usage_error(f"{function}: nValues ({nvalues}) must equal nValueReferences ({nvr}): "
                                    "the FMU has no arrays")
 
-    def getter(function: str, type_name: str):
+    def getter(self, function: str, type_name: str):
         def get(inst, vr, nvr, values, nvalues):
-            check_counts(inst, function, nvr, nvalues)
-            for k, value in enumerate(inst.slave.get(function, type_name, ffi.unpack(vr, nvr))):
+            self.check_counts(inst, function, nvr, nvalues)
+            for k, value in enumerate(inst.slave.get(function, type_name, self.ffi.unpack(vr, nvr))):
                 values[k] = value
         return get
 
-    def setter(function: str, type_name: str):
+    def setter(self, function: str, type_name: str):
         def set_(inst, vr, nvr, values, nvalues):
-            check_counts(inst, function, nvr, nvalues)
-            inst.slave.set(function, type_name, ffi.unpack(vr, nvr), ffi.unpack(values, nvalues))
+            self.check_counts(inst, function, nvr, nvalues)
+            inst.slave.set(function, type_name, self.ffi.unpack(vr, nvr), self.ffi.unpack(values, nvalues))
         return set_
 
-    def get_strings(inst, vr, nvr, values, nvalues):
-        check_counts(inst, "fmi3GetString", nvr, nvalues)
-        result = inst.slave.get("fmi3GetString", "String", ffi.unpack(vr, nvr))
-        inst.strings = [ffi.new("char[]", s.encode("utf-8")) for s in result]  # valid until the next call
+    def get_strings(self, inst, vr, nvr, values, nvalues) -> None:
+        self.check_counts(inst, "fmi3GetString", nvr, nvalues)
+        result = inst.slave.get("fmi3GetString", "String", self.ffi.unpack(vr, nvr))
+        inst.strings = [self.ffi.new("char[]", s.encode("utf-8")) for s in result]  # valid until the next call
         for k, buffer in enumerate(inst.strings):
             values[k] = buffer
 
-    def set_strings(inst, vr, nvr, values, nvalues):
-        check_counts(inst, "fmi3SetString", nvr, nvalues)
-        inst.slave.set("fmi3SetString", "String", ffi.unpack(vr, nvr), [text(values[k]) for k in range(nvalues)])
+    def set_strings(self, inst, vr, nvr, values, nvalues) -> None:
+        self.check_counts(inst, "fmi3SetString", nvr, nvalues)
+        inst.slave.set("fmi3SetString", "String", self.ffi.unpack(vr, nvr),
+                       [self.text(values[k]) for k in range(nvalues)])
 
-    for type_name in ("Float64", "Int32", "Int64", "Boolean"):
-        export(f"pyfmu_py_get_{type_name.lower()}", f"fmi3Get{type_name}", getter(f"fmi3Get{type_name}", type_name))
-        export(f"pyfmu_py_set_{type_name.lower()}", f"fmi3Set{type_name}", setter(f"fmi3Set{type_name}", type_name))
-    export("pyfmu_py_get_string", "fmi3GetString", get_strings)
-    export("pyfmu_py_set_string", "fmi3SetString", set_strings)
+    def bind_values(self) -> None:
+        for type_name in ("Float64", "Int32", "Int64", "Boolean"):
+            get, set_ = f"fmi3Get{type_name}", f"fmi3Set{type_name}"
+            self.export(f"pyfmu_py_get_{type_name.lower()}", get, self.getter(get, type_name))
+            self.export(f"pyfmu_py_set_{type_name.lower()}", set_, self.setter(set_, type_name))
+        self.export("pyfmu_py_get_string", "fmi3GetString", self.get_strings)
+        self.export("pyfmu_py_set_string", "fmi3SetString", self.set_strings)
 
-    # -- clocks -------------------------------------------------------------------------------
+    # -- clocks -----------------------------------------------------------------------------
 
-    def get_clock(inst, vr, nvr, values):
-        for k, active in enumerate(inst.slave.get_clock(ffi.unpack(vr, nvr))):
+    def get_clock(self, inst, vr, nvr, values) -> None:
+        for k, active in enumerate(inst.slave.get_clock(self.ffi.unpack(vr, nvr))):
             values[k] = active
 
-    def get_intervals(inst, vr, nvr, intervals, qualifiers):
-        values, kinds = inst.slave.get_interval_decimal(ffi.unpack(vr, nvr))
+    def set_clock(self, inst, vr, nvr, values) -> None:
+        inst.slave.set_clock(self.ffi.unpack(vr, nvr), self.ffi.unpack(values, nvr))
+
+    def get_intervals(self, inst, vr, nvr, intervals, qualifiers) -> None:
+        values, kinds = inst.slave.get_interval_decimal(self.ffi.unpack(vr, nvr))
         for k in range(nvr):
             intervals[k], qualifiers[k] = values[k], kinds[k]
 
-    def get_shifts(inst, vr, nvr, shifts):
-        for k, value in enumerate(inst.slave.get_shift_decimal(ffi.unpack(vr, nvr))):
+    def get_shifts(self, inst, vr, nvr, shifts) -> None:
+        for k, value in enumerate(inst.slave.get_shift_decimal(self.ffi.unpack(vr, nvr))):
             shifts[k] = value
 
-    export("pyfmu_py_get_clock", "fmi3GetClock", get_clock)
-    export("pyfmu_py_set_clock", "fmi3SetClock",
-           lambda i, vr, nvr, values: i.slave.set_clock(ffi.unpack(vr, nvr), ffi.unpack(values, nvr)))
-    export("pyfmu_py_get_interval_decimal", "fmi3GetIntervalDecimal", get_intervals)
-    export("pyfmu_py_get_shift_decimal", "fmi3GetShiftDecimal", get_shifts)
+    def bind_clocks(self) -> None:
+        self.export("pyfmu_py_get_clock", "fmi3GetClock", self.get_clock)
+        self.export("pyfmu_py_set_clock", "fmi3SetClock", self.set_clock)
+        self.export("pyfmu_py_get_interval_decimal", "fmi3GetIntervalDecimal", self.get_intervals)
+        self.export("pyfmu_py_get_shift_decimal", "fmi3GetShiftDecimal", self.get_shifts)
 
-    # -- event instants and steps -------------------------------------------------------------
+    # -- event instants and steps -----------------------------------------------------------
 
-    def update(inst, flags, next_event_time):
+    @staticmethod
+    def update(inst, flags, next_event_time) -> None:
         result = inst.slave.update_discrete_states()
         flags[0] = result.discrete_states_need_update
         flags[1] = result.terminate
         flags[2] = result.next_event_time_defined
         next_event_time[0] = result.next_event_time
 
-    def step(inst, t, h, flags, last_successful_time):
+    @staticmethod
+    def step(inst, t, h, flags, last_successful_time) -> None:
         result = inst.slave.do_step(t, h)
         flags[0] = result.event_handling_needed
         flags[1] = result.terminate
         flags[2] = result.early_return
         last_successful_time[0] = result.last_successful_time
 
-    export("pyfmu_py_update_discrete_states", "fmi3UpdateDiscreteStates", update)
-    export("pyfmu_py_do_step", "fmi3DoStep", step)
+    def bind_steps(self) -> None:
+        self.export("pyfmu_py_update_discrete_states", "fmi3UpdateDiscreteStates", self.update)
+        self.export("pyfmu_py_do_step", "fmi3DoStep", self.step)

@@ -35,7 +35,8 @@ from robogen import toolchain
 from robogen.diagnostics import RobogenError, did_you_mean
 from robogen.fmu.archive import write_fmu
 from robogen.fmu.headers import PLATFORM_TUPLE, include_dir
-from robogen.pyfmu.description import instantiation_token, model_description
+from robogen.fmu.modeldesc_writer import write_model_description
+from robogen.pyfmu.description import model_description
 from robogen.pyfmu.model import Model
 
 HERE = Path(__file__).resolve().parent
@@ -102,6 +103,10 @@ def parse_settings(cls: type[Model], assignments: Iterable[str]) -> dict[str, ob
             values[name] = setting.parse(text.strip())
         except ValueError as exc:
             raise RobogenError.at(f"--set {name}={text}: {exc}", None) from None
+    for name, setting in declared.items():
+        if setting.required and name not in values:
+            raise RobogenError.at(f"{cls.__name__} needs --set {name}=VALUE: the setting '{name}' has no default "
+                                  f"({setting.description})", None)
     return values
 
 
@@ -329,13 +334,13 @@ def package(spec: str, output: str | os.PathLike, assignments: Iterable[str] = (
     if not _IDENTIFIER.match(identifier):
         raise RobogenError.at(f"modelIdentifier '{identifier}' is not a C identifier "
                               "(set the class's model_identifier or use --model-identifier)", None)
-    xml = model_description(configured, identifier)
-    token = instantiation_token(xml)
+    description = model_description(configured, identifier)
+    token = description.instantiation_token
     module_name, _, class_name = spec.partition(":")
     info = _python_build_info()
 
     files: dict[str, bytes | str | os.PathLike] = {
-        "modelDescription.xml": xml,
+        "modelDescription.xml": write_model_description(description),
         "documentation/externalDependencies.txt": external_dependencies(info),
         "resources/pyfmu.json": json.dumps({"module": module_name, "class": class_name, "settings": values,
                                             "instantiationToken": token}, indent=2, sort_keys=True) + "\n",

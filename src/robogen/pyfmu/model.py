@@ -264,12 +264,16 @@ class Clock(Var):
 class Setting:
     """A packaging-time constant of the model class (see the module docstring).
 
-    Reading it on the class or an instance gives its value; ``Model.configured`` makes a
-    subclass with other values, checked against the type of the default.
+    ``Setting(0.5, "...")`` has a default, whose type the values must have; ``Setting(str,
+    "...")``, a type instead of a value, has none, and packaging needs ``--set NAME=VALUE``.
+    Reading it on the class or an instance gives its value (None while a required one has none);
+    ``Model.configured`` makes a subclass with other values.
     """
 
     def __init__(self, default: Any, description: str = "") -> None:
-        self.default = default
+        self.required = isinstance(default, type)
+        self.kind: type = default if self.required else type(default)
+        self.default = None if self.required else default
         self.description = description
         self.attr = ""
 
@@ -280,8 +284,8 @@ class Setting:
         return self.default
 
     def parse(self, text: str) -> Any:
-        """The value of ``--set NAME=TEXT``, of the default's type."""
-        kind = type(self.default)
+        """The value of ``--set NAME=TEXT``, of the setting's type."""
+        kind = self.kind
         if kind is bool:
             if text.lower() in ("1", "true", "yes", "on"):
                 return True
@@ -418,10 +422,6 @@ class Model:
         namespace: dict[str, Any] = {k: _SettingValue(cls._settings[k], v) for k, v in values.items()}
         namespace["__module__"] = cls.__module__
         return type(cls.__name__, (cls,), namespace)
-
-    @classmethod
-    def setting_values(cls) -> dict[str, Any]:
-        return {name: getattr(cls, name) for name in cls._settings}
 
     @classmethod
     def clock_seconds(cls, value: float | str) -> float:

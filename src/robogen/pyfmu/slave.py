@@ -3,11 +3,13 @@
 :class:`Slave` owns one :class:`robogen.pyfmu.model.Model` instance and answers the importer's
 calls as the FMI 3.0 standard requires (../shared/docs/fmi3.md §1-§2): allowed calls per
 state, clocked variables only while one of their clocks is active, output clocks deactivated by
-``update_discrete_states``, a periodic clock at most once per Event Mode, ``doStep`` only from
-``lastSuccessfulTime``. A rule violation raises :class:`FmiUsageError` (the embedding turns it
-into ``fmi3Error`` and a log message); an exception from the model propagates with its
-traceback. The embedding (``_embedded.py``) converts C arguments; this module is plain Python,
-so it is tested without compiling anything.
+``update_discrete_states``, a periodic clock only at its ticks and at most once per Event Mode,
+Step Mode only once the event iteration is over, ``doStep`` only from ``lastSuccessfulTime``. A
+rule violation raises :class:`FmiUsageError` (the embedding turns it into ``fmi3Error`` and a log
+message, and the instance into Terminated: :meth:`Slave.failed`); an exception from the model
+propagates with its traceback. The C runtime of generated FMUs enforces the same rules (the
+tests run one set of misuse cases against both). The embedding (``_embedded.py``) converts C
+arguments; this module is plain Python, so it is tested without compiling anything.
 """
 
 from __future__ import annotations
@@ -88,6 +90,7 @@ class Slave:
         self._new_input_clocks: set[str] = set()   # activated since the last react()
         self._reacted = False                       # react() ran in this instant
         self._updated_in_event_mode = False         # an update closed an instant in this Event Mode
+        self._update_pending = False                # the last update asked for another instant
         self._periodic_ticked: set[str] = set()     # periodic clocks activated in this Event Mode
 
     # -- helpers --------------------------------------------------------------------------------
@@ -144,6 +147,12 @@ class Slave:
         self._require("fmi3EnterStepMode", State.EVENT)
         if not self._updated_in_event_mode:
             raise FmiUsageError("fmi3EnterStepMode: call fmi3UpdateDiscreteStates at least once per event instant")
+        if self._update_pending:
+            raise FmiUsageError("fmi3EnterStepMode: the event iteration is not finished: call fmi3UpdateDiscreteStates "
+                                "until it returns discreteStatesNeedUpdate=false")
+        if self.model._active_clocks:
+            raise FmiUsageError(f"fmi3EnterStepMode: clock '{sorted(self.model._active_clocks)[0]}' is active: close "
+                                "its instant with fmi3UpdateDiscreteStates first")
         self.state = State.STEP
         self._set_since_step = False
 
@@ -151,6 +160,11 @@ class Slave:
         self._require("fmi3Terminate", State.EVENT, State.STEP)
         self.model.terminate()
         self.model._active_clocks.clear()
+        self.state = State.TERMINATED
+
+    def failed(self) -> None:
+        """An fmi3Error went back to the importer: from here on FMI 3.0 allows only what
+        Terminated allows (Get, fmi3Reset, fmi3FreeInstance)."""
         self.state = State.TERMINATED
 
     def reset(self) -> None:
@@ -234,8 +248,8 @@ class Slave:
                 raise FmiUsageError(f"fmi3SetClock: '{clock.name}' is an {clock.causality} clock")
             if not value:
                 raise FmiUsageError(f"fmi3SetClock: '{clock.name}' cannot be deactivated (canBeDeactivated=false)")
-            if clock.periodic and clock.name in self._periodic_ticked and not self.model.clock_active(clock.name):
-                raise FmiUsageError(f"fmi3SetClock: periodic clock '{clock.name}' was already active in this Event Mode")
+            if clock.periodic and not self.model.clock_active(clock.name):
+                self._check_tick(clock)
         for clock in clocks:
             if not self.model.clock_active(clock.name):
                 self.model._active_clocks.add(clock.name)
@@ -243,6 +257,17 @@ class Slave:
                 if clock.periodic:
                     self._periodic_ticked.add(clock.name)
                 self.model.log(f"t={self.model.time:.9g}: input clock {clock.name} active")
+
+    def _check_tick(self, clock: Clock) -> None:
+        """A periodic clock ticks at t_k = start + shift + k * interval, once per Event Mode."""
+        if clock.name in self._periodic_ticked:
+            raise FmiUsageError(f"fmi3SetClock: periodic clock '{clock.name}' was already active in this Event Mode")
+        origin = self.model.start_time + self.model_class.clock_seconds(clock.shift)
+        interval = self.model_class.clock_seconds(clock.interval)  # type: ignore[arg-type]
+        k = max(0, round((self.model.time - origin) / interval))
+        if not same_time(self.model.time, origin + k * interval):
+            raise FmiUsageError(f"fmi3SetClock: periodic clock '{clock.name}' is not due at t={self.model.time!r}: "
+                                f"it ticks at {origin!r} + k * {interval!r}")
 
     def get_clock(self, vrs: Sequence[int]) -> list[bool]:
         self._require("fmi3GetClock", State.INITIALIZATION, State.EVENT)
@@ -267,7 +292,7 @@ class Slave:
         return intervals, qualifiers
 
     def get_shift_decimal(self, vrs: Sequence[int]) -> list[float]:
-        self._require("fmi3GetShiftDecimal", State.INITIALIZATION, State.EVENT)
+        self._require("fmi3GetShiftDecimal", State.INITIALIZATION)
         shifts = []
         for vr in vrs:
             clock = self._clock("fmi3GetShiftDecimal", vr)
@@ -288,6 +313,7 @@ class Slave:
         self._new_input_clocks.clear()
         self._reacted = False
         self._updated_in_event_mode = True
+        self._update_pending = update.need_update
         next_time = update.next_event_time
         defined = next_time is not None and math.isfinite(next_time)
         return UpdateResult(update.need_update, update.terminate, defined, float(next_time) if defined else 0.0)

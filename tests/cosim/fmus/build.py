@@ -12,101 +12,97 @@ from __future__ import annotations
 import sys
 import tempfile
 from pathlib import Path
-from xml.sax.saxutils import quoteattr
+
+from robogen.fmu.modeldesc import CoSimulation, ModelDescription, Unknown, Variable
+from robogen.fmu.modeldesc_writer import with_content_token, write_model_description
 
 HERE = Path(__file__).resolve().parent
 
-# name, vr, type, causality, variability, extra attributes
-V = tuple
+
+def var(name: str, vr: int, type_: str, causality: str, variability: str, *, start: str | None = None,
+        clock: int | None = None) -> Variable:
+    return Variable(name, vr, type_, causality, variability, start=() if start is None else (start,),
+                    clocks=() if clock is None else (clock,))
+
+
+def clock(name: str, vr: int, causality: str, kind: str, interval: str | None = None) -> Variable:
+    """A clock; a periodic one (``interval`` given) starts at shift 0."""
+    return Variable(name, vr, "Clock", causality, "discrete", interval_variability=kind, interval_decimal=interval,
+                    shift_decimal=None if interval is None else "0")
+
+
 MODELS: dict[str, dict] = {
     "ball": dict(
         early=True, state=True,
         vars=[
-            V(("h", 1, "Float64", "output", "continuous", {})),
-            V(("v", 2, "Float64", "output", "continuous", {})),
-            V(("bounces", 3, "Int64", "output", "discrete", {})),
-            V(("h0", 4, "Float64", "parameter", "fixed", {"start": "1.0"})),
-            V(("e", 5, "Float64", "parameter", "fixed", {"start": "0.7"})),
+            var("h", 1, "Float64", "output", "continuous"),
+            var("v", 2, "Float64", "output", "continuous"),
+            var("bounces", 3, "Int64", "output", "discrete"),
+            var("h0", 4, "Float64", "parameter", "fixed", start="1.0"),
+            var("e", 5, "Float64", "parameter", "fixed", start="0.7"),
         ]),
     "stair": dict(
         early=True,
         vars=[
-            V(("counter", 1, "Int64", "output", "discrete", {})),
-            V(("period", 2, "Float64", "parameter", "fixed", {"start": "1.0"})),
-            V(("last", 3, "Int64", "parameter", "fixed", {"start": "0"})),
+            var("counter", 1, "Int64", "output", "discrete"),
+            var("period", 2, "Float64", "parameter", "fixed", start="1.0"),
+            var("last", 3, "Int64", "parameter", "fixed", start="0"),
         ]),
     "ticker": dict(
         vars=[
-            V(("tick", 1, "Clock", "input", "discrete", {"intervalVariability": "constant", "intervalDecimal": "0.25", "shiftDecimal": "0"})),
-            V(("out", 2, "Clock", "output", "discrete", {"intervalVariability": "triggered"})),
-            V(("count", 3, "Int64", "output", "discrete", {"clocks": "2"})),
-            V(("ticks", 4, "Int64", "output", "discrete", {})),
-            V(("phase", 5, "Float64", "output", "continuous", {})),
+            clock("tick", 1, "input", "constant", interval="0.25"),
+            clock("out", 2, "output", "triggered"),
+            var("count", 3, "Int64", "output", "discrete", clock=2),
+            var("ticks", 4, "Int64", "output", "discrete"),
+            var("phase", 5, "Float64", "output", "continuous"),
         ],
-        deps={2: "1", 3: "2"}),
+        deps={2: (1,), 3: (2,)}),
     "relay": dict(
         vars=[
-            V(("u", 1, "Clock", "input", "discrete", {"intervalVariability": "triggered"})),
-            V(("x_in", 2, "Int64", "input", "discrete", {"clocks": "1", "start": "0"})),
-            V(("y", 3, "Clock", "output", "discrete", {"intervalVariability": "triggered"})),
-            V(("x_out", 4, "Int64", "output", "discrete", {"clocks": "3"})),
-            V(("stepwise", 5, "Boolean", "parameter", "fixed", {"start": "false"})),
-            V(("n", 6, "Int64", "output", "discrete", {})),
+            clock("u", 1, "input", "triggered"),
+            var("x_in", 2, "Int64", "input", "discrete", clock=1, start="0"),
+            clock("y", 3, "output", "triggered"),
+            var("x_out", 4, "Int64", "output", "discrete", clock=3),
+            var("stepwise", 5, "Boolean", "parameter", "fixed", start="false"),
+            var("n", 6, "Int64", "output", "discrete"),
         ],
-        deps={3: "1", 4: "3"}),
+        deps={3: (1,), 4: (3,)}),
     "zeno": dict(
         early=True,
         vars=[
-            V(("z", 1, "Clock", "output", "discrete", {"intervalVariability": "triggered"})),
-            V(("start", 2, "Float64", "parameter", "fixed", {"start": "0.5"})),
-            V(("k", 3, "Int64", "output", "discrete", {})),
+            clock("z", 1, "output", "triggered"),
+            var("start", 2, "Float64", "parameter", "fixed", start="0.5"),
+            var("k", 3, "Int64", "output", "discrete"),
         ],
-        deps={1: ""}),
+        deps={1: ()}),
     "failer": dict(
         vars=[
-            V(("y", 1, "Float64", "output", "continuous", {})),
-            V(("fail_time", 2, "Float64", "parameter", "fixed", {"start": "0.5"})),
+            var("y", 1, "Float64", "output", "continuous"),
+            var("fail_time", 2, "Float64", "parameter", "fixed", start="0.5"),
         ]),
     "trivial": dict(
         vars=[
-            V(("u", 1, "Float64", "input", "continuous", {"start": "0"})),
-            V(("y", 2, "Float64", "output", "continuous", {})),
-            V(("stop_at", 3, "Float64", "parameter", "fixed", {"start": "0"})),
+            var("u", 1, "Float64", "input", "continuous", start="0"),
+            var("y", 2, "Float64", "output", "continuous"),
+            var("stop_at", 3, "Float64", "parameter", "fixed", start="0"),
         ]),
 }
 
 
-def token(name: str) -> str:
-    return "{robogen-test-" + name + "}"
-
-
-def model_description(name: str, spec: dict) -> str:
-    early = "true" if spec.get("early") else "false"
-    state = "true" if spec.get("state") else "false"
-    lines = [
-        '<?xml version="1.0" encoding="UTF-8"?>',
-        f'<fmiModelDescription fmiVersion="3.0" modelName="{name}" instantiationToken="{token(name)}">',
-        f'  <CoSimulation modelIdentifier="{name}" hasEventMode="true" canHandleVariableCommunicationStepSize="true"'
-        f' mightReturnEarlyFromDoStep="{early}" canGetAndSetFMUState="{state}"/>',
-        "  <ModelVariables>",
-        '    <Float64 name="time" valueReference="0" causality="independent" variability="continuous"/>',
-    ]
-    for vname, vr, typ, causality, variability, extra in spec["vars"]:
-        attrs = f'name="{vname}" valueReference="{vr}" causality="{causality}" variability="{variability}"'
-        attrs += "".join(f" {k}={quoteattr(v)}" for k, v in extra.items())
-        lines.append(f"    <{typ} {attrs}/>")
-    lines += ["  </ModelVariables>", "  <ModelStructure>"]
+def model_description(name: str, spec: dict) -> ModelDescription:
+    """Every output under <Output>, the unclocked ones also as <InitialUnknown>; the token hashes the rest."""
     deps = spec.get("deps", {})
-    outputs = [v for v in spec["vars"] if v[3] == "output"]
-    for vname, vr, *_ in outputs:
-        d = f' dependencies="{deps[vr]}"' if vr in deps else ""
-        lines.append(f'    <Output valueReference="{vr}"{d}/>')
-    for vname, vr, typ, causality, variability, extra in outputs:
-        if "clocks" not in extra:
-            d = f' dependencies="{deps[vr]}"' if vr in deps else ""
-            lines.append(f'    <InitialUnknown valueReference="{vr}"{d}/>')
-    lines += ["  </ModelStructure>", "</fmiModelDescription>", ""]
-    return "\n".join(lines)
+    outputs = [v for v in spec["vars"] if v.causality == "output"]
+    structure = [Unknown("Output", v.value_reference, deps.get(v.value_reference)) for v in outputs]
+    structure += [Unknown("InitialUnknown", v.value_reference, deps.get(v.value_reference))
+                  for v in outputs if not v.clocks]
+    return with_content_token(ModelDescription(
+        model_name=name, instantiation_token="",
+        co_simulation=CoSimulation(name, has_event_mode=True, can_handle_variable_step=True,
+                                   might_return_early=spec.get("early", False),
+                                   can_get_and_set_state=spec.get("state", False)),
+        variables=(Variable("time", 0, "Float64", "independent", "continuous"), *spec["vars"]),
+        unknowns=tuple(structure)))
 
 
 def build(name: str, outdir: Path, *, xml: str | None = None) -> Path:
@@ -117,12 +113,13 @@ def build(name: str, outdir: Path, *, xml: str | None = None) -> Path:
 
     outdir = Path(outdir)
     outdir.mkdir(parents=True, exist_ok=True)
+    description = model_description(name, MODELS[name])
     with tempfile.TemporaryDirectory() as tmp:
         so = Path(tmp) / f"{name}.so"
         toolchain.compile_shared([HERE / f"{name}.c"], so, includes=[include_dir(), HERE],
-                                 defines=[f'MODEL_TOKEN="{token(name)}"'], what=f"test FMU {name}")
+                                 defines=[f'MODEL_TOKEN="{description.instantiation_token}"'], what=f"test FMU {name}")
         return write_fmu(outdir / f"{name}.fmu", {
-            "modelDescription.xml": xml if xml is not None else model_description(name, MODELS[name]),
+            "modelDescription.xml": xml if xml is not None else write_model_description(description),
             f"binaries/x86_64-linux/{name}.so": so.read_bytes(),
             f"sources/{name}.c": (HERE / f"{name}.c").read_bytes(),
             "documentation/externalDependencies.txt": "none beyond libc and libm\n",

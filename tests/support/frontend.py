@@ -10,11 +10,10 @@ from typing import Iterator
 from robogen.diagnostics import Diagnostic
 from robogen.semantics import check_texts
 from robogen.syntax import ast
+from support import REFERENCE_MODELS as REFERENCE
+from support import ROOT
 
-MODELS = Path(__file__).resolve().parent
-VALID = MODELS / "valid"
-ROOT = MODELS.parent.parent
-REFERENCE = ROOT.parent / "shared" / "reference-models"
+VALID = ROOT / "tests" / "models" / "valid"
 UR5E = ROOT / "models" / "ur5e"
 MODEL_SUFFIXES = (".rct", ".rst", ".rsim")
 

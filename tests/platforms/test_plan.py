@@ -2,14 +2,14 @@
 
 from __future__ import annotations
 
-from pathlib import Path
 
 import pytest
 
 from robogen.diagnostics import RobogenError
 from robogen.platforms.plan import Command, load_plan, parse_plan
+from support import ROOT
 
-PLAN = Path(__file__).resolve().parents[2] / "models" / "ur5e" / "plan.toml"
+PLAN = ROOT / "models" / "ur5e" / "plan.toml"
 
 
 def test_scenario_plan_gives_the_sixteen_commands_of_the_case_study():

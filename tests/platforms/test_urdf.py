@@ -4,7 +4,6 @@ kinematics of it equals the DH chain (< 0.1 mm) with the published masses and li
 from __future__ import annotations
 
 import math
-from pathlib import Path
 
 import numpy as np
 import pybullet
@@ -12,8 +11,9 @@ import pytest
 
 from robogen.platforms.kinematics import JOINT_LIMIT, LINK_MASS, MAX_JOINT_SPEED, MAX_JOINT_TORQUE, forward
 from robogen.platforms.urdf import ur5e_urdf
+from support import ROOT
 
-COMMITTED = Path(__file__).resolve().parents[2] / "models" / "ur5e" / "ur5e.urdf"
+COMMITTED = ROOT / "models" / "ur5e" / "ur5e.urdf"
 
 
 @pytest.fixture(scope="module")

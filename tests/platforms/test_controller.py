@@ -3,17 +3,17 @@ counts what it receives."""
 
 from __future__ import annotations
 
-from pathlib import Path
 
 import pytest
 from fmpy.validation import validate_fmu as fmpy_validate
 
-import pyfmu_testing as testing
+from support import pyfmu as testing
 from robogen.diagnostics import RobogenError
 from robogen.fmu.validate import validate_fmu
 from robogen.pyfmu.build import package
+from support import ROOT
 
-PLAN = Path(__file__).resolve().parents[2] / "models" / "ur5e" / "plan.toml"
+PLAN = ROOT / "models" / "ur5e" / "plan.toml"
 TARGETS = ("moveDiscreteCommand.target_X", "moveDiscreteCommand.target_Y", "moveDiscreteCommand.target_Z")
 CASE_STUDY_TIMES = [5.0, 10.5, 15.0, 23.5, 30.0, 35.5, 40.0, 48.5, 55.0, 60.5, 65.0, 73.5, 80.0, 85.5, 90.0, 98.5]
 
@@ -97,7 +97,10 @@ def test_a_bad_plan_is_refused_when_packaging_with_its_location(tmp_path):
         package("robogen.platforms.controller:PlanController", tmp_path / "c.fmu", [f"plan={tmp_path}/none.toml"])
 
 
-def test_the_default_plan_is_the_case_study_file():
+def test_the_plan_has_no_default_and_packaging_without_one_says_so(tmp_path):
     from robogen.platforms.controller import PlanController
 
-    assert PLAN.relative_to(PLAN.parents[2]).as_posix() == PlanController.plan
+    assert PlanController.plan is None and PlanController.settings()["plan"].required
+    with pytest.raises(RobogenError, match=r"PlanController needs --set plan=VALUE: the setting 'plan' has no default"):
+        package("robogen.platforms.controller:PlanController", tmp_path / "c.fmu")
+    assert not (tmp_path / "c.fmu").exists()

@@ -18,7 +18,7 @@ import pytest
 from fmpy.fmi1 import FMICallException
 from fmpy.validation import validate_fmu as fmpy_validate
 
-import pyfmu_testing as testing
+from support import pyfmu as testing
 from robogen.fmu.validate import validate_fmu
 from robogen.platforms.kinematics import HOME, grid_position, rotation_from_vector, rotation_vector, grid_pose
 from robogen.platforms.ur5e import COMPLETION_TOLERANCE, STOPPED_SPEED

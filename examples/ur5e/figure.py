@@ -7,7 +7,7 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from robogen.casestudy.analysis import Run
+from examples.ur5e.analysis import Run
 
 
 def draw(main: Run, path: Path, stepwise: Run | None = None) -> Path:

@@ -1,4 +1,4 @@
-"""The UR5e case study end to end: the FMUs `make demo` builds, co-simulated by robogen's master
+"""The UR5e case study (examples/ur5e) end to end: the FMUs `make demo` builds, co-simulated by robogen's master
 in the three variants, must show every property the case study is about.
 
 Expected values come from the semantics: a RoboSim cycle runs every 0.5 s and samples the inputs
@@ -12,17 +12,15 @@ from __future__ import annotations
 
 import subprocess
 import sys
-from pathlib import Path
 
 import pytest
 
-from robogen.casestudy.analysis import analyse, load_run, node_names_of
-from robogen.casestudy.build import TIME_UNIT, VARIANTS, build_all
-from robogen.casestudy.figure import draw
-from robogen.casestudy.report import Timing, end_of_instant_states, max_joint_difference, summary
+from examples.ur5e.analysis import analyse, load_run, node_names_of
+from examples.ur5e.build import ROOT, TIME_UNIT, VARIANTS, build_all
+from examples.ur5e.figure import draw
+from examples.ur5e.report import Timing, end_of_instant_states, max_joint_difference, summary
 from robogen.cosim import simulate_system
 
-ROOT = Path(__file__).resolve().parents[2]
 OUT = ROOT / "build" / "ur5e"  # where models/ur5e/system.toml expects the FMUs
 CYCLE = float(TIME_UNIT)
 COMMAND_TIMES = [5.0, 10.5, 15.0, 23.5, 30.0, 35.5, 40.0, 48.5, 55.0, 60.5, 65.0, 73.5, 80.0, 85.5, 90.0, 98.5]

@@ -92,5 +92,8 @@ class Fmu:
         return intervals[0], qualifiers[0]
 
     def close(self) -> None:
-        self.slave.terminate()
+        """Terminate and free the instance; after an fmi3Error (logged with status 3) the FMU is
+        Terminated already, and fmi3Terminate would be refused."""
+        if not self.messages(3):
+            self.slave.terminate()
         self.slave.freeInstance()

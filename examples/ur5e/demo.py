@@ -19,10 +19,9 @@ import sys
 import time
 from pathlib import Path
 
+from examples.ur5e.build import MODELS, ROOT
 from robogen.cli import main as robogen
 
-ROOT = Path(__file__).resolve().parents[2]
-MODELS = ROOT / "models" / "ur5e"
 OUT = ROOT / "build" / "ur5e"
 REALTIME_FACTOR = 50.0
 
@@ -39,10 +38,10 @@ def _step(text: str) -> None:
 
 
 def run(out: Path = OUT, realtime: bool = True) -> int:
-    from robogen.casestudy.analysis import analyse, load_run, node_names_of
-    from robogen.casestudy.build import TIME_UNIT, VARIANTS, build_all
-    from robogen.casestudy.figure import draw
-    from robogen.casestudy.report import Timing, summary
+    from examples.ur5e.analysis import analyse, load_run, node_names_of
+    from examples.ur5e.build import TIME_UNIT, VARIANTS, build_all
+    from examples.ur5e.figure import draw
+    from examples.ur5e.report import Timing, summary
     from robogen.cosim import simulate_system
     from robogen.diagnostics import RobogenError, SourceMap, render_all
 
@@ -117,7 +116,7 @@ def run(out: Path = OUT, realtime: bool = True) -> int:
 
 
 def main(argv: list[str] | None = None) -> int:
-    p = argparse.ArgumentParser(prog="python -m robogen.demo", description=__doc__.splitlines()[0])
+    p = argparse.ArgumentParser(prog="python -m examples.ur5e.demo", description=__doc__.splitlines()[0])
     p.add_argument("-o", "--output", default=str(OUT), help="output folder (default build/ur5e)")
     p.add_argument("--no-realtime", action="store_true", help="skip the paced run")
     args = p.parse_args(argv)

@@ -5,7 +5,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-from robogen.casestudy.analysis import At, Report, Run
+from examples.ur5e.analysis import At, Report, Run
 
 
 @dataclass

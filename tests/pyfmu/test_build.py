@@ -121,6 +121,7 @@ def test_packaging_is_reproducible(tmp_path):
     (["pyfmu_fixture_models:Counter", "--set", "perod=1"], "has no setting 'perod' (did you mean 'period'?)"),
     (["pyfmu_fixture_models:Counter", "--set", "period=fast"], "--set period=fast: could not convert"),
     (["robogen.diagnostics:Span"], "is not a subclass of robogen.pyfmu.Model"),
+    (["robogen.platforms.controller:PlanController"], "PlanController needs --set plan=VALUE"),
 ])
 def test_command_line_errors_are_reported_without_a_traceback(argv, message, tmp_path, capsys):
     status = main(["package-py", *argv, "-o", str(tmp_path / "x.fmu")])

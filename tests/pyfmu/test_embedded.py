@@ -12,7 +12,7 @@ import zipfile
 import pytest
 from fmpy.fmi1 import FMICallException
 
-from pyfmu_testing import Fmu, run_host, unzip
+from support.pyfmu import Fmu, run_host, unzip
 from robogen.pyfmu.build import package
 
 ERROR = 3

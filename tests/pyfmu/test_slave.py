@@ -188,9 +188,14 @@ def test_stop_time_is_respected():
 
 
 def test_constant_clock_interval_and_shift_come_from_the_declaration_and_settings():
-    slave = started(Counter.configured({"period": 0.25}))
+    slave = Slave(Counter.configured({"period": 0.25}))
+    slave.enter_initialization_mode(None, 0.0, None)
     assert slave.get_interval_decimal([VR["tick"]]) == ([0.25], [1])
     assert slave.get_shift_decimal([VR["tick"]]) == [0.0]
+    slave.exit_initialization_mode()
+    assert slave.get_interval_decimal([VR["tick"]]) == ([0.25], [1])
+    with pytest.raises(FmiUsageError, match="fmi3GetShiftDecimal is not allowed in Event Mode"):
+        slave.get_shift_decimal([VR["tick"]])  # a shift is known from Initialization Mode on
     with pytest.raises(FmiUsageError, match="triggered clock"):
         slave.get_interval_decimal([VR["bump"]])
 

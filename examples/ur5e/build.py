@@ -25,7 +25,7 @@ from robogen.codegen.api import package_model
 from robogen.diagnostics import RobogenError, error
 from robogen.ir.lower import LoweringOptions
 
-ROOT = Path(__file__).resolve().parents[3]
+ROOT = Path(__file__).resolve().parents[2]  # the repository: examples/ur5e/build.py
 MODELS = ROOT / "models" / "ur5e"
 TIME_UNIT = Fraction(1, 2)  # s per model time unit: one cycle (or tock) every 0.5 s
 

@@ -1,2 +1,0 @@
-"""The UR5e case study of the paper, end to end: build the FMUs, co-simulate the scenario in
-its variants, analyse the runs, draw the figure and write the summary (`make demo`)."""

@@ -1,0 +1,16 @@
+"""What the test folders share: where the repository's files are, and helpers importable as
+``support.<module>`` (pyproject's pytest ``pythonpath`` puts tests/ on the path once).
+
+- :mod:`support.frontend`: the model corpus, AST walks and comparable diagnostics (syntax, semantics);
+- :mod:`support.pyfmu`: driving FMUs through fmpy, and the C host (pyfmu, platforms);
+- :mod:`support.harness`: the C programs on tests/harness/misuse_harness.h (runtime, pyfmu);
+- :mod:`support.wheel`: building robogen's wheel from a copy of the sources.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parents[2]
+SHARED = ROOT.parent / "shared"
+REFERENCE_MODELS = SHARED / "reference-models"
