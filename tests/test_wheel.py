@@ -9,7 +9,6 @@ import zipfile
 
 import pytest
 
-from support import ROOT
 from support.wheel import build_wheel
 
 REPOSITORY_FOLDERS = ("models", "tests", "examples")
