@@ -69,7 +69,7 @@ def test_the_zygote_and_its_child_end_when_the_worker_goes():
     process = zygote.process
     from robogen.campaign.isolate import send
 
-    send(process.stdin.fileno(), ((), 60, time.sleep, (60,)))  # a run under way ...
+    send(process.stdin.fileno(), ((), 60, time.sleep, (60,), False))  # a run under way ...
     time.sleep(0.3)
     process.stdin.close()  # ... when its worker dies
     assert process.wait(timeout=10) == 0
@@ -97,5 +97,17 @@ def test_signals_from_the_terminal_do_not_reach_the_zygote():
         assert os.getpgid(zygote.process.pid) != os.getpgid(0)
         os.kill(zygote.process.pid, signal.SIGINT)  # ignored: only the campaign's client handles Ctrl-C
         assert zygote.run((), 30, operator.add, (2, 2)).result == 4
+    finally:
+        zygote.close()
+
+
+def test_a_rehearsal_repeats_a_successful_call_in_the_zygote_only(tmp_path):
+    zygote = Zygote()
+    try:
+        start = zygote.run((), 30, os.getcwd, ()).result
+        assert zygote.run((), 30, os.chdir, (str(tmp_path / "missing"),), rehearse=True).failure is not None
+        assert zygote.run((), 30, os.getcwd, ()).result == start  # a failed call is not made again
+        assert zygote.run((), 30, os.chdir, (str(tmp_path),), rehearse=True).failure is None
+        assert zygote.run((), 30, os.getcwd, ()).result == str(tmp_path)  # later children start from it
     finally:
         zygote.close()

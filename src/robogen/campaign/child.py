@@ -12,24 +12,31 @@ from __future__ import annotations
 
 import importlib
 import sys
+import tempfile
 import tomllib
 import types
 import zipfile
+from dataclasses import replace
 from pathlib import Path
 
 from robogen.campaign import tomlwrite
 from robogen.campaign.metrics import MetricError, compute, enumeration_names
 from robogen.campaign.plan import Context, RunSpec
 from robogen.diagnostics import RobogenError, SourceMap, render_all
-from robogen.fmu.archive import write_fmu
 
 
 def derived_fmu(base: Path, replaced: dict[str, bytes], target: Path) -> Path:
-    """``base`` with some of its files replaced (or added): a new .fmu at ``target``."""
-    with zipfile.ZipFile(base) as z:
-        files: dict[str, bytes] = {info.filename: z.read(info) for info in z.infolist() if not info.is_dir()}
-    files.update(replaced)
-    return write_fmu(target, files)
+    """``base`` with some of its files replaced (or added): a new .fmu at ``target``. The
+    members are stored, not compressed again: the archive lives only as long as its run."""
+    with zipfile.ZipFile(base) as source, zipfile.ZipFile(target, "w", zipfile.ZIP_STORED) as copy:
+        for info in source.infolist():
+            if info.filename not in replaced:
+                kept = zipfile.ZipInfo(info.filename, info.date_time)
+                kept.external_attr, kept.create_system = info.external_attr, info.create_system
+                copy.writestr(kept, source.read(info))
+        for name in sorted(replaced):
+            copy.writestr(zipfile.ZipInfo(name), replaced[name])
+    return target
 
 
 def derived_system(context: Context, fmus: dict[str, Path], start: dict[str, dict]) -> str:
@@ -78,6 +85,17 @@ def simulate(context: Context, spec: RunSpec, fmus: dict[str, Path], folder: Pat
     return row
 
 
+def rehearsal(context: Context, spec: RunSpec, fmus: dict[str, Path], folder: Path, cache: Path) -> dict:
+    """The run's first communication step, without metrics (their modules loaded): what a zygote
+    does once per combination of FMUs to warm itself (:func:`robogen.campaign.isolate.serve`); a
+    step, so that the master's stepping loop has been through its first use too."""
+    experiment = tomllib.loads(context.system_text).get("experiment", {})
+    step = context.step or experiment.get("step") or 0.0
+    stop = experiment.get("start", 0.0) + step
+    load_functions(context)  # user metric modules shipped as source: compiled once, here
+    return run(replace(context, stop=stop, metrics=(), keep="metrics"), spec, fmus, folder, cache)
+
+
 def _enumerations(context: Context, fmus: dict[str, Path]) -> dict[str, dict[int, str]]:
     """Item names of the Enumerations that 'final' and 'at' metrics read."""
     read = {m.source.split(".", 1)[0] for m in context.metrics if m.kind in ("final", "at")}
@@ -85,11 +103,13 @@ def _enumerations(context: Context, fmus: dict[str, Path]) -> dict[str, dict[int
 
 
 def run(context: Context, spec: RunSpec, fmus: dict[str, Path], folder: Path, cache: Path) -> dict:
-    """:func:`simulate`, with every failure turned into a failed row."""
+    """:func:`simulate`, with every failure turned into a failed row. Runs in the run's own
+    process (it makes ``folder`` the process's temporary folder)."""
 
     def stable(text: str) -> str:
         return text.replace(f"{folder}/", "run:").replace(f"{cache}/", "fmus:")
 
+    tempfile.tempdir = str(folder)  # this process is the run's own: the master unpacks the FMUs here
     try:
         return simulate(context, spec, fmus, folder)
     except RobogenError as exc:

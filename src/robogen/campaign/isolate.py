@@ -30,7 +30,6 @@ import tempfile
 import threading
 import time
 from dataclasses import dataclass
-from pathlib import Path
 from typing import Any, Callable
 
 _LENGTH = struct.Struct("!Q")
@@ -91,6 +90,7 @@ def _child(function: Callable, args: tuple, result_fd: int, log_fd: int) -> None
         faulthandler.disable()  # a crash is reported by its signal, the same wherever the run executed
         result = function(*args)
         _write_all(result_fd, pickle.dumps(result, protocol=pickle.HIGHEST_PROTOCOL))
+        os.close(result_fd)  # the parent has the result now, before the kernel takes this process apart
         code = 0
     except BaseException:  # the child reports whatever happened through its log
         import traceback
@@ -107,6 +107,7 @@ def run_forked(function: Callable, args: tuple, timeout: float, abort_fd: int | 
     The child is killed when ``timeout`` seconds of wall time have passed, or when ``abort_fd``
     becomes readable (the requester closed it): then :class:`Abandoned` is raised.
     """
+    _reap()
     with tempfile.TemporaryFile() as log:
         read_fd, write_fd = os.pipe()
         sys.stdout.flush()  # or the child would print what the parent had buffered again
@@ -120,6 +121,14 @@ def run_forked(function: Callable, args: tuple, timeout: float, abort_fd: int | 
             data, timed_out = _collect(read_fd, pid, time.monotonic() + timeout, abort_fd)
         finally:
             os.close(read_fd)
+        if data and not timed_out:
+            try:
+                result = pickle.loads(data)
+            except Exception:  # cut short: the exit status below says why
+                pass
+            else:
+                _exiting.append(pid)  # a whole result: the child is exiting, collect it later
+                return Outcome(result=result)
         _, status = os.waitpid(pid, 0)
         if timed_out:
             return Outcome(failure=f"timed out: still running after {timeout:g} s of wall time; killed" + _tail(log))
@@ -127,9 +136,16 @@ def run_forked(function: Callable, args: tuple, timeout: float, abort_fd: int | 
             number = os.WTERMSIG(status)
             name = signal.Signals(number).name if number in signal.Signals._value2member_map_ else f"signal {number}"
             return Outcome(failure=f"crashed: the run's process was killed by {name} ({signal.strsignal(number)})" + _tail(log))
-        if os.WEXITSTATUS(status) != 0 or not data:
-            return Outcome(failure=f"the run's process exited with status {os.WEXITSTATUS(status)} and no result" + _tail(log))
-        return Outcome(result=pickle.loads(data))
+        return Outcome(failure=f"the run's process exited with status {os.WEXITSTATUS(status)} and no result" + _tail(log))
+
+
+#: Children that sent their whole result and are exiting; waited for before the next fork.
+_exiting: list[int] = []
+
+
+def _reap() -> None:
+    while _exiting:
+        os.waitpid(_exiting.pop(), 0)
 
 
 def _collect(read_fd: int, pid: int, deadline: float, abort_fd: int | None) -> tuple[bytes, bool]:
@@ -166,18 +182,17 @@ def _tail(log) -> str:
 
 
 def warm_up(preload: tuple[str, ...] = ()) -> None:
-    """Import what a simulation needs, so that forked children start warm. The master imports
-    its modules at its first call; a system file that does not exist stops it right after."""
+    """Import what a simulation needs, so that forked children start warm: every module of the
+    master (some it imports only at their first use, such as the C stepper, whose C declarations
+    take 20 ms to parse) and the ``preload`` modules."""
     import importlib
+    import pkgutil
 
+    import robogen.cosim
     from robogen.campaign import child  # noqa: F401 (imported for the children)
-    from robogen.cosim import simulate_system
-    from robogen.diagnostics import RobogenError
 
-    try:
-        simulate_system(Path(tempfile.gettempdir()) / "robogen-warm-up-no-such-system.toml")
-    except RobogenError:
-        pass
+    for module in pkgutil.iter_modules(robogen.cosim.__path__, "robogen.cosim."):
+        importlib.import_module(module.name)
     saved = os.dup(2)  # modules may print banners on import (pybullet does); failures raise
     os.dup2(os.open(os.devnull, os.O_WRONLY), 2)
     try:
@@ -189,9 +204,12 @@ def warm_up(preload: tuple[str, ...] = ()) -> None:
 
 
 def serve(requests: int, replies: int) -> None:
-    """The zygote's loop: one request at a time, ``(preload, timeout, function, args)`` ->
-    :class:`Outcome` of ``function(*args)`` in a forked child (``function`` is pickled by name;
-    None only imports the ``preload`` modules)."""
+    """The zygote's loop: one request at a time, ``(preload, timeout, function, args, rehearse)``
+    -> :class:`Outcome` of ``function(*args)`` in a forked child (``function`` is pickled by
+    name; None only imports the ``preload`` modules). With ``rehearse``, a call that succeeded in
+    its child is made once more in the zygote itself, so that what a first simulation sets up
+    and keeps (C declarations parsed on first use, type caches, the embedded FMUs' modules) is
+    there for every later child; a call that failed is never repeated here."""
     signal.signal(signal.SIGINT, signal.SIG_IGN)
     warm_up()
     loaded: set[str] = set()
@@ -199,7 +217,7 @@ def serve(requests: int, replies: int) -> None:
         message = receive(requests)
         if message is None:
             return
-        preload, timeout, function, args = message
+        preload, timeout, function, args, rehearse = message
         try:
             for module in preload:
                 if module not in loaded:
@@ -215,7 +233,19 @@ def serve(requests: int, replies: int) -> None:
             outcome = run_forked(function, args, timeout, abort_fd=requests)
         except Abandoned:
             return
+        if rehearse and outcome.failure is None:
+            _rehearse(function, args)
         send(replies, outcome)
+
+
+def _rehearse(function: Callable, args: tuple) -> None:
+    saved = tempfile.tempdir
+    try:
+        function(*args)
+    except Exception:  # it succeeded in its child; here it only warms caches
+        pass
+    finally:
+        tempfile.tempdir = saved
 
 
 class Zygote:
@@ -230,14 +260,16 @@ class Zygote:
         return subprocess.Popen([sys.executable, "-m", "robogen.campaign.isolate"], stdin=subprocess.PIPE,
                                 stdout=subprocess.PIPE, env=env, start_new_session=True)
 
-    def run(self, preload: tuple[str, ...], timeout: float, function: Callable | None, args: tuple) -> Outcome:
+    def run(self, preload: tuple[str, ...], timeout: float, function: Callable | None, args: tuple,
+            rehearse: bool = False) -> Outcome:
         """``function(*args)`` in a child of the zygote (started now if it is not running);
-        ``function`` None starts the zygote and imports ``preload`` only."""
+        ``function`` None starts the zygote and imports ``preload`` only; ``rehearse``: see
+        :func:`serve`."""
         with self.lock:
             if self.process is None or self.process.poll() is not None:
                 self.process = self._start()
             try:
-                send(self.process.stdin.fileno(), (preload, timeout, function, args))
+                send(self.process.stdin.fileno(), (preload, timeout, function, args, rehearse))
                 outcome = receive(self.process.stdout.fileno())
             except (BrokenPipeError, OSError):
                 outcome = None

@@ -209,7 +209,7 @@ def load_campaign(path: str | Path) -> Campaign:
                     grid, cases, samples, seed, random, files, metrics, figure)
 
 
-def _system(c: _Checker) -> tuple[Path, System | None]:
+def _system(c: _Checker) -> tuple[Path, System]:
     raw = c.data.get("system")
     if not isinstance(raw, str) or not raw:
         c.error('the campaign needs its base experiment: system = "path/to/system.toml"', "system")
@@ -220,10 +220,8 @@ def _system(c: _Checker) -> tuple[Path, System | None]:
         c.sink.raise_if_errors()
     try:
         return system_path, load_system(system_path)
-    except RobogenError as exc:
-        c.sink.extend(exc.diagnostics)
-        c.sink.raise_if_errors()
-        raise
+    except RobogenError as exc:  # the system file's problems, with what this file had so far
+        raise RobogenError([*c.sink.sorted(), *exc.diagnostics]) from None
 
 
 def _declare(c: _Checker, names: dict[str, Span], name: str, *where) -> bool:
