@@ -47,13 +47,22 @@ def cluster(tmp_path_factory):
         with Client(address, timeout="30s") as client:
             client.wait_for_workers(2, timeout=60)
         yield address
-    finally:
-        for process in processes:
+    finally:  # workers first, politely (their folders go with them), then whatever is left
+        for process in reversed(processes):
+            _signal_group(process, signal.SIGTERM)
             try:
-                os.killpg(process.pid, signal.SIGKILL)
-            except ProcessLookupError:
+                process.wait(timeout=15)
+            except subprocess.TimeoutExpired:
                 pass
+            _signal_group(process, signal.SIGKILL)
             process.wait(timeout=30)
+
+
+def _signal_group(process: subprocess.Popen, number: int) -> None:
+    try:
+        os.killpg(process.pid, number)
+    except ProcessLookupError:
+        pass
 
 
 def test_a_campaign_through_scheduler_matches_the_local_cluster(cluster, two_worker_run, tmp_path, campaign_fmus):

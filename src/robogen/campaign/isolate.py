@@ -22,6 +22,7 @@ import faulthandler
 import os
 import pickle
 import select
+import shutil
 import signal
 import struct
 import subprocess
@@ -30,6 +31,7 @@ import tempfile
 import threading
 import time
 from dataclasses import dataclass
+from pathlib import Path
 from typing import Any, Callable
 
 _LENGTH = struct.Struct("!Q")
@@ -249,15 +251,18 @@ def _rehearse(function: Callable, args: tuple) -> None:
 
 
 class Zygote:
-    """A worker's handle on its zygote, started at the first run."""
+    """A worker's handle on its zygote, started at the first run. ``owned``: a folder the zygote
+    removes when it exits, which it does when its worker goes, however the worker went."""
 
-    def __init__(self) -> None:
+    def __init__(self, owned: Path | None = None) -> None:
         self.process: subprocess.Popen | None = None
         self.lock = threading.Lock()
+        self.owned = owned
 
     def _start(self) -> subprocess.Popen:
         env = {**os.environ, **SINGLE_THREADED}
-        return subprocess.Popen([sys.executable, "-m", "robogen.campaign.isolate"], stdin=subprocess.PIPE,
+        owned = [str(self.owned)] if self.owned is not None else []
+        return subprocess.Popen([sys.executable, "-m", "robogen.campaign.isolate", *owned], stdin=subprocess.PIPE,
                                 stdout=subprocess.PIPE, env=env, start_new_session=True)
 
     def run(self, preload: tuple[str, ...], timeout: float, function: Callable | None, args: tuple,
@@ -292,16 +297,22 @@ class Zygote:
                 self.process = None
 
 
-def main() -> None:
-    """Entry point of the zygote: requests on stdin, replies on stdout; what libraries print on
-    standard output (pybullet's banner) is discarded so that it cannot corrupt the replies."""
+def main(argv: list[str]) -> None:
+    """Entry point of the zygote (``python -m robogen.campaign.isolate [OWNED_FOLDER]``): requests
+    on stdin, replies on stdout; what libraries print on standard output (pybullet's banner) is
+    discarded so that it cannot corrupt the replies."""
     requests, replies = os.dup(0), os.dup(1)
     os.dup2(os.open(os.devnull, os.O_RDONLY), 0)
     os.dup2(os.open(os.devnull, os.O_WRONLY), 1)
-    serve(requests, replies)
+    try:
+        serve(requests, replies)
+    finally:
+        _reap()
+        for folder in argv:
+            shutil.rmtree(folder, ignore_errors=True)
 
 
 if __name__ == "__main__":
     from robogen.campaign import isolate  # the package's module, so that replies unpickle anywhere
 
-    isolate.main()
+    isolate.main(sys.argv[1:])

@@ -3,7 +3,8 @@
 A worker process holds one :class:`_WorkerState`: a private folder (FMUs by content hash, one
 folder per run while it executes) and its zygote (:mod:`robogen.campaign.isolate`). The FMU
 bytes arrive as Dask data, fetched once per worker per content hash; they are written to the
-folder the first time a run needs them. Both go away when the worker process exits.
+folder the first time a run needs them. Both go away with the worker: the zygote exits when its
+worker's pipe closes and removes the folder, however the worker ended.
 
 The folder is in memory (``/dev/shm``) when the machine has one with room to spare: a run
 unpacks its FMUs and removes them again, and on a disk those file-system operations cost about
@@ -44,7 +45,7 @@ class _WorkerState:
     def __init__(self) -> None:
         _remove_stale_folders()
         self.folder = Path(tempfile.mkdtemp(prefix=f"{_PREFIX}{os.getpid()}-", dir=scratch_root()))
-        self.zygote = Zygote()
+        self.zygote = Zygote(owned=self.folder)
         self.fmus: dict[str, Path] = {}
         self.rehearsed: set[tuple] = set()  # (system, FMUs) combinations the zygote has simulated
         atexit.register(self.close)
