@@ -7,7 +7,7 @@ PY     := $(VENV)/bin/python
 STAMP  := $(VENV)/.robogen-installed
 PYTEST_ARGS ?=
 
-.PHONY: all venv test demo bench clean golden
+.PHONY: all venv test demo bench campaign clean golden
 
 all: test
 
@@ -27,6 +27,29 @@ test: $(STAMP)
 
 demo: $(STAMP)
 	$(PY) -m examples.ur5e.demo
+
+# The UR5e campaigns (examples/ur5e/campaign*.toml): the reachability of every grid cell, then the
+# command latency over the platform's sample period x the d-model's cycle, each value its own FMU.
+UR5E := build/ur5e
+CAMPAIGN_FMUS := $(UR5E)/campaign-fmus
+PERIODS := 0.1 0.25 0.5 1.0
+ROBOGEN := $(PY) -m robogen
+
+campaign: $(STAMP) $(UR5E)/controller.fmu $(UR5E)/dmodel.fmu $(UR5E)/platform.fmu \
+          $(PERIODS:%=$(CAMPAIGN_FMUS)/dmodel-cycle-%.fmu) $(PERIODS:%=$(CAMPAIGN_FMUS)/platform-sample-%.fmu)
+	$(ROBOGEN) campaign examples/ur5e/campaign.toml -o $(UR5E)/campaign
+	$(ROBOGEN) campaign examples/ur5e/campaign_latency.toml -o $(UR5E)/campaign-latency
+
+$(UR5E)/dmodel.fmu: models/ur5e/ur5e.rst | $(STAMP)
+	$(ROBOGEN) package $< --time-unit 0.5 -o $@
+$(UR5E)/platform.fmu: | $(STAMP)
+	$(ROBOGEN) package-py robogen.platforms.ur5e:UR5ePlatform --set sample_period=0.5 -o $@
+$(UR5E)/controller.fmu: models/ur5e/plan.toml | $(STAMP)
+	$(ROBOGEN) package-py robogen.platforms.controller:PlanController --set plan=$< -o $@
+$(CAMPAIGN_FMUS)/dmodel-cycle-%.fmu: models/ur5e/ur5e.rst | $(STAMP)
+	$(ROBOGEN) package $< --time-unit $* -o $@
+$(CAMPAIGN_FMUS)/platform-sample-%.fmu: | $(STAMP)
+	$(ROBOGEN) package-py robogen.platforms.ur5e:UR5ePlatform --set sample_period=$* -o $@
 
 bench: $(STAMP)
 	@set -e; for b in bench/bench_*.py; do echo "== $$b"; $(PY) $$b; done

@@ -30,6 +30,7 @@ COMMANDS: dict[str, tuple[str, str]] = {
     "package-py": ("robogen.pyfmu.cli", "package a Python class as an FMI 3.0 FMU (cffi embedding)"),
     "simulate": ("robogen.cosim.cli", "co-simulate a system of FMI 3.0 FMUs described in TOML"),
     "plot": ("robogen.cosim.plot", "plot a results CSV written by 'robogen simulate'"),
+    "campaign": ("robogen.campaign.cli", "run many co-simulations over a parameter space on Dask"),
 }
 
 
