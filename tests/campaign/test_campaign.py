@@ -8,7 +8,7 @@ import sys
 
 import pyarrow.parquet as pq
 
-from conftest import CAMPAIGN, EXTRA_METRICS, CampaignProcess, run_quietly, slow_campaign, write_campaign_folder
+from support.campaign import CAMPAIGN, EXTRA_METRICS, CampaignProcess, run_quietly, slow_campaign, write_campaign_folder
 
 PLACEMENT = ["wall_time", "worker"]
 

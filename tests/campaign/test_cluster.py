@@ -14,7 +14,7 @@ from pathlib import Path
 import pyarrow.parquet as pq
 import pytest
 
-from conftest import CAMPAIGN, EXTRA_METRICS, CampaignProcess, run_quietly, slow_campaign, write_campaign_folder
+from support.campaign import CAMPAIGN, EXTRA_METRICS, CampaignProcess, run_quietly, slow_campaign, write_campaign_folder
 
 PLACEMENT = ["wall_time", "worker"]
 

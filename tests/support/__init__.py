@@ -4,7 +4,8 @@
 - :mod:`support.frontend`: the model corpus, AST walks and comparable diagnostics (syntax, semantics);
 - :mod:`support.pyfmu`: driving FMUs through fmpy, and the C host (pyfmu, platforms);
 - :mod:`support.harness`: the C programs on tests/harness/misuse_harness.h (runtime, pyfmu);
-- :mod:`support.wheel`: building robogen's wheel from a copy of the sources.
+- :mod:`support.wheel`: building robogen's wheel from a copy of the sources;
+- :mod:`support.campaign`: campaign folders and campaign processes (campaign).
 """
 
 from __future__ import annotations

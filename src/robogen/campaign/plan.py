@@ -23,7 +23,8 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 from robogen import __version__
-from robogen.campaign.space import expand, render
+from robogen.campaign.space import expand
+from robogen.campaign.templates import render
 from robogen.campaign.spec import Campaign, FileRule, Metric, Value, is_number
 from robogen.diagnostics import DiagnosticSink, Note, RobogenError, Span, did_you_mean
 from robogen.fmu.modeldesc import ModelDescription, Variable, read_model_description

@@ -12,28 +12,10 @@ takes the parameters in file order, so a campaign expands to the same runs on ev
 from __future__ import annotations
 
 import itertools
-import string
 
 import numpy as np
 
 from robogen.campaign.spec import Campaign, Distribution, Value
-
-
-class _Template(string.Template):
-    """``$NAME`` or ``${NAME}``; inside braces a name may hold dots and slashes
-    (``${platform.sample_period}``)."""
-
-    braceidpattern = r"[A-Za-z_][A-Za-z0-9_./-]*"
-
-
-def template_of(text: str) -> string.Template:
-    return _Template(text)
-
-
-def render(text: str, values: dict[str, Value]) -> str:
-    """``text`` with every placeholder replaced by its value (``str()`` of it); KeyError names a
-    placeholder without a value."""
-    return _Template(text).substitute({k: str(v) for k, v in values.items()})
 
 
 def draw(dist: Distribution, rng: np.random.Generator) -> Value:

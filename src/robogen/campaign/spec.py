@@ -16,6 +16,7 @@ import tomllib
 from dataclasses import dataclass, field
 from pathlib import Path
 
+from robogen.campaign.templates import template_of
 from robogen.cosim.system import System, load_system, split_name
 from robogen.cosim.tomlspan import SpanIndex
 from robogen.diagnostics import DiagnosticSink, RobogenError, Span, did_you_mean
@@ -408,8 +409,6 @@ def _targets(c: _Checker, system: System, names: dict[str, Span], files: list[Fi
 
 def placeholders(rule: FileRule) -> set[str]:
     """The ${NAME} names a [files] rule uses."""
-    from robogen.campaign.space import template_of
-
     text = rule.pattern if rule.pattern is not None else rule.template.read_text(encoding="utf-8")
     return set(template_of(text).get_identifiers())
 

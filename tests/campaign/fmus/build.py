@@ -10,21 +10,10 @@ from __future__ import annotations
 
 import importlib.util
 import sys
-import tempfile
 from pathlib import Path
 
 HERE = Path(__file__).resolve().parent
 COSIM_FMUS = HERE.parents[1] / "cosim" / "fmus"
-V = tuple
-CRASHER = dict(vars=[
-    V(("y", 1, "Float64", "output", "continuous", {})),
-    V(("gain", 2, "Float64", "parameter", "fixed", {"start": "1.0"})),
-    V(("crash_time", 3, "Float64", "parameter", "fixed", {"start": "-1"})),
-    V(("hang_time", 4, "Float64", "parameter", "fixed", {"start": "-1"})),
-    V(("delay", 5, "Float64", "parameter", "fixed", {"start": "0"})),
-])
-
-
 def cosim_builder():
     """tests/cosim/fmus/build.py as a module."""
     spec = importlib.util.spec_from_file_location("robogen_test_fmus_build", COSIM_FMUS / "build.py")
@@ -35,20 +24,15 @@ def cosim_builder():
 
 
 def build_crasher(outdir: Path) -> Path:
-    from robogen import toolchain
-    from robogen.fmu.archive import write_fmu
-    from robogen.fmu.headers import include_dir
-
     cosim = cosim_builder()
-    with tempfile.TemporaryDirectory() as tmp:
-        so = Path(tmp) / "crasher.so"
-        toolchain.compile_shared([HERE / "crasher.c"], so, includes=[include_dir(), COSIM_FMUS],
-                                 defines=[f'MODEL_TOKEN="{cosim.token("crasher")}"'], what="test FMU crasher")
-        return write_fmu(Path(outdir) / "crasher.fmu", {
-            "modelDescription.xml": cosim.model_description("crasher", CRASHER),
-            "binaries/x86_64-linux/crasher.so": so.read_bytes(),
-            "sources/crasher.c": (HERE / "crasher.c").read_bytes(),
-        })
+    spec = dict(vars=[
+        cosim.var("y", 1, "Float64", "output", "continuous"),
+        cosim.var("gain", 2, "Float64", "parameter", "fixed", start="1.0"),
+        cosim.var("crash_time", 3, "Float64", "parameter", "fixed", start="-1"),
+        cosim.var("hang_time", 4, "Float64", "parameter", "fixed", start="-1"),
+        cosim.var("delay", 5, "Float64", "parameter", "fixed", start="0"),
+    ])
+    return cosim.build("crasher", Path(outdir), spec=spec, source=HERE / "crasher.c")
 
 
 def build_all(outdir: Path) -> dict[str, Path]:

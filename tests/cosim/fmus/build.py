@@ -105,23 +105,26 @@ def model_description(name: str, spec: dict) -> ModelDescription:
         unknowns=tuple(structure)))
 
 
-def build(name: str, outdir: Path, *, xml: str | None = None) -> Path:
-    """Compile MODELS[name] and write OUTDIR/NAME.fmu (``xml`` overrides the model description)."""
+def build(name: str, outdir: Path, *, xml: str | None = None, spec: dict | None = None,
+          source: Path | None = None) -> Path:
+    """Compile MODELS[name] (or ``spec``, from the C file ``source``) and write OUTDIR/NAME.fmu
+    (``xml`` overrides the model description). The C file includes this folder's framework.h."""
     from robogen import toolchain
     from robogen.fmu.archive import write_fmu
     from robogen.fmu.headers import include_dir
 
     outdir = Path(outdir)
     outdir.mkdir(parents=True, exist_ok=True)
-    description = model_description(name, MODELS[name])
+    description = model_description(name, spec if spec is not None else MODELS[name])
+    source = source if source is not None else HERE / f"{name}.c"
     with tempfile.TemporaryDirectory() as tmp:
         so = Path(tmp) / f"{name}.so"
-        toolchain.compile_shared([HERE / f"{name}.c"], so, includes=[include_dir(), HERE],
+        toolchain.compile_shared([source], so, includes=[include_dir(), HERE],
                                  defines=[f'MODEL_TOKEN="{description.instantiation_token}"'], what=f"test FMU {name}")
         return write_fmu(outdir / f"{name}.fmu", {
             "modelDescription.xml": xml if xml is not None else write_model_description(description),
             f"binaries/x86_64-linux/{name}.so": so.read_bytes(),
-            f"sources/{name}.c": (HERE / f"{name}.c").read_bytes(),
+            f"sources/{name}.c": source.read_bytes(),
             "documentation/externalDependencies.txt": "none beyond libc and libm\n",
         })
 
