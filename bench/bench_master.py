@@ -24,7 +24,7 @@ from fmpy.fmi3 import FMU3Slave
 
 from robogen.cosim import simulate_system
 from robogen.cosim import stepper
-from robogen.cosim.fmi3 import Instance, Library, ffi, vr_array
+from robogen.cosim.fmi3 import Binding, Library, ffi, vr_array
 
 ROOT = Path(__file__).resolve().parent.parent
 QUICK = "--quick" in sys.argv
@@ -59,7 +59,7 @@ def bench_calls(fmus: dict[str, Path], folder: Path) -> None:
     md = fmpy.read_model_description(unzipped)
     so = str(Path(unzipped) / "binaries" / "x86_64-linux" / "trivial.so")
     # robogen
-    inst = Instance(Library(so), "r")
+    inst = Binding(Library(so), "r")
     inst.fmi3InstantiateCoSimulation(md.instantiationToken, None, eventModeUsed=False)
     inst.fmi3EnterInitializationMode(None, 0.0, None)
     vrs, vals = vr_array([2]), ffi.new("double[1]")

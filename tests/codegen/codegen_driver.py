@@ -222,7 +222,7 @@ class FmuRunner:
         so = folder / "binaries" / PLATFORM_TUPLE / f"{self.desc.identifier}.so"
         self.library = fmi3.Library(str(so))
         self.errors: list[str] = []  # the FMU's error messages in the current run
-        self.inst = fmi3.Instance(self.library, name, log=self._log)
+        self.inst = fmi3.Binding(self.library, name, log=self._log)
         self.inst.fmi3InstantiateCoSimulation(self.desc.token, None, loggingOn=False, eventModeUsed=True)
         self.fresh = True
         d = self.desc

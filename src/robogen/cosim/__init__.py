@@ -51,7 +51,7 @@ def simulate_system(system_toml_path: str | Path, *, stop: float | None = None, 
                     output: str | Path | None = None, events: str | Path | None = None,
                     realtime: float | None = None, progress: bool | None = False,
                     trace: Callable[[str], None] | None = None, keep_rows: bool = True) -> SimulationResult:
-    from robogen.cosim.setup import build_master
+    from robogen.cosim.assemble import build_master
 
     master, cache = build_master(Path(system_toml_path), stop=stop, step=step, output=output, events=events,
                                  realtime=realtime, progress=progress, trace=trace, keep_rows=keep_rows)

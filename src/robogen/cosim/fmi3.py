@@ -2,7 +2,7 @@
 
 ``Library(path)`` opens an FMU's shared object (ABI mode: no compiler needed) and resolves
 every function the master uses up front, so a missing symbol is reported at load time by name.
-``Instance`` wraps one ``fmi3Instance``; each method is the C function of the same name with
+``Binding`` wraps one ``fmi3Instance``; each method is the C function of the same name with
 the status turned into an exception: any status above ``fmi3Warning`` raises
 :class:`FMI3Error` carrying the function name, the status and the instance name (and the last
 message the FMU logged). Output arguments are returned as tuples.
@@ -165,7 +165,7 @@ def _log_message(env, status, category, message):
         pass
 
 
-class Instance:
+class Binding:
     """One fmi3Instance. Methods are the FMI 3.0 functions; errors raise FMI3Error."""
 
     def __init__(self, library: Library, name: str, trace: Callable[[str], None] | None = None,

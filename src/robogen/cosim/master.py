@@ -28,7 +28,7 @@ from dataclasses import dataclass, field
 from robogen.cosim.fmi3 import DISCARD, FATAL, ffi, FMI3Error, INTERVAL_CHANGED, INTERVAL_NOT_YET_KNOWN, status_name, vr_array
 from robogen.cosim.recorder import Pacer, Progress, Recorder
 from robogen.cosim.system import Link, System
-from robogen.cosim.units import APERIODIC, PERIODIC, Aperiodic, Periodic, Unit, tolerance
+from robogen.cosim.instances import APERIODIC, PERIODIC, Aperiodic, Periodic, FmuInstance, tolerance
 from robogen.diagnostics import Note, RobogenError
 
 
@@ -38,7 +38,7 @@ def _when(t: float) -> str:
 
 
 @dataclass
-class Options:
+class RunOptions:
     start: float
     stop: float
     step: float
@@ -62,24 +62,24 @@ class Stats:
 class _ClockRoute:
     """Forward one output clock: set the target clock, then copy the clocked values."""
 
-    target: Unit
+    target: FmuInstance
     target_clock: int
     values: list = field(default_factory=list)  # (source var, target var)
 
 
 class Master:
-    def __init__(self, system: System, units: list[Unit], links: list[Link], record: list, options: Options, recorder: Recorder):
+    def __init__(self, system: System, units: list[FmuInstance], links: list[Link], record: list, options: RunOptions, recorder: Recorder):
         self.system, self.options, self.recorder = system, options, recorder
-        self.units = units
+        self.instances = units
         self.by_name = {u.name: u for u in units}
         self.stats = Stats()
         self.rank = {u.name: i for i, u in enumerate(units)}  # units arrive in dependency order
-        self.event_units = [u for u in units if u.event_mode]
+        self.event_instances = [u for u in units if u.event_mode]
         self.step_order = [u for u in units if u.early] + [u for u in units if not u.early]
         self.rollback = len([u for u in units if u.early]) > 1
         self.any_early = any(u.early for u in units)
         # the plain-step loop needs: nobody returns early, no call trace
-        self.plain_ok = not self.any_early and all(u.inst.trace is None for u in units)
+        self.plain_ok = not self.any_early and all(u.binding.trace is None for u in units)
         self._stepper = None  # the C plain-step loop, built at its first use (False: unavailable)
         self._next_event = math.inf
         self._wire(links, record)
@@ -88,9 +88,9 @@ class Master:
     # Wiring: who reads what, which clock goes where
 
     def _wire(self, links: list[Link], record: list) -> None:
-        observe: dict[str, list] = {u.name: [] for u in self.units}
-        watch: dict[str, list[int]] = {u.name: [] for u in self.units}
-        self.value_links: dict[str, list] = {u.name: [] for u in self.units}  # source -> [(vr, target, var)]
+        observe: dict[str, list] = {u.name: [] for u in self.instances}
+        watch: dict[str, list[int]] = {u.name: [] for u in self.instances}
+        self.value_links: dict[str, list] = {u.name: [] for u in self.instances}  # source -> [(vr, target, var)]
         self.clock_routes: dict[tuple[str, int], list[_ClockRoute]] = {}
         self.last_set: dict[tuple[str, int], object] = {}
         for l in links:
@@ -120,12 +120,12 @@ class Master:
                 kind = "value"
                 observe[unit.name].append(var)
             self.columns.append((kind, unit, var))
-        for u in self.units:
+        for u in self.instances:
             u.observe(observe[u.name])
             u.watch_clocks(watch[u.name])
         self.value_columns = [(kind, u, var, u.reader_of.get(var.value_reference)) for kind, u, var in self.columns]
         recorded = {u.name for kind, u, _ in self.columns if kind == "value"}
-        self.record_reads = [u for u in self.units if u.name in recorded and not self.value_links[u.name]]
+        self.record_reads = [u for u in self.instances if u.name in recorded and not self.value_links[u.name]]
         self.clocked_by = {}
         for kind, u, var in self.columns:
             if kind == "clocked":
@@ -160,8 +160,8 @@ class Master:
                 if pacer is not None:
                     pacer.wait(t)
                 if event or self._next_event <= t + tolerance(t):
-                    for u in self.event_units:
-                        u.inst.fmi3EnterEventMode()
+                    for u in self.event_instances:
+                        u.binding.fmi3EnterEventMode()
                     self._event_iteration(t)
                 else:
                     self._exchange_values(t)
@@ -181,21 +181,21 @@ class Master:
     # -- setup ------------------------------------------------------------------------------
     def _setup(self) -> None:
         opt = self.options
-        for u in self.units:
+        for u in self.instances:
             u.time = opt.start
-            u.inst.fmi3InstantiateCoSimulation(u.md.instantiation_token, u.resource_path(), False, False,
+            u.binding.fmi3InstantiateCoSimulation(u.md.instantiation_token, u.resource_path(), False, False,
                                                eventModeUsed=u.event_mode, earlyReturnAllowed=u.early)
-        for u in self.units:
-            u.inst.fmi3EnterInitializationMode(self.system.tolerance, opt.start, opt.stop)
-        for u in self.units:
+        for u in self.instances:
+            u.binding.fmi3EnterInitializationMode(self.system.tolerance, opt.start, opt.stop)
+        for u in self.instances:
             self._start_values(u)
             self._clock_timing(u)
         # values in dependency order (Initialization Mode allows Get outputs / Set inputs)
         self._propagate(opt.start, clocks=False, event_mode=False)
-        for u in self.units:
-            u.inst.fmi3ExitInitializationMode()
+        for u in self.instances:
+            u.binding.fmi3ExitInitializationMode()
 
-    def _start_values(self, u: Unit) -> None:
+    def _start_values(self, u: FmuInstance) -> None:
         spec = self.system.instances[u.name]
         by_type: dict[str, tuple[list, list]] = {}
         for name, (value, _span) in spec.start.items():
@@ -206,7 +206,7 @@ class Master:
         for fmi_type, (vrs, vals) in sorted(by_type.items()):
             u.set_values(fmi_type, vrs, vals)
 
-    def _clock_timing(self, u: Unit) -> None:
+    def _clock_timing(self, u: FmuInstance) -> None:
         spec = self.system.instances[u.name]
         start = self.options.start
         for var in u.md.variables:
@@ -217,21 +217,21 @@ class Master:
             if kind in PERIODIC:
                 override = spec.clocks.get(var.name, ({}, None))[0]
                 if "interval" in override:
-                    u.inst.fmi3SetIntervalDecimal(vr, 1, [override["interval"]])
+                    u.binding.fmi3SetIntervalDecimal(vr, 1, [override["interval"]])
                 if "shift" in override:
-                    u.inst.fmi3SetShiftDecimal(vr, 1, [override["shift"]])
+                    u.binding.fmi3SetShiftDecimal(vr, 1, [override["shift"]])
                 interval = override.get("interval", var.interval)
                 shift = override.get("shift", var.shift)
                 if kind != "constant" and (interval is None or shift is None):
                     if interval is None:
-                        interval = u.inst.fmi3GetIntervalDecimal(vr, 1)[0][0]
+                        interval = u.binding.fmi3GetIntervalDecimal(vr, 1)[0][0]
                     if shift is None:
-                        shift = u.inst.fmi3GetShiftDecimal(vr, 1)[0]
+                        shift = u.binding.fmi3GetShiftDecimal(vr, 1)[0]
                 if interval is None or interval <= 0:
                     raise RobogenError.at(f"instance '{u.name}': periodic clock '{var.name}' has no positive interval", u.span)
                 u.periodic.append(Periodic(var, start, float(interval), float(shift or 0.0)))
             elif kind in APERIODIC:
-                intervals, qualifiers = u.inst.fmi3GetIntervalDecimal(vr, 1)
+                intervals, qualifiers = u.binding.fmi3GetIntervalDecimal(vr, 1)
                 ok = qualifiers[0] != INTERVAL_NOT_YET_KNOWN
                 u.aperiodic.append(Aperiodic(var, start + intervals[0] if ok else None))
 
@@ -252,17 +252,17 @@ class Master:
         start, h = opt.start, opt.step
         horizon = min(self._next_event, opt.stop)
         n = math.floor((t - start) / h + 1e-9)
-        calls = [(u, u.inst.lib.fmi3DoStep, u.inst.handle, *u.inst.step_outputs) for u in self.units]
-        event_units = self.event_units
+        calls = [(u, u.binding.lib.fmi3DoStep, u.binding.handle, *u.binding.step_outputs) for u in self.instances]
+        event_instances = self.event_instances
         linked = any(self.value_links.values())
         stats = self.stats
         # a step row: values from the readers' buffers, clocks 0, clocked values empty
         cols = [(reader[0].values, reader[1]) if kind == "value" else ((0,) if kind == "clock" else (None,), 0)
                 for kind, _u, _v, reader in self.value_columns]
         recorder = self.recorder
-        reads = [(r.c_function, u.inst.handle, r.c_vrs, r.n, r.buffer, r, u.inst)
-                 for u in self.units for r in u.readers if r.fmi_type != "String"]
-        slow_reads = [u for u in self.units if any(r.fmi_type == "String" for r in u.readers)]
+        reads = [(r.c_function, u.binding.handle, r.c_vrs, r.n, r.buffer, r, u.binding)
+                 for u in self.instances for r in u.readers if r.fmi_type != "String"]
+        slow_reads = [u for u in self.instances if any(r.fmi_type == "String" for r in u.readers)]
         rows_append = recorder.rows.append if recorder.keep_rows and recorder._writer is None else None
         limit = horizon - 1e-9 * max(1.0, abs(horizon))  # the last grid point before the horizon
         show_progress = progress.enabled
@@ -283,7 +283,7 @@ class Master:
                 for u, do_step, handle, ev, term, er, lst in calls:
                     status = do_step(handle, t, t_next - t, True, ev, term, er, lst)
                     if status > 1:
-                        u.inst._fail("fmi3DoStep", status)
+                        u.binding._fail("fmi3DoStep", status)
                     if ev[0] or term[0]:
                         event = event or (ev[0] and u.event_mode)
                         if term[0]:
@@ -296,8 +296,8 @@ class Master:
                 if pacer is not None:
                     pacer.wait(t)
                 if event:
-                    for u in event_units:
-                        u.inst.fmi3EnterEventMode()
+                    for u in event_instances:
+                        u.binding.fmi3EnterEventMode()
                     stats.steps += steps
                     steps = 0
                     self._event_iteration(t)
@@ -365,7 +365,7 @@ class Master:
                 for u, *_ in calls:
                     u.time = t
             if why == WHY_STEP_FAILED:
-                calls[who][0].inst._fail("fmi3DoStep", status)
+                calls[who][0].binding._fail("fmi3DoStep", status)
             if why == WHY_GET_FAILED:
                 get, handle, vrs, count, buf, r, inst = reads[who]
                 inst._fail(r.function, status)
@@ -376,8 +376,8 @@ class Master:
             if progress.enabled:
                 progress.update(t)
             if why == WHY_EVENT:
-                for u in self.event_units:
-                    u.inst.fmi3EnterEventMode()
+                for u in self.event_instances:
+                    u.binding.fmi3EnterEventMode()
                 self._event_iteration(t)
                 return t
             if why != WHY_LIMIT or rows < CHUNK:
@@ -387,7 +387,7 @@ class Master:
         """The earliest clock tick or nextEventTime after t, over all FMUs (after setup and each Event Mode)."""
         limit = t + tolerance(t)
         times = [math.inf]
-        for u in self.units:
+        for u in self.instances:
             tick = u.next_tick()
             times.append(tick if tick > limit else math.inf)
             if u.next_event_time is not None and u.next_event_time > limit:
@@ -398,21 +398,21 @@ class Master:
         """Step every FMU from t towards t_next; return (time reached by all, event pending)."""
         if not self.any_early:  # nobody can return early: one DoStep each, no bookkeeping
             event = False
-            for u in self.units:
-                ev, term, _er, _lst = u.inst.fmi3DoStep(t, t_next - t, True)
+            for u in self.instances:
+                ev, term, _er, _lst = u.binding.fmi3DoStep(t, t_next - t, True)
                 u.time = t_next
                 if term and self.stats.terminated_by is None:
                     self.stats.terminated_by = f"instance '{u.name}' asked to terminate in fmi3DoStep at t={_when(t_next)}"
                 event = event or (ev and u.event_mode)
             return t_next, event
         end = t_next
-        stepped: list[tuple[Unit, object, float]] = []
-        for u in self.units:
+        stepped: list[tuple[FmuInstance, object, float]] = []
+        for u in self.instances:
             u.flags = (False, False, False, u.time)
         for u in self.step_order:
             if u.time >= end - tolerance(end):
                 continue  # ahead after an early return it could not be rolled back from
-            saved = u.inst.fmi3GetFMUState() if (self.rollback and u.early and u.can_state) else None
+            saved = u.binding.fmi3GetFMUState() if (self.rollback and u.early and u.can_state) else None
             t_u = u.time
             self._do_step(u, end)
             if u.time < end - tolerance(end):  # early return: nobody goes past lastSuccessfulTime
@@ -420,21 +420,21 @@ class Master:
                 self.stats.early_returns += 1
                 for v, v_saved, t_v in stepped:
                     if v.time > end + tolerance(end) and v_saved is not None:
-                        v.inst.fmi3SetFMUState(v_saved)
+                        v.binding.fmi3SetFMUState(v_saved)
                         v.time = t_v
                         self.stats.rollbacks += 1
                         self._do_step(v, end)
             stepped.append((u, saved, t_u))
         event = False
-        for u in self.units:
+        for u in self.instances:
             ev, term, _er, _lst = u.flags
             if term and self.stats.terminated_by is None:
                 self.stats.terminated_by = f"instance '{u.name}' asked to terminate in fmi3DoStep at t={_when(u.time)}"
             event = event or (ev and u.event_mode)
         return end, event
 
-    def _do_step(self, u: Unit, end: float) -> None:
-        ev, term, er, lst = u.inst.fmi3DoStep(u.time, end - u.time, not self.rollback)
+    def _do_step(self, u: FmuInstance, end: float) -> None:
+        ev, term, er, lst = u.binding.fmi3DoStep(u.time, end - u.time, not self.rollback)
         u.flags = (ev, term, er, lst)
         u.time = lst if er else end
 
@@ -442,7 +442,7 @@ class Master:
     def _event_iteration(self, t: float) -> None:
         self.stats.event_iterations += 1
         limit = t + tolerance(t)
-        for u in self.units:
+        for u in self.instances:
             due = [p for p in u.periodic if p.next_time() <= limit] + [a for a in u.aperiodic if a.next is not None and a.next <= limit]
             if due:
                 u.set_clocks(sorted(c.var.value_reference for c in due))
@@ -452,18 +452,18 @@ class Master:
                     else:
                         c.next = None
         k = 0
-        ticked_all: dict[str, set[int]] = {u.name: set() for u in self.units}
+        ticked_all: dict[str, set[int]] = {u.name: set() for u in self.instances}
         while True:
             self.stats.instants += 1
             self._propagate(t, clocks=True, event_mode=True)
             self._record(t, k)
             self._log_events(t, k)
-            ticked = {u.name: set(u.active) for u in self.units}
+            ticked = {u.name: set(u.active) for u in self.instances}
             for name, vrs in ticked.items():
                 ticked_all[name] |= vrs
             needs = []
-            for u in self.event_units:
-                need, term, defined, nxt = u.inst.fmi3UpdateDiscreteStates()
+            for u in self.event_instances:
+                need, term, defined, nxt = u.binding.fmi3UpdateDiscreteStates()
                 u.active.clear()
                 u.next_event_time = nxt if defined else None
                 if need:
@@ -478,27 +478,27 @@ class Master:
                 self._zeno(t, k, needs, ticked)
         self._read_intervals(t, ticked_all)
         self._record(t, k)
-        for u in self.event_units:
-            u.inst.fmi3EnterStepMode()
+        for u in self.event_instances:
+            u.binding.fmi3EnterStepMode()
         self._refresh_timing(t)
 
     def _read_intervals(self, t: float, ticked: dict) -> None:
-        for u in self.units:
+        for u in self.instances:
             for a in u.aperiodic:
                 kind, vr = a.var.interval_variability, a.var.value_reference
                 if kind == "countdown" or vr in ticked[u.name]:
-                    intervals, qualifiers = u.inst.fmi3GetIntervalDecimal(vr_array([vr]), 1)
+                    intervals, qualifiers = u.binding.fmi3GetIntervalDecimal(vr_array([vr]), 1)
                     if qualifiers[0] == INTERVAL_CHANGED or (qualifiers[0] != INTERVAL_NOT_YET_KNOWN and a.next is None):
                         a.next = t + intervals[0]
 
     def _propagate(self, t: float, clocks: bool, event_mode: bool) -> None:
         """Forward clocks and values in dependency order until nothing new happens at this instant."""
-        units = self.event_units if event_mode else self.units
+        units = self.event_instances if event_mode else self.instances
         heap = [(self.rank[u.name], u.name) for u in units]
         heapq.heapify(heap)
         queued = {u.name for u in units}
         forwarded: set[tuple[str, int]] = set()
-        budget = 50 * (len(self.units) + 1) ** 2
+        budget = 50 * (len(self.instances) + 1) ** 2
         while heap:
             budget -= 1
             if budget < 0:
@@ -530,7 +530,7 @@ class Master:
                     queued.add(w)
                     heapq.heappush(heap, (self.rank[w], w))
 
-    def _forward_values(self, u: Unit, t: float) -> set[str]:
+    def _forward_values(self, u: FmuInstance, t: float) -> set[str]:
         """Read u's observed outputs; set connected inputs whose value changed. Returns targets set."""
         links = self.value_links[u.name]
         if not links:
@@ -549,12 +549,12 @@ class Master:
     def _exchange_values(self, t: float) -> bool:
         """Step Mode (or after the last update): read outputs, set changed inputs. True if any changed."""
         changed = False
-        for u in self.units:
+        for u in self.instances:
             if self._forward_values(u, t):
                 changed = True
         return changed
 
-    def _zeno(self, t: float, k: int, needs: list[Unit], ticked: dict) -> None:
+    def _zeno(self, t: float, k: int, needs: list[FmuInstance], ticked: dict) -> None:
         active = [f"{n}.{self.by_name[n].by_vr[vr].name}" for n, vrs in ticked.items() for vr in sorted(vrs)]
         who = ", ".join(f"'{u.name}'" for u in needs) or "none (connected values keep changing)"
         diag_notes = [Note(f"instance '{u.name}' is declared here", u.span) for u in needs]
@@ -584,7 +584,7 @@ class Master:
     def _log_events(self, t: float, k: int) -> None:
         if not self.recorder.recording_events:
             return
-        for u in self.units:
+        for u in self.instances:
             for vr in sorted(u.active):
                 clock = u.by_vr[vr]
                 values = {v.name: u.get_one(v) for v in u.md.variables
@@ -603,15 +603,15 @@ class Master:
 
     def _shutdown(self) -> None:
         """fmi3Terminate every healthy instance, free all but those that returned fmi3Fatal."""
-        for u in self.units:
-            if u.failed_status == FATAL or u.inst.handle == ffi.NULL:
+        for u in self.instances:
+            if u.failed_status == FATAL or u.binding.handle == ffi.NULL:
                 continue  # never call an instance again after fmi3Fatal
             if u.failed_status is None:
                 try:
-                    u.inst.fmi3Terminate()
+                    u.binding.fmi3Terminate()
                 except FMI3Error:
                     pass
-            u.inst.fmi3FreeInstance()
+            u.binding.fmi3FreeInstance()
 
 
 _UNSET = object()

@@ -1,6 +1,6 @@
 """One FMU instance as the master sees it: its binding, its clocks' timing, its value buffers.
 
-A :class:`Unit` owns the :class:`~robogen.cosim.fmi3.Instance`, the schedule of its time-based
+A :class:`FmuInstance` owns the :class:`~robogen.cosim.fmi3.Binding`, the schedule of its time-based
 input clocks (:class:`Periodic`, :class:`Aperiodic`), the value references it reads after a step
 (grouped per type into one cffi buffer each, so a step costs one Get call per type) and the set
 of its clocks active in the current super-dense instant.
@@ -14,7 +14,7 @@ import tempfile
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from robogen.cosim.fmi3 import ffi, Instance, Library, LoadError, value_array, vr_array
+from robogen.cosim.fmi3 import ffi, Binding, Library, LoadError, value_array, vr_array
 from robogen.diagnostics import Note, RobogenError, Span
 from robogen.fmu.extract import extract_fmu
 from robogen.fmu.fmi import tolerance  # noqa: F401 (the master's)
@@ -62,14 +62,14 @@ class Reader:
         self.buffer = value_array(self.fmi_type, self.n)
         self.values = self.buffer if self.fmi_type != "String" else [""] * self.n
 
-    def bind(self, inst: Instance) -> None:
+    def bind(self, inst: Binding) -> None:
         from robogen.cosim.fmi3 import ACCESSOR
 
-        self.inst = inst
+        self.binding = inst
         self.function = "fmi3Get" + ACCESSOR[self.fmi_type]
         self.c_function = getattr(inst.lib, self.function)
 
-    def read(self, inst: Instance) -> None:
+    def read(self, inst: Binding) -> None:
         if inst.trace is not None:
             inst.get(self.fmi_type, self.c_vrs, self.n, self.buffer)
         else:
@@ -118,7 +118,7 @@ class FmuCache:
         shutil.rmtree(self.root, ignore_errors=True)
 
 
-class Unit:
+class FmuInstance:
     def __init__(self, name: str, md: ModelDescription, folder: Path, library: Library, span: Span, trace=None, log=None):
         self.name, self.md, self.folder, self.span = name, md, folder, span
         cs = md.co_simulation
@@ -126,7 +126,7 @@ class Unit:
         self.early = cs.might_return_early
         self.variable_step = cs.can_handle_variable_step
         self.can_state = cs.can_get_and_set_state
-        self.inst = Instance(library, name, trace=trace, log=log)
+        self.binding = Binding(library, name, trace=trace, log=log)
         self.vars = md.by_name()
         self.by_vr = md.by_vr()
         self.time = 0.0
@@ -153,7 +153,7 @@ class Unit:
                 by_type.setdefault(v.type, []).append(v.value_reference)
         self.readers = [Reader(t, vrs) for t, vrs in sorted(by_type.items())]
         for r in self.readers:
-            r.bind(self.inst)
+            r.bind(self.binding)
         self.reader_of = {vr: (r, i) for r in self.readers for vr, i in r.index.items()}
 
     def watch_clocks(self, vrs: list[int]) -> None:
@@ -162,7 +162,7 @@ class Unit:
         self.out_clock_buffer = value_array("Clock", len(self.out_clocks))
 
     def read_outputs(self) -> None:
-        inst = self.inst
+        inst = self.binding
         for r in self.readers:
             r.read(inst)
 
@@ -176,12 +176,12 @@ class Unit:
         if not n:
             return []
         buf = self.out_clock_buffer
-        self.inst.fmi3GetClock(self.out_clock_vrs, n, buf)
+        self.binding.fmi3GetClock(self.out_clock_vrs, n, buf)
         return [vr for i, vr in enumerate(self.out_clocks) if buf[i]]
 
     def get_one(self, var: Variable):
         buf = value_array(var.type, 1)
-        self.inst.get(var.type, vr_array([var.value_reference]), 1, buf)
+        self.binding.get(var.type, vr_array([var.value_reference]), 1, buf)
         if var.type == "String":
             return ffi.string(buf[0]).decode("utf-8", "replace") if buf[0] != ffi.NULL else ""
         return buf[0]
@@ -192,10 +192,10 @@ class Unit:
             buf = ffi.new("const char*[]", keep)
         else:
             buf = ffi.new(f"{_ctype(fmi_type)}[]", values)
-        self.inst.set(fmi_type, vr_array(vrs), len(vrs), buf)
+        self.binding.set(fmi_type, vr_array(vrs), len(vrs), buf)
 
     def set_clocks(self, vrs: list[int]) -> None:
-        self.inst.fmi3SetClock(vr_array(vrs), len(vrs), ffi.new("bool[]", [True] * len(vrs)))
+        self.binding.fmi3SetClock(vr_array(vrs), len(vrs), ffi.new("bool[]", [True] * len(vrs)))
         self.active.update(vrs)
 
     def next_tick(self) -> float:

@@ -5,10 +5,10 @@ from __future__ import annotations
 import math
 from pathlib import Path
 
-from robogen.cosim.master import Master, Options
+from robogen.cosim.master import Master, RunOptions
 from robogen.cosim.recorder import Recorder
 from robogen.cosim.system import Link, System, load_system, resolve, split_name
-from robogen.cosim.units import FmuCache, Unit
+from robogen.cosim.instances import FmuCache, FmuInstance
 from robogen.diagnostics import DiagnosticSink, RobogenError
 
 
@@ -39,7 +39,7 @@ def build_master(path: Path, *, stop=None, step=None, output=None, events=None, 
             folder, md = loaded[name]
             spec = system.instances[name]
             lib = cache.library(folder, md, spec.fmu_span)
-            units.append(Unit(name, md, folder, lib, spec.span, trace=trace, log=log))
+            units.append(FmuInstance(name, md, folder, lib, spec.span, trace=trace, log=log))
         record = _record_list(system, units)
         recorder = Recorder([f"{u.name}.{v.name}" for u, v in record], Path(output) if output else None,
                             Path(events) if events else None, keep_rows)
@@ -49,7 +49,7 @@ def build_master(path: Path, *, stop=None, step=None, output=None, events=None, 
         raise
 
 
-def _options(system: System, stop, step, realtime, progress) -> Options:
+def _options(system: System, stop, step, realtime, progress) -> RunOptions:
     stop = system.stop if stop is None else float(stop)
     step = system.step if step is None else float(step)
     if stop is None:
@@ -62,7 +62,7 @@ def _options(system: System, stop, step, realtime, progress) -> Options:
         raise RobogenError.at(f"the stop time {stop} is before the start time {system.start}", system.span("experiment", "stop"))
     if realtime is not None and not (math.isfinite(realtime) and realtime > 0):
         raise RobogenError.at(f"the real-time factor must be positive, not {realtime}", None)
-    return Options(system.start, stop, step, realtime, progress)
+    return RunOptions(system.start, stop, step, realtime, progress)
 
 
 def dependency_order(system: System, links: list[Link]) -> list[str]:
@@ -89,7 +89,7 @@ def dependency_order(system: System, links: list[Link]) -> list[str]:
     return order
 
 
-def _record_list(system: System, units: list[Unit]):
+def _record_list(system: System, units: list[FmuInstance]):
     """(unit, variable) pairs to record: the [record] list, else every output and input clock."""
     by_name = {u.name: u for u in units}
     declared = [by_name[n] for n in system.instances]
