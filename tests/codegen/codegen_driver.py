@@ -29,6 +29,7 @@ from fmpy import read_model_description
 
 from robogen.codegen.api import build_fmu, compile_model
 from robogen.cosim import fmi3
+from robogen.fmu.fmi import ERROR
 from robogen.fmu.headers import PLATFORM_TUPLE
 from robogen.ir import model as ir
 from robogen.ir.interp import Interpreter, RuntimeFault
@@ -235,7 +236,7 @@ class FmuRunner:
         self.clocked_out = {c: _group(d.clocked[c]) for c in d.output_clocks}
 
     def _log(self, name: str, status: int, text: str) -> None:
-        if status >= fmi3.ERROR:
+        if status >= ERROR:
             self.errors.append(text)
 
     def close(self) -> None:

@@ -1,135 +1,62 @@
 """One FMU instance as the master sees it: its binding, its clocks' timing, its value buffers.
 
-A :class:`FmuInstance` owns the :class:`~robogen.cosim.fmi3.Binding`, the schedule of its time-based
-input clocks (:class:`Periodic`, :class:`Aperiodic`), the value references it reads after a step
-(grouped per type into one cffi buffer each, so a step costs one Get call per type) and the set
-of its clocks active in the current super-dense instant.
+A :class:`FmuInstance` holds the instance's binding: a :class:`~robogen.cosim.fmi3.Binding` in
+this process, or anything with the same methods (a proxy to a worker process would do; a binding
+whose :meth:`~robogen.cosim.fmi3.Binding.raw` gives no C functions keeps the master in its
+general loop). Beside it: the schedule of its time-based input clocks (:mod:`robogen.cosim.clocks`),
+the :class:`Reader` of each type of the outputs the master reads after a step (one cffi buffer and
+one Get call per type), the output clocks it watches and the set of its clocks active in the
+current super-dense instant.
 """
 
 from __future__ import annotations
 
 import math
-import shutil
-import tempfile
-from dataclasses import dataclass, field
 from pathlib import Path
 
-from robogen.cosim.fmi3 import ffi, Binding, Library, LoadError, value_array, vr_array
-from robogen.diagnostics import Note, RobogenError, Span
-from robogen.fmu.extract import extract_fmu
-from robogen.fmu.fmi import tolerance  # noqa: F401 (the master's)
-from robogen.fmu.headers import PLATFORM_TUPLE
-from robogen.fmu.modeldesc import ModelDescription, Variable, load_model_description
-
-PERIODIC = ("constant", "fixed", "tunable")
-APERIODIC = ("changing", "countdown")
+from robogen.cosim.clocks import APERIODIC, PERIODIC, Aperiodic, Periodic
+from robogen.cosim.fmi3 import ACCESSOR, C_TYPES, Binding, FMI3Error, ffi, value_array, vr_array
+from robogen.diagnostics import RobogenError, Span
+from robogen.fmu.fmi import FATAL, INTERVAL_CHANGED, INTERVAL_NOT_YET_KNOWN, WARNING
+from robogen.fmu.modeldesc import ModelDescription, Variable
 
 
-@dataclass
-class Periodic:
-    """A time-based periodic input clock: tick k at start + shift + k * interval (no running sum)."""
-
-    var: Variable
-    start: float
-    interval: float
-    shift: float
-    k: int = 0
-
-    def next_time(self) -> float:
-        return self.start + self.shift + self.k * self.interval
-
-
-@dataclass
-class Aperiodic:
-    """A changing or countdown input clock: next tick known from fmi3GetIntervalDecimal."""
-
-    var: Variable
-    next: float | None = None
-
-
-@dataclass
 class Reader:
-    """One fmi3Get<Type> call that fills a buffer with several variables."""
+    """One fmi3Get<Type> call that fills a buffer with several variables of one instance."""
 
-    fmi_type: str
-    vrs: list[int]
-    index: dict[int, int] = field(default_factory=dict)
+    def __init__(self, binding: Binding, fmi_type: str, vrs: list[int]):
+        self.binding, self.fmi_type, self.vrs = binding, fmi_type, vrs
+        self.index = {vr: i for i, vr in enumerate(vrs)}
+        self.count = len(vrs)
+        self.c_vrs = vr_array(vrs)
+        self.buffer = value_array(fmi_type, self.count)
+        self.decodes = fmi_type == "String"  # the buffer holds C strings; values holds them decoded
+        self.values = [""] * self.count if self.decodes else self.buffer
+        self.function = "fmi3Get" + ACCESSOR[fmi_type]
+        self.c_function = binding.raw(self.function)  # None while tracing
 
-    def __post_init__(self) -> None:
-        self.index = {vr: i for i, vr in enumerate(self.vrs)}
-        self.c_vrs = vr_array(self.vrs)
-        self.n = len(self.vrs)
-        self.buffer = value_array(self.fmi_type, self.n)
-        self.values = self.buffer if self.fmi_type != "String" else [""] * self.n
-
-    def bind(self, inst: Binding) -> None:
-        from robogen.cosim.fmi3 import ACCESSOR
-
-        self.binding = inst
-        self.function = "fmi3Get" + ACCESSOR[self.fmi_type]
-        self.c_function = getattr(inst.lib, self.function)
-
-    def read(self, inst: Binding) -> None:
-        if inst.trace is not None:
-            inst.get(self.fmi_type, self.c_vrs, self.n, self.buffer)
+    def read(self) -> None:
+        if self.c_function is None:
+            self.binding.get(self.fmi_type, self.c_vrs, self.count, self.buffer)
         else:
-            status = self.c_function(inst.handle, self.c_vrs, self.n, self.buffer, self.n)
-            if status > 1:
-                inst._fail(self.function, status)
-        if self.fmi_type == "String":
-            self.values[:] = [ffi.string(p).decode("utf-8", "replace") if p != ffi.NULL else "" for p in self.buffer[0:self.n]]
-
-
-class FmuCache:
-    """Extracts each distinct .fmu once per run and loads each binary once."""
-
-    def __init__(self) -> None:
-        self.root = Path(tempfile.mkdtemp(prefix="robogen-sim-"))
-        self.folders: dict[Path, Path] = {}
-        self.models: dict[Path, ModelDescription] = {}
-        self.libraries: dict[str, Library] = {}
-
-    def load(self, fmu: Path, span: Span) -> tuple[Path, ModelDescription]:
-        key = fmu.resolve()
-        if key not in self.folders:
-            if not fmu.is_file():
-                raise RobogenError.at(f"FMU file not found: {fmu}", span)
-            folder = extract_fmu(fmu, self.root / str(len(self.folders)))
-            self.folders[key] = folder
-            self.models[key] = load_model_description(folder, f"{fmu}/modelDescription.xml")
-        return self.folders[key], self.models[key]
-
-    def library(self, folder: Path, md: ModelDescription, span: Span) -> Library:
-        ident = md.co_simulation.model_identifier
-        path = folder / "binaries" / PLATFORM_TUPLE / f"{ident}.so"
-        if not path.is_file():
-            found = sorted(p.name for p in (folder / "binaries").iterdir()) if (folder / "binaries").is_dir() else []
-            raise RobogenError.at(f"the FMU has no binary for this platform: binaries/{PLATFORM_TUPLE}/{ident}.so is missing",
-                                  span, Note(f"platforms in the archive: {', '.join(found) or 'none'}"))
-        key = str(path)
-        if key not in self.libraries:
-            try:
-                self.libraries[key] = Library(key)
-            except LoadError as exc:
-                raise RobogenError.at(str(exc), span) from None
-        return self.libraries[key]
-
-    def close(self) -> None:
-        shutil.rmtree(self.root, ignore_errors=True)
+            status = self.c_function(self.binding.handle, self.c_vrs, self.count, self.buffer, self.count)
+            if status > WARNING:
+                raise self.binding.error(self.function, status)
+        if self.decodes:
+            self.values[:] = [_decode(p) for p in self.buffer[0:self.count]]
 
 
 class FmuInstance:
-    def __init__(self, name: str, md: ModelDescription, folder: Path, library: Library, span: Span, trace=None, log=None):
+    def __init__(self, name: str, md: ModelDescription, folder: Path, binding: Binding, span: Span):
         self.name, self.md, self.folder, self.span = name, md, folder, span
         cs = md.co_simulation
         self.event_mode = cs.has_event_mode
         self.early = cs.might_return_early
-        self.variable_step = cs.can_handle_variable_step
         self.can_state = cs.can_get_and_set_state
-        self.binding = Binding(library, name, trace=trace, log=log)
+        self.binding = binding
         self.vars = md.by_name()
         self.by_vr = md.by_vr()
-        self.time = 0.0
+        self.time = 0.0  # where this instance is: the communication point of its last step
         self.periodic: list[Periodic] = []
         self.aperiodic: list[Aperiodic] = []
         self.next_event_time: float | None = None
@@ -139,21 +66,97 @@ class FmuInstance:
         self.out_clocks: list[int] = []
         self.out_clock_buffer = None
         self.failed_status: int | None = None  # set when a call returned Error/Fatal
-        self.flags = (False, False, False, 0.0)
 
-    def resource_path(self) -> str | None:
+    # -- life cycle -------------------------------------------------------------------------
+    def instantiate(self, start: float) -> None:
+        self.time = start
         res = self.folder / "resources"
-        return str(res.resolve()) + "/" if res.is_dir() else None
+        resources = str(res.resolve()) + "/" if res.is_dir() else None
+        self.binding.fmi3InstantiateCoSimulation(self.md.instantiation_token, resources, False, False,
+                                                 eventModeUsed=self.event_mode, earlyReturnAllowed=self.early)
 
+    def set_start_values(self, values: dict[str, object]) -> None:
+        """The system file's start values, one Set call per type (Initialization Mode)."""
+        by_type: dict[str, tuple[list, list]] = {}
+        for name, value in values.items():
+            var = self.vars[name]
+            vrs, vals = by_type.setdefault(var.type, ([], []))
+            vrs.append(var.value_reference)
+            vals.append(value)
+        for fmi_type, (vrs, vals) in sorted(by_type.items()):
+            self.set_values(fmi_type, vrs, vals)
+
+    def shut_down(self) -> None:
+        """fmi3Terminate if healthy, then free; never call an instance again after fmi3Fatal."""
+        if self.failed_status == FATAL or not self.binding.instantiated:
+            return
+        if self.failed_status is None:
+            try:
+                self.binding.fmi3Terminate()
+            except FMI3Error:
+                pass
+        self.binding.fmi3FreeInstance()
+
+    # -- time-based input clocks ------------------------------------------------------------
+    def schedule_clocks(self, start: float, overrides: dict[str, dict]) -> None:
+        """Learn when each time-based input clock ticks (Initialization Mode): periodic ones from
+        the system file's interval/shift, the model description or the FMU; aperiodic ones from
+        the FMU's first interval."""
+        for var in self.md.variables:
+            if var.is_clock and var.causality == "input":
+                if var.interval_variability in PERIODIC:
+                    self.periodic.append(self._periodic(var, start, overrides.get(var.name, {})))
+                elif var.interval_variability in APERIODIC:
+                    intervals, qualifiers = self.binding.fmi3GetIntervalDecimal(vr_array([var.value_reference]), 1)
+                    known = qualifiers[0] != INTERVAL_NOT_YET_KNOWN
+                    self.aperiodic.append(Aperiodic(var, start + intervals[0] if known else None))
+
+    def _periodic(self, var: Variable, start: float, override: dict) -> Periodic:
+        vr = vr_array([var.value_reference])
+        if "interval" in override:
+            self.binding.fmi3SetIntervalDecimal(vr, 1, [override["interval"]])
+        if "shift" in override:
+            self.binding.fmi3SetShiftDecimal(vr, 1, [override["shift"]])
+        interval = override.get("interval", var.interval)
+        shift = override.get("shift", var.shift)
+        if var.interval_variability != "constant":
+            if interval is None:
+                interval = self.binding.fmi3GetIntervalDecimal(vr, 1)[0][0]
+            if shift is None:
+                shift = self.binding.fmi3GetShiftDecimal(vr, 1)[0]
+        if interval is None or interval <= 0:
+            raise RobogenError.at(f"instance '{self.name}': periodic clock '{var.name}' has no positive interval", self.span)
+        return Periodic(var, start, float(interval), float(shift or 0.0))
+
+    def activate_due_clocks(self, t: float, limit: float) -> None:
+        """Set every input clock due by ``limit`` (first instant at t) and move it past t."""
+        due = [c for c in (*self.periodic, *self.aperiodic) if c.next_time() <= limit]
+        if due:
+            self.set_clocks(sorted(c.var.value_reference for c in due))
+            for c in due:
+                c.ticked(t)
+
+    def read_intervals(self, t: float, ticked: set[int]) -> None:
+        """After an event iteration at t: the next tick of each countdown clock and of each changing
+        clock that ticked, as the FMU announces it."""
+        for a in self.aperiodic:
+            vr = a.var.value_reference
+            if a.var.interval_variability == "countdown" or vr in ticked:
+                intervals, qualifiers = self.binding.fmi3GetIntervalDecimal(vr_array([vr]), 1)
+                if qualifiers[0] == INTERVAL_CHANGED or (qualifiers[0] != INTERVAL_NOT_YET_KNOWN and a.next is None):
+                    a.next = t + intervals[0]
+
+    def next_tick(self) -> float:
+        return min((c.next_time() for c in (*self.periodic, *self.aperiodic)), default=math.inf)
+
+    # -- values and output clocks -----------------------------------------------------------
     def observe(self, variables: list[Variable]) -> None:
         """Read these non-clocked variables (one call per type) after every step and instant."""
         by_type: dict[str, list[int]] = {}
         for v in variables:
             if not v.is_clock and not v.is_clocked and v.value_reference not in by_type.get(v.type, []):
                 by_type.setdefault(v.type, []).append(v.value_reference)
-        self.readers = [Reader(t, vrs) for t, vrs in sorted(by_type.items())]
-        for r in self.readers:
-            r.bind(self.binding)
+        self.readers = [Reader(self.binding, t, vrs) for t, vrs in sorted(by_type.items())]
         self.reader_of = {vr: (r, i) for r in self.readers for vr, i in r.index.items()}
 
     def watch_clocks(self, vrs: list[int]) -> None:
@@ -162,9 +165,8 @@ class FmuInstance:
         self.out_clock_buffer = value_array("Clock", len(self.out_clocks))
 
     def read_outputs(self) -> None:
-        inst = self.binding
         for r in self.readers:
-            r.read(inst)
+            r.read()
 
     def value(self, vr: int):
         r, i = self.reader_of[vr]
@@ -182,28 +184,20 @@ class FmuInstance:
     def get_one(self, var: Variable):
         buf = value_array(var.type, 1)
         self.binding.get(var.type, vr_array([var.value_reference]), 1, buf)
-        if var.type == "String":
-            return ffi.string(buf[0]).decode("utf-8", "replace") if buf[0] != ffi.NULL else ""
-        return buf[0]
+        return _decode(buf[0]) if var.type == "String" else buf[0]
 
     def set_values(self, fmi_type: str, vrs: list[int], values: list) -> None:
         if fmi_type == "String":
             keep = [ffi.new("char[]", str(v).encode()) for v in values]
             buf = ffi.new("const char*[]", keep)
         else:
-            buf = ffi.new(f"{_ctype(fmi_type)}[]", values)
+            buf = ffi.new(f"{C_TYPES[fmi_type]}[]", values)
         self.binding.set(fmi_type, vr_array(vrs), len(vrs), buf)
 
     def set_clocks(self, vrs: list[int]) -> None:
         self.binding.fmi3SetClock(vr_array(vrs), len(vrs), ffi.new("bool[]", [True] * len(vrs)))
         self.active.update(vrs)
 
-    def next_tick(self) -> float:
-        times = [p.next_time() for p in self.periodic] + [a.next for a in self.aperiodic if a.next is not None]
-        return min(times) if times else math.inf
 
-
-def _ctype(fmi_type: str) -> str:
-    from robogen.cosim.fmi3 import C_TYPES
-
-    return C_TYPES[fmi_type]
+def _decode(p) -> str:
+    return ffi.string(p).decode("utf-8", "replace") if p != ffi.NULL else ""

@@ -38,19 +38,17 @@ class Recorder:
         self._last_flush = _time.monotonic()
         self.count = 0
 
-    def row(self, row: list) -> None:
+    def append_row(self, row: list) -> None:
         self.count += 1
         if self.keep_rows:
             self.rows.append(row)
         if self._writer is not None:
             self._writer.writerow(row)
             if self.count & 255 == 0:
-                now = _time.monotonic()
-                if now - self._last_flush > FLUSH_SECONDS:
-                    self.flush()
+                self._flush_if_due()
 
-    def rows_many(self, rows: list[list]) -> None:
-        """Several rows at once (the C stepper's chunks); the same as calling row() on each."""
+    def append_rows(self, rows: list[list]) -> None:
+        """Several rows at once (a quiet stretch's batch); the same as append_row on each."""
         if not rows:
             return
         self.count += len(rows)
@@ -58,9 +56,11 @@ class Recorder:
             self.rows.extend(rows)
         if self._writer is not None:
             self._writer.writerows(rows)
-            now = _time.monotonic()
-            if now - self._last_flush > FLUSH_SECONDS:
-                self.flush()
+            self._flush_if_due()
+
+    def _flush_if_due(self) -> None:
+        if _time.monotonic() - self._last_flush > FLUSH_SECONDS:
+            self.flush()
 
     def event(self, t: float, k: int, fmu: str, clock: str, values: dict) -> None:
         if self._events is not None:
