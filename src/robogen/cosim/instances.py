@@ -47,6 +47,8 @@ class Reader:
 
 
 class FmuInstance:
+    """One instance of an FMU in the system: what the master knows and keeps about it between calls."""
+
     def __init__(self, name: str, md: ModelDescription, folder: Path, binding: Binding, span: Span):
         self.name, self.md, self.folder, self.span = name, md, folder, span
         cs = md.co_simulation

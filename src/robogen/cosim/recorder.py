@@ -18,6 +18,8 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 FLUSH_SECONDS = 0.25
+#: A communication point reached later than this after it was due counts as an overrun.
+OVERRUN_SECONDS = 1e-3
 
 
 class Recorder:
@@ -91,7 +93,7 @@ class Pacer:
     wall0: float = field(default_factory=_time.monotonic)
     lags: list[float] = field(default_factory=list)
     overruns: int = 0
-    threshold: float = 1e-3  # later than this counts as an overrun
+    threshold: float = OVERRUN_SECONDS
 
     def wait(self, t: float) -> None:
         due = self.wall0 + (t - self.t0) / self.factor

@@ -154,7 +154,7 @@ class CStretch:
         pacing (the Python stretch does those), a recorded type it does not store, no library."""
         if plan.values.connected or plan.pacer is not None:
             return None
-        if any(kind(r.fmi_type) is None or r.c_function is None for r in plan.reads):
+        if any(kind(r.fmi_type) is None for r in plan.reads):
             return None
         lib = load()
         return cls(lib, plan) if lib is not None else None

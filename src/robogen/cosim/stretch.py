@@ -124,8 +124,8 @@ class PythonStretch:
         self.calls = [_Step(u, u.binding.raw("fmi3DoStep"), u.binding.handle, *u.binding.step_outputs, u.event_mode)
                       for u in plan.instances]
         self.raw_reads = [_Read(r.c_function, r.binding.handle, r.c_vrs, r.count, r.buffer, r)
-                          for r in plan.reads if r.c_function is not None and not r.decodes]
-        self.other_reads = [r for r in plan.reads if r.c_function is None or r.decodes]
+                          for r in plan.reads if not r.decodes]
+        self.decoded_reads = [r for r in plan.reads if r.decodes]  # Strings: read, then decoded
         # where each column's value is after the reads: a reader's values, or a constant
         self.sources = [(c.reader.values, c.index) if c.kind == VALUE else ((0,) if c.kind == CLOCK else (None,), 0)
                         for c in plan.columns]
@@ -134,7 +134,7 @@ class PythonStretch:
     def run(self, t: float, horizon: float) -> StretchEnd:
         plan = self.plan
         start, h, limit, n = plan.start, plan.step, plan.limit(horizon), plan.index(t)
-        calls, raw_reads, other_reads, sources = self.calls, self.raw_reads, self.other_reads, self.sources
+        calls, raw_reads, decoded_reads, sources = self.calls, self.raw_reads, self.decoded_reads, self.sources
         exchange = plan.values.exchange if plan.values.connected else None
         pacer, progress = plan.pacer, (plan.progress if plan.progress.enabled else None)
         rows: list[list] = []
@@ -166,7 +166,7 @@ class PythonStretch:
                     status = get(handle, vrs, count, buffer, count)
                     if status > WARNING:
                         raise reader.binding.error(reader.function, status)
-                for reader in other_reads:
+                for reader in decoded_reads:
                     reader.read()
                 row = [t, 0]
                 row += [values[i] for values, i in sources]
