@@ -132,7 +132,7 @@ class FmuInstance:
 
     def activate_due_clocks(self, t: float, limit: float) -> None:
         """Set every input clock due by ``limit`` (first instant at t) and move it past t."""
-        due = [c for c in (*self.periodic, *self.aperiodic) if c.next_time() <= limit]
+        due = [p for p in self.periodic if p.next_time() <= limit] + [a for a in self.aperiodic if a.next_time() <= limit]
         if due:
             self.set_clocks(sorted(c.var.value_reference for c in due))
             for c in due:

@@ -33,7 +33,7 @@ from robogen.cosim.clocks import grid_index
 from robogen.cosim.fmi3 import FMI3Error, StepResult
 from robogen.cosim.instances import FmuInstance
 from robogen.cosim.recorder import Pacer, Progress, Recorder
-from robogen.cosim.stretch import NoStretch, Stretch, StretchPlan, choose_stretch
+from robogen.cosim.stretch import Stretch, StretchPlan, choose_stretch
 from robogen.cosim.system import Link, System
 from robogen.cosim.wiring import CLOCK, VALUE, ValueExchange, wire
 from robogen.diagnostics import Note, RobogenError
@@ -83,8 +83,11 @@ class Master:
         self.values = ValueExchange(self.wiring.value_links)
         self._stop_limit = options.stop - tolerance(options.stop)
         self._next_event = math.inf
-        self._stretch: Stretch = NoStretch()
+        self._stretch: Stretch | None = None  # None: every point goes through the general step
+        # the general step of every FMU to the next point, chosen once for the system
+        self._step = self._step_with_early_returns if self.any_early else self._step_on_grid
         self._pacer: Pacer | None = None
+        self._timed: list[FmuInstance] = []  # the instances with time-based input clocks (known after setup)
 
     # ------------------------------------------------------------------------------------
     # The run
@@ -101,9 +104,7 @@ class Master:
             self._pacer = Pacer(opt.realtime, opt.start) if opt.realtime else None
             self._choose_stretch(progress)
             while not self._finished(t):
-                t, event = self._quiet_stretch(t)
-                if not event and not self._finished(t):
-                    t, event = self._communication_point(t)
+                t, event = self._advance(t)
                 if event:
                     self._event_mode(t)
                 progress.update(t)
@@ -137,6 +138,7 @@ class Master:
             spec = self.system.instances[u.name]
             u.set_start_values({name: value for name, (value, _span) in spec.start.items()})
             u.schedule_clocks(opt.start, {name: timing for name, (timing, _span) in spec.clocks.items()})
+        self._timed = [u for u in self.instances if u.periodic or u.aperiodic]
         # values in dependency order (Initialization Mode allows Get outputs / Set inputs)
         self._propagate(opt.start, clocks=False, event_mode=False)
         for u in self.instances:
@@ -149,7 +151,7 @@ class Master:
         plan = StretchPlan(opt.start, opt.step, self.instances, self.values, reads, self.wiring.columns,
                            self.recorder, progress, self._pacer)
         self._stretch = choose_stretch(plan)
-        self.stats.stretch = self._stretch.name
+        self.stats.stretch = self._stretch.name if self._stretch is not None else None
 
     # -- time ---------------------------------------------------------------------------------
     def _next_point(self, t: float) -> float:
@@ -163,27 +165,19 @@ class Master:
     def _refresh_timing(self, t: float) -> None:
         """The earliest clock tick or nextEventTime after t, over all FMUs (after setup and each Event Mode)."""
         limit = t + tolerance(t)
-        times = [math.inf]
-        for u in self.instances:
-            tick = u.next_tick()
-            times.append(tick if tick > limit else math.inf)
-            if u.next_event_time is not None and u.next_event_time > limit:
-                times.append(u.next_event_time)
-        self._next_event = min(times)
+        ticks = [tick for u in self._timed if (tick := u.next_tick()) > limit]
+        events = [u.next_event_time for u in self.instances if u.next_event_time is not None and u.next_event_time > limit]
+        self._next_event = min(ticks + events, default=math.inf)
 
     # -- Step Mode ------------------------------------------------------------------------------
-    def _quiet_stretch(self, t: float) -> tuple[float, bool]:
-        """The points before the next time event, each stepped, exchanged and recorded; stops early
-        after a step that asks for Event Mode. Returns (time reached, event pending)."""
-        end = self._stretch.run(t, min(self._next_event, self.options.stop))
-        self.stats.steps += end.steps
-        if end.terminating is not None:
-            self._terminated(end.terminating, "fmi3DoStep", end.t)
-        return end.t, end.event
-
-    def _communication_point(self, t: float) -> tuple[float, bool]:
-        """Step to the next communication point; unless an event is due there, exchange values and
-        record (t, 0). Returns (time reached, event pending)."""
+    def _advance(self, t: float) -> tuple[float, bool]:
+        """From t to the next point where something happens: the quiet stretch up to the next time
+        event (where the system has one), then one general step; unless an event is due there,
+        exchange values and record (t, 0). Returns (time reached, event pending)."""
+        if self._stretch is not None:
+            t, event = self._quiet_stretch(t)
+            if event or self._finished(t):
+                return t, event
         t, event = self._step(t, self._next_point(t))
         self.stats.steps += 1
         if self._pacer is not None:
@@ -194,11 +188,19 @@ class Master:
         self._record(t, 0)
         return t, False
 
-    def _step(self, t: float, t_next: float) -> tuple[float, bool]:
-        """Step every FMU from t towards t_next; return (time reached by all, event pending)."""
-        if self.any_early:
-            return self._step_with_early_returns(t_next)
-        event = False  # nobody can return early: one DoStep each, no bookkeeping
+    def _quiet_stretch(self, t: float) -> tuple[float, bool]:
+        """The points before the next time event, each stepped, exchanged and recorded; stops early
+        after a step that asks for Event Mode. Returns (time reached, event pending)."""
+        end = self._stretch.run(t, min(self._next_event, self.options.stop))
+        self.stats.steps += end.steps
+        if end.terminating is not None:
+            self._terminated(end.terminating, "fmi3DoStep", end.t)
+        return end.t, end.event
+
+    def _step_on_grid(self, t: float, t_next: float) -> tuple[float, bool]:
+        """Step every FMU from t to t_next (nobody can return early: one DoStep each, no
+        bookkeeping); return (t_next, event pending)."""
+        event = False
         for u in self.instances:
             result = u.binding.fmi3DoStep(t, t_next - t, True)
             u.time = t_next
@@ -207,19 +209,22 @@ class Master:
             event = event or (result.event_handling_needed and u.event_mode)
         return t_next, event
 
-    def _step_with_early_returns(self, end: float) -> tuple[float, bool]:
-        """Early returners step first; nobody goes past the earliest lastSuccessfulTime, and those
-        already past it are rolled back (with FMU state) and stepped again, up to it."""
-        results = {u.name: StepResult(False, False, False, u.time) for u in self.instances}
+    def _step_with_early_returns(self, t: float, end: float) -> tuple[float, bool]:
+        """Step every FMU from t towards ``end``, early returners first; nobody goes past the
+        earliest lastSuccessfulTime, and those already past it are rolled back (with FMU state)
+        and stepped again, up to it. Returns (time reached by all, event pending)."""
+        results: dict[str, StepResult] = {}  # of those that stepped
         stepped: list[tuple[FmuInstance, object, float]] = []  # (instance, its saved state, its time before)
+        reached = end - tolerance(end)  # an instance at or after this time is at end
         for u in self.step_order:
-            if u.time >= end - tolerance(end):
+            if u.time >= reached:
                 continue  # ahead after an early return it could not be rolled back from
             saved = u.binding.fmi3GetFMUState() if (self.rollback and u.early and u.can_state) else None
             t_u = u.time
             results[u.name] = self._do_step(u, end)
-            if u.time < end - tolerance(end):  # early return: nobody goes past lastSuccessfulTime
+            if u.time < reached:  # early return: nobody goes past lastSuccessfulTime
                 end = u.time
+                reached = end - tolerance(end)
                 self.stats.early_returns += 1
                 for v, v_saved, t_v in stepped:
                     if v.time > end + tolerance(end) and v_saved is not None:
@@ -230,7 +235,9 @@ class Master:
             stepped.append((u, saved, t_u))
         event = False
         for u in self.instances:
-            result = results[u.name]
+            result = results.get(u.name)
+            if result is None:
+                continue
             if result.terminate_simulation:
                 self._terminated(u, "fmi3DoStep", u.time)
             event = event or (result.event_handling_needed and u.event_mode)
@@ -250,7 +257,7 @@ class Master:
     def _event_iteration(self, t: float) -> None:
         self.stats.event_iterations += 1
         limit = t + tolerance(t)
-        for u in self.instances:
+        for u in self._timed:
             u.activate_due_clocks(t, limit)
         k = 0
         ticked_all: dict[str, set[int]] = {u.name: set() for u in self.instances}
@@ -269,7 +276,7 @@ class Master:
                 break
             if k >= self.system.max_event_iterations:
                 self._zeno(t, k, needs, ticked)
-        for u in self.instances:
+        for u in self._timed:
             u.read_intervals(t, ticked_all[u.name])
         self._record(t, k)
         for u in self.event_instances:

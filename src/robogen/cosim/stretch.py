@@ -14,10 +14,10 @@ to terminate (``end.terminating``, the first instance that asked; that point is 
 failing call raises its :class:`~robogen.cosim.fmi3.FMI3Error`; the rows before it are recorded
 and every instance's ``time`` is the last point reached, as after a normal end.
 
-:func:`choose_stretch` picks the implementation once per run; all give the same results byte for
+:func:`choose_stretch` picks the implementation once per run; both give the same results byte for
 byte: the C loop (:class:`robogen.cosim.stepper.CStretch`) where it can run, else
-:class:`PythonStretch`; :class:`NoStretch` when the system has no quiet stretch (an FMU that may
-return early, or an instance without raw C access: a trace, or a binding outside this process).
+:class:`PythonStretch`; none when the system has no quiet stretch (an FMU that may return early,
+or an instance without raw C access: a trace, or a binding outside this process).
 """
 
 from __future__ import annotations
@@ -67,27 +67,21 @@ class StretchPlan:
 
 
 class Stretch(Protocol):
-    name: str | None  # "C", "Python", or None (no quiet stretch): Stats.stretch
+    """A quiet stretch's loop, bound to one run's plan (see the module's docstring)."""
+
+    name: str  # "C" or "Python" (Stats.stretch)
 
     def run(self, t: float, horizon: float) -> StretchEnd: ...
 
 
-def choose_stretch(plan: StretchPlan) -> Stretch:
-    """The stretch for this run (after setup: the C loop needs the instance handles)."""
+def choose_stretch(plan: StretchPlan) -> Stretch | None:
+    """The stretch for this run (after setup: the C loop needs the instance handles); None where
+    the system has no quiet stretch, and every point goes through the master's general step."""
+    if any(u.early or u.binding.raw("fmi3DoStep") is None for u in plan.instances):
+        return None
     from robogen.cosim.stepper import CStretch  # it builds on this module
 
-    if any(u.early or u.binding.raw("fmi3DoStep") is None for u in plan.instances):
-        return NoStretch()
     return CStretch.for_plan(plan) or PythonStretch(plan)
-
-
-class NoStretch:
-    """Every communication point goes through the master's general step."""
-
-    name = None
-
-    def run(self, t: float, horizon: float) -> StretchEnd:
-        return StretchEnd(t, 0, False, None)
 
 
 class _Step(NamedTuple):
@@ -132,12 +126,13 @@ class PythonStretch:
         self.batch = 1 if plan.pacer is not None else CHUNK  # paced: each row on its way at once
 
     def run(self, t: float, horizon: float) -> StretchEnd:
+        # Everything the loop touches is a local: it runs millions of times.
         plan = self.plan
         start, h, limit, n = plan.start, plan.step, plan.limit(horizon), plan.index(t)
         calls, raw_reads, decoded_reads, sources = self.calls, self.raw_reads, self.decoded_reads, self.sources
         exchange = plan.values.exchange if plan.values.connected else None
         pacer, progress = plan.pacer, (plan.progress if plan.progress.enabled else None)
-        rows: list[list] = []
+        batch, rows = self.batch, []
         steps, terminating = 0, None
         try:
             while True:
@@ -171,7 +166,7 @@ class PythonStretch:
                 row = [t, 0]
                 row += [values[i] for values, i in sources]
                 rows.append(row)
-                if len(rows) >= self.batch:
+                if len(rows) >= batch:
                     plan.recorder.append_rows(rows)
                     rows = []
                 if progress is not None:
