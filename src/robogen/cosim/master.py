@@ -35,7 +35,7 @@ from robogen.cosim.instances import FmuInstance
 from robogen.cosim.recorder import Pacer, Progress, Recorder
 from robogen.cosim.stretch import Stretch, StretchPlan, choose_stretch
 from robogen.cosim.system import Link, System
-from robogen.cosim.wiring import CLOCK, VALUE, ValueExchange, wire
+from robogen.cosim.wiring import CLOCK, VALUE, ValueExchange, plain, wire
 from robogen.diagnostics import Note, RobogenError
 from robogen.fmu.fmi import DISCARD, status_name, tolerance
 
@@ -81,11 +81,10 @@ class Master:
         self.any_early = any(u.early for u in instances)
         self.wiring = wire(instances, links, record)
         self.values = ValueExchange(self.wiring.value_links)
+        self._columns = plain(self.wiring.columns)
         self._stop_limit = options.stop - tolerance(options.stop)
         self._next_event = math.inf
         self._stretch: Stretch | None = None  # None: every point goes through the general step
-        # the general step of every FMU to the next point, chosen once for the system
-        self._step = self._step_with_early_returns if self.any_early else self._step_on_grid
         self._pacer: Pacer | None = None
         self._timed: list[FmuInstance] = []  # the instances with time-based input clocks (known after setup)
 
@@ -178,7 +177,8 @@ class Master:
             t, event = self._quiet_stretch(t)
             if event or self._finished(t):
                 return t, event
-        t, event = self._step(t, self._next_point(t))
+        t_next = self._next_point(t)
+        t, event = self._step_with_early_returns(t, t_next) if self.any_early else self._step_on_grid(t, t_next)
         self.stats.steps += 1
         if self._pacer is not None:
             self._pacer.wait(t)
@@ -355,7 +355,7 @@ class Master:
         for u in self.wiring.record_reads:
             u.read_outputs()
         row = [t, k]
-        for kind, u, var, reader, index in self.wiring.columns:
+        for kind, u, var, reader, index in self._columns:
             if kind == VALUE:
                 row.append(reader.values[index])
             elif kind == CLOCK:

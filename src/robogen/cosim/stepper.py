@@ -27,7 +27,7 @@ import cffi
 
 from robogen.cosim.fmi3 import C_TYPES
 from robogen.cosim.fmi3 import ffi as fmi_ffi
-from robogen.cosim.stretch import CHUNK, StretchEnd, StretchPlan
+from robogen.cosim.stretch import StretchEnd, StretchPlan
 from robogen.cosim.wiring import CLOCK, VALUE
 
 ffi = cffi.FFI()
@@ -55,6 +55,10 @@ ffi.cdef(
                         long max_rows, double *times, uint64_t *slots, int *why, int *who, int *status);
     """
 )
+
+
+#: Rows the loop stores before it hands them to the recorder.
+CHUNK = 4096
 
 
 class Why(IntEnum):

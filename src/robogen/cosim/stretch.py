@@ -28,11 +28,8 @@ from typing import NamedTuple, Protocol
 from robogen.cosim.clocks import grid_index
 from robogen.cosim.instances import FmuInstance, Reader
 from robogen.cosim.recorder import Pacer, Progress, Recorder
-from robogen.cosim.wiring import CLOCK, VALUE, Column, ValueExchange
+from robogen.cosim.wiring import CLOCK, VALUE, Column, ValueExchange, plain
 from robogen.fmu.fmi import WARNING, tolerance
-
-#: Rows a stretch hands the recorder at once (fewer when paced: each row as it is reached).
-CHUNK = 4096
 
 
 class StretchEnd(NamedTuple):
@@ -109,21 +106,20 @@ class _Read(NamedTuple):
 
 
 class PythonStretch:
-    """The quiet stretch in Python: the FMUs' C functions called through cffi, rows in batches."""
+    """The quiet stretch in Python: the FMUs' C functions called through cffi."""
 
     name = "Python"
 
     def __init__(self, plan: StretchPlan):
         self.plan = plan
-        self.calls = [_Step(u, u.binding.raw("fmi3DoStep"), u.binding.handle, *u.binding.step_outputs, u.event_mode)
-                      for u in plan.instances]
-        self.raw_reads = [_Read(r.c_function, r.binding.handle, r.c_vrs, r.count, r.buffer, r)
-                          for r in plan.reads if not r.decodes]
+        self.calls = plain([_Step(u, u.binding.raw("fmi3DoStep"), u.binding.handle, *u.binding.step_outputs, u.event_mode)
+                            for u in plan.instances])
+        self.raw_reads = plain([_Read(r.c_function, r.binding.handle, r.c_vrs, r.count, r.buffer, r)
+                                for r in plan.reads if not r.decodes])
         self.decoded_reads = [r for r in plan.reads if r.decodes]  # Strings: read, then decoded
         # where each column's value is after the reads: a reader's values, or a constant
         self.sources = [(c.reader.values, c.index) if c.kind == VALUE else ((0,) if c.kind == CLOCK else (None,), 0)
                         for c in plan.columns]
-        self.batch = 1 if plan.pacer is not None else CHUNK  # paced: each row on its way at once
 
     def run(self, t: float, horizon: float) -> StretchEnd:
         # Everything the loop touches is a local: it runs millions of times.
@@ -132,7 +128,7 @@ class PythonStretch:
         calls, raw_reads, decoded_reads, sources = self.calls, self.raw_reads, self.decoded_reads, self.sources
         exchange = plan.values.exchange if plan.values.connected else None
         pacer, progress = plan.pacer, (plan.progress if plan.progress.enabled else None)
-        batch, rows = self.batch, []
+        append_row = plan.recorder.row_sink()
         steps, terminating = 0, None
         try:
             while True:
@@ -165,15 +161,11 @@ class PythonStretch:
                     reader.read()
                 row = [t, 0]
                 row += [values[i] for values, i in sources]
-                rows.append(row)
-                if len(rows) >= batch:
-                    plan.recorder.append_rows(rows)
-                    rows = []
+                append_row(row)
                 if progress is not None:
                     progress.update(t)
                 if terminating is not None:
                     return StretchEnd(t, steps, False, terminating)
         finally:
-            plan.recorder.append_rows(rows)
             for u in plan.instances:
                 u.time = t

@@ -36,6 +36,12 @@ class Column(NamedTuple):
     index: int
 
 
+def plain(records: list[tuple]) -> list[tuple]:
+    """Named-tuple records as plain tuples of their fields, for loops that unpack them at every
+    step: CPython specialises the unpacking of exact tuples only (a named tuple costs twice as much)."""
+    return [tuple(r) for r in records]
+
+
 class ValueLink(NamedTuple):
     """A connected non-clocked output (of the instance the link is filed under) and its input."""
 
@@ -123,11 +129,12 @@ class ValueExchange:
     def __init__(self, value_links: dict[str, list[ValueLink]]):
         self.links = value_links
         self.connected = any(value_links.values())
+        self._links = {name: plain(links) for name, links in value_links.items()}
         self._last_set: dict[tuple[str, int], object] = {}
 
     def forward(self, u: FmuInstance) -> set[str]:
         """Read u's observed outputs and set the changed connected inputs; the names of the targets set."""
-        links = self.links[u.name]
+        links = self._links[u.name]
         if not links:
             return set()  # nothing to forward: recording reads what it records
         u.read_outputs()
