@@ -7,7 +7,8 @@ Python API::
                              events="events.jsonl", realtime=1.0)
     result.columns          # ["time", "superdense", "controller.moveDiscreteCommand", ...]
     result.rows             # one list per recorded row (clocks 0/1, inactive clocked values None)
-    result.stats            # steps, event_iterations, instants, early_returns, end_time, terminated_by, realtime
+    result.stats            # steps, event_iterations, instants, early_returns, end_time, terminated_by, realtime,
+                            # stretch (the quiet stretches' loop: "C", "Python" or None)
 
 ``simulate_system(system_toml_path, *, stop=None, step=None, output=None, events=None,
 realtime=None, progress=False, trace=None, keep_rows=True) -> SimulationResult``

@@ -68,6 +68,8 @@ class Stats:
 
 
 class Master:
+    """One run of a system: its instances (in dependency order), their wiring, the results."""
+
     def __init__(self, system: System, instances: list[FmuInstance], links: list[Link], record: list,
                  options: RunOptions, recorder: Recorder):
         self.system, self.options, self.recorder = system, options, recorder
@@ -92,6 +94,8 @@ class Master:
     # The run
 
     def run(self) -> Stats:
+        """The algorithm of the module's docstring: setup, the event iteration at the start, then
+        from point to point up to the stop time, with Event Mode where an event is due."""
         opt = self.options
         progress = Progress(opt.start, opt.stop, enabled=opt.progress)
         try:
