@@ -30,7 +30,7 @@ from fmpy import read_model_description
 
 from robogen import toolchain
 from robogen.codegen.api import build_fmu, compile_model, lower_paths, package_model
-from robogen.cosim.fmi3 import Instance, Library, ffi, value_array, vr_array
+from robogen.cosim.fmi3 import Binding, Library, ffi, value_array, vr_array
 from robogen.fmu.headers import include_dir
 from robogen.ir.interp import Interpreter
 from robogen.ir.lower import LoweringOptions
@@ -194,7 +194,7 @@ def bench_c(fmus: dict[str, Ur5eFmu], folder: Path) -> None:
 def python_fmu_cycles(f: Ur5eFmu, n: int) -> int:
     """Raw FMI calls through the cffi binding, as the C harness makes them. Returns the moves seen."""
     lib = Library(str(f.so))
-    inst = Instance(lib, "bench")
+    inst = Binding(lib, "bench")
     inst.fmi3InstantiateCoSimulation(f.token, None, eventModeUsed=True)
     c, h = lib.lib, inst.handle
     vr = f.vr

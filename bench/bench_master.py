@@ -13,6 +13,7 @@ Prints medians and ratios (never asserted anywhere):
 from __future__ import annotations
 
 import importlib.util
+import os
 import statistics
 import sys
 import tempfile
@@ -23,8 +24,7 @@ import fmpy
 from fmpy.fmi3 import FMU3Slave
 
 from robogen.cosim import simulate_system
-from robogen.cosim import stepper
-from robogen.cosim.fmi3 import Instance, Library, ffi, vr_array
+from robogen.cosim.fmi3 import Binding, Library, ffi, vr_array
 
 ROOT = Path(__file__).resolve().parent.parent
 QUICK = "--quick" in sys.argv
@@ -59,7 +59,7 @@ def bench_calls(fmus: dict[str, Path], folder: Path) -> None:
     md = fmpy.read_model_description(unzipped)
     so = str(Path(unzipped) / "binaries" / "x86_64-linux" / "trivial.so")
     # robogen
-    inst = Instance(Library(so), "r")
+    inst = Binding(Library(so), "r")
     inst.fmi3InstantiateCoSimulation(md.instantiationToken, None, eventModeUsed=False)
     inst.fmi3EnterInitializationMode(None, 0.0, None)
     vrs, vals = vr_array([2]), ffi.new("double[1]")
@@ -101,18 +101,22 @@ def bench_steps(fmus: dict[str, Path], folder: Path) -> None:
         results["theirs"] = fmpy.simulate_fmu(str(fmus["trivial"]), stop_time=1.0, output_interval=h, output=["y"],
                                               use_event_mode=True, early_return_allowed=False)
 
-    def python_loop():  # the master without its C stepper (as on a machine without a C compiler)
-        saved = stepper._lib, stepper._tried
-        stepper._lib, stepper._tried = None, True
+    def python_loop():  # the master without its C stretch (as on a machine without a C compiler)
+        saved = os.environ.get("ROBOGEN_NO_C_STEPPER")
+        os.environ["ROBOGEN_NO_C_STEPPER"] = "1"
         try:
             results["python"] = simulate_system(path)
         finally:
-            stepper._lib, stepper._tried = saved
+            if saved is None:
+                del os.environ["ROBOGEN_NO_C_STEPPER"]
+            else:
+                os.environ["ROBOGEN_NO_C_STEPPER"] = saved
 
     a, b, c = median_time(ours), median_time(theirs), median_time(python_loop)
     assert len(results["ours"].rows) >= steps and len(results["theirs"]) >= steps
     assert results["ours"].rows == results["python"].rows
-    print(f"2. {steps} steps of a trivial FMU: robogen {a:.3f} s ({1e6 * a / steps:.2f} us/step), "
+    assert results["python"].stats.stretch == "Python"
+    print(f"2. {steps} steps of a trivial FMU: robogen ({results['ours'].stats.stretch} stretch) {a:.3f} s ({1e6 * a / steps:.2f} us/step), "
           f"fmpy.simulate_fmu {b:.3f} s ({1e6 * b / steps:.2f} us/step) -> robogen {b / a:.2f}x faster (target >= 2.5x); "
           f"robogen's Python loop {c:.3f} s ({1e6 * c / steps:.2f} us/step, {b / c:.2f}x fmpy)")
 

@@ -29,6 +29,7 @@ from fmpy import read_model_description
 
 from robogen.codegen.api import build_fmu, compile_model
 from robogen.cosim import fmi3
+from robogen.fmu.fmi import ERROR
 from robogen.fmu.headers import PLATFORM_TUPLE
 from robogen.ir import model as ir
 from robogen.ir.interp import Interpreter, RuntimeFault
@@ -223,7 +224,7 @@ class FmuRunner:
         so = folder / "binaries" / PLATFORM_TUPLE / f"{self.desc.identifier}.so"
         self.library = fmi3.Library(str(so))
         self.errors: list[str] = []  # the FMU's error messages in the current run
-        self.inst = fmi3.Instance(self.library, name, log=self._log)
+        self.inst = fmi3.Binding(self.library, name, log=self._log)
         self.inst.fmi3InstantiateCoSimulation(self.desc.token, None, loggingOn=False, eventModeUsed=True)
         self.fresh = True
         d = self.desc
@@ -236,7 +237,7 @@ class FmuRunner:
         self.clocked_out = {c: _group(d.clocked[c]) for c in d.output_clocks}
 
     def _log(self, name: str, status: int, text: str) -> None:
-        if status >= fmi3.ERROR:
+        if status >= ERROR:
             self.errors.append(text)
 
     def close(self) -> None:

@@ -7,7 +7,8 @@ Python API::
                              events="events.jsonl", realtime=1.0)
     result.columns          # ["time", "superdense", "controller.moveDiscreteCommand", ...]
     result.rows             # one list per recorded row (clocks 0/1, inactive clocked values None)
-    result.stats            # steps, event_iterations, instants, early_returns, end_time, terminated_by, realtime
+    result.stats            # steps, event_iterations, instants, early_returns, end_time, terminated_by, realtime,
+                            # stretch (the quiet stretches' loop: "C", "Python" or None)
 
 ``simulate_system(system_toml_path, *, stop=None, step=None, output=None, events=None,
 realtime=None, progress=False, trace=None, keep_rows=True) -> SimulationResult``
@@ -51,7 +52,7 @@ def simulate_system(system_toml_path: str | Path, *, stop: float | None = None, 
                     output: str | Path | None = None, events: str | Path | None = None,
                     realtime: float | None = None, progress: bool | None = False,
                     trace: Callable[[str], None] | None = None, keep_rows: bool = True) -> SimulationResult:
-    from robogen.cosim.setup import build_master
+    from robogen.cosim.assemble import build_master
 
     master, cache = build_master(Path(system_toml_path), stop=stop, step=step, output=output, events=events,
                                  realtime=realtime, progress=progress, trace=trace, keep_rows=keep_rows)

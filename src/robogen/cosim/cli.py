@@ -42,6 +42,7 @@ def configure(parser: argparse.ArgumentParser) -> None:
 
 def run(args: argparse.Namespace) -> int:
     from robogen.cosim import simulate_system
+    from robogen.cosim.recorder import OVERRUN_SECONDS
 
     trace = (lambda line: print(line, file=sys.stderr)) if args.trace else None
     try:
@@ -61,5 +62,5 @@ def run(args: argparse.Namespace) -> int:
     if s.realtime:
         r = s.realtime
         print(f"real time x{r['factor']:g}: mean lag {1000 * r['mean_lag']:.3f} ms, worst lag {1000 * r['worst_lag']:.3f} ms, "
-              f"{r['overruns']} overruns (> {1000 * 1e-3:.0f} ms late) in {r['points']} communication points", file=sys.stderr)
+              f"{r['overruns']} overruns (> {1000 * OVERRUN_SECONDS:.0f} ms late) in {r['points']} communication points", file=sys.stderr)
     return EXIT_TERMINATED if s.terminated_by else 0

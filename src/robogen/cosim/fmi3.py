@@ -2,24 +2,30 @@
 
 ``Library(path)`` opens an FMU's shared object (ABI mode: no compiler needed) and resolves
 every function the master uses up front, so a missing symbol is reported at load time by name.
-``Instance`` wraps one ``fmi3Instance``; each method is the C function of the same name with
+``Binding`` wraps one ``fmi3Instance``; each method is the C function of the same name with
 the status turned into an exception: any status above ``fmi3Warning`` raises
 :class:`FMI3Error` carrying the function name, the status and the instance name (and the last
-message the FMU logged). Output arguments are returned as tuples.
+message the FMU logged). Several output arguments come back as a named tuple
+(:class:`StepResult`, :class:`DiscreteStates`).
 
 Value arrays are cffi buffers so the hot loop allocates nothing: :func:`vr_array` and
 :func:`value_array` make them once; the getters fill a caller-owned buffer. An optional
 ``trace`` callable receives one line per call (``fmi3DoStep(ball, 0.5, 0.5) -> fmi3OK``).
+
+Loops that make millions of calls (the master's quiet stretches) may call the FMU's C functions
+without this layer: :meth:`Binding.raw` gives the function, :attr:`Binding.handle` the instance
+and :attr:`Binding.step_outputs` fmi3DoStep's output arguments; such a loop checks the status
+itself and raises :meth:`Binding.error`. While a trace is on there is no raw access, so that
+every call is seen.
 """
 
 from __future__ import annotations
 
-from typing import Callable, Sequence
+from typing import Callable, NamedTuple, Sequence
 
 import cffi
 
-from robogen.fmu.fmi import (DISCARD, ERROR, FATAL, INTERVAL_CHANGED, INTERVAL_NOT_YET_KNOWN,  # noqa: F401 (re-exported)
-                             INTERVAL_UNCHANGED, OK, WARNING, status_name)
+from robogen.fmu.fmi import ERROR, WARNING, status_name
 
 ffi = cffi.FFI()
 ffi.cdef(
@@ -165,7 +171,39 @@ def _log_message(env, status, category, message):
         pass
 
 
-class Instance:
+class StepResult(NamedTuple):
+    """fmi3DoStep's output arguments."""
+
+    event_handling_needed: bool
+    terminate_simulation: bool
+    early_return: bool
+    last_successful_time: float
+
+
+class DiscreteStates(NamedTuple):
+    """fmi3UpdateDiscreteStates's output arguments that the master uses."""
+
+    discrete_states_need_update: bool
+    terminate_simulation: bool
+    next_event_time_defined: bool
+    next_event_time: float
+
+
+class StepOutputs(NamedTuple):
+    """Where fmi3DoStep writes its output arguments (C pointers, made once per binding)."""
+
+    event_handling_needed: object
+    terminate_simulation: object
+    early_return: object
+    last_successful_time: object
+
+
+#: Makes a named tuple without its Python-level __new__ (a third of the cost) for the results of
+#: the calls made at every step.
+_tuple_new = tuple.__new__
+
+
+class Binding:
     """One fmi3Instance. Methods are the FMI 3.0 functions; errors raise FMI3Error."""
 
     def __init__(self, library: Library, name: str, trace: Callable[[str], None] | None = None,
@@ -179,7 +217,19 @@ class Instance:
         self._d1 = ffi.new("double[1]")
         self._state = ffi.new("fmi3FMUState*")
         b = self._b4
-        self.step_outputs = (b + 0, b + 1, b + 2, self._d1)  # fmi3DoStep's output pointers, made once
+        self.step_outputs = StepOutputs(b + 0, b + 1, b + 2, self._d1)
+
+    @property
+    def instantiated(self) -> bool:
+        return self.handle != ffi.NULL
+
+    def raw(self, function: str):
+        """The FMU's C function of this name, for calls that bypass this layer; None while tracing."""
+        return getattr(self.lib, function) if self.trace is None else None
+
+    def error(self, function: str, status: int) -> FMI3Error:
+        """The error for ``function`` having returned ``status``, with the FMU's last message."""
+        return FMI3Error(function, status, self.name, self.last_message)
 
     # -- plumbing ------------------------------------------------------------------------
     def _logged(self, status: int, text: str) -> None:
@@ -187,9 +237,6 @@ class Instance:
             self.last_message = text
         if self.log is not None:
             self.log(self.name, status, text)
-
-    def _fail(self, function: str, status: int):
-        raise FMI3Error(function, status, self.name, self.last_message)
 
     def _trace(self, function: str, args: tuple, status: int) -> None:
         shown = ", ".join(_show(a) for a in args)
@@ -200,7 +247,7 @@ class Instance:
         if self.trace is not None:
             self._trace(function, args, status)
         if status > WARNING:
-            self._fail(function, status)
+            raise self.error(function, status)
         return status
 
     # -- life cycle ------------------------------------------------------------------------
@@ -215,7 +262,7 @@ class Instance:
             self.trace(f"fmi3InstantiateCoSimulation({self.name}, eventModeUsed={eventModeUsed}, "
                        f"earlyReturnAllowed={earlyReturnAllowed}) -> {'NULL' if self.handle == ffi.NULL else 'instance'}")
         if self.handle == ffi.NULL:
-            self._fail("fmi3InstantiateCoSimulation", ERROR)
+            raise self.error("fmi3InstantiateCoSimulation", ERROR)
 
     def fmi3FreeInstance(self) -> None:
         if self.handle != ffi.NULL:
@@ -262,7 +309,7 @@ class Instance:
             return self._call("fmi3GetFloat64", vrs, n, values, n)
         status = self.lib.fmi3GetFloat64(self.handle, vrs, n, values, n)
         if status > WARNING:
-            self._fail("fmi3GetFloat64", status)
+            raise self.error("fmi3GetFloat64", status)
         return status
 
     def fmi3SetFloat64(self, vrs, n: int, values) -> int:
@@ -303,27 +350,25 @@ class Instance:
             self.lib.fmi3FreeFMUState(self.handle, self._state)
 
     # -- Event Mode and Step Mode ------------------------------------------------------------
-    def fmi3UpdateDiscreteStates(self) -> tuple[bool, bool, bool, float]:
-        """(discreteStatesNeedUpdate, terminateSimulation, nextEventTimeDefined, nextEventTime)."""
+    def fmi3UpdateDiscreteStates(self) -> DiscreteStates:
         b, d = self._b4, self._d1
         status = self.lib.fmi3UpdateDiscreteStates(self.handle, b, b + 1, b + 2, b + 3, b + 4, d)
         if self.trace is not None:
             self._trace("fmi3UpdateDiscreteStates", (), status)
         if status > WARNING:
-            self._fail("fmi3UpdateDiscreteStates", status)
-        return b[0], b[1], b[4], d[0]
+            raise self.error("fmi3UpdateDiscreteStates", status)
+        return _tuple_new(DiscreteStates, (b[0], b[1], b[4], d[0]))
 
     def fmi3DoStep(self, currentCommunicationPoint: float, communicationStepSize: float,
-                   noSetFMUStatePriorToCurrentPoint: bool = True) -> tuple[bool, bool, bool, float]:
-        """(eventHandlingNeeded, terminateSimulation, earlyReturn, lastSuccessfulTime)."""
+                   noSetFMUStatePriorToCurrentPoint: bool = True) -> StepResult:
         b, d = self._b4, self._d1
         status = self.lib.fmi3DoStep(self.handle, currentCommunicationPoint, communicationStepSize,
                                      noSetFMUStatePriorToCurrentPoint, b, b + 1, b + 2, d)
         if self.trace is not None:
             self._trace("fmi3DoStep", (currentCommunicationPoint, communicationStepSize), status)
         if status > WARNING:
-            self._fail("fmi3DoStep", status)
-        return b[0], b[1], b[2], d[0]
+            raise self.error("fmi3DoStep", status)
+        return _tuple_new(StepResult, (b[0], b[1], b[2], d[0]))
 
 
 def _show(value) -> str:

@@ -16,11 +16,16 @@ import sys
 import time as _time
 from dataclasses import dataclass, field
 from pathlib import Path
+from typing import Callable
 
 FLUSH_SECONDS = 0.25
+#: A communication point reached later than this after it was due counts as an overrun.
+OVERRUN_SECONDS = 1e-3
 
 
 class Recorder:
+    """Where result rows go: kept in ``rows`` (``keep_rows``), written to the CSV, or both."""
+
     def __init__(self, columns: list[str], output: Path | None, events: Path | None, keep_rows: bool = True):
         self.columns = ["time", "superdense", *columns]
         self.rows: list[list] = []
@@ -36,31 +41,36 @@ class Recorder:
             Path(events).parent.mkdir(parents=True, exist_ok=True)
             self._events = open(events, "w", encoding="utf-8", buffering=1 << 16)
         self._last_flush = _time.monotonic()
-        self.count = 0
+        self._written = 0  # rows written to the CSV: a flush is considered every 256
 
-    def row(self, row: list) -> None:
-        self.count += 1
+    def append_row(self, row: list) -> None:
         if self.keep_rows:
             self.rows.append(row)
         if self._writer is not None:
             self._writer.writerow(row)
-            if self.count & 255 == 0:
-                now = _time.monotonic()
-                if now - self._last_flush > FLUSH_SECONDS:
-                    self.flush()
+            self._written += 1
+            if self._written & 255 == 0:
+                self._flush_if_due()
 
-    def rows_many(self, rows: list[list]) -> None:
-        """Several rows at once (the C stepper's chunks); the same as calling row() on each."""
-        if not rows:
-            return
-        self.count += len(rows)
+    def row_sink(self) -> Callable[[list], None]:
+        """append_row as the cheapest callable for where the rows go (the kept list's own append
+        when there is no file), for a loop that records a row at every step."""
+        if self._writer is not None:
+            return self.append_row
+        return self.rows.append if self.keep_rows else _discard
+
+    def append_rows(self, rows: list[list]) -> None:
+        """Several rows at once (the C stretch's chunks); the same as append_row on each."""
         if self.keep_rows:
             self.rows.extend(rows)
-        if self._writer is not None:
+        if self._writer is not None and rows:
             self._writer.writerows(rows)
-            now = _time.monotonic()
-            if now - self._last_flush > FLUSH_SECONDS:
-                self.flush()
+            self._written += len(rows)
+            self._flush_if_due()
+
+    def _flush_if_due(self) -> None:
+        if _time.monotonic() - self._last_flush > FLUSH_SECONDS:
+            self.flush()
 
     def event(self, t: float, k: int, fmu: str, clock: str, values: dict) -> None:
         if self._events is not None:
@@ -91,7 +101,7 @@ class Pacer:
     wall0: float = field(default_factory=_time.monotonic)
     lags: list[float] = field(default_factory=list)
     overruns: int = 0
-    threshold: float = 1e-3  # later than this counts as an overrun
+    threshold: float = OVERRUN_SECONDS
 
     def wait(self, t: float) -> None:
         due = self.wall0 + (t - self.t0) / self.factor
@@ -141,3 +151,7 @@ class Progress:
         if self.enabled:
             self.stream.write("\r" + " " * 70 + "\r")
             self.stream.flush()
+
+
+def _discard(row: list) -> None:
+    """append_row where rows go nowhere (no file, rows not kept)."""

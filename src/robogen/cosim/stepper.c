@@ -1,8 +1,9 @@
 /* The master's quiet stretches in C: consecutive plain communication steps with no event, no
- * early return and no value to forward between FMUs (robogen.cosim.master._plain_steps).
+ * early return and no value to forward between FMUs (robogen.cosim.stretch describes the
+ * contract; robogen.cosim.stepper.CStretch drives this loop).
  *
  * Built once with the system C compiler (robogen.cosim.stepper) and called through cffi. Each
- * step does exactly what the Python loop does, in the same order and with the same arithmetic:
+ * step does exactly what the Python stretch does, in the same order and with the same arithmetic:
  * t_next = start + n * h; fmi3DoStep of every FMU from t with step t_next - t; then, unless an FMU
  * asked for Event Mode, the fmi3Get<Type> calls of the recorded variables, whose values are
  * stored as one row of 8-byte slots (reals as doubles, signed integers as int64, unsigned ones as
@@ -20,7 +21,7 @@ enum { K_F64 = 0, K_F32, K_I64, K_U64, K_I32, K_U32, K_I16, K_U16, K_I8, K_U8, K
 enum { WHY_LIMIT = 0, WHY_EVENT = 1, WHY_TERMINATE = 2, WHY_STEP_FAILED = 3, WHY_GET_FAILED = 4 };
 
 typedef struct {
-    int n_units;
+    int n_instances;
     rg_do_step_fn *do_step;  /* per FMU */
     void **instance;
     const bool *event_mode;  /* an event of an FMU without Event Mode does not stop the loop */
@@ -34,7 +35,7 @@ typedef struct {
     const int *kind;
     void **buffer;           /* where each fmi3Get writes (the master's own buffers) */
     int width;               /* slots per row: the sum of count */
-} rg_stepper;
+} rg_stretch;
 
 static uint64_t slot(const void *buffer, int kind, size_t i)
 {
@@ -66,10 +67,10 @@ static uint64_t slot(const void *buffer, int kind, size_t i)
 #define RG_EXPORT
 #endif
 
-RG_EXPORT long rg_plain_steps(const rg_stepper *s, double start, double h, long *n, double *t, double limit,
+RG_EXPORT long rg_run_stretch(const rg_stretch *s, double start, double h, long *n, double *t, double limit,
                               long max_rows, double *times, uint64_t *slots, int *why, int *who, int *status);
 
-RG_EXPORT long rg_plain_steps(const rg_stepper *s, double start, double h, long *n, double *t, double limit,
+RG_EXPORT long rg_run_stretch(const rg_stretch *s, double start, double h, long *n, double *t, double limit,
                               long max_rows, double *times, uint64_t *slots, int *why, int *who, int *status)
 {
     long steps = 0, rows = 0;
@@ -82,7 +83,7 @@ RG_EXPORT long rg_plain_steps(const rg_stepper *s, double start, double h, long 
         bool event = false, terminate = false;
         int u, r;
         if (t_next >= limit || t_next <= *t) break;
-        for (u = 0; u < s->n_units; u++) {
+        for (u = 0; u < s->n_instances; u++) {
             bool *f = s->flags + 4 * u;
             int st = s->do_step[u](s->instance[u], *t, t_next - *t, true, f, f + 1, f + 2, s->last_time + u);
             if (st > 1) {

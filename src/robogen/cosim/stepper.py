@@ -1,25 +1,34 @@
-"""The plain-step loop in C (stepper.c), for stretches of time in which the master only steps the
-FMUs and records their outputs: no event, no early return, no value to forward, no pacing.
+"""The quiet stretch in C (stepper.c): :class:`CStretch`, one of the implementations of
+:class:`robogen.cosim.stretch.Stretch`, for stretches in which the master only steps the FMUs
+and records their outputs (no value to forward between FMUs, no pacing, every recorded type one
+the loop stores).
 
 The library is compiled once with the system C compiler and cached under
 ``$XDG_CACHE_HOME/robogen`` (or ``~/.cache/robogen``), named by the hash of its source; if there is
-no compiler, :func:`load` returns None and the master keeps its Python loop, which computes the
-same results. Rows come back as 8-byte slots and are turned into result rows a column at a time
-(``memoryview`` slices), so the per-step cost is that of the FMI calls themselves.
+no compiler, or ``ROBOGEN_NO_C_STEPPER`` is set, :func:`load` returns None and the master runs
+the Python stretch, which computes the same results. Rows come back as 8-byte slots and are
+turned into result rows a column at a time (``memoryview`` slices), so the per-step cost is that
+of the FMI calls themselves.
 """
 
 from __future__ import annotations
 
+import functools
 import hashlib
 import importlib.resources
 import os
 import tempfile
+from enum import IntEnum
 from itertools import repeat
 from pathlib import Path
+from typing import NamedTuple
 
 import cffi
 
+from robogen.cosim.fmi3 import C_TYPES
 from robogen.cosim.fmi3 import ffi as fmi_ffi
+from robogen.cosim.stretch import StretchEnd, StretchPlan
+from robogen.cosim.wiring import CLOCK, VALUE
 
 ffi = cffi.FFI()
 ffi.cdef(
@@ -27,7 +36,7 @@ ffi.cdef(
     typedef int (*rg_do_step_fn)(void *, double, double, bool, bool *, bool *, bool *, double *);
     typedef int (*rg_get_fn)(void *, const uint32_t *, size_t, void *, size_t);
     typedef struct {
-        int n_units;
+        int n_instances;
         rg_do_step_fn *do_step;
         void **instance;
         const bool *event_mode;
@@ -41,20 +50,46 @@ ffi.cdef(
         const int *kind;
         void **buffer;
         int width;
-    } rg_stepper;
-    long rg_plain_steps(const rg_stepper *s, double start, double h, long *n, double *t, double limit,
+    } rg_stretch;
+    long rg_run_stretch(const rg_stretch *s, double start, double h, long *n, double *t, double limit,
                         long max_rows, double *times, uint64_t *slots, int *why, int *who, int *status);
     """
 )
 
-WHY_LIMIT, WHY_EVENT, WHY_TERMINATE, WHY_STEP_FAILED, WHY_GET_FAILED = range(5)
-KINDS = {"Float64": 0, "Float32": 1, "Int64": 2, "UInt64": 3, "Int32": 4, "UInt32": 5, "Int16": 6,
-         "UInt16": 7, "Int8": 8, "UInt8": 9, "Boolean": 10}
-_FORMAT = {0: "d", 1: "d", 2: "q", 3: "Q", 4: "q", 5: "Q", 6: "q", 7: "Q", 8: "q", 9: "Q", 10: "q"}
-CHUNK = 4096  # rows per call
 
-_lib = None
-_tried = False
+#: Rows the loop stores before it hands them to the recorder.
+CHUNK = 4096
+
+
+class Why(IntEnum):
+    """Why rg_run_stretch returned (stepper.c's enum of the same names)."""
+
+    LIMIT = 0  # the next grid point is the horizon's, or max_rows rows are stored
+    EVENT = 1
+    TERMINATE = 2
+    STEP_FAILED = 3
+    GET_FAILED = 4
+
+
+#: The C element types the loop stores in its slots, as stepper.c's kinds (K_F64 ...), and how
+#: Python reads a slot back: as a double, a signed or an unsigned 64-bit integer.
+_KINDS = {"double": 0, "float": 1, "int64_t": 2, "uint64_t": 3, "int32_t": 4, "uint32_t": 5,
+          "int16_t": 6, "uint16_t": 7, "int8_t": 8, "uint8_t": 9, "bool": 10}
+_BOOL = _KINDS["bool"]
+_FORMAT = {0: "d", 1: "d", 2: "q", 3: "Q", 4: "q", 5: "Q", 6: "q", 7: "Q", 8: "q", 9: "Q", 10: "q"}
+
+
+def kind(fmi_type: str) -> int | None:
+    """The slot kind of an FMI type's values, or None if the C loop does not store it."""
+    return _KINDS.get(C_TYPES.get(fmi_type, ""))
+
+
+def load():
+    """The compiled stretch library, or None: switched off by ROBOGEN_NO_C_STEPPER, or no
+    compiler here (checked once per process)."""
+    if os.environ.get("ROBOGEN_NO_C_STEPPER"):
+        return None
+    return _library()
 
 
 def _cache_dir() -> Path:
@@ -62,21 +97,14 @@ def _cache_dir() -> Path:
     return Path(base) / "robogen"
 
 
-def load():
-    """The compiled stepper library, or None if it cannot be built here."""
-    global _lib, _tried
-    if _tried:
-        return _lib
-    _tried = True
-    if os.environ.get("ROBOGEN_NO_C_STEPPER"):
-        return None
+@functools.cache
+def _library():
     source = (importlib.resources.files("robogen.cosim") / "stepper.c").read_bytes()
     name = f"stepper-{hashlib.sha256(source).hexdigest()[:16]}.so"
     fallback = Path(tempfile.gettempdir()) / f"robogen-{os.getuid() if hasattr(os, 'getuid') else 'user'}"
     for folder in (_cache_dir(), fallback):  # a read-only home still gets the fast loop
         try:
-            _lib = ffi.dlopen(str(_build(source, folder / name)))
-            return _lib
+            return ffi.dlopen(str(_build(source, folder / name)))
         except Exception:  # no compiler, folder not writable, ...: the Python loop does the same work
             continue
     return None
@@ -99,72 +127,130 @@ def _address(cdata) -> int:
     return int(fmi_ffi.cast("uintptr_t", cdata))
 
 
-class Stepper:
-    """The C loop bound to a master's instances and recorded reads."""
+class _Chunk(NamedTuple):
+    """What one call of rg_run_stretch did."""
 
-    def __init__(self, lib, units, reads, event_mode, cols):
-        """``units``: (do_step function, instance handle); ``reads``: (get function, handle,
-        value-reference array, count, buffer, fmi type); ``cols``: for each recorded column,
-        (index of the read, index in it) or ('const', value)."""
-        self.lib = lib
-        n_units, n_reads = len(units), len(reads)
-        keep = self._keep = []
+    steps: int
+    rows: int  # rows stored: steps, less the last step's when it ended in an event or a failed read
+    n: int  # grid index reached
+    t: float  # time reached
+    why: Why
+    who: int  # the instance (or read) concerned: failing, or the first asking to terminate; else -1
+    status: int  # the failing call's status
 
-        def new(ctype, values):
-            a = ffi.new(ctype, values)
-            keep.append(a)
-            return a
 
-        s = ffi.new("rg_stepper *")
-        keep.append(s)
-        s.n_units = n_units
-        s.do_step = new("rg_do_step_fn[]", [ffi.cast("rg_do_step_fn", _address(f)) for f, _ in units] or [ffi.NULL])
-        s.instance = new("void *[]", [ffi.cast("void *", _address(h)) for _, h in units] or [ffi.NULL])
-        s.event_mode = new("bool[]", list(event_mode) or [False])
-        s.flags = new("bool[]", 4 * max(1, n_units))
-        s.last_time = new("double[]", max(1, n_units))
-        s.n_reads = n_reads
-        s.get = new("rg_get_fn[]", [ffi.cast("rg_get_fn", _address(r[0])) for r in reads] or [ffi.NULL])
-        s.read_instance = new("void *[]", [ffi.cast("void *", _address(r[1])) for r in reads] or [ffi.NULL])
-        s.vrs = new("uint32_t *[]", [ffi.cast("uint32_t *", _address(r[2])) for r in reads] or [ffi.NULL])
-        s.count = new("size_t[]", [r[3] for r in reads] or [0])
-        kinds = [KINDS[r[5]] for r in reads]
-        s.kind = new("int[]", kinds or [0])
-        s.buffer = new("void *[]", [ffi.cast("void *", _address(r[4])) for r in reads] or [ffi.NULL])
-        offsets, width = [], 0
-        for r in reads:
-            offsets.append(width)
-            width += r[3]
-        s.width = width
-        self.s = s
-        self.width = max(1, width)
-        # each recorded column: its slot and how to read it, or a constant
-        self.columns = []
-        for c in cols:
-            if c[0] == "const":
-                self.columns.append(("const", c[1]))
-            else:
-                read, index = c
-                kind = kinds[read]
-                self.columns.append(("slot", offsets[read] + index, _FORMAT[kind], kind == KINDS["Boolean"]))
+class _Slot(NamedTuple):
+    """Where a recorded column's value is in a row of slots, and how to read it back."""
+
+    slot: int
+    format: str
+    boolean: bool
+
+
+class CStretch:
+    """The quiet stretch in C, bound to one run's instances and recorded reads."""
+
+    name = "C"
+
+    @classmethod
+    def for_plan(cls, plan: StretchPlan) -> CStretch | None:
+        """The C loop for this plan; None where it cannot run: values to forward between FMUs, or
+        pacing (the Python stretch does those), a recorded type it does not store, no library."""
+        if plan.values.connected or plan.pacer is not None:
+            return None
+        if any(kind(r.fmi_type) is None for r in plan.reads):
+            return None
+        lib = load()
+        return cls(lib, plan) if lib is not None else None
+
+    def __init__(self, lib, plan: StretchPlan):
+        self.lib, self.plan = lib, plan
+        self._keep: list = []  # the C arrays the struct points into
+        self.s = self._struct(plan)
+        self.width = max(1, self.s.width)
+        self.columns = self._columns(plan)
         self.times = ffi.new("double[]", CHUNK)
         self.slots = ffi.new("uint64_t[]", CHUNK * self.width)
-        self.n = ffi.new("long *")
-        self.t = ffi.new("double *")
-        self.why = ffi.new("int *")
-        self.who = ffi.new("int *")
-        self.status = ffi.new("int *")
+        self._n, self._t = ffi.new("long *"), ffi.new("double *")
+        self._why, self._who, self._status = ffi.new("int *"), ffi.new("int *"), ffi.new("int *")
 
-    def run(self, start: float, h: float, n: int, t: float, limit: float):
-        """Steps as far as possible in one chunk: (steps, rows, n, t, why, who, status)."""
-        self.n[0], self.t[0] = n, t
-        steps = self.lib.rg_plain_steps(self.s, start, h, self.n, self.t, limit, CHUNK, self.times, self.slots,
-                                        self.why, self.who, self.status)
-        why = self.why[0]
-        rows = steps - 1 if why in (WHY_EVENT, WHY_GET_FAILED) else steps
-        return steps, rows, self.n[0], self.t[0], why, self.who[0], self.status[0]
+    def _array(self, ctype: str, values: list):
+        a = ffi.new(ctype, values)
+        self._keep.append(a)
+        return a
 
-    def rows(self, count: int) -> list[list]:
+    def _struct(self, plan: StretchPlan):
+        s = ffi.new("rg_stretch *")
+        self._keep.append(s)
+        pointers = self._pointers
+        n = len(plan.instances)
+        s.n_instances = n
+        s.do_step = pointers("rg_do_step_fn[]", [u.binding.raw("fmi3DoStep") for u in plan.instances])
+        s.instance = pointers("void *[]", [u.binding.handle for u in plan.instances])
+        s.event_mode = self._array("bool[]", [u.event_mode for u in plan.instances] or [False])
+        s.flags = self._array("bool[]", 4 * max(1, n))
+        s.last_time = self._array("double[]", max(1, n))
+        s.n_reads = len(plan.reads)
+        s.get = pointers("rg_get_fn[]", [r.c_function for r in plan.reads])
+        s.read_instance = pointers("void *[]", [r.binding.handle for r in plan.reads])
+        s.vrs = pointers("uint32_t *[]", [r.c_vrs for r in plan.reads])
+        s.count = self._array("size_t[]", [r.count for r in plan.reads] or [0])
+        s.kind = self._array("int[]", [kind(r.fmi_type) for r in plan.reads] or [0])
+        s.buffer = pointers("void *[]", [r.buffer for r in plan.reads])
+        s.width = sum(r.count for r in plan.reads)
+        return s
+
+    def _pointers(self, ctype: str, cdata: list):
+        """An array of ``ctype`` holding these cffi objects of the FMI binding's FFI, as addresses."""
+        item = ctype[:-2]
+        return self._array(ctype, [ffi.cast(item, _address(c)) for c in cdata] or [ffi.NULL])
+
+    def _columns(self, plan: StretchPlan) -> list:
+        """Each recorded column: its slot, or the constant of a step row (clocks 0, clocked values empty)."""
+        offsets, width = {}, 0
+        for r in plan.reads:
+            offsets[id(r)] = width
+            width += r.count
+        columns = []
+        for c in plan.columns:
+            if c.kind == VALUE:
+                k = kind(c.reader.fmi_type)
+                columns.append(_Slot(offsets[id(c.reader)] + c.index, _FORMAT[k], k == _BOOL))
+            else:
+                columns.append(0 if c.kind == CLOCK else None)
+        return columns
+
+    def run(self, t: float, horizon: float) -> StretchEnd:
+        plan = self.plan
+        n, limit, steps = plan.index(t), plan.limit(horizon), 0
+        while True:
+            chunk = self._chunk(n, t, limit)
+            plan.recorder.append_rows(self._rows(chunk.rows))
+            steps += chunk.steps
+            n, t = chunk.n, chunk.t
+            for u in plan.instances:
+                u.time = t
+            if chunk.why == Why.STEP_FAILED:
+                raise plan.instances[chunk.who].binding.error("fmi3DoStep", chunk.status)
+            if chunk.why == Why.GET_FAILED:
+                read = plan.reads[chunk.who]
+                raise read.binding.error(read.function, chunk.status)
+            if plan.progress.enabled:
+                plan.progress.update(t)
+            if chunk.why != Why.LIMIT or chunk.rows < CHUNK:
+                terminating = plan.instances[chunk.who] if chunk.who >= 0 else None
+                return StretchEnd(t, steps, chunk.why == Why.EVENT, terminating)
+
+    def _chunk(self, n: int, t: float, limit: float) -> _Chunk:
+        """Steps as far as one chunk of rows allows."""
+        self._n[0], self._t[0] = n, t
+        steps = self.lib.rg_run_stretch(self.s, self.plan.start, self.plan.step, self._n, self._t, limit, CHUNK,
+                                        self.times, self.slots, self._why, self._who, self._status)
+        why = Why(self._why[0])
+        rows = steps - 1 if why in (Why.EVENT, Why.GET_FAILED) else steps
+        return _Chunk(steps, rows, self._n[0], self._t[0], why, self._who[0], self._status[0])
+
+    def _rows(self, count: int) -> list[list]:
         """The first ``count`` stored rows as result rows: [t, 0, values...]."""
         if count <= 0:
             return []
@@ -172,10 +258,9 @@ class Stepper:
         views = {f: raw.cast(f) for f in ("d", "q", "Q")}
         columns = [ffi.unpack(self.times, count), repeat(0, count)]
         for c in self.columns:
-            if c[0] == "const":
-                columns.append(repeat(c[1], count))
+            if isinstance(c, _Slot):
+                values = views[c.format][c.slot:count * self.width:self.width].tolist()
+                columns.append(list(map(bool, values)) if c.boolean else values)
             else:
-                _, slot, fmt, boolean = c
-                values = views[fmt][slot:count * self.width:self.width].tolist()
-                columns.append(list(map(bool, values)) if boolean else values)
+                columns.append(repeat(c, count))
         return [list(row) for row in zip(*columns)]

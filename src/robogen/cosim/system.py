@@ -84,6 +84,28 @@ def split_name(text: str) -> tuple[str, str] | None:
 
 def load_system(path: str | Path) -> System:
     path = Path(path)
+    text, data = _read_toml(path)
+    check = _SchemaCheck(SpanIndex(text, str(path)))
+    check.unknown_keys(data, TOP_KEYS)
+    exp = check.table(data, "experiment", "'experiment' must be a table")
+    start, stop, step, tol, max_iter = _experiment(exp, check)
+    raw_instances = data.get("instances", {})
+    if not isinstance(raw_instances, dict) or not raw_instances:
+        check.error("the system needs at least one FMU instance: [instances.NAME] with fmu = \"PATH.fmu\"", "instances")
+        raw_instances = {}
+    instances = {}
+    for name, spec in raw_instances.items():
+        inst = _instance(name, spec, path, check)
+        if inst is not None:
+            instances[name] = inst
+    connections = _connections(data, check)
+    order = _order(exp, raw_instances, check)
+    record = _record(data, check)
+    check.sink.raise_if_errors()
+    return System(path, text, start, stop, step, tol, max_iter, order, instances, connections, record, check.idx)
+
+
+def _read_toml(path: Path) -> tuple[str, dict]:
     display = str(path)
     try:
         text = path.read_text(encoding="utf-8")
@@ -92,138 +114,160 @@ def load_system(path: str | Path) -> System:
     except UnicodeDecodeError:
         raise RobogenError.at("system file is not UTF-8 text", Span.whole_file(display)) from None
     try:
-        data = tomllib.loads(text)
+        return text, tomllib.loads(text)
     except tomllib.TOMLDecodeError as exc:
         m = re.search(r"\(at line (\d+), column (\d+)\)", str(exc))
         msg = re.sub(r"\s*\(at line \d+, column \d+\)", "", str(exc))
         span = Span.point(display, int(m.group(1)), int(m.group(2))) if m else Span.whole_file(display)
         raise RobogenError.at(f"invalid TOML: {msg}", span) from None
-    idx = SpanIndex(text, display)
-    sink = DiagnosticSink()
 
-    def unknown_keys(table: dict, allowed, *where) -> None:
+
+class _SchemaCheck:
+    """Collects the schema errors of one system file, each located at its key."""
+
+    def __init__(self, idx: SpanIndex):
+        self.idx, self.sink = idx, DiagnosticSink()
+
+    def error(self, message: str, *where) -> None:
+        self.sink.error(message, self.idx.span(*where))
+
+    def unknown_keys(self, table: dict, allowed, *where) -> None:
         for key in table:
             if key not in allowed:
                 hint = did_you_mean(key, allowed)
                 if key == "connections" and where:
                     hint += "; 'connections' belongs at the top level, before the first [table]"
-                sink.error(f"unknown key '{key}'{hint}", idx.span(*where, key))
+                self.error(f"unknown key '{key}'{hint}", *where, key)
 
-    def number(value, *where, positive=False, nonneg=False) -> float | None:
+    def table(self, data: dict, key: str, message: str) -> dict:
+        """data[key] if it is a table (an absent key is an empty one)."""
+        value = data.get(key, {})
+        if not isinstance(value, dict):
+            self.error(message, key)
+            return {}
+        return value
+
+    def number(self, value, *where, positive=False, nonneg=False) -> float | None:
         if isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(value):
-            sink.error(f"'{where[-1]}' must be a finite number", idx.span(*where))
+            self.error(f"'{where[-1]}' must be a finite number", *where)
             return None
         if positive and value <= 0:
-            sink.error(f"'{where[-1]}' must be positive", idx.span(*where))
+            self.error(f"'{where[-1]}' must be positive", *where)
             return None
         if nonneg and value < 0:
-            sink.error(f"'{where[-1]}' must not be negative", idx.span(*where))
+            self.error(f"'{where[-1]}' must not be negative", *where)
             return None
         return float(value)
 
-    unknown_keys(data, TOP_KEYS)
-    exp = data.get("experiment", {})
-    if not isinstance(exp, dict):
-        sink.error("'experiment' must be a table", idx.span("experiment"))
-        exp = {}
-    unknown_keys(exp, EXPERIMENT_KEYS, "experiment")
-    start = number(exp.get("start", 0.0), "experiment", "start") or 0.0
-    stop = number(exp["stop"], "experiment", "stop") if "stop" in exp else None
-    step = number(exp["step"], "experiment", "step", positive=True) if "step" in exp else None
-    tol = number(exp["tolerance"], "experiment", "tolerance", positive=True) if "tolerance" in exp else None
+
+def _experiment(exp: dict, check: _SchemaCheck) -> tuple[float, float | None, float | None, float | None, int]:
+    """[experiment]: start, stop, step, tolerance, max_event_iterations (``order`` is read last)."""
+    check.unknown_keys(exp, EXPERIMENT_KEYS, "experiment")
+    start = check.number(exp.get("start", 0.0), "experiment", "start") or 0.0
+    stop = check.number(exp["stop"], "experiment", "stop") if "stop" in exp else None
+    step = check.number(exp["step"], "experiment", "step", positive=True) if "step" in exp else None
+    tol = check.number(exp["tolerance"], "experiment", "tolerance", positive=True) if "tolerance" in exp else None
     if stop is not None and stop < start:
-        sink.error(f"stop time {stop} is before the start time {start}", idx.span("experiment", "stop"))
+        check.error(f"stop time {stop} is before the start time {start}", "experiment", "stop")
     max_iter = exp.get("max_event_iterations", 1000)
     if isinstance(max_iter, bool) or not isinstance(max_iter, int) or max_iter < 1:
-        sink.error("'max_event_iterations' must be a positive integer", idx.span("experiment", "max_event_iterations"))
+        check.error("'max_event_iterations' must be a positive integer", "experiment", "max_event_iterations")
         max_iter = 1000
+    return start, stop, step, tol, max_iter
 
-    instances: dict[str, InstanceSpec] = {}
-    raw_instances = data.get("instances", {})
-    if not isinstance(raw_instances, dict) or not raw_instances:
-        sink.error("the system needs at least one FMU instance: [instances.NAME] with fmu = \"PATH.fmu\"", idx.span("instances"))
-        raw_instances = {}
-    for name, spec in raw_instances.items():
-        where = ("instances", name)
-        if not re.fullmatch(r"[A-Za-z_][A-Za-z0-9_]*", name):
-            sink.error(f"instance name '{name}' must be an identifier (letters, digits, '_'; no dots)", idx.span(*where))
-            continue
-        if not isinstance(spec, dict):
-            sink.error(f"instance '{name}' must be a table", idx.span(*where))
-            continue
-        unknown_keys(spec, INSTANCE_KEYS, *where)
-        fmu = spec.get("fmu")
-        if not isinstance(fmu, str) or not fmu:
-            sink.error(f"instance '{name}' needs fmu = \"PATH.fmu\"", idx.span(*where, "fmu"))
-            continue
-        inst = InstanceSpec(name, (path.parent / fmu), idx.span(*where), idx.span(*where, "fmu"))
-        starts = spec.get("start", {})
-        if not isinstance(starts, dict):
-            sink.error("'start' must be a table of variable = value", idx.span(*where, "start"))
-            starts = {}
-        for var, value in starts.items():
-            if isinstance(value, (dict, list)) and not (isinstance(value, list) and all(isinstance(x, (int, float)) for x in value)):
-                sink.error(f"start value of '{var}' must be a number, boolean or string", idx.span(*where, "start", var))
-                continue
-            inst.start[var] = (value, idx.span(*where, "start", var))
-        clocks = spec.get("clocks", {})
-        if not isinstance(clocks, dict):
-            sink.error("'clocks' must be a table of clock = { interval = ..., shift = ... }", idx.span(*where, "clocks"))
-            clocks = {}
-        for clock, timing in clocks.items():
-            cw = (*where, "clocks", clock)
-            if not isinstance(timing, dict):
-                sink.error(f"clock '{clock}' must be a table {{ interval = ..., shift = ... }}", idx.span(*cw))
-                continue
-            unknown_keys(timing, CLOCK_KEYS, *cw)
-            checked = {}
-            if "interval" in timing:
-                checked["interval"] = number(timing["interval"], *cw, "interval", positive=True)
-            if "shift" in timing:
-                checked["shift"] = number(timing["shift"], *cw, "shift", nonneg=True)
-            inst.clocks[clock] = (checked, idx.span(*cw))
-        instances[name] = inst
 
+def _instance(name: str, spec, path: Path, check: _SchemaCheck) -> InstanceSpec | None:
+    """[instances.NAME]: the FMU (relative to the system file), start values, clock timing."""
+    where = ("instances", name)
+    if not re.fullmatch(r"[A-Za-z_][A-Za-z0-9_]*", name):
+        check.error(f"instance name '{name}' must be an identifier (letters, digits, '_'; no dots)", *where)
+        return None
+    if not isinstance(spec, dict):
+        check.error(f"instance '{name}' must be a table", *where)
+        return None
+    check.unknown_keys(spec, INSTANCE_KEYS, *where)
+    fmu = spec.get("fmu")
+    if not isinstance(fmu, str) or not fmu:
+        check.error(f"instance '{name}' needs fmu = \"PATH.fmu\"", *where, "fmu")
+        return None
+    inst = InstanceSpec(name, (path.parent / fmu), check.idx.span(*where), check.idx.span(*where, "fmu"))
+    starts = spec.get("start", {})
+    if not isinstance(starts, dict):
+        check.error("'start' must be a table of variable = value", *where, "start")
+        starts = {}
+    for var, value in starts.items():
+        if isinstance(value, (dict, list)) and not (isinstance(value, list) and all(isinstance(x, (int, float)) for x in value)):
+            check.error(f"start value of '{var}' must be a number, boolean or string", *where, "start", var)
+            continue
+        inst.start[var] = (value, check.idx.span(*where, "start", var))
+    clocks = spec.get("clocks", {})
+    if not isinstance(clocks, dict):
+        check.error("'clocks' must be a table of clock = { interval = ..., shift = ... }", *where, "clocks")
+        clocks = {}
+    for clock, timing in clocks.items():
+        checked = _clock_timing(timing, (*where, "clocks", clock), check)
+        if checked is not None:
+            inst.clocks[clock] = (checked, check.idx.span(*where, "clocks", clock))
+    return inst
+
+
+def _clock_timing(timing, where: tuple, check: _SchemaCheck) -> dict | None:
+    if not isinstance(timing, dict):
+        check.error(f"clock '{where[-1]}' must be a table {{ interval = ..., shift = ... }}", *where)
+        return None
+    check.unknown_keys(timing, CLOCK_KEYS, *where)
+    checked = {}
+    if "interval" in timing:
+        checked["interval"] = check.number(timing["interval"], *where, "interval", positive=True)
+    if "shift" in timing:
+        checked["shift"] = check.number(timing["shift"], *where, "shift", nonneg=True)
+    return checked
+
+
+def _connections(data: dict, check: _SchemaCheck) -> list[Connection]:
     connections: list[Connection] = []
     raw_conn = data.get("connections", [])
     if not isinstance(raw_conn, list):
-        sink.error('\'connections\' must be a list of strings "a.y -> b.u"', idx.span("connections"))
+        check.error('\'connections\' must be a list of strings "a.y -> b.u"', "connections")
         raw_conn = []
     for i, item in enumerate(raw_conn):
-        span = idx.span("connections", i)
+        span = check.idx.span("connections", i)
         m = _ARROW.match(item) if isinstance(item, str) else None
         ends = (split_name(m.group(1)), split_name(m.group(2))) if m else (None, None)
         if not m or None in ends:
-            sink.error('a connection is written "instance.variable -> instance.variable"', span)
+            check.sink.error('a connection is written "instance.variable -> instance.variable"', span)
             continue
         (si, sv), (ti, tv) = ends
         connections.append(Connection(Endpoint(si, sv, span), Endpoint(ti, tv, span), span))
+    return connections
 
+
+def _order(exp: dict, raw_instances: dict, check: _SchemaCheck) -> list[str]:
     order = exp.get("order", [])
     if not isinstance(order, list) or not all(isinstance(o, str) for o in order):
-        sink.error("'order' must be a list of instance names", idx.span("experiment", "order"))
+        check.error("'order' must be a list of instance names", "experiment", "order")
         order = []
     for i, o in enumerate(order):
         if o not in raw_instances:
-            sink.error(f"unknown instance '{o}' in order{did_you_mean(o, raw_instances)}", idx.span("experiment", "order", i))
+            check.error(f"unknown instance '{o}' in order{did_you_mean(o, raw_instances)}", "experiment", "order", i)
     if len(set(order)) != len(order):
-        sink.error("an instance appears twice in 'order'", idx.span("experiment", "order"))
+        check.error("an instance appears twice in 'order'", "experiment", "order")
+    return order
 
-    record = None
+
+def _record(data: dict, check: _SchemaCheck) -> list[tuple[str, Span]] | None:
     rec = data.get("record")
-    if rec is not None:
-        if not isinstance(rec, dict):
-            sink.error("'record' must be a table with variables = [...]", idx.span("record"))
-        else:
-            unknown_keys(rec, RECORD_KEYS, "record")
-            names = rec.get("variables", [])
-            if not isinstance(names, list) or not all(isinstance(n, str) for n in names):
-                sink.error('\'variables\' must be a list of "instance.variable" (or "instance.*")', idx.span("record", "variables"))
-            else:
-                record = [(n, idx.span("record", "variables", i)) for i, n in enumerate(names)]
-
-    sink.raise_if_errors()
-    return System(path, text, start, stop, step, tol, max_iter, order, instances, connections, record, idx)
+    if rec is None:
+        return None
+    if not isinstance(rec, dict):
+        check.error("'record' must be a table with variables = [...]", "record")
+        return None
+    check.unknown_keys(rec, RECORD_KEYS, "record")
+    names = rec.get("variables", [])
+    if not isinstance(names, list) or not all(isinstance(n, str) for n in names):
+        check.error('\'variables\' must be a list of "instance.variable" (or "instance.*")', "record", "variables")
+        return None
+    return [(n, check.idx.span("record", "variables", i)) for i, n in enumerate(names)]
 
 
 # ----------------------------------------------------------------------------------------
@@ -243,94 +287,118 @@ class Link:
 
 def resolve(system: System, models: dict[str, ModelDescription]) -> list[Link]:
     """Check every connection, start value and recorded name against the FMUs; collect all problems."""
-    sink = DiagnosticSink()
-    names = {n: m.by_name() for n, m in models.items()}
+    check = _ModelCheck(system, models)
+    for name in models:
+        check.instance(name)
+    links = [link for c in system.connections if (link := check.connection(c)) is not None]
+    for link in links:
+        check.clocks_connected(link, links)
+    for name, span in system.record or ():
+        check.recorded(name, span)
+    check.sink.raise_if_errors()
+    return links
 
-    def lookup(end: Endpoint, span: Span) -> Variable | None:
-        if end.instance not in models:
-            sink.error(f"unknown instance '{end.instance}'{did_you_mean(end.instance, models)}", span)
+
+class _ModelCheck:
+    """Checks a system against its FMUs' model descriptions, collecting every problem."""
+
+    def __init__(self, system: System, models: dict[str, ModelDescription]):
+        self.system, self.models, self.sink = system, models, DiagnosticSink()
+        self.names = {n: m.by_name() for n, m in models.items()}
+        self.targets: dict[tuple[str, str], Span] = {}  # connected inputs: where first connected
+
+    def lookup(self, end: Endpoint, span: Span) -> Variable | None:
+        if end.instance not in self.models:
+            self.sink.error(f"unknown instance '{end.instance}'{did_you_mean(end.instance, self.models)}", span)
             return None
-        var = names[end.instance].get(end.variable)
+        var = self.names[end.instance].get(end.variable)
         if var is None:
-            sink.error(f"FMU instance '{end.instance}' has no variable '{end.variable}'{did_you_mean(end.variable, names[end.instance])}", span,
-                       Note(f"variables are declared in {models[end.instance].path}"))
+            self.sink.error(f"FMU instance '{end.instance}' has no variable '{end.variable}'{did_you_mean(end.variable, self.names[end.instance])}",
+                            span, Note(f"variables are declared in {self.models[end.instance].path}"))
         return var
 
-    for name, md in models.items():
-        inst = system.instances[name]
+    def instance(self, name: str) -> None:
+        """The FMU offers Co-Simulation; start values and clock timings name what they can set."""
+        md, inst, names, sink = self.models[name], self.system.instances[name], self.names[name], self.sink
         if md.co_simulation is None:
             sink.error(f"FMU of instance '{name}' has no FMI 3.0 Co-Simulation interface (<CoSimulation> is missing)", inst.fmu_span)
         for var_name, (value, span) in inst.start.items():
-            var = names[name].get(var_name)
+            var = names.get(var_name)
             if var is None:
-                sink.error(f"FMU instance '{name}' has no variable '{var_name}'{did_you_mean(var_name, names[name])}", span)
+                sink.error(f"FMU instance '{name}' has no variable '{var_name}'{did_you_mean(var_name, names)}", span)
             elif var.causality not in ("parameter", "input") and var.initial not in ("exact", "approx"):
                 sink.error(f"cannot set a start value for '{var_name}' (causality {var.causality}, initial {var.initial or 'calculated'})", span)
             elif var.is_clock:
                 sink.error(f"'{var_name}' is a clock; clocks have no start value", span)
             elif value_problem(var, value):
                 sink.error(f"start value for '{var_name}': {value_problem(var, value)}", span)
-        for clock_name, (timing, span) in inst.clocks.items():
-            var = names[name].get(clock_name)
+        for clock_name, (_timing, span) in inst.clocks.items():
+            var = names.get(clock_name)
             if var is None or not var.is_clock:
                 sink.error(f"FMU instance '{name}' has no clock '{clock_name}'{did_you_mean(clock_name, [v.name for v in md.variables if v.is_clock])}", span)
             elif var.interval_variability not in ("fixed", "tunable"):
                 sink.error(f"clock '{clock_name}' is {var.interval_variability}: only fixed and tunable clocks take an interval or shift here", span)
 
-    links: list[Link] = []
-    targets: dict[tuple[str, str], Span] = {}
-    for c in system.connections:
-        src, dst = lookup(c.source, c.span), lookup(c.target, c.span)
+    def connection(self, c: Connection) -> Link | None:
+        """The connection as a link if its ends exist and the input is connected once."""
+        src, dst = self.lookup(c.source, c.span), self.lookup(c.target, c.span)
         if src is None or dst is None:
-            continue
+            return None
         key = (c.target.instance, c.target.variable)
-        if key in targets:
-            sink.error(f"'{c.target}' is connected twice", c.span, Note("first connected here", targets[key]))
-            continue
-        targets[key] = c.span
+        if key in self.targets:
+            self.sink.error(f"'{c.target}' is connected twice", c.span, Note("first connected here", self.targets[key]))
+            return None
+        self.targets[key] = c.span
         if c.source.instance == c.target.instance:
-            sink.error("a connection must join two different instances", c.span)
-            continue
+            self.sink.error("a connection must join two different instances", c.span)
+            return None
+        if not self.compatible(c, src, dst):
+            return None
+        return Link(c.source.instance, src, c.target.instance, dst, c.span)
+
+    def compatible(self, c: Connection, src: Variable, dst: Variable) -> bool:
+        """Causalities, types, clocks and Event Mode fit (False only where the link makes no sense)."""
+        sink = self.sink
         if src.causality != "output":
             sink.error(f"'{c.source}' is not an output (causality {src.causality})", c.span)
         if dst.causality != "input":
             sink.error(f"'{c.target}' is not an input (causality {dst.causality})", c.span)
         if src.is_clock != dst.is_clock:
             sink.error(f"a clock connects only to a clock: '{c.source}' is {_kind(src)}, '{c.target}' is {_kind(dst)}", c.span)
-            continue
+            return False
         if _base_type(src) != _base_type(dst):
             sink.error(f"type mismatch: '{c.source}' is {src.type}, '{c.target}' is {dst.type}", c.span)
         if src.is_clocked != dst.is_clocked:
             sink.error(f"'{c.source}' is {'clocked' if src.is_clocked else 'not clocked'} but '{c.target}' is {'clocked' if dst.is_clocked else 'not clocked'}", c.span)
         for inst_name, var in ((c.source.instance, src), (c.target.instance, dst)):
-            cs = models[inst_name].co_simulation
+            cs = self.models[inst_name].co_simulation
             if (var.is_clock or var.is_clocked) and cs is not None and not cs.has_event_mode:
                 sink.error(f"instance '{inst_name}' connects clocks but its FMU lacks hasEventMode=\"true\"", c.span)
-        links.append(Link(c.source.instance, src, c.target.instance, dst, c.span))
+        return True
 
-    # a clocked connection needs its clocks connected to each other
-    clock_links = {(l.source, l.src.value_reference, l.target, l.dst.value_reference) for l in links if l.src.is_clock}
-    for l in links:
-        if l.src.is_clocked and l.dst.is_clocked and not l.src.is_clock:
-            by_vr_s, by_vr_d = models[l.source].by_vr(), models[l.target].by_vr()
-            if not any((l.source, a, l.target, b) in clock_links for a in l.src.clocks for b in l.dst.clocks):
-                sc = " or ".join(f"{l.source}.{by_vr_s[a].name}" if a in by_vr_s else str(a) for a in l.src.clocks)
-                dc = " or ".join(f"{l.target}.{by_vr_d[b].name}" if b in by_vr_d else str(b) for b in l.dst.clocks)
-                sink.error(f"clocked connection '{l.source}.{l.src.name} -> {l.target}.{l.dst.name}' needs its clocks connected: add \"{sc} -> {dc}\"", l.span)
+    def clocks_connected(self, link: Link, links: list[Link]) -> None:
+        """A clocked connection needs a clock of its source connected to a clock of its target."""
+        if not (link.src.is_clocked and link.dst.is_clocked and not link.src.is_clock):
+            return
+        clock_links = {(k.source, k.src.value_reference, k.target, k.dst.value_reference) for k in links if k.src.is_clock}
+        if any((link.source, a, link.target, b) in clock_links for a in link.src.clocks for b in link.dst.clocks):
+            return
+        by_vr_s, by_vr_d = self.models[link.source].by_vr(), self.models[link.target].by_vr()
+        sc = " or ".join(f"{link.source}.{by_vr_s[a].name}" if a in by_vr_s else str(a) for a in link.src.clocks)
+        dc = " or ".join(f"{link.target}.{by_vr_d[b].name}" if b in by_vr_d else str(b) for b in link.dst.clocks)
+        self.sink.error(f"clocked connection '{link.source}.{link.src.name} -> {link.target}.{link.dst.name}' "
+                        f"needs its clocks connected: add \"{sc} -> {dc}\"", link.span)
 
-    if system.record is not None:
-        for name, span in system.record:
-            parts = split_name(name)
-            if parts is None:
-                sink.error(f"recorded name '{name}' must be \"instance.variable\" or \"instance.*\"", span)
-                continue
-            inst, var = parts
-            if inst not in models:
-                sink.error(f"unknown instance '{inst}'{did_you_mean(inst, models)}", span)
-            elif var != "*" and var not in names[inst]:
-                sink.error(f"FMU instance '{inst}' has no variable '{var}'{did_you_mean(var, names[inst])}", span)
-    sink.raise_if_errors()
-    return links
+    def recorded(self, name: str, span: Span) -> None:
+        parts = split_name(name)
+        if parts is None:
+            self.sink.error(f"recorded name '{name}' must be \"instance.variable\" or \"instance.*\"", span)
+            return
+        inst, var = parts
+        if inst not in self.models:
+            self.sink.error(f"unknown instance '{inst}'{did_you_mean(inst, self.models)}", span)
+        elif var != "*" and var not in self.names[inst]:
+            self.sink.error(f"FMU instance '{inst}' has no variable '{var}'{did_you_mean(var, self.names[inst])}", span)
 
 
 def _kind(v: Variable) -> str:

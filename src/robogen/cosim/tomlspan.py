@@ -14,14 +14,14 @@ import re
 from robogen.diagnostics import Span
 
 _BARE = re.compile(r"[A-Za-z0-9_-]+")
-Path = tuple
+KeyPath = tuple  # a key's path in the document: ("instances", "ball", "fmu"), ("connections", 3)
 
 
 class SpanIndex:
     def __init__(self, text: str, path: str):
         self.text, self.path = text, path
-        self.spans: dict[Path, Span] = {}
-        self._aot_count: dict[Path, int] = {}
+        self.spans: dict[KeyPath, Span] = {}
+        self._aot_count: dict[KeyPath, int] = {}
         self.i = 0
         self._line_starts = [0] + [m.end() for m in re.finditer("\n", text)]
         try:
@@ -106,7 +106,7 @@ class SpanIndex:
 
     def _document(self) -> None:
         t = self.text
-        table: Path = ()
+        table: KeyPath = ()
         while True:
             self._skip_ws(True)
             if self.i >= len(t):
@@ -129,7 +129,7 @@ class SpanIndex:
             else:
                 self._pair(table)
 
-    def _pair(self, prefix: Path) -> None:
+    def _pair(self, prefix: KeyPath) -> None:
         parts = self._dotted_key()
         path = prefix + tuple(p[0] for p in parts)
         _, start, length = parts[-1]
@@ -139,7 +139,7 @@ class SpanIndex:
         self._skip_ws(False)
         self._value(path)
 
-    def _value(self, path: Path) -> None:
+    def _value(self, path: KeyPath) -> None:
         t = self.text
         c = t[self.i]
         if c == "[":

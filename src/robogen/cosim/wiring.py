@@ -1,0 +1,160 @@
+"""Who reads what, and which clock goes where: the wiring of a system, derived once per run.
+
+From the resolved connections and the record list, :func:`wire` derives
+
+- the value links (:class:`ValueLink`): non-clocked outputs forwarded to inputs, per source
+  instance, and the :class:`ValueExchange` that forwards them;
+- the clock routes (:class:`ClockRoute`): an output clock to the input clocks it drives, with the
+  clocked values that ride on it;
+- the recorded columns (:class:`Column`);
+
+and tells every instance which outputs to read after a step (its readers) and which output
+clocks to watch.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import NamedTuple
+
+from robogen.cosim.instances import FmuInstance, Reader
+from robogen.cosim.system import Link
+from robogen.fmu.modeldesc import Variable
+
+#: Column kinds: a non-clocked value, a clock (1 while active, else 0), a clocked value (empty
+#: while its clock is inactive).
+VALUE, CLOCK, CLOCKED = "value", "clock", "clocked"
+
+
+class Column(NamedTuple):
+    """One recorded column; a VALUE column's value is ``reader.values[index]`` after a read."""
+
+    kind: str
+    instance: FmuInstance
+    variable: Variable
+    reader: Reader | None
+    index: int
+
+
+def plain(records: list[tuple]) -> list[tuple]:
+    """Named-tuple records as plain tuples of their fields, for loops that unpack them at every
+    step: CPython specialises the unpacking of exact tuples only (a named tuple costs twice as much)."""
+    return [tuple(r) for r in records]
+
+
+class ValueLink(NamedTuple):
+    """A connected non-clocked output (of the instance the link is filed under) and its input."""
+
+    source_vr: int
+    target: FmuInstance
+    target_variable: Variable
+
+
+class ClockedValue(NamedTuple):
+    source: Variable
+    target: Variable
+
+
+@dataclass
+class ClockRoute:
+    """Forward one output clock: set the target clock, then copy the clocked values."""
+
+    target: FmuInstance
+    target_clock: int
+    values: list[ClockedValue] = field(default_factory=list)
+
+
+@dataclass
+class Wiring:
+    value_links: dict[str, list[ValueLink]]  # by source instance
+    clock_routes: dict[tuple[str, int], list[ClockRoute]]  # by (source instance, output clock)
+    columns: list[Column]
+    record_reads: list[FmuInstance]  # recorded instances that no value link reads: read to record
+
+
+def wire(instances: list[FmuInstance], links: list[Link], record: list[tuple[FmuInstance, Variable]]) -> Wiring:
+    """The wiring of ``instances`` (in dependency order); sets up their readers and watched clocks."""
+    observe: dict[str, list[Variable]] = {u.name: [] for u in instances}
+    watch: dict[str, list[int]] = {u.name: [] for u in instances}
+    value_links, clock_routes = _routes(instances, links, observe, watch)
+    kinds = [_column_kind(u, var, observe, watch) for u, var in record]
+    for u in instances:
+        u.observe(observe[u.name])
+        u.watch_clocks(watch[u.name])
+    columns = [Column(kind, u, var, *u.reader_of.get(var.value_reference, (None, 0)))
+               for kind, (u, var) in zip(kinds, record)]
+    recorded = {c.instance.name for c in columns if c.kind == VALUE}
+    record_reads = [u for u in instances if u.name in recorded and not value_links[u.name]]
+    return Wiring(value_links, clock_routes, columns, record_reads)
+
+
+def _routes(instances, links, observe, watch):
+    by_name = {u.name: u for u in instances}
+    value_links: dict[str, list[ValueLink]] = {u.name: [] for u in instances}
+    clock_routes: dict[tuple[str, int], list[ClockRoute]] = {}
+    for link in links:
+        source, target = by_name[link.source], by_name[link.target]
+        if link.src.is_clock:
+            watch[source.name].append(link.src.value_reference)
+            clock_routes.setdefault((source.name, link.src.value_reference), []).append(
+                ClockRoute(target, link.dst.value_reference))
+        elif not link.src.is_clocked:
+            observe[source.name].append(link.src)
+            value_links[source.name].append(ValueLink(link.src.value_reference, target, link.dst))
+    for link in links:  # clocked values ride on their clock's route
+        if link.src.is_clocked and not link.src.is_clock:
+            for route in (r for c in link.src.clocks for r in clock_routes.get((link.source, c), [])):
+                if route.target.name == link.target and route.target_clock in link.dst.clocks:
+                    route.values.append(ClockedValue(link.src, link.dst))
+    return value_links, clock_routes
+
+
+def _column_kind(u: FmuInstance, var: Variable, observe, watch) -> str:
+    """The kind of a recorded variable; notes what recording it needs read or watched."""
+    if var.is_clock:
+        if var.causality == "output":
+            watch[u.name].append(var.value_reference)
+        return CLOCK
+    if var.is_clocked:
+        watch[u.name] += [c for c in var.clocks if c in u.by_vr and u.by_vr[c].causality == "output"]
+        return CLOCKED
+    observe[u.name].append(var)
+    return VALUE
+
+
+class ValueExchange:
+    """Forwards connected non-clocked values: read a source's outputs, set each connected input
+    whose value changed since it was last set (an FMU sees a Set only when its input changes)."""
+
+    def __init__(self, value_links: dict[str, list[ValueLink]]):
+        self.links = value_links
+        self.connected = any(value_links.values())
+        self._links = {name: plain(links) for name, links in value_links.items()}
+        self._last_set: dict[tuple[str, int], object] = {}
+
+    def forward(self, u: FmuInstance) -> set[str]:
+        """Read u's observed outputs and set the changed connected inputs; the names of the targets set."""
+        links = self._links[u.name]
+        if not links:
+            return set()  # nothing to forward: recording reads what it records
+        u.read_outputs()
+        woken = set()
+        for vr, target, variable in links:
+            value = u.value(vr)
+            key = (target.name, variable.value_reference)
+            if self._last_set.get(key, _UNSET) != value:
+                self._last_set[key] = value
+                target.set_values(variable.type, [variable.value_reference], [value])
+                woken.add(target.name)
+        return woken
+
+    def exchange(self, instances: list[FmuInstance]) -> bool:
+        """Forward every instance's values, in dependency order; True if an input changed."""
+        changed = False
+        for u in instances:
+            if self.forward(u):
+                changed = True
+        return changed
+
+
+_UNSET = object()

@@ -1,0 +1,87 @@
+"""The master's quiet stretch in C (robogen.cosim.stepper) does what the Python stretch does: the
+same rows byte for byte, the same statistics, the same end when an FMU asks for Event Mode or
+to terminate, the same error (and kept rows) when an FMU fails."""
+
+from __future__ import annotations
+
+import pytest
+
+from robogen.cosim import simulate_system, stepper
+from robogen.diagnostics import RobogenError
+
+SYSTEMS = {
+    # quiet stretches only, over several chunks of the C loop (4,096 rows each)
+    "trivial": '[experiment]\nstop = 1.0\nstep = 1e-4\n[instances.t]\nfmu = "{trivial}"\n',
+    # a periodic clock every 0.25 s ends each stretch; two FMUs step side by side
+    "ticker": '[experiment]\nstop = 3.0\nstep = 0.1\n[instances.k]\nfmu = "{ticker}"\n[instances.t]\nfmu = "{trivial}"\n',
+    # a terminate request from fmi3DoStep in the middle of a stretch
+    "terminate": '[experiment]\nstop = 10.0\nstep = 0.01\n[instances.t]\nfmu = "{trivial}"\nstart = { stop_at = 3.005 }\n',
+}
+
+
+def simulate_with(loop: str, monkeypatch, path, **kwargs):
+    """simulate_system with the quiet stretches in this loop ("Python" or "C")."""
+    if loop == "Python":
+        monkeypatch.setenv("ROBOGEN_NO_C_STEPPER", "1")
+    else:
+        monkeypatch.delenv("ROBOGEN_NO_C_STEPPER", raising=False)
+    return simulate_system(path, **kwargs)
+
+
+@pytest.fixture
+def loops(monkeypatch):
+    """run(system) with the Python stretch and with the C stretch: (python, c) results."""
+
+    def run(path, **kwargs):
+        python = simulate_with("Python", monkeypatch, path, output=path.with_suffix(".py.csv"), **kwargs)
+        c = simulate_with("C", monkeypatch, path, output=path.with_suffix(".c.csv"), **kwargs)
+        assert (python.stats.stretch, c.stats.stretch) == ("Python", "C"), "the C stretch did not build here"
+        return python, c
+
+    return run
+
+
+@pytest.mark.parametrize("name", sorted(SYSTEMS))
+def test_c_stepper_gives_the_python_loops_results(loops, write_system, name):
+    python, c = loops(write_system(SYSTEMS[name], name=f"{name}.toml"))
+    assert c.output.read_bytes() == python.output.read_bytes()
+    assert c.rows == python.rows
+    for field in ("steps", "event_iterations", "instants", "end_time", "terminated_by"):
+        assert getattr(c.stats, field) == getattr(python.stats, field), field
+    if name == "trivial":
+        assert c.stats.steps == 10_000 and len(c.rows) == 10_002  # (0,0), (0,1) and one row per step
+    if name == "terminate":  # the step reaching 3.005 is t = 3.01; its row is recorded
+        assert c.stats.terminated_by == "instance 't' asked to terminate in fmi3DoStep at t=3.01"
+        assert c.rows[-1][0] == 301 * 0.01  # the grid is n * h, not a running sum
+
+
+def test_c_stepper_stops_at_a_failing_fmu_with_the_same_error_and_rows(monkeypatch, write_system, tmp_path):
+    path = write_system('[experiment]\nstop = 2.0\nstep = 0.1\n[instances.f]\nfmu = "{failer}"\n', name="fail.toml")
+    c_runs = []  # the C stretch's runs (the failure leaves no statistics to tell)
+    original = stepper.CStretch.run
+    monkeypatch.setattr(stepper.CStretch, "run", lambda self, t, horizon: c_runs.append(t) or original(self, t, horizon))
+    messages = []
+    for loop in ("Python", "C"):
+        with pytest.raises(RobogenError) as exc:
+            simulate_with(loop, monkeypatch, path, output=tmp_path / f"{loop}.csv")
+        messages.append(exc.value.diagnostics[0].message)
+    assert c_runs  # the second run used the C stretch
+    assert messages[0] == messages[1]
+    assert "instance 'f': fmi3DoStep returned fmi3Error at t=0.5" in messages[0]
+    assert (tmp_path / "Python.csv").read_bytes() == (tmp_path / "C.csv").read_bytes()
+
+
+def test_a_connected_stretch_records_every_instance_after_the_exchange(write_system):
+    # trivial: y = u + t at the end of each step; the chain forwards a.y -> b.u and b.y -> c.u after
+    # every step. c has no outgoing connection, yet its y is recorded fresh at every point (the
+    # quiet stretch once recorded the value c.y had at the start).
+    path = write_system('connections = ["a.y -> b.u", "b.y -> c.u"]\n[experiment]\nstop = 0.005\nstep = 0.001\n'
+                        + "".join(f'[instances.{n}]\nfmu = "{{trivial}}"\n' for n in "abc"), name="chain.toml")
+    quiet = simulate_system(path)
+    general = simulate_system(path, trace=lambda line: None)  # a trace keeps every point in the general step
+    assert (quiet.stats.stretch, general.stats.stretch) == ("Python", None)  # the C stretch forwards no values yet
+    assert quiet.rows == general.rows
+    # t = 0.001: a.y = 0 + 0.001, b.y = b.u + 0.001 = 0.001, c.y = 0.001 (then b.u = c.u = 0.001)
+    # t = 0.002: a.y = 0.002, b.y = 0.001 + 0.002, c.y = 0.001 + 0.002
+    assert [r[:2] for r in quiet.rows[2:4]] == [[0.001, 0], [0.002, 0]]
+    assert [r[2:] for r in quiet.rows[2:4]] == [pytest.approx([0.001, 0.001, 0.001]), pytest.approx([0.002, 0.003, 0.003])]
