@@ -33,7 +33,8 @@ from robogen.cosim.clocks import grid_index
 from robogen.cosim.fmi3 import FMI3Error, StepResult
 from robogen.cosim.instances import FmuInstance
 from robogen.cosim.recorder import Pacer, Progress, Recorder
-from robogen.cosim.stretch import Stretch, StretchPlan, choose_stretch
+from robogen.cosim.stepper import CStretch
+from robogen.cosim.stretch import PythonStretch, Stretch, StretchPlan
 from robogen.cosim.system import Link, System
 from robogen.cosim.wiring import CLOCK, VALUE, ValueExchange, plain, wire
 from robogen.diagnostics import Note, RobogenError
@@ -148,12 +149,17 @@ class Master:
             u.binding.fmi3ExitInitializationMode()
 
     def _choose_stretch(self, progress: Progress) -> None:
-        """The quiet stretches' loop for this run (after setup: the C loop binds the instances)."""
+        """The quiet stretches' loop for this run (after setup: the C loop binds the instances): the
+        C loop where it can run, else the Python one; none where the system has no quiet stretch (an
+        FMU that may return early, or an instance without raw C access: a trace, or a binding outside
+        this process), and every point goes through the general step."""
         opt = self.options
         reads = [r for u in self.wiring.record_reads for r in u.readers]
         plan = StretchPlan(opt.start, opt.step, self.instances, self.values, reads, self.wiring.columns,
                            self.recorder, progress, self._pacer)
-        self._stretch = choose_stretch(plan)
+        self._stretch = None
+        if not any(u.early or u.binding.raw("fmi3DoStep") is None for u in plan.instances):
+            self._stretch = CStretch.for_plan(plan) or PythonStretch(plan)
         self.stats.stretch = self._stretch.name if self._stretch is not None else None
 
     # -- time ---------------------------------------------------------------------------------

@@ -14,7 +14,7 @@ to terminate (``end.terminating``, the first instance that asked; that point is 
 failing call raises its :class:`~robogen.cosim.fmi3.FMI3Error`; the rows before it are recorded
 and every instance's ``time`` is the last point reached, as after a normal end.
 
-:func:`choose_stretch` picks the implementation once per run; both give the same results byte for
+The master picks the implementation once per run (:meth:`robogen.cosim.master.Master._choose_stretch`); both give the same results byte for
 byte: the C loop (:class:`robogen.cosim.stepper.CStretch`) where it can run, else
 :class:`PythonStretch`; none when the system has no quiet stretch (an FMU that may return early,
 or an instance without raw C access: a trace, or a binding outside this process).
@@ -69,16 +69,6 @@ class Stretch(Protocol):
     name: str  # "C" or "Python" (Stats.stretch)
 
     def run(self, t: float, horizon: float) -> StretchEnd: ...
-
-
-def choose_stretch(plan: StretchPlan) -> Stretch | None:
-    """The stretch for this run (after setup: the C loop needs the instance handles); None where
-    the system has no quiet stretch, and every point goes through the master's general step."""
-    if any(u.early or u.binding.raw("fmi3DoStep") is None for u in plan.instances):
-        return None
-    from robogen.cosim.stepper import CStretch  # it builds on this module
-
-    return CStretch.for_plan(plan) or PythonStretch(plan)
 
 
 class _Step(NamedTuple):
