@@ -1,6 +1,7 @@
 """Connections of modules and controllers (docs/robosim-robochart.md §3.1): both ends exist and
-have the event, connected events carry the same type, connections with the robotic platform are
-asynchronous, and a RoboSim machine receives only on its inputs and sends only on its outputs.
+have the event, each end of an event is connected once, connected events carry the same type,
+connections with the robotic platform are asynchronous, and a RoboSim machine receives only on its
+inputs and sends only on its outputs.
 
 The checks read the assembled containers of :mod:`robogen.semantics.model`, so they run after
 every machine's scope exists.
@@ -62,7 +63,9 @@ def _check(owner: str, conns: tuple[ast.Connection, ...], ends: dict[str, _End],
 
 
 def _end(conn: ast.Connection, role: str, owner: str, ends: dict[str, _End], used: dict, sink: DiagnosticSink) -> _Resolved | None:
-    """One end of ``conn`` ("from" or "to") resolved to its part and event, or None (reported)."""
+    """One end of ``conn`` ("from" or "to") resolved to its part and event, or None (reported).
+    A second connection of the same end is an error even when bidirectional: ``[ mult ]`` makes a
+    connection carry events both ways, not connect an event twice."""
     spans = conn.spans or (conn.span,) * 4
     if role == "from":
         name, event, name_span, event_span = conn.source, conn.source_event, spans[0], spans[1]
@@ -78,7 +81,7 @@ def _end(conn: ast.Connection, role: str, owner: str, ends: dict[str, _End], use
         sink.error(f"{end.kind} '{name}' has no event '{event}'" + did_you_mean(event, end.events), event_span)
         return None
     key = (role, name, event)
-    if key in used and not conn.mult:
+    if key in used:
         sink.error(f"event '{event}' of '{name}' is connected twice", event_span, Note("first connection here", used[key].span))
     used[key] = conn
     return name, end, ev
