@@ -320,6 +320,9 @@ def test_platform_connections_are_asynchronous_and_each_event_end_has_one_connec
     assert [brief(d) for d in result.diagnostics] == [
         ("error", 6, 45, "a broadcast event connects only to a broadcast event"),
         ("error", 7, 34, "connections with the robotic platform must be asynchronous"),
+        # [ mult ] makes a connection bidirectional; it does not let an event end be connected twice
+        ("error", 7, 117, "event 'b' of 'p' is connected twice"),
+        ("error", 7, 127, "event 'b' of 'c' is connected twice"),
     ]
     assert [n.message for n in result.diagnostics[1].notes] == ["append '( _async )' to the connection (rule Cn2)"]
     text = CONNECTED.replace("connection C on e to s on e", "connection C on e to s on e connection C on e to s on e")

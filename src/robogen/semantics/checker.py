@@ -38,7 +38,7 @@ def check(workspace: Workspace) -> SemanticModel:
         checker.run()
         controllers, modules = checker.assemble()
         for c in controllers:
-            connections.check_controller(c, workspace.sink)
+            connections.check_controller(c, workspace.sink, lambda node: checker.scopes.get(id(node)))
         for m in modules:
             connections.check_module(m, workspace.sink)
     return SemanticModel(

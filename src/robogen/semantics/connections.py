@@ -1,6 +1,8 @@
 """Connections of modules and controllers (docs/robosim-robochart.md §3.1): both ends exist and
-have the event, connected events carry the same type, connections with the robotic platform are
-asynchronous, and a RoboSim machine receives only on its inputs and sends only on its outputs.
+have the event, each end of an event is connected once, connected events carry the same type,
+connections with the robotic platform are asynchronous, a RoboSim machine receives only on its
+inputs and sends only on its outputs, and RoboChart's direction rules hold
+(:mod:`robogen.semantics.directions`).
 
 The checks read the assembled containers of :mod:`robogen.semantics.model`, so they run after
 every machine's scope exists.
@@ -12,6 +14,7 @@ from dataclasses import dataclass
 from typing import Mapping
 
 from robogen.diagnostics import DiagnosticSink, Note, did_you_mean, working_on
+from robogen.semantics import directions
 from robogen.semantics import types as T
 from robogen.semantics.model import Controller, EventSym, MachineScope, Module
 from robogen.syntax import ast
@@ -26,12 +29,15 @@ class _End:
     machine: MachineScope | None = None
 
 
-def check_controller(c: Controller, sink: DiagnosticSink) -> None:
+def check_controller(c: Controller, sink: DiagnosticSink, scope_of: directions.ScopeOf) -> None:
+    """The connections of controller ``c``; ``scope_of`` gives the scope of an operation
+    definition (the machines' calls are followed into the operations they run)."""
     ends = {c.name: _End("controller", c.events)}
     for name, m in c.machines:
         ends[name] = _End("state machine", m.events, m)
     with working_on(c.node.span):
         _check(f"controller '{c.name}'", c.connections, ends, sink, None)
+        directions.check_controller(c, scope_of, sink)
 
 
 def check_module(mod: Module, sink: DiagnosticSink) -> None:
@@ -42,6 +48,7 @@ def check_module(mod: Module, sink: DiagnosticSink) -> None:
         ends[name] = _End("controller", c.events)
     with working_on(mod.node.span):
         _check(f"module '{mod.name}'", mod.connections, ends, sink, mod.platform.name if mod.platform else None)
+        directions.check_module(mod, sink)
 
 
 _Resolved = tuple[str, _End, EventSym]  # (name of the end, the end, its event)
@@ -58,16 +65,14 @@ def _check(owner: str, conns: tuple[ast.Connection, ...], ends: dict[str, _End],
             if platform_name is not None and platform_name in (conn.source, conn.target) and not conn.asynchronous:
                 sink.error("connections with the robotic platform must be asynchronous", conn.span,
                            Note("append '( _async )' to the connection (rule Cn2)"))
-            _directions(conn, source, target, sink)
+            _robosim_contexts(conn, source, target, sink)
 
 
 def _end(conn: ast.Connection, role: str, owner: str, ends: dict[str, _End], used: dict, sink: DiagnosticSink) -> _Resolved | None:
-    """One end of ``conn`` ("from" or "to") resolved to its part and event, or None (reported)."""
-    spans = conn.spans or (conn.span,) * 4
-    if role == "from":
-        name, event, name_span, event_span = conn.source, conn.source_event, spans[0], spans[1]
-    else:
-        name, event, name_span, event_span = conn.target, conn.target_event, spans[2], spans[3]
+    """One end of ``conn`` ("from" or "to") resolved to its part and event, or None (reported).
+    A second connection of the same end is an error even when bidirectional: ``[ mult ]`` makes a
+    connection carry events both ways, not connect an event twice."""
+    name, event, name_span, event_span = directions.connection_end(conn, role)
     end = ends.get(name)
     if end is None:
         sink.error(f"'{name}' is not a part of {owner}" + did_you_mean(name, ends), name_span,
@@ -78,7 +83,7 @@ def _end(conn: ast.Connection, role: str, owner: str, ends: dict[str, _End], use
         sink.error(f"{end.kind} '{name}' has no event '{event}'" + did_you_mean(event, end.events), event_span)
         return None
     key = (role, name, event)
-    if key in used and not conn.mult:
+    if key in used:
         sink.error(f"event '{event}' of '{name}' is connected twice", event_span, Note("first connection here", used[key].span))
     used[key] = conn
     return name, end, ev
@@ -98,7 +103,7 @@ def _compatible(conn: ast.Connection, a: EventSym, b: EventSym, sink: Diagnostic
         sink.error("a broadcast event connects only to a broadcast event", conn.span)
 
 
-def _directions(conn: ast.Connection, source: _Resolved, target: _Resolved, sink: DiagnosticSink) -> None:
+def _robosim_contexts(conn: ast.Connection, source: _Resolved, target: _Resolved, sink: DiagnosticSink) -> None:
     """RoboSim: a machine receives only on input events and sends only on output events."""
     for (name, end, ev), receiving in ((source, False), (target, True)):
         if end.machine is None or not end.machine.robosim:

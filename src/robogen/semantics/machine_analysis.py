@@ -61,22 +61,23 @@ def _by_source(region: Region) -> dict[str, list[ast.Transition]]:
     return out
 
 
-def _stmts(s: ast.Stmt | None) -> Iterator[ast.Stmt]:
+def statements(s: ast.Stmt | None) -> Iterator[ast.Stmt]:
+    """``s`` and every statement inside it (through sequences, conditionals and deadlines)."""
     if s is None:
         return
     yield s
     if isinstance(s, ast.Seq):
         for x in s.stmts:
-            yield from _stmts(x)
+            yield from statements(x)
     elif isinstance(s, ast.IfStmt):
-        yield from _stmts(s.then)
-        yield from _stmts(s.otherwise)
+        yield from statements(s.then)
+        yield from statements(s.otherwise)
     elif isinstance(s, ast.StmtDeadline):
-        yield from _stmts(s.stmt)
+        yield from statements(s.stmt)
 
 
 def has_exec(s: ast.Stmt | None) -> bool:
-    return any(isinstance(x, ast.Exec) for x in _stmts(s))
+    return any(isinstance(x, ast.Exec) for x in statements(s))
 
 
 def _action(state: ast.NodeDecl, kind: str) -> ast.Stmt | None:
@@ -318,4 +319,4 @@ def _strongly_connected(nodes, edges: dict[int, list[tuple[ast.Transition | None
     return sccs
 
 
-__all__ = ["analyse_machine", "has_exec"]
+__all__ = ["analyse_machine", "has_exec", "statements"]
