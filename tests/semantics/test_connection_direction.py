@@ -11,7 +11,7 @@ deadline); RoboTool's integration test expects exactly these messages."""
 from __future__ import annotations
 
 import pytest
-from frontend_testing import MODELS, at, diagnostics
+from support.frontend import MODELS, at, diagnostics
 
 from robogen.semantics import check_texts
 

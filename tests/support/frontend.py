@@ -13,7 +13,8 @@ from robogen.syntax import ast
 from support import REFERENCE_MODELS as REFERENCE
 from support import ROOT
 
-VALID = ROOT / "tests" / "models" / "valid"
+MODELS = ROOT / "tests" / "models"
+VALID = MODELS / "valid"
 UR5E = ROOT / "models" / "ur5e"
 MODEL_SUFFIXES = (".rct", ".rst", ".rsim")
 
