@@ -475,12 +475,8 @@ class Checker:
 
     def region(self, region: Region, scope: MachineScope, checker: StmtChecker) -> None:
         owner = region.owner
-        where = region.description
-        initials = region.initials()
-        if not initials:
-            self.sink.error(f"{where} has no initial node", getattr(owner, "name_span", None), Note("add 'initial i' and a transition from it"))
-        for extra in initials[1:]:
-            self.sink.error(f"{where} has more than one initial node", extra.name_span, Note("first initial node", initials[0].name_span))
+        if region.nodes or isinstance(owner, ast.StateMachine):
+            self._initial_nodes(region)
         if isinstance(owner, ast.State) and not any(isinstance(n, (ast.State, ast.Final)) for n in region.nodes.values()):
             self.sink.error(f"composite state '{owner.name}' has no state or final node", owner.name_span)
         incoming: dict[str, list[ast.Transition]] = {n: [] for n in region.nodes}
@@ -510,6 +506,18 @@ class Checker:
                 self._probabilistic(node, outs)
             if isinstance(node, ast.State):
                 self.state(node, scope, checker)
+
+    def _initial_nodes(self, region: Region) -> None:
+        """A state machine has exactly one initial node (an error, rule STM3). An operation or a
+        composite state with nodes should have one (a warning, as in RoboTool); an operation
+        without nodes is abstract, defined by its contract only."""
+        where = region.description
+        initials = region.initials()
+        report = self.sink.error if isinstance(region.owner, ast.StateMachine) else self.sink.warning
+        if not initials:
+            report(f"{where} has no initial node", getattr(region.owner, "name_span", None), Note("add 'initial i' and a transition from it"))
+        for extra in initials[1:]:
+            report(f"{where} has more than one initial node", extra.name_span, Note("first initial node", initials[0].name_span))
 
     def state(self, s: ast.State, scope: MachineScope, checker: StmtChecker) -> None:
         seen: dict[str, ast.StateAction] = {}
@@ -563,10 +571,9 @@ class Checker:
                 checker.communication(t.trigger, trigger=True)
                 if isinstance(src, (ast.Junction, ast.Probabilistic)):
                     self.sink.error(f"a transition from junction '{t.source}' cannot have a trigger (rule J3)", t.trigger.span)
-        if isinstance(src, ast.Initial):
-            if t.trigger is not None or t.condition is not None or t.exec:
-                self.sink.error(f"the transition from initial node '{t.source}' can have no trigger, condition or exec", t.name_span)
-        if t.exec and isinstance(src, (ast.Junction, ast.Initial)):
+        if isinstance(src, ast.Initial) and t.trigger is not None:  # J3; a condition and an action are allowed
+            self.sink.error(f"the transition from initial node '{t.source}' can have no trigger (rule J3)", t.name_span)
+        if t.exec and isinstance(src, (ast.Junction, ast.Initial)):  # J3: RoboSim's exec is a trigger
             self.sink.error(f"an exec transition leaves a state, not {type(src).__name__.lower()} '{t.source}'", t.name_span)
         for r in t.resets:
             if r.clock not in scope.clocks:
