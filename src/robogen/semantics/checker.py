@@ -22,7 +22,7 @@ from robogen.semantics import types as T
 from robogen.semantics.assemble import ControllerParts, ModuleParts, assemble_controller, assemble_module
 from robogen.semantics.exprs import Where
 from robogen.semantics.machine_analysis import analyse_machine
-from robogen.semantics.model import Controller, MachineScope, Module, Region, SemanticModel, Tables, VarSym
+from robogen.semantics.model import Controller, EnumLitSym, MachineScope, Module, Region, SemanticModel, Tables, VarSym
 from robogen.semantics.periods import cycle_period, frac
 from robogen.semantics.scope import ScopeBuilder
 from robogen.semantics.stmts import StmtChecker
@@ -67,6 +67,7 @@ class Checker:
         self._decl_types: dict[int, T.Type] = {}
         self.records: dict[str, T.RecordT] = {}  # qname -> record type with its fields
         self._lookups: dict[tuple[int, tuple[type, ...]], tuple[Decl | None, bool, ast.Name]] = {}
+        self._file_literals: dict[int, dict[str, EnumLitSym]] = {}  # id(file) -> its enumerations' literals
         self.builder = ScopeBuilder(self.sink, self.resolve_type, self.resolve_interface, self.resolve_operation)
 
     # ------------------------------------------------------------------ types and names
@@ -150,6 +151,21 @@ class Checker:
             result = T.UNKNOWN
         self._decl_types[id(node)] = result
         return result
+
+    def file_literals(self, f: ast.File) -> dict[str, EnumLitSym]:
+        """The literals of the enumerations a file declares, by simple name: RoboTool's
+        innermost scope for names in expressions (``VA``, ``EM3(1)`` without ``E::``)."""
+        found = self._file_literals.get(id(f))
+        if found is None:
+            found = {}
+            package = f.package.text if f.package else None
+            for item in f.items:
+                if isinstance(item, ast.Enumeration):
+                    enum = self.decl_type(Decl(item.name, package, item, f))
+                    for lit in item.literals:
+                        found.setdefault(lit.name, EnumLitSym(enum, lit.name))
+            self._file_literals[id(f)] = found
+        return found
 
     def resolve_interface(self, name: ast.Name, file: ast.File) -> tuple[ast.Interface, ast.File] | None:
         decl = self.lookup(name, file, (ast.Interface,), "interface")
@@ -418,7 +434,7 @@ class Checker:
     # ------------------------------------------------------------------ state machines and operations
 
     def _expr_checker(self, scope: MachineScope) -> StmtChecker:
-        return StmtChecker(scope, self.sink, self.tables, self.resolve_type, self.lookup, self.records)
+        return StmtChecker(scope, self.sink, self.tables, self.resolve_type, self.lookup, self.records, self.file_literals)
 
     def machine(self, node: ast.StateMachine | ast.OperationDef, f: ast.File) -> MachineScope:
         if id(node) in self.scopes:

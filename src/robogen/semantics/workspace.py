@@ -25,7 +25,8 @@ from pathlib import Path
 from typing import Iterable, Sequence
 
 from robogen.diagnostics import DiagnosticSink, Note, RobogenError, Span, did_you_mean, error
-from robogen.semantics.types import BUILTINS, PRIMITIVES, Builtin
+from robogen.semantics.toolkit import Builtin, library
+from robogen.semantics.types import PRIMITIVES
 from robogen.syntax import ast
 from robogen.syntax.parser import EXTENSIONS, language_of, parse_file
 
@@ -112,7 +113,7 @@ class Workspace:
         core = self.packages.setdefault("core", Package("core"))
         for name in PRIMITIVES:
             core.add(Decl(name, "core", None, None, primitive=name))
-        for pkg_name, functions in BUILTINS.items():
+        for pkg_name, functions in library().items():
             pkg = self.packages.setdefault(pkg_name, Package(pkg_name))
             for name, b in functions.items():
                 pkg.add(Decl(name, pkg_name, None, None, builtin=b))
@@ -236,7 +237,7 @@ class Workspace:
                     )
                 return matching[0]
             elsewhere = elsewhere or (candidates[0] if candidates else None)
-        anywhere = _unique([d for d in self.by_simple.get(simple, []) if d.is_a(kinds)]) + self._toolkit(simple, kinds)
+        anywhere = _unique([d for d in self.by_simple.get(simple, []) if d.is_a(kinds)])
         if anywhere:
             return self._anywhere(anywhere, name, file, report, sink)
         if not report:
@@ -271,7 +272,7 @@ class Workspace:
 
     def _toolkit(self, simple: str, kinds: tuple[type, ...]) -> list[Decl]:
         """The toolkit functions of this name (named in the message when one is not imported)."""
-        return [d for pkg in BUILTINS for d in self.packages[pkg].decls.get(simple, []) if d.is_a(kinds)]
+        return [d for pkg in library() for d in self.packages[pkg].decls.get(simple, []) if d.is_a(kinds)]
 
     def _visible(self, simple: str, file: ast.File) -> Iterable[list[Decl]]:
         pkg_name = file.package.text if file.package else None
