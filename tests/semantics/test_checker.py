@@ -7,7 +7,7 @@ from __future__ import annotations
 from fractions import Fraction
 
 import pytest
-from support.frontend import REFERENCE, UR5E, VALID, at, brief, diagnostics, valid_entries
+from support.frontend import REFERENCE, UR5E, VALID, at, brief, diagnostics, valid_entries, warning
 
 from robogen.semantics import check_paths, check_texts
 
@@ -120,7 +120,25 @@ def test_initial_nodes():
         ("error", 3, 10, "state machine 'S' has more than one initial node"),
         ("error", 7, 28, "transition 't2' enters initial node 'i'"),
         ("error", 9, 5, "state machine 'T' has no initial node"),
-        ("error", *at(text, "t { from i to A trigger"), "the transition from initial node 'i' can have no trigger, condition or exec"),
+        ("error", *at(text, "t { from i to A trigger"), "the transition from initial node 'i' can have no trigger (rule J3)"),
+    ]
+
+
+def test_the_transition_from_an_initial_node_may_have_a_condition_and_an_action():
+    """RoboTool forbids only a trigger there (J3); RoboSim's exec is a trigger (K6)."""
+    text = "\n".join([
+        "stm S {",
+        "\tvar x: nat",
+        "\tinitial i",
+        "\tstate A { }",
+        "\ttransition t0 { from i to A condition x == 0 action x = 1 }",
+        "\ttransition t1 { from A to A exec }",
+        "\tcycleDef cycle == 1",
+        "}",
+        "stm T { initial i state A { } transition t0 { from i to A exec } transition t1 { from A to A exec } cycleDef cycle == 1 }",
+    ])  # fmt: skip
+    assert diagnostics(text, "m.rst") == [
+        ("error", *at(text, "t0 { from i to A exec"), "an exec transition leaves a state, not initial 'i'"),
     ]
 
 
@@ -144,8 +162,26 @@ def test_junctions_finals_and_composite_states():
         ("warning", 4, 11, "junction 'k' has no incoming transition"),
         ("error", 6, 8, "composite state 'A' has no state or final node"),
         ("error", 6, 31, "junction 'b' has no outgoing transition"),
-        ("error", 7, 8, "state 'B' has no initial node"),
+        ("warning", 7, 8, "state 'B' has no initial node"),  # RoboTool: a warning in a composite state (K1)
         ("error", 11, 23, "transition 't3' leaves final node 'f'"),
+    ]
+
+
+def test_operations_without_nodes_are_abstract_and_with_nodes_should_have_one_initial_node():
+    """An operation defined by its contract alone has no nodes: valid. With nodes, a missing
+    or second initial node is a warning, as RoboTool gives (K1)."""
+    text = "\n".join([
+        "operation abstract(d: nat) {",
+        "\tterminates",
+        "}",
+        "operation empty() { }",
+        "operation noInitial() { state A { } }",
+        "operation twoInitials() { initial i initial j state A { } transition t { from i to A } transition u { from j to A } }",
+    ])  # fmt: skip
+    assert diagnostics(text) == [
+        warning(text, "noInitial", "operation 'noInitial' has no initial node"),
+        warning(text, "A { } }\nop", "state 'A' is unreachable: no path from the initial node enters it"),
+        warning(text, "j state A", "operation 'twoInitials' has more than one initial node"),
     ]
 
 
@@ -396,6 +432,25 @@ def test_cycle_definitions_have_one_form_and_a_positive_period():
         ("error", 4, 20, "the cycle period must be positive, not 0"),
         ("error", 6, 2, "state machine 'S' declares two different cycle periods"),
     ]
+
+
+def test_obsolete_cycle_definitions_are_read_as_cycle_equals_p_with_a_warning():
+    """`cycleDef p` and `cycleDef { cycle == p }` (older RoboSim; RoboTool no longer checks the
+    definition) mean `cycleDef cycle == p`, and give the period p (K8)."""
+    machine = "initial i state A { } transition t0 { from i to A } transition t1 { from A to A exec }"
+    text = "\n".join([
+        f"stm S {{ cycleDef 2 {machine} }}",
+        "controller C { sref s = S cycleDef { cycle == 2 } }",
+        "module M { robotic platform P { } cref c = C cycleDef 2.0 }",
+    ])  # fmt: skip
+    model = check_texts({"m.rst": text})
+    assert [brief(d) for d in model.diagnostics] == [
+        ("warning", *at(text, "2 initial"), "obsolete cycle definition: read as 'cycleDef cycle == 2'"),
+        ("warning", *at(text, "{ cycle =="), "obsolete cycle definition: read as 'cycleDef cycle == 2'"),
+        ("warning", *at(text, "2.0"), "obsolete cycle definition: read as 'cycleDef cycle == 2.0'"),
+    ]
+    (scope,), (controller,), (module,) = model.scopes, model.controllers, model.modules
+    assert scope.period == controller.period == module.period == Fraction(2)
 
 
 def test_every_part_of_a_module_has_the_same_period():

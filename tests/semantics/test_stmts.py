@@ -92,3 +92,25 @@ def test_a_required_operation_may_be_called_by_its_qualified_name():
         machine("requires I", action="p::move() ; move() ; q::move()"),
     ])  # fmt: skip
     assert diagnostics(text) == [error(text, "q::move()", "unknown operation 'q::move' (did you mean 'move'?)")]
+
+
+def test_synchronisations_carry_any_value_and_inputs_name_qualified_variables():
+    """K13: the value after '.' is any atom or call, typed against the event; the variable of
+    an input may be qualified by the machine or interface that declares it (§3)."""
+    text = "\n".join([
+        "enumeration Chemical { innocuous toxic }",
+        "interface Readings { var level: nat }",
+        machine(
+            "uses Readings",
+            "var x: nat, c: Chemical",
+            "event detect: Chemical",
+            "event amount: nat",
+            action="detect.Chemical::toxic ; amount.(x + 1) ; detect.3 ; amount?S::x ; amount?Readings::level ; "
+                   "amount?Readings::x ; detect?T::c",
+        ),
+    ])  # fmt: skip
+    assert diagnostics(text) == [
+        error(text, "3 ;", "event 'detect' carries Chemical, but this value is nat"),
+        error(text, "Readings::x", "'Readings::x' does not name 'x' of state machine 'S'"),
+        error(text, "T::c", "'T::c' does not name 'c' of state machine 'S'"),
+    ]

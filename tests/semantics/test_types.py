@@ -25,3 +25,32 @@ def test_translated_types_are_the_same_by_structure():
     assert T.assignable(a, b)
     assert not T.assignable(a, T.EnumT("x::Side", ("left", "centre")))
     assert T.same(T.Given("main::ID"), T.Given("pkg::ID")) and not T.same(T.Given("main::ID"), T.Given("main::Key"))
+
+
+def test_general_forms_relate_relations_functions_sequences_and_sets():
+    """RoboTool compares types of different forms through their general forms."""
+    pairs = T.SetT(T.ProductT((T.NAT, T.BOOLEAN)))
+    assert T.assignable(pairs, T.FunctionT(T.NAT, T.BOOLEAN, relation=True))
+    assert T.assignable(T.FunctionT(T.NAT, T.BOOLEAN), pairs)
+    assert T.assignable(T.SeqT(T.REAL), T.SetT(T.ProductT((T.NAT, T.REAL))))
+    assert T.assignable(T.VectorT(T.INT, 2), T.ProductT((T.INT, T.INT)))
+    assert not T.assignable(T.SeqT(T.REAL), T.SetT(T.REAL))
+
+
+def test_a_product_of_one_component_is_that_component():
+    # a named function's value type: (nat) -> nat (RoboTool's product domain)
+    assert T.assignable(T.FunctionT(T.ProductT((T.NAT,)), T.NAT), T.FunctionT(T.NAT, T.NAT))
+    assert T.FunctionT(T.ProductT((T.NAT,)), T.NAT).show() == "(nat) -> nat"
+
+
+def test_unification_binds_type_variables_consistently():
+    X, Y = T.TypeVarT("X"), T.TypeVarT("Y")
+    bindings: dict[str, T.Type] = {}
+    assert T.unify(T.FunctionT(X, Y, relation=True), T.FunctionT(T.NAT, T.BOOLEAN), bindings)
+    assert bindings == {"X": T.NAT, "Y": T.BOOLEAN}
+    assert T.unify(T.SetT(X), T.SetT(T.INT), bindings) and bindings["X"] == T.INT  # widened
+    assert not T.unify(T.SetT(Y), T.SetT(T.NAT), bindings)
+    assert T.instantiate(T.SeqT(T.ProductT((X, Y))), bindings) == T.SeqT(T.ProductT((T.INT, T.BOOLEAN)))
+    # a sequence is a set of (index, element) pairs
+    bindings = {}
+    assert T.unify(T.FunctionT(X, Y, relation=True), T.SeqT(T.REAL), bindings) and bindings == {"X": T.NAT, "Y": T.REAL}

@@ -33,17 +33,27 @@ def test_names_resolve_across_files_through_packages_and_imports():
 
 
 def test_unknown_and_bad_imports():
+    """An import that finds nothing is a warning: RoboTool does not check imports (K12)."""
     texts = {
         "a.rct": "package a\ntype T",
         "m.rct": "import nope::*\nimport a\nimport a::Nope\nimport b::T\nimport a::T",
     }
     m = texts["m.rct"]
     assert check(texts) == [
-        ("m.rct", "error", *at(m, "nope"), "no package 'nope' in this workspace"),
+        ("m.rct", "warning", *at(m, "nope"), "no package 'nope' in this workspace: the import brings nothing"),
         ("m.rct", "error", *at(m, "a\n"), "import 'a' must name a package and a declaration (pkg::Name or pkg::*)"),
-        ("m.rct", "error", *at(m, "a::Nope"), "package 'a' declares no 'Nope'"),
-        ("m.rct", "error", *at(m, "b::T"), "no package 'b' in this workspace"),
+        ("m.rct", "warning", *at(m, "a::Nope"), "package 'a' declares no 'Nope': the import brings nothing"),
+        ("m.rct", "warning", *at(m, "b::T"), "no package 'b' in this workspace: the import brings nothing"),
     ]
+
+
+def test_an_import_of_a_missing_package_leaves_the_names_of_the_file_unresolved_not_the_file():
+    texts = {
+        "chem.rct": "package det::chem\nenumeration Chem { innocuous toxic }",
+        "m.rct": f"package det::main\nimport chem::*\nstm S {{ var c: det::chem::Chem = det::chem::Chem::toxic {MACHINE_BODY} }}",
+    }
+    assert check(texts) == [("m.rct", "warning", *at(texts["m.rct"], "chem::*"),
+                             "no package 'chem' in this workspace: the import brings nothing (did you mean 'det::chem'?)")]
 
 
 def test_qualified_names_name_a_package_and_a_declaration_of_the_right_kind():
@@ -106,11 +116,21 @@ def test_duplicate_top_level_declarations():
     assert check(texts) == [
         ("a.rct", "error", 3, 6, "duplicate declaration of 'S' in package 'p'"),
         ("b.rct", "error", 2, 11, "duplicate declaration of 'S' in package 'p'"),
-        ("d.rct", "error", 1, 6, "duplicate declaration of 'Free' in the files without a package"),
+        # RoboTool: "Free is not unique", a warning; the first declaration is used (K12)
+        ("d.rct", "warning", 1, 6, "'Free' is not unique: the files without a package declare it twice; robogen uses the first"),
     ]
     first = check_texts(texts).diagnostics[0].notes[0]
     assert first.message == "'S' is first declared here as a state machine"
     assert (first.span.path, first.span.line, first.span.column) == ("a.rct", 2, 5)
+
+
+def test_a_function_does_not_hide_a_type_of_the_same_name():
+    """Types and functions are separate name spaces, as in RoboTool's scopes."""
+    texts = {
+        "m.rct": "function real(x: nat): nat { }\ntype nat2\nfunction nat2(x: nat): nat2 { }\n"
+                 f"stm S {{ var r: real = 1.5 var n: nat = real(2) var m: nat2 = nat2(1) {MACHINE_BODY} }}",
+    }
+    assert check(texts) == []
 
 
 def test_the_core_package_declares_the_primitive_types():
@@ -136,7 +156,6 @@ def test_folders_are_searched_recursively_in_a_stable_order(tmp_path):
     [
         ("missing.rct", "no such file or directory: {path}"),
         ("notes.txt", "not a model file: {path} (expected a .rct (RoboChart), .rst or .rsim (RoboSim) file)"),
-        ("empty-folder", "no model files (.rct, .rst, .rsim) in directory {path}"),
     ],
 )
 def test_paths_that_hold_no_model_are_reported(tmp_path, name, message):
@@ -148,6 +167,16 @@ def test_paths_that_hold_no_model_are_reported(tmp_path, name, message):
     assert [d.message for d in exc.value.diagnostics] == [message.format(path=path)]
     model = check_paths([path])
     assert [brief(d) for d in model.diagnostics] == [("error", message.format(path=path))]
+
+
+def test_an_empty_folder_is_a_warning(tmp_path):
+    """RoboTool loads an empty project folder without complaint (K14)."""
+    (tmp_path / "empty-folder").mkdir()
+    path = tmp_path / "empty-folder"
+    assert collect_model_paths([path]) == []
+    model = check_paths([path])
+    assert [brief(d) for d in model.diagnostics] == [("warning", f"no model files (.rct, .rst, .rsim) in directory {path}")]
+    assert model.files == ()
 
 
 def test_a_file_with_a_syntax_error_is_left_out_and_the_others_still_checked(tmp_path):

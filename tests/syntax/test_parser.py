@@ -312,6 +312,69 @@ def test_statements():
     )
 
 
+def test_function_values_are_called_and_cast_to_any_type():
+    """RoboTool's CallExp: the callee is any atom; 'as' and 'is' take a whole type (K2, K3)."""
+    lam = ast.Binder("lambda", (ast.Decl("x", NAT),), None, Bin("+", N("x"), I(1)))
+    assert condition("(lambda x: nat @ x + 1)(1) == 2") == Bin("==", ast.Call(lam, (I(1),)), I(2))
+    cast = ast.Cast("as", ast.Call(N("override"), (N("f"), N("g"))), ast.FunctionType(ast.ProductType((NAT, NAT)), NAT))
+    assert condition("(override(f, g) as (nat * nat) -> nat)(0, 1)") == ast.Call(cast, (I(0), I(1)))
+    assert condition("x as nat -> nat") == ast.Cast("as", N("x"), ast.FunctionType(NAT, NAT))
+    assert condition("r is A <-> B == b") == Bin("==", ast.Cast("is", N("r"), ast.RelationType(Ref("A"), Ref("B"))), N("b"))
+    assert condition("f(1)(2)") == ast.Call(ast.Call(N("f"), (I(1),)), (I(2),))
+
+
+def test_a_synchronisation_statement_carries_any_atom_or_call():
+    """RoboTool's `value=CallExp` after '.' without 'send' (K13); a plain name stays `e.v`."""
+    def sync(value: ast.Expr) -> ast.Communicate:
+        return ast.Communicate(ast.Communication("e", ".", value=value), False)
+
+    assert action("e.E::lit ; e . 3 ; e.(x + 1) ; e.E::c(1) ; e.f(x) ; e.v") == ast.Seq((
+        sync(N("E", "lit")),
+        sync(I(3)),
+        sync(Bin("+", N("x"), I(1))),
+        sync(ast.Call(N("E", "c"), (I(1),))),
+        sync(ast.Call(N("f"), (N("x"),))),
+        sync(N("v")),
+    ))  # fmt: skip
+    assert action("r.f = 1") == ast.Assign(ast.Field(N("r"), "f"), I(1))
+
+
+def test_qualified_input_variables_and_empty_filters():
+    """`e?P::x` (RoboTool: `[Variable|QualifiedName]`) and `e[||]` (an optional predicate)."""
+    assert action("e?P::x ; send e[||]?x") == ast.Seq((
+        ast.Communicate(ast.Communication("e", "?", "x", var_qualifier=("P",)), False),
+        ast.Communicate(ast.Communication("e", "?", "x", filter=ast.Filter(None, None, None)), True),
+    ))  # fmt: skip
+    f = parse_text("stm S { transition t { from a to b trigger e [| |] ? P::Q::x } }")
+    trigger = f.items[0].members[0].trigger
+    assert trigger == ast.Communication("e", "?", "x", filter=ast.Filter(None, None, None), var_qualifier=("P", "Q"))
+    assert (trigger.filter.span.column, trigger.filter.span.end_column) == (46, 51)  # [| |]
+
+
+def test_vector_and_matrix_sizes_are_atoms():
+    f = parse_text("stm S { var v: vector(nat, (N)), m: matrix(real, P::K, (2)) }")
+    v, m = (x.type for x in f.items[0].members[0].vars)
+    assert v == ast.VectorType(NAT, N("N"))
+    assert m == ast.MatrixType(Ref("real"), N("P", "K"), I(2))
+
+
+DOLLAR_ATOMS = [
+    # (statement, tree): $ forms are values of outputs, and names after $ may be qualified (K7)
+    ("$Out1!$x", ast.DollarOutput("Out1", "!", ast.Dollar("x"))),
+    ("$Out.$In", ast.DollarOutput("Out", ".", ast.Dollar("In"))),
+    ("$I::e!$P::x", ast.DollarOutput("e", "!", ast.Dollar("x", ("P",)), ("I",))),
+    ("$I::x = $v[2]", ast.DollarAssign("x", ast.Index(ast.Dollar("v"), (I(2),)), ("I",))),
+    ("$P::op($r.f)", ast.DollarCall("op", (ast.DollarValue("r", N("f")),), ("P",))),
+    ("x = $e?I::y : $ok", ast.Assign(N("x"), ast.DollarInput("e", "y", ast.Dollar("ok"), var_qualifier=("I",)))),
+    ("x = f($a) + $b.$c", ast.Assign(N("x"), Bin("+", ast.Call(N("f"), (ast.Dollar("a"),)), ast.DollarValue("b", ast.Dollar("c"))))),
+]
+
+
+@pytest.mark.parametrize("text, tree", DOLLAR_ATOMS, ids=[t for t, _ in DOLLAR_ATOMS])
+def test_robosim_dollar_forms_are_atoms(text, tree):
+    assert action(text, "m.rst") == tree
+
+
 def test_transition_clauses():
     f = parse_text(
         "stm S { transition t { from a to b trigger e[| x = from | x != me |]?v #C # D <{ 5 } condition else action skip } }"

@@ -22,7 +22,7 @@ from robogen.semantics import types as T
 from robogen.semantics.assemble import ControllerParts, ModuleParts, assemble_controller, assemble_module
 from robogen.semantics.exprs import Where
 from robogen.semantics.machine_analysis import analyse_machine
-from robogen.semantics.model import Controller, MachineScope, Module, Region, SemanticModel, Tables, VarSym
+from robogen.semantics.model import Controller, EnumLitSym, MachineScope, Module, Region, SemanticModel, Tables, VarSym
 from robogen.semantics.periods import cycle_period, frac
 from robogen.semantics.scope import ScopeBuilder
 from robogen.semantics.stmts import StmtChecker
@@ -67,6 +67,7 @@ class Checker:
         self._decl_types: dict[int, T.Type] = {}
         self.records: dict[str, T.RecordT] = {}  # qname -> record type with its fields
         self._lookups: dict[tuple[int, tuple[type, ...]], tuple[Decl | None, bool, ast.Name]] = {}
+        self._file_literals: dict[int, dict[str, EnumLitSym]] = {}  # id(file) -> its enumerations' literals
         self.builder = ScopeBuilder(self.sink, self.resolve_type, self.resolve_interface, self.resolve_operation)
 
     # ------------------------------------------------------------------ types and names
@@ -150,6 +151,21 @@ class Checker:
             result = T.UNKNOWN
         self._decl_types[id(node)] = result
         return result
+
+    def file_literals(self, f: ast.File) -> dict[str, EnumLitSym]:
+        """The literals of the enumerations a file declares, by simple name: RoboTool's
+        innermost scope for names in expressions (``VA``, ``EM3(1)`` without ``E::``)."""
+        found = self._file_literals.get(id(f))
+        if found is None:
+            found = {}
+            package = f.package.text if f.package else None
+            for item in f.items:
+                if isinstance(item, ast.Enumeration):
+                    enum = self.decl_type(Decl(item.name, package, item, f))
+                    for lit in item.literals:
+                        found.setdefault(lit.name, EnumLitSym(enum, lit.name))
+            self._file_literals[id(f)] = found
+        return found
 
     def resolve_interface(self, name: ast.Name, file: ast.File) -> tuple[ast.Interface, ast.File] | None:
         decl = self.lookup(name, file, (ast.Interface,), "interface")
@@ -418,7 +434,7 @@ class Checker:
     # ------------------------------------------------------------------ state machines and operations
 
     def _expr_checker(self, scope: MachineScope) -> StmtChecker:
-        return StmtChecker(scope, self.sink, self.tables, self.resolve_type, self.lookup, self.records)
+        return StmtChecker(scope, self.sink, self.tables, self.resolve_type, self.lookup, self.records, self.file_literals)
 
     def machine(self, node: ast.StateMachine | ast.OperationDef, f: ast.File) -> MachineScope:
         if id(node) in self.scopes:
@@ -475,12 +491,8 @@ class Checker:
 
     def region(self, region: Region, scope: MachineScope, checker: StmtChecker) -> None:
         owner = region.owner
-        where = region.description
-        initials = region.initials()
-        if not initials:
-            self.sink.error(f"{where} has no initial node", getattr(owner, "name_span", None), Note("add 'initial i' and a transition from it"))
-        for extra in initials[1:]:
-            self.sink.error(f"{where} has more than one initial node", extra.name_span, Note("first initial node", initials[0].name_span))
+        if region.nodes or isinstance(owner, ast.StateMachine):
+            self._initial_nodes(region)
         if isinstance(owner, ast.State) and not any(isinstance(n, (ast.State, ast.Final)) for n in region.nodes.values()):
             self.sink.error(f"composite state '{owner.name}' has no state or final node", owner.name_span)
         incoming: dict[str, list[ast.Transition]] = {n: [] for n in region.nodes}
@@ -510,6 +522,18 @@ class Checker:
                 self._probabilistic(node, outs)
             if isinstance(node, ast.State):
                 self.state(node, scope, checker)
+
+    def _initial_nodes(self, region: Region) -> None:
+        """A state machine has exactly one initial node (an error, rule STM3). An operation or a
+        composite state with nodes should have one (a warning, as in RoboTool); an operation
+        without nodes is abstract, defined by its contract only."""
+        where = region.description
+        initials = region.initials()
+        report = self.sink.error if isinstance(region.owner, ast.StateMachine) else self.sink.warning
+        if not initials:
+            report(f"{where} has no initial node", getattr(region.owner, "name_span", None), Note("add 'initial i' and a transition from it"))
+        for extra in initials[1:]:
+            report(f"{where} has more than one initial node", extra.name_span, Note("first initial node", initials[0].name_span))
 
     def state(self, s: ast.State, scope: MachineScope, checker: StmtChecker) -> None:
         seen: dict[str, ast.StateAction] = {}
@@ -563,10 +587,9 @@ class Checker:
                 checker.communication(t.trigger, trigger=True)
                 if isinstance(src, (ast.Junction, ast.Probabilistic)):
                     self.sink.error(f"a transition from junction '{t.source}' cannot have a trigger (rule J3)", t.trigger.span)
-        if isinstance(src, ast.Initial):
-            if t.trigger is not None or t.condition is not None or t.exec:
-                self.sink.error(f"the transition from initial node '{t.source}' can have no trigger, condition or exec", t.name_span)
-        if t.exec and isinstance(src, (ast.Junction, ast.Initial)):
+        if isinstance(src, ast.Initial) and t.trigger is not None:  # J3; a condition and an action are allowed
+            self.sink.error(f"the transition from initial node '{t.source}' can have no trigger (rule J3)", t.name_span)
+        if t.exec and isinstance(src, (ast.Junction, ast.Initial)):  # J3: RoboSim's exec is a trigger
             self.sink.error(f"an exec transition leaves a state, not {type(src).__name__.lower()} '{t.source}'", t.name_span)
         for r in t.resets:
             if r.clock not in scope.clocks:

@@ -10,11 +10,14 @@ one mistake produces one message.
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import Callable
+from typing import Callable, Mapping
 
 from robogen.diagnostics import DiagnosticSink, Note, did_you_mean
 from robogen.semantics import types as T
-from robogen.semantics.model import EnumLitSym, EventSym, FuncSym, MachineScope, Tables, VarSym
+from robogen.semantics.algebra import linear, negation
+from robogen.semantics.calls import Calls, literal_args, plural
+from robogen.semantics.dollar import DollarForms
+from robogen.semantics.model import EnumLitSym, MachineScope, Tables, VarSym
 from robogen.syntax import ast
 
 
@@ -28,7 +31,7 @@ class Where:
     pre: bool = False  # pre/postcondition (result allowed)
 
 
-class ExprChecker:
+class ExprChecker(Calls, DollarForms):
     def __init__(
         self,
         scope: MachineScope,
@@ -37,6 +40,7 @@ class ExprChecker:
         resolve_type: Callable[[ast.TypeExpr, ast.File], T.Type],
         lookup_global: Callable[..., object],
         records: dict[str, T.RecordT] | None = None,
+        file_literals: Callable[[ast.File], Mapping[str, EnumLitSym]] | None = None,
     ):
         self.scope = scope
         self.sink = sink
@@ -44,6 +48,8 @@ class ExprChecker:
         self.resolve_type = resolve_type
         self.lookup_global = lookup_global  # (name, file, kinds, what, report) -> Decl | None
         self.records = records if records is not None else {}  # qname -> complete record type
+        # the enumeration literals a file declares, by simple name (RoboTool's innermost scope)
+        self.file_literals = file_literals or (lambda file: {})
         self.locals: list[dict[str, VarSym]] = []
         self.where = Where()
         self.result_type: T.Type | None = None
@@ -127,32 +133,45 @@ class ExprChecker:
         return T.UNKNOWN  # from / to in filters
 
     def _e_Name(self, e: ast.Name) -> T.Type:
+        """A name as a value, resolved as RoboTool does: an enumeration literal of the file
+        (``VA``) or a qualified one (``E::VA``), then a variable, then a function."""
+        lit = self.literal_named(e)
+        if lit is not None:
+            return self._literal_value(e, lit)
         if not e.qualified:
             v = self.lookup_var(e.last)
             if v is not None:
                 self.tables.refs[id(e)] = v
                 return v.type
-            if e.last in self.scope.events:
-                return self._err(
-                    f"'{e.last}' is an event; events are not values"
-                    + (f" (write ${e.last} to test whether it occurred)" if self.robosim else ""),
-                    e,
-                )
-            if e.last in self.scope.clocks:
-                return self._err(f"'{e.last}' is a clock; write since({e.last}) for the time since its reset", e)
+        function = self.function_value(e)
+        if function is not None:
+            return function
+        if e.qualified:
+            self.enum_literal(e, report=True)  # says what is wrong with Pkg::E::lit
+            return T.UNKNOWN
+        if e.last in self.scope.events:
             return self._err(
-                f"unknown name '{e.last}'" + did_you_mean(e.last, self._visible_value_names()),
+                f"'{e.last}' is an event; events are not values"
+                + (f" (write ${e.last} to test whether it occurred)" if self.robosim else ""),
                 e,
             )
-        # Pkg::E::lit or E::lit: an enumeration literal.
-        lit = self.enum_literal(e, report=True)
-        if lit is None:
-            return T.UNKNOWN
+        if e.last in self.scope.clocks:
+            return self._err(f"'{e.last}' is a clock; write since({e.last}) for the time since its reset", e)
+        return self._err(f"unknown name '{e.last}'" + did_you_mean(e.last, self._visible_value_names()), e)
+
+    def literal_named(self, e: ast.Name) -> EnumLitSym | None:
+        """The enumeration literal a name denotes: ``E::lit`` (with its package, if given), or a
+        literal of an enumeration declared in the same file."""
+        if e.qualified:
+            return self.enum_literal(e, report=False)
+        return self.file_literals(self.scope.file).get(e.last)
+
+    def _literal_value(self, e: ast.Name, lit: EnumLitSym) -> T.Type:
         self.tables.refs[id(e)] = lit
-        carried = _literal_args(lit)
+        carried = literal_args(lit)
         if carried:
             return self._err(
-                f"enumeration literal '{e.text}' carries {_plural(len(carried), 'value')}: write {e.text}("
+                f"enumeration literal '{e.text}' carries {plural(len(carried), 'value')}: write {e.text}("
                 + ", ".join(t.show() for t in carried) + ")",
                 e,
             )
@@ -178,6 +197,9 @@ class ExprChecker:
             if not T.is_boolean(t):
                 return self._err(f"'not' needs a boolean operand, not {t.show()}", e.operand)
             return T.BOOLEAN
+        if isinstance(t, (T.VectorT, T.MatrixT)):
+            shaped = negation(t)
+            return self._err(shaped, e.operand) if isinstance(shaped, str) else shaped
         if not T.is_numeric(t):
             return self._err(f"unary '-' needs a number, not {t.show()}", e.operand)
         return T.INT if t == T.NAT else t
@@ -216,6 +238,9 @@ class ExprChecker:
         # + - * / %
         if isinstance(a, T.SetT) or isinstance(b, T.SetT):
             return self._err(f"'{op}' is not defined on sets; use union, inter or diff", e)
+        if isinstance(a, (T.VectorT, T.MatrixT)) or isinstance(b, (T.VectorT, T.MatrixT)):
+            shaped = linear(op, a, b)
+            return self._err(shaped, e) if isinstance(shaped, str) else shaped
         bad = False
         for side, t in ((e.left, a), (e.right, b)):
             if not T.is_numeric(t):
@@ -223,12 +248,6 @@ class ExprChecker:
                 bad = True
         if bad:
             return T.UNKNOWN
-        if op == "%":
-            for side, t in ((e.left, a), (e.right, b)):
-                if not T.is_integral(t):
-                    self._err(f"'%' needs integers, not {t.show()}", side)
-                    bad = True
-            return T.UNKNOWN if bad else T.numeric_join(a, b)
         if op == "-" and a == T.NAT and b == T.NAT:
             return T.INT
         return T.numeric_join(a, b)
@@ -303,57 +322,6 @@ class ExprChecker:
             return t.range
         return self._err(f"{t.show()} cannot be indexed", e.obj)
 
-    def _e_Call(self, e: ast.Call) -> T.Type:
-        arg_types = [self.expr(a) for a in e.args]
-        f = e.func
-        if not isinstance(f, ast.Name):
-            return self._err("only named functions can be called", f)
-        if not f.qualified:
-            if f.last in self.scope.ops:
-                return self._err(f"'{f.last}' is an operation; operations are called as statements, not in expressions", f)
-            v = self.lookup_var(f.last)
-            if v is not None and isinstance(v.type, T.FunctionT):
-                self.tables.refs[id(f)] = v
-                return v.type.range
-        # an enumeration literal with arguments: E::c(x, y)
-        if f.qualified:
-            lit = self.enum_literal(f, report=False)
-            if lit is not None:
-                self.tables.refs[id(f)] = lit
-                params = tuple((f"{i + 1}", t) for i, t in enumerate(_literal_args(lit)))
-                self._check_args(f"enumeration literal '{f.text}'", params, e.args, arg_types, e)
-                return lit.enum
-        decl = self.lookup_global(f, self.scope.file, (ast.FunctionDef,), "function", True)
-        if decl is None:
-            return T.UNKNOWN
-        builtin = getattr(decl, "builtin", None)
-        if builtin is not None:
-            sym = FuncSym(f.last, (), T.UNKNOWN, None, builtin, decl.qname)
-            self.tables.refs[id(f)] = sym
-            if len(arg_types) not in builtin.arity:
-                arities = " or ".join(str(n) for n in builtin.arity)
-                return self._err(f"'{f.last}' takes {arities} argument(s), not {len(arg_types)}", e, Note(builtin.doc))
-            result = builtin.result(arg_types)
-            if isinstance(result, str):
-                return self._err(result, e, Note(builtin.doc))
-            return result
-        fdef: ast.FunctionDef = decl.node  # type: ignore[assignment]
-        ffile = decl.file or self.scope.file
-        params = tuple((p.name, self.resolve_type(p.type, ffile)) for p in fdef.params)
-        result = self.resolve_type(fdef.result, ffile)
-        self.tables.refs[id(f)] = FuncSym(f.last, params, result, fdef, None, decl.qname)
-        self._check_args(f"function '{f.last}'", params, e.args, arg_types, e)
-        return result
-
-    def _check_args(self, what: str, params, args, arg_types, node) -> None:
-        if len(args) != len(params):
-            self._err(f"{what} takes {_plural(len(params), 'argument')}, but {len(args)} {'were' if len(args) != 1 else 'was'} given", node)
-            return
-        for (pname, ptype), a, at in zip(params, args, arg_types):
-            if not T.assignable(at, ptype):
-                which = f"argument {pname}" if pname.isdigit() else f"argument '{pname}'"
-                self._err(f"{which} of {what} must be {ptype.show()}, but this is {at.show()}", a)
-
     def _e_IfExpr(self, e: ast.IfExpr) -> T.Type:
         c = self.expr(e.cond)
         if not T.is_boolean(c):
@@ -366,9 +334,16 @@ class ExprChecker:
         return self._err(f"the branches of 'if' have different types: {a.show()} and {b.show()}", e)
 
     def _e_Cast(self, e: ast.Cast) -> T.Type:
-        self.expr(e.expr)
+        """``e as T`` has type T, if a value of e's type can be one of T: numbers convert, other
+        values must be compatible one way or the other. ``e is T`` is a boolean."""
+        value = self.expr(e.expr)
         t = self.resolve_type(e.type, self.scope.file)
-        return t if e.op == "as" else T.BOOLEAN
+        if e.op == "is":
+            return T.BOOLEAN
+        numbers = T.is_numeric(value) and T.is_numeric(t)
+        if not (numbers or T.assignable(value, t) or T.assignable(t, value)):
+            self.sink.error(f"a value of type {value.show()} cannot be cast as {t.show()}", e.type.span)
+        return t
 
     def _bind(self, decls: tuple[ast.Decl, ...]) -> dict[str, VarSym]:
         frame = {}
@@ -418,8 +393,8 @@ class ExprChecker:
         given = {fv.name: fv for fv in e.fields}
         for name, ft in t.fields:
             fv = given.pop(name, None)
-            if fv is None:
-                self._err(f"field '{name}' of '{t.qname}' is not given a value", e)
+            if fv is None:  # RoboTool checks only the fields given
+                self.sink.warning(f"field '{name}' of '{t.qname}' is not given a value", e.span)
             elif not T.assignable(self.tables.type_of(fv.value), ft):
                 self._err(f"field '{name}' must be {ft.show()}, but this is {self.tables.type_of(fv.value).show()}", fv.value)
         for name, fv in given.items():
@@ -521,89 +496,4 @@ class ExprChecker:
             return T.MatrixT(t.element, t.columns, t.rows)
         return t
 
-    # RoboSim $ forms in expressions
-
-    def _dollar_event(self, name: str, node, span) -> EventSym | None:
-        ev = self.scope.events.get(name)
-        if ev is None:
-            self.sink.error(
-                f"unknown event '{name}'" + did_you_mean(name, self.scope.events),
-                span,
-                Note("RoboSim machines declare the events they read in their 'input context'"),
-            )
-            return None
-        self.tables.refs[id(node)] = ev
-        if not ev.input:
-            self.sink.error(
-                f"'{name}' is an output event; output events cannot be tested in a condition",
-                span,
-                Note(f"declared in {ev.origin}", ev.span),
-            )
-        return ev
-
-    def _require_guard(self, e: ast.Expr, what: str) -> None:
-        if not self.where.guard:
-            self._err(f"'{what}' tests an input and may only appear in a transition condition", e)
-
-    def _e_Dollar(self, e: ast.Dollar) -> T.Type:
-        if not self.robosim:
-            return self._err("'$' is RoboSim syntax", e)
-        v = self.scope.vars.get(e.name)
-        if v is not None and e.name not in self.scope.events:
-            self.tables.refs[id(e)] = v
-            return v.type
-        self._require_guard(e, f"${e.name}")
-        self._dollar_event(e.name, e, e.name_span or e.span)
-        return T.BOOLEAN
-
-    def _e_DollarInput(self, e: ast.DollarInput) -> T.Type:
-        self._require_guard(e, f"${e.event}?{e.var}")
-        ev = self._dollar_event(e.event, e, e.event_span or e.span)
-        var = self.lookup_var(e.var)
-        if var is None:
-            self.sink.error(f"unknown variable '{e.var}'" + did_you_mean(e.var, self._visible_value_names()), e.var_span or e.span)
-        elif not var.assignable:
-            self.sink.error(f"cannot bind the value of '{e.event}' to {KIND_WORDS[var.kind]} '{e.var}'", e.var_span or e.span, Note("declared here", var.span))
-        elif ev is not None:
-            if ev.type is None:
-                self.sink.error(f"event '{e.event}' carries no value to bind to '{e.var}'", e.event_span or e.span, Note("declared here", ev.span))
-            elif not T.assignable(ev.type, var.type):
-                self.sink.error(
-                    f"cannot bind a value of event '{e.event}' ({ev.type.show()}) to '{e.var}' ({var.type.show()})",
-                    e.var_span or e.span,
-                )
-        if var is not None:
-            self.tables.refs[("bind", id(e))] = var
-        if e.predicate is not None:
-            pt = self.expr(e.predicate)
-            if not T.is_boolean(pt):
-                self._err(f"the predicate after ':' must be boolean, not {pt.show()}", e.predicate)
-        return T.BOOLEAN
-
-    def _e_DollarValue(self, e: ast.DollarValue) -> T.Type:
-        self._require_guard(e, f"${e.event}.v")
-        ev = self._dollar_event(e.event, e, e.event_span or e.span)
-        vt = self.expr(e.value)
-        if ev is not None:
-            if ev.type is None:
-                self.sink.error(f"event '{e.event}' carries no value", e.event_span or e.span)
-            elif not T.comparable(vt, ev.type):
-                self._err(f"event '{e.event}' carries {ev.type.show()}, not {vt.show()}", e.value)
-        return T.BOOLEAN
-
-
-def _literal_args(lit: EnumLitSym) -> tuple[T.Type, ...]:
-    enum = lit.enum
-    if not isinstance(enum, T.EnumT) or not enum.literal_args:
-        return ()
-    return enum.literal_args[enum.literals.index(lit.literal)]
-
-
-def _plural(n: int, word: str) -> str:
-    return f"{n} {word}{'' if n == 1 else 's'}"
-
-
-KIND_WORDS = {"var": "variable", "const": "constant", "param": "parameter", "binder": "bound variable", "let": "let-bound name"}
-
-
-__all__ = ["ExprChecker", "Where", "KIND_WORDS"]
+__all__ = ["ExprChecker", "Where"]

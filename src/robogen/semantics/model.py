@@ -61,6 +61,10 @@ class VarSym:
         return getattr(self.decl, "name_span", None)
 
 
+# How messages name the kinds of VarSym.
+KIND_WORDS = {"var": "variable", "const": "constant", "param": "parameter", "binder": "bound variable", "let": "let-bound name"}
+
+
 @dataclass(frozen=True, eq=False)
 class ClockSym:
     name: str
@@ -112,7 +116,7 @@ class FuncSym:
     params: tuple[tuple[str, Type], ...]
     result: Type
     decl: ast.FunctionDef | None
-    builtin: object | None = None  # types.Builtin for toolkit functions
+    builtin: object | None = None  # toolkit.Builtin (a toolkit function) or toolkit.Extension (robogen's)
     qname: str = ""
 
 
@@ -338,6 +342,6 @@ class SemanticModel:
 
 
 __all__ = [
-    "VarSym", "ClockSym", "EventSym", "OpSym", "FuncSym", "EnumLitSym", "Symbol",
+    "VarSym", "KIND_WORDS", "ClockSym", "EventSym", "OpSym", "FuncSym", "EnumLitSym", "Symbol",
     "Region", "MachineScope", "Platform", "Controller", "Module", "Tables", "SemanticModel",
 ]

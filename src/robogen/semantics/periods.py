@@ -7,17 +7,18 @@ from fractions import Fraction
 from typing import Iterable
 
 from robogen.diagnostics import DiagnosticSink, Note, Span
-from robogen.syntax import ast
+from robogen.syntax import ast, printer
 
 
 def cycle_period(c: ast.CycleDef, previous: Fraction | None, owner: str, sink: DiagnosticSink) -> Fraction | None:
     """The period p of ``cycleDef cycle == p`` (a positive number literal); ``previous`` if the
-    definition is malformed. Two different periods of one owner are an error."""
-    e = c.expr
-    if not (isinstance(e, ast.Binary) and e.op == "==" and isinstance(e.left, ast.Keyword) and e.left.word == "cycle"):
-        sink.error("a cycle definition has the form 'cycleDef cycle == p' with p a positive number", e.span)
+    definition is malformed. Two different periods of one owner are an error. The obsolete forms
+    ``cycleDef p`` and ``cycleDef { cycle == p }`` are read as ``cycle == p``, with a warning
+    (RoboTool gives none: it no longer checks cycle definitions)."""
+    value = _period_expression(c.expr, sink)
+    if value is None:
+        sink.error("a cycle definition has the form 'cycleDef cycle == p' with p a positive number", c.expr.span)
         return previous
-    value = e.right
     if isinstance(value, ast.IntLit):
         period = Fraction(value.value)
     elif isinstance(value, ast.RealLit):
@@ -31,6 +32,26 @@ def cycle_period(c: ast.CycleDef, previous: Fraction | None, owner: str, sink: D
     if previous is not None and previous != period:
         sink.error(f"{owner} declares two different cycle periods", c.span)
     return period
+
+
+def _period_expression(e: ast.Expr, sink: DiagnosticSink) -> ast.Expr | None:
+    """The p of ``cycle == p``, of the obsolete ``p`` (a number) or ``{ cycle == p }``; None
+    for any other expression."""
+    if _is_cycle_equation(e):
+        return e.right  # type: ignore[attr-defined]
+    obsolete = None
+    if isinstance(e, (ast.IntLit, ast.RealLit)):
+        obsolete = e
+    elif isinstance(e, ast.SetLit) and len(e.items) == 1 and _is_cycle_equation(e.items[0]):
+        obsolete = e.items[0].right  # type: ignore[attr-defined]
+    if obsolete is not None:
+        sink.warning(f"obsolete cycle definition: read as 'cycleDef cycle == {printer.expr(obsolete)}'", e.span,
+                     Note("write 'cycleDef cycle == p'"))
+    return obsolete
+
+
+def _is_cycle_equation(e: ast.Expr) -> bool:
+    return isinstance(e, ast.Binary) and e.op == "==" and isinstance(e.left, ast.Keyword) and e.left.word == "cycle"
 
 
 def declared_period(defs: Iterable[ast.CycleDef], owner: str, sink: DiagnosticSink) -> Fraction | None:

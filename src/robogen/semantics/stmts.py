@@ -6,8 +6,8 @@ from __future__ import annotations
 
 from robogen.diagnostics import Note, did_you_mean
 from robogen.semantics import types as T
-from robogen.semantics.exprs import KIND_WORDS, ExprChecker, Where
-from robogen.semantics.model import EventSym
+from robogen.semantics.exprs import ExprChecker, Where
+from robogen.semantics.model import KIND_WORDS, EventSym
 from robogen.syntax import ast
 
 
@@ -189,6 +189,8 @@ class StmtChecker(ExprChecker):
             var = self.lookup_var(c.var or "")
             if var is None:
                 self.sink.error(f"unknown variable '{c.var}'" + did_you_mean(c.var or "", self._visible_value_names()), c.var_span or c.span)
+            elif not self.qualifier_fits(c.var_qualifier, var.name, var.decl, c.var_span or c.span):
+                pass  # reported
             elif not var.assignable:
                 self.sink.error(f"cannot receive into {KIND_WORDS[var.kind]} '{var.name}'", c.var_span or c.span, Note("declared here", var.span))
             elif not T.assignable(ev.type, var.type):
@@ -226,6 +228,7 @@ class StmtChecker(ExprChecker):
             )
             return
         self.tables.refs[id(s)] = ev
+        self.qualifier_fits(s.qualifier, s.event, ev.decl, s.event_span or s.span)
         if not ev.output:
             self.sink.error(
                 f"'{s.event}' is an input event; an input event cannot be written",
@@ -255,6 +258,7 @@ class StmtChecker(ExprChecker):
             )
             return
         self.tables.refs[id(s)] = op
+        self.qualifier_fits(s.qualifier, s.op, op.decl, s.op_span or s.span)
         self._check_args(f"operation '{op.name}'", op.params, s.args, arg_types, s)
         self.outputs_used.append((op.name, s))
 
@@ -265,6 +269,8 @@ class StmtChecker(ExprChecker):
             self.sink.error(f"unknown shared variable '{s.var}'" + did_you_mean(s.var, self.scope.vars), s.var_span or s.span)
             return
         self.tables.refs[id(s)] = v
+        if not self.qualifier_fits(s.qualifier, s.var, v.decl, s.var_span or s.span):
+            return
         if not v.assignable:
             self.sink.error(f"cannot assign to {KIND_WORDS[v.kind]} '{v.name}'", s.var_span or s.span, Note("declared here", v.span))
         elif not T.assignable(vt, v.type):

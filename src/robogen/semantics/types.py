@@ -6,12 +6,19 @@ to check: it is compatible with everything, so one mistake gives one message.
 Compatibility is structural where RoboTool's translations rely on it: two enumerations with the
 same literals, two records with the same fields, or two given types of the same simple name are
 the same type (the RoboChart-to-RoboSim translation re-declares types in other packages).
+
+Where two types have different forms, they are compared as RoboTool's type provider compares
+them, through their *general* form (:func:`general`): a relation or function is a set of pairs,
+a sequence a set of (index, element) pairs, a vector of known size a product. The type of a
+named function used as a value has a product domain even for one parameter (RoboTool's, so
+that ``f(x: nat, y: nat)`` and ``f(p: nat * nat)`` differ); a product of one component is
+therefore taken to be that component. Generic toolkit functions are typed by :func:`unify`
+and :func:`instantiate` over their type variables ``?X``.
 """
 
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import Callable, Sequence
 
 
 @dataclass(frozen=True, slots=True)
@@ -175,6 +182,7 @@ def numeric_join(a: Type, b: Type) -> Type:
 
 def same(a: Type, b: Type) -> bool:
     """Structural type equality (see the module docstring)."""
+    a, b = single(a), single(b)
     if a == b or isinstance(a, (UnknownT, TypeVarT)) or isinstance(b, (UnknownT, TypeVarT)):
         return True
     if isinstance(a, Given) and isinstance(b, Given):
@@ -207,7 +215,9 @@ def assignable(value: Type, target: Type) -> bool:
 
     Numbers widen (nat -> int -> real) and int narrows to nat (checked at run time, as
     RoboChart models write ``n = n - 1`` for a nat ``n``); real never narrows to an integer type.
+    Types of different forms are compared through their general forms.
     """
+    value, target = single(value), single(target)
     if value in NUMERIC and target in NUMERIC:
         return not (value == REAL and target != REAL)
     if isinstance(value, VectorT) and isinstance(target, VectorT):
@@ -222,7 +232,14 @@ def assignable(value: Type, target: Type) -> bool:
         return assignable(value.element, target.element)  # type: ignore[attr-defined]
     if isinstance(value, ProductT) and isinstance(target, ProductT):
         return len(value.items) == len(target.items) and all(assignable(v, t) for v, t in zip(value.items, target.items))
-    return same(value, target)
+    if isinstance(value, FunctionT) and isinstance(target, FunctionT):
+        return assignable(value.domain, target.domain) and assignable(value.range, target.range)
+    if same(value, target):
+        return True
+    general_value, general_target = general(value), general(target)
+    if (general_value, general_target) != (value, target) and type(general_value) is type(general_target):
+        return assignable(general_value, general_target)
+    return False
 
 
 def comparable(a: Type, b: Type) -> bool:
@@ -232,138 +249,106 @@ def comparable(a: Type, b: Type) -> bool:
     return assignable(a, b) or assignable(b, a)
 
 
-# ---------------------------------------------------------------------------- built-in library
+# ---------------------------------------------------------------------------- general forms
 
 
-@dataclass(frozen=True)
-class Builtin:
-    """A toolkit function: its package, arity, and a rule giving the result type."""
-
-    package: str
-    name: str
-    arity: tuple[int, ...]
-    result: Callable[[Sequence[Type]], Type | str]  # a Type, or an error message
-    doc: str
+def single(t: Type) -> Type:
+    """A product of one component is that component (see the module docstring)."""
+    while isinstance(t, ProductT) and len(t.items) == 1:
+        t = t.items[0]
+    return t
 
 
-def _collection_element(t: Type) -> Type | None:
-    if isinstance(t, (SetT, SeqT)):
-        return t.element
-    if isinstance(t, (UnknownT, TypeVarT)):
-        return UNKNOWN
-    return None
+def same_form(a: Type, b: Type) -> bool:
+    """Are two types of one form (two sets, two primitive types, ...)? A type that failed to
+    check, or a type variable, is of every form."""
+    a, b = single(a), single(b)
+    return isinstance(a, (UnknownT, TypeVarT)) or isinstance(b, (UnknownT, TypeVarT)) or type(a) is type(b)
 
 
-def _same_sets(name: str):
-    def rule(args: Sequence[Type]) -> Type | str:
-        a, b = args
-        for t in args:
-            if not isinstance(t, (SetT, UnknownT, TypeVarT)):
-                return f"'{name}' expects sets, not {t.show()}"
-        if isinstance(a, SetT) and isinstance(b, SetT) and not same(a.element, b.element):
-            if isinstance(a.element, (UnknownT, TypeVarT)):
-                return b
-            if not isinstance(b.element, (UnknownT, TypeVarT)):
-                return f"'{name}' of sets of different types: {a.show()} and {b.show()}"
-        return a if isinstance(a, SetT) and not isinstance(a.element, UnknownT) else b
-
-    return rule
-
-
-def _size(args: Sequence[Type]) -> Type | str:
-    if _collection_element(args[0]) is None:
-        return f"'size' expects a sequence or a set, not {args[0].show()}"
-    return NAT
+def general(t: Type) -> Type:
+    """The general form of a type (RoboTool's ``getGeneralType``): a relation or function
+    ``X <-> Y`` is the set of pairs ``Set(X * Y)``; a sequence ``Seq(X)`` the set of its
+    (index, element) pairs ``Set(nat * X)`` (RoboTool writes ``X * nat``; the order here is the
+    one ``dom`` and ``ran`` of a sequence need); a vector of known size n the product of n
+    elements. Other types are their own general form."""
+    if isinstance(t, FunctionT):
+        return SetT(ProductT((t.domain, t.range)))
+    if isinstance(t, SeqT):
+        return SetT(ProductT((NAT, t.element)))
+    if isinstance(t, VectorT) and t.size is not None:
+        return ProductT((t.element,) * t.size)
+    return t
 
 
-def _seq_element(name: str, whole: bool):
-    def rule(args: Sequence[Type]) -> Type | str:
-        t = args[0]
-        if not isinstance(t, (SeqT, UnknownT, TypeVarT)):
-            return f"'{name}' expects a sequence, not {t.show()}"
-        if whole:
-            return t
-        return t.element if isinstance(t, SeqT) else UNKNOWN
-
-    return rule
+# ---------------------------------------------------------------------------- type variables
 
 
-def _concat(args: Sequence[Type]) -> Type | str:
-    a, b = args
-    for t in args:
-        if not isinstance(t, (SeqT, UnknownT, TypeVarT)):
-            return f"'concat' expects sequences, not {t.show()}"
-    return a if isinstance(a, SeqT) else b
+def unify(param: Type, arg: Type, bindings: dict[str, Type]) -> bool:
+    """Can a value of type ``arg`` be passed where ``param`` (with type variables ``?X``) is
+    expected? Binds the variables in ``bindings`` as it goes, so that the parameters of one call
+    agree: a variable bound to ``nat`` widens to ``int`` or ``real`` if a later argument needs it.
+    Values that failed to check (``UNKNOWN``) fit anything."""
+    param, arg = single(param), single(arg)
+    if isinstance(param, TypeVarT):
+        bound = bindings.get(param.name)
+        if bound is None or isinstance(bound, (UnknownT, TypeVarT)):
+            bindings[param.name] = arg
+            return True
+        if bound in NUMERIC and arg in NUMERIC:
+            bindings[param.name] = numeric_join(bound, arg)
+            return True
+        if assignable(arg, bound):
+            return True
+        if assignable(bound, arg):
+            bindings[param.name] = arg
+            return True
+        return False
+    if isinstance(arg, (UnknownT, TypeVarT)):
+        return True
+    if type(param) is type(arg):
+        if isinstance(param, (SetT, SeqT, VectorT, MatrixT)):
+            return unify(param.element, arg.element, bindings) and assignable(arg, instantiate(param, bindings))  # type: ignore[attr-defined]
+        if isinstance(param, ProductT):
+            return len(param.items) == len(arg.items) and all(unify(p, a, bindings) for p, a in zip(param.items, arg.items))  # type: ignore[attr-defined]
+        if isinstance(param, FunctionT):
+            return unify(param.domain, arg.domain, bindings) and unify(param.range, arg.range, bindings)  # type: ignore[attr-defined]
+        return assignable(arg, param)
+    general_param, general_arg = general(param), general(arg)
+    if (general_param, general_arg) != (param, arg) and type(general_param) is type(general_arg):
+        return unify(general_param, general_arg, bindings)
+    return False
 
 
-def _elems(args: Sequence[Type]) -> Type | str:
-    t = args[0]
-    if not isinstance(t, (SeqT, UnknownT, TypeVarT)):
-        return f"'elems' expects a sequence, not {t.show()}"
-    return SetT(t.element if isinstance(t, SeqT) else UNKNOWN)
+def instantiate(t: Type, bindings: dict[str, Type]) -> Type:
+    """``t`` with its bound type variables replaced (unbound ones stay: they fit anything)."""
+    if isinstance(t, TypeVarT):
+        return bindings.get(t.name, t)
+    if isinstance(t, SetT):
+        return SetT(instantiate(t.element, bindings))
+    if isinstance(t, SeqT):
+        return SeqT(instantiate(t.element, bindings))
+    if isinstance(t, ProductT):
+        return ProductT(tuple(instantiate(x, bindings) for x in t.items))
+    if isinstance(t, FunctionT):
+        return FunctionT(instantiate(t.domain, bindings), instantiate(t.range, bindings), t.relation)
+    if isinstance(t, VectorT):
+        return VectorT(instantiate(t.element, bindings), t.size)
+    if isinstance(t, MatrixT):
+        return MatrixT(instantiate(t.element, bindings), t.rows, t.columns)
+    return t
 
 
-def _minmax(name: str):
-    def rule(args: Sequence[Type]) -> Type | str:
-        if len(args) == 1:
-            element = _collection_element(args[0])
-            if element is None or not is_numeric(element):
-                return f"'{name}' of one argument expects a set or sequence of numbers, not {args[0].show()}"
-            return element
-        a, b = args
-        if not (is_numeric(a) and is_numeric(b)):
-            return f"'{name}' expects numbers, not {a.show()} and {b.show()}"
-        return numeric_join(a, b) if not (a == NAT and b == NAT) else NAT
-
-    return rule
-
-
-def _abs(args: Sequence[Type]) -> Type | str:
-    if not is_numeric(args[0]):
-        return f"'abs' expects a number, not {args[0].show()}"
-    return NAT if args[0] in (NAT, INT) else args[0]
-
-
-def _relation_part(name: str, first: bool):
-    def rule(args: Sequence[Type]) -> Type | str:
-        t = args[0]
-        if isinstance(t, FunctionT):
-            return SetT(t.domain if first else t.range)
-        if isinstance(t, SetT) and isinstance(t.element, ProductT) and len(t.element.items) == 2:
-            return SetT(t.element.items[0 if first else 1])
-        if isinstance(t, (UnknownT, TypeVarT)):
-            return SetT(UNKNOWN)
-        return f"'{name}' expects a function or relation, not {t.show()}"
-
-    return rule
-
-
-BUILTINS: dict[str, dict[str, Builtin]] = {}
-
-
-def _add(b: Builtin) -> None:
-    BUILTINS.setdefault(b.package, {})[b.name] = b
-
-
-for _name in ("union", "inter", "diff"):
-    _add(Builtin("set_toolkit", _name, (2,), _same_sets(_name), f"{_name}(Set(?X), Set(?X)): Set(?X)"))
-_add(Builtin("set_toolkit", "card", (1,), _size, "card(Set(?X)): nat"))
-_add(Builtin("sequence_toolkit", "size", (1,), _size, "size(Seq(?X)): nat (also accepts a set)"))
-_add(Builtin("sequence_toolkit", "head", (1,), _seq_element("head", False), "head(Seq(?X)): ?X"))
-_add(Builtin("sequence_toolkit", "last", (1,), _seq_element("last", False), "last(Seq(?X)): ?X"))
-_add(Builtin("sequence_toolkit", "tail", (1,), _seq_element("tail", True), "tail(Seq(?X)): Seq(?X)"))
-_add(Builtin("sequence_toolkit", "front", (1,), _seq_element("front", True), "front(Seq(?X)): Seq(?X)"))
-_add(Builtin("sequence_toolkit", "reverse", (1,), _seq_element("reverse", True), "reverse(Seq(?X)): Seq(?X)"))
-_add(Builtin("sequence_toolkit", "concat", (2,), _concat, "concat(Seq(?X), Seq(?X)): Seq(?X)"))
-_add(Builtin("sequence_toolkit", "elems", (1,), _elems, "elems(Seq(?X)): Set(?X)"))
-_add(Builtin("function_toolkit", "dom", (1,), _relation_part("dom", True), "dom(?X -> ?Y): Set(?X)"))
-_add(Builtin("function_toolkit", "ran", (1,), _relation_part("ran", False), "ran(?X -> ?Y): Set(?Y)"))
-_add(Builtin("relation_toolkit", "min", (1, 2), _minmax("min"), "min(?X, ?X): ?X, or min(Set(?X)): ?X"))
-_add(Builtin("relation_toolkit", "max", (1, 2), _minmax("max"), "max(?X, ?X): ?X, or max(Set(?X)): ?X"))
-_add(Builtin("relation_toolkit", "abs", (1,), _abs, "abs(?X): ?X"))
-
-TOOLKIT_PACKAGES = frozenset(BUILTINS) | {"core"}
-
-
-def builtin_named(name: str) -> list[Builtin]:
-    return [pkg[name] for pkg in BUILTINS.values() if name in pkg]
+def form(t: Type, plural: bool = False) -> str:
+    """How messages name the form of a type: "a set", "sequences", "a relation", "a number"."""
+    if isinstance(t, FunctionT):
+        word = "relation" if t.relation else "function"
+    elif isinstance(t, (SetT, SeqT, ProductT, VectorT, MatrixT)):
+        word = {SetT: "set", SeqT: "sequence", ProductT: "tuple", VectorT: "vector", MatrixT: "matrix"}[type(t)]
+    elif t in NUMERIC:
+        word = "number"
+    else:
+        return t.show()
+    if plural:
+        return "matrices" if word == "matrix" else word + "s"
+    return f"a {word}"

@@ -6,7 +6,15 @@ the declarations of ``P`` (in any file), the file's explicit imports (``import Q
 wildcard imports (``import Q::*``), declarations of files without a package (visible everywhere,
 as in RoboTool), the built-in ``core`` package. As a last resort, a declaration of that simple
 name anywhere in the workspace is used with a warning naming the import that is missing
-(RoboTool's automatic translations rely on this).
+(RoboTool's automatic translations rely on this); the toolkits' functions are not found that
+way: as in RoboTool, they must be imported or qualified.
+
+Each lookup asks for declarations of some kinds (a type, an interface, a function, ...) and
+sees only those, as RoboTool's scopes do: a function ``real`` does not hide the type ``real``.
+Functions and the other declarations are separate name spaces, so a function and a type of
+one package may share a name. Like RoboTool, robogen only warns about an import that finds
+nothing and about two declarations of one name in the files without a package (it uses the
+first).
 """
 
 from __future__ import annotations
@@ -17,7 +25,8 @@ from pathlib import Path
 from typing import Iterable, Sequence
 
 from robogen.diagnostics import DiagnosticSink, Note, RobogenError, Span, did_you_mean, error
-from robogen.semantics.types import BUILTINS, PRIMITIVES, Builtin
+from robogen.semantics.toolkit import Builtin, library
+from robogen.semantics.types import PRIMITIVES
 from robogen.syntax import ast
 from robogen.syntax.parser import EXTENSIONS, language_of, parse_file
 
@@ -104,7 +113,7 @@ class Workspace:
         core = self.packages.setdefault("core", Package("core"))
         for name in PRIMITIVES:
             core.add(Decl(name, "core", None, None, primitive=name))
-        for pkg_name, functions in BUILTINS.items():
+        for pkg_name, functions in library().items():
             pkg = self.packages.setdefault(pkg_name, Package(pkg_name))
             for name, b in functions.items():
                 pkg.add(Decl(name, pkg_name, None, None, builtin=b))
@@ -125,16 +134,21 @@ class Workspace:
                             self.by_simple.setdefault(m.name, []).append(Decl(m.name, pkg_name, m, f))
 
     def _check_duplicates(self) -> None:
+        """Two declarations of one name and name space in a package are an error; in the files
+        without a package, a warning (RoboTool's "is not unique"; lookups use the first)."""
         for pkg in self.packages.values():
             for name, decls in pkg.decls.items():
-                real = [d for d in decls if d.node is not None]
-                for d in real[1:]:
-                    first = real[0]
-                    self.sink.error(
-                        f"duplicate declaration of '{name}' in {_pkg_text(pkg.name)}",
-                        d.span,
-                        Note(f"'{name}' is first declared here as a {first.kind}", first.span),
-                    )
+                for space in (True, False):
+                    same_space = [d for d in decls if d.node is not None and _is_function(d) is space]
+                    for d in same_space[1:]:
+                        self._duplicate(pkg, name, d, same_space[0])
+
+    def _duplicate(self, pkg: Package, name: str, d: Decl, first: Decl) -> None:
+        note = Note(f"'{name}' is first declared here as a {first.kind}", first.span)
+        if pkg.name is None:
+            self.sink.warning(f"'{name}' is not unique: the files without a package declare it twice; robogen uses the first", d.span, note)
+        else:
+            self.sink.error(f"duplicate declaration of '{name}' in {_pkg_text(pkg.name)}", d.span, note)
 
     def _resolve_imports(self, f: ast.File) -> None:
         singles: list[tuple[ast.Import, Decl]] = []
@@ -144,8 +158,9 @@ class Workspace:
             if imp.wildcard:
                 pkg = self.packages.get("::".join(parts))
                 if pkg is None:
-                    self.sink.error(
-                        f"no package '{imp.name.text}' in this workspace" + did_you_mean(imp.name.text, self._package_names()),
+                    self.sink.warning(
+                        f"no package '{imp.name.text}' in this workspace: the import brings nothing"
+                        + did_you_mean(imp.name.text, self._package_names()),
                         imp.name.span,
                         Note("packages come from the 'package' line of the files given to robogen"),
                     )
@@ -158,14 +173,16 @@ class Workspace:
             pkg_name, name = "::".join(parts[:-1]), parts[-1]
             pkg = self.packages.get(pkg_name)
             if pkg is None:
-                self.sink.error(
-                    f"no package '{pkg_name}' in this workspace" + did_you_mean(pkg_name, self._package_names()), imp.name.span
+                self.sink.warning(
+                    f"no package '{pkg_name}' in this workspace: the import brings nothing"
+                    + did_you_mean(pkg_name, self._package_names()), imp.name.span
                 )
                 continue
             decls = pkg.decls.get(name)
             if not decls:
-                self.sink.error(
-                    f"package '{pkg_name}' declares no '{name}'" + did_you_mean(name, pkg.decls), imp.name.span
+                self.sink.warning(
+                    f"package '{pkg_name}' declares no '{name}': the import brings nothing" + did_you_mean(name, pkg.decls),
+                    imp.name.span,
                 )
                 continue
             singles.append((imp, decls[0]))
@@ -206,9 +223,10 @@ class Workspace:
                 return None
             return found[0]
         simple = name.last
+        elsewhere: Decl | None = None  # a visible declaration of another kind, for the message
         for candidates in self._visible(simple, file):
             matching = _unique([d for d in candidates if d.is_a(kinds)])
-            if len(matching) == 1:
+            if len(matching) == 1 or (matching and _one_name(matching)):
                 return matching[0]
             if len(matching) > 1:
                 if report:
@@ -218,32 +236,43 @@ class Workspace:
                         *(Note(f"'{d.qname}' is declared here", d.span) for d in matching),
                     )
                 return matching[0]
-            if candidates and report and not any(d.is_a(kinds) for d in candidates):
-                d = candidates[0]
-                sink.error(f"'{simple}' is {_article(d.kind)}, not {_article(what)}", name.span, Note("declared here", d.span))
-                return None
-        # Last resort: the unique declaration with this simple name anywhere in the workspace.
+            elsewhere = elsewhere or (candidates[0] if candidates else None)
         anywhere = _unique([d for d in self.by_simple.get(simple, []) if d.is_a(kinds)])
-        anywhere += [d for pkg in BUILTINS for d in self.packages[pkg].decls.get(simple, []) if d.is_a(kinds)]
         if anywhere:
-            best = _closest_package(anywhere, file)
-            if best is not None:
-                if report:
-                    sink.warning(
-                        f"'{simple}' is not imported here; using '{best.qname}'",
-                        name.span,
-                        Note(f"add 'import {best.package}::{simple}' (or '::*') to the file" if best.package else "declared here", best.span),
-                    )
-                return best
-            if report:
-                sink.error(
-                    f"'{simple}' is not imported here, and several packages declare it: " + ", ".join(d.qname for d in anywhere),
-                    name.span,
-                )
+            return self._anywhere(anywhere, name, file, report, sink)
+        if not report:
             return None
-        if report:
-            sink.error(f"unknown {what} '{simple}'" + did_you_mean(simple, self._visible_names(file, kinds)), name.span)
+        if elsewhere is not None:
+            sink.error(f"'{simple}' is {_article(elsewhere.kind)}, not {_article(what)}", name.span, Note("declared here", elsewhere.span))
+            return None
+        notes = [Note(f"'{d.qname}' is a toolkit function: add 'import {d.package}::*' (or '::{simple}') to the file")
+                 for d in self._toolkit(simple, kinds)]
+        sink.error(f"unknown {what} '{simple}'" + did_you_mean(simple, self._visible_names(file, kinds)), name.span, *notes)
         return None
+
+    def _anywhere(self, anywhere: list[Decl], name: ast.Name, file: ast.File, report: bool, sink: DiagnosticSink) -> Decl | None:
+        """The last resort: among the model's declarations of this simple name (``anywhere``),
+        the one of the closest package, with a warning naming the import."""
+        simple = name.last
+        best = _closest_package(anywhere, file)
+        if best is not None:
+            if report:
+                sink.warning(
+                    f"'{simple}' is not imported here; using '{best.qname}'",
+                    name.span,
+                    Note(f"add 'import {best.package}::{simple}' (or '::*') to the file" if best.package else "declared here", best.span),
+                )
+            return best
+        if report:
+            sink.error(
+                f"'{simple}' is not imported here, and several packages declare it: " + ", ".join(d.qname for d in anywhere),
+                name.span,
+            )
+        return None
+
+    def _toolkit(self, simple: str, kinds: tuple[type, ...]) -> list[Decl]:
+        """The toolkit functions of this name (named in the message when one is not imported)."""
+        return [d for pkg in library() for d in self.packages[pkg].decls.get(simple, []) if d.is_a(kinds)]
 
     def _visible(self, simple: str, file: ast.File) -> Iterable[list[Decl]]:
         pkg_name = file.package.text if file.package else None
@@ -313,6 +342,16 @@ def _closest_package(decls: list[Decl], file: ast.File) -> Decl | None:
     return None
 
 
+def _one_name(decls: list[Decl]) -> bool:
+    """Are these one name declared more than once in the files without a package? (a warning at
+    the declarations; lookups use the first, as RoboTool links one of them)"""
+    return all(d.package is None and d.node is not None for d in decls)
+
+
+def _is_function(d: Decl) -> bool:
+    return d.builtin is not None or isinstance(d.node, ast.FunctionDef)
+
+
 def _article(what: str) -> str:
     return f"an {what}" if what[:1] in "aeiou" else f"a {what}"
 
@@ -334,8 +373,8 @@ def collect_model_paths(paths: Sequence[str | os.PathLike], problems: Diagnostic
         path = Path(p)
         if path.is_dir():
             inside = sorted(str(q) for q in path.rglob("*") if q.suffix.lower() in EXTENSIONS and q.is_file())
-            if not inside:
-                problems.error(f"no model files (.rct, .rst, .rsim) in directory {path}", None)
+            if not inside:  # RoboTool loads an empty project without complaint
+                problems.warning(f"no model files (.rct, .rst, .rsim) in directory {path}", None)
             found += inside
         elif path.is_file():
             if language_of(path) is None:

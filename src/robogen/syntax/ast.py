@@ -306,9 +306,13 @@ class MatrixOp(Expr):
 
 @dataclass(frozen=True, slots=True)
 class Dollar(Expr):
-    """RoboSim ``$e`` (input event occurred) or ``$x`` (platform/shared variable value)."""
+    """RoboSim ``$e`` (input event occurred) or ``$x`` (platform/shared variable value).
+
+    ``name`` is the simple name; ``qualifier`` the parts written before it (``$I::x``), which
+    name the interface or machine that declares it. The other ``$`` forms do the same."""
 
     name: str
+    qualifier: tuple[str, ...] = ()
     name_span: Span | None = _span()
 
 
@@ -319,16 +323,19 @@ class DollarInput(Expr):
     event: str
     var: str
     predicate: Expr | None
+    qualifier: tuple[str, ...] = ()
+    var_qualifier: tuple[str, ...] = ()
     event_span: Span | None = _span()
     var_span: Span | None = _span()
 
 
 @dataclass(frozen=True, slots=True)
 class DollarValue(Expr):
-    """RoboSim ``$e.v``: ``e`` occurred with value ``v``."""
+    """RoboSim ``$e.v``: ``e`` occurred with value ``v``; for a variable ``$r.f``, field ``f`` of ``r``."""
 
     event: str
     value: Expr
+    qualifier: tuple[str, ...] = ()
     event_span: Span | None = _span()
 
 
@@ -386,7 +393,7 @@ class CallStmt(Stmt):
 
 @dataclass(frozen=True, slots=True)
 class Filter(Node):
-    """``[| x = e | p |]``, ``[| x = e |]`` or ``[| p |]`` on a communication."""
+    """``[| x = e | p |]``, ``[| x = e |]``, ``[| p |]`` or ``[||]`` on a communication."""
 
     bind: str | None
     bind_value: Expr | None
@@ -395,13 +402,15 @@ class Filter(Node):
 
 @dataclass(frozen=True, slots=True)
 class Communication(Node):
-    """``e``, ``e?x``, ``e!v`` or ``e.v`` (kind "", "?", "!", "."), as trigger or statement."""
+    """``e``, ``e?x``, ``e!v`` or ``e.v`` (kind "", "?", "!", "."), as trigger or statement.
+    ``var_qualifier`` holds the parts written before the variable of ``e?P::x``."""
 
     event: str
     kind: str = ""
     var: str | None = None
     value: Expr | None = None
     filter: Filter | None = None
+    var_qualifier: tuple[str, ...] = ()
     event_span: Span | None = _span()
     var_span: Span | None = _span()
 
@@ -425,6 +434,7 @@ class DollarOutput(Stmt):
     event: str
     kind: str  # "", "!" or "."
     value: Expr | None
+    qualifier: tuple[str, ...] = ()
     event_span: Span | None = _span()
 
 
@@ -434,6 +444,7 @@ class DollarCall(Stmt):
 
     op: str
     args: tuple[Expr, ...]
+    qualifier: tuple[str, ...] = ()
     op_span: Span | None = _span()
 
 
@@ -443,6 +454,7 @@ class DollarAssign(Stmt):
 
     var: str
     value: Expr
+    qualifier: tuple[str, ...] = ()
     var_span: Span | None = _span()
 
 

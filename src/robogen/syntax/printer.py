@@ -89,8 +89,9 @@ def _expr(e: ast.Expr) -> str:
         return f"{_wrap(e.left, lv)} {e.op} {_wrap(e.right, lv + 1)}"
     if isinstance(e, ast.Field):
         return f"{_wrap(e.obj, _ATOM)}.{_id(e.field)}"
-    if isinstance(e, ast.Index):
-        return f"{_wrap(e.obj, _ATOM)}[{', '.join(_expr(i) for i in e.indices)}]"
+    if isinstance(e, ast.Index):  # `$v[i]` needs no parentheses
+        obj = _expr(e.obj) if isinstance(e.obj, ast.Dollar) else _wrap(e.obj, _ATOM)
+        return f"{obj}[{', '.join(_expr(i) for i in e.indices)}]"
     if isinstance(e, ast.Call):
         return f"{_wrap(e.func, _ATOM)}({', '.join(_expr(a) for a in e.args)})"
     if isinstance(e, ast.IfExpr):
@@ -132,13 +133,26 @@ def _expr(e: ast.Expr) -> str:
     if isinstance(e, ast.MatrixOp):
         return f"{e.op}({_expr(e.operand)})"
     if isinstance(e, ast.Dollar):
-        return f"${_id(e.name)}"
+        return f"${_path(e.qualifier, e.name)}"
     if isinstance(e, ast.DollarInput):
-        pred = f" : {_wrap(e.predicate, _ATOM)}" if e.predicate is not None else ""
-        return f"${_id(e.event)}?{_id(e.var)}{pred}"
+        pred = f" : {_value(e.predicate)}" if e.predicate is not None else ""
+        return f"${_path(e.qualifier, e.event)}?{_path(e.var_qualifier, e.var)}{pred}"
     if isinstance(e, ast.DollarValue):
-        return f"${_id(e.event)}.{_wrap(e.value, _ATOM)}"
+        return f"${_path(e.qualifier, e.event)}.{_value(e.value)}"
     raise TypeError(f"cannot print {type(e).__name__}")  # pragma: no cover
+
+
+def _path(qualifier: tuple[str, ...], name: str) -> str:
+    """A name with the qualifier written before it (``I::x``)."""
+    return "::".join(_id(p) for p in qualifier + (name,))
+
+
+def _value(e: ast.Expr) -> str:
+    """The value of a communication, ``$e.v`` or ``$e?x : p``: an atom, a call, or (RoboSim) a
+    ``$`` form; anything else in parentheses."""
+    if isinstance(e, (ast.Dollar, ast.DollarInput, ast.DollarValue)):
+        return _expr(e)
+    return _wrap(e, _ATOM)
 
 
 def type_expr(t: ast.TypeExpr) -> str:
@@ -174,12 +188,14 @@ def communication(c: ast.Communication) -> str:
         f = c.filter
         if f.bind is not None:
             filt = f"[| {_id(f.bind)} = {_expr(f.bind_value)}" + (f" | {_expr(f.predicate)}" if f.predicate is not None else "") + " |]"  # type: ignore[arg-type]
+        elif f.predicate is not None:
+            filt = f"[| {_expr(f.predicate)} |]"
         else:
-            filt = f"[| {_expr(f.predicate)} |]"  # type: ignore[arg-type]
+            filt = "[||]"
     if c.kind == "?":
-        return f"{_id(c.event)}{filt}?{_id(c.var or '')}"
+        return f"{_id(c.event)}{filt}?{_path(c.var_qualifier, c.var or '')}"
     if c.kind in ("!", "."):
-        return f"{_id(c.event)}{filt}{c.kind}{_wrap(c.value, _ATOM)}"  # type: ignore[arg-type]
+        return f"{_id(c.event)}{filt}{c.kind}{_value(c.value)}"  # type: ignore[arg-type]
     return _id(c.event) + filt
 
 
@@ -210,12 +226,12 @@ def stmt(s: ast.Stmt) -> str:
         return f"{inner} <{{ {_expr(s.bound)} }}"
     if isinstance(s, ast.DollarOutput):
         if s.kind == "":
-            return f"${_id(s.event)}"
-        return f"${_id(s.event)}{s.kind}{_wrap(s.value, _ATOM)}"  # type: ignore[arg-type]
+            return f"${_path(s.qualifier, s.event)}"
+        return f"${_path(s.qualifier, s.event)}{s.kind}{_value(s.value)}"  # type: ignore[arg-type]
     if isinstance(s, ast.DollarCall):
-        return f"${_id(s.op)}({', '.join(_expr(a) for a in s.args)})"
+        return f"${_path(s.qualifier, s.op)}({', '.join(_expr(a) for a in s.args)})"
     if isinstance(s, ast.DollarAssign):
-        return f"${_id(s.var)} = {_expr(s.value)}"
+        return f"${_path(s.qualifier, s.var)} = {_expr(s.value)}"
     raise TypeError(f"cannot print {type(s).__name__}")  # pragma: no cover
 
 

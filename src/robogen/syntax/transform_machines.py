@@ -94,17 +94,25 @@ class Machines:
                 filt = x
             else:
                 suffix = x
-        kind, var, value, var_span = "", None, None, None
+        kind, var, value, var_span, qualifier = "", None, None, None, ()
         if suffix is not None:
             kind, payload = suffix
             if kind == "?":
-                var, var_span = self._name(payload), self._tspan(payload)
+                var, qualifier, var_span = payload.last, payload.parts[:-1], payload.span
             else:
                 value = payload
+        if filt is not None and filt.span is None:  # [||] has no child to take a position from
+            filt = self._empty_filter(event)
         parts = [event] + ([filt] if filt else []) + ([suffix[1]] if suffix else [])
         return ast.Communication(
-            self._name(event), kind, var, value, filt, span=self._span(parts), event_span=self._tspan(event), var_span=var_span
+            self._name(event), kind, var, value, filt, qualifier, span=self._span(parts), event_span=self._tspan(event), var_span=var_span
         )
+
+    def _empty_filter(self, event) -> ast.Filter:
+        """The filter ``[||]`` after ``event``, with the span of its two tokens."""
+        start = self.text.index("[|", event.end_pos)
+        end = self.text.index("|]", start + 2) + 2
+        return ast.Filter(None, None, None, span=self._make(start, end))
 
     def comm_input(self, c):
         return ("?", c[0])
@@ -117,6 +125,9 @@ class Machines:
 
     def filter_bind(self, c):
         return ast.Filter(self._name(c[0]), c[1], c[2] if len(c) > 2 else None, span=self._span(c, left=("[|",), right=("|]",)))
+
+    def filter_empty(self, c):
+        return ast.Filter(None, None, None)
 
     def filter_pred(self, c):
         return ast.Filter(None, None, c[0], span=self._span(c, left=("[|",), right=("|]",)))
