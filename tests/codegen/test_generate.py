@@ -153,6 +153,26 @@ def test_every_block_names_its_model_element_and_line(built, name):
     assert f"/* ======== state machine {b.fmu.machines[0].qname} (" in model_c
 
 
+HOOKS = {"RG_HAS_EXIT_INITIALIZATION": "rg_model_exit_initialization", "RG_HAS_LATCH": "rg_model_latch",
+         "RG_HAS_EVALUATE": "rg_model_evaluate", "RG_HAS_UPDATE": "rg_model_update", "RG_HAS_DO_STEP": "rg_model_do_step"}
+
+
+@pytest.mark.parametrize("name", sorted(TEST_MODELS))
+def test_config_lists_exactly_the_hooks_model_c_implements(built, name):
+    """Capability macros, as in the Reference FMUs: the runtime's defaults stand in for the hooks
+    a model would only stub, so model.c defines a hook exactly when config.h lists it."""
+    b = built(name, "exhaustive")
+    model_c, config_h = b.sources["sources/model.c"], b.sources["sources/config.h"]
+    for macro, hook in HOOKS.items():
+        listed = re.search(rf"^#define {macro}\b", config_h, re.M) is not None
+        defined = re.search(rf"^static \w+ {hook}\(", model_c, re.M) is not None
+        assert listed == defined, (macro, listed, defined)
+    assert "RG_HAS_DO_STEP" not in config_h  # the machines react only in Event Mode
+    assert "RG_HAS_EVALUATE" in config_h
+    if any(v.init is not None for m in b.fmu.machines for v in m.vars if v.kind == "var"):
+        assert "#define RG_HAS_EXIT_INITIALIZATION" in config_h
+
+
 def test_line_comments_can_be_switched_off(tmp_path):
     model = TEST_MODELS["ur5e"].path
     with_lines = compile_model([str(model)], tmp_path / "a").generated.files["sources/model.c"]

@@ -43,9 +43,9 @@ def test_runtime_dir_holds_the_runtime():
 def test_runtime_sources_are_the_runtime_files():
     names = [path.name for path in binary.runtime_sources()]
     assert names == sorted(names)
-    assert {"robogen_runtime.h", "robogen_runtime.c"} <= set(names)
+    assert {"robogen_runtime.h", "robogen_machine.h", "robogen_runtime.c"} <= set(names)
     included = re.findall(r'#include "(robogen_runtime_\w+\.c)"', (binary.runtime_dir() / "robogen_runtime.c").read_text())
-    assert set(included) == set(names) - {"robogen_runtime.h", "robogen_runtime.c"}
+    assert set(included) == set(names) - {"robogen_runtime.h", "robogen_machine.h", "robogen_runtime.c"}
 
 
 BUILD_DESCRIPTION = """<?xml version="1.0" encoding="UTF-8"?>

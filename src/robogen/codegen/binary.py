@@ -1,9 +1,9 @@
 """Compile an FMU binary from its C sources (the generated files and the robogen runtime).
 
 An FMU's C sources are one unity translation unit ``<modelIdentifier>.c`` that includes the
-generated ``config.h`` and ``model.c`` and the hand-written runtime (``robogen_runtime.h`` and
-``robogen_runtime.c``, which includes its ``robogen_runtime_*.c`` parts; see :func:`runtime_dir`
-and :func:`runtime_sources`). :func:`compile_fmu_binary` compiles it, through
+generated ``config.h`` and ``model.c`` and the hand-written runtime (``robogen_runtime.h``,
+``robogen_machine.h``, which model.c includes, and ``robogen_runtime.c``, which includes its
+``robogen_runtime_*.c`` parts; see :func:`runtime_dir` and :func:`runtime_sources`). :func:`compile_fmu_binary` compiles it, through
 :mod:`robogen.toolchain`, into the shared object that goes to
 ``binaries/x86_64-linux/<modelIdentifier>.so``::
 
@@ -26,9 +26,9 @@ from robogen.fmu.headers import include_dir
 
 
 def runtime_dir() -> Path:
-    """The folder holding ``robogen_runtime.h`` and ``robogen_runtime.c``."""
+    """The folder holding ``robogen_runtime.h``, ``robogen_machine.h`` and ``robogen_runtime.c``."""
     folder = Path(__file__).resolve().parent.parent / "runtime"
-    for name in ("robogen_runtime.h", "robogen_runtime.c"):
+    for name in ("robogen_runtime.h", "robogen_machine.h", "robogen_runtime.c"):
         if not (folder / name).is_file():
             raise RobogenError.at(f"the robogen runtime is incomplete: {folder / name} is missing", None)
     return folder
@@ -37,12 +37,12 @@ def runtime_dir() -> Path:
 def runtime_sources() -> list[Path]:
     """Every runtime file an FMU's ``sources/`` folder must carry next to the generated files.
 
-    ``robogen_runtime.c`` includes its parts (``robogen_runtime_*.c``) by relative path, so a
-    packager copies all of these, and ``fmpy compile`` (or any importer) then needs no include
-    path beyond ``sources/`` and the FMI headers.
+    ``model.c`` includes ``robogen_machine.h`` and ``robogen_runtime.c`` includes its parts
+    (``robogen_runtime_*.c``) by relative path, so a packager copies all of these, and ``fmpy
+    compile`` (or any importer) then needs no include path beyond ``sources/`` and the FMI headers.
     """
     folder = runtime_dir()
-    return sorted(p for p in folder.iterdir() if p.name.startswith("robogen_runtime") and p.suffix in (".c", ".h"))
+    return sorted(p for p in folder.iterdir() if p.name.startswith("robogen_") and p.suffix in (".c", ".h"))
 
 
 def include_dirs(source_dir: Path) -> list[Path]:

@@ -1,16 +1,21 @@
 """IR expressions, statements and terminators as C99 text.
 
 The C follows the reference interpreter (:mod:`robogen.ir.interp`) operation for operation:
-integer arithmetic wraps (through the ``rg_i_*``/``rg_u_*`` helpers of ``model.c``, so no
-signed overflow is undefined behaviour), division truncates toward zero, a division by zero or a
-vector index out of range sets the model's fault code, which the machine's run function turns
-into ``fmi3Error`` after the statement. ``&&`` and ``||`` keep the left-to-right evaluation the
-interpreter uses, so the side effects of ``$e?x`` bindings happen in the same order.
+integer arithmetic wraps (through the ``rg_i_*``/``rg_u_*`` helpers of the runtime's
+``robogen_machine.h``, so no signed overflow is undefined behaviour), division truncates toward
+zero, a division by zero or a vector index out of range sets the model's fault code, which the
+machine's run function turns into ``fmi3Error`` after the statement. ``&&`` and ``||`` keep the
+left-to-right evaluation the interpreter uses, so the side effects of ``$e?x`` bindings happen in
+the same order.
+
+This module is also the one place that makes C names from model names (:func:`mangle`,
+:class:`CNames`): the IR keeps the model's names.
 """
 
 from __future__ import annotations
 
 import re
+from dataclasses import dataclass
 
 from robogen.ir import model as ir
 from robogen.semantics import types as T
@@ -49,20 +54,73 @@ def mangle(name: str) -> str:
     return re.sub(r"[^A-Za-z0-9_]", "_", name.replace("::", "_"))
 
 
+class Identifiers:
+    """Unique C identifiers made from model names: each name mangled, and numbered (``_2``,
+    ``_3``, ...) where it would clash with one made before."""
+
+    def __init__(self) -> None:
+        self._taken: set[str] = set()
+
+    def make(self, name: str) -> str:
+        base = ident = mangle(name)
+        n = 2
+        while ident in self._taken:
+            ident, n = f"{base}_{n}", n + 1
+        self._taken.add(ident)
+        return ident
+
+
 def var_identifiers(fmu: ir.Fmu) -> dict[ir.Var, str]:
     """The C member name of every machine variable (the struct member is ``v_<name>``): its
     model name mangled, with a number appended where two names of one machine would clash."""
     names: dict[ir.Var, str] = {}
     for m in fmu.machines:
-        taken: set[str] = set()
+        members = Identifiers()
         for v in m.vars:
-            base = name = mangle(v.name)
-            n = 2
-            while name in taken:
-                name, n = f"{base}_{n}", n + 1
-            taken.add(name)
-            names[v] = name
+            names[v] = members.make(v.name)
     return names
+
+
+@dataclass(frozen=True)
+class MachineNames:
+    """The C names of one state machine's nodes and events, StateSmith-like: an enum per kind
+    whose constants carry the machine's name (``Arm_Node_Idle``, ``Arm_Event_collision``)."""
+
+    node_type: str  # the enum of its nodes (the values of its FMI state output)
+    node_name: str  # the function that names a node, for log messages
+    nodes: dict[int, str]  # node id -> enum constant
+    event_type: str  # the enum of its input events (indices into reg_present / smp_present)
+    events: tuple[str, ...]  # event index -> enum constant
+    event_values: tuple[str, ...]  # event index -> x of its value members reg_e_x / smp_e_x
+    event_table: str  # its rg_event_slot table
+
+
+@dataclass(frozen=True)
+class CNames:
+    """Every C name the generated sources make from model names, unique in the FMU's unity file."""
+
+    vars: dict[ir.Var, str]  # machine variable -> struct member v_<name>
+    machines: tuple[MachineNames, ...]  # by machine index
+    clocks: dict[str, str]  # FMI clock name -> enum constant of its index in rg_clocks
+
+    @classmethod
+    def of(cls, fmu: ir.Fmu) -> "CNames":
+        """The names of ``fmu``, made in a fixed order (the clocks, then each machine), so that a
+        clash is numbered the same way every time."""
+        made = Identifiers()
+        clocks = {c: made.make(f"CLOCK_{c}") for c in [fmu.clock_name, *(p.name for p in fmu.inputs + fmu.outputs)]}
+        machines = []
+        for m in fmu.machines:
+            members = Identifiers()  # value members share the machine struct with fixed names of other prefixes
+            machines.append(MachineNames(
+                node_type=made.make(f"{m.name}_Node"),
+                node_name=made.make(f"{m.name}_node_name"),
+                nodes={n.id: made.make(f"{m.name}_Node_{n.label}") for n in m.nodes},
+                event_type=made.make(f"{m.name}_Event"),
+                events=tuple(made.make(f"{m.name}_Event_{e.name}") for e in m.events),
+                event_values=tuple(members.make(e.name) for e in m.events),
+                event_table=f"rg_events_{m.index}"))
+        return cls(var_identifiers(fmu), tuple(machines), clocks)
 
 
 def user_function_prototype(u: ir.UserFunction) -> str:
@@ -105,28 +163,44 @@ def literal(value: object, t: T.Type) -> str:
     return f"INT64_C({v})"
 
 
-def zero(t: T.Type) -> str:
-    if t == T.BOOLEAN:
-        return "false"
-    if t == T.REAL:
-        return "0.0"
-    if isinstance(t, (T.RecordT, T.VectorT, T.MatrixT)):
-        return f"rg_zero_{ctype(t)}"
-    return "0"
+def truth(e: ir.Expr) -> bool | None:
+    """The value of a boolean literal (None for any other expression): the emitter folds tests of
+    constants away instead of writing ``if (true)``."""
+    return e.value if isinstance(e, ir.Lit) and isinstance(e.value, bool) else None  # type: ignore[return-value]
+
+
+def bare(text: str) -> str:
+    """A C expression without the parentheses around the whole of it (``(!a)`` -> ``!a``), for
+    the test of an ``if``, which brings its own."""
+    while text.startswith("(") and text.endswith(")"):
+        depth = 0
+        for i, ch in enumerate(text):
+            depth += {"(": 1, ")": -1}.get(ch, 0)
+            if depth == 0 and i < len(text) - 1:
+                return text  # the first parenthesis closes before the end: (a) && (b)
+        text = text[1:-1]
+    return text
 
 
 class Emitter:
-    """Translates the IR of machine ``m`` (index ``i``) into C text. Machine memory is ``m->``,
-    model data ``d->``, the instance ``inst``."""
+    """Translates the IR of machine ``machine`` into C text, inside its run function
+    ``rg_run_<index>``: machine memory is ``m->``, model data ``d->``, the instance ``inst``."""
 
-    def __init__(self, fmu: ir.Fmu, machine: ir.Machine, port_fields, clock_index, names: dict[ir.Var, str]):
+    def __init__(self, fmu: ir.Fmu, machine: ir.Machine, port_fields, names: CNames, line_comments: bool = True):
         self.fmu = fmu
         self.m = machine
-        self.names = names  # variable -> C member name (var_identifiers)
-        self.port_fields = port_fields  # port index -> [(c field name, Field_)]
-        self.clock_index = clock_index  # port name -> rg_clocks index
+        self.names = names
+        self.own = names.machines[machine.index]
+        self.port_fields = port_fields  # output port index -> [(c field name, Field_)]
+        self.line_comments = line_comments
         self.fallible = False  # the last expression may set the fault code
         self.equalities: set[str] = set()  # C types whose equality function is needed
+        self.delivers_to: set[int] = set()  # machines this one sends events to (their event tables)
+
+    @property
+    def fault_return(self) -> str:
+        """The statement that ends the run when the last expression set the fault code."""
+        return f"if (d->fault) return rg_fault_{self.m.index}(inst);"
 
     # ---------------------------------------------------------------- expressions
 
@@ -138,7 +212,7 @@ class Emitter:
         return literal(e.value, e.type)
 
     def _Ref(self, e: ir.Ref) -> str:
-        name = self.names[e.var]
+        name = self.names.vars[e.var]
         if e.var.owner >= 0 and e.var.owner != self.m.index:
             return f"d->m{e.var.owner}.v_{name}"  # shared, held by another machine
         return f"m->v_{name}"
@@ -208,14 +282,20 @@ class Emitter:
     def _Cond(self, e: ir.Cond) -> str:
         return f"({self.expr(e.cond)} ? {self.expr(e.then)} : {self.expr(e.otherwise)})"
 
+    def _present(self, event: int) -> str:
+        return f"m->smp_present[{self.own.events[event]}]"
+
     def _Occurred(self, e: ir.Occurred) -> str:
-        return f"m->smp_present[{e.event}]"
+        return self._present(e.event)
+
+    def _value(self, event: int) -> str:
+        return f"m->smp_e_{self.own.event_values[event]}"
 
     def _Payload(self, e: ir.Payload) -> str:
-        return f"m->smp_e{e.event}"
+        return self._value(e.event)
 
     def _BindIn(self, e: ir.BindIn) -> str:
-        return f"(m->smp_present[{e.event}] ? ({self.expr(e.target)} = m->smp_e{e.event}, true) : false)"
+        return f"({self._present(e.event)} ? ({self.expr(e.target)} = {self._value(e.event)}, true) : false)"
 
     def _since(self, elapsed: str, t: T.Type) -> str:
         p = self.fmu.period
@@ -227,7 +307,7 @@ class Emitter:
         return self._since(f"m->ticks - m->clock_reset[{e.clock}]", e.type)
 
     def _SinceEntry(self, e: ir.SinceEntry) -> str:
-        return self._since(f"m->ticks - m->entered[{e.node}]", e.type)
+        return self._since(f"m->ticks - m->entered[{self.own.nodes[e.node]}]", e.type)
 
     def _WaitLeft(self, e: ir.WaitLeft) -> str:
         return "m->wait_left"
@@ -264,7 +344,7 @@ class Emitter:
         self.fallible = False
         lines = self._stmt(s, indent)
         if self.fallible:
-            lines.append(f"{indent}if (d->fault) return rg_fault_{self.m.index}(inst, m->pc);")
+            lines.append(f"{indent}{self.fault_return}")
         return lines
 
     def _stmt(self, s: ir.Stmt, indent: str) -> list[str]:
@@ -273,93 +353,108 @@ class Emitter:
         if isinstance(s, ir.Emit):
             return self._emit(s, indent)
         if isinstance(s, ir.If):
-            fallible = False
-            cond = self.expr(s.cond)
-            fallible |= self.fallible
-            then = self.stmts(s.then, indent + "    ")
-            lines = []
-            if fallible:
-                lines.append(f"{indent}{{")
-                lines.append(f"{indent}    bool c_ = {cond};")
-                lines.append(f"{indent}    if (d->fault) return rg_fault_{self.m.index}(inst, m->pc);")
-                lines.append(f"{indent}    if (c_) {{")
-                lines += ["    " + x for x in then]
-                if s.otherwise:
-                    lines.append(f"{indent}    }} else {{")
-                    lines += ["    " + x for x in self.stmts(s.otherwise, indent + "    ")]
-                lines.append(f"{indent}    }}")
-                lines.append(f"{indent}}}")
-            else:
-                lines.append(f"{indent}if ({cond}) {{")
-                lines += then
-                if s.otherwise:
-                    lines.append(f"{indent}}} else {{")
-                    lines += self.stmts(s.otherwise, indent + "    ")
-                lines.append(f"{indent}}}")
-            self.fallible = False
-            return lines
+            return self._if(s, indent)
         if isinstance(s, ir.ResetClock):
             return [f"{indent}m->clock_reset[{s.clock}] = m->ticks;"]
         if isinstance(s, ir.Enter):
-            if s.resume:
-                return [f"{indent}m->node = {s.node};"]
-            return [f"{indent}m->node = {s.node}; m->entered[{s.node}] = m->ticks;"]
+            node = self.own.nodes[s.node]
+            return [f"{indent}m->node = {node};" if s.resume else f"{indent}RG_ENTER({node});"]
         if isinstance(s, ir.DeadlineMiss):
             return [f"{indent}rg_deadline_miss(inst, {c_string(self.m.name + ': ' + s.text.render(self.fmu.place))});"]
         if isinstance(s, ir.Consume):
-            return [f"{indent}m->smp_present[{s.event}] = false;"]
+            return [f"{indent}{self._present(s.event)} = false;"]
         if isinstance(s, ir.StartWait):
             return [f"{indent}{{ int64_t w_ = {self.expr(s.duration)}; m->wait_left = w_ > 0 ? w_ : 0; }}"]
         if isinstance(s, ir.Trace):
             return [f"{indent}RG_TRACE(inst, {c_string(self.m.name + ': ' + s.text)});"]
         raise TypeError(f"no C for {type(s).__name__}")  # pragma: no cover
 
+    def _if(self, s: ir.If, indent: str) -> list[str]:
+        """An if statement; one whose condition is a constant is its taken branch alone."""
+        known = truth(s.cond)
+        if known is not None:
+            return self.stmts(s.then if known else s.otherwise, indent)
+        cond = self.expr(s.cond)
+        fallible = self.fallible
+        inner = indent + "    " if fallible else indent
+        lines = []
+        if fallible:  # the condition may fault: test the fault code before either branch runs
+            lines += [f"{indent}{{", f"{inner}bool c_ = {bare(cond)};", f"{inner}{self.fault_return}"]
+            cond = "c_"
+        lines.append(f"{inner}if ({bare(cond)}) {{")
+        lines += self.stmts(s.then, inner + "    ")
+        if s.otherwise:
+            lines.append(f"{inner}}} else {{")
+            lines += self.stmts(s.otherwise, inner + "    ")
+        lines.append(f"{inner}}}")
+        if fallible:
+            lines.append(f"{indent}}}")
+        self.fallible = False
+        return lines
+
     def _emit(self, s: ir.Emit, indent: str) -> list[str]:
+        """An output event or operation call: each argument evaluated once, left to right, then
+        handed to every route (a port's clocked outputs and clock, or another machine's register).
+        An argument read once by the one port it goes to is assigned straight to its output."""
+        values = [self.expr(a) for a in s.args]
+        if not self.fallible and len(s.routes) == 1 and s.routes[0][0] == "port":
+            port = s.routes[0][1]
+            if [k for k, _ in self._port_reads(port)] == list(range(len(values))):
+                return self._to_port(port, values, indent)
         lines = [f"{indent}{{"]
         inner = indent + "    "
-        for k, a in enumerate(s.args):
-            lines.append(f"{inner}{ctype(a.type)} a{k}_ = {self.expr(a)};")
+        lines += [f"{inner}{ctype(a.type)} a{k}_ = {v};" for k, (a, v) in enumerate(zip(s.args, values))]
         if self.fallible:
-            lines.append(f"{inner}if (d->fault) return rg_fault_{self.m.index}(inst, m->pc);")
+            lines.append(f"{inner}{self.fault_return}")
             self.fallible = False
+        temporaries = [f"a{k}_" for k in range(len(values))]
         for route in s.routes:
             if route[0] == "port":
-                port = self.fmu.outputs[route[1]]
-                for cname, f in self.port_fields[route[1]]:
-                    if port.kind == "operation":
-                        k = [n for n, _ in port.params].index(f.path[0])
-                        access = "".join("." + p for p in f.path[1:])
-                    else:
-                        k = 0
-                        access = "".join("." + p for p in f.path)
-                    lines.append(f"{inner}d->{cname} = a{k}_{access};")
-                lines.append(f"{inner}rg_activate_output_clock(inst, {self.clock_index[port.name]}); /* {c_comment(port.name)} */")
+                lines += self._to_port(route[1], temporaries, inner)
             else:
                 _, mi, ei = route
-                value = "a0_" if s.args else None
-                lines.append(f"{inner}rg_deliver_{mi}_{ei}(d{', ' + value if value else ''});")
+                self.delivers_to.add(mi)
+                target = self.names.machines[mi]
+                event = self.fmu.machines[mi].events[ei]
+                assert [ctype(a.type) for a in s.args] == ([ctype(event.type)] if event.type is not None else []), \
+                    f"{s.name} sends a value of another type than event {event.name} carries"  # rg_deliver copies bytes
+                value = "&a0_" if s.args else "NULL"
+                lines.append(f"{inner}rg_deliver(d, &{target.event_table}[{target.events[ei]}], {value});")
         if not s.routes:
             lines.append(f"{inner}/* {c_comment(s.name)} is connected to nothing: evaluated, sent nowhere */")
-            lines += [f"{inner}(void)a{k}_;" for k in range(len(s.args))]
+            lines += [f"{inner}(void){t};" for t in temporaries]
         lines.append(f"{indent}}}")
         return lines
 
+    def _port_reads(self, index: int) -> list[tuple[int, str]]:
+        """(argument index, access inside it) of each clocked output of output port ``index``."""
+        port = self.fmu.outputs[index]
+        reads = []
+        for _, f in self.port_fields[index]:
+            if port.kind == "operation":
+                reads.append(([n for n, _ in port.params].index(f.path[0]), "".join("." + p for p in f.path[1:])))
+            else:
+                reads.append((0, "".join("." + p for p in f.path)))
+        return reads
+
+    def _to_port(self, index: int, values: list[str], indent: str) -> list[str]:
+        """Write ``values`` (C expressions of the arguments) to output port ``index`` and activate its clock."""
+        lines = [f"{indent}d->{cname} = {values[k]}{access};"
+                 for (cname, _), (k, access) in zip(self.port_fields[index], self._port_reads(index))]
+        clock = self.names.clocks[self.fmu.outputs[index].name]
+        return lines + [f"{indent}rg_activate_output_clock(inst, {clock});"]
+
     def step(self, indent: str) -> list[str]:
         """The start of a transition segment (a block marked step)."""
-        return [
-            f"{indent}if (micro && taken) return RG_RUN_MICRO;  /* stepwise: one transition per instant */",
-            f"{indent}taken = true;",
-            f"{indent}if (++m->transitions > RG_MAX_TRANSITIONS) return rg_runaway_{self.m.index}(inst);",
-        ]
+        return [f"{indent}RG_BEGIN_TRANSITION(rg_runaway_{self.m.index}(inst));"]
 
     # ---------------------------------------------------------------- terminators
 
-    def _place_suffix(self, span) -> str:
-        """' file:line' of a model element for a comment ('' when unknown)."""
-        return f" {self.fmu.place(span)}" if span is not None else ""
+    def _where(self, span) -> str:
+        """'  file:line' of a model element for a comment ('' when unknown or switched off)."""
+        return f"  {self.fmu.place(span)}" if (self.line_comments and span is not None) else ""
 
     def terminator(self, t: ir.Terminator, indent: str) -> list[str]:
-        i = self.m.index
         if isinstance(t, ir.Goto):
             return [f"{indent}m->pc = {t.target}; continue;"]
         if isinstance(t, ir.Suspend):
@@ -367,23 +462,33 @@ class Emitter:
         if isinstance(t, ir.Fail):
             return [f"{indent}return rg_machine_fail(inst, {c_string(self.m.name + ': ' + t.message.render(self.fmu.place))});"]
         if isinstance(t, ir.Branch):
-            lines = []
-            for case in t.cases:
-                self.fallible = False
-                guard = self.expr(case.guard)
-                where = f"  /* {c_comment(case.label)}{self._place_suffix(case.span)} */"
-                if self.fallible:
-                    lines.append(f"{indent}{{")
-                    lines.append(f"{indent}    bool g_ = {guard};{where}")
-                    lines.append(f"{indent}    if (d->fault) return rg_fault_{i}(inst, m->pc);")
-                    lines.append(f"{indent}    if (g_) {{ m->pc = {case.target}; continue; }}")
-                    lines.append(f"{indent}}}")
-                else:
-                    lines.append(f"{indent}if ({guard}) {{ m->pc = {case.target}; continue; }}{where}")
-            self.fallible = False
-            return lines + self.terminator(t.default, indent)
+            return self._branch(t, indent)
         raise TypeError(f"no C for {type(t).__name__}")  # pragma: no cover
 
+    def _branch(self, t: ir.Branch, indent: str) -> list[str]:
+        """The cases in priority order, each under a comment quoting its guard as the model writes
+        it. A case whose guard is the constant true ends the list: what follows is unreachable."""
+        lines = []
+        for case in t.cases:
+            comment = f"{c_comment(case.label)}{' ' + c_comment(case.guard_text) if case.guard_text else ''}"
+            known = truth(case.guard)
+            if known is False:
+                lines.append(f"{indent}/* {comment}: never taken{self._where(case.span)} */")
+                continue
+            lines.append(f"{indent}/* {comment}{self._where(case.span)} */")
+            if known:
+                return lines + [f"{indent}m->pc = {case.target}; continue;"]
+            self.fallible = False
+            guard = self.expr(case.guard)
+            if self.fallible:  # the guard may fault: test the fault code before taking the case
+                inner = indent + "    "
+                lines += [f"{indent}{{", f"{inner}bool g_ = {bare(guard)};", f"{inner}{self.fault_return}",
+                          f"{inner}if (g_) {{ m->pc = {case.target}; continue; }}", f"{indent}}}"]
+            else:
+                lines.append(f"{indent}if ({bare(guard)}) {{ m->pc = {case.target}; continue; }}")
+        self.fallible = False
+        return lines + self.terminator(t.default, indent)
 
-__all__ = ["Emitter", "ctype", "literal", "zero", "mangle", "var_identifiers", "user_function_prototype", "c_string",
-           "c_comment", "tag"]
+
+__all__ = ["Emitter", "CNames", "MachineNames", "Identifiers", "ctype", "literal", "mangle", "var_identifiers",
+           "user_function_prototype", "c_string", "c_comment", "tag", "truth", "bare"]

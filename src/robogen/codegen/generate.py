@@ -15,7 +15,7 @@ from typing import Sequence
 import jinja2
 
 from robogen import __version__
-from robogen.codegen.c import Emitter, c_comment, c_string, ctype, literal, mangle, user_function_prototype, var_identifiers
+from robogen.codegen.c import CNames, Emitter, c_comment, c_string, ctype, literal, mangle, user_function_prototype
 from robogen.diagnostics import DiagnosticSink, Note, RobogenError, Span, error
 from robogen.ir import model as ir
 from robogen.ir.dump import dump
@@ -144,18 +144,20 @@ def generate(fmu: ir.Fmu, options: CodegenOptions | None = None, *, diagrams: Se
     options = options or CodegenOptions()
     line_comments = options.line_comments
     functions = _functions_file(fmu, options.functions)
-    layout = _Layout(fmu)
+    names = CNames.of(fmu)
+    layout = _Layout(fmu, names.vars)
     ir_text = dump(fmu)
     token = instantiation_token(ir_text)
     gen = Generated(fmu, fmu.model_identifier, token, variables=layout.variables)
     env = _env()
-    names = layout.names
-    machines = [_machine_code(fmu, m, layout, line_comments) for m in fmu.machines]
+    machines = _machines_code(fmu, layout, names, line_comments)
     needed = {t for mc in machines for t in mc["equalities"]}
     equalities, bodies = _equalities(layout.types, needed)
+    hooks = _hooks(fmu, machines)
     context = dict(
         user_functions=[(u, user_function_prototype(u)) for u in fmu.user_functions],
-        cname=names,
+        names=names,
+        cname=names.vars,
         typedefs=[_typedef(t) for t in layout.types],
         equality_bodies=bodies,
         param_starts={p.fmi_name: _param_starts(p) for p in fmu.params},
@@ -166,6 +168,10 @@ def generate(fmu: ir.Fmu, options: CodegenOptions | None = None, *, diagrams: Se
         layout=layout,
         machines=machines,
         equalities=equalities,
+        hooks=hooks,
+        hook_names={h for h, _ in hooks},
+        clock_constants=[(c, _clock_comment(fmu, c)) for c in layout.clocks],
+        stepwise=fmu.semantics == "stepwise",
         line_comments=line_comments,
         sources=", ".join(fmu.source_names),
         place=fmu.place,
@@ -269,7 +275,7 @@ def _param_starts(p: ir.Param) -> list[tuple[str, str]]:
 class _Layout:
     """FMI variables (value references in a stable order), their C storage, and the C types."""
 
-    def __init__(self, fmu: ir.Fmu):
+    def __init__(self, fmu: ir.Fmu, names: dict[ir.Var, str]):
         self.fmu = fmu
         self.variables: list[FmiVar] = []
         self.clocks: list[FmiVar] = []
@@ -279,8 +285,7 @@ class _Layout:
         self.data_fields: list[tuple[str, str, str]] = []  # (C type, member, comment)
         self.enums: list[EnumType] = []
         self.types: list[T.Type] = []  # struct types, dependencies first
-        self.node_enums: list[str] = []
-        self.names = var_identifiers(fmu)  # machine variable -> C member name
+        self.names = names  # machine variable -> C member name
         self._vr = 0
         self._build()
 
@@ -374,7 +379,6 @@ class _Layout:
         for m in fmu.machines:
             enum_name = f"{m.name}.Node"
             self.enums.append(EnumType(enum_name, [(n.label, n.id) for n in m.nodes]))
-            self.node_enums.append(enum_name)
             self.variables.append(FmiVar(
                 f"{m.name}.state", self._next_vr(), "Enumeration", "output", "discrete", f"m{m.index}.node",
                 initial="exact", start=str(m.initial_node), declared_type=enum_name,
@@ -469,8 +473,21 @@ def _flat(name: str, t: T.Type, access: str):
 # ---------------------------------------------------------------------------- machines
 
 
-def _machine_code(fmu: ir.Fmu, m: ir.Machine, layout: _Layout, line_comments: bool) -> dict:
-    em = Emitter(fmu, m, layout.port_fields_out, layout.clock_index, layout.names)
+def _machines_code(fmu: ir.Fmu, layout: _Layout, names: CNames, line_comments: bool) -> list[dict]:
+    """What the templates need of each machine: its run function's cases, initial values, block
+    labels, and whether it has an event table (RoboChart machines join their buffers through it;
+    any machine that events are delivered to is latched through it)."""
+    emitters = [Emitter(fmu, m, layout.port_fields_out, names, line_comments) for m in fmu.machines]
+    codes = [_machine_code(fmu, em, line_comments) for em in emitters]
+    delivered = {mi for p in fmu.inputs for mi, _ in p.routes} | {mi for em in emitters for mi in em.delivers_to}
+    for m, code in zip(fmu.machines, codes):
+        code["event_table"] = bool(m.events) and (fmu.robochart or m.index in delivered)
+    return codes
+
+
+def _machine_code(fmu: ir.Fmu, em: Emitter, line_comments: bool) -> dict:
+    m = em.m
+    assert m.nodes, f"machine {m.name} has no node"
     cases = []
     for b in m.blocks:
         where = f"  {fmu.place(b.span)}" if (line_comments and b.span is not None) else ""
@@ -486,10 +503,32 @@ def _machine_code(fmu: ir.Fmu, m: ir.Machine, layout: _Layout, line_comments: bo
         if v.kind == "var" and v.init is not None:
             em.fallible = False
             value = em.expr(v.init)
-            inits.append((f"m->v_{layout.names[v]}", value, em.fallible, v.name))
+            inits.append((f"m->v_{em.names.vars[v]}", value, em.fallible, v.name))
     labels = [c_string(f"b{b.id}: {b.label}" + (f" ({fmu.place(b.span)})" if b.span else "")) for b in m.blocks]
-    return dict(machine=m, cases=cases, inits=inits, labels=labels, equalities=em.equalities,
+    return dict(machine=m, names=em.own, cases=cases, inits=inits, labels=labels, equalities=em.equalities,
                 event_types=[(e.index, ctype(e.type) if e.type is not None else None) for e in m.events])
+
+
+def _hooks(fmu: ir.Fmu, machines: list[dict]) -> list[tuple[str, str]]:
+    """The capability macros of config.h: the hooks model.c implements, each with why. The
+    runtime's defaults stand in for the others (fmi3DoStep's, for one: the machines only react
+    in Event Mode)."""
+    hooks = []
+    if any(mc["inits"] for mc in machines):
+        hooks.append(("RG_HAS_EXIT_INITIALIZATION", "variables with initial values computed from the parameters"))
+    if any(p.routes for p in fmu.inputs):
+        hooks.append(("RG_HAS_LATCH", "input clocks carry events to the state machines"))
+    hooks.append(("RG_HAS_EVALUATE", "the state machines run in Event Mode"))
+    hooks.append(("RG_HAS_UPDATE", "a stepwise cycle, or an event waiting, needs another instant"))
+    return hooks
+
+
+def _clock_comment(fmu: ir.Fmu, clock: FmiVar) -> str:
+    """What a clock is, for the comment beside its index constant."""
+    port = next((p for p in fmu.inputs if p.name == clock.name), None)
+    if port is not None and not port.routes:
+        return f"{clock.description}: reaches no state machine"
+    return clock.description
 
 
 __all__ = ["generate", "CodegenOptions", "Generated", "FmiVar"]

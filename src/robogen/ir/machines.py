@@ -309,13 +309,24 @@ class MachineLowering(StatementLowering, ExpressionLowering):
     def _case(self, graph: Graph, t: ast.Transition, src: ast.Node, leaf: ast.Node) -> ir.Case:
         guard, event_index = self._guard(graph, t)
         label = f"{t.name}: {src.name} -> {t.target}"  # type: ignore[attr-defined]
+        text = self._guard_text(t)
         if t.exec:
             # decide now, act next cycle: the completion is the first segment of the next cycle
             decide = self.block(f"{t.name}: exec decided", t.span)
             decide.stmts.append(ir.Trace(t.span, f"{t.name}: exec"))
             decide.term = ir.Suspend(self._completion(graph, t, src, leaf, None))
-            return ir.Case(guard, decide.id, label + " (exec)", t.name_span)
-        return ir.Case(guard, self._completion(graph, t, src, leaf, event_index), label, t.name_span)
+            return ir.Case(guard, decide.id, label + " (exec)", t.name_span, text)
+        return ir.Case(guard, self._completion(graph, t, src, leaf, event_index), label, t.name_span, text)
+
+    def _guard_text(self, t: ast.Transition) -> str:
+        """The trigger and condition of ``t`` as model text, in the diagrams' ``trigger [condition]``
+        form ('' for a transition that has neither)."""
+        parts = [self.model.text(t.trigger)] if t.trigger is not None else []
+        if t.condition_else:
+            parts.append("[else]")
+        elif t.condition is not None:
+            parts.append(f"[{self.model.text(t.condition)}]")
+        return " ".join(parts)
 
     def _guard(self, graph: Graph, t: ast.Transition) -> tuple[ir.Expr, int | None]:
         """The guard of ``t`` (trigger and condition) and the event its trigger consumes."""

@@ -388,6 +388,10 @@ class Case:
     target: int
     label: str  # the transition, for traces and comments
     span: Span | None
+    # the guard as the model writes it (a transition's trigger and condition, an if's condition),
+    # quoted by the generated C above its test; '' when the model writes none. Not in the dump:
+    # it restates ``guard`` for readers and does not change the model's meaning.
+    guard_text: str = ""
 
 
 @dataclass(frozen=True)

@@ -89,7 +89,7 @@ class StatementLowering:
             else_b = self.block("else", s.otherwise.span)
             self.stmts(s.otherwise, else_b, graph).term = ir.Goto(join.id)
             default = ir.Goto(else_b.id)
-        cur.term = ir.Branch((ir.Case(cond, then_b.id, "if", s.span),), default)
+        cur.term = ir.Branch((ir.Case(cond, then_b.id, "if", s.span, self.model.text(s.cond)),), default)
         return join
 
     def _straight(self, s: ast.Stmt, graph: Graph) -> list[ir.Stmt]:

@@ -7,7 +7,7 @@
  * This file holds the design note and the machinery every function shares (allowed states,
  * logging, the instance registry, table lookups, lazy evaluation); at its end it includes the API
  * by concern: robogen_runtime_modes.c, _values.c, _clocks.c, _fmu_state.c and _unsupported.c.
- * An FMU's sources/ folder therefore carries all robogen_runtime* files (cc.runtime_sources()).
+ * An FMU's sources/ folder therefore carries all robogen_* files (binary.runtime_sources()).
  *
  * DESIGN NOTE
  *
@@ -553,6 +553,49 @@ static void rg_reset_instance(rg_instance *inst)
     inst->s.mode = RG_INSTANTIATED;
     rg_model_reset(inst);
 }
+
+/* ============================================================================================
+ * Defaults of the model hooks config.h does not list (see "Capabilities" in robogen_runtime.h);
+ * the default of rg_model_do_step is in fmi3DoStep (rg_step_model)
+ * ============================================================================================ */
+
+#ifndef RG_HAS_EXIT_INITIALIZATION
+static fmi3Status rg_model_exit_initialization(rg_instance *inst)
+{
+    (void)inst;
+    return fmi3OK;
+}
+#endif
+
+#ifndef RG_HAS_LATCH
+static void rg_model_latch(rg_instance *inst, int clock_index)
+{
+    (void)inst;
+    (void)clock_index;
+}
+#endif
+
+#ifndef RG_HAS_EVALUATE
+static fmi3Status rg_model_evaluate(rg_instance *inst)
+{
+    (void)inst;
+    return fmi3OK;
+}
+#endif
+
+#ifndef RG_HAS_UPDATE
+static fmi3Status rg_model_update(rg_instance *inst, bool *discrete_states_need_update,
+                                  bool *terminate_simulation, bool *next_event_time_defined,
+                                  double *next_event_time)
+{
+    (void)inst;
+    (void)discrete_states_need_update;
+    (void)terminate_simulation;
+    (void)next_event_time_defined;
+    (void)next_event_time;
+    return fmi3OK;
+}
+#endif
 
 /* ============================================================================================
  * The API, by concern

@@ -4,9 +4,10 @@
  *
  * An FMU's sources are compiled as one unity translation unit <modelIdentifier>.c:
  *
- *     #include "config.h"            generated: sizes, tokens, rg_model_data
+ *     #include "config.h"            generated: sizes, tokens, capabilities, rg_model_data
  *     #include "robogen_runtime.h"   this file: types and the hooks a model implements
- *     #include "model.c"             generated: variable/clock tables and the hooks
+ *     #include "model.c"             generated: variable/clock tables and the hooks (it includes
+ *                                    robogen_machine.h, the state-machine support)
  *     #include "robogen_runtime.c"   hand-written: the 75 exported fmi3* functions
  *
  * Everything except the fmi3* API is static, so several FMUs can be linked into one program.
@@ -22,6 +23,17 @@
  *   RG_MIGHT_RETURN_EARLY    0 or 1, as mightReturnEarlyFromDoStep in the XML
  *   typedef struct {...} rg_model_data;   all model memory: plain data, no pointers, so that
  *                                         an FMU state is a byte copy of it
+ *
+ * Capabilities, as the Reference FMUs' config.h has them: config.h defines (with no value) the
+ * macro of each optional hook model.c implements; for every hook it does not list, the runtime
+ * supplies the default (robogen_runtime.c), so a model has no stub functions:
+ *   RG_HAS_EXIT_INITIALIZATION  rg_model_exit_initialization  default: accepts any start values
+ *   RG_HAS_LATCH                rg_model_latch                default: input clocks carry nothing
+ *   RG_HAS_EVALUATE             rg_model_evaluate             default: an instant computes nothing
+ *   RG_HAS_UPDATE               rg_model_update               default: no further instant needed
+ *   RG_HAS_DO_STEP              rg_model_do_step              default: a step lets time pass (and
+ *                                                             the runtime keeps no copy to undo it)
+ * RG_MIGHT_RETURN_EARLY 1 needs RG_HAS_DO_STEP. rg_model_reset is always the model's.
  *
  * The runtime checks the tables once per fmi3InstantiateCoSimulation (sorted unique value
  * references, offsets inside rg_model_data, clock indices and kinds) and refuses to instantiate,
@@ -246,11 +258,15 @@ static fmi3Status rg_model_update(rg_instance *inst, bool *discrete_states_need_
                                   bool *terminate_simulation, bool *next_event_time_defined,
                                   double *next_event_time);
 
-/* fmi3DoStep from inst->s.time to t_end (> inst->s.time). Generated state machines only advance
- * time; models with internal events may stop early (only if inst->early_return_allowed). The
- * runtime presets *last_successful_time = t_end and the flags to false. A result of fmi3Discard
- * makes the runtime restore the state it had before the call. */
+#ifdef RG_HAS_DO_STEP
+/* fmi3DoStep from inst->s.time to t_end (> inst->s.time): models with internal events may stop
+ * early (only if inst->early_return_allowed). The runtime presets *last_successful_time = t_end
+ * and the flags to false. A result of fmi3Discard makes the runtime restore the state it had
+ * before the call. Generated state machines have none: they react only in Event Mode. */
 static fmi3Status rg_model_do_step(rg_instance *inst, double t_end, bool *event_handling_needed,
                                    bool *terminate_simulation, double *last_successful_time);
+#elif RG_MIGHT_RETURN_EARLY
+#error "RG_MIGHT_RETURN_EARLY needs a model that implements rg_model_do_step (RG_HAS_DO_STEP)"
+#endif
 
 #endif /* ROBOGEN_RUNTIME_H */

@@ -356,24 +356,10 @@ static uint64_t rg_first_tick_at_or_after(const rg_instance *inst, int c, double
     return k;
 }
 
-fmi3Status fmi3DoStep(fmi3Instance instance, fmi3Float64 currentCommunicationPoint,
-                      fmi3Float64 communicationStepSize, fmi3Boolean noSetFMUStatePriorToCurrentPoint,
-                      fmi3Boolean *eventHandlingNeeded, fmi3Boolean *terminateSimulation, fmi3Boolean *earlyReturn,
-                      fmi3Float64 *lastSuccessfulTime)
+/* fmi3DoStep's checks before anything changes: the step starts at the FMU's time, is finite,
+ * ends no later than stopTime, and no event from the previous step waits for Event Mode. */
+static fmi3Status rg_check_step(rg_instance *inst, const char *fn, double t, double h, double *t_end)
 {
-    static const char *const fn = "fmi3DoStep";
-    rg_instance *inst = rg_enter(instance, fn, RG_ALLOWED_DO_STEP);
-    double t = currentCommunicationPoint, h = communicationStepSize, t_end;
-    double last = 0.0;
-    bool event = false, terminate = false, early;
-    rg_snapshot_part before;
-    fmi3Status status;
-    int c;
-    (void)noSetFMUStatePriorToCurrentPoint; /* snapshots are independent copies; nothing to flush */
-    if (inst == NULL) return fmi3Error;
-    if (eventHandlingNeeded == NULL || terminateSimulation == NULL || earlyReturn == NULL || lastSuccessfulTime == NULL) {
-        return rg_fail(inst, fn, "an output argument is NULL");
-    }
     if (inst->s.event_pending) {
         return rg_fail(inst, fn, "the previous step reported eventHandlingNeeded at t=%.17g: call fmi3EnterEventMode "
                        "before stepping on", inst->s.time);
@@ -385,26 +371,43 @@ fmi3Status fmi3DoStep(fmi3Instance instance, fmi3Float64 currentCommunicationPoi
         return rg_fail(inst, fn, "currentCommunicationPoint %.17g differs from the FMU's time %.17g (after an early "
                        "return the next step starts at lastSuccessfulTime)", t, inst->s.time);
     }
-    t_end = t + h;
-    if (!isfinite(t_end)) return rg_fail(inst, fn, "t + h overflows");
-    if (inst->s.stop_time_defined && t_end > inst->s.stop_time && !rg_time_equal(t_end, inst->s.stop_time)) {
-        return rg_fail(inst, fn, "the step would end at %.17g, past stopTime %.17g", t_end, inst->s.stop_time);
+    *t_end = t + h;
+    if (!isfinite(*t_end)) return rg_fail(inst, fn, "t + h overflows");
+    if (inst->s.stop_time_defined && *t_end > inst->s.stop_time && !rg_time_equal(*t_end, inst->s.stop_time)) {
+        return rg_fail(inst, fn, "the step would end at %.17g, past stopTime %.17g", *t_end, inst->s.stop_time);
     }
+    return fmi3OK;
+}
+
+/* A step must not pass a tick of a periodic clock the importer uses without activating it: the
+ * tick would be lost silently. */
+static fmi3Status rg_check_no_tick_skipped(rg_instance *inst, const char *fn, double t_end)
+{
+    int c;
     for (c = 0; c < RG_NUM_CLOCKS; ++c) {
-        if (rg_clocks[c].kind == RG_CLOCK_INPUT_CONSTANT) {
-            double due = rg_tick_time(inst, c, inst->s.clock_next_tick[c]);
-            if (t_end > due && !rg_time_equal(t_end, due) && inst->s.clock_ever_activated[c]) {
-                return rg_fail(inst, fn, "the step to %.17g would pass tick k=%" PRIu64 " of '%s' at t=%.17g, which "
-                               "was not activated: step to the tick and activate it in Event Mode", t_end,
-                               inst->s.clock_next_tick[c], rg_clocks[c].name, due);
-            }
+        double due;
+        if (rg_clocks[c].kind != RG_CLOCK_INPUT_CONSTANT || !inst->s.clock_ever_activated[c]) continue;
+        due = rg_tick_time(inst, c, inst->s.clock_next_tick[c]);
+        if (t_end > due && !rg_time_equal(t_end, due)) {
+            return rg_fail(inst, fn, "the step to %.17g would pass tick k=%" PRIu64 " of '%s' at t=%.17g, which "
+                           "was not activated: step to the tick and activate it in Event Mode", t_end,
+                           inst->s.clock_next_tick[c], rg_clocks[c].name, due);
         }
     }
+    return fmi3OK;
+}
 
-    before = inst->s; /* restored if the model discards the step */
+/* The model's part of the step from t (the FMU's time) to t_end: *last is where it ended (t_end,
+ * or earlier on an early return). A model that discards the step gets the state it had before. */
+static fmi3Status rg_step_model(rg_instance *inst, const char *fn, double t, double t_end, bool *event, bool *terminate,
+                                double *last)
+{
+#ifdef RG_HAS_DO_STEP
+    rg_snapshot_part before = inst->s; /* restored if the model discards the step */
+    fmi3Status status;
     inst->s.time = t;
-    last = t_end;
-    status = rg_model_do_step(inst, t_end, &event, &terminate, &last);
+    *last = t_end;
+    status = rg_model_do_step(inst, t_end, event, terminate, last);
     if (status == fmi3Discard) {
         inst->s = before;
         rg_log(inst, RG_LOG_ERROR, fmi3Discard, "%s: the model discarded the step from %.17g to %.17g; state unchanged",
@@ -412,35 +415,71 @@ fmi3Status fmi3DoStep(fmi3Instance instance, fmi3Float64 currentCommunicationPoi
         return fmi3Discard;
     }
     if (status > fmi3Warning) return rg_fail(inst, fn, "the model failed in the step from %.17g to %.17g", t, t_end);
-    if (!(last >= t || rg_time_equal(last, t)) || !(last <= t_end || rg_time_equal(last, t_end))) {
+    if (!(*last >= t || rg_time_equal(*last, t)) || !(*last <= t_end || rg_time_equal(*last, t_end))) {
         return rg_fail(inst, fn, "internal error: the model returned lastSuccessfulTime %.17g outside [%.17g, %.17g]",
-                       last, t, t_end);
+                       *last, t, t_end);
     }
-    if (rg_time_equal(last, t_end)) last = t_end;
-    if (last < t) last = t;
-    early = last < t_end;
-    if (early && !inst->early_return_allowed) {
+    if (rg_time_equal(*last, t_end)) *last = t_end;
+    if (*last < t) *last = t;
+    if (*last < t_end && !inst->early_return_allowed) {
         return rg_fail(inst, fn, "internal error: the model returned early at %.17g though early return is not allowed",
-                       last);
+                       *last);
     }
-    if (event && !inst->event_mode_used) {
-        rg_log(inst, RG_LOG_EVENTS, fmi3OK, "%s: event at t=%.17g handled inside the FMU (eventModeUsed=false)", fn, last);
-        event = false;
-    }
-    /* An importer that has never activated a periodic clock has no clocks at all (fmpy's
-     * simulate_fmu, for one): the ticks before lastSuccessfulTime pass unused, with a warning, so
-     * that the FMU still runs. An importer that does use the clock was refused above. */
+    return status;
+#else
+    /* the default: the machines react only in Event Mode, a step lets time pass */
+    (void)inst; (void)fn; (void)t; (void)event; (void)terminate;
+    *last = t_end;
+    return fmi3OK;
+#endif
+}
+
+/* An importer that has never activated a periodic clock has no clocks at all (fmpy's
+ * simulate_fmu, for one): the ticks before `last` pass unused, with a warning, so that the FMU
+ * still runs. (An importer that does use the clock was refused by rg_check_no_tick_skipped.) */
+static fmi3Status rg_pass_unused_ticks(rg_instance *inst, const char *fn, double last)
+{
+    fmi3Status status = fmi3OK;
+    int c;
     for (c = 0; c < RG_NUM_CLOCKS; ++c) {
         uint64_t first = inst->s.clock_next_tick[c], next;
         if (rg_clocks[c].kind != RG_CLOCK_INPUT_CONSTANT || inst->s.clock_ever_activated[c]) continue;
         next = rg_first_tick_at_or_after(inst, c, last);
         if (next <= first) continue;
         inst->s.clock_next_tick[c] = next;
-        status = rg_worse(status, fmi3Warning);
+        status = fmi3Warning;
         rg_log(inst, RG_LOG_WARNING, fmi3Warning, "%s: ticks k=%" PRIu64 "..%" PRIu64 " of '%s' passed without being "
                "activated (this importer has not used the clock): no cycle ran for them", fn, first, next - 1,
                rg_clocks[c].name);
     }
+    return status;
+}
+
+fmi3Status fmi3DoStep(fmi3Instance instance, fmi3Float64 currentCommunicationPoint,
+                      fmi3Float64 communicationStepSize, fmi3Boolean noSetFMUStatePriorToCurrentPoint,
+                      fmi3Boolean *eventHandlingNeeded, fmi3Boolean *terminateSimulation, fmi3Boolean *earlyReturn,
+                      fmi3Float64 *lastSuccessfulTime)
+{
+    static const char *const fn = "fmi3DoStep";
+    rg_instance *inst = rg_enter(instance, fn, RG_ALLOWED_DO_STEP);
+    double t_end = 0.0, last = 0.0;
+    bool event = false, terminate = false, early;
+    fmi3Status status;
+    (void)noSetFMUStatePriorToCurrentPoint; /* snapshots are independent copies; nothing to flush */
+    if (inst == NULL) return fmi3Error;
+    if (eventHandlingNeeded == NULL || terminateSimulation == NULL || earlyReturn == NULL || lastSuccessfulTime == NULL) {
+        return rg_fail(inst, fn, "an output argument is NULL");
+    }
+    status = rg_check_step(inst, fn, currentCommunicationPoint, communicationStepSize, &t_end);
+    if (status == fmi3OK) status = rg_check_no_tick_skipped(inst, fn, t_end);
+    if (status == fmi3OK) status = rg_step_model(inst, fn, currentCommunicationPoint, t_end, &event, &terminate, &last);
+    if (status > fmi3Warning) return status; /* fmi3Discard included: the state is as before */
+    early = last < t_end;
+    if (event && !inst->event_mode_used) {
+        rg_log(inst, RG_LOG_EVENTS, fmi3OK, "%s: event at t=%.17g handled inside the FMU (eventModeUsed=false)", fn, last);
+        event = false;
+    }
+    status = rg_worse(status, rg_pass_unused_ticks(inst, fn, last));
     inst->s.time = last;
     inst->s.superdense = 0;
     inst->s.inputs_set_in_step_mode = false;

@@ -27,6 +27,7 @@ from typing import Iterator, Mapping
 from robogen.diagnostics import Diagnostic, Span
 from robogen.semantics.types import UNKNOWN, Type
 from robogen.syntax import ast
+from robogen.syntax.printer import communication as _communication_text
 from robogen.syntax.printer import expr as _expr_text
 
 _EMPTY: Mapping = MappingProxyType({})
@@ -336,9 +337,10 @@ class SemanticModel:
         return self.tables.bound_var(node)
 
     @staticmethod
-    def text(e: ast.Expr) -> str:
-        """An expression as model text, for messages that quote the model."""
-        return _expr_text(e)
+    def text(node: ast.Expr | ast.Communication) -> str:
+        """An expression or a communication (a trigger) as model text, for messages and generated
+        comments that quote the model."""
+        return _communication_text(node) if isinstance(node, ast.Communication) else _expr_text(node)
 
 
 __all__ = [

@@ -16,6 +16,13 @@
 #define RG_NUM_CLOCKS 3
 #define RG_MIGHT_RETURN_EARLY 1
 
+/* model.c implements every hook */
+#define RG_HAS_EXIT_INITIALIZATION
+#define RG_HAS_LATCH
+#define RG_HAS_EVALUATE
+#define RG_HAS_UPDATE
+#define RG_HAS_DO_STEP
+
 typedef struct {
     /* variables */
     int64_t command_value;  /* vr 3, clocked by command */

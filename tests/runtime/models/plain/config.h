@@ -15,6 +15,9 @@
 #define RG_NUM_CLOCKS 0
 #define RG_MIGHT_RETURN_EARLY 1
 
+/* model.c implements rg_model_do_step; the runtime's defaults stand in for the other hooks */
+#define RG_HAS_DO_STEP
+
 /* misbehave: what the model's DoStep does wrong */
 #define PLAIN_BEHAVE 0
 #define PLAIN_EARLY_WITHOUT_PERMISSION 1

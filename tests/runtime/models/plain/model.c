@@ -32,32 +32,6 @@ static void rg_model_reset(rg_instance *inst)
     d->u32 = 32;
 }
 
-static fmi3Status rg_model_exit_initialization(rg_instance *inst)
-{
-    (void)inst;
-    return fmi3OK;
-}
-
-static void rg_model_latch(rg_instance *inst, int clock_index)
-{
-    (void)inst;
-    (void)clock_index;
-}
-
-static fmi3Status rg_model_evaluate(rg_instance *inst)
-{
-    (void)inst;
-    return fmi3OK;
-}
-
-static fmi3Status rg_model_update(rg_instance *inst, bool *discrete_states_need_update, bool *terminate_simulation,
-                                  bool *next_event_time_defined, double *next_event_time)
-{
-    (void)inst; (void)discrete_states_need_update; (void)terminate_simulation;
-    (void)next_event_time_defined; (void)next_event_time;
-    return fmi3OK;
-}
-
 static fmi3Status rg_model_do_step(rg_instance *inst, double t_end, bool *event_handling_needed,
                                    bool *terminate_simulation, double *last_successful_time)
 {

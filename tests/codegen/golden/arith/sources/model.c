@@ -5,118 +5,28 @@
  * Each state machine is a function that resumes at block m->pc and runs until the cycle ends
  * (RG_RUN_SUSPENDED), until a micro-step boundary in stepwise semantics (RG_RUN_MICRO), or
  * until a run-time error (RG_RUN_FAULT, reported through logMessage and fmi3Error). Every block
- * opens with a comment naming what it does and the model line it comes from. */
+ * opens with a comment naming what it does and the model line it comes from; every guard is
+ * quoted as the model writes it above its test. The helpers (RG_BEGIN_TRANSITION, rg_deliver,
+ * the arithmetic) are robogen_machine.h's. */
 
-#include <string.h>
-
-/* ---- arithmetic as robogen defines it: wrapping integers, checked division --------------- */
-
-enum { RG_FAULT_NONE = 0, RG_FAULT_DIVISION = 1, RG_FAULT_INDEX = 2, RG_FAULT_RUNAWAY = 3, RG_FAULT_STUCK = 4,
-       RG_FAULT_CONVERSION = 5 };
-enum { RG_RUN_SUSPENDED = 0, RG_RUN_MICRO = 1, RG_RUN_FAULT = -1 };
-
-#define RG_MAX_TRANSITIONS 1000UL  /* transitions per cycle before a runaway is reported */
-#define RG_MAX_STEPS 64000UL        /* blocks per cycle, the same bound for any loop */
-#define RG_TRACE(inst, text) \
-    do { if ((inst)->logging_on && (inst)->log_category_on[RG_LOG_TRANSITIONS]) \
-        rg_log((inst), RG_LOG_TRANSITIONS, fmi3OK, "%s", (text)); } while (0)
-
-static inline int64_t rg_i_add(int64_t a, int64_t b) { return (int64_t)((uint64_t)a + (uint64_t)b); }
-static inline int64_t rg_i_sub(int64_t a, int64_t b) { return (int64_t)((uint64_t)a - (uint64_t)b); }
-static inline int64_t rg_i_mul(int64_t a, int64_t b) { return (int64_t)((uint64_t)a * (uint64_t)b); }
-static inline int64_t rg_i_neg(int64_t a) { return (int64_t)(UINT64_C(0) - (uint64_t)a); }
-static inline int64_t rg_i_abs(int64_t a) { return a < 0 ? rg_i_neg(a) : a; }
-static inline int64_t rg_i_min(int64_t a, int64_t b) { return a <= b ? a : b; }
-static inline int64_t rg_i_max(int64_t a, int64_t b) { return a >= b ? a : b; }
-static inline int64_t rg_i_div(rg_model_data *d, int64_t a, int64_t b)
-{
-    if (b == 0) { d->fault = RG_FAULT_DIVISION; return 0; }
-    if (b == -1) return rg_i_neg(a);
-    return a / b;
-}
-static inline int64_t rg_i_mod(rg_model_data *d, int64_t a, int64_t b)
-{
-    if (b == 0) { d->fault = RG_FAULT_DIVISION; return 0; }
-    if (b == -1) return 0;
-    return a % b;
-}
-static inline uint64_t rg_u_add(uint64_t a, uint64_t b) { return a + b; }
-static inline uint64_t rg_u_sub(uint64_t a, uint64_t b) { return a - b; }
-static inline uint64_t rg_u_mul(uint64_t a, uint64_t b) { return a * b; }
-static inline uint64_t rg_u_neg(uint64_t a) { return UINT64_C(0) - a; }
-static inline uint64_t rg_u_abs(uint64_t a) { return a; }
-static inline uint64_t rg_u_min(uint64_t a, uint64_t b) { return a <= b ? a : b; }
-static inline uint64_t rg_u_max(uint64_t a, uint64_t b) { return a >= b ? a : b; }
-static inline uint64_t rg_u_div(rg_model_data *d, uint64_t a, uint64_t b)
-{
-    if (b == 0) { d->fault = RG_FAULT_DIVISION; return 0; }
-    return a / b;
-}
-static inline uint64_t rg_u_mod(rg_model_data *d, uint64_t a, uint64_t b)
-{
-    if (b == 0) { d->fault = RG_FAULT_DIVISION; return 0; }
-    return a % b;
-}
-static inline double rg_r_div(rg_model_data *d, double a, double b)
-{
-    if (b == 0.0) { d->fault = RG_FAULT_DIVISION; return 0.0; }
-    return a / b;
-}
-static inline double rg_r_abs(double a) { return a < 0.0 ? -a : a; }
-/* Conversions: a real becomes an integer by truncation toward zero; outside the integer's range
- * (or NaN) it sets the fault code instead of being undefined behaviour. */
-static inline int64_t rg_r_to_i(rg_model_data *d, double x)
-{
-    if (!(x >= -9223372036854775808.0 && x < 9223372036854775808.0)) { d->fault = RG_FAULT_CONVERSION; return 0; }
-    return (int64_t)x;
-}
-static inline uint64_t rg_r_to_u(rg_model_data *d, double x)
-{
-    if (!(x > -1.0 && x < 18446744073709551616.0)) { d->fault = RG_FAULT_CONVERSION; return 0; }
-    return (uint64_t)x;
-}
-/* nat to int wraps around, like the interpreter (no implementation-defined conversion). */
-static inline int64_t rg_u_to_i(uint64_t x)
-{
-    return x <= (uint64_t)INT64_MAX ? (int64_t)x : -(int64_t)(UINT64_MAX - x) - 1;
-}
-static inline double rg_r_min(double a, double b) { return a <= b ? a : b; }
-static inline double rg_r_max(double a, double b) { return a >= b ? a : b; }
-/* A 1-based index into n elements, as a 0-based offset; out of range sets the fault code. */
-static inline int64_t rg_index(rg_model_data *d, int64_t i, int64_t n)
-{
-    if (i < 1 || i > n) { d->fault = RG_FAULT_INDEX; return 0; }
-    return i - 1;
-}
-
-static const char *rg_fault_text(int32_t fault) RG_MAYBE_UNUSED;
-static const char *rg_fault_text(int32_t fault)
-{
-    switch (fault) {
-    case RG_FAULT_DIVISION: return "division by zero";
-    case RG_FAULT_INDEX: return "index out of range";
-    case RG_FAULT_RUNAWAY: return "runaway cycle";
-    case RG_FAULT_CONVERSION: return "real number out of range for an integer";
-    default: return "run-time error";
-    }
-}
-
-/* A RoboChart deadline was missed: counted and logged, never enforced. */
-static void rg_deadline_miss(rg_instance *inst, const char *message) RG_MAYBE_UNUSED;
-static void rg_deadline_miss(rg_instance *inst, const char *message)
-{
-    inst->s.data.deadline_misses++;
-    rg_log(inst, RG_LOG_WARNING, fmi3Warning, "%s (t=%.17g)", message, inst->s.time);
-}
-
-static int rg_machine_fail(rg_instance *inst, const char *message)
-{
-    inst->s.data.fault = RG_FAULT_STUCK;
-    rg_log(inst, RG_LOG_ERROR, fmi3Error, "%s", message);
-    return RG_RUN_FAULT;
-}
+#include "robogen_machine.h"
 
 /* ---- the FMI variables and clocks (value references as in modelDescription.xml) ---------- */
+
+/* indices into rg_clocks */
+enum {
+    CLOCK_cycle = 0,  /* one RoboSim cycle */
+    CLOCK_a = 1,  /* input event a */
+    CLOCK_b = 2,  /* input event b */
+    CLOCK_n = 3,  /* input event n */
+    CLOCK_x = 4,  /* input event x */
+    CLOCK_sum = 5,  /* output event sum */
+    CLOCK_quot = 6,  /* output event quot */
+    CLOCK_rem = 7,  /* output event rem */
+    CLOCK_half = 8,  /* output event half */
+    CLOCK_mixed = 9,  /* output event mixed */
+    CLOCK_wrapped = 10,  /* output event wrapped */
+};
 
 static const rg_clock rg_clocks[RG_CLOCK_ARRAY_SIZE] = {
     { 1, "cycle", RG_CLOCK_INPUT_CONSTANT, 1, 0.0 },
@@ -178,6 +88,20 @@ static const rg_variable rg_variables[RG_NUM_VARIABLES] = {
 
 /* ======== state machine arith::Alu (arith.rst:28) ======== */
 
+/* The name of a node of Alu, for log messages. */
+static const char *Alu_node_name(int64_t node)
+{
+    switch (node) {
+    case Alu_Node_i: return "i";
+    case Alu_Node_Compute: return "Compute";
+    case Alu_Node_Idle: return "Idle";
+    case Alu_Node_Spin: return "Spin";
+    case Alu_Node_Stuck: return "Stuck";
+    default: return "?";
+    }
+}
+
+/* What each block does, for log messages (indexed by m->pc). */
 static const char *const rg_labels_0[] = {
     "b0: start Alu (arith.rst:28)",
     "b1: EVAL Compute (arith.rst:39)",
@@ -196,186 +120,106 @@ static const char *const rg_labels_0[] = {
     "b14: t4: Idle -> Idle (arith.rst:57)",
 };
 
-static int rg_fault_0(rg_instance *inst, int32_t pc) RG_MAYBE_UNUSED;
-static int rg_fault_0(rg_instance *inst, int32_t pc)
+static int rg_fault_0(rg_instance *inst) RG_MAYBE_UNUSED;
+static int rg_fault_0(rg_instance *inst)
 {
-    rg_log(inst, RG_LOG_ERROR, fmi3Error, "state machine Alu: %s in %s", rg_fault_text(inst->s.data.fault), rg_labels_0[pc]);
-    return RG_RUN_FAULT;
+    const rg_machine_0 *m = &inst->s.data.m0;
+    return rg_report_fault(inst, "Alu", rg_labels_0[m->pc], Alu_node_name(m->node));
 }
 
 static int rg_runaway_0(rg_instance *inst)
 {
-    inst->s.data.fault = RG_FAULT_RUNAWAY;
-    rg_log(inst, RG_LOG_ERROR, fmi3Error, "state machine Alu: more than %lu transitions in one cycle without exec "
-           "(a runaway cycle), at %s", RG_MAX_TRANSITIONS, rg_labels_0[inst->s.data.m0.pc]);
-    return RG_RUN_FAULT;
+    const rg_machine_0 *m = &inst->s.data.m0;
+    return rg_report_runaway(inst, "Alu", rg_labels_0[m->pc], Alu_node_name(m->node));
 }
 
-/* event a reaches Alu: latched until its next cycle */
-static void rg_deliver_0_0(rg_model_data *d, int64_t v) RG_MAYBE_UNUSED;
-static void rg_deliver_0_0(rg_model_data *d, int64_t v)
-{
-    rg_machine_0 *m = &d->m0;
-    if (m->reg_present[0]) d->dropped_events++;
-    m->reg_present[0] = true;
-    m->reg_e0 = v;
-    m->new_input = true;
-}
+/* Where each input event of Alu is latched and read (see rg_event_slot). */
+static const rg_event_slot rg_events_0[] = {
+    RG_TYPED_EVENT(m0, Alu_Event_a, a),
+    RG_TYPED_EVENT(m0, Alu_Event_b, b),
+    RG_TYPED_EVENT(m0, Alu_Event_n, n),
+    RG_TYPED_EVENT(m0, Alu_Event_x, x),
+};
 
-/* event b reaches Alu: latched until its next cycle */
-static void rg_deliver_0_1(rg_model_data *d, int64_t v) RG_MAYBE_UNUSED;
-static void rg_deliver_0_1(rg_model_data *d, int64_t v)
-{
-    rg_machine_0 *m = &d->m0;
-    if (m->reg_present[1]) d->dropped_events++;
-    m->reg_present[1] = true;
-    m->reg_e1 = v;
-    m->new_input = true;
-}
-
-/* event n reaches Alu: latched until its next cycle */
-static void rg_deliver_0_2(rg_model_data *d, uint64_t v) RG_MAYBE_UNUSED;
-static void rg_deliver_0_2(rg_model_data *d, uint64_t v)
-{
-    rg_machine_0 *m = &d->m0;
-    if (m->reg_present[2]) d->dropped_events++;
-    m->reg_present[2] = true;
-    m->reg_e2 = v;
-    m->new_input = true;
-}
-
-/* event x reaches Alu: latched until its next cycle */
-static void rg_deliver_0_3(rg_model_data *d, double v) RG_MAYBE_UNUSED;
-static void rg_deliver_0_3(rg_model_data *d, double v)
-{
-    rg_machine_0 *m = &d->m0;
-    if (m->reg_present[3]) d->dropped_events++;
-    m->reg_present[3] = true;
-    m->reg_e3 = v;
-    m->new_input = true;
-}
-
-/* Run state machine Alu from m->pc until it suspends, or (micro: stepwise semantics)
- * until it reaches a second transition segment: each segment starts with a step check. */
-static int rg_run_0(rg_instance *inst, bool micro)
+/* Run state machine Alu from block m->pc until the work of its cycle is done. */
+static int rg_run_0(rg_instance *inst)
 {
     rg_model_data *d = &inst->s.data;
     rg_machine_0 *m = &d->m0;
-    bool taken = false;  /* a transition segment was entered in this run */
     unsigned long steps = 0;
-    (void)micro;
-    (void)taken;
     for (;;) {
         if (++steps > RG_MAX_STEPS) return rg_runaway_0(inst);
         switch (m->pc) {
         case 0: /* b0: start Alu  arith.rst:28 */
-            if (micro && taken) return RG_RUN_MICRO;  /* stepwise: one transition per instant */
-            taken = true;
-            if (++m->transitions > RG_MAX_TRANSITIONS) return rg_runaway_0(inst);
+            RG_BEGIN_TRANSITION(rg_runaway_0(inst));
             RG_TRACE(inst, "Alu: t0: i -> Compute");
-            m->node = 1; m->entered[1] = m->ticks;
+            RG_ENTER(Alu_Node_Compute);
             m->v_s = rg_i_add(rg_i_sub(rg_i_add(m->v_a, rg_i_mul(m->v_b, m->v_k)), rg_i_neg(m->v_a)), m->v_base);
-            {
-                int64_t a0_ = m->v_s;
-                d->out_sum_value = a0_;
-                rg_activate_output_clock(inst, 5); /* sum */
-            }
+            d->out_sum_value = m->v_s;
+            rg_activate_output_clock(inst, CLOCK_sum);
             m->v_q = rg_i_div(d, m->v_a, m->v_b);
-            if (d->fault) return rg_fault_0(inst, m->pc);
+            if (d->fault) return rg_fault_0(inst);
             m->v_r = rg_i_mod(d, m->v_a, m->v_b);
-            if (d->fault) return rg_fault_0(inst, m->pc);
-            {
-                int64_t a0_ = m->v_q;
-                d->out_quot_value = a0_;
-                rg_activate_output_clock(inst, 6); /* quot */
-            }
-            {
-                int64_t a0_ = m->v_r;
-                d->out_rem_value = a0_;
-                rg_activate_output_clock(inst, 7); /* rem */
-            }
+            if (d->fault) return rg_fault_0(inst);
+            d->out_quot_value = m->v_q;
+            rg_activate_output_clock(inst, CLOCK_quot);
+            d->out_rem_value = m->v_r;
+            rg_activate_output_clock(inst, CLOCK_rem);
             m->v_h = (rg_r_div(d, m->v_x, 2.0) + rg_r_div(d, ((double)m->v_a), 4.0));
-            if (d->fault) return rg_fault_0(inst, m->pc);
-            {
-                double a0_ = m->v_h;
-                d->out_half_value = a0_;
-                rg_activate_output_clock(inst, 8); /* half */
-            }
+            if (d->fault) return rg_fault_0(inst);
+            d->out_half_value = m->v_h;
+            rg_activate_output_clock(inst, CLOCK_half);
             m->v_m = ((rg_r_max(m->v_x, (-1.5)) * ((double)rg_i_min(m->v_a, m->v_b))) + ((double)rg_u_abs(((uint64_t)rg_i_sub(m->v_b, m->v_a)))));
-            {
-                double a0_ = m->v_m;
-                d->out_mixed_value = a0_;
-                rg_activate_output_clock(inst, 9); /* mixed */
-            }
+            d->out_mixed_value = m->v_m;
+            rg_activate_output_clock(inst, CLOCK_mixed);
             m->v_w = ((uint64_t)rg_i_sub(rg_u_to_i(m->v_n), INT64_C(5)));
             m->v_w = rg_u_add(rg_u_mul(m->v_w, m->v_n), UINT64_C(1));
-            {
-                uint64_t a0_ = m->v_w;
-                d->out_wrapped_value = a0_;
-                rg_activate_output_clock(inst, 10); /* wrapped */
-            }
+            d->out_wrapped_value = m->v_w;
+            rg_activate_output_clock(inst, CLOCK_wrapped);
             m->v_big = rg_i_add(m->v_big, INT64_C(1));
             m->v_whole = rg_r_to_i(d, (m->v_x * 4.0));
-            if (d->fault) return rg_fault_0(inst, m->pc);
+            if (d->fault) return rg_fault_0(inst);
             m->v_mix = rg_i_add(rg_i_sub(m->v_a, rg_u_to_i(rg_u_mul(m->v_n, UINT64_C(2)))), rg_u_to_i(rg_u_abs(((uint64_t)rg_i_sub(rg_u_to_i(m->v_n), INT64_C(9))))));
             m->v_flag = ((m->v_a > m->v_b) ? (rg_i_sub(m->v_a, m->v_b) > INT64_C(10)) : (m->v_x <= 0.25));
             m->pc = 1; continue;
         case 1: /* b1: EVAL Compute  arith.rst:39 */
-            if (((m->smp_present[0] ? (m->v_a = m->smp_e0, true) : false) || (m->smp_present[1] ? (m->v_b = m->smp_e1, true) : false))) { m->pc = 2; continue; }  /* t1: Compute -> Compute (exec) arith.rst:49 */
-            if ((!(m->smp_present[0] || m->smp_present[1]))) { m->pc = 4; continue; }  /* t2: Compute -> Idle (exec) arith.rst:50 */
+            /* t1: Compute -> Compute (exec) [$a?a \/ $b?b]  arith.rst:49 */
+            if ((m->smp_present[Alu_Event_a] ? (m->v_a = m->smp_e_a, true) : false) || (m->smp_present[Alu_Event_b] ? (m->v_b = m->smp_e_b, true) : false)) { m->pc = 2; continue; }
+            /* t2: Compute -> Idle (exec) [not ($a \/ $b)]  arith.rst:50 */
+            if (!(m->smp_present[Alu_Event_a] || m->smp_present[Alu_Event_b])) { m->pc = 4; continue; }
             return rg_machine_fail(inst, "Alu: deadlock in state 'Compute' (arith.rst:39): no transition is enabled and no exec");
         case 2: /* b2: t1: exec decided  arith.rst:49 */
             RG_TRACE(inst, "Alu: t1: exec");
             m->pc = 3; return RG_RUN_SUSPENDED;
         case 3: /* b3: t1: Compute -> Compute  arith.rst:49 */
-            if (micro && taken) return RG_RUN_MICRO;  /* stepwise: one transition per instant */
-            taken = true;
-            if (++m->transitions > RG_MAX_TRANSITIONS) return rg_runaway_0(inst);
+            RG_BEGIN_TRANSITION(rg_runaway_0(inst));
             RG_TRACE(inst, "Alu: t1: Compute -> Compute");
-            m->node = 1; m->entered[1] = m->ticks;
+            RG_ENTER(Alu_Node_Compute);
             m->v_s = rg_i_add(rg_i_sub(rg_i_add(m->v_a, rg_i_mul(m->v_b, m->v_k)), rg_i_neg(m->v_a)), m->v_base);
-            {
-                int64_t a0_ = m->v_s;
-                d->out_sum_value = a0_;
-                rg_activate_output_clock(inst, 5); /* sum */
-            }
+            d->out_sum_value = m->v_s;
+            rg_activate_output_clock(inst, CLOCK_sum);
             m->v_q = rg_i_div(d, m->v_a, m->v_b);
-            if (d->fault) return rg_fault_0(inst, m->pc);
+            if (d->fault) return rg_fault_0(inst);
             m->v_r = rg_i_mod(d, m->v_a, m->v_b);
-            if (d->fault) return rg_fault_0(inst, m->pc);
-            {
-                int64_t a0_ = m->v_q;
-                d->out_quot_value = a0_;
-                rg_activate_output_clock(inst, 6); /* quot */
-            }
-            {
-                int64_t a0_ = m->v_r;
-                d->out_rem_value = a0_;
-                rg_activate_output_clock(inst, 7); /* rem */
-            }
+            if (d->fault) return rg_fault_0(inst);
+            d->out_quot_value = m->v_q;
+            rg_activate_output_clock(inst, CLOCK_quot);
+            d->out_rem_value = m->v_r;
+            rg_activate_output_clock(inst, CLOCK_rem);
             m->v_h = (rg_r_div(d, m->v_x, 2.0) + rg_r_div(d, ((double)m->v_a), 4.0));
-            if (d->fault) return rg_fault_0(inst, m->pc);
-            {
-                double a0_ = m->v_h;
-                d->out_half_value = a0_;
-                rg_activate_output_clock(inst, 8); /* half */
-            }
+            if (d->fault) return rg_fault_0(inst);
+            d->out_half_value = m->v_h;
+            rg_activate_output_clock(inst, CLOCK_half);
             m->v_m = ((rg_r_max(m->v_x, (-1.5)) * ((double)rg_i_min(m->v_a, m->v_b))) + ((double)rg_u_abs(((uint64_t)rg_i_sub(m->v_b, m->v_a)))));
-            {
-                double a0_ = m->v_m;
-                d->out_mixed_value = a0_;
-                rg_activate_output_clock(inst, 9); /* mixed */
-            }
+            d->out_mixed_value = m->v_m;
+            rg_activate_output_clock(inst, CLOCK_mixed);
             m->v_w = ((uint64_t)rg_i_sub(rg_u_to_i(m->v_n), INT64_C(5)));
             m->v_w = rg_u_add(rg_u_mul(m->v_w, m->v_n), UINT64_C(1));
-            {
-                uint64_t a0_ = m->v_w;
-                d->out_wrapped_value = a0_;
-                rg_activate_output_clock(inst, 10); /* wrapped */
-            }
+            d->out_wrapped_value = m->v_w;
+            rg_activate_output_clock(inst, CLOCK_wrapped);
             m->v_big = rg_i_add(m->v_big, INT64_C(1));
             m->v_whole = rg_r_to_i(d, (m->v_x * 4.0));
-            if (d->fault) return rg_fault_0(inst, m->pc);
+            if (d->fault) return rg_fault_0(inst);
             m->v_mix = rg_i_add(rg_i_sub(m->v_a, rg_u_to_i(rg_u_mul(m->v_n, UINT64_C(2)))), rg_u_to_i(rg_u_abs(((uint64_t)rg_i_sub(rg_u_to_i(m->v_n), INT64_C(9))))));
             m->v_flag = ((m->v_a > m->v_b) ? (rg_i_sub(m->v_a, m->v_b) > INT64_C(10)) : (m->v_x <= 0.25));
             m->pc = 1; continue;
@@ -383,93 +227,70 @@ static int rg_run_0(rg_instance *inst, bool micro)
             RG_TRACE(inst, "Alu: t2: exec");
             m->pc = 5; return RG_RUN_SUSPENDED;
         case 5: /* b5: t2: Compute -> Idle  arith.rst:50 */
-            if (micro && taken) return RG_RUN_MICRO;  /* stepwise: one transition per instant */
-            taken = true;
-            if (++m->transitions > RG_MAX_TRANSITIONS) return rg_runaway_0(inst);
+            RG_BEGIN_TRANSITION(rg_runaway_0(inst));
             RG_TRACE(inst, "Alu: t2: Compute -> Idle");
-            m->node = 2; m->entered[2] = m->ticks;
+            RG_ENTER(Alu_Node_Idle);
             m->pc = 6; continue;
         case 6: /* b6: EVAL Idle  arith.rst:51 */
-            if (((m->smp_present[0] ? (m->v_a = m->smp_e0, true) : false) || (m->smp_present[1] ? (m->v_b = m->smp_e1, true) : false))) { m->pc = 7; continue; }  /* t3: Idle -> Compute arith.rst:54 */
-            if (((m->smp_present[2] ? (m->v_n = m->smp_e2, true) : false) && (m->v_n == UINT64_C(7)))) { m->pc = 8; continue; }  /* t5: Idle -> Spin arith.rst:55 */
-            if (((m->smp_present[3] ? (m->v_x = m->smp_e3, true) : false) && (m->v_x == 3.0))) { m->pc = 11; continue; }  /* t6: Idle -> Stuck arith.rst:56 */
-            if ((!(m->smp_present[0] || m->smp_present[1]))) { m->pc = 13; continue; }  /* t4: Idle -> Idle (exec) arith.rst:57 */
+            /* t3: Idle -> Compute [$a?a \/ $b?b]  arith.rst:54 */
+            if ((m->smp_present[Alu_Event_a] ? (m->v_a = m->smp_e_a, true) : false) || (m->smp_present[Alu_Event_b] ? (m->v_b = m->smp_e_b, true) : false)) { m->pc = 7; continue; }
+            /* t5: Idle -> Spin [$n?n /\ n == 7]  arith.rst:55 */
+            if ((m->smp_present[Alu_Event_n] ? (m->v_n = m->smp_e_n, true) : false) && (m->v_n == UINT64_C(7))) { m->pc = 8; continue; }
+            /* t6: Idle -> Stuck [$x?x /\ x == 3.0]  arith.rst:56 */
+            if ((m->smp_present[Alu_Event_x] ? (m->v_x = m->smp_e_x, true) : false) && (m->v_x == 3.0)) { m->pc = 11; continue; }
+            /* t4: Idle -> Idle (exec) [not ($a \/ $b)]  arith.rst:57 */
+            if (!(m->smp_present[Alu_Event_a] || m->smp_present[Alu_Event_b])) { m->pc = 13; continue; }
             return rg_machine_fail(inst, "Alu: deadlock in state 'Idle' (arith.rst:51): no transition is enabled and no exec");
         case 7: /* b7: t3: Idle -> Compute  arith.rst:54 */
-            if (micro && taken) return RG_RUN_MICRO;  /* stepwise: one transition per instant */
-            taken = true;
-            if (++m->transitions > RG_MAX_TRANSITIONS) return rg_runaway_0(inst);
+            RG_BEGIN_TRANSITION(rg_runaway_0(inst));
             RG_TRACE(inst, "Alu: t3: Idle -> Compute");
-            m->node = 1; m->entered[1] = m->ticks;
+            RG_ENTER(Alu_Node_Compute);
             m->v_s = rg_i_add(rg_i_sub(rg_i_add(m->v_a, rg_i_mul(m->v_b, m->v_k)), rg_i_neg(m->v_a)), m->v_base);
-            {
-                int64_t a0_ = m->v_s;
-                d->out_sum_value = a0_;
-                rg_activate_output_clock(inst, 5); /* sum */
-            }
+            d->out_sum_value = m->v_s;
+            rg_activate_output_clock(inst, CLOCK_sum);
             m->v_q = rg_i_div(d, m->v_a, m->v_b);
-            if (d->fault) return rg_fault_0(inst, m->pc);
+            if (d->fault) return rg_fault_0(inst);
             m->v_r = rg_i_mod(d, m->v_a, m->v_b);
-            if (d->fault) return rg_fault_0(inst, m->pc);
-            {
-                int64_t a0_ = m->v_q;
-                d->out_quot_value = a0_;
-                rg_activate_output_clock(inst, 6); /* quot */
-            }
-            {
-                int64_t a0_ = m->v_r;
-                d->out_rem_value = a0_;
-                rg_activate_output_clock(inst, 7); /* rem */
-            }
+            if (d->fault) return rg_fault_0(inst);
+            d->out_quot_value = m->v_q;
+            rg_activate_output_clock(inst, CLOCK_quot);
+            d->out_rem_value = m->v_r;
+            rg_activate_output_clock(inst, CLOCK_rem);
             m->v_h = (rg_r_div(d, m->v_x, 2.0) + rg_r_div(d, ((double)m->v_a), 4.0));
-            if (d->fault) return rg_fault_0(inst, m->pc);
-            {
-                double a0_ = m->v_h;
-                d->out_half_value = a0_;
-                rg_activate_output_clock(inst, 8); /* half */
-            }
+            if (d->fault) return rg_fault_0(inst);
+            d->out_half_value = m->v_h;
+            rg_activate_output_clock(inst, CLOCK_half);
             m->v_m = ((rg_r_max(m->v_x, (-1.5)) * ((double)rg_i_min(m->v_a, m->v_b))) + ((double)rg_u_abs(((uint64_t)rg_i_sub(m->v_b, m->v_a)))));
-            {
-                double a0_ = m->v_m;
-                d->out_mixed_value = a0_;
-                rg_activate_output_clock(inst, 9); /* mixed */
-            }
+            d->out_mixed_value = m->v_m;
+            rg_activate_output_clock(inst, CLOCK_mixed);
             m->v_w = ((uint64_t)rg_i_sub(rg_u_to_i(m->v_n), INT64_C(5)));
             m->v_w = rg_u_add(rg_u_mul(m->v_w, m->v_n), UINT64_C(1));
-            {
-                uint64_t a0_ = m->v_w;
-                d->out_wrapped_value = a0_;
-                rg_activate_output_clock(inst, 10); /* wrapped */
-            }
+            d->out_wrapped_value = m->v_w;
+            rg_activate_output_clock(inst, CLOCK_wrapped);
             m->v_big = rg_i_add(m->v_big, INT64_C(1));
             m->v_whole = rg_r_to_i(d, (m->v_x * 4.0));
-            if (d->fault) return rg_fault_0(inst, m->pc);
+            if (d->fault) return rg_fault_0(inst);
             m->v_mix = rg_i_add(rg_i_sub(m->v_a, rg_u_to_i(rg_u_mul(m->v_n, UINT64_C(2)))), rg_u_to_i(rg_u_abs(((uint64_t)rg_i_sub(rg_u_to_i(m->v_n), INT64_C(9))))));
             m->v_flag = ((m->v_a > m->v_b) ? (rg_i_sub(m->v_a, m->v_b) > INT64_C(10)) : (m->v_x <= 0.25));
             m->pc = 1; continue;
         case 8: /* b8: t5: Idle -> Spin  arith.rst:55 */
-            if (micro && taken) return RG_RUN_MICRO;  /* stepwise: one transition per instant */
-            taken = true;
-            if (++m->transitions > RG_MAX_TRANSITIONS) return rg_runaway_0(inst);
+            RG_BEGIN_TRANSITION(rg_runaway_0(inst));
             RG_TRACE(inst, "Alu: t5: Idle -> Spin");
-            m->node = 3; m->entered[3] = m->ticks;
+            RG_ENTER(Alu_Node_Spin);
             m->pc = 9; continue;
         case 9: /* b9: EVAL Spin  arith.rst:52 */
-            if ((m->v_n == UINT64_C(7))) { m->pc = 10; continue; }  /* t7: Spin -> Spin arith.rst:58 */
+            /* t7: Spin -> Spin [n == 7]  arith.rst:58 */
+            if (m->v_n == UINT64_C(7)) { m->pc = 10; continue; }
             return rg_machine_fail(inst, "Alu: deadlock in state 'Spin' (arith.rst:52): no transition is enabled and no exec");
         case 10: /* b10: t7: Spin -> Spin  arith.rst:58 */
-            if (micro && taken) return RG_RUN_MICRO;  /* stepwise: one transition per instant */
-            taken = true;
-            if (++m->transitions > RG_MAX_TRANSITIONS) return rg_runaway_0(inst);
+            RG_BEGIN_TRANSITION(rg_runaway_0(inst));
             RG_TRACE(inst, "Alu: t7: Spin -> Spin");
-            m->node = 3; m->entered[3] = m->ticks;
+            RG_ENTER(Alu_Node_Spin);
             m->pc = 9; continue;
         case 11: /* b11: t6: Idle -> Stuck  arith.rst:56 */
-            if (micro && taken) return RG_RUN_MICRO;  /* stepwise: one transition per instant */
-            taken = true;
-            if (++m->transitions > RG_MAX_TRANSITIONS) return rg_runaway_0(inst);
+            RG_BEGIN_TRANSITION(rg_runaway_0(inst));
             RG_TRACE(inst, "Alu: t6: Idle -> Stuck");
-            m->node = 4; m->entered[4] = m->ticks;
+            RG_ENTER(Alu_Node_Stuck);
             m->pc = 12; continue;
         case 12: /* b12: EVAL Stuck  arith.rst:53 */
             return rg_machine_fail(inst, "Alu: deadlock in state 'Stuck' (arith.rst:53): no transition is enabled and no exec");
@@ -477,11 +298,9 @@ static int rg_run_0(rg_instance *inst, bool micro)
             RG_TRACE(inst, "Alu: t4: exec");
             m->pc = 14; return RG_RUN_SUSPENDED;
         case 14: /* b14: t4: Idle -> Idle  arith.rst:57 */
-            if (micro && taken) return RG_RUN_MICRO;  /* stepwise: one transition per instant */
-            taken = true;
-            if (++m->transitions > RG_MAX_TRANSITIONS) return rg_runaway_0(inst);
+            RG_BEGIN_TRANSITION(rg_runaway_0(inst));
             RG_TRACE(inst, "Alu: t4: Idle -> Idle");
-            m->node = 2; m->entered[2] = m->ticks;
+            RG_ENTER(Alu_Node_Idle);
             m->pc = 6; continue;
         default:
             return rg_machine_fail(inst, "state machine Alu: invalid resume point");
@@ -495,14 +314,13 @@ static void rg_model_reset(rg_instance *inst)
 {
     rg_model_data *d = &inst->s.data;
     d->m0.pc = 0;
-    d->m0.node = 0;
+    d->m0.node = Alu_Node_i;
     d->m0.v_k = INT64_C(3);  /* Alu.k */
 }
 
 static fmi3Status rg_model_exit_initialization(rg_instance *inst)
 {
     rg_model_data *d = &inst->s.data;
-    (void)d;
     {
         rg_machine_0 *m = &d->m0;
         m->v_a = INT64_C(7);  /* initial value of a */
@@ -527,57 +345,40 @@ static fmi3Status rg_model_exit_initialization(rg_instance *inst)
 static void rg_model_latch(rg_instance *inst, int clock_index)
 {
     rg_model_data *d = &inst->s.data;
-    (void)d;
     switch (clock_index) {
-    case 1: /* a */
-    {
+    case CLOCK_a: {
         int64_t v;
         v = d->in_a_value;
-        rg_deliver_0_0(d, v);
+        rg_deliver(d, &rg_events_0[Alu_Event_a], &v);
         break;
     }
-    case 2: /* b */
-    {
+    case CLOCK_b: {
         int64_t v;
         v = d->in_b_value;
-        rg_deliver_0_1(d, v);
+        rg_deliver(d, &rg_events_0[Alu_Event_b], &v);
         break;
     }
-    case 3: /* n */
-    {
+    case CLOCK_n: {
         uint64_t v;
         v = d->in_n_value;
-        rg_deliver_0_2(d, v);
+        rg_deliver(d, &rg_events_0[Alu_Event_n], &v);
         break;
     }
-    case 4: /* x */
-    {
+    case CLOCK_x: {
         double v;
         v = d->in_x_value;
-        rg_deliver_0_3(d, v);
+        rg_deliver(d, &rg_events_0[Alu_Event_x], &v);
         break;
     }
-    default:
+    default: /* the periodic clock, and input events that reach no state machine */
         break;
     }
-}
-
-/* RoboSim: a cycle starts; the events latched since the previous cycle become its sample. */
-static void rg_start_cycle(bool *present_reg, bool *present_smp, size_t n_events, uint64_t *ticks, bool *new_input,
-                           uint64_t *transitions)
-{
-    memcpy(present_smp, present_reg, n_events * sizeof(bool));
-    memset(present_reg, 0, n_events * sizeof(bool));
-    *new_input = false;
-    (*ticks)++;
-    *transitions = 0;
 }
 
 static fmi3Status rg_model_evaluate(rg_instance *inst)
 {
     rg_model_data *d = &inst->s.data;
-    bool periodic = inst->s.clock_active[0];  /* cycle */
-    int r = RG_RUN_SUSPENDED;
+    bool periodic = inst->s.clock_active[CLOCK_cycle];
     d->fault = RG_FAULT_NONE;
     if (periodic) d->cycles++;
     /* Every machine samples its inputs before any runs: what one machine sends another in this
@@ -588,19 +389,14 @@ static fmi3Status rg_model_evaluate(rg_instance *inst)
         bool start = periodic;
         run[0] = start;
         if (start) {
-            m->smp_e0 = m->reg_e0;
-            m->smp_e1 = m->reg_e1;
-            m->smp_e2 = m->reg_e2;
-            m->smp_e3 = m->reg_e3;
+            m->smp_e_a = m->reg_e_a;
+            m->smp_e_b = m->reg_e_b;
+            m->smp_e_n = m->reg_e_n;
+            m->smp_e_x = m->reg_e_x;
             rg_start_cycle(m->reg_present, m->smp_present, 4, &m->ticks, &m->new_input, &m->transitions);
         }
     }
-    if (run[0]) {
-        r = rg_run_0(inst, false);
-        if (r == RG_RUN_FAULT) return fmi3Error;
-        d->m0.in_cycle = (r == RG_RUN_MICRO);
-    }
-    (void)r;
+    if (run[0] && rg_run_failed(rg_run_0(inst), &d->m0.in_cycle)) return fmi3Error;
     return fmi3OK;
 }
 
@@ -608,25 +404,12 @@ static fmi3Status rg_model_update(rg_instance *inst, bool *discrete_states_need_
                                   bool *terminate_simulation, bool *next_event_time_defined,
                                   double *next_event_time)
 {
-    rg_model_data *d = &inst->s.data;
+    const rg_model_data *d = &inst->s.data;
     bool need = false;
-    (void)d;
     (void)terminate_simulation;
     (void)next_event_time_defined;
     (void)next_event_time;
     need = need || d->m0.in_cycle;
     *discrete_states_need_update = need;
-    return fmi3OK;
-}
-
-static fmi3Status rg_model_do_step(rg_instance *inst, double t_end, bool *event_handling_needed,
-                                   bool *terminate_simulation, double *last_successful_time)
-{
-    /* The state machines only react in Event Mode; a step just lets time pass. */
-    (void)inst;
-    (void)t_end;
-    (void)event_handling_needed;
-    (void)terminate_simulation;
-    (void)last_successful_time;
     return fmi3OK;
 }

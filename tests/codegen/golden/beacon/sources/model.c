@@ -5,118 +5,23 @@
  * Each state machine is a function that resumes at block m->pc and runs until the cycle ends
  * (RG_RUN_SUSPENDED), until a micro-step boundary in stepwise semantics (RG_RUN_MICRO), or
  * until a run-time error (RG_RUN_FAULT, reported through logMessage and fmi3Error). Every block
- * opens with a comment naming what it does and the model line it comes from. */
+ * opens with a comment naming what it does and the model line it comes from; every guard is
+ * quoted as the model writes it above its test. The helpers (RG_BEGIN_TRANSITION, rg_deliver,
+ * the arithmetic) are robogen_machine.h's. */
 
-#include <string.h>
-
-/* ---- arithmetic as robogen defines it: wrapping integers, checked division --------------- */
-
-enum { RG_FAULT_NONE = 0, RG_FAULT_DIVISION = 1, RG_FAULT_INDEX = 2, RG_FAULT_RUNAWAY = 3, RG_FAULT_STUCK = 4,
-       RG_FAULT_CONVERSION = 5 };
-enum { RG_RUN_SUSPENDED = 0, RG_RUN_MICRO = 1, RG_RUN_FAULT = -1 };
-
-#define RG_MAX_TRANSITIONS 1000UL  /* transitions per cycle before a runaway is reported */
-#define RG_MAX_STEPS 64000UL        /* blocks per cycle, the same bound for any loop */
-#define RG_TRACE(inst, text) \
-    do { if ((inst)->logging_on && (inst)->log_category_on[RG_LOG_TRANSITIONS]) \
-        rg_log((inst), RG_LOG_TRANSITIONS, fmi3OK, "%s", (text)); } while (0)
-
-static inline int64_t rg_i_add(int64_t a, int64_t b) { return (int64_t)((uint64_t)a + (uint64_t)b); }
-static inline int64_t rg_i_sub(int64_t a, int64_t b) { return (int64_t)((uint64_t)a - (uint64_t)b); }
-static inline int64_t rg_i_mul(int64_t a, int64_t b) { return (int64_t)((uint64_t)a * (uint64_t)b); }
-static inline int64_t rg_i_neg(int64_t a) { return (int64_t)(UINT64_C(0) - (uint64_t)a); }
-static inline int64_t rg_i_abs(int64_t a) { return a < 0 ? rg_i_neg(a) : a; }
-static inline int64_t rg_i_min(int64_t a, int64_t b) { return a <= b ? a : b; }
-static inline int64_t rg_i_max(int64_t a, int64_t b) { return a >= b ? a : b; }
-static inline int64_t rg_i_div(rg_model_data *d, int64_t a, int64_t b)
-{
-    if (b == 0) { d->fault = RG_FAULT_DIVISION; return 0; }
-    if (b == -1) return rg_i_neg(a);
-    return a / b;
-}
-static inline int64_t rg_i_mod(rg_model_data *d, int64_t a, int64_t b)
-{
-    if (b == 0) { d->fault = RG_FAULT_DIVISION; return 0; }
-    if (b == -1) return 0;
-    return a % b;
-}
-static inline uint64_t rg_u_add(uint64_t a, uint64_t b) { return a + b; }
-static inline uint64_t rg_u_sub(uint64_t a, uint64_t b) { return a - b; }
-static inline uint64_t rg_u_mul(uint64_t a, uint64_t b) { return a * b; }
-static inline uint64_t rg_u_neg(uint64_t a) { return UINT64_C(0) - a; }
-static inline uint64_t rg_u_abs(uint64_t a) { return a; }
-static inline uint64_t rg_u_min(uint64_t a, uint64_t b) { return a <= b ? a : b; }
-static inline uint64_t rg_u_max(uint64_t a, uint64_t b) { return a >= b ? a : b; }
-static inline uint64_t rg_u_div(rg_model_data *d, uint64_t a, uint64_t b)
-{
-    if (b == 0) { d->fault = RG_FAULT_DIVISION; return 0; }
-    return a / b;
-}
-static inline uint64_t rg_u_mod(rg_model_data *d, uint64_t a, uint64_t b)
-{
-    if (b == 0) { d->fault = RG_FAULT_DIVISION; return 0; }
-    return a % b;
-}
-static inline double rg_r_div(rg_model_data *d, double a, double b)
-{
-    if (b == 0.0) { d->fault = RG_FAULT_DIVISION; return 0.0; }
-    return a / b;
-}
-static inline double rg_r_abs(double a) { return a < 0.0 ? -a : a; }
-/* Conversions: a real becomes an integer by truncation toward zero; outside the integer's range
- * (or NaN) it sets the fault code instead of being undefined behaviour. */
-static inline int64_t rg_r_to_i(rg_model_data *d, double x)
-{
-    if (!(x >= -9223372036854775808.0 && x < 9223372036854775808.0)) { d->fault = RG_FAULT_CONVERSION; return 0; }
-    return (int64_t)x;
-}
-static inline uint64_t rg_r_to_u(rg_model_data *d, double x)
-{
-    if (!(x > -1.0 && x < 18446744073709551616.0)) { d->fault = RG_FAULT_CONVERSION; return 0; }
-    return (uint64_t)x;
-}
-/* nat to int wraps around, like the interpreter (no implementation-defined conversion). */
-static inline int64_t rg_u_to_i(uint64_t x)
-{
-    return x <= (uint64_t)INT64_MAX ? (int64_t)x : -(int64_t)(UINT64_MAX - x) - 1;
-}
-static inline double rg_r_min(double a, double b) { return a <= b ? a : b; }
-static inline double rg_r_max(double a, double b) { return a >= b ? a : b; }
-/* A 1-based index into n elements, as a 0-based offset; out of range sets the fault code. */
-static inline int64_t rg_index(rg_model_data *d, int64_t i, int64_t n)
-{
-    if (i < 1 || i > n) { d->fault = RG_FAULT_INDEX; return 0; }
-    return i - 1;
-}
-
-static const char *rg_fault_text(int32_t fault) RG_MAYBE_UNUSED;
-static const char *rg_fault_text(int32_t fault)
-{
-    switch (fault) {
-    case RG_FAULT_DIVISION: return "division by zero";
-    case RG_FAULT_INDEX: return "index out of range";
-    case RG_FAULT_RUNAWAY: return "runaway cycle";
-    case RG_FAULT_CONVERSION: return "real number out of range for an integer";
-    default: return "run-time error";
-    }
-}
-
-/* A RoboChart deadline was missed: counted and logged, never enforced. */
-static void rg_deadline_miss(rg_instance *inst, const char *message) RG_MAYBE_UNUSED;
-static void rg_deadline_miss(rg_instance *inst, const char *message)
-{
-    inst->s.data.deadline_misses++;
-    rg_log(inst, RG_LOG_WARNING, fmi3Warning, "%s (t=%.17g)", message, inst->s.time);
-}
-
-static int rg_machine_fail(rg_instance *inst, const char *message)
-{
-    inst->s.data.fault = RG_FAULT_STUCK;
-    rg_log(inst, RG_LOG_ERROR, fmi3Error, "%s", message);
-    return RG_RUN_FAULT;
-}
+#include "robogen_machine.h"
 
 /* ---- the FMI variables and clocks (value references as in modelDescription.xml) ---------- */
+
+/* indices into rg_clocks */
+enum {
+    CLOCK_cycle = 0,  /* one RoboSim cycle */
+    CLOCK_start = 1,  /* input event start */
+    CLOCK_off = 2,  /* input event off */
+    CLOCK_dim = 3,  /* input event dim */
+    CLOCK_flash = 4,  /* output event flash */
+    CLOCK_status = 5,  /* output event status */
+};
 
 static const rg_clock rg_clocks[RG_CLOCK_ARRAY_SIZE] = {
     { 1, "cycle", RG_CLOCK_INPUT_CONSTANT, 0.5, 0.0 },
@@ -149,6 +54,21 @@ static const rg_variable rg_variables[RG_NUM_VARIABLES] = {
 
 /* ======== state machine beacon::Beacon (beacon.rst:8) ======== */
 
+/* The name of a node of Beacon, for log messages. */
+static const char *Beacon_node_name(int64_t node)
+{
+    switch (node) {
+    case Beacon_Node_i: return "i";
+    case Beacon_Node_Dark: return "Dark";
+    case Beacon_Node_Lit: return "Lit";
+    case Beacon_Node_Lit_li: return "Lit.li";
+    case Beacon_Node_Lit_Blink: return "Lit.Blink";
+    case Beacon_Node_Lit_Hold: return "Lit.Hold";
+    default: return "?";
+    }
+}
+
+/* What each block does, for log messages (indexed by m->pc). */
 static const char *const rg_labels_0[] = {
     "b0: start Beacon (beacon.rst:8)",
     "b1: EVAL Dark (beacon.rst:16)",
@@ -174,92 +94,57 @@ static const char *const rg_labels_0[] = {
     "b21: t2: Dark -> Dark (beacon.rst:35)",
 };
 
-static int rg_fault_0(rg_instance *inst, int32_t pc) RG_MAYBE_UNUSED;
-static int rg_fault_0(rg_instance *inst, int32_t pc)
+static int rg_fault_0(rg_instance *inst) RG_MAYBE_UNUSED;
+static int rg_fault_0(rg_instance *inst)
 {
-    rg_log(inst, RG_LOG_ERROR, fmi3Error, "state machine Beacon: %s in %s", rg_fault_text(inst->s.data.fault), rg_labels_0[pc]);
-    return RG_RUN_FAULT;
+    const rg_machine_0 *m = &inst->s.data.m0;
+    return rg_report_fault(inst, "Beacon", rg_labels_0[m->pc], Beacon_node_name(m->node));
 }
 
 static int rg_runaway_0(rg_instance *inst)
 {
-    inst->s.data.fault = RG_FAULT_RUNAWAY;
-    rg_log(inst, RG_LOG_ERROR, fmi3Error, "state machine Beacon: more than %lu transitions in one cycle without exec "
-           "(a runaway cycle), at %s", RG_MAX_TRANSITIONS, rg_labels_0[inst->s.data.m0.pc]);
-    return RG_RUN_FAULT;
+    const rg_machine_0 *m = &inst->s.data.m0;
+    return rg_report_runaway(inst, "Beacon", rg_labels_0[m->pc], Beacon_node_name(m->node));
 }
 
-/* event start reaches Beacon: latched until its next cycle */
-static void rg_deliver_0_0(rg_model_data *d) RG_MAYBE_UNUSED;
-static void rg_deliver_0_0(rg_model_data *d)
-{
-    rg_machine_0 *m = &d->m0;
-    if (m->reg_present[0]) d->dropped_events++;
-    m->reg_present[0] = true;
-    m->new_input = true;
-}
+/* Where each input event of Beacon is latched and read (see rg_event_slot). */
+static const rg_event_slot rg_events_0[] = {
+    RG_EVENT(m0, Beacon_Event_start),
+    RG_EVENT(m0, Beacon_Event_off),
+    RG_TYPED_EVENT(m0, Beacon_Event_dim, dim),
+};
 
-/* event off reaches Beacon: latched until its next cycle */
-static void rg_deliver_0_1(rg_model_data *d) RG_MAYBE_UNUSED;
-static void rg_deliver_0_1(rg_model_data *d)
-{
-    rg_machine_0 *m = &d->m0;
-    if (m->reg_present[1]) d->dropped_events++;
-    m->reg_present[1] = true;
-    m->new_input = true;
-}
-
-/* event dim reaches Beacon: latched until its next cycle */
-static void rg_deliver_0_2(rg_model_data *d, int64_t v) RG_MAYBE_UNUSED;
-static void rg_deliver_0_2(rg_model_data *d, int64_t v)
-{
-    rg_machine_0 *m = &d->m0;
-    if (m->reg_present[2]) d->dropped_events++;
-    m->reg_present[2] = true;
-    m->reg_e2 = v;
-    m->new_input = true;
-}
-
-/* Run state machine Beacon from m->pc until it suspends, or (micro: stepwise semantics)
- * until it reaches a second transition segment: each segment starts with a step check. */
-static int rg_run_0(rg_instance *inst, bool micro)
+/* Run state machine Beacon from block m->pc until the work of its cycle is done. */
+static int rg_run_0(rg_instance *inst)
 {
     rg_model_data *d = &inst->s.data;
     rg_machine_0 *m = &d->m0;
-    bool taken = false;  /* a transition segment was entered in this run */
     unsigned long steps = 0;
-    (void)micro;
-    (void)taken;
     for (;;) {
         if (++steps > RG_MAX_STEPS) return rg_runaway_0(inst);
         switch (m->pc) {
         case 0: /* b0: start Beacon  beacon.rst:8 */
-            if (micro && taken) return RG_RUN_MICRO;  /* stepwise: one transition per instant */
-            taken = true;
-            if (++m->transitions > RG_MAX_TRANSITIONS) return rg_runaway_0(inst);
+            RG_BEGIN_TRANSITION(rg_runaway_0(inst));
             RG_TRACE(inst, "Beacon: t0: i -> Dark");
-            m->node = 1; m->entered[1] = m->ticks;
+            RG_ENTER(Beacon_Node_Dark);
             m->clock_reset[0] = m->ticks;
             m->pc = 1; continue;
         case 1: /* b1: EVAL Dark  beacon.rst:16 */
-            if ((m->smp_present[0] && (!m->smp_present[1]))) { m->pc = 2; continue; }  /* t1: Dark -> Lit beacon.rst:34 */
-            if (((!m->smp_present[0]) || m->smp_present[1])) { m->pc = 20; continue; }  /* t2: Dark -> Dark (exec) beacon.rst:35 */
+            /* t1: Dark -> Lit [$start /\ not $off]  beacon.rst:34 */
+            if (m->smp_present[Beacon_Event_start] && (!m->smp_present[Beacon_Event_off])) { m->pc = 2; continue; }
+            /* t2: Dark -> Dark (exec) [not $start \/ $off]  beacon.rst:35 */
+            if ((!m->smp_present[Beacon_Event_start]) || m->smp_present[Beacon_Event_off]) { m->pc = 20; continue; }
             return rg_machine_fail(inst, "Beacon: deadlock in state 'Dark' (beacon.rst:16): no transition is enabled and no exec");
         case 2: /* b2: t1: Dark -> Lit  beacon.rst:34 */
-            if (micro && taken) return RG_RUN_MICRO;  /* stepwise: one transition per instant */
-            taken = true;
-            if (++m->transitions > RG_MAX_TRANSITIONS) return rg_runaway_0(inst);
+            RG_BEGIN_TRANSITION(rg_runaway_0(inst));
             RG_TRACE(inst, "Beacon: t1: Dark -> Lit");
             m->clock_reset[0] = m->ticks;
-            m->node = 2; m->entered[2] = m->ticks;
+            RG_ENTER(Beacon_Node_Lit);
             RG_TRACE(inst, "Beacon: l0: li -> Blink");
-            m->node = 4; m->entered[4] = m->ticks;
+            RG_ENTER(Beacon_Node_Lit_Blink);
             m->v_flashes = rg_u_add(m->v_flashes, UINT64_C(1));
-            {
-                uint64_t a0_ = m->v_flashes;
-                d->out_flash_value = a0_;
-                rg_activate_output_clock(inst, 4); /* flash */
-            }
+            d->out_flash_value = m->v_flashes;
+            rg_activate_output_clock(inst, CLOCK_flash);
             m->pc = 3; continue;
         case 3: /* b3: EVAL Lit.Blink  beacon.rst:22 */
             m->v_level = rg_i_add(m->v_level, INT64_C(1));
@@ -267,139 +152,114 @@ static int rg_run_0(rg_instance *inst, bool micro)
             m->pc = 4; return RG_RUN_SUSPENDED;
         case 4: /* b4: after exec  beacon.rst:24 */
             m->v_phase = (m->v_phase * 2.0);
-            if (m->smp_present[1]) { m->pc = 5; continue; }  /* t3: Lit -> Dark (exec) beacon.rst:36 */
-            if ((((m->smp_present[2] ? (m->v_level = m->smp_e2, true) : false) && (m->v_level < INT64_C(0))) && (!m->smp_present[1]))) { m->pc = 7; continue; }  /* t4: Lit -> Lit beacon.rst:37 */
-            if ((((double)(m->ticks - m->clock_reset[0]) * 0.5) >= 1.0)) { m->pc = 8; continue; }  /* l1: Blink -> Hold (exec) beacon.rst:28 */
-            if ((((double)(m->ticks - m->clock_reset[0]) * 0.5) < 1.0)) { m->pc = 18; continue; }  /* l2: Blink -> Blink (exec) beacon.rst:29 */
+            /* t3: Lit -> Dark (exec) [$off]  beacon.rst:36 */
+            if (m->smp_present[Beacon_Event_off]) { m->pc = 5; continue; }
+            /* t4: Lit -> Lit [$dim?level /\ level < 0 /\ not $off]  beacon.rst:37 */
+            if (((m->smp_present[Beacon_Event_dim] ? (m->v_level = m->smp_e_dim, true) : false) && (m->v_level < INT64_C(0))) && (!m->smp_present[Beacon_Event_off])) { m->pc = 7; continue; }
+            /* l1: Blink -> Hold (exec) [since(C) >= 1.0]  beacon.rst:28 */
+            if (((double)(m->ticks - m->clock_reset[0]) * 0.5) >= 1.0) { m->pc = 8; continue; }
+            /* l2: Blink -> Blink (exec) [since(C) < 1.0]  beacon.rst:29 */
+            if (((double)(m->ticks - m->clock_reset[0]) * 0.5) < 1.0) { m->pc = 18; continue; }
             return rg_machine_fail(inst, "Beacon: deadlock in state 'Lit.Blink' (beacon.rst:22): no transition is enabled and no exec");
         case 5: /* b5: t3: exec decided  beacon.rst:36 */
             RG_TRACE(inst, "Beacon: t3: exec");
             m->pc = 6; return RG_RUN_SUSPENDED;
         case 6: /* b6: t3: Lit -> Dark  beacon.rst:36 */
-            if (micro && taken) return RG_RUN_MICRO;  /* stepwise: one transition per instant */
-            taken = true;
-            if (++m->transitions > RG_MAX_TRANSITIONS) return rg_runaway_0(inst);
+            RG_BEGIN_TRANSITION(rg_runaway_0(inst));
             RG_TRACE(inst, "Beacon: t3: Lit -> Dark");
             m->v_level = INT64_C(0);
-            m->node = 1; m->entered[1] = m->ticks;
+            RG_ENTER(Beacon_Node_Dark);
             m->clock_reset[0] = m->ticks;
             m->pc = 1; continue;
         case 7: /* b7: t4: Lit -> Lit  beacon.rst:37 */
-            if (micro && taken) return RG_RUN_MICRO;  /* stepwise: one transition per instant */
-            taken = true;
-            if (++m->transitions > RG_MAX_TRANSITIONS) return rg_runaway_0(inst);
+            RG_BEGIN_TRANSITION(rg_runaway_0(inst));
             RG_TRACE(inst, "Beacon: t4: Lit -> Lit");
-            m->node = 2; m->entered[2] = m->ticks;
+            RG_ENTER(Beacon_Node_Lit);
             RG_TRACE(inst, "Beacon: l0: li -> Blink");
-            m->node = 4; m->entered[4] = m->ticks;
+            RG_ENTER(Beacon_Node_Lit_Blink);
             m->v_flashes = rg_u_add(m->v_flashes, UINT64_C(1));
-            {
-                uint64_t a0_ = m->v_flashes;
-                d->out_flash_value = a0_;
-                rg_activate_output_clock(inst, 4); /* flash */
-            }
+            d->out_flash_value = m->v_flashes;
+            rg_activate_output_clock(inst, CLOCK_flash);
             m->pc = 3; continue;
         case 8: /* b8: l1: exec decided  beacon.rst:28 */
             RG_TRACE(inst, "Beacon: l1: exec");
             m->pc = 9; return RG_RUN_SUSPENDED;
         case 9: /* b9: l1: Blink -> Hold  beacon.rst:28 */
-            if (micro && taken) return RG_RUN_MICRO;  /* stepwise: one transition per instant */
-            taken = true;
-            if (++m->transitions > RG_MAX_TRANSITIONS) return rg_runaway_0(inst);
+            RG_BEGIN_TRANSITION(rg_runaway_0(inst));
             RG_TRACE(inst, "Beacon: l1: Blink -> Hold");
             m->clock_reset[0] = m->ticks;
-            m->node = 5; m->entered[5] = m->ticks;
+            RG_ENTER(Beacon_Node_Lit_Hold);
             m->pc = 10; continue;
         case 10: /* b10: EVAL Lit.Hold  beacon.rst:26 */
             m->v_level = rg_i_add(m->v_level, INT64_C(1));
-            if (m->smp_present[1]) { m->pc = 11; continue; }  /* t3: Lit -> Dark (exec) beacon.rst:36 */
-            if ((((m->smp_present[2] ? (m->v_level = m->smp_e2, true) : false) && (m->v_level < INT64_C(0))) && (!m->smp_present[1]))) { m->pc = 13; continue; }  /* t4: Lit -> Lit beacon.rst:37 */
-            if ((((double)(m->ticks - m->entered[5]) * 0.5) >= 1.5)) { m->pc = 14; continue; }  /* l3: Hold -> Blink (exec) beacon.rst:30 */
-            if ((((double)(m->ticks - m->entered[5]) * 0.5) < 1.5)) { m->pc = 16; continue; }  /* l4: Hold -> Hold (exec) beacon.rst:31 */
+            /* t3: Lit -> Dark (exec) [$off]  beacon.rst:36 */
+            if (m->smp_present[Beacon_Event_off]) { m->pc = 11; continue; }
+            /* t4: Lit -> Lit [$dim?level /\ level < 0 /\ not $off]  beacon.rst:37 */
+            if (((m->smp_present[Beacon_Event_dim] ? (m->v_level = m->smp_e_dim, true) : false) && (m->v_level < INT64_C(0))) && (!m->smp_present[Beacon_Event_off])) { m->pc = 13; continue; }
+            /* l3: Hold -> Blink (exec) [sinceEntry(Hold) >= 1.5]  beacon.rst:30 */
+            if (((double)(m->ticks - m->entered[Beacon_Node_Lit_Hold]) * 0.5) >= 1.5) { m->pc = 14; continue; }
+            /* l4: Hold -> Hold (exec) [sinceEntry(Hold) < 1.5]  beacon.rst:31 */
+            if (((double)(m->ticks - m->entered[Beacon_Node_Lit_Hold]) * 0.5) < 1.5) { m->pc = 16; continue; }
             return rg_machine_fail(inst, "Beacon: deadlock in state 'Lit.Hold' (beacon.rst:26): no transition is enabled and no exec");
         case 11: /* b11: t3: exec decided  beacon.rst:36 */
             RG_TRACE(inst, "Beacon: t3: exec");
             m->pc = 12; return RG_RUN_SUSPENDED;
         case 12: /* b12: t3: Lit -> Dark  beacon.rst:36 */
-            if (micro && taken) return RG_RUN_MICRO;  /* stepwise: one transition per instant */
-            taken = true;
-            if (++m->transitions > RG_MAX_TRANSITIONS) return rg_runaway_0(inst);
+            RG_BEGIN_TRANSITION(rg_runaway_0(inst));
             RG_TRACE(inst, "Beacon: t3: Lit -> Dark");
             m->v_level = INT64_C(0);
-            m->node = 1; m->entered[1] = m->ticks;
+            RG_ENTER(Beacon_Node_Dark);
             m->clock_reset[0] = m->ticks;
             m->pc = 1; continue;
         case 13: /* b13: t4: Lit -> Lit  beacon.rst:37 */
-            if (micro && taken) return RG_RUN_MICRO;  /* stepwise: one transition per instant */
-            taken = true;
-            if (++m->transitions > RG_MAX_TRANSITIONS) return rg_runaway_0(inst);
+            RG_BEGIN_TRANSITION(rg_runaway_0(inst));
             RG_TRACE(inst, "Beacon: t4: Lit -> Lit");
-            m->node = 2; m->entered[2] = m->ticks;
+            RG_ENTER(Beacon_Node_Lit);
             RG_TRACE(inst, "Beacon: l0: li -> Blink");
-            m->node = 4; m->entered[4] = m->ticks;
+            RG_ENTER(Beacon_Node_Lit_Blink);
             m->v_flashes = rg_u_add(m->v_flashes, UINT64_C(1));
-            {
-                uint64_t a0_ = m->v_flashes;
-                d->out_flash_value = a0_;
-                rg_activate_output_clock(inst, 4); /* flash */
-            }
+            d->out_flash_value = m->v_flashes;
+            rg_activate_output_clock(inst, CLOCK_flash);
             m->pc = 3; continue;
         case 14: /* b14: l3: exec decided  beacon.rst:30 */
             RG_TRACE(inst, "Beacon: l3: exec");
             m->pc = 15; return RG_RUN_SUSPENDED;
         case 15: /* b15: l3: Hold -> Blink  beacon.rst:30 */
-            if (micro && taken) return RG_RUN_MICRO;  /* stepwise: one transition per instant */
-            taken = true;
-            if (++m->transitions > RG_MAX_TRANSITIONS) return rg_runaway_0(inst);
+            RG_BEGIN_TRANSITION(rg_runaway_0(inst));
             RG_TRACE(inst, "Beacon: l3: Hold -> Blink");
-            {
-                double a0_ = m->v_phase;
-                d->out_status_value = a0_;
-                rg_activate_output_clock(inst, 5); /* status */
-            }
-            m->node = 4; m->entered[4] = m->ticks;
+            d->out_status_value = m->v_phase;
+            rg_activate_output_clock(inst, CLOCK_status);
+            RG_ENTER(Beacon_Node_Lit_Blink);
             m->v_flashes = rg_u_add(m->v_flashes, UINT64_C(1));
-            {
-                uint64_t a0_ = m->v_flashes;
-                d->out_flash_value = a0_;
-                rg_activate_output_clock(inst, 4); /* flash */
-            }
+            d->out_flash_value = m->v_flashes;
+            rg_activate_output_clock(inst, CLOCK_flash);
             m->pc = 3; continue;
         case 16: /* b16: l4: exec decided  beacon.rst:31 */
             RG_TRACE(inst, "Beacon: l4: exec");
             m->pc = 17; return RG_RUN_SUSPENDED;
         case 17: /* b17: l4: Hold -> Hold  beacon.rst:31 */
-            if (micro && taken) return RG_RUN_MICRO;  /* stepwise: one transition per instant */
-            taken = true;
-            if (++m->transitions > RG_MAX_TRANSITIONS) return rg_runaway_0(inst);
+            RG_BEGIN_TRANSITION(rg_runaway_0(inst));
             RG_TRACE(inst, "Beacon: l4: Hold -> Hold");
-            m->node = 5; m->entered[5] = m->ticks;
+            RG_ENTER(Beacon_Node_Lit_Hold);
             m->pc = 10; continue;
         case 18: /* b18: l2: exec decided  beacon.rst:29 */
             RG_TRACE(inst, "Beacon: l2: exec");
             m->pc = 19; return RG_RUN_SUSPENDED;
         case 19: /* b19: l2: Blink -> Blink  beacon.rst:29 */
-            if (micro && taken) return RG_RUN_MICRO;  /* stepwise: one transition per instant */
-            taken = true;
-            if (++m->transitions > RG_MAX_TRANSITIONS) return rg_runaway_0(inst);
+            RG_BEGIN_TRANSITION(rg_runaway_0(inst));
             RG_TRACE(inst, "Beacon: l2: Blink -> Blink");
-            m->node = 4; m->entered[4] = m->ticks;
+            RG_ENTER(Beacon_Node_Lit_Blink);
             m->v_flashes = rg_u_add(m->v_flashes, UINT64_C(1));
-            {
-                uint64_t a0_ = m->v_flashes;
-                d->out_flash_value = a0_;
-                rg_activate_output_clock(inst, 4); /* flash */
-            }
+            d->out_flash_value = m->v_flashes;
+            rg_activate_output_clock(inst, CLOCK_flash);
             m->pc = 3; continue;
         case 20: /* b20: t2: exec decided  beacon.rst:35 */
             RG_TRACE(inst, "Beacon: t2: exec");
             m->pc = 21; return RG_RUN_SUSPENDED;
         case 21: /* b21: t2: Dark -> Dark  beacon.rst:35 */
-            if (micro && taken) return RG_RUN_MICRO;  /* stepwise: one transition per instant */
-            taken = true;
-            if (++m->transitions > RG_MAX_TRANSITIONS) return rg_runaway_0(inst);
+            RG_BEGIN_TRANSITION(rg_runaway_0(inst));
             RG_TRACE(inst, "Beacon: t2: Dark -> Dark");
-            m->node = 1; m->entered[1] = m->ticks;
+            RG_ENTER(Beacon_Node_Dark);
             m->clock_reset[0] = m->ticks;
             m->pc = 1; continue;
         default:
@@ -414,14 +274,13 @@ static void rg_model_reset(rg_instance *inst)
 {
     rg_model_data *d = &inst->s.data;
     d->m0.pc = 0;
-    d->m0.node = 0;
+    d->m0.node = Beacon_Node_i;
     d->m0.v_step = 0.25;  /* Beacon.step */
 }
 
 static fmi3Status rg_model_exit_initialization(rg_instance *inst)
 {
     rg_model_data *d = &inst->s.data;
-    (void)d;
     {
         rg_machine_0 *m = &d->m0;
         m->v_flashes = UINT64_C(0);  /* initial value of flashes */
@@ -434,46 +293,28 @@ static fmi3Status rg_model_exit_initialization(rg_instance *inst)
 static void rg_model_latch(rg_instance *inst, int clock_index)
 {
     rg_model_data *d = &inst->s.data;
-    (void)d;
     switch (clock_index) {
-    case 1: /* start */
-    {
-        rg_deliver_0_0(d);
+    case CLOCK_start:
+        rg_deliver(d, &rg_events_0[Beacon_Event_start], NULL);
         break;
-    }
-    case 2: /* off */
-    {
-        rg_deliver_0_1(d);
+    case CLOCK_off:
+        rg_deliver(d, &rg_events_0[Beacon_Event_off], NULL);
         break;
-    }
-    case 3: /* dim */
-    {
+    case CLOCK_dim: {
         int64_t v;
         v = d->in_dim_value;
-        rg_deliver_0_2(d, v);
+        rg_deliver(d, &rg_events_0[Beacon_Event_dim], &v);
         break;
     }
-    default:
+    default: /* the periodic clock, and input events that reach no state machine */
         break;
     }
-}
-
-/* RoboSim: a cycle starts; the events latched since the previous cycle become its sample. */
-static void rg_start_cycle(bool *present_reg, bool *present_smp, size_t n_events, uint64_t *ticks, bool *new_input,
-                           uint64_t *transitions)
-{
-    memcpy(present_smp, present_reg, n_events * sizeof(bool));
-    memset(present_reg, 0, n_events * sizeof(bool));
-    *new_input = false;
-    (*ticks)++;
-    *transitions = 0;
 }
 
 static fmi3Status rg_model_evaluate(rg_instance *inst)
 {
     rg_model_data *d = &inst->s.data;
-    bool periodic = inst->s.clock_active[0];  /* cycle */
-    int r = RG_RUN_SUSPENDED;
+    bool periodic = inst->s.clock_active[CLOCK_cycle];
     d->fault = RG_FAULT_NONE;
     if (periodic) d->cycles++;
     /* Every machine samples its inputs before any runs: what one machine sends another in this
@@ -484,16 +325,11 @@ static fmi3Status rg_model_evaluate(rg_instance *inst)
         bool start = periodic;
         run[0] = start;
         if (start) {
-            m->smp_e2 = m->reg_e2;
+            m->smp_e_dim = m->reg_e_dim;
             rg_start_cycle(m->reg_present, m->smp_present, 3, &m->ticks, &m->new_input, &m->transitions);
         }
     }
-    if (run[0]) {
-        r = rg_run_0(inst, false);
-        if (r == RG_RUN_FAULT) return fmi3Error;
-        d->m0.in_cycle = (r == RG_RUN_MICRO);
-    }
-    (void)r;
+    if (run[0] && rg_run_failed(rg_run_0(inst), &d->m0.in_cycle)) return fmi3Error;
     return fmi3OK;
 }
 
@@ -501,25 +337,12 @@ static fmi3Status rg_model_update(rg_instance *inst, bool *discrete_states_need_
                                   bool *terminate_simulation, bool *next_event_time_defined,
                                   double *next_event_time)
 {
-    rg_model_data *d = &inst->s.data;
+    const rg_model_data *d = &inst->s.data;
     bool need = false;
-    (void)d;
     (void)terminate_simulation;
     (void)next_event_time_defined;
     (void)next_event_time;
     need = need || d->m0.in_cycle;
     *discrete_states_need_update = need;
-    return fmi3OK;
-}
-
-static fmi3Status rg_model_do_step(rg_instance *inst, double t_end, bool *event_handling_needed,
-                                   bool *terminate_simulation, double *last_successful_time)
-{
-    /* The state machines only react in Event Mode; a step just lets time pass. */
-    (void)inst;
-    (void)t_end;
-    (void)event_handling_needed;
-    (void)terminate_simulation;
-    (void)last_successful_time;
     return fmi3OK;
 }

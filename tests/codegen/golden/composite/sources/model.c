@@ -5,118 +5,24 @@
  * Each state machine is a function that resumes at block m->pc and runs until the cycle ends
  * (RG_RUN_SUSPENDED), until a micro-step boundary in stepwise semantics (RG_RUN_MICRO), or
  * until a run-time error (RG_RUN_FAULT, reported through logMessage and fmi3Error). Every block
- * opens with a comment naming what it does and the model line it comes from. */
+ * opens with a comment naming what it does and the model line it comes from; every guard is
+ * quoted as the model writes it above its test. The helpers (RG_BEGIN_TRANSITION, rg_deliver,
+ * the arithmetic) are robogen_machine.h's. */
 
-#include <string.h>
-
-/* ---- arithmetic as robogen defines it: wrapping integers, checked division --------------- */
-
-enum { RG_FAULT_NONE = 0, RG_FAULT_DIVISION = 1, RG_FAULT_INDEX = 2, RG_FAULT_RUNAWAY = 3, RG_FAULT_STUCK = 4,
-       RG_FAULT_CONVERSION = 5 };
-enum { RG_RUN_SUSPENDED = 0, RG_RUN_MICRO = 1, RG_RUN_FAULT = -1 };
-
-#define RG_MAX_TRANSITIONS 1000UL  /* transitions per cycle before a runaway is reported */
-#define RG_MAX_STEPS 64000UL        /* blocks per cycle, the same bound for any loop */
-#define RG_TRACE(inst, text) \
-    do { if ((inst)->logging_on && (inst)->log_category_on[RG_LOG_TRANSITIONS]) \
-        rg_log((inst), RG_LOG_TRANSITIONS, fmi3OK, "%s", (text)); } while (0)
-
-static inline int64_t rg_i_add(int64_t a, int64_t b) { return (int64_t)((uint64_t)a + (uint64_t)b); }
-static inline int64_t rg_i_sub(int64_t a, int64_t b) { return (int64_t)((uint64_t)a - (uint64_t)b); }
-static inline int64_t rg_i_mul(int64_t a, int64_t b) { return (int64_t)((uint64_t)a * (uint64_t)b); }
-static inline int64_t rg_i_neg(int64_t a) { return (int64_t)(UINT64_C(0) - (uint64_t)a); }
-static inline int64_t rg_i_abs(int64_t a) { return a < 0 ? rg_i_neg(a) : a; }
-static inline int64_t rg_i_min(int64_t a, int64_t b) { return a <= b ? a : b; }
-static inline int64_t rg_i_max(int64_t a, int64_t b) { return a >= b ? a : b; }
-static inline int64_t rg_i_div(rg_model_data *d, int64_t a, int64_t b)
-{
-    if (b == 0) { d->fault = RG_FAULT_DIVISION; return 0; }
-    if (b == -1) return rg_i_neg(a);
-    return a / b;
-}
-static inline int64_t rg_i_mod(rg_model_data *d, int64_t a, int64_t b)
-{
-    if (b == 0) { d->fault = RG_FAULT_DIVISION; return 0; }
-    if (b == -1) return 0;
-    return a % b;
-}
-static inline uint64_t rg_u_add(uint64_t a, uint64_t b) { return a + b; }
-static inline uint64_t rg_u_sub(uint64_t a, uint64_t b) { return a - b; }
-static inline uint64_t rg_u_mul(uint64_t a, uint64_t b) { return a * b; }
-static inline uint64_t rg_u_neg(uint64_t a) { return UINT64_C(0) - a; }
-static inline uint64_t rg_u_abs(uint64_t a) { return a; }
-static inline uint64_t rg_u_min(uint64_t a, uint64_t b) { return a <= b ? a : b; }
-static inline uint64_t rg_u_max(uint64_t a, uint64_t b) { return a >= b ? a : b; }
-static inline uint64_t rg_u_div(rg_model_data *d, uint64_t a, uint64_t b)
-{
-    if (b == 0) { d->fault = RG_FAULT_DIVISION; return 0; }
-    return a / b;
-}
-static inline uint64_t rg_u_mod(rg_model_data *d, uint64_t a, uint64_t b)
-{
-    if (b == 0) { d->fault = RG_FAULT_DIVISION; return 0; }
-    return a % b;
-}
-static inline double rg_r_div(rg_model_data *d, double a, double b)
-{
-    if (b == 0.0) { d->fault = RG_FAULT_DIVISION; return 0.0; }
-    return a / b;
-}
-static inline double rg_r_abs(double a) { return a < 0.0 ? -a : a; }
-/* Conversions: a real becomes an integer by truncation toward zero; outside the integer's range
- * (or NaN) it sets the fault code instead of being undefined behaviour. */
-static inline int64_t rg_r_to_i(rg_model_data *d, double x)
-{
-    if (!(x >= -9223372036854775808.0 && x < 9223372036854775808.0)) { d->fault = RG_FAULT_CONVERSION; return 0; }
-    return (int64_t)x;
-}
-static inline uint64_t rg_r_to_u(rg_model_data *d, double x)
-{
-    if (!(x > -1.0 && x < 18446744073709551616.0)) { d->fault = RG_FAULT_CONVERSION; return 0; }
-    return (uint64_t)x;
-}
-/* nat to int wraps around, like the interpreter (no implementation-defined conversion). */
-static inline int64_t rg_u_to_i(uint64_t x)
-{
-    return x <= (uint64_t)INT64_MAX ? (int64_t)x : -(int64_t)(UINT64_MAX - x) - 1;
-}
-static inline double rg_r_min(double a, double b) { return a <= b ? a : b; }
-static inline double rg_r_max(double a, double b) { return a >= b ? a : b; }
-/* A 1-based index into n elements, as a 0-based offset; out of range sets the fault code. */
-static inline int64_t rg_index(rg_model_data *d, int64_t i, int64_t n)
-{
-    if (i < 1 || i > n) { d->fault = RG_FAULT_INDEX; return 0; }
-    return i - 1;
-}
-
-static const char *rg_fault_text(int32_t fault) RG_MAYBE_UNUSED;
-static const char *rg_fault_text(int32_t fault)
-{
-    switch (fault) {
-    case RG_FAULT_DIVISION: return "division by zero";
-    case RG_FAULT_INDEX: return "index out of range";
-    case RG_FAULT_RUNAWAY: return "runaway cycle";
-    case RG_FAULT_CONVERSION: return "real number out of range for an integer";
-    default: return "run-time error";
-    }
-}
-
-/* A RoboChart deadline was missed: counted and logged, never enforced. */
-static void rg_deadline_miss(rg_instance *inst, const char *message) RG_MAYBE_UNUSED;
-static void rg_deadline_miss(rg_instance *inst, const char *message)
-{
-    inst->s.data.deadline_misses++;
-    rg_log(inst, RG_LOG_WARNING, fmi3Warning, "%s (t=%.17g)", message, inst->s.time);
-}
-
-static int rg_machine_fail(rg_instance *inst, const char *message)
-{
-    inst->s.data.fault = RG_FAULT_STUCK;
-    rg_log(inst, RG_LOG_ERROR, fmi3Error, "%s", message);
-    return RG_RUN_FAULT;
-}
+#include "robogen_machine.h"
 
 /* ---- the FMI variables and clocks (value references as in modelDescription.xml) ---------- */
+
+/* indices into rg_clocks */
+enum {
+    CLOCK_cycle = 0,  /* one RoboSim cycle */
+    CLOCK_go = 1,  /* input event go */
+    CLOCK_halt = 2,  /* input event halt */
+    CLOCK_back = 3,  /* input event back */
+    CLOCK_value = 4,  /* input event value */
+    CLOCK_log = 5,  /* output event log */
+    CLOCK_done = 6,  /* output event done */
+};
 
 static const rg_clock rg_clocks[RG_CLOCK_ARRAY_SIZE] = {
     { 1, "cycle", RG_CLOCK_INPUT_CONSTANT, 1, 0.0 },
@@ -150,6 +56,26 @@ static const rg_variable rg_variables[RG_NUM_VARIABLES] = {
 
 /* ======== state machine composite::Nest (composite.rst:21) ======== */
 
+/* The name of a node of Nest, for log messages. */
+static const char *Nest_node_name(int64_t node)
+{
+    switch (node) {
+    case Nest_Node_i: return "i";
+    case Nest_Node_Idle: return "Idle";
+    case Nest_Node_Work: return "Work";
+    case Nest_Node_Work_wi: return "Work.wi";
+    case Nest_Node_Work_A: return "Work.A";
+    case Nest_Node_Work_B: return "Work.B";
+    case Nest_Node_Work_B_bi: return "Work.B.bi";
+    case Nest_Node_Work_B_B1: return "Work.B.B1";
+    case Nest_Node_Work_B_B2: return "Work.B.B2";
+    case Nest_Node_Work_J: return "Work.J";
+    case Nest_Node_F: return "F";
+    default: return "?";
+    }
+}
+
+/* What each block does, for log messages (indexed by m->pc). */
 static const char *const rg_labels_0[] = {
     "b0: start Nest (composite.rst:21)",
     "b1: EVAL Idle (composite.rst:27)",
@@ -187,133 +113,85 @@ static const char *const rg_labels_0[] = {
     "b33: t2: Idle -> Idle (composite.rst:66)",
 };
 
-static int rg_fault_0(rg_instance *inst, int32_t pc) RG_MAYBE_UNUSED;
-static int rg_fault_0(rg_instance *inst, int32_t pc)
+static int rg_fault_0(rg_instance *inst) RG_MAYBE_UNUSED;
+static int rg_fault_0(rg_instance *inst)
 {
-    rg_log(inst, RG_LOG_ERROR, fmi3Error, "state machine Nest: %s in %s", rg_fault_text(inst->s.data.fault), rg_labels_0[pc]);
-    return RG_RUN_FAULT;
+    const rg_machine_0 *m = &inst->s.data.m0;
+    return rg_report_fault(inst, "Nest", rg_labels_0[m->pc], Nest_node_name(m->node));
 }
 
 static int rg_runaway_0(rg_instance *inst)
 {
-    inst->s.data.fault = RG_FAULT_RUNAWAY;
-    rg_log(inst, RG_LOG_ERROR, fmi3Error, "state machine Nest: more than %lu transitions in one cycle without exec "
-           "(a runaway cycle), at %s", RG_MAX_TRANSITIONS, rg_labels_0[inst->s.data.m0.pc]);
-    return RG_RUN_FAULT;
+    const rg_machine_0 *m = &inst->s.data.m0;
+    return rg_report_runaway(inst, "Nest", rg_labels_0[m->pc], Nest_node_name(m->node));
 }
 
-/* event go reaches Nest: latched until its next cycle */
-static void rg_deliver_0_0(rg_model_data *d) RG_MAYBE_UNUSED;
-static void rg_deliver_0_0(rg_model_data *d)
-{
-    rg_machine_0 *m = &d->m0;
-    if (m->reg_present[0]) d->dropped_events++;
-    m->reg_present[0] = true;
-    m->new_input = true;
-}
+/* Where each input event of Nest is latched and read (see rg_event_slot). */
+static const rg_event_slot rg_events_0[] = {
+    RG_EVENT(m0, Nest_Event_go),
+    RG_EVENT(m0, Nest_Event_halt),
+    RG_EVENT(m0, Nest_Event_back),
+    RG_TYPED_EVENT(m0, Nest_Event_value, value),
+};
 
-/* event halt reaches Nest: latched until its next cycle */
-static void rg_deliver_0_1(rg_model_data *d) RG_MAYBE_UNUSED;
-static void rg_deliver_0_1(rg_model_data *d)
-{
-    rg_machine_0 *m = &d->m0;
-    if (m->reg_present[1]) d->dropped_events++;
-    m->reg_present[1] = true;
-    m->new_input = true;
-}
-
-/* event back reaches Nest: latched until its next cycle */
-static void rg_deliver_0_2(rg_model_data *d) RG_MAYBE_UNUSED;
-static void rg_deliver_0_2(rg_model_data *d)
-{
-    rg_machine_0 *m = &d->m0;
-    if (m->reg_present[2]) d->dropped_events++;
-    m->reg_present[2] = true;
-    m->new_input = true;
-}
-
-/* event value reaches Nest: latched until its next cycle */
-static void rg_deliver_0_3(rg_model_data *d, int64_t v) RG_MAYBE_UNUSED;
-static void rg_deliver_0_3(rg_model_data *d, int64_t v)
-{
-    rg_machine_0 *m = &d->m0;
-    if (m->reg_present[3]) d->dropped_events++;
-    m->reg_present[3] = true;
-    m->reg_e3 = v;
-    m->new_input = true;
-}
-
-/* Run state machine Nest from m->pc until it suspends, or (micro: stepwise semantics)
- * until it reaches a second transition segment: each segment starts with a step check. */
-static int rg_run_0(rg_instance *inst, bool micro)
+/* Run state machine Nest from block m->pc until the work of its cycle is done. */
+static int rg_run_0(rg_instance *inst)
 {
     rg_model_data *d = &inst->s.data;
     rg_machine_0 *m = &d->m0;
-    bool taken = false;  /* a transition segment was entered in this run */
     unsigned long steps = 0;
-    (void)micro;
-    (void)taken;
     for (;;) {
         if (++steps > RG_MAX_STEPS) return rg_runaway_0(inst);
         switch (m->pc) {
         case 0: /* b0: start Nest  composite.rst:21 */
-            if (micro && taken) return RG_RUN_MICRO;  /* stepwise: one transition per instant */
-            taken = true;
-            if (++m->transitions > RG_MAX_TRANSITIONS) return rg_runaway_0(inst);
+            RG_BEGIN_TRANSITION(rg_runaway_0(inst));
             RG_TRACE(inst, "Nest: t0: i -> Idle");
-            m->node = 1; m->entered[1] = m->ticks;
+            RG_ENTER(Nest_Node_Idle);
             m->v_trail = rg_i_add(rg_i_mul(m->v_trail, INT64_C(10)), INT64_C(1));
             m->pc = 1; continue;
         case 1: /* b1: EVAL Idle  composite.rst:27 */
-            if ((m->smp_present[0] && (!m->smp_present[1]))) { m->pc = 2; continue; }  /* t1: Idle -> Work composite.rst:65 */
-            if (((!m->smp_present[0]) || m->smp_present[1])) { m->pc = 32; continue; }  /* t2: Idle -> Idle (exec) composite.rst:66 */
+            /* t1: Idle -> Work [$go /\ not $halt]  composite.rst:65 */
+            if (m->smp_present[Nest_Event_go] && (!m->smp_present[Nest_Event_halt])) { m->pc = 2; continue; }
+            /* t2: Idle -> Idle (exec) [not $go \/ $halt]  composite.rst:66 */
+            if ((!m->smp_present[Nest_Event_go]) || m->smp_present[Nest_Event_halt]) { m->pc = 32; continue; }
             return rg_machine_fail(inst, "Nest: deadlock in state 'Idle' (composite.rst:27): no transition is enabled and no exec");
         case 2: /* b2: t1: Idle -> Work  composite.rst:65 */
-            if (micro && taken) return RG_RUN_MICRO;  /* stepwise: one transition per instant */
-            taken = true;
-            if (++m->transitions > RG_MAX_TRANSITIONS) return rg_runaway_0(inst);
+            RG_BEGIN_TRANSITION(rg_runaway_0(inst));
             RG_TRACE(inst, "Nest: t1: Idle -> Work");
-            m->node = 2; m->entered[2] = m->ticks;
+            RG_ENTER(Nest_Node_Work);
             m->v_trail = rg_i_add(rg_i_mul(m->v_trail, INT64_C(10)), INT64_C(2));
-            {
-                int64_t a0_ = m->v_trail;
-                d->out_log_value = a0_;
-                rg_activate_output_clock(inst, 5); /* log */
-            }
+            d->out_log_value = m->v_trail;
+            rg_activate_output_clock(inst, CLOCK_log);
             RG_TRACE(inst, "Nest: w0: wi -> A");
-            m->node = 4; m->entered[4] = m->ticks;
+            RG_ENTER(Nest_Node_Work_A);
             m->v_trail = rg_i_add(rg_i_mul(m->v_trail, INT64_C(10)), INT64_C(4));
             m->pc = 3; continue;
         case 3: /* b3: EVAL Work.A  composite.rst:35 */
             m->v_count = rg_i_add(m->v_count, INT64_C(1));
-            if ((m->smp_present[1] && (!m->smp_present[3]))) { m->pc = 4; continue; }  /* t3: Work -> Idle (exec) composite.rst:67 */
-            if ((m->smp_present[1] && m->smp_present[3])) { m->pc = 6; continue; }  /* t4: Work -> F composite.rst:68 */
-            if (true) { m->pc = 8; continue; }  /* w1: A -> J (exec) composite.rst:59 */
-            return rg_machine_fail(inst, "Nest: deadlock in state 'Work.A' (composite.rst:35): no transition is enabled and no exec");
+            /* t3: Work -> Idle (exec) [$halt /\ not $value]  composite.rst:67 */
+            if (m->smp_present[Nest_Event_halt] && (!m->smp_present[Nest_Event_value])) { m->pc = 4; continue; }
+            /* t4: Work -> F [$halt /\ $value]  composite.rst:68 */
+            if (m->smp_present[Nest_Event_halt] && m->smp_present[Nest_Event_value]) { m->pc = 6; continue; }
+            /* w1: A -> J (exec)  composite.rst:59 */
+            m->pc = 8; continue;
         case 4: /* b4: t3: exec decided  composite.rst:67 */
             RG_TRACE(inst, "Nest: t3: exec");
             m->pc = 5; return RG_RUN_SUSPENDED;
         case 5: /* b5: t3: Work -> Idle  composite.rst:67 */
-            if (micro && taken) return RG_RUN_MICRO;  /* stepwise: one transition per instant */
-            taken = true;
-            if (++m->transitions > RG_MAX_TRANSITIONS) return rg_runaway_0(inst);
+            RG_BEGIN_TRANSITION(rg_runaway_0(inst));
             RG_TRACE(inst, "Nest: t3: Work -> Idle");
             m->v_trail = rg_i_add(rg_i_mul(m->v_trail, INT64_C(10)), INT64_C(5));
             m->v_trail = rg_i_add(rg_i_mul(m->v_trail, INT64_C(10)), INT64_C(3));
-            {
-                rg_activate_output_clock(inst, 6); /* done */
-            }
-            m->node = 1; m->entered[1] = m->ticks;
+            rg_activate_output_clock(inst, CLOCK_done);
+            RG_ENTER(Nest_Node_Idle);
             m->v_trail = rg_i_add(rg_i_mul(m->v_trail, INT64_C(10)), INT64_C(1));
             m->pc = 1; continue;
         case 6: /* b6: t4: Work -> F  composite.rst:68 */
-            if (micro && taken) return RG_RUN_MICRO;  /* stepwise: one transition per instant */
-            taken = true;
-            if (++m->transitions > RG_MAX_TRANSITIONS) return rg_runaway_0(inst);
+            RG_BEGIN_TRANSITION(rg_runaway_0(inst));
             RG_TRACE(inst, "Nest: t4: Work -> F");
             m->v_trail = rg_i_add(rg_i_mul(m->v_trail, INT64_C(10)), INT64_C(5));
             m->v_trail = rg_i_add(rg_i_mul(m->v_trail, INT64_C(10)), INT64_C(3));
-            m->node = 10; m->entered[10] = m->ticks;
+            RG_ENTER(Nest_Node_F);
             m->pc = 7; continue;
         case 7: /* b7: EVAL F  composite.rst:63 */
             m->pc = 7; return RG_RUN_SUSPENDED;
@@ -321,192 +199,162 @@ static int rg_run_0(rg_instance *inst, bool micro)
             RG_TRACE(inst, "Nest: w1: exec");
             m->pc = 9; return RG_RUN_SUSPENDED;
         case 9: /* b9: w1: A -> J  composite.rst:59 */
-            if (micro && taken) return RG_RUN_MICRO;  /* stepwise: one transition per instant */
-            taken = true;
-            if (++m->transitions > RG_MAX_TRANSITIONS) return rg_runaway_0(inst);
+            RG_BEGIN_TRANSITION(rg_runaway_0(inst));
             RG_TRACE(inst, "Nest: w1: A -> J");
             m->v_trail = rg_i_add(rg_i_mul(m->v_trail, INT64_C(10)), INT64_C(5));
-            m->node = 9; m->entered[9] = m->ticks;
+            RG_ENTER(Nest_Node_Work_J);
             m->pc = 10; continue;
         case 10: /* b10: EVAL Work.J  composite.rst:56 */
-            if (((m->smp_present[3] ? (m->v_x = m->smp_e3, true) : false) && (m->v_x > INT64_C(0)))) { m->pc = 11; continue; }  /* w2: J -> B composite.rst:60 */
-            if (true) { m->pc = 31; continue; }  /* w3: J -> A composite.rst:58 */
-            return rg_machine_fail(inst, "Nest: deadlock in junction 'Work.J' (composite.rst:56): no transition is enabled and no exec");
+            /* w2: J -> B [$value?x /\ x > 0]  composite.rst:60 */
+            if ((m->smp_present[Nest_Event_value] ? (m->v_x = m->smp_e_value, true) : false) && (m->v_x > INT64_C(0))) { m->pc = 11; continue; }
+            /* w3: J -> A [else]  composite.rst:58 */
+            m->pc = 31; continue;
         case 11: /* b11: w2: J -> B  composite.rst:60 */
-            if (micro && taken) return RG_RUN_MICRO;  /* stepwise: one transition per instant */
-            taken = true;
-            if (++m->transitions > RG_MAX_TRANSITIONS) return rg_runaway_0(inst);
+            RG_BEGIN_TRANSITION(rg_runaway_0(inst));
             RG_TRACE(inst, "Nest: w2: J -> B");
-            m->node = 5; m->entered[5] = m->ticks;
-            {
-                int64_t a0_ = m->v_count;
-                d->out_log_value = a0_;
-                rg_activate_output_clock(inst, 5); /* log */
-            }
+            RG_ENTER(Nest_Node_Work_B);
+            d->out_log_value = m->v_count;
+            rg_activate_output_clock(inst, CLOCK_log);
             m->pc = 12; return RG_RUN_SUSPENDED;
         case 12: /* b12: after exec  composite.rst:40 */
             m->v_trail = rg_i_add(rg_i_mul(m->v_trail, INT64_C(10)), INT64_C(6));
             RG_TRACE(inst, "Nest: b0: bi -> B1");
-            m->node = 7; m->entered[7] = m->ticks;
+            RG_ENTER(Nest_Node_Work_B_B1);
             m->v_count = rg_i_add(m->v_count, INT64_C(100));
             m->pc = 13; continue;
         case 13: /* b13: EVAL Work.B.B1  composite.rst:44 */
             m->v_count = rg_i_add(m->v_count, INT64_C(1));
             m->v_inner = rg_i_add(m->v_inner, INT64_C(1));
-            if ((m->smp_present[1] && (!m->smp_present[3]))) { m->pc = 14; continue; }  /* t3: Work -> Idle (exec) composite.rst:67 */
-            if ((m->smp_present[1] && m->smp_present[3])) { m->pc = 16; continue; }  /* t4: Work -> F composite.rst:68 */
-            if (m->smp_present[2]) { m->pc = 17; continue; }  /* w4: B -> A (exec) composite.rst:61 */
-            if (m->smp_present[0]) { m->pc = 19; continue; }  /* b1: B1 -> B2 (exec) composite.rst:52 */
-            if ((!m->smp_present[0])) { m->pc = 29; continue; }  /* b2: B1 -> B1 (exec) composite.rst:53 */
+            /* t3: Work -> Idle (exec) [$halt /\ not $value]  composite.rst:67 */
+            if (m->smp_present[Nest_Event_halt] && (!m->smp_present[Nest_Event_value])) { m->pc = 14; continue; }
+            /* t4: Work -> F [$halt /\ $value]  composite.rst:68 */
+            if (m->smp_present[Nest_Event_halt] && m->smp_present[Nest_Event_value]) { m->pc = 16; continue; }
+            /* w4: B -> A (exec) [$back]  composite.rst:61 */
+            if (m->smp_present[Nest_Event_back]) { m->pc = 17; continue; }
+            /* b1: B1 -> B2 (exec) [$go]  composite.rst:52 */
+            if (m->smp_present[Nest_Event_go]) { m->pc = 19; continue; }
+            /* b2: B1 -> B1 (exec) [not $go]  composite.rst:53 */
+            if (!m->smp_present[Nest_Event_go]) { m->pc = 29; continue; }
             return rg_machine_fail(inst, "Nest: deadlock in state 'Work.B.B1' (composite.rst:44): no transition is enabled and no exec");
         case 14: /* b14: t3: exec decided  composite.rst:67 */
             RG_TRACE(inst, "Nest: t3: exec");
             m->pc = 15; return RG_RUN_SUSPENDED;
         case 15: /* b15: t3: Work -> Idle  composite.rst:67 */
-            if (micro && taken) return RG_RUN_MICRO;  /* stepwise: one transition per instant */
-            taken = true;
-            if (++m->transitions > RG_MAX_TRANSITIONS) return rg_runaway_0(inst);
+            RG_BEGIN_TRANSITION(rg_runaway_0(inst));
             RG_TRACE(inst, "Nest: t3: Work -> Idle");
             m->v_trail = rg_i_add(rg_i_mul(m->v_trail, INT64_C(10)), INT64_C(8));
             m->v_trail = rg_i_add(rg_i_mul(m->v_trail, INT64_C(10)), INT64_C(7));
             m->v_trail = rg_i_add(rg_i_mul(m->v_trail, INT64_C(10)), INT64_C(3));
-            {
-                rg_activate_output_clock(inst, 6); /* done */
-            }
-            m->node = 1; m->entered[1] = m->ticks;
+            rg_activate_output_clock(inst, CLOCK_done);
+            RG_ENTER(Nest_Node_Idle);
             m->v_trail = rg_i_add(rg_i_mul(m->v_trail, INT64_C(10)), INT64_C(1));
             m->pc = 1; continue;
         case 16: /* b16: t4: Work -> F  composite.rst:68 */
-            if (micro && taken) return RG_RUN_MICRO;  /* stepwise: one transition per instant */
-            taken = true;
-            if (++m->transitions > RG_MAX_TRANSITIONS) return rg_runaway_0(inst);
+            RG_BEGIN_TRANSITION(rg_runaway_0(inst));
             RG_TRACE(inst, "Nest: t4: Work -> F");
             m->v_trail = rg_i_add(rg_i_mul(m->v_trail, INT64_C(10)), INT64_C(8));
             m->v_trail = rg_i_add(rg_i_mul(m->v_trail, INT64_C(10)), INT64_C(7));
             m->v_trail = rg_i_add(rg_i_mul(m->v_trail, INT64_C(10)), INT64_C(3));
-            m->node = 10; m->entered[10] = m->ticks;
+            RG_ENTER(Nest_Node_F);
             m->pc = 7; continue;
         case 17: /* b17: w4: exec decided  composite.rst:61 */
             RG_TRACE(inst, "Nest: w4: exec");
             m->pc = 18; return RG_RUN_SUSPENDED;
         case 18: /* b18: w4: B -> A  composite.rst:61 */
-            if (micro && taken) return RG_RUN_MICRO;  /* stepwise: one transition per instant */
-            taken = true;
-            if (++m->transitions > RG_MAX_TRANSITIONS) return rg_runaway_0(inst);
+            RG_BEGIN_TRANSITION(rg_runaway_0(inst));
             RG_TRACE(inst, "Nest: w4: B -> A");
             m->v_trail = rg_i_add(rg_i_mul(m->v_trail, INT64_C(10)), INT64_C(8));
             m->v_trail = rg_i_add(rg_i_mul(m->v_trail, INT64_C(10)), INT64_C(7));
-            {
-                int64_t a0_ = m->v_x;
-                d->out_log_value = a0_;
-                rg_activate_output_clock(inst, 5); /* log */
-            }
-            m->node = 4; m->entered[4] = m->ticks;
+            d->out_log_value = m->v_x;
+            rg_activate_output_clock(inst, CLOCK_log);
+            RG_ENTER(Nest_Node_Work_A);
             m->v_trail = rg_i_add(rg_i_mul(m->v_trail, INT64_C(10)), INT64_C(4));
             m->pc = 3; continue;
         case 19: /* b19: b1: exec decided  composite.rst:52 */
             RG_TRACE(inst, "Nest: b1: exec");
             m->pc = 20; return RG_RUN_SUSPENDED;
         case 20: /* b20: b1: B1 -> B2  composite.rst:52 */
-            if (micro && taken) return RG_RUN_MICRO;  /* stepwise: one transition per instant */
-            taken = true;
-            if (++m->transitions > RG_MAX_TRANSITIONS) return rg_runaway_0(inst);
+            RG_BEGIN_TRANSITION(rg_runaway_0(inst));
             RG_TRACE(inst, "Nest: b1: B1 -> B2");
             m->v_trail = rg_i_add(rg_i_mul(m->v_trail, INT64_C(10)), INT64_C(8));
-            m->node = 8; m->entered[8] = m->ticks;
+            RG_ENTER(Nest_Node_Work_B_B2);
             m->v_trail = rg_i_add(rg_i_mul(m->v_trail, INT64_C(10)), INT64_C(9));
             m->pc = 21; continue;
         case 21: /* b21: EVAL Work.B.B2  composite.rst:48 */
             m->v_count = rg_i_add(m->v_count, INT64_C(1));
             m->v_inner = rg_i_add(m->v_inner, INT64_C(1));
-            if ((m->smp_present[1] && (!m->smp_present[3]))) { m->pc = 22; continue; }  /* t3: Work -> Idle (exec) composite.rst:67 */
-            if ((m->smp_present[1] && m->smp_present[3])) { m->pc = 24; continue; }  /* t4: Work -> F composite.rst:68 */
-            if (m->smp_present[2]) { m->pc = 25; continue; }  /* w4: B -> A (exec) composite.rst:61 */
-            if (true) { m->pc = 27; continue; }  /* b3: B2 -> B2 (exec) composite.rst:54 */
-            return rg_machine_fail(inst, "Nest: deadlock in state 'Work.B.B2' (composite.rst:48): no transition is enabled and no exec");
+            /* t3: Work -> Idle (exec) [$halt /\ not $value]  composite.rst:67 */
+            if (m->smp_present[Nest_Event_halt] && (!m->smp_present[Nest_Event_value])) { m->pc = 22; continue; }
+            /* t4: Work -> F [$halt /\ $value]  composite.rst:68 */
+            if (m->smp_present[Nest_Event_halt] && m->smp_present[Nest_Event_value]) { m->pc = 24; continue; }
+            /* w4: B -> A (exec) [$back]  composite.rst:61 */
+            if (m->smp_present[Nest_Event_back]) { m->pc = 25; continue; }
+            /* b3: B2 -> B2 (exec)  composite.rst:54 */
+            m->pc = 27; continue;
         case 22: /* b22: t3: exec decided  composite.rst:67 */
             RG_TRACE(inst, "Nest: t3: exec");
             m->pc = 23; return RG_RUN_SUSPENDED;
         case 23: /* b23: t3: Work -> Idle  composite.rst:67 */
-            if (micro && taken) return RG_RUN_MICRO;  /* stepwise: one transition per instant */
-            taken = true;
-            if (++m->transitions > RG_MAX_TRANSITIONS) return rg_runaway_0(inst);
+            RG_BEGIN_TRANSITION(rg_runaway_0(inst));
             RG_TRACE(inst, "Nest: t3: Work -> Idle");
             m->v_trail = rg_i_add(rg_i_mul(m->v_trail, INT64_C(10)), INT64_C(7));
             m->v_trail = rg_i_add(rg_i_mul(m->v_trail, INT64_C(10)), INT64_C(3));
-            {
-                rg_activate_output_clock(inst, 6); /* done */
-            }
-            m->node = 1; m->entered[1] = m->ticks;
+            rg_activate_output_clock(inst, CLOCK_done);
+            RG_ENTER(Nest_Node_Idle);
             m->v_trail = rg_i_add(rg_i_mul(m->v_trail, INT64_C(10)), INT64_C(1));
             m->pc = 1; continue;
         case 24: /* b24: t4: Work -> F  composite.rst:68 */
-            if (micro && taken) return RG_RUN_MICRO;  /* stepwise: one transition per instant */
-            taken = true;
-            if (++m->transitions > RG_MAX_TRANSITIONS) return rg_runaway_0(inst);
+            RG_BEGIN_TRANSITION(rg_runaway_0(inst));
             RG_TRACE(inst, "Nest: t4: Work -> F");
             m->v_trail = rg_i_add(rg_i_mul(m->v_trail, INT64_C(10)), INT64_C(7));
             m->v_trail = rg_i_add(rg_i_mul(m->v_trail, INT64_C(10)), INT64_C(3));
-            m->node = 10; m->entered[10] = m->ticks;
+            RG_ENTER(Nest_Node_F);
             m->pc = 7; continue;
         case 25: /* b25: w4: exec decided  composite.rst:61 */
             RG_TRACE(inst, "Nest: w4: exec");
             m->pc = 26; return RG_RUN_SUSPENDED;
         case 26: /* b26: w4: B -> A  composite.rst:61 */
-            if (micro && taken) return RG_RUN_MICRO;  /* stepwise: one transition per instant */
-            taken = true;
-            if (++m->transitions > RG_MAX_TRANSITIONS) return rg_runaway_0(inst);
+            RG_BEGIN_TRANSITION(rg_runaway_0(inst));
             RG_TRACE(inst, "Nest: w4: B -> A");
             m->v_trail = rg_i_add(rg_i_mul(m->v_trail, INT64_C(10)), INT64_C(7));
-            {
-                int64_t a0_ = m->v_x;
-                d->out_log_value = a0_;
-                rg_activate_output_clock(inst, 5); /* log */
-            }
-            m->node = 4; m->entered[4] = m->ticks;
+            d->out_log_value = m->v_x;
+            rg_activate_output_clock(inst, CLOCK_log);
+            RG_ENTER(Nest_Node_Work_A);
             m->v_trail = rg_i_add(rg_i_mul(m->v_trail, INT64_C(10)), INT64_C(4));
             m->pc = 3; continue;
         case 27: /* b27: b3: exec decided  composite.rst:54 */
             RG_TRACE(inst, "Nest: b3: exec");
             m->pc = 28; return RG_RUN_SUSPENDED;
         case 28: /* b28: b3: B2 -> B2  composite.rst:54 */
-            if (micro && taken) return RG_RUN_MICRO;  /* stepwise: one transition per instant */
-            taken = true;
-            if (++m->transitions > RG_MAX_TRANSITIONS) return rg_runaway_0(inst);
+            RG_BEGIN_TRANSITION(rg_runaway_0(inst));
             RG_TRACE(inst, "Nest: b3: B2 -> B2");
-            m->node = 8; m->entered[8] = m->ticks;
+            RG_ENTER(Nest_Node_Work_B_B2);
             m->v_trail = rg_i_add(rg_i_mul(m->v_trail, INT64_C(10)), INT64_C(9));
             m->pc = 21; continue;
         case 29: /* b29: b2: exec decided  composite.rst:53 */
             RG_TRACE(inst, "Nest: b2: exec");
             m->pc = 30; return RG_RUN_SUSPENDED;
         case 30: /* b30: b2: B1 -> B1  composite.rst:53 */
-            if (micro && taken) return RG_RUN_MICRO;  /* stepwise: one transition per instant */
-            taken = true;
-            if (++m->transitions > RG_MAX_TRANSITIONS) return rg_runaway_0(inst);
+            RG_BEGIN_TRANSITION(rg_runaway_0(inst));
             RG_TRACE(inst, "Nest: b2: B1 -> B1");
             m->v_trail = rg_i_add(rg_i_mul(m->v_trail, INT64_C(10)), INT64_C(8));
-            m->node = 7; m->entered[7] = m->ticks;
+            RG_ENTER(Nest_Node_Work_B_B1);
             m->v_count = rg_i_add(m->v_count, INT64_C(100));
             m->pc = 13; continue;
         case 31: /* b31: w3: J -> A  composite.rst:58 */
-            if (micro && taken) return RG_RUN_MICRO;  /* stepwise: one transition per instant */
-            taken = true;
-            if (++m->transitions > RG_MAX_TRANSITIONS) return rg_runaway_0(inst);
+            RG_BEGIN_TRANSITION(rg_runaway_0(inst));
             RG_TRACE(inst, "Nest: w3: J -> A");
             m->v_trail = rg_i_add(rg_i_mul(m->v_trail, INT64_C(10)), INT64_C(0));
-            m->node = 4; m->entered[4] = m->ticks;
+            RG_ENTER(Nest_Node_Work_A);
             m->v_trail = rg_i_add(rg_i_mul(m->v_trail, INT64_C(10)), INT64_C(4));
             m->pc = 3; continue;
         case 32: /* b32: t2: exec decided  composite.rst:66 */
             RG_TRACE(inst, "Nest: t2: exec");
             m->pc = 33; return RG_RUN_SUSPENDED;
         case 33: /* b33: t2: Idle -> Idle  composite.rst:66 */
-            if (micro && taken) return RG_RUN_MICRO;  /* stepwise: one transition per instant */
-            taken = true;
-            if (++m->transitions > RG_MAX_TRANSITIONS) return rg_runaway_0(inst);
+            RG_BEGIN_TRANSITION(rg_runaway_0(inst));
             RG_TRACE(inst, "Nest: t2: Idle -> Idle");
-            m->node = 1; m->entered[1] = m->ticks;
+            RG_ENTER(Nest_Node_Idle);
             m->v_trail = rg_i_add(rg_i_mul(m->v_trail, INT64_C(10)), INT64_C(1));
             m->pc = 1; continue;
         default:
@@ -521,13 +369,12 @@ static void rg_model_reset(rg_instance *inst)
 {
     rg_model_data *d = &inst->s.data;
     d->m0.pc = 0;
-    d->m0.node = 0;
+    d->m0.node = Nest_Node_i;
 }
 
 static fmi3Status rg_model_exit_initialization(rg_instance *inst)
 {
     rg_model_data *d = &inst->s.data;
-    (void)d;
     {
         rg_machine_0 *m = &d->m0;
         m->v_trail = INT64_C(0);  /* initial value of trail */
@@ -541,51 +388,31 @@ static fmi3Status rg_model_exit_initialization(rg_instance *inst)
 static void rg_model_latch(rg_instance *inst, int clock_index)
 {
     rg_model_data *d = &inst->s.data;
-    (void)d;
     switch (clock_index) {
-    case 1: /* go */
-    {
-        rg_deliver_0_0(d);
+    case CLOCK_go:
+        rg_deliver(d, &rg_events_0[Nest_Event_go], NULL);
         break;
-    }
-    case 2: /* halt */
-    {
-        rg_deliver_0_1(d);
+    case CLOCK_halt:
+        rg_deliver(d, &rg_events_0[Nest_Event_halt], NULL);
         break;
-    }
-    case 3: /* back */
-    {
-        rg_deliver_0_2(d);
+    case CLOCK_back:
+        rg_deliver(d, &rg_events_0[Nest_Event_back], NULL);
         break;
-    }
-    case 4: /* value */
-    {
+    case CLOCK_value: {
         int64_t v;
         v = d->in_value_value;
-        rg_deliver_0_3(d, v);
+        rg_deliver(d, &rg_events_0[Nest_Event_value], &v);
         break;
     }
-    default:
+    default: /* the periodic clock, and input events that reach no state machine */
         break;
     }
-}
-
-/* RoboSim: a cycle starts; the events latched since the previous cycle become its sample. */
-static void rg_start_cycle(bool *present_reg, bool *present_smp, size_t n_events, uint64_t *ticks, bool *new_input,
-                           uint64_t *transitions)
-{
-    memcpy(present_smp, present_reg, n_events * sizeof(bool));
-    memset(present_reg, 0, n_events * sizeof(bool));
-    *new_input = false;
-    (*ticks)++;
-    *transitions = 0;
 }
 
 static fmi3Status rg_model_evaluate(rg_instance *inst)
 {
     rg_model_data *d = &inst->s.data;
-    bool periodic = inst->s.clock_active[0];  /* cycle */
-    int r = RG_RUN_SUSPENDED;
+    bool periodic = inst->s.clock_active[CLOCK_cycle];
     d->fault = RG_FAULT_NONE;
     if (periodic) d->cycles++;
     /* Every machine samples its inputs before any runs: what one machine sends another in this
@@ -596,16 +423,11 @@ static fmi3Status rg_model_evaluate(rg_instance *inst)
         bool start = periodic;
         run[0] = start;
         if (start) {
-            m->smp_e3 = m->reg_e3;
+            m->smp_e_value = m->reg_e_value;
             rg_start_cycle(m->reg_present, m->smp_present, 4, &m->ticks, &m->new_input, &m->transitions);
         }
     }
-    if (run[0]) {
-        r = rg_run_0(inst, false);
-        if (r == RG_RUN_FAULT) return fmi3Error;
-        d->m0.in_cycle = (r == RG_RUN_MICRO);
-    }
-    (void)r;
+    if (run[0] && rg_run_failed(rg_run_0(inst), &d->m0.in_cycle)) return fmi3Error;
     return fmi3OK;
 }
 
@@ -613,25 +435,12 @@ static fmi3Status rg_model_update(rg_instance *inst, bool *discrete_states_need_
                                   bool *terminate_simulation, bool *next_event_time_defined,
                                   double *next_event_time)
 {
-    rg_model_data *d = &inst->s.data;
+    const rg_model_data *d = &inst->s.data;
     bool need = false;
-    (void)d;
     (void)terminate_simulation;
     (void)next_event_time_defined;
     (void)next_event_time;
     need = need || d->m0.in_cycle;
     *discrete_states_need_update = need;
-    return fmi3OK;
-}
-
-static fmi3Status rg_model_do_step(rg_instance *inst, double t_end, bool *event_handling_needed,
-                                   bool *terminate_simulation, double *last_successful_time)
-{
-    /* The state machines only react in Event Mode; a step just lets time pass. */
-    (void)inst;
-    (void)t_end;
-    (void)event_handling_needed;
-    (void)terminate_simulation;
-    (void)last_successful_time;
     return fmi3OK;
 }

@@ -5,89 +5,11 @@
  * Each state machine is a function that resumes at block m->pc and runs until the cycle ends
  * (RG_RUN_SUSPENDED), until a micro-step boundary in stepwise semantics (RG_RUN_MICRO), or
  * until a run-time error (RG_RUN_FAULT, reported through logMessage and fmi3Error). Every block
- * opens with a comment naming what it does and the model line it comes from. */
+ * opens with a comment naming what it does and the model line it comes from; every guard is
+ * quoted as the model writes it above its test. The helpers (RG_BEGIN_TRANSITION, rg_deliver,
+ * the arithmetic) are robogen_machine.h's. */
 
-#include <string.h>
-
-/* ---- arithmetic as robogen defines it: wrapping integers, checked division --------------- */
-
-enum { RG_FAULT_NONE = 0, RG_FAULT_DIVISION = 1, RG_FAULT_INDEX = 2, RG_FAULT_RUNAWAY = 3, RG_FAULT_STUCK = 4,
-       RG_FAULT_CONVERSION = 5 };
-enum { RG_RUN_SUSPENDED = 0, RG_RUN_MICRO = 1, RG_RUN_FAULT = -1 };
-
-#define RG_MAX_TRANSITIONS 1000UL  /* transitions per cycle before a runaway is reported */
-#define RG_MAX_STEPS 64000UL        /* blocks per cycle, the same bound for any loop */
-#define RG_TRACE(inst, text) \
-    do { if ((inst)->logging_on && (inst)->log_category_on[RG_LOG_TRANSITIONS]) \
-        rg_log((inst), RG_LOG_TRANSITIONS, fmi3OK, "%s", (text)); } while (0)
-
-static inline int64_t rg_i_add(int64_t a, int64_t b) { return (int64_t)((uint64_t)a + (uint64_t)b); }
-static inline int64_t rg_i_sub(int64_t a, int64_t b) { return (int64_t)((uint64_t)a - (uint64_t)b); }
-static inline int64_t rg_i_mul(int64_t a, int64_t b) { return (int64_t)((uint64_t)a * (uint64_t)b); }
-static inline int64_t rg_i_neg(int64_t a) { return (int64_t)(UINT64_C(0) - (uint64_t)a); }
-static inline int64_t rg_i_abs(int64_t a) { return a < 0 ? rg_i_neg(a) : a; }
-static inline int64_t rg_i_min(int64_t a, int64_t b) { return a <= b ? a : b; }
-static inline int64_t rg_i_max(int64_t a, int64_t b) { return a >= b ? a : b; }
-static inline int64_t rg_i_div(rg_model_data *d, int64_t a, int64_t b)
-{
-    if (b == 0) { d->fault = RG_FAULT_DIVISION; return 0; }
-    if (b == -1) return rg_i_neg(a);
-    return a / b;
-}
-static inline int64_t rg_i_mod(rg_model_data *d, int64_t a, int64_t b)
-{
-    if (b == 0) { d->fault = RG_FAULT_DIVISION; return 0; }
-    if (b == -1) return 0;
-    return a % b;
-}
-static inline uint64_t rg_u_add(uint64_t a, uint64_t b) { return a + b; }
-static inline uint64_t rg_u_sub(uint64_t a, uint64_t b) { return a - b; }
-static inline uint64_t rg_u_mul(uint64_t a, uint64_t b) { return a * b; }
-static inline uint64_t rg_u_neg(uint64_t a) { return UINT64_C(0) - a; }
-static inline uint64_t rg_u_abs(uint64_t a) { return a; }
-static inline uint64_t rg_u_min(uint64_t a, uint64_t b) { return a <= b ? a : b; }
-static inline uint64_t rg_u_max(uint64_t a, uint64_t b) { return a >= b ? a : b; }
-static inline uint64_t rg_u_div(rg_model_data *d, uint64_t a, uint64_t b)
-{
-    if (b == 0) { d->fault = RG_FAULT_DIVISION; return 0; }
-    return a / b;
-}
-static inline uint64_t rg_u_mod(rg_model_data *d, uint64_t a, uint64_t b)
-{
-    if (b == 0) { d->fault = RG_FAULT_DIVISION; return 0; }
-    return a % b;
-}
-static inline double rg_r_div(rg_model_data *d, double a, double b)
-{
-    if (b == 0.0) { d->fault = RG_FAULT_DIVISION; return 0.0; }
-    return a / b;
-}
-static inline double rg_r_abs(double a) { return a < 0.0 ? -a : a; }
-/* Conversions: a real becomes an integer by truncation toward zero; outside the integer's range
- * (or NaN) it sets the fault code instead of being undefined behaviour. */
-static inline int64_t rg_r_to_i(rg_model_data *d, double x)
-{
-    if (!(x >= -9223372036854775808.0 && x < 9223372036854775808.0)) { d->fault = RG_FAULT_CONVERSION; return 0; }
-    return (int64_t)x;
-}
-static inline uint64_t rg_r_to_u(rg_model_data *d, double x)
-{
-    if (!(x > -1.0 && x < 18446744073709551616.0)) { d->fault = RG_FAULT_CONVERSION; return 0; }
-    return (uint64_t)x;
-}
-/* nat to int wraps around, like the interpreter (no implementation-defined conversion). */
-static inline int64_t rg_u_to_i(uint64_t x)
-{
-    return x <= (uint64_t)INT64_MAX ? (int64_t)x : -(int64_t)(UINT64_MAX - x) - 1;
-}
-static inline double rg_r_min(double a, double b) { return a <= b ? a : b; }
-static inline double rg_r_max(double a, double b) { return a >= b ? a : b; }
-/* A 1-based index into n elements, as a 0-based offset; out of range sets the fault code. */
-static inline int64_t rg_index(rg_model_data *d, int64_t i, int64_t n)
-{
-    if (i < 1 || i > n) { d->fault = RG_FAULT_INDEX; return 0; }
-    return i - 1;
-}
+#include "robogen_machine.h"
 
 static bool rg_eq_rg_vec_i_2(rg_vec_i_2 a, rg_vec_i_2 b)
 {
@@ -102,34 +24,24 @@ static bool rg_eq_rg_rec_data_Point(rg_rec_data_Point a, rg_rec_data_Point b)
     return a.px == b.px && a.py == b.py;
 }
 
-static const char *rg_fault_text(int32_t fault) RG_MAYBE_UNUSED;
-static const char *rg_fault_text(int32_t fault)
-{
-    switch (fault) {
-    case RG_FAULT_DIVISION: return "division by zero";
-    case RG_FAULT_INDEX: return "index out of range";
-    case RG_FAULT_RUNAWAY: return "runaway cycle";
-    case RG_FAULT_CONVERSION: return "real number out of range for an integer";
-    default: return "run-time error";
-    }
-}
-
-/* A RoboChart deadline was missed: counted and logged, never enforced. */
-static void rg_deadline_miss(rg_instance *inst, const char *message) RG_MAYBE_UNUSED;
-static void rg_deadline_miss(rg_instance *inst, const char *message)
-{
-    inst->s.data.deadline_misses++;
-    rg_log(inst, RG_LOG_WARNING, fmi3Warning, "%s (t=%.17g)", message, inst->s.time);
-}
-
-static int rg_machine_fail(rg_instance *inst, const char *message)
-{
-    inst->s.data.fault = RG_FAULT_STUCK;
-    rg_log(inst, RG_LOG_ERROR, fmi3Error, "%s", message);
-    return RG_RUN_FAULT;
-}
-
 /* ---- the FMI variables and clocks (value references as in modelDescription.xml) ---------- */
+
+/* indices into rg_clocks */
+enum {
+    CLOCK_cycle = 0,  /* one RoboSim cycle */
+    CLOCK_sample = 1,  /* input event sample */
+    CLOCK_divisor = 2,  /* input event divisor */
+    CLOCK_pick = 3,  /* input event pick */
+    CLOCK_mode = 4,  /* input event mode */
+    CLOCK_scale = 5,  /* input event scale */
+    CLOCK_quotient = 6,  /* output event quotient */
+    CLOCK_remainder = 7,  /* output event remainder */
+    CLOCK_ratio = 8,  /* output event ratio */
+    CLOCK_where = 9,  /* output event where */
+    CLOCK_picked = 10,  /* output event picked */
+    CLOCK_current = 11,  /* output event current */
+    CLOCK_scaled = 12,  /* output event scaled */
+};
 
 static const rg_clock rg_clocks[RG_CLOCK_ARRAY_SIZE] = {
     { 1, "cycle", RG_CLOCK_INPUT_CONSTANT, 1, 0.0 },
@@ -202,6 +114,22 @@ static const rg_variable rg_variables[RG_NUM_VARIABLES] = {
 
 /* ======== state machine data::Calc (data.rst:39) ======== */
 
+/* The name of a node of Calc, for log messages. */
+static const char *Calc_node_name(int64_t node)
+{
+    switch (node) {
+    case Calc_Node_i: return "i";
+    case Calc_Node_Wait: return "Wait";
+    case Calc_Node_Dispatch: return "Dispatch";
+    case Calc_Node_Divide: return "Divide";
+    case Calc_Node_Move: return "Move";
+    case Calc_Node_Pick: return "Pick";
+    case Calc_Node_Switch: return "Switch";
+    default: return "?";
+    }
+}
+
+/* What each block does, for log messages (indexed by m->pc). */
 static const char *const rg_labels_0[] = {
     "b0: start Calc (data.rst:39)",
     "b1: EVAL Wait (data.rst:54)",
@@ -224,266 +152,180 @@ static const char *const rg_labels_0[] = {
     "b18: t5: Dispatch -> Wait (data.rst:75)",
 };
 
-static int rg_fault_0(rg_instance *inst, int32_t pc) RG_MAYBE_UNUSED;
-static int rg_fault_0(rg_instance *inst, int32_t pc)
+static int rg_fault_0(rg_instance *inst) RG_MAYBE_UNUSED;
+static int rg_fault_0(rg_instance *inst)
 {
-    rg_log(inst, RG_LOG_ERROR, fmi3Error, "state machine Calc: %s in %s", rg_fault_text(inst->s.data.fault), rg_labels_0[pc]);
-    return RG_RUN_FAULT;
+    const rg_machine_0 *m = &inst->s.data.m0;
+    return rg_report_fault(inst, "Calc", rg_labels_0[m->pc], Calc_node_name(m->node));
 }
 
 static int rg_runaway_0(rg_instance *inst)
 {
-    inst->s.data.fault = RG_FAULT_RUNAWAY;
-    rg_log(inst, RG_LOG_ERROR, fmi3Error, "state machine Calc: more than %lu transitions in one cycle without exec "
-           "(a runaway cycle), at %s", RG_MAX_TRANSITIONS, rg_labels_0[inst->s.data.m0.pc]);
-    return RG_RUN_FAULT;
+    const rg_machine_0 *m = &inst->s.data.m0;
+    return rg_report_runaway(inst, "Calc", rg_labels_0[m->pc], Calc_node_name(m->node));
 }
 
-/* event sample reaches Calc: latched until its next cycle */
-static void rg_deliver_0_0(rg_model_data *d, rg_rec_data_Sample v) RG_MAYBE_UNUSED;
-static void rg_deliver_0_0(rg_model_data *d, rg_rec_data_Sample v)
-{
-    rg_machine_0 *m = &d->m0;
-    if (m->reg_present[0]) d->dropped_events++;
-    m->reg_present[0] = true;
-    m->reg_e0 = v;
-    m->new_input = true;
-}
+/* Where each input event of Calc is latched and read (see rg_event_slot). */
+static const rg_event_slot rg_events_0[] = {
+    RG_TYPED_EVENT(m0, Calc_Event_sample, sample),
+    RG_TYPED_EVENT(m0, Calc_Event_divisor, divisor),
+    RG_TYPED_EVENT(m0, Calc_Event_pick, pick),
+    RG_TYPED_EVENT(m0, Calc_Event_mode, mode),
+    RG_TYPED_EVENT(m0, Calc_Event_scale, scale),
+};
 
-/* event divisor reaches Calc: latched until its next cycle */
-static void rg_deliver_0_1(rg_model_data *d, int64_t v) RG_MAYBE_UNUSED;
-static void rg_deliver_0_1(rg_model_data *d, int64_t v)
-{
-    rg_machine_0 *m = &d->m0;
-    if (m->reg_present[1]) d->dropped_events++;
-    m->reg_present[1] = true;
-    m->reg_e1 = v;
-    m->new_input = true;
-}
-
-/* event pick reaches Calc: latched until its next cycle */
-static void rg_deliver_0_2(rg_model_data *d, uint64_t v) RG_MAYBE_UNUSED;
-static void rg_deliver_0_2(rg_model_data *d, uint64_t v)
-{
-    rg_machine_0 *m = &d->m0;
-    if (m->reg_present[2]) d->dropped_events++;
-    m->reg_present[2] = true;
-    m->reg_e2 = v;
-    m->new_input = true;
-}
-
-/* event mode reaches Calc: latched until its next cycle */
-static void rg_deliver_0_3(rg_model_data *d, int64_t v) RG_MAYBE_UNUSED;
-static void rg_deliver_0_3(rg_model_data *d, int64_t v)
-{
-    rg_machine_0 *m = &d->m0;
-    if (m->reg_present[3]) d->dropped_events++;
-    m->reg_present[3] = true;
-    m->reg_e3 = v;
-    m->new_input = true;
-}
-
-/* event scale reaches Calc: latched until its next cycle */
-static void rg_deliver_0_4(rg_model_data *d, rg_vec_i_2 v) RG_MAYBE_UNUSED;
-static void rg_deliver_0_4(rg_model_data *d, rg_vec_i_2 v)
-{
-    rg_machine_0 *m = &d->m0;
-    if (m->reg_present[4]) d->dropped_events++;
-    m->reg_present[4] = true;
-    m->reg_e4 = v;
-    m->new_input = true;
-}
-
-/* Run state machine Calc from m->pc until it suspends, or (micro: stepwise semantics)
- * until it reaches a second transition segment: each segment starts with a step check. */
-static int rg_run_0(rg_instance *inst, bool micro)
+/* Run state machine Calc from block m->pc until the work of its cycle is done. */
+static int rg_run_0(rg_instance *inst)
 {
     rg_model_data *d = &inst->s.data;
     rg_machine_0 *m = &d->m0;
-    bool taken = false;  /* a transition segment was entered in this run */
     unsigned long steps = 0;
-    (void)micro;
-    (void)taken;
     for (;;) {
         if (++steps > RG_MAX_STEPS) return rg_runaway_0(inst);
         switch (m->pc) {
         case 0: /* b0: start Calc  data.rst:39 */
-            if (micro && taken) return RG_RUN_MICRO;  /* stepwise: one transition per instant */
-            taken = true;
-            if (++m->transitions > RG_MAX_TRANSITIONS) return rg_runaway_0(inst);
+            RG_BEGIN_TRANSITION(rg_runaway_0(inst));
             RG_TRACE(inst, "Calc: t0: i -> Wait");
-            m->node = 1; m->entered[1] = m->ticks;
+            RG_ENTER(Calc_Node_Wait);
             m->pc = 1; continue;
         case 1: /* b1: EVAL Wait  data.rst:54 */
-            if (true) { m->pc = 2; continue; }  /* t1: Wait -> Dispatch (exec) data.rst:73 */
-            return rg_machine_fail(inst, "Calc: deadlock in state 'Wait' (data.rst:54): no transition is enabled and no exec");
+            /* t1: Wait -> Dispatch (exec)  data.rst:73 */
+            m->pc = 2; continue;
         case 2: /* b2: t1: exec decided  data.rst:73 */
             RG_TRACE(inst, "Calc: t1: exec");
             m->pc = 3; return RG_RUN_SUSPENDED;
         case 3: /* b3: t1: Wait -> Dispatch  data.rst:73 */
-            if (micro && taken) return RG_RUN_MICRO;  /* stepwise: one transition per instant */
-            taken = true;
-            if (++m->transitions > RG_MAX_TRANSITIONS) return rg_runaway_0(inst);
+            RG_BEGIN_TRANSITION(rg_runaway_0(inst));
             RG_TRACE(inst, "Calc: t1: Wait -> Dispatch");
-            m->node = 2; m->entered[2] = m->ticks;
+            RG_ENTER(Calc_Node_Dispatch);
             m->pc = 4; continue;
         case 4: /* b4: EVAL Dispatch  data.rst:55 */
-            if (((m->smp_present[1] ? (m->v_d = m->smp_e1, true) : false) && (m->smp_present[0] ? (m->v_s = m->smp_e0, true) : false))) { m->pc = 5; continue; }  /* t2: Dispatch -> Divide data.rst:76 */
-            if (((!m->smp_present[1]) && (m->smp_present[0] ? (m->v_s = m->smp_e0, true) : false))) { m->pc = 8; continue; }  /* t3: Dispatch -> Move data.rst:77 */
-            if ((((((!m->smp_present[1]) && (!m->smp_present[0])) && (m->smp_present[2] ? (m->v_k = m->smp_e2, true) : false)) && (m->v_k >= UINT64_C(1))) && (m->v_k <= UINT64_C(4)))) { m->pc = 11; continue; }  /* t4: Dispatch -> Pick data.rst:78 */
-            if (((((!m->smp_present[1]) && (!m->smp_present[0])) && (!m->smp_present[2])) && (m->smp_present[3] ? (m->v_m = m->smp_e3, true) : false))) { m->pc = 14; continue; }  /* t6: Dispatch -> Switch data.rst:79 */
-            if (((!(((m->smp_present[1] || m->smp_present[0]) || m->smp_present[2]) || m->smp_present[3])) && (m->smp_present[4] ? (m->v_w = m->smp_e4, true) : false))) { m->pc = 17; continue; }  /* t11: Dispatch -> Wait data.rst:80 */
-            if (true) { m->pc = 18; continue; }  /* t5: Dispatch -> Wait data.rst:75 */
-            return rg_machine_fail(inst, "Calc: deadlock in junction 'Dispatch' (data.rst:55): no transition is enabled and no exec");
+            /* t2: Dispatch -> Divide [$divisor?d /\ $sample?s]  data.rst:76 */
+            if ((m->smp_present[Calc_Event_divisor] ? (m->v_d = m->smp_e_divisor, true) : false) && (m->smp_present[Calc_Event_sample] ? (m->v_s = m->smp_e_sample, true) : false)) { m->pc = 5; continue; }
+            /* t3: Dispatch -> Move [not $divisor /\ $sample?s]  data.rst:77 */
+            if ((!m->smp_present[Calc_Event_divisor]) && (m->smp_present[Calc_Event_sample] ? (m->v_s = m->smp_e_sample, true) : false)) { m->pc = 8; continue; }
+            /* t4: Dispatch -> Pick [not $divisor /\ not $sample /\ $pick?k /\ k >= 1 /\ k <= 4]  data.rst:78 */
+            if (((((!m->smp_present[Calc_Event_divisor]) && (!m->smp_present[Calc_Event_sample])) && (m->smp_present[Calc_Event_pick] ? (m->v_k = m->smp_e_pick, true) : false)) && (m->v_k >= UINT64_C(1))) && (m->v_k <= UINT64_C(4))) { m->pc = 11; continue; }
+            /* t6: Dispatch -> Switch [not $divisor /\ not $sample /\ not $pick /\ $mode?m]  data.rst:79 */
+            if ((((!m->smp_present[Calc_Event_divisor]) && (!m->smp_present[Calc_Event_sample])) && (!m->smp_present[Calc_Event_pick])) && (m->smp_present[Calc_Event_mode] ? (m->v_m = m->smp_e_mode, true) : false)) { m->pc = 14; continue; }
+            /* t11: Dispatch -> Wait [not ($divisor \/ $sample \/ $pick \/ $mode) /\ $scale?w]  data.rst:80 */
+            if ((!(((m->smp_present[Calc_Event_divisor] || m->smp_present[Calc_Event_sample]) || m->smp_present[Calc_Event_pick]) || m->smp_present[Calc_Event_mode])) && (m->smp_present[Calc_Event_scale] ? (m->v_w = m->smp_e_scale, true) : false)) { m->pc = 17; continue; }
+            /* t5: Dispatch -> Wait [else]  data.rst:75 */
+            m->pc = 18; continue;
         case 5: /* b5: t2: Dispatch -> Divide  data.rst:76 */
-            if (micro && taken) return RG_RUN_MICRO;  /* stepwise: one transition per instant */
-            taken = true;
-            if (++m->transitions > RG_MAX_TRANSITIONS) return rg_runaway_0(inst);
+            RG_BEGIN_TRANSITION(rg_runaway_0(inst));
             RG_TRACE(inst, "Calc: t2: Dispatch -> Divide");
-            m->node = 3; m->entered[3] = m->ticks;
+            RG_ENTER(Calc_Node_Divide);
             m->v_q = rg_i_div(d, m->v_s.at.px, m->v_d);
-            if (d->fault) return rg_fault_0(inst, m->pc);
+            if (d->fault) return rg_fault_0(inst);
             m->v_r = rg_i_mod(d, m->v_s.at.px, m->v_d);
-            if (d->fault) return rg_fault_0(inst, m->pc);
-            {
-                int64_t a0_ = m->v_q;
-                d->out_quotient_value = a0_;
-                rg_activate_output_clock(inst, 6); /* quotient */
-            }
-            {
-                int64_t a0_ = m->v_r;
-                d->out_remainder_value = a0_;
-                rg_activate_output_clock(inst, 7); /* remainder */
-            }
+            if (d->fault) return rg_fault_0(inst);
+            d->out_quotient_value = m->v_q;
+            rg_activate_output_clock(inst, CLOCK_quotient);
+            d->out_remainder_value = m->v_r;
+            rg_activate_output_clock(inst, CLOCK_remainder);
             m->v_ratio = rg_r_div(d, m->v_s.gain, ((double)m->v_d));
-            if (d->fault) return rg_fault_0(inst, m->pc);
-            {
-                double a0_ = m->v_ratio;
-                d->out_ratio_value = a0_;
-                rg_activate_output_clock(inst, 8); /* ratio */
-            }
+            if (d->fault) return rg_fault_0(inst);
+            d->out_ratio_value = m->v_ratio;
+            rg_activate_output_clock(inst, CLOCK_ratio);
             m->pc = 6; continue;
         case 6: /* b6: EVAL Divide  data.rst:56 */
-            if (true) { m->pc = 7; continue; }  /* t7: Divide -> Wait data.rst:82 */
-            return rg_machine_fail(inst, "Calc: deadlock in state 'Divide' (data.rst:56): no transition is enabled and no exec");
+            /* t7: Divide -> Wait  data.rst:82 */
+            m->pc = 7; continue;
         case 7: /* b7: t7: Divide -> Wait  data.rst:82 */
-            if (micro && taken) return RG_RUN_MICRO;  /* stepwise: one transition per instant */
-            taken = true;
-            if (++m->transitions > RG_MAX_TRANSITIONS) return rg_runaway_0(inst);
+            RG_BEGIN_TRANSITION(rg_runaway_0(inst));
             RG_TRACE(inst, "Calc: t7: Divide -> Wait");
-            m->node = 1; m->entered[1] = m->ticks;
+            RG_ENTER(Calc_Node_Wait);
             m->pc = 1; continue;
         case 8: /* b8: t3: Dispatch -> Move  data.rst:77 */
-            if (micro && taken) return RG_RUN_MICRO;  /* stepwise: one transition per instant */
-            taken = true;
-            if (++m->transitions > RG_MAX_TRANSITIONS) return rg_runaway_0(inst);
+            RG_BEGIN_TRANSITION(rg_runaway_0(inst));
             RG_TRACE(inst, "Calc: t3: Dispatch -> Move");
-            m->node = 4; m->entered[4] = m->ticks;
+            RG_ENTER(Calc_Node_Move);
             m->v_p = m->v_s.at;
             m->v_p.px = rg_i_add(m->v_p.px, INT64_C(1));
             m->v_w.a[rg_index(d, INT64_C(1), 2)] = rg_i_mul(m->v_p.px, INT64_C(3));
-            if (d->fault) return rg_fault_0(inst, m->pc);
+            if (d->fault) return rg_fault_0(inst);
             m->v_w.a[rg_index(d, INT64_C(2), 2)] = rg_i_sub(m->v_w.a[rg_index(d, INT64_C(1), 2)], m->v_p.py);
-            if (d->fault) return rg_fault_0(inst, m->pc);
+            if (d->fault) return rg_fault_0(inst);
             {
                 rg_rec_data_Point a0_ = m->v_p;
                 d->out_where_px = a0_.px;
                 d->out_where_py = a0_.py;
-                rg_activate_output_clock(inst, 9); /* where */
+                rg_activate_output_clock(inst, CLOCK_where);
             }
             m->v_same = (rg_eq_rg_rec_data_Point(m->v_p, m->v_s.at) || rg_eq_rg_vec_i_2(m->v_w, ((rg_vec_i_2){ { INT64_C(0), INT64_C(0) } })));
             m->v_grid.a[rg_index(d, INT64_C(1), 2) * 2 + rg_index(d, INT64_C(2), 2)] = (m->v_grid.a[rg_index(d, INT64_C(2), 2) * 2 + rg_index(d, INT64_C(1), 2)] + ((double)m->v_p.px));
-            if (d->fault) return rg_fault_0(inst, m->pc);
+            if (d->fault) return rg_fault_0(inst);
             m->v_grid.a[rg_index(d, INT64_C(2), 2) * 2 + rg_index(d, INT64_C(1), 2)] = rg_r_max(m->v_grid.a[rg_index(d, INT64_C(1), 2) * 2 + rg_index(d, INT64_C(2), 2)], ((double)m->v_w.a[rg_index(d, INT64_C(2), 2)]));
-            if (d->fault) return rg_fault_0(inst, m->pc);
+            if (d->fault) return rg_fault_0(inst);
             m->pc = 9; continue;
         case 9: /* b9: EVAL Move  data.rst:60 */
-            if (true) { m->pc = 10; continue; }  /* t8: Move -> Wait data.rst:83 */
-            return rg_machine_fail(inst, "Calc: deadlock in state 'Move' (data.rst:60): no transition is enabled and no exec");
+            /* t8: Move -> Wait  data.rst:83 */
+            m->pc = 10; continue;
         case 10: /* b10: t8: Move -> Wait  data.rst:83 */
-            if (micro && taken) return RG_RUN_MICRO;  /* stepwise: one transition per instant */
-            taken = true;
-            if (++m->transitions > RG_MAX_TRANSITIONS) return rg_runaway_0(inst);
+            RG_BEGIN_TRANSITION(rg_runaway_0(inst));
             RG_TRACE(inst, "Calc: t8: Move -> Wait");
-            m->node = 1; m->entered[1] = m->ticks;
+            RG_ENTER(Calc_Node_Wait);
             m->pc = 1; continue;
         case 11: /* b11: t4: Dispatch -> Pick  data.rst:78 */
-            if (micro && taken) return RG_RUN_MICRO;  /* stepwise: one transition per instant */
-            taken = true;
-            if (++m->transitions > RG_MAX_TRANSITIONS) return rg_runaway_0(inst);
+            RG_BEGIN_TRANSITION(rg_runaway_0(inst));
             RG_TRACE(inst, "Calc: t4: Dispatch -> Pick");
-            m->node = 5; m->entered[5] = m->ticks;
+            RG_ENTER(Calc_Node_Pick);
             m->v_v.a[rg_index(d, rg_u_to_i(m->v_k), 3)] = ((m->v_v.a[rg_index(d, rg_u_to_i(m->v_k), 3)] * m->v_s.gain) + 1.0);
-            if (d->fault) return rg_fault_0(inst, m->pc);
+            if (d->fault) return rg_fault_0(inst);
             {
                 double a0_ = m->v_v.a[rg_index(d, rg_u_to_i(m->v_k), 3)];
-                if (d->fault) return rg_fault_0(inst, m->pc);
+                if (d->fault) return rg_fault_0(inst);
                 d->out_picked_value = a0_;
-                rg_activate_output_clock(inst, 10); /* picked */
+                rg_activate_output_clock(inst, CLOCK_picked);
             }
             m->v_u = ((uint64_t)rg_i_sub(rg_u_to_i(m->v_u), rg_u_to_i(m->v_k)));
             m->pc = 12; continue;
         case 12: /* b12: EVAL Pick  data.rst:65 */
-            if (true) { m->pc = 13; continue; }  /* t9: Pick -> Wait data.rst:84 */
-            return rg_machine_fail(inst, "Calc: deadlock in state 'Pick' (data.rst:65): no transition is enabled and no exec");
+            /* t9: Pick -> Wait  data.rst:84 */
+            m->pc = 13; continue;
         case 13: /* b13: t9: Pick -> Wait  data.rst:84 */
-            if (micro && taken) return RG_RUN_MICRO;  /* stepwise: one transition per instant */
-            taken = true;
-            if (++m->transitions > RG_MAX_TRANSITIONS) return rg_runaway_0(inst);
+            RG_BEGIN_TRANSITION(rg_runaway_0(inst));
             RG_TRACE(inst, "Calc: t9: Pick -> Wait");
-            m->node = 1; m->entered[1] = m->ticks;
+            RG_ENTER(Calc_Node_Wait);
             m->pc = 1; continue;
         case 14: /* b14: t6: Dispatch -> Switch  data.rst:79 */
-            if (micro && taken) return RG_RUN_MICRO;  /* stepwise: one transition per instant */
-            taken = true;
-            if (++m->transitions > RG_MAX_TRANSITIONS) return rg_runaway_0(inst);
+            RG_BEGIN_TRANSITION(rg_runaway_0(inst));
             RG_TRACE(inst, "Calc: t6: Dispatch -> Switch");
-            m->node = 6; m->entered[6] = m->ticks;
-            if ((m->v_m == INT64_C(2))) {
+            RG_ENTER(Calc_Node_Switch);
+            if (m->v_m == INT64_C(2)) {
                 m->v_m = INT64_C(0);
             } else {
-                if ((m->v_m == INT64_C(0))) {
+                if (m->v_m == INT64_C(0)) {
                     m->v_m = INT64_C(1);
                 } else {
                     m->v_m = INT64_C(2);
                 }
             }
-            {
-                int64_t a0_ = m->v_m;
-                d->out_current_value = a0_;
-                rg_activate_output_clock(inst, 11); /* current */
-            }
+            d->out_current_value = m->v_m;
+            rg_activate_output_clock(inst, CLOCK_current);
             m->pc = 15; continue;
         case 15: /* b15: EVAL Switch  data.rst:68 */
-            if (true) { m->pc = 16; continue; }  /* t10: Switch -> Wait data.rst:85 */
-            return rg_machine_fail(inst, "Calc: deadlock in state 'Switch' (data.rst:68): no transition is enabled and no exec");
+            /* t10: Switch -> Wait  data.rst:85 */
+            m->pc = 16; continue;
         case 16: /* b16: t10: Switch -> Wait  data.rst:85 */
-            if (micro && taken) return RG_RUN_MICRO;  /* stepwise: one transition per instant */
-            taken = true;
-            if (++m->transitions > RG_MAX_TRANSITIONS) return rg_runaway_0(inst);
+            RG_BEGIN_TRANSITION(rg_runaway_0(inst));
             RG_TRACE(inst, "Calc: t10: Switch -> Wait");
-            m->node = 1; m->entered[1] = m->ticks;
+            RG_ENTER(Calc_Node_Wait);
             m->pc = 1; continue;
         case 17: /* b17: t11: Dispatch -> Wait  data.rst:80 */
-            if (micro && taken) return RG_RUN_MICRO;  /* stepwise: one transition per instant */
-            taken = true;
-            if (++m->transitions > RG_MAX_TRANSITIONS) return rg_runaway_0(inst);
+            RG_BEGIN_TRANSITION(rg_runaway_0(inst));
             RG_TRACE(inst, "Calc: t11: Dispatch -> Wait");
             m->v_w.a[rg_index(d, INT64_C(1), 2)] = rg_i_mul(m->v_w.a[rg_index(d, INT64_C(1), 2)], m->v_p.px);
-            if (d->fault) return rg_fault_0(inst, m->pc);
-            {
-                rg_vec_i_2 a0_ = m->v_w;
-                d->out_scaled_value = a0_;
-                rg_activate_output_clock(inst, 12); /* scaled */
-            }
-            m->node = 1; m->entered[1] = m->ticks;
+            if (d->fault) return rg_fault_0(inst);
+            d->out_scaled_value = m->v_w;
+            rg_activate_output_clock(inst, CLOCK_scaled);
+            RG_ENTER(Calc_Node_Wait);
             m->pc = 1; continue;
         case 18: /* b18: t5: Dispatch -> Wait  data.rst:75 */
-            if (micro && taken) return RG_RUN_MICRO;  /* stepwise: one transition per instant */
-            taken = true;
-            if (++m->transitions > RG_MAX_TRANSITIONS) return rg_runaway_0(inst);
+            RG_BEGIN_TRANSITION(rg_runaway_0(inst));
             RG_TRACE(inst, "Calc: t5: Dispatch -> Wait");
-            m->node = 1; m->entered[1] = m->ticks;
+            RG_ENTER(Calc_Node_Wait);
             m->pc = 1; continue;
         default:
             return rg_machine_fail(inst, "state machine Calc: invalid resume point");
@@ -497,13 +339,12 @@ static void rg_model_reset(rg_instance *inst)
 {
     rg_model_data *d = &inst->s.data;
     d->m0.pc = 0;
-    d->m0.node = 0;
+    d->m0.node = Calc_Node_i;
 }
 
 static fmi3Status rg_model_exit_initialization(rg_instance *inst)
 {
     rg_model_data *d = &inst->s.data;
-    (void)d;
     {
         rg_machine_0 *m = &d->m0;
         m->v_p = ((rg_rec_data_Point){ .px = INT64_C(1), .py = rg_i_neg(INT64_C(1)) });  /* initial value of p */
@@ -524,67 +365,49 @@ static fmi3Status rg_model_exit_initialization(rg_instance *inst)
 static void rg_model_latch(rg_instance *inst, int clock_index)
 {
     rg_model_data *d = &inst->s.data;
-    (void)d;
     switch (clock_index) {
-    case 1: /* sample */
-    {
+    case CLOCK_sample: {
         rg_rec_data_Sample v;
         v.at.px = d->in_sample_at_px;
         v.at.py = d->in_sample_at_py;
         v.gain = d->in_sample_gain;
         v.mode = d->in_sample_mode;
-        rg_deliver_0_0(d, v);
+        rg_deliver(d, &rg_events_0[Calc_Event_sample], &v);
         break;
     }
-    case 2: /* divisor */
-    {
+    case CLOCK_divisor: {
         int64_t v;
         v = d->in_divisor_value;
-        rg_deliver_0_1(d, v);
+        rg_deliver(d, &rg_events_0[Calc_Event_divisor], &v);
         break;
     }
-    case 3: /* pick */
-    {
+    case CLOCK_pick: {
         uint64_t v;
         v = d->in_pick_value;
-        rg_deliver_0_2(d, v);
+        rg_deliver(d, &rg_events_0[Calc_Event_pick], &v);
         break;
     }
-    case 4: /* mode */
-    {
+    case CLOCK_mode: {
         int64_t v;
         v = d->in_mode_value;
-        rg_deliver_0_3(d, v);
+        rg_deliver(d, &rg_events_0[Calc_Event_mode], &v);
         break;
     }
-    case 5: /* scale */
-    {
+    case CLOCK_scale: {
         rg_vec_i_2 v;
         v = d->in_scale_value;
-        rg_deliver_0_4(d, v);
+        rg_deliver(d, &rg_events_0[Calc_Event_scale], &v);
         break;
     }
-    default:
+    default: /* the periodic clock, and input events that reach no state machine */
         break;
     }
-}
-
-/* RoboSim: a cycle starts; the events latched since the previous cycle become its sample. */
-static void rg_start_cycle(bool *present_reg, bool *present_smp, size_t n_events, uint64_t *ticks, bool *new_input,
-                           uint64_t *transitions)
-{
-    memcpy(present_smp, present_reg, n_events * sizeof(bool));
-    memset(present_reg, 0, n_events * sizeof(bool));
-    *new_input = false;
-    (*ticks)++;
-    *transitions = 0;
 }
 
 static fmi3Status rg_model_evaluate(rg_instance *inst)
 {
     rg_model_data *d = &inst->s.data;
-    bool periodic = inst->s.clock_active[0];  /* cycle */
-    int r = RG_RUN_SUSPENDED;
+    bool periodic = inst->s.clock_active[CLOCK_cycle];
     d->fault = RG_FAULT_NONE;
     if (periodic) d->cycles++;
     /* Every machine samples its inputs before any runs: what one machine sends another in this
@@ -595,20 +418,15 @@ static fmi3Status rg_model_evaluate(rg_instance *inst)
         bool start = periodic;
         run[0] = start;
         if (start) {
-            m->smp_e0 = m->reg_e0;
-            m->smp_e1 = m->reg_e1;
-            m->smp_e2 = m->reg_e2;
-            m->smp_e3 = m->reg_e3;
-            m->smp_e4 = m->reg_e4;
+            m->smp_e_sample = m->reg_e_sample;
+            m->smp_e_divisor = m->reg_e_divisor;
+            m->smp_e_pick = m->reg_e_pick;
+            m->smp_e_mode = m->reg_e_mode;
+            m->smp_e_scale = m->reg_e_scale;
             rg_start_cycle(m->reg_present, m->smp_present, 5, &m->ticks, &m->new_input, &m->transitions);
         }
     }
-    if (run[0]) {
-        r = rg_run_0(inst, false);
-        if (r == RG_RUN_FAULT) return fmi3Error;
-        d->m0.in_cycle = (r == RG_RUN_MICRO);
-    }
-    (void)r;
+    if (run[0] && rg_run_failed(rg_run_0(inst), &d->m0.in_cycle)) return fmi3Error;
     return fmi3OK;
 }
 
@@ -616,25 +434,12 @@ static fmi3Status rg_model_update(rg_instance *inst, bool *discrete_states_need_
                                   bool *terminate_simulation, bool *next_event_time_defined,
                                   double *next_event_time)
 {
-    rg_model_data *d = &inst->s.data;
+    const rg_model_data *d = &inst->s.data;
     bool need = false;
-    (void)d;
     (void)terminate_simulation;
     (void)next_event_time_defined;
     (void)next_event_time;
     need = need || d->m0.in_cycle;
     *discrete_states_need_update = need;
-    return fmi3OK;
-}
-
-static fmi3Status rg_model_do_step(rg_instance *inst, double t_end, bool *event_handling_needed,
-                                   bool *terminate_simulation, double *last_successful_time)
-{
-    /* The state machines only react in Event Mode; a step just lets time pass. */
-    (void)inst;
-    (void)t_end;
-    (void)event_handling_needed;
-    (void)terminate_simulation;
-    (void)last_successful_time;
     return fmi3OK;
 }

@@ -5,118 +5,25 @@
  * Each state machine is a function that resumes at block m->pc and runs until the cycle ends
  * (RG_RUN_SUSPENDED), until a micro-step boundary in stepwise semantics (RG_RUN_MICRO), or
  * until a run-time error (RG_RUN_FAULT, reported through logMessage and fmi3Error). Every block
- * opens with a comment naming what it does and the model line it comes from. */
+ * opens with a comment naming what it does and the model line it comes from; every guard is
+ * quoted as the model writes it above its test. The helpers (RG_BEGIN_TRANSITION, rg_deliver,
+ * the arithmetic) are robogen_machine.h's. */
 
-#include <string.h>
-
-/* ---- arithmetic as robogen defines it: wrapping integers, checked division --------------- */
-
-enum { RG_FAULT_NONE = 0, RG_FAULT_DIVISION = 1, RG_FAULT_INDEX = 2, RG_FAULT_RUNAWAY = 3, RG_FAULT_STUCK = 4,
-       RG_FAULT_CONVERSION = 5 };
-enum { RG_RUN_SUSPENDED = 0, RG_RUN_MICRO = 1, RG_RUN_FAULT = -1 };
-
-#define RG_MAX_TRANSITIONS 1000UL  /* transitions per cycle before a runaway is reported */
-#define RG_MAX_STEPS 64000UL        /* blocks per cycle, the same bound for any loop */
-#define RG_TRACE(inst, text) \
-    do { if ((inst)->logging_on && (inst)->log_category_on[RG_LOG_TRANSITIONS]) \
-        rg_log((inst), RG_LOG_TRANSITIONS, fmi3OK, "%s", (text)); } while (0)
-
-static inline int64_t rg_i_add(int64_t a, int64_t b) { return (int64_t)((uint64_t)a + (uint64_t)b); }
-static inline int64_t rg_i_sub(int64_t a, int64_t b) { return (int64_t)((uint64_t)a - (uint64_t)b); }
-static inline int64_t rg_i_mul(int64_t a, int64_t b) { return (int64_t)((uint64_t)a * (uint64_t)b); }
-static inline int64_t rg_i_neg(int64_t a) { return (int64_t)(UINT64_C(0) - (uint64_t)a); }
-static inline int64_t rg_i_abs(int64_t a) { return a < 0 ? rg_i_neg(a) : a; }
-static inline int64_t rg_i_min(int64_t a, int64_t b) { return a <= b ? a : b; }
-static inline int64_t rg_i_max(int64_t a, int64_t b) { return a >= b ? a : b; }
-static inline int64_t rg_i_div(rg_model_data *d, int64_t a, int64_t b)
-{
-    if (b == 0) { d->fault = RG_FAULT_DIVISION; return 0; }
-    if (b == -1) return rg_i_neg(a);
-    return a / b;
-}
-static inline int64_t rg_i_mod(rg_model_data *d, int64_t a, int64_t b)
-{
-    if (b == 0) { d->fault = RG_FAULT_DIVISION; return 0; }
-    if (b == -1) return 0;
-    return a % b;
-}
-static inline uint64_t rg_u_add(uint64_t a, uint64_t b) { return a + b; }
-static inline uint64_t rg_u_sub(uint64_t a, uint64_t b) { return a - b; }
-static inline uint64_t rg_u_mul(uint64_t a, uint64_t b) { return a * b; }
-static inline uint64_t rg_u_neg(uint64_t a) { return UINT64_C(0) - a; }
-static inline uint64_t rg_u_abs(uint64_t a) { return a; }
-static inline uint64_t rg_u_min(uint64_t a, uint64_t b) { return a <= b ? a : b; }
-static inline uint64_t rg_u_max(uint64_t a, uint64_t b) { return a >= b ? a : b; }
-static inline uint64_t rg_u_div(rg_model_data *d, uint64_t a, uint64_t b)
-{
-    if (b == 0) { d->fault = RG_FAULT_DIVISION; return 0; }
-    return a / b;
-}
-static inline uint64_t rg_u_mod(rg_model_data *d, uint64_t a, uint64_t b)
-{
-    if (b == 0) { d->fault = RG_FAULT_DIVISION; return 0; }
-    return a % b;
-}
-static inline double rg_r_div(rg_model_data *d, double a, double b)
-{
-    if (b == 0.0) { d->fault = RG_FAULT_DIVISION; return 0.0; }
-    return a / b;
-}
-static inline double rg_r_abs(double a) { return a < 0.0 ? -a : a; }
-/* Conversions: a real becomes an integer by truncation toward zero; outside the integer's range
- * (or NaN) it sets the fault code instead of being undefined behaviour. */
-static inline int64_t rg_r_to_i(rg_model_data *d, double x)
-{
-    if (!(x >= -9223372036854775808.0 && x < 9223372036854775808.0)) { d->fault = RG_FAULT_CONVERSION; return 0; }
-    return (int64_t)x;
-}
-static inline uint64_t rg_r_to_u(rg_model_data *d, double x)
-{
-    if (!(x > -1.0 && x < 18446744073709551616.0)) { d->fault = RG_FAULT_CONVERSION; return 0; }
-    return (uint64_t)x;
-}
-/* nat to int wraps around, like the interpreter (no implementation-defined conversion). */
-static inline int64_t rg_u_to_i(uint64_t x)
-{
-    return x <= (uint64_t)INT64_MAX ? (int64_t)x : -(int64_t)(UINT64_MAX - x) - 1;
-}
-static inline double rg_r_min(double a, double b) { return a <= b ? a : b; }
-static inline double rg_r_max(double a, double b) { return a >= b ? a : b; }
-/* A 1-based index into n elements, as a 0-based offset; out of range sets the fault code. */
-static inline int64_t rg_index(rg_model_data *d, int64_t i, int64_t n)
-{
-    if (i < 1 || i > n) { d->fault = RG_FAULT_INDEX; return 0; }
-    return i - 1;
-}
-
-static const char *rg_fault_text(int32_t fault) RG_MAYBE_UNUSED;
-static const char *rg_fault_text(int32_t fault)
-{
-    switch (fault) {
-    case RG_FAULT_DIVISION: return "division by zero";
-    case RG_FAULT_INDEX: return "index out of range";
-    case RG_FAULT_RUNAWAY: return "runaway cycle";
-    case RG_FAULT_CONVERSION: return "real number out of range for an integer";
-    default: return "run-time error";
-    }
-}
-
-/* A RoboChart deadline was missed: counted and logged, never enforced. */
-static void rg_deadline_miss(rg_instance *inst, const char *message) RG_MAYBE_UNUSED;
-static void rg_deadline_miss(rg_instance *inst, const char *message)
-{
-    inst->s.data.deadline_misses++;
-    rg_log(inst, RG_LOG_WARNING, fmi3Warning, "%s (t=%.17g)", message, inst->s.time);
-}
-
-static int rg_machine_fail(rg_instance *inst, const char *message)
-{
-    inst->s.data.fault = RG_FAULT_STUCK;
-    rg_log(inst, RG_LOG_ERROR, fmi3Error, "%s", message);
-    return RG_RUN_FAULT;
-}
+#include "robogen_machine.h"
 
 /* ---- the FMI variables and clocks (value references as in modelDescription.xml) ---------- */
+
+/* indices into rg_clocks */
+enum {
+    CLOCK_tock = 0,  /* one RoboChart time unit (tock) */
+    CLOCK_go = 1,  /* input event go */
+    CLOCK_confirm = 2,  /* input event confirm */
+    CLOCK_amount = 3,  /* input event amount */
+    CLOCK_abort = 4,  /* input event abort */
+    CLOCK_heading = 5,  /* output event heading */
+    CLOCK_moved = 6,  /* output event moved */
+    CLOCK_report = 7,  /* output event report */
+};
 
 static const rg_clock rg_clocks[RG_CLOCK_ARRAY_SIZE] = {
     { 1, "tock", RG_CLOCK_INPUT_CONSTANT, 1, 0.0 },
@@ -161,6 +68,23 @@ static const rg_variable rg_variables[RG_NUM_VARIABLES] = {
 
 /* ======== state machine inputs::Rover (inputs.rct:27) ======== */
 
+/* The name of a node of Rover, for log messages. */
+static const char *Rover_node_name(int64_t node)
+{
+    switch (node) {
+    case Rover_Node_i: return "i";
+    case Rover_Node_Parked: return "Parked";
+    case Rover_Node_Driving: return "Driving";
+    case Rover_Node_Driving_di: return "Driving.di";
+    case Rover_Node_Driving_Confirming: return "Driving.Confirming";
+    case Rover_Node_Driving_Moving: return "Driving.Moving";
+    case Rover_Node_Driving_check: return "Driving.check";
+    case Rover_Node_Driving_Parked2: return "Driving.Parked2";
+    default: return "?";
+    }
+}
+
+/* What each block does, for log messages (indexed by m->pc). */
 static const char *const rg_labels_0[] = {
     "b0: start Rover (inputs.rct:27)",
     "b1: EVAL Parked (inputs.rct:32)",
@@ -186,150 +110,78 @@ static const char *const rg_labels_0[] = {
     "b21: after amount?b (inputs.rct:59)",
 };
 
-static int rg_fault_0(rg_instance *inst, int32_t pc) RG_MAYBE_UNUSED;
-static int rg_fault_0(rg_instance *inst, int32_t pc)
+static int rg_fault_0(rg_instance *inst) RG_MAYBE_UNUSED;
+static int rg_fault_0(rg_instance *inst)
 {
-    rg_log(inst, RG_LOG_ERROR, fmi3Error, "state machine Rover: %s in %s", rg_fault_text(inst->s.data.fault), rg_labels_0[pc]);
-    return RG_RUN_FAULT;
+    const rg_machine_0 *m = &inst->s.data.m0;
+    return rg_report_fault(inst, "Rover", rg_labels_0[m->pc], Rover_node_name(m->node));
 }
 
 static int rg_runaway_0(rg_instance *inst)
 {
-    inst->s.data.fault = RG_FAULT_RUNAWAY;
-    rg_log(inst, RG_LOG_ERROR, fmi3Error, "state machine Rover: more than %lu transitions in one cycle without exec "
-           "(a runaway cycle), at %s", RG_MAX_TRANSITIONS, rg_labels_0[inst->s.data.m0.pc]);
-    return RG_RUN_FAULT;
+    const rg_machine_0 *m = &inst->s.data.m0;
+    return rg_report_runaway(inst, "Rover", rg_labels_0[m->pc], Rover_node_name(m->node));
 }
 
-/* event go reaches Rover: latched until its next run */
-static void rg_deliver_0_0(rg_model_data *d, rg_rec_inputs_Order v) RG_MAYBE_UNUSED;
-static void rg_deliver_0_0(rg_model_data *d, rg_rec_inputs_Order v)
-{
-    rg_machine_0 *m = &d->m0;
-    if (m->reg_present[0]) d->dropped_events++;
-    m->reg_present[0] = true;
-    m->reg_e0 = v;
-    m->new_input = true;
-}
+/* Where each input event of Rover is latched and read (see rg_event_slot). */
+static const rg_event_slot rg_events_0[] = {
+    RG_TYPED_EVENT(m0, Rover_Event_go, go),
+    RG_TYPED_EVENT(m0, Rover_Event_confirm, confirm),
+    RG_TYPED_EVENT(m0, Rover_Event_amount, amount),
+    RG_EVENT(m0, Rover_Event_abort),
+    RG_TYPED_EVENT(m0, Rover_Event_heading, heading),
+    RG_TYPED_EVENT(m0, Rover_Event_moved, moved),
+    RG_TYPED_EVENT(m0, Rover_Event_report, report),
+};
 
-/* event confirm reaches Rover: latched until its next run */
-static void rg_deliver_0_1(rg_model_data *d, bool v) RG_MAYBE_UNUSED;
-static void rg_deliver_0_1(rg_model_data *d, bool v)
-{
-    rg_machine_0 *m = &d->m0;
-    if (m->reg_present[1]) d->dropped_events++;
-    m->reg_present[1] = true;
-    m->reg_e1 = v;
-    m->new_input = true;
-}
-
-/* event amount reaches Rover: latched until its next run */
-static void rg_deliver_0_2(rg_model_data *d, int64_t v) RG_MAYBE_UNUSED;
-static void rg_deliver_0_2(rg_model_data *d, int64_t v)
-{
-    rg_machine_0 *m = &d->m0;
-    if (m->reg_present[2]) d->dropped_events++;
-    m->reg_present[2] = true;
-    m->reg_e2 = v;
-    m->new_input = true;
-}
-
-/* event abort reaches Rover: latched until its next run */
-static void rg_deliver_0_3(rg_model_data *d) RG_MAYBE_UNUSED;
-static void rg_deliver_0_3(rg_model_data *d)
-{
-    rg_machine_0 *m = &d->m0;
-    if (m->reg_present[3]) d->dropped_events++;
-    m->reg_present[3] = true;
-    m->new_input = true;
-}
-
-/* event heading reaches Rover: latched until its next run */
-static void rg_deliver_0_4(rg_model_data *d, int64_t v) RG_MAYBE_UNUSED;
-static void rg_deliver_0_4(rg_model_data *d, int64_t v)
-{
-    rg_machine_0 *m = &d->m0;
-    if (m->reg_present[4]) d->dropped_events++;
-    m->reg_present[4] = true;
-    m->reg_e4 = v;
-    m->new_input = true;
-}
-
-/* event moved reaches Rover: latched until its next run */
-static void rg_deliver_0_5(rg_model_data *d, int64_t v) RG_MAYBE_UNUSED;
-static void rg_deliver_0_5(rg_model_data *d, int64_t v)
-{
-    rg_machine_0 *m = &d->m0;
-    if (m->reg_present[5]) d->dropped_events++;
-    m->reg_present[5] = true;
-    m->reg_e5 = v;
-    m->new_input = true;
-}
-
-/* event report reaches Rover: latched until its next run */
-static void rg_deliver_0_6(rg_model_data *d, rg_rec_inputs_Order v) RG_MAYBE_UNUSED;
-static void rg_deliver_0_6(rg_model_data *d, rg_rec_inputs_Order v)
-{
-    rg_machine_0 *m = &d->m0;
-    if (m->reg_present[6]) d->dropped_events++;
-    m->reg_present[6] = true;
-    m->reg_e6 = v;
-    m->new_input = true;
-}
-
-/* Run state machine Rover from m->pc until it suspends, or (micro: stepwise semantics)
- * until it reaches a second transition segment: each segment starts with a step check. */
-static int rg_run_0(rg_instance *inst, bool micro)
+/* Run state machine Rover from block m->pc until the work of its run is done. */
+static int rg_run_0(rg_instance *inst)
 {
     rg_model_data *d = &inst->s.data;
     rg_machine_0 *m = &d->m0;
-    bool taken = false;  /* a transition segment was entered in this run */
     unsigned long steps = 0;
-    (void)micro;
-    (void)taken;
     for (;;) {
         if (++steps > RG_MAX_STEPS) return rg_runaway_0(inst);
         switch (m->pc) {
         case 0: /* b0: start Rover  inputs.rct:27 */
-            if (micro && taken) return RG_RUN_MICRO;  /* stepwise: one transition per instant */
-            taken = true;
-            if (++m->transitions > RG_MAX_TRANSITIONS) return rg_runaway_0(inst);
+            RG_BEGIN_TRANSITION(rg_runaway_0(inst));
             RG_TRACE(inst, "Rover: t0: i -> Parked");
-            m->node = 1; m->entered[1] = m->ticks;
+            RG_ENTER(Rover_Node_Parked);
             m->v_log = rg_i_add(rg_i_mul(m->v_log, INT64_C(10)), INT64_C(1));
             m->pc = 1; continue;
         case 1: /* b1: EVAL Parked  inputs.rct:32 */
-            if ((m->smp_present[0] ? (m->v_o = m->smp_e0, true) : false)) { m->pc = 2; continue; }  /* t1: Parked -> Driving inputs.rct:57 */
-            if ((m->smp_present[2] ? (m->v_a = m->smp_e2, true) : false)) { m->pc = 19; continue; }  /* t3: Parked -> Parked inputs.rct:59 */
+            /* t1: Parked -> Driving go?o  inputs.rct:57 */
+            if (m->smp_present[Rover_Event_go] ? (m->v_o = m->smp_e_go, true) : false) { m->pc = 2; continue; }
+            /* t3: Parked -> Parked amount?a  inputs.rct:59 */
+            if (m->smp_present[Rover_Event_amount] ? (m->v_a = m->smp_e_amount, true) : false) { m->pc = 19; continue; }
             m->pc = 1; return RG_RUN_SUSPENDED;
         case 2: /* b2: t1: Parked -> Driving  inputs.rct:57 */
-            if (micro && taken) return RG_RUN_MICRO;  /* stepwise: one transition per instant */
-            taken = true;
-            if (++m->transitions > RG_MAX_TRANSITIONS) return rg_runaway_0(inst);
-            m->smp_present[0] = false;
+            RG_BEGIN_TRANSITION(rg_runaway_0(inst));
+            m->smp_present[Rover_Event_go] = false;
             RG_TRACE(inst, "Rover: t1: Parked -> Driving");
-            m->node = 2; m->entered[2] = m->ticks;
+            RG_ENTER(Rover_Node_Driving);
             m->v_log = rg_i_add(rg_i_mul(m->v_log, INT64_C(10)), INT64_C(2));
             RG_TRACE(inst, "Rover: d0: di -> Confirming");
-            m->node = 4; m->entered[4] = m->ticks;
+            RG_ENTER(Rover_Node_Driving_Confirming);
             m->pc = 3; continue;
         case 3: /* b3: wait for confirm  inputs.rct:40 */
-            if ((m->smp_present[1] ? (m->v_ok = m->smp_e1, true) : false)) { m->pc = 4; continue; }  /* confirm?ok inputs.rct:40 */
+            /* confirm?ok  inputs.rct:40 */
+            if (m->smp_present[Rover_Event_confirm] ? (m->v_ok = m->smp_e_confirm, true) : false) { m->pc = 4; continue; }
             m->pc = 3; return RG_RUN_SUSPENDED;
         case 4: /* b4: after confirm?ok  inputs.rct:40 */
-            m->smp_present[1] = false;
+            m->smp_present[Rover_Event_confirm] = false;
             m->v_log = rg_i_add(rg_i_mul(m->v_log, INT64_C(10)), INT64_C(4));
             m->pc = 5; continue;
         case 5: /* b5: EVAL Driving.Confirming  inputs.rct:39 */
-            if (m->smp_present[3]) { m->pc = 6; continue; }  /* t2: Driving -> Parked inputs.rct:58 */
-            if (((((m->ticks - m->entered[2]) * UINT64_C(1)) >= UINT64_C(4)) && (m->v_total > INT64_C(100)))) { m->pc = 7; continue; }  /* t4: Driving -> Parked inputs.rct:60 */
-            if (true) { m->pc = 8; continue; }  /* d1: Confirming -> check inputs.rct:50 */
-            m->pc = 5; return RG_RUN_SUSPENDED;
+            /* t2: Driving -> Parked abort  inputs.rct:58 */
+            if (m->smp_present[Rover_Event_abort]) { m->pc = 6; continue; }
+            /* t4: Driving -> Parked [sinceEntry(Driving) >= 4 /\ total > 100]  inputs.rct:60 */
+            if ((((m->ticks - m->entered[Rover_Node_Driving]) * UINT64_C(1)) >= UINT64_C(4)) && (m->v_total > INT64_C(100))) { m->pc = 7; continue; }
+            /* d1: Confirming -> check  inputs.rct:50 */
+            m->pc = 8; continue;
         case 6: /* b6: t2: Driving -> Parked  inputs.rct:58 */
-            if (micro && taken) return RG_RUN_MICRO;  /* stepwise: one transition per instant */
-            taken = true;
-            if (++m->transitions > RG_MAX_TRANSITIONS) return rg_runaway_0(inst);
-            m->smp_present[3] = false;
+            RG_BEGIN_TRANSITION(rg_runaway_0(inst));
+            m->smp_present[Rover_Event_abort] = false;
             RG_TRACE(inst, "Rover: t2: Driving -> Parked");
             m->v_log = rg_i_add(rg_i_mul(m->v_log, INT64_C(10)), INT64_C(5));
             m->v_log = rg_i_add(rg_i_mul(m->v_log, INT64_C(10)), INT64_C(3));
@@ -337,93 +189,83 @@ static int rg_run_0(rg_instance *inst, bool micro)
                 rg_rec_inputs_Order a0_ = m->v_o;
                 d->out_report_dir = a0_.dir;
                 d->out_report_steps = a0_.steps;
-                rg_activate_output_clock(inst, 7); /* report */
+                rg_activate_output_clock(inst, CLOCK_report);
             }
-            m->node = 1; m->entered[1] = m->ticks;
+            RG_ENTER(Rover_Node_Parked);
             m->v_log = rg_i_add(rg_i_mul(m->v_log, INT64_C(10)), INT64_C(1));
             m->pc = 1; continue;
         case 7: /* b7: t4: Driving -> Parked  inputs.rct:60 */
-            if (micro && taken) return RG_RUN_MICRO;  /* stepwise: one transition per instant */
-            taken = true;
-            if (++m->transitions > RG_MAX_TRANSITIONS) return rg_runaway_0(inst);
+            RG_BEGIN_TRANSITION(rg_runaway_0(inst));
             RG_TRACE(inst, "Rover: t4: Driving -> Parked");
             m->v_log = rg_i_add(rg_i_mul(m->v_log, INT64_C(10)), INT64_C(5));
             m->v_log = rg_i_add(rg_i_mul(m->v_log, INT64_C(10)), INT64_C(3));
-            m->node = 1; m->entered[1] = m->ticks;
+            RG_ENTER(Rover_Node_Parked);
             m->v_log = rg_i_add(rg_i_mul(m->v_log, INT64_C(10)), INT64_C(1));
             m->pc = 1; continue;
         case 8: /* b8: d1: Confirming -> check  inputs.rct:50 */
-            if (micro && taken) return RG_RUN_MICRO;  /* stepwise: one transition per instant */
-            taken = true;
-            if (++m->transitions > RG_MAX_TRANSITIONS) return rg_runaway_0(inst);
+            RG_BEGIN_TRANSITION(rg_runaway_0(inst));
             RG_TRACE(inst, "Rover: d1: Confirming -> check");
             m->v_log = rg_i_add(rg_i_mul(m->v_log, INT64_C(10)), INT64_C(5));
-            m->node = 6; m->entered[6] = m->ticks;
+            RG_ENTER(Rover_Node_Driving_check);
             m->pc = 9; continue;
         case 9: /* b9: EVAL Driving.check  inputs.rct:48 */
-            if ((!m->v_ok)) { m->pc = 10; continue; }  /* d2: check -> Parked2 inputs.rct:51 */
-            if (m->v_ok) { m->pc = 14; continue; }  /* d3: check -> Moving inputs.rct:52 */
+            /* d2: check -> Parked2 [not ok]  inputs.rct:51 */
+            if (!m->v_ok) { m->pc = 10; continue; }
+            /* d3: check -> Moving [ok]  inputs.rct:52 */
+            if (m->v_ok) { m->pc = 14; continue; }
             return rg_machine_fail(inst, "Rover: deadlock in junction 'Driving.check' (inputs.rct:48): no transition is enabled");
         case 10: /* b10: d2: check -> Parked2  inputs.rct:51 */
-            if (micro && taken) return RG_RUN_MICRO;  /* stepwise: one transition per instant */
-            taken = true;
-            if (++m->transitions > RG_MAX_TRANSITIONS) return rg_runaway_0(inst);
+            RG_BEGIN_TRANSITION(rg_runaway_0(inst));
             RG_TRACE(inst, "Rover: d2: check -> Parked2");
-            m->node = 7; m->entered[7] = m->ticks;
+            RG_ENTER(Rover_Node_Driving_Parked2);
             m->pc = 11; continue;
         case 11: /* b11: EVAL Driving.Parked2  inputs.rct:54 */
-            if (m->smp_present[3]) { m->pc = 12; continue; }  /* t2: Driving -> Parked inputs.rct:58 */
-            if (((((m->ticks - m->entered[2]) * UINT64_C(1)) >= UINT64_C(4)) && (m->v_total > INT64_C(100)))) { m->pc = 13; continue; }  /* t4: Driving -> Parked inputs.rct:60 */
+            /* t2: Driving -> Parked abort  inputs.rct:58 */
+            if (m->smp_present[Rover_Event_abort]) { m->pc = 12; continue; }
+            /* t4: Driving -> Parked [sinceEntry(Driving) >= 4 /\ total > 100]  inputs.rct:60 */
+            if ((((m->ticks - m->entered[Rover_Node_Driving]) * UINT64_C(1)) >= UINT64_C(4)) && (m->v_total > INT64_C(100))) { m->pc = 13; continue; }
             m->pc = 11; return RG_RUN_SUSPENDED;
         case 12: /* b12: t2: Driving -> Parked  inputs.rct:58 */
-            if (micro && taken) return RG_RUN_MICRO;  /* stepwise: one transition per instant */
-            taken = true;
-            if (++m->transitions > RG_MAX_TRANSITIONS) return rg_runaway_0(inst);
-            m->smp_present[3] = false;
+            RG_BEGIN_TRANSITION(rg_runaway_0(inst));
+            m->smp_present[Rover_Event_abort] = false;
             RG_TRACE(inst, "Rover: t2: Driving -> Parked");
             m->v_log = rg_i_add(rg_i_mul(m->v_log, INT64_C(10)), INT64_C(3));
             {
                 rg_rec_inputs_Order a0_ = m->v_o;
                 d->out_report_dir = a0_.dir;
                 d->out_report_steps = a0_.steps;
-                rg_activate_output_clock(inst, 7); /* report */
+                rg_activate_output_clock(inst, CLOCK_report);
             }
-            m->node = 1; m->entered[1] = m->ticks;
+            RG_ENTER(Rover_Node_Parked);
             m->v_log = rg_i_add(rg_i_mul(m->v_log, INT64_C(10)), INT64_C(1));
             m->pc = 1; continue;
         case 13: /* b13: t4: Driving -> Parked  inputs.rct:60 */
-            if (micro && taken) return RG_RUN_MICRO;  /* stepwise: one transition per instant */
-            taken = true;
-            if (++m->transitions > RG_MAX_TRANSITIONS) return rg_runaway_0(inst);
+            RG_BEGIN_TRANSITION(rg_runaway_0(inst));
             RG_TRACE(inst, "Rover: t4: Driving -> Parked");
             m->v_log = rg_i_add(rg_i_mul(m->v_log, INT64_C(10)), INT64_C(3));
-            m->node = 1; m->entered[1] = m->ticks;
+            RG_ENTER(Rover_Node_Parked);
             m->v_log = rg_i_add(rg_i_mul(m->v_log, INT64_C(10)), INT64_C(1));
             m->pc = 1; continue;
         case 14: /* b14: d3: check -> Moving  inputs.rct:52 */
-            if (micro && taken) return RG_RUN_MICRO;  /* stepwise: one transition per instant */
-            taken = true;
-            if (++m->transitions > RG_MAX_TRANSITIONS) return rg_runaway_0(inst);
+            RG_BEGIN_TRANSITION(rg_runaway_0(inst));
             RG_TRACE(inst, "Rover: d3: check -> Moving");
-            m->node = 5; m->entered[5] = m->ticks;
-            {
-                int64_t a0_ = m->v_o.dir;
-                d->out_heading_value = a0_;
-                rg_activate_output_clock(inst, 5); /* heading */
-            }
+            RG_ENTER(Rover_Node_Driving_Moving);
+            d->out_heading_value = m->v_o.dir;
+            rg_activate_output_clock(inst, CLOCK_heading);
             m->v_total = rg_i_add(m->v_total, m->v_o.steps);
             m->v_log = rg_i_add(rg_i_mul(m->v_log, INT64_C(10)), INT64_C(6));
             m->pc = 15; continue;
         case 15: /* b15: EVAL Driving.Moving  inputs.rct:43 */
-            if (m->smp_present[3]) { m->pc = 16; continue; }  /* t2: Driving -> Parked inputs.rct:58 */
-            if (((((m->ticks - m->entered[2]) * UINT64_C(1)) >= UINT64_C(4)) && (m->v_total > INT64_C(100)))) { m->pc = 17; continue; }  /* t4: Driving -> Parked inputs.rct:60 */
-            if (((m->smp_present[0] ? (m->v_o = m->smp_e0, true) : false) && (m->v_o.steps > INT64_C(0)))) { m->pc = 18; continue; }  /* d4: Moving -> Moving inputs.rct:53 */
+            /* t2: Driving -> Parked abort  inputs.rct:58 */
+            if (m->smp_present[Rover_Event_abort]) { m->pc = 16; continue; }
+            /* t4: Driving -> Parked [sinceEntry(Driving) >= 4 /\ total > 100]  inputs.rct:60 */
+            if ((((m->ticks - m->entered[Rover_Node_Driving]) * UINT64_C(1)) >= UINT64_C(4)) && (m->v_total > INT64_C(100))) { m->pc = 17; continue; }
+            /* d4: Moving -> Moving go?o [o.steps > 0]  inputs.rct:53 */
+            if ((m->smp_present[Rover_Event_go] ? (m->v_o = m->smp_e_go, true) : false) && (m->v_o.steps > INT64_C(0))) { m->pc = 18; continue; }
             m->pc = 15; return RG_RUN_SUSPENDED;
         case 16: /* b16: t2: Driving -> Parked  inputs.rct:58 */
-            if (micro && taken) return RG_RUN_MICRO;  /* stepwise: one transition per instant */
-            taken = true;
-            if (++m->transitions > RG_MAX_TRANSITIONS) return rg_runaway_0(inst);
-            m->smp_present[3] = false;
+            RG_BEGIN_TRANSITION(rg_runaway_0(inst));
+            m->smp_present[Rover_Event_abort] = false;
             RG_TRACE(inst, "Rover: t2: Driving -> Parked");
             m->v_log = rg_i_add(rg_i_mul(m->v_log, INT64_C(10)), INT64_C(7));
             m->v_log = rg_i_add(rg_i_mul(m->v_log, INT64_C(10)), INT64_C(3));
@@ -431,56 +273,45 @@ static int rg_run_0(rg_instance *inst, bool micro)
                 rg_rec_inputs_Order a0_ = m->v_o;
                 d->out_report_dir = a0_.dir;
                 d->out_report_steps = a0_.steps;
-                rg_activate_output_clock(inst, 7); /* report */
+                rg_activate_output_clock(inst, CLOCK_report);
             }
-            m->node = 1; m->entered[1] = m->ticks;
+            RG_ENTER(Rover_Node_Parked);
             m->v_log = rg_i_add(rg_i_mul(m->v_log, INT64_C(10)), INT64_C(1));
             m->pc = 1; continue;
         case 17: /* b17: t4: Driving -> Parked  inputs.rct:60 */
-            if (micro && taken) return RG_RUN_MICRO;  /* stepwise: one transition per instant */
-            taken = true;
-            if (++m->transitions > RG_MAX_TRANSITIONS) return rg_runaway_0(inst);
+            RG_BEGIN_TRANSITION(rg_runaway_0(inst));
             RG_TRACE(inst, "Rover: t4: Driving -> Parked");
             m->v_log = rg_i_add(rg_i_mul(m->v_log, INT64_C(10)), INT64_C(7));
             m->v_log = rg_i_add(rg_i_mul(m->v_log, INT64_C(10)), INT64_C(3));
-            m->node = 1; m->entered[1] = m->ticks;
+            RG_ENTER(Rover_Node_Parked);
             m->v_log = rg_i_add(rg_i_mul(m->v_log, INT64_C(10)), INT64_C(1));
             m->pc = 1; continue;
         case 18: /* b18: d4: Moving -> Moving  inputs.rct:53 */
-            if (micro && taken) return RG_RUN_MICRO;  /* stepwise: one transition per instant */
-            taken = true;
-            if (++m->transitions > RG_MAX_TRANSITIONS) return rg_runaway_0(inst);
-            m->smp_present[0] = false;
+            RG_BEGIN_TRANSITION(rg_runaway_0(inst));
+            m->smp_present[Rover_Event_go] = false;
             RG_TRACE(inst, "Rover: d4: Moving -> Moving");
             m->v_log = rg_i_add(rg_i_mul(m->v_log, INT64_C(10)), INT64_C(7));
-            m->node = 5; m->entered[5] = m->ticks;
-            {
-                int64_t a0_ = m->v_o.dir;
-                d->out_heading_value = a0_;
-                rg_activate_output_clock(inst, 5); /* heading */
-            }
+            RG_ENTER(Rover_Node_Driving_Moving);
+            d->out_heading_value = m->v_o.dir;
+            rg_activate_output_clock(inst, CLOCK_heading);
             m->v_total = rg_i_add(m->v_total, m->v_o.steps);
             m->v_log = rg_i_add(rg_i_mul(m->v_log, INT64_C(10)), INT64_C(6));
             m->pc = 15; continue;
         case 19: /* b19: t3: Parked -> Parked  inputs.rct:59 */
-            if (micro && taken) return RG_RUN_MICRO;  /* stepwise: one transition per instant */
-            taken = true;
-            if (++m->transitions > RG_MAX_TRANSITIONS) return rg_runaway_0(inst);
-            m->smp_present[2] = false;
+            RG_BEGIN_TRANSITION(rg_runaway_0(inst));
+            m->smp_present[Rover_Event_amount] = false;
             RG_TRACE(inst, "Rover: t3: Parked -> Parked");
             m->pc = 20; continue;
         case 20: /* b20: wait for amount  inputs.rct:59 */
-            if ((m->smp_present[2] ? (m->v_b = m->smp_e2, true) : false)) { m->pc = 21; continue; }  /* amount?b inputs.rct:59 */
+            /* amount?b  inputs.rct:59 */
+            if (m->smp_present[Rover_Event_amount] ? (m->v_b = m->smp_e_amount, true) : false) { m->pc = 21; continue; }
             m->pc = 20; return RG_RUN_SUSPENDED;
         case 21: /* b21: after amount?b  inputs.rct:59 */
-            m->smp_present[2] = false;
+            m->smp_present[Rover_Event_amount] = false;
             m->v_total = rg_i_add(m->v_a, m->v_b);
-            {
-                int64_t a0_ = m->v_total;
-                d->out_moved_value = a0_;
-                rg_activate_output_clock(inst, 6); /* moved */
-            }
-            m->node = 1; m->entered[1] = m->ticks;
+            d->out_moved_value = m->v_total;
+            rg_activate_output_clock(inst, CLOCK_moved);
+            RG_ENTER(Rover_Node_Parked);
             m->v_log = rg_i_add(rg_i_mul(m->v_log, INT64_C(10)), INT64_C(1));
             m->pc = 1; continue;
         default:
@@ -495,13 +326,12 @@ static void rg_model_reset(rg_instance *inst)
 {
     rg_model_data *d = &inst->s.data;
     d->m0.pc = 0;
-    d->m0.node = 0;
+    d->m0.node = Rover_Node_i;
 }
 
 static fmi3Status rg_model_exit_initialization(rg_instance *inst)
 {
     rg_model_data *d = &inst->s.data;
-    (void)d;
     {
         rg_machine_0 *m = &d->m0;
         m->v_ok = false;  /* initial value of ok */
@@ -516,46 +346,38 @@ static fmi3Status rg_model_exit_initialization(rg_instance *inst)
 static void rg_model_latch(rg_instance *inst, int clock_index)
 {
     rg_model_data *d = &inst->s.data;
-    (void)d;
     switch (clock_index) {
-    case 1: /* go */
-    {
+    case CLOCK_go: {
         rg_rec_inputs_Order v;
         v.dir = d->in_go_dir;
         v.steps = d->in_go_steps;
-        rg_deliver_0_0(d, v);
+        rg_deliver(d, &rg_events_0[Rover_Event_go], &v);
         break;
     }
-    case 2: /* confirm */
-    {
+    case CLOCK_confirm: {
         bool v;
         v = d->in_confirm_value;
-        rg_deliver_0_1(d, v);
+        rg_deliver(d, &rg_events_0[Rover_Event_confirm], &v);
         break;
     }
-    case 3: /* amount */
-    {
+    case CLOCK_amount: {
         int64_t v;
         v = d->in_amount_value;
-        rg_deliver_0_2(d, v);
+        rg_deliver(d, &rg_events_0[Rover_Event_amount], &v);
         break;
     }
-    case 4: /* abort */
-    {
-        rg_deliver_0_3(d);
+    case CLOCK_abort:
+        rg_deliver(d, &rg_events_0[Rover_Event_abort], NULL);
         break;
-    }
-    default:
+    default: /* the periodic clock, and input events that reach no state machine */
         break;
     }
 }
 
-
 static fmi3Status rg_model_evaluate(rg_instance *inst)
 {
     rg_model_data *d = &inst->s.data;
-    bool periodic = inst->s.clock_active[0];  /* tock */
-    int r = RG_RUN_SUSPENDED;
+    bool periodic = inst->s.clock_active[CLOCK_tock];
     d->fault = RG_FAULT_NONE;
     if (periodic) d->cycles++;
     {
@@ -565,65 +387,18 @@ static fmi3Status rg_model_evaluate(rg_instance *inst)
             m->ticks++;
             if (m->wait_left > 0) m->wait_left--;
         }
-        /* events join the buffer between runs: in the middle of a stepwise run they wait, so that the
-         * transition a micro-step decided on finds the buffer it was decided on */
-        if (m->reg_present[0] && !m->in_cycle) {  /* go joins the buffer, where it stays until consumed */
-            if (m->smp_present[0]) d->dropped_events++;
-            m->smp_present[0] = true;
-            m->smp_e0 = m->reg_e0;
-            m->reg_present[0] = false;
-            arrived = true;
+        if (!m->in_cycle) {
+            /* events join the buffer between runs: in the middle of a stepwise run they wait, so
+             * that the transition a micro-step decided on finds the buffer it was decided on */
+            size_t e;
+            for (e = 0; e < 7; e++) arrived = rg_join_buffer(d, &rg_events_0[e]) || arrived;
+            m->new_input = false;
         }
-        if (m->reg_present[1] && !m->in_cycle) {  /* confirm joins the buffer, where it stays until consumed */
-            if (m->smp_present[1]) d->dropped_events++;
-            m->smp_present[1] = true;
-            m->smp_e1 = m->reg_e1;
-            m->reg_present[1] = false;
-            arrived = true;
-        }
-        if (m->reg_present[2] && !m->in_cycle) {  /* amount joins the buffer, where it stays until consumed */
-            if (m->smp_present[2]) d->dropped_events++;
-            m->smp_present[2] = true;
-            m->smp_e2 = m->reg_e2;
-            m->reg_present[2] = false;
-            arrived = true;
-        }
-        if (m->reg_present[3] && !m->in_cycle) {  /* abort joins the buffer, where it stays until consumed */
-            if (m->smp_present[3]) d->dropped_events++;
-            m->smp_present[3] = true;
-            m->reg_present[3] = false;
-            arrived = true;
-        }
-        if (m->reg_present[4] && !m->in_cycle) {  /* heading joins the buffer, where it stays until consumed */
-            if (m->smp_present[4]) d->dropped_events++;
-            m->smp_present[4] = true;
-            m->smp_e4 = m->reg_e4;
-            m->reg_present[4] = false;
-            arrived = true;
-        }
-        if (m->reg_present[5] && !m->in_cycle) {  /* moved joins the buffer, where it stays until consumed */
-            if (m->smp_present[5]) d->dropped_events++;
-            m->smp_present[5] = true;
-            m->smp_e5 = m->reg_e5;
-            m->reg_present[5] = false;
-            arrived = true;
-        }
-        if (m->reg_present[6] && !m->in_cycle) {  /* report joins the buffer, where it stays until consumed */
-            if (m->smp_present[6]) d->dropped_events++;
-            m->smp_present[6] = true;
-            m->smp_e6 = m->reg_e6;
-            m->reg_present[6] = false;
-            arrived = true;
-        }
-        if (!m->in_cycle) m->new_input = false;
         if (periodic || arrived || m->in_cycle) {
             if (!m->in_cycle) m->transitions = 0;  /* a new run to quiescence */
-            r = rg_run_0(inst, false);
-            if (r == RG_RUN_FAULT) return fmi3Error;
-            m->in_cycle = (r == RG_RUN_MICRO);
+            if (rg_run_failed(rg_run_0(inst), &m->in_cycle)) return fmi3Error;
         }
     }
-    (void)r;
     return fmi3OK;
 }
 
@@ -631,9 +406,8 @@ static fmi3Status rg_model_update(rg_instance *inst, bool *discrete_states_need_
                                   bool *terminate_simulation, bool *next_event_time_defined,
                                   double *next_event_time)
 {
-    rg_model_data *d = &inst->s.data;
+    const rg_model_data *d = &inst->s.data;
     bool need = false;
-    (void)d;
     (void)terminate_simulation;
     (void)next_event_time_defined;
     (void)next_event_time;
@@ -643,17 +417,5 @@ static fmi3Status rg_model_update(rg_instance *inst, bool *discrete_states_need_
         for (e = 0; e < 7; e++) need = need || d->m0.reg_present[e];
     }
     *discrete_states_need_update = need;
-    return fmi3OK;
-}
-
-static fmi3Status rg_model_do_step(rg_instance *inst, double t_end, bool *event_handling_needed,
-                                   bool *terminate_simulation, double *last_successful_time)
-{
-    /* The state machines only react in Event Mode; a step just lets time pass. */
-    (void)inst;
-    (void)t_end;
-    (void)event_handling_needed;
-    (void)terminate_simulation;
-    (void)last_successful_time;
     return fmi3OK;
 }

@@ -5,118 +5,21 @@
  * Each state machine is a function that resumes at block m->pc and runs until the cycle ends
  * (RG_RUN_SUSPENDED), until a micro-step boundary in stepwise semantics (RG_RUN_MICRO), or
  * until a run-time error (RG_RUN_FAULT, reported through logMessage and fmi3Error). Every block
- * opens with a comment naming what it does and the model line it comes from. */
+ * opens with a comment naming what it does and the model line it comes from; every guard is
+ * quoted as the model writes it above its test. The helpers (RG_BEGIN_TRANSITION, rg_deliver,
+ * the arithmetic) are robogen_machine.h's. */
 
-#include <string.h>
-
-/* ---- arithmetic as robogen defines it: wrapping integers, checked division --------------- */
-
-enum { RG_FAULT_NONE = 0, RG_FAULT_DIVISION = 1, RG_FAULT_INDEX = 2, RG_FAULT_RUNAWAY = 3, RG_FAULT_STUCK = 4,
-       RG_FAULT_CONVERSION = 5 };
-enum { RG_RUN_SUSPENDED = 0, RG_RUN_MICRO = 1, RG_RUN_FAULT = -1 };
-
-#define RG_MAX_TRANSITIONS 1000UL  /* transitions per cycle before a runaway is reported */
-#define RG_MAX_STEPS 64000UL        /* blocks per cycle, the same bound for any loop */
-#define RG_TRACE(inst, text) \
-    do { if ((inst)->logging_on && (inst)->log_category_on[RG_LOG_TRANSITIONS]) \
-        rg_log((inst), RG_LOG_TRANSITIONS, fmi3OK, "%s", (text)); } while (0)
-
-static inline int64_t rg_i_add(int64_t a, int64_t b) { return (int64_t)((uint64_t)a + (uint64_t)b); }
-static inline int64_t rg_i_sub(int64_t a, int64_t b) { return (int64_t)((uint64_t)a - (uint64_t)b); }
-static inline int64_t rg_i_mul(int64_t a, int64_t b) { return (int64_t)((uint64_t)a * (uint64_t)b); }
-static inline int64_t rg_i_neg(int64_t a) { return (int64_t)(UINT64_C(0) - (uint64_t)a); }
-static inline int64_t rg_i_abs(int64_t a) { return a < 0 ? rg_i_neg(a) : a; }
-static inline int64_t rg_i_min(int64_t a, int64_t b) { return a <= b ? a : b; }
-static inline int64_t rg_i_max(int64_t a, int64_t b) { return a >= b ? a : b; }
-static inline int64_t rg_i_div(rg_model_data *d, int64_t a, int64_t b)
-{
-    if (b == 0) { d->fault = RG_FAULT_DIVISION; return 0; }
-    if (b == -1) return rg_i_neg(a);
-    return a / b;
-}
-static inline int64_t rg_i_mod(rg_model_data *d, int64_t a, int64_t b)
-{
-    if (b == 0) { d->fault = RG_FAULT_DIVISION; return 0; }
-    if (b == -1) return 0;
-    return a % b;
-}
-static inline uint64_t rg_u_add(uint64_t a, uint64_t b) { return a + b; }
-static inline uint64_t rg_u_sub(uint64_t a, uint64_t b) { return a - b; }
-static inline uint64_t rg_u_mul(uint64_t a, uint64_t b) { return a * b; }
-static inline uint64_t rg_u_neg(uint64_t a) { return UINT64_C(0) - a; }
-static inline uint64_t rg_u_abs(uint64_t a) { return a; }
-static inline uint64_t rg_u_min(uint64_t a, uint64_t b) { return a <= b ? a : b; }
-static inline uint64_t rg_u_max(uint64_t a, uint64_t b) { return a >= b ? a : b; }
-static inline uint64_t rg_u_div(rg_model_data *d, uint64_t a, uint64_t b)
-{
-    if (b == 0) { d->fault = RG_FAULT_DIVISION; return 0; }
-    return a / b;
-}
-static inline uint64_t rg_u_mod(rg_model_data *d, uint64_t a, uint64_t b)
-{
-    if (b == 0) { d->fault = RG_FAULT_DIVISION; return 0; }
-    return a % b;
-}
-static inline double rg_r_div(rg_model_data *d, double a, double b)
-{
-    if (b == 0.0) { d->fault = RG_FAULT_DIVISION; return 0.0; }
-    return a / b;
-}
-static inline double rg_r_abs(double a) { return a < 0.0 ? -a : a; }
-/* Conversions: a real becomes an integer by truncation toward zero; outside the integer's range
- * (or NaN) it sets the fault code instead of being undefined behaviour. */
-static inline int64_t rg_r_to_i(rg_model_data *d, double x)
-{
-    if (!(x >= -9223372036854775808.0 && x < 9223372036854775808.0)) { d->fault = RG_FAULT_CONVERSION; return 0; }
-    return (int64_t)x;
-}
-static inline uint64_t rg_r_to_u(rg_model_data *d, double x)
-{
-    if (!(x > -1.0 && x < 18446744073709551616.0)) { d->fault = RG_FAULT_CONVERSION; return 0; }
-    return (uint64_t)x;
-}
-/* nat to int wraps around, like the interpreter (no implementation-defined conversion). */
-static inline int64_t rg_u_to_i(uint64_t x)
-{
-    return x <= (uint64_t)INT64_MAX ? (int64_t)x : -(int64_t)(UINT64_MAX - x) - 1;
-}
-static inline double rg_r_min(double a, double b) { return a <= b ? a : b; }
-static inline double rg_r_max(double a, double b) { return a >= b ? a : b; }
-/* A 1-based index into n elements, as a 0-based offset; out of range sets the fault code. */
-static inline int64_t rg_index(rg_model_data *d, int64_t i, int64_t n)
-{
-    if (i < 1 || i > n) { d->fault = RG_FAULT_INDEX; return 0; }
-    return i - 1;
-}
-
-static const char *rg_fault_text(int32_t fault) RG_MAYBE_UNUSED;
-static const char *rg_fault_text(int32_t fault)
-{
-    switch (fault) {
-    case RG_FAULT_DIVISION: return "division by zero";
-    case RG_FAULT_INDEX: return "index out of range";
-    case RG_FAULT_RUNAWAY: return "runaway cycle";
-    case RG_FAULT_CONVERSION: return "real number out of range for an integer";
-    default: return "run-time error";
-    }
-}
-
-/* A RoboChart deadline was missed: counted and logged, never enforced. */
-static void rg_deadline_miss(rg_instance *inst, const char *message) RG_MAYBE_UNUSED;
-static void rg_deadline_miss(rg_instance *inst, const char *message)
-{
-    inst->s.data.deadline_misses++;
-    rg_log(inst, RG_LOG_WARNING, fmi3Warning, "%s (t=%.17g)", message, inst->s.time);
-}
-
-static int rg_machine_fail(rg_instance *inst, const char *message)
-{
-    inst->s.data.fault = RG_FAULT_STUCK;
-    rg_log(inst, RG_LOG_ERROR, fmi3Error, "%s", message);
-    return RG_RUN_FAULT;
-}
+#include "robogen_machine.h"
 
 /* ---- the FMI variables and clocks (value references as in modelDescription.xml) ---------- */
+
+/* indices into rg_clocks */
+enum {
+    CLOCK_tock = 0,  /* one RoboChart time unit (tock) */
+    CLOCK_a = 1,  /* input event a */
+    CLOCK_b = 2,  /* input event b */
+    CLOCK_out = 3,  /* output event out */
+};
 
 static const rg_clock rg_clocks[RG_CLOCK_ARRAY_SIZE] = {
     { 1, "tock", RG_CLOCK_INPUT_CONSTANT, 1, 0.0 },
@@ -142,6 +45,36 @@ static const rg_variable rg_variables[RG_NUM_VARIABLES] = {
 
 /* ======== state machine nested::M (nested.rct:24) ======== */
 
+/* The name of a node of M, for log messages. */
+static const char *M_node_name(int64_t node)
+{
+    switch (node) {
+    case M_Node_i: return "i";
+    case M_Node_A: return "A";
+    case M_Node_B: return "B";
+    case M_Node_B_bi: return "B.bi";
+    case M_Node_B_B1: return "B.B1";
+    case M_Node_B_j: return "B.j";
+    case M_Node_outer_1_i: return "outer#1.i";
+    case M_Node_outer_1_W: return "outer#1.W";
+    case M_Node_outer_1_f: return "outer#1.f";
+    case M_Node_helper_2_i: return "helper#2.i";
+    case M_Node_helper_2_f: return "helper#2.f";
+    case M_Node_outer_3_i: return "outer#3.i";
+    case M_Node_outer_3_W: return "outer#3.W";
+    case M_Node_outer_3_f: return "outer#3.f";
+    case M_Node_helper_4_i: return "helper#4.i";
+    case M_Node_helper_4_f: return "helper#4.f";
+    case M_Node_outer_5_i: return "outer#5.i";
+    case M_Node_outer_5_W: return "outer#5.W";
+    case M_Node_outer_5_f: return "outer#5.f";
+    case M_Node_helper_6_i: return "helper#6.i";
+    case M_Node_helper_6_f: return "helper#6.f";
+    default: return "?";
+    }
+}
+
+/* What each block does, for log messages (indexed by m->pc). */
 static const char *const rg_labels_0[] = {
     "b0: start M (nested.rct:24)",
     "b1: wait (nested.rct:32)",
@@ -188,285 +121,236 @@ static const char *const rg_labels_0[] = {
     "b42: EVAL outer#5.f (nested.rct:20)",
 };
 
-static int rg_fault_0(rg_instance *inst, int32_t pc) RG_MAYBE_UNUSED;
-static int rg_fault_0(rg_instance *inst, int32_t pc)
+static int rg_fault_0(rg_instance *inst) RG_MAYBE_UNUSED;
+static int rg_fault_0(rg_instance *inst)
 {
-    rg_log(inst, RG_LOG_ERROR, fmi3Error, "state machine M: %s in %s", rg_fault_text(inst->s.data.fault), rg_labels_0[pc]);
-    return RG_RUN_FAULT;
+    const rg_machine_0 *m = &inst->s.data.m0;
+    return rg_report_fault(inst, "M", rg_labels_0[m->pc], M_node_name(m->node));
 }
 
 static int rg_runaway_0(rg_instance *inst)
 {
-    inst->s.data.fault = RG_FAULT_RUNAWAY;
-    rg_log(inst, RG_LOG_ERROR, fmi3Error, "state machine M: more than %lu transitions in one cycle without exec "
-           "(a runaway cycle), at %s", RG_MAX_TRANSITIONS, rg_labels_0[inst->s.data.m0.pc]);
-    return RG_RUN_FAULT;
+    const rg_machine_0 *m = &inst->s.data.m0;
+    return rg_report_runaway(inst, "M", rg_labels_0[m->pc], M_node_name(m->node));
 }
 
-/* event a reaches M: latched until its next run */
-static void rg_deliver_0_0(rg_model_data *d, int64_t v) RG_MAYBE_UNUSED;
-static void rg_deliver_0_0(rg_model_data *d, int64_t v)
-{
-    rg_machine_0 *m = &d->m0;
-    if (m->reg_present[0]) d->dropped_events++;
-    m->reg_present[0] = true;
-    m->reg_e0 = v;
-    m->new_input = true;
-}
+/* Where each input event of M is latched and read (see rg_event_slot). */
+static const rg_event_slot rg_events_0[] = {
+    RG_TYPED_EVENT(m0, M_Event_a, a),
+    RG_EVENT(m0, M_Event_b),
+    RG_TYPED_EVENT(m0, M_Event_out, out),
+};
 
-/* event b reaches M: latched until its next run */
-static void rg_deliver_0_1(rg_model_data *d) RG_MAYBE_UNUSED;
-static void rg_deliver_0_1(rg_model_data *d)
-{
-    rg_machine_0 *m = &d->m0;
-    if (m->reg_present[1]) d->dropped_events++;
-    m->reg_present[1] = true;
-    m->new_input = true;
-}
-
-/* event out reaches M: latched until its next run */
-static void rg_deliver_0_2(rg_model_data *d, int64_t v) RG_MAYBE_UNUSED;
-static void rg_deliver_0_2(rg_model_data *d, int64_t v)
-{
-    rg_machine_0 *m = &d->m0;
-    if (m->reg_present[2]) d->dropped_events++;
-    m->reg_present[2] = true;
-    m->reg_e2 = v;
-    m->new_input = true;
-}
-
-/* Run state machine M from m->pc until it suspends, or (micro: stepwise semantics)
- * until it reaches a second transition segment: each segment starts with a step check. */
-static int rg_run_0(rg_instance *inst, bool micro)
+/* Run state machine M from block m->pc until the work of its run is done. */
+static int rg_run_0(rg_instance *inst)
 {
     rg_model_data *d = &inst->s.data;
     rg_machine_0 *m = &d->m0;
-    bool taken = false;  /* a transition segment was entered in this run */
     unsigned long steps = 0;
-    (void)micro;
-    (void)taken;
     for (;;) {
         if (++steps > RG_MAX_STEPS) return rg_runaway_0(inst);
         switch (m->pc) {
         case 0: /* b0: start M  nested.rct:24 */
-            if (micro && taken) return RG_RUN_MICRO;  /* stepwise: one transition per instant */
-            taken = true;
-            if (++m->transitions > RG_MAX_TRANSITIONS) return rg_runaway_0(inst);
+            RG_BEGIN_TRANSITION(rg_runaway_0(inst));
             RG_TRACE(inst, "M: t0: i -> A");
-            m->node = 1; m->entered[1] = m->ticks;
+            RG_ENTER(M_Node_A);
             m->v_n = rg_i_add(m->v_n, INT64_C(1));
             { int64_t w_ = INT64_C(1); m->wait_left = w_ > 0 ? w_ : 0; }
             m->pc = 1; continue;
         case 1: /* b1: wait  nested.rct:32 */
-            if ((m->wait_left <= INT64_C(0))) { m->pc = 2; continue; }  /* wait over nested.rct:32 */
+            /* wait over  nested.rct:32 */
+            if (m->wait_left <= INT64_C(0)) { m->pc = 2; continue; }
             m->pc = 1; return RG_RUN_SUSPENDED;
         case 2: /* b2: after wait  nested.rct:32 */
             m->v_n = rg_i_add(m->v_n, INT64_C(10));
             m->pc = 3; continue;
         case 3: /* b3: EVAL A  nested.rct:30 */
-            if ((m->smp_present[0] ? (m->v_v = m->smp_e0, true) : false)) { m->pc = 4; continue; }  /* t1: A -> B nested.rct:45 */
+            /* t1: A -> B a?v  nested.rct:45 */
+            if (m->smp_present[M_Event_a] ? (m->v_v = m->smp_e_a, true) : false) { m->pc = 4; continue; }
             m->pc = 3; return RG_RUN_SUSPENDED;
         case 4: /* b4: t1: A -> B  nested.rct:45 */
-            if (micro && taken) return RG_RUN_MICRO;  /* stepwise: one transition per instant */
-            taken = true;
-            if (++m->transitions > RG_MAX_TRANSITIONS) return rg_runaway_0(inst);
-            m->smp_present[0] = false;
+            RG_BEGIN_TRANSITION(rg_runaway_0(inst));
+            m->smp_present[M_Event_a] = false;
             RG_TRACE(inst, "M: t1: A -> B");
             {
                 /* b is connected to nothing: evaluated, sent nowhere */
             }
-            {
-                int64_t a0_ = m->v_n;
-                d->out_out_value = a0_;
-                rg_activate_output_clock(inst, 3); /* out */
-            }
+            d->out_out_value = m->v_n;
+            rg_activate_output_clock(inst, CLOCK_out);
             m->clock_reset[0] = m->ticks;
-            m->node = 2; m->entered[2] = m->ticks;
+            RG_ENTER(M_Node_B);
             RG_TRACE(inst, "M: x0: bi -> B1");
-            m->node = 4; m->entered[4] = m->ticks;
+            RG_ENTER(M_Node_B_B1);
             m->v_x1_deadline = false;
             m->v_outer_1_y = m->v_v;
             m->v_outer_1_z = INT64_C(0);
             m->pc = 6; continue;
         case 5: /* b5: after outer()  nested.rct:37 */
-            m->node = 4;
+            m->node = M_Node_B_B1;
             m->pc = 15; continue;
         case 6: /* b6: call outer()  nested.rct:37 */
             RG_TRACE(inst, "M: t0: i -> W");
-            m->node = 7; m->entered[7] = m->ticks;
+            RG_ENTER(M_Node_outer_1_W);
             m->v_outer_1_z = rg_i_mul(m->v_outer_1_y, INT64_C(2));
             m->v_helper_2_x = m->v_outer_1_z;
             m->pc = 8; continue;
         case 7: /* b7: after helper()  nested.rct:19 */
-            m->node = 7;
+            m->node = M_Node_outer_1_W;
             m->pc = 12; continue;
         case 8: /* b8: call helper()  nested.rct:19 */
             RG_TRACE(inst, "M: t: i -> f");
             { int64_t w_ = INT64_C(1); m->wait_left = w_ > 0 ? w_ : 0; }
             m->pc = 9; continue;
         case 9: /* b9: wait  nested.rct:12 */
-            if ((m->wait_left <= INT64_C(0))) { m->pc = 10; continue; }  /* wait over nested.rct:12 */
+            /* wait over  nested.rct:12 */
+            if (m->wait_left <= INT64_C(0)) { m->pc = 10; continue; }
             m->pc = 9; return RG_RUN_SUSPENDED;
         case 10: /* b10: after wait  nested.rct:12 */
-            {
-                int64_t a0_ = m->v_helper_2_x;
-                d->out_out_value = a0_;
-                rg_activate_output_clock(inst, 3); /* out */
-            }
-            m->node = 10; m->entered[10] = m->ticks;
+            d->out_out_value = m->v_helper_2_x;
+            rg_activate_output_clock(inst, CLOCK_out);
+            RG_ENTER(M_Node_helper_2_f);
             m->pc = 11; continue;
         case 11: /* b11: EVAL helper#2.f  nested.rct:11 */
             m->pc = 7; continue;
         case 12: /* b12: EVAL outer#1.W  nested.rct:19 */
-            if (m->smp_present[1]) { m->pc = 13; continue; }  /* t1: W -> f nested.rct:22 */
+            /* t1: W -> f b  nested.rct:22 */
+            if (m->smp_present[M_Event_b]) { m->pc = 13; continue; }
             m->pc = 12; return RG_RUN_SUSPENDED;
         case 13: /* b13: t1: W -> f  nested.rct:22 */
-            if (micro && taken) return RG_RUN_MICRO;  /* stepwise: one transition per instant */
-            taken = true;
-            if (++m->transitions > RG_MAX_TRANSITIONS) return rg_runaway_0(inst);
-            m->smp_present[1] = false;
+            RG_BEGIN_TRANSITION(rg_runaway_0(inst));
+            m->smp_present[M_Event_b] = false;
             RG_TRACE(inst, "M: t1: W -> f");
-            m->node = 8; m->entered[8] = m->ticks;
+            RG_ENTER(M_Node_outer_1_f);
             m->pc = 14; continue;
         case 14: /* b14: EVAL outer#1.f  nested.rct:20 */
             m->pc = 5; continue;
         case 15: /* b15: EVAL B.B1  nested.rct:37 */
-            if (((!m->v_x1_deadline) && (rg_u_to_i(((m->ticks - m->entered[4]) * UINT64_C(1))) > INT64_C(2)))) {
+            if ((!m->v_x1_deadline) && (rg_u_to_i(((m->ticks - m->entered[M_Node_B_B1]) * UINT64_C(1))) > INT64_C(2))) {
                 m->v_x1_deadline = true;
                 rg_deadline_miss(inst, "M: x1: deadline missed: trigger 'a' not within 2 time unit(s) of entering B1 (nested.rct:40)");
             }
-            if ((((m->ticks - m->clock_reset[0]) * UINT64_C(1)) > UINT64_C(5))) { m->pc = 16; continue; }  /* t2: B -> A nested.rct:46 */
-            if ((m->smp_present[0] ? (m->v_v = m->smp_e0, true) : false)) { m->pc = 19; continue; }  /* x1: B1 -> j nested.rct:40 */
+            /* t2: B -> A [since(C) > 5]  nested.rct:46 */
+            if (((m->ticks - m->clock_reset[0]) * UINT64_C(1)) > UINT64_C(5)) { m->pc = 16; continue; }
+            /* x1: B1 -> j a?v  nested.rct:40 */
+            if (m->smp_present[M_Event_a] ? (m->v_v = m->smp_e_a, true) : false) { m->pc = 19; continue; }
             m->pc = 15; return RG_RUN_SUSPENDED;
         case 16: /* b16: t2: B -> A  nested.rct:46 */
-            if (micro && taken) return RG_RUN_MICRO;  /* stepwise: one transition per instant */
-            taken = true;
-            if (++m->transitions > RG_MAX_TRANSITIONS) return rg_runaway_0(inst);
+            RG_BEGIN_TRANSITION(rg_runaway_0(inst));
             RG_TRACE(inst, "M: t2: B -> A");
-            m->node = 1; m->entered[1] = m->ticks;
+            RG_ENTER(M_Node_A);
             m->v_n = rg_i_add(m->v_n, INT64_C(1));
             { int64_t w_ = INT64_C(1); m->wait_left = w_ > 0 ? w_ : 0; }
             m->pc = 17; continue;
         case 17: /* b17: wait  nested.rct:32 */
-            if ((m->wait_left <= INT64_C(0))) { m->pc = 18; continue; }  /* wait over nested.rct:32 */
+            /* wait over  nested.rct:32 */
+            if (m->wait_left <= INT64_C(0)) { m->pc = 18; continue; }
             m->pc = 17; return RG_RUN_SUSPENDED;
         case 18: /* b18: after wait  nested.rct:32 */
             m->v_n = rg_i_add(m->v_n, INT64_C(10));
             m->pc = 3; continue;
         case 19: /* b19: x1: B1 -> j  nested.rct:40 */
-            if (micro && taken) return RG_RUN_MICRO;  /* stepwise: one transition per instant */
-            taken = true;
-            if (++m->transitions > RG_MAX_TRANSITIONS) return rg_runaway_0(inst);
-            m->smp_present[0] = false;
+            RG_BEGIN_TRANSITION(rg_runaway_0(inst));
+            m->smp_present[M_Event_a] = false;
             RG_TRACE(inst, "M: x1: B1 -> j");
-            m->node = 5; m->entered[5] = m->ticks;
+            RG_ENTER(M_Node_B_j);
             m->pc = 20; continue;
         case 20: /* b20: EVAL B.j  nested.rct:38 */
-            if ((m->v_v > INT64_C(0))) { m->pc = 21; continue; }  /* x2: j -> B1 nested.rct:41 */
-            if (true) { m->pc = 32; continue; }  /* x3: j -> B1 nested.rct:42 */
-            return rg_machine_fail(inst, "M: deadlock in junction 'B.j' (nested.rct:38): no transition is enabled");
+            /* x2: j -> B1 [v > 0]  nested.rct:41 */
+            if (m->v_v > INT64_C(0)) { m->pc = 21; continue; }
+            /* x3: j -> B1 [else]  nested.rct:42 */
+            m->pc = 32; continue;
         case 21: /* b21: x2: j -> B1  nested.rct:41 */
-            if (micro && taken) return RG_RUN_MICRO;  /* stepwise: one transition per instant */
-            taken = true;
-            if (++m->transitions > RG_MAX_TRANSITIONS) return rg_runaway_0(inst);
+            RG_BEGIN_TRANSITION(rg_runaway_0(inst));
             RG_TRACE(inst, "M: x2: j -> B1");
-            m->node = 4; m->entered[4] = m->ticks;
+            RG_ENTER(M_Node_B_B1);
             m->v_x1_deadline = false;
             m->v_outer_3_y = m->v_v;
             m->v_outer_3_z = INT64_C(0);
             m->pc = 23; continue;
         case 22: /* b22: after outer()  nested.rct:37 */
-            m->node = 4;
+            m->node = M_Node_B_B1;
             m->pc = 15; continue;
         case 23: /* b23: call outer()  nested.rct:37 */
             RG_TRACE(inst, "M: t0: i -> W");
-            m->node = 12; m->entered[12] = m->ticks;
+            RG_ENTER(M_Node_outer_3_W);
             m->v_outer_3_z = rg_i_mul(m->v_outer_3_y, INT64_C(2));
             m->v_helper_4_x = m->v_outer_3_z;
             m->pc = 25; continue;
         case 24: /* b24: after helper()  nested.rct:19 */
-            m->node = 12;
+            m->node = M_Node_outer_3_W;
             m->pc = 29; continue;
         case 25: /* b25: call helper()  nested.rct:19 */
             RG_TRACE(inst, "M: t: i -> f");
             { int64_t w_ = INT64_C(1); m->wait_left = w_ > 0 ? w_ : 0; }
             m->pc = 26; continue;
         case 26: /* b26: wait  nested.rct:12 */
-            if ((m->wait_left <= INT64_C(0))) { m->pc = 27; continue; }  /* wait over nested.rct:12 */
+            /* wait over  nested.rct:12 */
+            if (m->wait_left <= INT64_C(0)) { m->pc = 27; continue; }
             m->pc = 26; return RG_RUN_SUSPENDED;
         case 27: /* b27: after wait  nested.rct:12 */
-            {
-                int64_t a0_ = m->v_helper_4_x;
-                d->out_out_value = a0_;
-                rg_activate_output_clock(inst, 3); /* out */
-            }
-            m->node = 15; m->entered[15] = m->ticks;
+            d->out_out_value = m->v_helper_4_x;
+            rg_activate_output_clock(inst, CLOCK_out);
+            RG_ENTER(M_Node_helper_4_f);
             m->pc = 28; continue;
         case 28: /* b28: EVAL helper#4.f  nested.rct:11 */
             m->pc = 24; continue;
         case 29: /* b29: EVAL outer#3.W  nested.rct:19 */
-            if (m->smp_present[1]) { m->pc = 30; continue; }  /* t1: W -> f nested.rct:22 */
+            /* t1: W -> f b  nested.rct:22 */
+            if (m->smp_present[M_Event_b]) { m->pc = 30; continue; }
             m->pc = 29; return RG_RUN_SUSPENDED;
         case 30: /* b30: t1: W -> f  nested.rct:22 */
-            if (micro && taken) return RG_RUN_MICRO;  /* stepwise: one transition per instant */
-            taken = true;
-            if (++m->transitions > RG_MAX_TRANSITIONS) return rg_runaway_0(inst);
-            m->smp_present[1] = false;
+            RG_BEGIN_TRANSITION(rg_runaway_0(inst));
+            m->smp_present[M_Event_b] = false;
             RG_TRACE(inst, "M: t1: W -> f");
-            m->node = 13; m->entered[13] = m->ticks;
+            RG_ENTER(M_Node_outer_3_f);
             m->pc = 31; continue;
         case 31: /* b31: EVAL outer#3.f  nested.rct:20 */
             m->pc = 22; continue;
         case 32: /* b32: x3: j -> B1  nested.rct:42 */
-            if (micro && taken) return RG_RUN_MICRO;  /* stepwise: one transition per instant */
-            taken = true;
-            if (++m->transitions > RG_MAX_TRANSITIONS) return rg_runaway_0(inst);
+            RG_BEGIN_TRANSITION(rg_runaway_0(inst));
             RG_TRACE(inst, "M: x3: j -> B1");
             m->v_v = INT64_C(1);
-            m->node = 4; m->entered[4] = m->ticks;
+            RG_ENTER(M_Node_B_B1);
             m->v_x1_deadline = false;
             m->v_outer_5_y = m->v_v;
             m->v_outer_5_z = INT64_C(0);
             m->pc = 34; continue;
         case 33: /* b33: after outer()  nested.rct:37 */
-            m->node = 4;
+            m->node = M_Node_B_B1;
             m->pc = 15; continue;
         case 34: /* b34: call outer()  nested.rct:37 */
             RG_TRACE(inst, "M: t0: i -> W");
-            m->node = 17; m->entered[17] = m->ticks;
+            RG_ENTER(M_Node_outer_5_W);
             m->v_outer_5_z = rg_i_mul(m->v_outer_5_y, INT64_C(2));
             m->v_helper_6_x = m->v_outer_5_z;
             m->pc = 36; continue;
         case 35: /* b35: after helper()  nested.rct:19 */
-            m->node = 17;
+            m->node = M_Node_outer_5_W;
             m->pc = 40; continue;
         case 36: /* b36: call helper()  nested.rct:19 */
             RG_TRACE(inst, "M: t: i -> f");
             { int64_t w_ = INT64_C(1); m->wait_left = w_ > 0 ? w_ : 0; }
             m->pc = 37; continue;
         case 37: /* b37: wait  nested.rct:12 */
-            if ((m->wait_left <= INT64_C(0))) { m->pc = 38; continue; }  /* wait over nested.rct:12 */
+            /* wait over  nested.rct:12 */
+            if (m->wait_left <= INT64_C(0)) { m->pc = 38; continue; }
             m->pc = 37; return RG_RUN_SUSPENDED;
         case 38: /* b38: after wait  nested.rct:12 */
-            {
-                int64_t a0_ = m->v_helper_6_x;
-                d->out_out_value = a0_;
-                rg_activate_output_clock(inst, 3); /* out */
-            }
-            m->node = 20; m->entered[20] = m->ticks;
+            d->out_out_value = m->v_helper_6_x;
+            rg_activate_output_clock(inst, CLOCK_out);
+            RG_ENTER(M_Node_helper_6_f);
             m->pc = 39; continue;
         case 39: /* b39: EVAL helper#6.f  nested.rct:11 */
             m->pc = 35; continue;
         case 40: /* b40: EVAL outer#5.W  nested.rct:19 */
-            if (m->smp_present[1]) { m->pc = 41; continue; }  /* t1: W -> f nested.rct:22 */
+            /* t1: W -> f b  nested.rct:22 */
+            if (m->smp_present[M_Event_b]) { m->pc = 41; continue; }
             m->pc = 40; return RG_RUN_SUSPENDED;
         case 41: /* b41: t1: W -> f  nested.rct:22 */
-            if (micro && taken) return RG_RUN_MICRO;  /* stepwise: one transition per instant */
-            taken = true;
-            if (++m->transitions > RG_MAX_TRANSITIONS) return rg_runaway_0(inst);
-            m->smp_present[1] = false;
+            RG_BEGIN_TRANSITION(rg_runaway_0(inst));
+            m->smp_present[M_Event_b] = false;
             RG_TRACE(inst, "M: t1: W -> f");
-            m->node = 18; m->entered[18] = m->ticks;
+            RG_ENTER(M_Node_outer_5_f);
             m->pc = 42; continue;
         case 42: /* b42: EVAL outer#5.f  nested.rct:20 */
             m->pc = 33; continue;
@@ -482,13 +366,12 @@ static void rg_model_reset(rg_instance *inst)
 {
     rg_model_data *d = &inst->s.data;
     d->m0.pc = 0;
-    d->m0.node = 0;
+    d->m0.node = M_Node_i;
 }
 
 static fmi3Status rg_model_exit_initialization(rg_instance *inst)
 {
     rg_model_data *d = &inst->s.data;
-    (void)d;
     {
         rg_machine_0 *m = &d->m0;
         m->v_v = INT64_C(0);  /* initial value of v */
@@ -500,31 +383,25 @@ static fmi3Status rg_model_exit_initialization(rg_instance *inst)
 static void rg_model_latch(rg_instance *inst, int clock_index)
 {
     rg_model_data *d = &inst->s.data;
-    (void)d;
     switch (clock_index) {
-    case 1: /* a */
-    {
+    case CLOCK_a: {
         int64_t v;
         v = d->in_a_value;
-        rg_deliver_0_0(d, v);
+        rg_deliver(d, &rg_events_0[M_Event_a], &v);
         break;
     }
-    case 2: /* b */
-    {
-        rg_deliver_0_1(d);
+    case CLOCK_b:
+        rg_deliver(d, &rg_events_0[M_Event_b], NULL);
         break;
-    }
-    default:
+    default: /* the periodic clock, and input events that reach no state machine */
         break;
     }
 }
 
-
 static fmi3Status rg_model_evaluate(rg_instance *inst)
 {
     rg_model_data *d = &inst->s.data;
-    bool periodic = inst->s.clock_active[0];  /* tock */
-    int r = RG_RUN_SUSPENDED;
+    bool periodic = inst->s.clock_active[CLOCK_tock];
     d->fault = RG_FAULT_NONE;
     if (periodic) d->cycles++;
     {
@@ -534,37 +411,18 @@ static fmi3Status rg_model_evaluate(rg_instance *inst)
             m->ticks++;
             if (m->wait_left > 0) m->wait_left--;
         }
-        /* events join the buffer between runs: in the middle of a stepwise run they wait, so that the
-         * transition a micro-step decided on finds the buffer it was decided on */
-        if (m->reg_present[0] && !m->in_cycle) {  /* a joins the buffer, where it stays until consumed */
-            if (m->smp_present[0]) d->dropped_events++;
-            m->smp_present[0] = true;
-            m->smp_e0 = m->reg_e0;
-            m->reg_present[0] = false;
-            arrived = true;
+        if (!m->in_cycle) {
+            /* events join the buffer between runs: in the middle of a stepwise run they wait, so
+             * that the transition a micro-step decided on finds the buffer it was decided on */
+            size_t e;
+            for (e = 0; e < 3; e++) arrived = rg_join_buffer(d, &rg_events_0[e]) || arrived;
+            m->new_input = false;
         }
-        if (m->reg_present[1] && !m->in_cycle) {  /* b joins the buffer, where it stays until consumed */
-            if (m->smp_present[1]) d->dropped_events++;
-            m->smp_present[1] = true;
-            m->reg_present[1] = false;
-            arrived = true;
-        }
-        if (m->reg_present[2] && !m->in_cycle) {  /* out joins the buffer, where it stays until consumed */
-            if (m->smp_present[2]) d->dropped_events++;
-            m->smp_present[2] = true;
-            m->smp_e2 = m->reg_e2;
-            m->reg_present[2] = false;
-            arrived = true;
-        }
-        if (!m->in_cycle) m->new_input = false;
         if (periodic || arrived || m->in_cycle) {
             if (!m->in_cycle) m->transitions = 0;  /* a new run to quiescence */
-            r = rg_run_0(inst, false);
-            if (r == RG_RUN_FAULT) return fmi3Error;
-            m->in_cycle = (r == RG_RUN_MICRO);
+            if (rg_run_failed(rg_run_0(inst), &m->in_cycle)) return fmi3Error;
         }
     }
-    (void)r;
     return fmi3OK;
 }
 
@@ -572,9 +430,8 @@ static fmi3Status rg_model_update(rg_instance *inst, bool *discrete_states_need_
                                   bool *terminate_simulation, bool *next_event_time_defined,
                                   double *next_event_time)
 {
-    rg_model_data *d = &inst->s.data;
+    const rg_model_data *d = &inst->s.data;
     bool need = false;
-    (void)d;
     (void)terminate_simulation;
     (void)next_event_time_defined;
     (void)next_event_time;
@@ -584,17 +441,5 @@ static fmi3Status rg_model_update(rg_instance *inst, bool *discrete_states_need_
         for (e = 0; e < 3; e++) need = need || d->m0.reg_present[e];
     }
     *discrete_states_need_update = need;
-    return fmi3OK;
-}
-
-static fmi3Status rg_model_do_step(rg_instance *inst, double t_end, bool *event_handling_needed,
-                                   bool *terminate_simulation, double *last_successful_time)
-{
-    /* The state machines only react in Event Mode; a step just lets time pass. */
-    (void)inst;
-    (void)t_end;
-    (void)event_handling_needed;
-    (void)terminate_simulation;
-    (void)last_successful_time;
     return fmi3OK;
 }

@@ -5,118 +5,22 @@
  * Each state machine is a function that resumes at block m->pc and runs until the cycle ends
  * (RG_RUN_SUSPENDED), until a micro-step boundary in stepwise semantics (RG_RUN_MICRO), or
  * until a run-time error (RG_RUN_FAULT, reported through logMessage and fmi3Error). Every block
- * opens with a comment naming what it does and the model line it comes from. */
+ * opens with a comment naming what it does and the model line it comes from; every guard is
+ * quoted as the model writes it above its test. The helpers (RG_BEGIN_TRANSITION, rg_deliver,
+ * the arithmetic) are robogen_machine.h's. */
 
-#include <string.h>
-
-/* ---- arithmetic as robogen defines it: wrapping integers, checked division --------------- */
-
-enum { RG_FAULT_NONE = 0, RG_FAULT_DIVISION = 1, RG_FAULT_INDEX = 2, RG_FAULT_RUNAWAY = 3, RG_FAULT_STUCK = 4,
-       RG_FAULT_CONVERSION = 5 };
-enum { RG_RUN_SUSPENDED = 0, RG_RUN_MICRO = 1, RG_RUN_FAULT = -1 };
-
-#define RG_MAX_TRANSITIONS 1000UL  /* transitions per cycle before a runaway is reported */
-#define RG_MAX_STEPS 64000UL        /* blocks per cycle, the same bound for any loop */
-#define RG_TRACE(inst, text) \
-    do { if ((inst)->logging_on && (inst)->log_category_on[RG_LOG_TRANSITIONS]) \
-        rg_log((inst), RG_LOG_TRANSITIONS, fmi3OK, "%s", (text)); } while (0)
-
-static inline int64_t rg_i_add(int64_t a, int64_t b) { return (int64_t)((uint64_t)a + (uint64_t)b); }
-static inline int64_t rg_i_sub(int64_t a, int64_t b) { return (int64_t)((uint64_t)a - (uint64_t)b); }
-static inline int64_t rg_i_mul(int64_t a, int64_t b) { return (int64_t)((uint64_t)a * (uint64_t)b); }
-static inline int64_t rg_i_neg(int64_t a) { return (int64_t)(UINT64_C(0) - (uint64_t)a); }
-static inline int64_t rg_i_abs(int64_t a) { return a < 0 ? rg_i_neg(a) : a; }
-static inline int64_t rg_i_min(int64_t a, int64_t b) { return a <= b ? a : b; }
-static inline int64_t rg_i_max(int64_t a, int64_t b) { return a >= b ? a : b; }
-static inline int64_t rg_i_div(rg_model_data *d, int64_t a, int64_t b)
-{
-    if (b == 0) { d->fault = RG_FAULT_DIVISION; return 0; }
-    if (b == -1) return rg_i_neg(a);
-    return a / b;
-}
-static inline int64_t rg_i_mod(rg_model_data *d, int64_t a, int64_t b)
-{
-    if (b == 0) { d->fault = RG_FAULT_DIVISION; return 0; }
-    if (b == -1) return 0;
-    return a % b;
-}
-static inline uint64_t rg_u_add(uint64_t a, uint64_t b) { return a + b; }
-static inline uint64_t rg_u_sub(uint64_t a, uint64_t b) { return a - b; }
-static inline uint64_t rg_u_mul(uint64_t a, uint64_t b) { return a * b; }
-static inline uint64_t rg_u_neg(uint64_t a) { return UINT64_C(0) - a; }
-static inline uint64_t rg_u_abs(uint64_t a) { return a; }
-static inline uint64_t rg_u_min(uint64_t a, uint64_t b) { return a <= b ? a : b; }
-static inline uint64_t rg_u_max(uint64_t a, uint64_t b) { return a >= b ? a : b; }
-static inline uint64_t rg_u_div(rg_model_data *d, uint64_t a, uint64_t b)
-{
-    if (b == 0) { d->fault = RG_FAULT_DIVISION; return 0; }
-    return a / b;
-}
-static inline uint64_t rg_u_mod(rg_model_data *d, uint64_t a, uint64_t b)
-{
-    if (b == 0) { d->fault = RG_FAULT_DIVISION; return 0; }
-    return a % b;
-}
-static inline double rg_r_div(rg_model_data *d, double a, double b)
-{
-    if (b == 0.0) { d->fault = RG_FAULT_DIVISION; return 0.0; }
-    return a / b;
-}
-static inline double rg_r_abs(double a) { return a < 0.0 ? -a : a; }
-/* Conversions: a real becomes an integer by truncation toward zero; outside the integer's range
- * (or NaN) it sets the fault code instead of being undefined behaviour. */
-static inline int64_t rg_r_to_i(rg_model_data *d, double x)
-{
-    if (!(x >= -9223372036854775808.0 && x < 9223372036854775808.0)) { d->fault = RG_FAULT_CONVERSION; return 0; }
-    return (int64_t)x;
-}
-static inline uint64_t rg_r_to_u(rg_model_data *d, double x)
-{
-    if (!(x > -1.0 && x < 18446744073709551616.0)) { d->fault = RG_FAULT_CONVERSION; return 0; }
-    return (uint64_t)x;
-}
-/* nat to int wraps around, like the interpreter (no implementation-defined conversion). */
-static inline int64_t rg_u_to_i(uint64_t x)
-{
-    return x <= (uint64_t)INT64_MAX ? (int64_t)x : -(int64_t)(UINT64_MAX - x) - 1;
-}
-static inline double rg_r_min(double a, double b) { return a <= b ? a : b; }
-static inline double rg_r_max(double a, double b) { return a >= b ? a : b; }
-/* A 1-based index into n elements, as a 0-based offset; out of range sets the fault code. */
-static inline int64_t rg_index(rg_model_data *d, int64_t i, int64_t n)
-{
-    if (i < 1 || i > n) { d->fault = RG_FAULT_INDEX; return 0; }
-    return i - 1;
-}
-
-static const char *rg_fault_text(int32_t fault) RG_MAYBE_UNUSED;
-static const char *rg_fault_text(int32_t fault)
-{
-    switch (fault) {
-    case RG_FAULT_DIVISION: return "division by zero";
-    case RG_FAULT_INDEX: return "index out of range";
-    case RG_FAULT_RUNAWAY: return "runaway cycle";
-    case RG_FAULT_CONVERSION: return "real number out of range for an integer";
-    default: return "run-time error";
-    }
-}
-
-/* A RoboChart deadline was missed: counted and logged, never enforced. */
-static void rg_deadline_miss(rg_instance *inst, const char *message) RG_MAYBE_UNUSED;
-static void rg_deadline_miss(rg_instance *inst, const char *message)
-{
-    inst->s.data.deadline_misses++;
-    rg_log(inst, RG_LOG_WARNING, fmi3Warning, "%s (t=%.17g)", message, inst->s.time);
-}
-
-static int rg_machine_fail(rg_instance *inst, const char *message)
-{
-    inst->s.data.fault = RG_FAULT_STUCK;
-    rg_log(inst, RG_LOG_ERROR, fmi3Error, "%s", message);
-    return RG_RUN_FAULT;
-}
+#include "robogen_machine.h"
 
 /* ---- the FMI variables and clocks (value references as in modelDescription.xml) ---------- */
+
+/* indices into rg_clocks */
+enum {
+    CLOCK_cycle = 0,  /* one RoboSim cycle */
+    CLOCK_start = 1,  /* input event start */
+    CLOCK_weight = 2,  /* input event weight */
+    CLOCK_report = 3,  /* output event report */
+    CLOCK_tick = 4,  /* output event tick */
+};
 
 static const rg_clock rg_clocks[RG_CLOCK_ARRAY_SIZE] = {
     { 1, "cycle", RG_CLOCK_INPUT_CONSTANT, 1, 0.0 },
@@ -148,6 +52,31 @@ static const rg_variable rg_variables[RG_NUM_VARIABLES] = {
 
 /* ======== state machine ops::Worker (ops.rst:53) ======== */
 
+/* The name of a node of Worker, for log messages. */
+static const char *Worker_node_name(int64_t node)
+{
+    switch (node) {
+    case Worker_Node_i: return "i";
+    case Worker_Node_Idle: return "Idle";
+    case Worker_Node_Busy: return "Busy";
+    case Worker_Node_Again: return "Again";
+    case Worker_Node_settle_1_i: return "settle#1.i";
+    case Worker_Node_settle_1_Loop: return "settle#1.Loop";
+    case Worker_Node_settle_1_f: return "settle#1.f";
+    case Worker_Node_scale_2_i: return "scale#2.i";
+    case Worker_Node_scale_2_sign: return "scale#2.sign";
+    case Worker_Node_scale_2_f: return "scale#2.f";
+    case Worker_Node_settle_3_i: return "settle#3.i";
+    case Worker_Node_settle_3_Loop: return "settle#3.Loop";
+    case Worker_Node_settle_3_f: return "settle#3.f";
+    case Worker_Node_scale_4_i: return "scale#4.i";
+    case Worker_Node_scale_4_sign: return "scale#4.sign";
+    case Worker_Node_scale_4_f: return "scale#4.f";
+    default: return "?";
+    }
+}
+
+/* What each block does, for log messages (indexed by m->pc). */
 static const char *const rg_labels_0[] = {
     "b0: start Worker (ops.rst:53)",
     "b1: EVAL Idle (ops.rst:60)",
@@ -194,77 +123,55 @@ static const char *const rg_labels_0[] = {
     "b42: t3: Idle -> Idle (ops.rst:70)",
 };
 
-static int rg_fault_0(rg_instance *inst, int32_t pc) RG_MAYBE_UNUSED;
-static int rg_fault_0(rg_instance *inst, int32_t pc)
+static int rg_fault_0(rg_instance *inst) RG_MAYBE_UNUSED;
+static int rg_fault_0(rg_instance *inst)
 {
-    rg_log(inst, RG_LOG_ERROR, fmi3Error, "state machine Worker: %s in %s", rg_fault_text(inst->s.data.fault), rg_labels_0[pc]);
-    return RG_RUN_FAULT;
+    const rg_machine_0 *m = &inst->s.data.m0;
+    return rg_report_fault(inst, "Worker", rg_labels_0[m->pc], Worker_node_name(m->node));
 }
 
 static int rg_runaway_0(rg_instance *inst)
 {
-    inst->s.data.fault = RG_FAULT_RUNAWAY;
-    rg_log(inst, RG_LOG_ERROR, fmi3Error, "state machine Worker: more than %lu transitions in one cycle without exec "
-           "(a runaway cycle), at %s", RG_MAX_TRANSITIONS, rg_labels_0[inst->s.data.m0.pc]);
-    return RG_RUN_FAULT;
+    const rg_machine_0 *m = &inst->s.data.m0;
+    return rg_report_runaway(inst, "Worker", rg_labels_0[m->pc], Worker_node_name(m->node));
 }
 
-/* event start reaches Worker: latched until its next cycle */
-static void rg_deliver_0_0(rg_model_data *d, uint64_t v) RG_MAYBE_UNUSED;
-static void rg_deliver_0_0(rg_model_data *d, uint64_t v)
-{
-    rg_machine_0 *m = &d->m0;
-    if (m->reg_present[0]) d->dropped_events++;
-    m->reg_present[0] = true;
-    m->reg_e0 = v;
-    m->new_input = true;
-}
+/* Where each input event of Worker is latched and read (see rg_event_slot). */
+static const rg_event_slot rg_events_0[] = {
+    RG_TYPED_EVENT(m0, Worker_Event_start, start),
+    RG_TYPED_EVENT(m0, Worker_Event_weight, weight),
+};
 
-/* event weight reaches Worker: latched until its next cycle */
-static void rg_deliver_0_1(rg_model_data *d, int64_t v) RG_MAYBE_UNUSED;
-static void rg_deliver_0_1(rg_model_data *d, int64_t v)
-{
-    rg_machine_0 *m = &d->m0;
-    if (m->reg_present[1]) d->dropped_events++;
-    m->reg_present[1] = true;
-    m->reg_e1 = v;
-    m->new_input = true;
-}
-
-/* Run state machine Worker from m->pc until it suspends, or (micro: stepwise semantics)
- * until it reaches a second transition segment: each segment starts with a step check. */
-static int rg_run_0(rg_instance *inst, bool micro)
+/* Run state machine Worker from block m->pc until the work of its cycle is done. */
+static int rg_run_0(rg_instance *inst)
 {
     rg_model_data *d = &inst->s.data;
     rg_machine_0 *m = &d->m0;
-    bool taken = false;  /* a transition segment was entered in this run */
     unsigned long steps = 0;
-    (void)micro;
-    (void)taken;
     for (;;) {
         if (++steps > RG_MAX_STEPS) return rg_runaway_0(inst);
         switch (m->pc) {
         case 0: /* b0: start Worker  ops.rst:53 */
-            if (micro && taken) return RG_RUN_MICRO;  /* stepwise: one transition per instant */
-            taken = true;
-            if (++m->transitions > RG_MAX_TRANSITIONS) return rg_runaway_0(inst);
+            RG_BEGIN_TRANSITION(rg_runaway_0(inst));
             RG_TRACE(inst, "Worker: t0: i -> Idle");
             m->v_acc = INT64_C(0);
-            m->node = 1; m->entered[1] = m->ticks;
+            RG_ENTER(Worker_Node_Idle);
             m->pc = 1; continue;
         case 1: /* b1: EVAL Idle  ops.rst:60 */
-            if ((m->smp_present[0] ? (m->v_n = m->smp_e0, true) : false)) { m->pc = 2; continue; }  /* t1: Idle -> Busy ops.rst:68 */
-            if (((!m->smp_present[0]) && (m->smp_present[1] ? (m->v_w = m->smp_e1, true) : false))) { m->pc = 32; continue; }  /* t2: Idle -> Idle (exec) ops.rst:69 */
-            if (((!m->smp_present[0]) && (!m->smp_present[1]))) { m->pc = 41; continue; }  /* t3: Idle -> Idle (exec) ops.rst:70 */
+            /* t1: Idle -> Busy [$start?n]  ops.rst:68 */
+            if (m->smp_present[Worker_Event_start] ? (m->v_n = m->smp_e_start, true) : false) { m->pc = 2; continue; }
+            /* t2: Idle -> Idle (exec) [not $start /\ $weight?w]  ops.rst:69 */
+            if ((!m->smp_present[Worker_Event_start]) && (m->smp_present[Worker_Event_weight] ? (m->v_w = m->smp_e_weight, true) : false)) { m->pc = 32; continue; }
+            /* t3: Idle -> Idle (exec) [not $start /\ not $weight]  ops.rst:70 */
+            if ((!m->smp_present[Worker_Event_start]) && (!m->smp_present[Worker_Event_weight])) { m->pc = 41; continue; }
             return rg_machine_fail(inst, "Worker: deadlock in state 'Idle' (ops.rst:60): no transition is enabled and no exec");
         case 2: /* b2: t1: Idle -> Busy  ops.rst:68 */
-            if (micro && taken) return RG_RUN_MICRO;  /* stepwise: one transition per instant */
-            taken = true;
-            if (++m->transitions > RG_MAX_TRANSITIONS) return rg_runaway_0(inst);
+            RG_BEGIN_TRANSITION(rg_runaway_0(inst));
             RG_TRACE(inst, "Worker: t1: Idle -> Busy");
-            m->node = 2; m->entered[2] = m->ticks;
+            RG_ENTER(Worker_Node_Busy);
             m->v_calls = rg_u_add(m->v_calls, UINT64_C(1));
-            if ((m->v_n > UINT64_C(0))) { m->pc = 3; continue; }  /* if ops.rst:62 */
+            /* if n > 0  ops.rst:62 */
+            if (m->v_n > UINT64_C(0)) { m->pc = 3; continue; }
             m->pc = 4; continue;
         case 3: /* b3: then  ops.rst:62 */
             m->v_settle_1_n = m->v_n;
@@ -276,225 +183,185 @@ static int rg_run_0(rg_instance *inst, bool micro)
             m->v_scale_2_prod = INT64_C(0);
             m->pc = 13; continue;
         case 5: /* b5: after settle()  ops.rst:62 */
-            m->node = 2;
+            m->node = Worker_Node_Busy;
             m->pc = 4; continue;
         case 6: /* b6: call settle()  ops.rst:62 */
             RG_TRACE(inst, "Worker: t0: i -> Loop");
             m->clock_reset[0] = m->ticks;
-            m->node = 5; m->entered[5] = m->ticks;
+            RG_ENTER(Worker_Node_settle_1_Loop);
             m->v_settle_1_k = rg_u_add(m->v_settle_1_k, UINT64_C(1));
-            {
-                uint64_t a0_ = m->v_settle_1_k;
-                d->out_tick_value = a0_;
-                rg_activate_output_clock(inst, 4); /* tick */
-            }
+            d->out_tick_value = m->v_settle_1_k;
+            rg_activate_output_clock(inst, CLOCK_tick);
             m->pc = 7; continue;
         case 7: /* b7: EVAL settle#1.Loop  ops.rst:44 */
-            if (((m->v_settle_1_k < m->v_settle_1_n) && (((m->ticks - m->clock_reset[0]) * UINT64_C(1)) < UINT64_C(4)))) { m->pc = 8; continue; }  /* t1: Loop -> Loop (exec) ops.rst:49 */
-            if (((m->v_settle_1_k >= m->v_settle_1_n) || (((m->ticks - m->clock_reset[0]) * UINT64_C(1)) >= UINT64_C(4)))) { m->pc = 10; continue; }  /* t2: Loop -> f ops.rst:50 */
+            /* t1: Loop -> Loop (exec) [k < n /\ since(T) < 4]  ops.rst:49 */
+            if ((m->v_settle_1_k < m->v_settle_1_n) && (((m->ticks - m->clock_reset[0]) * UINT64_C(1)) < UINT64_C(4))) { m->pc = 8; continue; }
+            /* t2: Loop -> f [k >= n \/ since(T) >= 4]  ops.rst:50 */
+            if ((m->v_settle_1_k >= m->v_settle_1_n) || (((m->ticks - m->clock_reset[0]) * UINT64_C(1)) >= UINT64_C(4))) { m->pc = 10; continue; }
             return rg_machine_fail(inst, "Worker: deadlock in state 'settle#1.Loop' (ops.rst:44): no transition is enabled and no exec");
         case 8: /* b8: t1: exec decided  ops.rst:49 */
             RG_TRACE(inst, "Worker: t1: exec");
             m->pc = 9; return RG_RUN_SUSPENDED;
         case 9: /* b9: t1: Loop -> Loop  ops.rst:49 */
-            if (micro && taken) return RG_RUN_MICRO;  /* stepwise: one transition per instant */
-            taken = true;
-            if (++m->transitions > RG_MAX_TRANSITIONS) return rg_runaway_0(inst);
+            RG_BEGIN_TRANSITION(rg_runaway_0(inst));
             RG_TRACE(inst, "Worker: t1: Loop -> Loop");
-            m->node = 5; m->entered[5] = m->ticks;
+            RG_ENTER(Worker_Node_settle_1_Loop);
             m->v_settle_1_k = rg_u_add(m->v_settle_1_k, UINT64_C(1));
-            {
-                uint64_t a0_ = m->v_settle_1_k;
-                d->out_tick_value = a0_;
-                rg_activate_output_clock(inst, 4); /* tick */
-            }
+            d->out_tick_value = m->v_settle_1_k;
+            rg_activate_output_clock(inst, CLOCK_tick);
             m->pc = 7; continue;
         case 10: /* b10: t2: Loop -> f  ops.rst:50 */
-            if (micro && taken) return RG_RUN_MICRO;  /* stepwise: one transition per instant */
-            taken = true;
-            if (++m->transitions > RG_MAX_TRANSITIONS) return rg_runaway_0(inst);
+            RG_BEGIN_TRANSITION(rg_runaway_0(inst));
             RG_TRACE(inst, "Worker: t2: Loop -> f");
-            m->node = 6; m->entered[6] = m->ticks;
+            RG_ENTER(Worker_Node_settle_1_f);
             m->pc = 11; continue;
         case 11: /* b11: EVAL settle#1.f  ops.rst:47 */
             m->pc = 5; continue;
         case 12: /* b12: after scale()  ops.rst:62 */
-            m->node = 2;
+            m->node = Worker_Node_Busy;
             m->pc = 19; continue;
         case 13: /* b13: call scale()  ops.rst:62 */
             RG_TRACE(inst, "Worker: t0: i -> sign");
             m->v_scale_2_prod = rg_i_mul(m->v_scale_2_a, m->v_scale_2_b);
-            m->node = 8; m->entered[8] = m->ticks;
+            RG_ENTER(Worker_Node_scale_2_sign);
             m->pc = 14; continue;
         case 14: /* b14: EVAL scale#2.sign  ops.rst:32 */
-            if ((m->v_scale_2_prod >= INT64_C(0))) { m->pc = 15; continue; }  /* t1: sign -> f ops.rst:35 */
-            if ((m->v_scale_2_prod < INT64_C(0))) { m->pc = 17; continue; }  /* t2: sign -> f ops.rst:36 */
+            /* t1: sign -> f [prod >= 0]  ops.rst:35 */
+            if (m->v_scale_2_prod >= INT64_C(0)) { m->pc = 15; continue; }
+            /* t2: sign -> f [prod < 0]  ops.rst:36 */
+            if (m->v_scale_2_prod < INT64_C(0)) { m->pc = 17; continue; }
             return rg_machine_fail(inst, "Worker: deadlock in junction 'scale#2.sign' (ops.rst:32): no transition is enabled and no exec");
         case 15: /* b15: t1: sign -> f  ops.rst:35 */
-            if (micro && taken) return RG_RUN_MICRO;  /* stepwise: one transition per instant */
-            taken = true;
-            if (++m->transitions > RG_MAX_TRANSITIONS) return rg_runaway_0(inst);
+            RG_BEGIN_TRANSITION(rg_runaway_0(inst));
             RG_TRACE(inst, "Worker: t1: sign -> f");
             m->v_acc = rg_i_add(m->v_acc, m->v_scale_2_prod);
-            {
-                int64_t a0_ = m->v_acc;
-                d->out_report_value = a0_;
-                rg_activate_output_clock(inst, 3); /* report */
-            }
-            m->node = 9; m->entered[9] = m->ticks;
+            d->out_report_value = m->v_acc;
+            rg_activate_output_clock(inst, CLOCK_report);
+            RG_ENTER(Worker_Node_scale_2_f);
             m->pc = 16; continue;
         case 16: /* b16: EVAL scale#2.f  ops.rst:33 */
             m->pc = 12; continue;
         case 17: /* b17: t2: sign -> f  ops.rst:36 */
-            if (micro && taken) return RG_RUN_MICRO;  /* stepwise: one transition per instant */
-            taken = true;
-            if (++m->transitions > RG_MAX_TRANSITIONS) return rg_runaway_0(inst);
+            RG_BEGIN_TRANSITION(rg_runaway_0(inst));
             RG_TRACE(inst, "Worker: t2: sign -> f");
             m->v_acc = rg_i_sub(m->v_acc, INT64_C(1));
             m->pc = 18; return RG_RUN_SUSPENDED;
         case 18: /* b18: after exec  ops.rst:36 */
-            {
-                int64_t a0_ = m->v_scale_2_prod;
-                d->out_report_value = a0_;
-                rg_activate_output_clock(inst, 3); /* report */
-            }
-            m->node = 9; m->entered[9] = m->ticks;
+            d->out_report_value = m->v_scale_2_prod;
+            rg_activate_output_clock(inst, CLOCK_report);
+            RG_ENTER(Worker_Node_scale_2_f);
             m->pc = 16; continue;
         case 19: /* b19: EVAL Busy  ops.rst:61 */
-            if (true) { m->pc = 20; continue; }  /* t4: Busy -> Again (exec) ops.rst:71 */
-            return rg_machine_fail(inst, "Worker: deadlock in state 'Busy' (ops.rst:61): no transition is enabled and no exec");
+            /* t4: Busy -> Again (exec)  ops.rst:71 */
+            m->pc = 20; continue;
         case 20: /* b20: t4: exec decided  ops.rst:71 */
             RG_TRACE(inst, "Worker: t4: exec");
             m->pc = 21; return RG_RUN_SUSPENDED;
         case 21: /* b21: t4: Busy -> Again  ops.rst:71 */
-            if (micro && taken) return RG_RUN_MICRO;  /* stepwise: one transition per instant */
-            taken = true;
-            if (++m->transitions > RG_MAX_TRANSITIONS) return rg_runaway_0(inst);
+            RG_BEGIN_TRANSITION(rg_runaway_0(inst));
             RG_TRACE(inst, "Worker: t4: Busy -> Again");
-            m->node = 3; m->entered[3] = m->ticks;
+            RG_ENTER(Worker_Node_Again);
             m->v_settle_3_n = UINT64_C(1);
             m->v_settle_3_k = UINT64_C(0);
             m->pc = 23; continue;
         case 22: /* b22: after settle()  ops.rst:65 */
-            m->node = 3;
+            m->node = Worker_Node_Again;
             m->pc = 29; continue;
         case 23: /* b23: call settle()  ops.rst:65 */
             RG_TRACE(inst, "Worker: t0: i -> Loop");
             m->clock_reset[1] = m->ticks;
-            m->node = 11; m->entered[11] = m->ticks;
+            RG_ENTER(Worker_Node_settle_3_Loop);
             m->v_settle_3_k = rg_u_add(m->v_settle_3_k, UINT64_C(1));
-            {
-                uint64_t a0_ = m->v_settle_3_k;
-                d->out_tick_value = a0_;
-                rg_activate_output_clock(inst, 4); /* tick */
-            }
+            d->out_tick_value = m->v_settle_3_k;
+            rg_activate_output_clock(inst, CLOCK_tick);
             m->pc = 24; continue;
         case 24: /* b24: EVAL settle#3.Loop  ops.rst:44 */
-            if (((m->v_settle_3_k < m->v_settle_3_n) && (((m->ticks - m->clock_reset[1]) * UINT64_C(1)) < UINT64_C(4)))) { m->pc = 25; continue; }  /* t1: Loop -> Loop (exec) ops.rst:49 */
-            if (((m->v_settle_3_k >= m->v_settle_3_n) || (((m->ticks - m->clock_reset[1]) * UINT64_C(1)) >= UINT64_C(4)))) { m->pc = 27; continue; }  /* t2: Loop -> f ops.rst:50 */
+            /* t1: Loop -> Loop (exec) [k < n /\ since(T) < 4]  ops.rst:49 */
+            if ((m->v_settle_3_k < m->v_settle_3_n) && (((m->ticks - m->clock_reset[1]) * UINT64_C(1)) < UINT64_C(4))) { m->pc = 25; continue; }
+            /* t2: Loop -> f [k >= n \/ since(T) >= 4]  ops.rst:50 */
+            if ((m->v_settle_3_k >= m->v_settle_3_n) || (((m->ticks - m->clock_reset[1]) * UINT64_C(1)) >= UINT64_C(4))) { m->pc = 27; continue; }
             return rg_machine_fail(inst, "Worker: deadlock in state 'settle#3.Loop' (ops.rst:44): no transition is enabled and no exec");
         case 25: /* b25: t1: exec decided  ops.rst:49 */
             RG_TRACE(inst, "Worker: t1: exec");
             m->pc = 26; return RG_RUN_SUSPENDED;
         case 26: /* b26: t1: Loop -> Loop  ops.rst:49 */
-            if (micro && taken) return RG_RUN_MICRO;  /* stepwise: one transition per instant */
-            taken = true;
-            if (++m->transitions > RG_MAX_TRANSITIONS) return rg_runaway_0(inst);
+            RG_BEGIN_TRANSITION(rg_runaway_0(inst));
             RG_TRACE(inst, "Worker: t1: Loop -> Loop");
-            m->node = 11; m->entered[11] = m->ticks;
+            RG_ENTER(Worker_Node_settle_3_Loop);
             m->v_settle_3_k = rg_u_add(m->v_settle_3_k, UINT64_C(1));
-            {
-                uint64_t a0_ = m->v_settle_3_k;
-                d->out_tick_value = a0_;
-                rg_activate_output_clock(inst, 4); /* tick */
-            }
+            d->out_tick_value = m->v_settle_3_k;
+            rg_activate_output_clock(inst, CLOCK_tick);
             m->pc = 24; continue;
         case 27: /* b27: t2: Loop -> f  ops.rst:50 */
-            if (micro && taken) return RG_RUN_MICRO;  /* stepwise: one transition per instant */
-            taken = true;
-            if (++m->transitions > RG_MAX_TRANSITIONS) return rg_runaway_0(inst);
+            RG_BEGIN_TRANSITION(rg_runaway_0(inst));
             RG_TRACE(inst, "Worker: t2: Loop -> f");
-            m->node = 12; m->entered[12] = m->ticks;
+            RG_ENTER(Worker_Node_settle_3_f);
             m->pc = 28; continue;
         case 28: /* b28: EVAL settle#3.f  ops.rst:47 */
             m->pc = 22; continue;
         case 29: /* b29: EVAL Again  ops.rst:64 */
-            if (true) { m->pc = 30; continue; }  /* t5: Again -> Idle (exec) ops.rst:72 */
-            return rg_machine_fail(inst, "Worker: deadlock in state 'Again' (ops.rst:64): no transition is enabled and no exec");
+            /* t5: Again -> Idle (exec)  ops.rst:72 */
+            m->pc = 30; continue;
         case 30: /* b30: t5: exec decided  ops.rst:72 */
             RG_TRACE(inst, "Worker: t5: exec");
             m->pc = 31; return RG_RUN_SUSPENDED;
         case 31: /* b31: t5: Again -> Idle  ops.rst:72 */
-            if (micro && taken) return RG_RUN_MICRO;  /* stepwise: one transition per instant */
-            taken = true;
-            if (++m->transitions > RG_MAX_TRANSITIONS) return rg_runaway_0(inst);
+            RG_BEGIN_TRANSITION(rg_runaway_0(inst));
             RG_TRACE(inst, "Worker: t5: Again -> Idle");
-            m->node = 1; m->entered[1] = m->ticks;
+            RG_ENTER(Worker_Node_Idle);
             m->pc = 1; continue;
         case 32: /* b32: t2: exec decided  ops.rst:69 */
             RG_TRACE(inst, "Worker: t2: exec");
             m->pc = 33; return RG_RUN_SUSPENDED;
         case 33: /* b33: t2: Idle -> Idle  ops.rst:69 */
-            if (micro && taken) return RG_RUN_MICRO;  /* stepwise: one transition per instant */
-            taken = true;
-            if (++m->transitions > RG_MAX_TRANSITIONS) return rg_runaway_0(inst);
+            RG_BEGIN_TRANSITION(rg_runaway_0(inst));
             RG_TRACE(inst, "Worker: t2: Idle -> Idle");
             m->v_scale_4_a = m->v_w;
             m->v_scale_4_b = rg_i_sub(m->v_w, INT64_C(3));
             m->v_scale_4_prod = INT64_C(0);
             m->pc = 35; continue;
         case 34: /* b34: after scale()  ops.rst:69 */
-            m->node = 1;
-            m->node = 1; m->entered[1] = m->ticks;
+            m->node = Worker_Node_Idle;
+            RG_ENTER(Worker_Node_Idle);
             m->pc = 1; continue;
         case 35: /* b35: call scale()  ops.rst:69 */
             RG_TRACE(inst, "Worker: t0: i -> sign");
             m->v_scale_4_prod = rg_i_mul(m->v_scale_4_a, m->v_scale_4_b);
-            m->node = 14; m->entered[14] = m->ticks;
+            RG_ENTER(Worker_Node_scale_4_sign);
             m->pc = 36; continue;
         case 36: /* b36: EVAL scale#4.sign  ops.rst:32 */
-            if ((m->v_scale_4_prod >= INT64_C(0))) { m->pc = 37; continue; }  /* t1: sign -> f ops.rst:35 */
-            if ((m->v_scale_4_prod < INT64_C(0))) { m->pc = 39; continue; }  /* t2: sign -> f ops.rst:36 */
+            /* t1: sign -> f [prod >= 0]  ops.rst:35 */
+            if (m->v_scale_4_prod >= INT64_C(0)) { m->pc = 37; continue; }
+            /* t2: sign -> f [prod < 0]  ops.rst:36 */
+            if (m->v_scale_4_prod < INT64_C(0)) { m->pc = 39; continue; }
             return rg_machine_fail(inst, "Worker: deadlock in junction 'scale#4.sign' (ops.rst:32): no transition is enabled and no exec");
         case 37: /* b37: t1: sign -> f  ops.rst:35 */
-            if (micro && taken) return RG_RUN_MICRO;  /* stepwise: one transition per instant */
-            taken = true;
-            if (++m->transitions > RG_MAX_TRANSITIONS) return rg_runaway_0(inst);
+            RG_BEGIN_TRANSITION(rg_runaway_0(inst));
             RG_TRACE(inst, "Worker: t1: sign -> f");
             m->v_acc = rg_i_add(m->v_acc, m->v_scale_4_prod);
-            {
-                int64_t a0_ = m->v_acc;
-                d->out_report_value = a0_;
-                rg_activate_output_clock(inst, 3); /* report */
-            }
-            m->node = 15; m->entered[15] = m->ticks;
+            d->out_report_value = m->v_acc;
+            rg_activate_output_clock(inst, CLOCK_report);
+            RG_ENTER(Worker_Node_scale_4_f);
             m->pc = 38; continue;
         case 38: /* b38: EVAL scale#4.f  ops.rst:33 */
             m->pc = 34; continue;
         case 39: /* b39: t2: sign -> f  ops.rst:36 */
-            if (micro && taken) return RG_RUN_MICRO;  /* stepwise: one transition per instant */
-            taken = true;
-            if (++m->transitions > RG_MAX_TRANSITIONS) return rg_runaway_0(inst);
+            RG_BEGIN_TRANSITION(rg_runaway_0(inst));
             RG_TRACE(inst, "Worker: t2: sign -> f");
             m->v_acc = rg_i_sub(m->v_acc, INT64_C(1));
             m->pc = 40; return RG_RUN_SUSPENDED;
         case 40: /* b40: after exec  ops.rst:36 */
-            {
-                int64_t a0_ = m->v_scale_4_prod;
-                d->out_report_value = a0_;
-                rg_activate_output_clock(inst, 3); /* report */
-            }
-            m->node = 15; m->entered[15] = m->ticks;
+            d->out_report_value = m->v_scale_4_prod;
+            rg_activate_output_clock(inst, CLOCK_report);
+            RG_ENTER(Worker_Node_scale_4_f);
             m->pc = 38; continue;
         case 41: /* b41: t3: exec decided  ops.rst:70 */
             RG_TRACE(inst, "Worker: t3: exec");
             m->pc = 42; return RG_RUN_SUSPENDED;
         case 42: /* b42: t3: Idle -> Idle  ops.rst:70 */
-            if (micro && taken) return RG_RUN_MICRO;  /* stepwise: one transition per instant */
-            taken = true;
-            if (++m->transitions > RG_MAX_TRANSITIONS) return rg_runaway_0(inst);
+            RG_BEGIN_TRANSITION(rg_runaway_0(inst));
             RG_TRACE(inst, "Worker: t3: Idle -> Idle");
-            m->node = 1; m->entered[1] = m->ticks;
+            RG_ENTER(Worker_Node_Idle);
             m->pc = 1; continue;
         default:
             return rg_machine_fail(inst, "state machine Worker: invalid resume point");
@@ -508,13 +375,12 @@ static void rg_model_reset(rg_instance *inst)
 {
     rg_model_data *d = &inst->s.data;
     d->m0.pc = 0;
-    d->m0.node = 0;
+    d->m0.node = Worker_Node_i;
 }
 
 static fmi3Status rg_model_exit_initialization(rg_instance *inst)
 {
     rg_model_data *d = &inst->s.data;
-    (void)d;
     {
         rg_machine_0 *m = &d->m0;
         m->v_w = INT64_C(2);  /* initial value of w */
@@ -527,43 +393,28 @@ static fmi3Status rg_model_exit_initialization(rg_instance *inst)
 static void rg_model_latch(rg_instance *inst, int clock_index)
 {
     rg_model_data *d = &inst->s.data;
-    (void)d;
     switch (clock_index) {
-    case 1: /* start */
-    {
+    case CLOCK_start: {
         uint64_t v;
         v = d->in_start_value;
-        rg_deliver_0_0(d, v);
+        rg_deliver(d, &rg_events_0[Worker_Event_start], &v);
         break;
     }
-    case 2: /* weight */
-    {
+    case CLOCK_weight: {
         int64_t v;
         v = d->in_weight_value;
-        rg_deliver_0_1(d, v);
+        rg_deliver(d, &rg_events_0[Worker_Event_weight], &v);
         break;
     }
-    default:
+    default: /* the periodic clock, and input events that reach no state machine */
         break;
     }
-}
-
-/* RoboSim: a cycle starts; the events latched since the previous cycle become its sample. */
-static void rg_start_cycle(bool *present_reg, bool *present_smp, size_t n_events, uint64_t *ticks, bool *new_input,
-                           uint64_t *transitions)
-{
-    memcpy(present_smp, present_reg, n_events * sizeof(bool));
-    memset(present_reg, 0, n_events * sizeof(bool));
-    *new_input = false;
-    (*ticks)++;
-    *transitions = 0;
 }
 
 static fmi3Status rg_model_evaluate(rg_instance *inst)
 {
     rg_model_data *d = &inst->s.data;
-    bool periodic = inst->s.clock_active[0];  /* cycle */
-    int r = RG_RUN_SUSPENDED;
+    bool periodic = inst->s.clock_active[CLOCK_cycle];
     d->fault = RG_FAULT_NONE;
     if (periodic) d->cycles++;
     /* Every machine samples its inputs before any runs: what one machine sends another in this
@@ -574,17 +425,12 @@ static fmi3Status rg_model_evaluate(rg_instance *inst)
         bool start = periodic;
         run[0] = start;
         if (start) {
-            m->smp_e0 = m->reg_e0;
-            m->smp_e1 = m->reg_e1;
+            m->smp_e_start = m->reg_e_start;
+            m->smp_e_weight = m->reg_e_weight;
             rg_start_cycle(m->reg_present, m->smp_present, 2, &m->ticks, &m->new_input, &m->transitions);
         }
     }
-    if (run[0]) {
-        r = rg_run_0(inst, false);
-        if (r == RG_RUN_FAULT) return fmi3Error;
-        d->m0.in_cycle = (r == RG_RUN_MICRO);
-    }
-    (void)r;
+    if (run[0] && rg_run_failed(rg_run_0(inst), &d->m0.in_cycle)) return fmi3Error;
     return fmi3OK;
 }
 
@@ -592,25 +438,12 @@ static fmi3Status rg_model_update(rg_instance *inst, bool *discrete_states_need_
                                   bool *terminate_simulation, bool *next_event_time_defined,
                                   double *next_event_time)
 {
-    rg_model_data *d = &inst->s.data;
+    const rg_model_data *d = &inst->s.data;
     bool need = false;
-    (void)d;
     (void)terminate_simulation;
     (void)next_event_time_defined;
     (void)next_event_time;
     need = need || d->m0.in_cycle;
     *discrete_states_need_update = need;
-    return fmi3OK;
-}
-
-static fmi3Status rg_model_do_step(rg_instance *inst, double t_end, bool *event_handling_needed,
-                                   bool *terminate_simulation, double *last_successful_time)
-{
-    /* The state machines only react in Event Mode; a step just lets time pass. */
-    (void)inst;
-    (void)t_end;
-    (void)event_handling_needed;
-    (void)terminate_simulation;
-    (void)last_successful_time;
     return fmi3OK;
 }

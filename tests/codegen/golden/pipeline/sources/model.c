@@ -5,118 +5,22 @@
  * Each state machine is a function that resumes at block m->pc and runs until the cycle ends
  * (RG_RUN_SUSPENDED), until a micro-step boundary in stepwise semantics (RG_RUN_MICRO), or
  * until a run-time error (RG_RUN_FAULT, reported through logMessage and fmi3Error). Every block
- * opens with a comment naming what it does and the model line it comes from. */
+ * opens with a comment naming what it does and the model line it comes from; every guard is
+ * quoted as the model writes it above its test. The helpers (RG_BEGIN_TRANSITION, rg_deliver,
+ * the arithmetic) are robogen_machine.h's. */
 
-#include <string.h>
-
-/* ---- arithmetic as robogen defines it: wrapping integers, checked division --------------- */
-
-enum { RG_FAULT_NONE = 0, RG_FAULT_DIVISION = 1, RG_FAULT_INDEX = 2, RG_FAULT_RUNAWAY = 3, RG_FAULT_STUCK = 4,
-       RG_FAULT_CONVERSION = 5 };
-enum { RG_RUN_SUSPENDED = 0, RG_RUN_MICRO = 1, RG_RUN_FAULT = -1 };
-
-#define RG_MAX_TRANSITIONS 1000UL  /* transitions per cycle before a runaway is reported */
-#define RG_MAX_STEPS 64000UL        /* blocks per cycle, the same bound for any loop */
-#define RG_TRACE(inst, text) \
-    do { if ((inst)->logging_on && (inst)->log_category_on[RG_LOG_TRANSITIONS]) \
-        rg_log((inst), RG_LOG_TRANSITIONS, fmi3OK, "%s", (text)); } while (0)
-
-static inline int64_t rg_i_add(int64_t a, int64_t b) { return (int64_t)((uint64_t)a + (uint64_t)b); }
-static inline int64_t rg_i_sub(int64_t a, int64_t b) { return (int64_t)((uint64_t)a - (uint64_t)b); }
-static inline int64_t rg_i_mul(int64_t a, int64_t b) { return (int64_t)((uint64_t)a * (uint64_t)b); }
-static inline int64_t rg_i_neg(int64_t a) { return (int64_t)(UINT64_C(0) - (uint64_t)a); }
-static inline int64_t rg_i_abs(int64_t a) { return a < 0 ? rg_i_neg(a) : a; }
-static inline int64_t rg_i_min(int64_t a, int64_t b) { return a <= b ? a : b; }
-static inline int64_t rg_i_max(int64_t a, int64_t b) { return a >= b ? a : b; }
-static inline int64_t rg_i_div(rg_model_data *d, int64_t a, int64_t b)
-{
-    if (b == 0) { d->fault = RG_FAULT_DIVISION; return 0; }
-    if (b == -1) return rg_i_neg(a);
-    return a / b;
-}
-static inline int64_t rg_i_mod(rg_model_data *d, int64_t a, int64_t b)
-{
-    if (b == 0) { d->fault = RG_FAULT_DIVISION; return 0; }
-    if (b == -1) return 0;
-    return a % b;
-}
-static inline uint64_t rg_u_add(uint64_t a, uint64_t b) { return a + b; }
-static inline uint64_t rg_u_sub(uint64_t a, uint64_t b) { return a - b; }
-static inline uint64_t rg_u_mul(uint64_t a, uint64_t b) { return a * b; }
-static inline uint64_t rg_u_neg(uint64_t a) { return UINT64_C(0) - a; }
-static inline uint64_t rg_u_abs(uint64_t a) { return a; }
-static inline uint64_t rg_u_min(uint64_t a, uint64_t b) { return a <= b ? a : b; }
-static inline uint64_t rg_u_max(uint64_t a, uint64_t b) { return a >= b ? a : b; }
-static inline uint64_t rg_u_div(rg_model_data *d, uint64_t a, uint64_t b)
-{
-    if (b == 0) { d->fault = RG_FAULT_DIVISION; return 0; }
-    return a / b;
-}
-static inline uint64_t rg_u_mod(rg_model_data *d, uint64_t a, uint64_t b)
-{
-    if (b == 0) { d->fault = RG_FAULT_DIVISION; return 0; }
-    return a % b;
-}
-static inline double rg_r_div(rg_model_data *d, double a, double b)
-{
-    if (b == 0.0) { d->fault = RG_FAULT_DIVISION; return 0.0; }
-    return a / b;
-}
-static inline double rg_r_abs(double a) { return a < 0.0 ? -a : a; }
-/* Conversions: a real becomes an integer by truncation toward zero; outside the integer's range
- * (or NaN) it sets the fault code instead of being undefined behaviour. */
-static inline int64_t rg_r_to_i(rg_model_data *d, double x)
-{
-    if (!(x >= -9223372036854775808.0 && x < 9223372036854775808.0)) { d->fault = RG_FAULT_CONVERSION; return 0; }
-    return (int64_t)x;
-}
-static inline uint64_t rg_r_to_u(rg_model_data *d, double x)
-{
-    if (!(x > -1.0 && x < 18446744073709551616.0)) { d->fault = RG_FAULT_CONVERSION; return 0; }
-    return (uint64_t)x;
-}
-/* nat to int wraps around, like the interpreter (no implementation-defined conversion). */
-static inline int64_t rg_u_to_i(uint64_t x)
-{
-    return x <= (uint64_t)INT64_MAX ? (int64_t)x : -(int64_t)(UINT64_MAX - x) - 1;
-}
-static inline double rg_r_min(double a, double b) { return a <= b ? a : b; }
-static inline double rg_r_max(double a, double b) { return a >= b ? a : b; }
-/* A 1-based index into n elements, as a 0-based offset; out of range sets the fault code. */
-static inline int64_t rg_index(rg_model_data *d, int64_t i, int64_t n)
-{
-    if (i < 1 || i > n) { d->fault = RG_FAULT_INDEX; return 0; }
-    return i - 1;
-}
-
-static const char *rg_fault_text(int32_t fault) RG_MAYBE_UNUSED;
-static const char *rg_fault_text(int32_t fault)
-{
-    switch (fault) {
-    case RG_FAULT_DIVISION: return "division by zero";
-    case RG_FAULT_INDEX: return "index out of range";
-    case RG_FAULT_RUNAWAY: return "runaway cycle";
-    case RG_FAULT_CONVERSION: return "real number out of range for an integer";
-    default: return "run-time error";
-    }
-}
-
-/* A RoboChart deadline was missed: counted and logged, never enforced. */
-static void rg_deadline_miss(rg_instance *inst, const char *message) RG_MAYBE_UNUSED;
-static void rg_deadline_miss(rg_instance *inst, const char *message)
-{
-    inst->s.data.deadline_misses++;
-    rg_log(inst, RG_LOG_WARNING, fmi3Warning, "%s (t=%.17g)", message, inst->s.time);
-}
-
-static int rg_machine_fail(rg_instance *inst, const char *message)
-{
-    inst->s.data.fault = RG_FAULT_STUCK;
-    rg_log(inst, RG_LOG_ERROR, fmi3Error, "%s", message);
-    return RG_RUN_FAULT;
-}
+#include "robogen_machine.h"
 
 /* ---- the FMI variables and clocks (value references as in modelDescription.xml) ---------- */
+
+/* indices into rg_clocks */
+enum {
+    CLOCK_cycle = 0,  /* one RoboSim cycle */
+    CLOCK_item = 1,  /* input event item */
+    CLOCK_flush = 2,  /* input event flush */
+    CLOCK_outcome = 3,  /* output event outcome */
+    CLOCK_acked = 4,  /* output event acked */
+};
 
 static const rg_clock rg_clocks[RG_CLOCK_ARRAY_SIZE] = {
     { 1, "cycle", RG_CLOCK_INPUT_CONSTANT, 1, 0.0 },
@@ -151,6 +55,17 @@ static const rg_variable rg_variables[RG_NUM_VARIABLES] = {
 
 /* ======== state machine pipeline::Consumer (pipeline.rst:34) ======== */
 
+/* The name of a node of Consumer, for log messages. */
+static const char *Consumer_node_name(int64_t node)
+{
+    switch (node) {
+    case Consumer_Node_i: return "i";
+    case Consumer_Node_Run: return "Run";
+    default: return "?";
+    }
+}
+
+/* What each block does, for log messages (indexed by m->pc). */
 static const char *const rg_labels_0[] = {
     "b0: start Consumer (pipeline.rst:34)",
     "b1: EVAL Run (pipeline.rst:40)",
@@ -162,55 +77,39 @@ static const char *const rg_labels_0[] = {
     "b7: t3: Run -> Run (pipeline.rst:44)",
 };
 
-static int rg_fault_0(rg_instance *inst, int32_t pc) RG_MAYBE_UNUSED;
-static int rg_fault_0(rg_instance *inst, int32_t pc)
+static int rg_fault_0(rg_instance *inst) RG_MAYBE_UNUSED;
+static int rg_fault_0(rg_instance *inst)
 {
-    rg_log(inst, RG_LOG_ERROR, fmi3Error, "state machine Consumer: %s in %s", rg_fault_text(inst->s.data.fault), rg_labels_0[pc]);
-    return RG_RUN_FAULT;
+    const rg_machine_0 *m = &inst->s.data.m0;
+    return rg_report_fault(inst, "Consumer", rg_labels_0[m->pc], Consumer_node_name(m->node));
 }
 
 static int rg_runaway_0(rg_instance *inst)
 {
-    inst->s.data.fault = RG_FAULT_RUNAWAY;
-    rg_log(inst, RG_LOG_ERROR, fmi3Error, "state machine Consumer: more than %lu transitions in one cycle without exec "
-           "(a runaway cycle), at %s", RG_MAX_TRANSITIONS, rg_labels_0[inst->s.data.m0.pc]);
-    return RG_RUN_FAULT;
+    const rg_machine_0 *m = &inst->s.data.m0;
+    return rg_report_runaway(inst, "Consumer", rg_labels_0[m->pc], Consumer_node_name(m->node));
 }
 
-/* event part reaches Consumer: latched until its next cycle */
-static void rg_deliver_0_0(rg_model_data *d, int64_t v) RG_MAYBE_UNUSED;
-static void rg_deliver_0_0(rg_model_data *d, int64_t v)
-{
-    rg_machine_0 *m = &d->m0;
-    if (m->reg_present[0]) d->dropped_events++;
-    m->reg_present[0] = true;
-    m->reg_e0 = v;
-    m->new_input = true;
-}
-
-/* event item reaches Consumer: latched until its next cycle */
-static void rg_deliver_0_1(rg_model_data *d, int64_t v) RG_MAYBE_UNUSED;
-static void rg_deliver_0_1(rg_model_data *d, int64_t v)
-{
-    rg_machine_0 *m = &d->m0;
-    if (m->reg_present[1]) d->dropped_events++;
-    m->reg_present[1] = true;
-    m->reg_e1 = v;
-    m->new_input = true;
-}
-
-/* event flush reaches Consumer: latched until its next cycle */
-static void rg_deliver_0_2(rg_model_data *d) RG_MAYBE_UNUSED;
-static void rg_deliver_0_2(rg_model_data *d)
-{
-    rg_machine_0 *m = &d->m0;
-    if (m->reg_present[2]) d->dropped_events++;
-    m->reg_present[2] = true;
-    m->new_input = true;
-}
+/* Where each input event of Consumer is latched and read (see rg_event_slot). */
+static const rg_event_slot rg_events_0[] = {
+    RG_TYPED_EVENT(m0, Consumer_Event_part, part),
+    RG_TYPED_EVENT(m0, Consumer_Event_item, item),
+    RG_EVENT(m0, Consumer_Event_flush),
+};
 
 /* ======== state machine pipeline::Producer (pipeline.rst:21) ======== */
 
+/* The name of a node of Producer, for log messages. */
+static const char *Producer_node_name(int64_t node)
+{
+    switch (node) {
+    case Producer_Node_i: return "i";
+    case Producer_Node_Run: return "Run";
+    default: return "?";
+    }
+}
+
+/* What each block does, for log messages (indexed by m->pc). */
 static const char *const rg_labels_1[] = {
     "b0: start Producer (pipeline.rst:21)",
     "b1: EVAL Run (pipeline.rst:27)",
@@ -222,55 +121,39 @@ static const char *const rg_labels_1[] = {
     "b7: t3: Run -> Run (pipeline.rst:31)",
 };
 
-static int rg_fault_1(rg_instance *inst, int32_t pc) RG_MAYBE_UNUSED;
-static int rg_fault_1(rg_instance *inst, int32_t pc)
+static int rg_fault_1(rg_instance *inst) RG_MAYBE_UNUSED;
+static int rg_fault_1(rg_instance *inst)
 {
-    rg_log(inst, RG_LOG_ERROR, fmi3Error, "state machine Producer: %s in %s", rg_fault_text(inst->s.data.fault), rg_labels_1[pc]);
-    return RG_RUN_FAULT;
+    const rg_machine_1 *m = &inst->s.data.m1;
+    return rg_report_fault(inst, "Producer", rg_labels_1[m->pc], Producer_node_name(m->node));
 }
 
 static int rg_runaway_1(rg_instance *inst)
 {
-    inst->s.data.fault = RG_FAULT_RUNAWAY;
-    rg_log(inst, RG_LOG_ERROR, fmi3Error, "state machine Producer: more than %lu transitions in one cycle without exec "
-           "(a runaway cycle), at %s", RG_MAX_TRANSITIONS, rg_labels_1[inst->s.data.m1.pc]);
-    return RG_RUN_FAULT;
+    const rg_machine_1 *m = &inst->s.data.m1;
+    return rg_report_runaway(inst, "Producer", rg_labels_1[m->pc], Producer_node_name(m->node));
 }
 
-/* event item reaches Producer: latched until its next cycle */
-static void rg_deliver_1_0(rg_model_data *d, int64_t v) RG_MAYBE_UNUSED;
-static void rg_deliver_1_0(rg_model_data *d, int64_t v)
-{
-    rg_machine_1 *m = &d->m1;
-    if (m->reg_present[0]) d->dropped_events++;
-    m->reg_present[0] = true;
-    m->reg_e0 = v;
-    m->new_input = true;
-}
-
-/* event flush reaches Producer: latched until its next cycle */
-static void rg_deliver_1_1(rg_model_data *d) RG_MAYBE_UNUSED;
-static void rg_deliver_1_1(rg_model_data *d)
-{
-    rg_machine_1 *m = &d->m1;
-    if (m->reg_present[1]) d->dropped_events++;
-    m->reg_present[1] = true;
-    m->new_input = true;
-}
-
-/* event ack reaches Producer: latched until its next cycle */
-static void rg_deliver_1_2(rg_model_data *d, uint64_t v) RG_MAYBE_UNUSED;
-static void rg_deliver_1_2(rg_model_data *d, uint64_t v)
-{
-    rg_machine_1 *m = &d->m1;
-    if (m->reg_present[2]) d->dropped_events++;
-    m->reg_present[2] = true;
-    m->reg_e2 = v;
-    m->new_input = true;
-}
+/* Where each input event of Producer is latched and read (see rg_event_slot). */
+static const rg_event_slot rg_events_1[] = {
+    RG_TYPED_EVENT(m1, Producer_Event_item, item),
+    RG_EVENT(m1, Producer_Event_flush),
+    RG_TYPED_EVENT(m1, Producer_Event_ack, ack),
+};
 
 /* ======== state machine pipeline::Sink (pipeline.rst:47) ======== */
 
+/* The name of a node of Sink, for log messages. */
+static const char *Sink_node_name(int64_t node)
+{
+    switch (node) {
+    case Sink_Node_i: return "i";
+    case Sink_Node_Run: return "Run";
+    default: return "?";
+    }
+}
+
+/* What each block does, for log messages (indexed by m->pc). */
 static const char *const rg_labels_2[] = {
     "b0: start Sink (pipeline.rst:47)",
     "b1: EVAL Run (pipeline.rst:53)",
@@ -280,97 +163,80 @@ static const char *const rg_labels_2[] = {
     "b5: t2: Run -> Run (pipeline.rst:56)",
 };
 
-static int rg_fault_2(rg_instance *inst, int32_t pc) RG_MAYBE_UNUSED;
-static int rg_fault_2(rg_instance *inst, int32_t pc)
+static int rg_fault_2(rg_instance *inst) RG_MAYBE_UNUSED;
+static int rg_fault_2(rg_instance *inst)
 {
-    rg_log(inst, RG_LOG_ERROR, fmi3Error, "state machine Sink: %s in %s", rg_fault_text(inst->s.data.fault), rg_labels_2[pc]);
-    return RG_RUN_FAULT;
+    const rg_machine_2 *m = &inst->s.data.m2;
+    return rg_report_fault(inst, "Sink", rg_labels_2[m->pc], Sink_node_name(m->node));
 }
 
 static int rg_runaway_2(rg_instance *inst)
 {
-    inst->s.data.fault = RG_FAULT_RUNAWAY;
-    rg_log(inst, RG_LOG_ERROR, fmi3Error, "state machine Sink: more than %lu transitions in one cycle without exec "
-           "(a runaway cycle), at %s", RG_MAX_TRANSITIONS, rg_labels_2[inst->s.data.m2.pc]);
-    return RG_RUN_FAULT;
+    const rg_machine_2 *m = &inst->s.data.m2;
+    return rg_report_runaway(inst, "Sink", rg_labels_2[m->pc], Sink_node_name(m->node));
 }
 
-/* event total reaches Sink: latched until its next cycle */
-static void rg_deliver_2_0(rg_model_data *d, int64_t v) RG_MAYBE_UNUSED;
-static void rg_deliver_2_0(rg_model_data *d, int64_t v)
-{
-    rg_machine_2 *m = &d->m2;
-    if (m->reg_present[0]) d->dropped_events++;
-    m->reg_present[0] = true;
-    m->reg_e0 = v;
-    m->new_input = true;
-}
+/* Where each input event of Sink is latched and read (see rg_event_slot). */
+static const rg_event_slot rg_events_2[] = {
+    RG_TYPED_EVENT(m2, Sink_Event_total, total),
+};
 
-/* Run state machine Consumer from m->pc until it suspends, or (micro: stepwise semantics)
- * until it reaches a second transition segment: each segment starts with a step check. */
-static int rg_run_0(rg_instance *inst, bool micro)
+/* Run state machine Consumer from block m->pc until the work of its cycle is done. */
+static int rg_run_0(rg_instance *inst)
 {
     rg_model_data *d = &inst->s.data;
     rg_machine_0 *m = &d->m0;
-    bool taken = false;  /* a transition segment was entered in this run */
     unsigned long steps = 0;
-    (void)micro;
-    (void)taken;
     for (;;) {
         if (++steps > RG_MAX_STEPS) return rg_runaway_0(inst);
         switch (m->pc) {
         case 0: /* b0: start Consumer  pipeline.rst:34 */
-            if (micro && taken) return RG_RUN_MICRO;  /* stepwise: one transition per instant */
-            taken = true;
-            if (++m->transitions > RG_MAX_TRANSITIONS) return rg_runaway_0(inst);
+            RG_BEGIN_TRANSITION(rg_runaway_0(inst));
             RG_TRACE(inst, "Consumer: t0: i -> Run");
-            m->node = 1; m->entered[1] = m->ticks;
+            RG_ENTER(Consumer_Node_Run);
             m->pc = 1; continue;
         case 1: /* b1: EVAL Run  pipeline.rst:40 */
-            if ((m->smp_present[0] ? (m->v_p = m->smp_e0, true) : false)) { m->pc = 2; continue; }  /* t1: Run -> Run (exec) pipeline.rst:42 */
-            if (((!m->smp_present[0]) && m->smp_present[2])) { m->pc = 4; continue; }  /* t2: Run -> Run (exec) pipeline.rst:43 */
-            if (((!m->smp_present[0]) && (!m->smp_present[2]))) { m->pc = 6; continue; }  /* t3: Run -> Run (exec) pipeline.rst:44 */
+            /* t1: Run -> Run (exec) [$part?p]  pipeline.rst:42 */
+            if (m->smp_present[Consumer_Event_part] ? (m->v_p = m->smp_e_part, true) : false) { m->pc = 2; continue; }
+            /* t2: Run -> Run (exec) [not $part /\ $flush]  pipeline.rst:43 */
+            if ((!m->smp_present[Consumer_Event_part]) && m->smp_present[Consumer_Event_flush]) { m->pc = 4; continue; }
+            /* t3: Run -> Run (exec) [not $part /\ not $flush]  pipeline.rst:44 */
+            if ((!m->smp_present[Consumer_Event_part]) && (!m->smp_present[Consumer_Event_flush])) { m->pc = 6; continue; }
             return rg_machine_fail(inst, "Consumer: deadlock in state 'Run' (pipeline.rst:40): no transition is enabled and no exec");
         case 2: /* b2: t1: exec decided  pipeline.rst:42 */
             RG_TRACE(inst, "Consumer: t1: exec");
             m->pc = 3; return RG_RUN_SUSPENDED;
         case 3: /* b3: t1: Run -> Run  pipeline.rst:42 */
-            if (micro && taken) return RG_RUN_MICRO;  /* stepwise: one transition per instant */
-            taken = true;
-            if (++m->transitions > RG_MAX_TRANSITIONS) return rg_runaway_0(inst);
+            RG_BEGIN_TRANSITION(rg_runaway_0(inst));
             RG_TRACE(inst, "Consumer: t1: Run -> Run");
             m->v_sum = rg_i_add(m->v_sum, m->v_p);
             m->v_seen = rg_u_add(m->v_seen, UINT64_C(1));
             {
                 uint64_t a0_ = m->v_seen;
-                rg_deliver_1_2(d, a0_);
+                rg_deliver(d, &rg_events_1[Producer_Event_ack], &a0_);
             }
             {
                 int64_t a0_ = m->v_sum;
-                rg_deliver_2_0(d, a0_);
+                rg_deliver(d, &rg_events_2[Sink_Event_total], &a0_);
             }
-            m->node = 1; m->entered[1] = m->ticks;
+            RG_ENTER(Consumer_Node_Run);
             m->pc = 1; continue;
         case 4: /* b4: t2: exec decided  pipeline.rst:43 */
             RG_TRACE(inst, "Consumer: t2: exec");
             m->pc = 5; return RG_RUN_SUSPENDED;
         case 5: /* b5: t2: Run -> Run  pipeline.rst:43 */
-            if (micro && taken) return RG_RUN_MICRO;  /* stepwise: one transition per instant */
-            taken = true;
-            if (++m->transitions > RG_MAX_TRANSITIONS) return rg_runaway_0(inst);
+            RG_BEGIN_TRANSITION(rg_runaway_0(inst));
             RG_TRACE(inst, "Consumer: t2: Run -> Run");
             m->v_sum = INT64_C(0);
-            m->node = 1; m->entered[1] = m->ticks;
+            RG_ENTER(Consumer_Node_Run);
             m->pc = 1; continue;
         case 6: /* b6: t3: exec decided  pipeline.rst:44 */
             RG_TRACE(inst, "Consumer: t3: exec");
             m->pc = 7; return RG_RUN_SUSPENDED;
         case 7: /* b7: t3: Run -> Run  pipeline.rst:44 */
-            if (micro && taken) return RG_RUN_MICRO;  /* stepwise: one transition per instant */
-            taken = true;
-            if (++m->transitions > RG_MAX_TRANSITIONS) return rg_runaway_0(inst);
+            RG_BEGIN_TRANSITION(rg_runaway_0(inst));
             RG_TRACE(inst, "Consumer: t3: Run -> Run");
-            m->node = 1; m->entered[1] = m->ticks;
+            RG_ENTER(Consumer_Node_Run);
             m->pc = 1; continue;
         default:
             return rg_machine_fail(inst, "state machine Consumer: invalid resume point");
@@ -378,69 +244,57 @@ static int rg_run_0(rg_instance *inst, bool micro)
     }
 }
 
-/* Run state machine Producer from m->pc until it suspends, or (micro: stepwise semantics)
- * until it reaches a second transition segment: each segment starts with a step check. */
-static int rg_run_1(rg_instance *inst, bool micro)
+/* Run state machine Producer from block m->pc until the work of its cycle is done. */
+static int rg_run_1(rg_instance *inst)
 {
     rg_model_data *d = &inst->s.data;
     rg_machine_1 *m = &d->m1;
-    bool taken = false;  /* a transition segment was entered in this run */
     unsigned long steps = 0;
-    (void)micro;
-    (void)taken;
     for (;;) {
         if (++steps > RG_MAX_STEPS) return rg_runaway_1(inst);
         switch (m->pc) {
         case 0: /* b0: start Producer  pipeline.rst:21 */
-            if (micro && taken) return RG_RUN_MICRO;  /* stepwise: one transition per instant */
-            taken = true;
-            if (++m->transitions > RG_MAX_TRANSITIONS) return rg_runaway_1(inst);
+            RG_BEGIN_TRANSITION(rg_runaway_1(inst));
             RG_TRACE(inst, "Producer: t0: i -> Run");
-            m->node = 1; m->entered[1] = m->ticks;
+            RG_ENTER(Producer_Node_Run);
             m->pc = 1; continue;
         case 1: /* b1: EVAL Run  pipeline.rst:27 */
-            if ((m->smp_present[0] ? (m->v_n = m->smp_e0, true) : false)) { m->pc = 2; continue; }  /* t1: Run -> Run (exec) pipeline.rst:29 */
-            if (((!m->smp_present[0]) && (m->smp_present[2] ? (m->v_acks = m->smp_e2, true) : false))) { m->pc = 4; continue; }  /* t2: Run -> Run (exec) pipeline.rst:30 */
-            if (((!m->smp_present[0]) && (!m->smp_present[2]))) { m->pc = 6; continue; }  /* t3: Run -> Run (exec) pipeline.rst:31 */
+            /* t1: Run -> Run (exec) [$item?n]  pipeline.rst:29 */
+            if (m->smp_present[Producer_Event_item] ? (m->v_n = m->smp_e_item, true) : false) { m->pc = 2; continue; }
+            /* t2: Run -> Run (exec) [not $item /\ $ack?acks]  pipeline.rst:30 */
+            if ((!m->smp_present[Producer_Event_item]) && (m->smp_present[Producer_Event_ack] ? (m->v_acks = m->smp_e_ack, true) : false)) { m->pc = 4; continue; }
+            /* t3: Run -> Run (exec) [not $item /\ not $ack]  pipeline.rst:31 */
+            if ((!m->smp_present[Producer_Event_item]) && (!m->smp_present[Producer_Event_ack])) { m->pc = 6; continue; }
             return rg_machine_fail(inst, "Producer: deadlock in state 'Run' (pipeline.rst:27): no transition is enabled and no exec");
         case 2: /* b2: t1: exec decided  pipeline.rst:29 */
             RG_TRACE(inst, "Producer: t1: exec");
             m->pc = 3; return RG_RUN_SUSPENDED;
         case 3: /* b3: t1: Run -> Run  pipeline.rst:29 */
-            if (micro && taken) return RG_RUN_MICRO;  /* stepwise: one transition per instant */
-            taken = true;
-            if (++m->transitions > RG_MAX_TRANSITIONS) return rg_runaway_1(inst);
+            RG_BEGIN_TRANSITION(rg_runaway_1(inst));
             RG_TRACE(inst, "Producer: t1: Run -> Run");
             {
                 int64_t a0_ = rg_i_mul(m->v_n, INT64_C(2));
-                rg_deliver_0_0(d, a0_);
+                rg_deliver(d, &rg_events_0[Consumer_Event_part], &a0_);
             }
-            m->node = 1; m->entered[1] = m->ticks;
+            RG_ENTER(Producer_Node_Run);
             m->pc = 1; continue;
         case 4: /* b4: t2: exec decided  pipeline.rst:30 */
             RG_TRACE(inst, "Producer: t2: exec");
             m->pc = 5; return RG_RUN_SUSPENDED;
         case 5: /* b5: t2: Run -> Run  pipeline.rst:30 */
-            if (micro && taken) return RG_RUN_MICRO;  /* stepwise: one transition per instant */
-            taken = true;
-            if (++m->transitions > RG_MAX_TRANSITIONS) return rg_runaway_1(inst);
+            RG_BEGIN_TRANSITION(rg_runaway_1(inst));
             RG_TRACE(inst, "Producer: t2: Run -> Run");
-            {
-                uint64_t a0_ = m->v_acks;
-                d->out_acked_value = a0_;
-                rg_activate_output_clock(inst, 4); /* acked */
-            }
-            m->node = 1; m->entered[1] = m->ticks;
+            d->out_acked_value = m->v_acks;
+            rg_activate_output_clock(inst, CLOCK_acked);
+            RG_ENTER(Producer_Node_Run);
             m->pc = 1; continue;
         case 6: /* b6: t3: exec decided  pipeline.rst:31 */
             RG_TRACE(inst, "Producer: t3: exec");
             m->pc = 7; return RG_RUN_SUSPENDED;
         case 7: /* b7: t3: Run -> Run  pipeline.rst:31 */
-            if (micro && taken) return RG_RUN_MICRO;  /* stepwise: one transition per instant */
-            taken = true;
-            if (++m->transitions > RG_MAX_TRANSITIONS) return rg_runaway_1(inst);
+            RG_BEGIN_TRANSITION(rg_runaway_1(inst));
             RG_TRACE(inst, "Producer: t3: Run -> Run");
-            m->node = 1; m->entered[1] = m->ticks;
+            RG_ENTER(Producer_Node_Run);
             m->pc = 1; continue;
         default:
             return rg_machine_fail(inst, "state machine Producer: invalid resume point");
@@ -448,54 +302,43 @@ static int rg_run_1(rg_instance *inst, bool micro)
     }
 }
 
-/* Run state machine Sink from m->pc until it suspends, or (micro: stepwise semantics)
- * until it reaches a second transition segment: each segment starts with a step check. */
-static int rg_run_2(rg_instance *inst, bool micro)
+/* Run state machine Sink from block m->pc until the work of its cycle is done. */
+static int rg_run_2(rg_instance *inst)
 {
     rg_model_data *d = &inst->s.data;
     rg_machine_2 *m = &d->m2;
-    bool taken = false;  /* a transition segment was entered in this run */
     unsigned long steps = 0;
-    (void)micro;
-    (void)taken;
     for (;;) {
         if (++steps > RG_MAX_STEPS) return rg_runaway_2(inst);
         switch (m->pc) {
         case 0: /* b0: start Sink  pipeline.rst:47 */
-            if (micro && taken) return RG_RUN_MICRO;  /* stepwise: one transition per instant */
-            taken = true;
-            if (++m->transitions > RG_MAX_TRANSITIONS) return rg_runaway_2(inst);
+            RG_BEGIN_TRANSITION(rg_runaway_2(inst));
             RG_TRACE(inst, "Sink: t0: i -> Run");
-            m->node = 1; m->entered[1] = m->ticks;
+            RG_ENTER(Sink_Node_Run);
             m->pc = 1; continue;
         case 1: /* b1: EVAL Run  pipeline.rst:53 */
-            if ((m->smp_present[0] ? (m->v_last = m->smp_e0, true) : false)) { m->pc = 2; continue; }  /* t1: Run -> Run (exec) pipeline.rst:55 */
-            if ((!m->smp_present[0])) { m->pc = 4; continue; }  /* t2: Run -> Run (exec) pipeline.rst:56 */
+            /* t1: Run -> Run (exec) [$total?last]  pipeline.rst:55 */
+            if (m->smp_present[Sink_Event_total] ? (m->v_last = m->smp_e_total, true) : false) { m->pc = 2; continue; }
+            /* t2: Run -> Run (exec) [not $total]  pipeline.rst:56 */
+            if (!m->smp_present[Sink_Event_total]) { m->pc = 4; continue; }
             return rg_machine_fail(inst, "Sink: deadlock in state 'Run' (pipeline.rst:53): no transition is enabled and no exec");
         case 2: /* b2: t1: exec decided  pipeline.rst:55 */
             RG_TRACE(inst, "Sink: t1: exec");
             m->pc = 3; return RG_RUN_SUSPENDED;
         case 3: /* b3: t1: Run -> Run  pipeline.rst:55 */
-            if (micro && taken) return RG_RUN_MICRO;  /* stepwise: one transition per instant */
-            taken = true;
-            if (++m->transitions > RG_MAX_TRANSITIONS) return rg_runaway_2(inst);
+            RG_BEGIN_TRANSITION(rg_runaway_2(inst));
             RG_TRACE(inst, "Sink: t1: Run -> Run");
-            {
-                int64_t a0_ = m->v_last;
-                d->out_outcome_value = a0_;
-                rg_activate_output_clock(inst, 3); /* outcome */
-            }
-            m->node = 1; m->entered[1] = m->ticks;
+            d->out_outcome_value = m->v_last;
+            rg_activate_output_clock(inst, CLOCK_outcome);
+            RG_ENTER(Sink_Node_Run);
             m->pc = 1; continue;
         case 4: /* b4: t2: exec decided  pipeline.rst:56 */
             RG_TRACE(inst, "Sink: t2: exec");
             m->pc = 5; return RG_RUN_SUSPENDED;
         case 5: /* b5: t2: Run -> Run  pipeline.rst:56 */
-            if (micro && taken) return RG_RUN_MICRO;  /* stepwise: one transition per instant */
-            taken = true;
-            if (++m->transitions > RG_MAX_TRANSITIONS) return rg_runaway_2(inst);
+            RG_BEGIN_TRANSITION(rg_runaway_2(inst));
             RG_TRACE(inst, "Sink: t2: Run -> Run");
-            m->node = 1; m->entered[1] = m->ticks;
+            RG_ENTER(Sink_Node_Run);
             m->pc = 1; continue;
         default:
             return rg_machine_fail(inst, "state machine Sink: invalid resume point");
@@ -509,17 +352,16 @@ static void rg_model_reset(rg_instance *inst)
 {
     rg_model_data *d = &inst->s.data;
     d->m0.pc = 0;
-    d->m0.node = 0;
+    d->m0.node = Consumer_Node_i;
     d->m1.pc = 0;
-    d->m1.node = 0;
+    d->m1.node = Producer_Node_i;
     d->m2.pc = 0;
-    d->m2.node = 0;
+    d->m2.node = Sink_Node_i;
 }
 
 static fmi3Status rg_model_exit_initialization(rg_instance *inst)
 {
     rg_model_data *d = &inst->s.data;
-    (void)d;
     {
         rg_machine_0 *m = &d->m0;
         m->v_sum = INT64_C(0);  /* initial value of sum */
@@ -541,41 +383,25 @@ static fmi3Status rg_model_exit_initialization(rg_instance *inst)
 static void rg_model_latch(rg_instance *inst, int clock_index)
 {
     rg_model_data *d = &inst->s.data;
-    (void)d;
     switch (clock_index) {
-    case 1: /* item */
-    {
+    case CLOCK_item: {
         int64_t v;
         v = d->in_item_value;
-        rg_deliver_1_0(d, v);
+        rg_deliver(d, &rg_events_1[Producer_Event_item], &v);
         break;
     }
-    case 2: /* flush */
-    {
-        rg_deliver_0_2(d);
+    case CLOCK_flush:
+        rg_deliver(d, &rg_events_0[Consumer_Event_flush], NULL);
+        break;
+    default: /* the periodic clock, and input events that reach no state machine */
         break;
     }
-    default:
-        break;
-    }
-}
-
-/* RoboSim: a cycle starts; the events latched since the previous cycle become its sample. */
-static void rg_start_cycle(bool *present_reg, bool *present_smp, size_t n_events, uint64_t *ticks, bool *new_input,
-                           uint64_t *transitions)
-{
-    memcpy(present_smp, present_reg, n_events * sizeof(bool));
-    memset(present_reg, 0, n_events * sizeof(bool));
-    *new_input = false;
-    (*ticks)++;
-    *transitions = 0;
 }
 
 static fmi3Status rg_model_evaluate(rg_instance *inst)
 {
     rg_model_data *d = &inst->s.data;
-    bool periodic = inst->s.clock_active[0];  /* cycle */
-    int r = RG_RUN_SUSPENDED;
+    bool periodic = inst->s.clock_active[CLOCK_cycle];
     d->fault = RG_FAULT_NONE;
     if (periodic) d->cycles++;
     /* Every machine samples its inputs before any runs: what one machine sends another in this
@@ -586,8 +412,8 @@ static fmi3Status rg_model_evaluate(rg_instance *inst)
         bool start = periodic;
         run[0] = start;
         if (start) {
-            m->smp_e0 = m->reg_e0;
-            m->smp_e1 = m->reg_e1;
+            m->smp_e_part = m->reg_e_part;
+            m->smp_e_item = m->reg_e_item;
             rg_start_cycle(m->reg_present, m->smp_present, 3, &m->ticks, &m->new_input, &m->transitions);
         }
     }
@@ -596,8 +422,8 @@ static fmi3Status rg_model_evaluate(rg_instance *inst)
         bool start = periodic;
         run[1] = start;
         if (start) {
-            m->smp_e0 = m->reg_e0;
-            m->smp_e2 = m->reg_e2;
+            m->smp_e_item = m->reg_e_item;
+            m->smp_e_ack = m->reg_e_ack;
             rg_start_cycle(m->reg_present, m->smp_present, 3, &m->ticks, &m->new_input, &m->transitions);
         }
     }
@@ -606,26 +432,13 @@ static fmi3Status rg_model_evaluate(rg_instance *inst)
         bool start = periodic;
         run[2] = start;
         if (start) {
-            m->smp_e0 = m->reg_e0;
+            m->smp_e_total = m->reg_e_total;
             rg_start_cycle(m->reg_present, m->smp_present, 1, &m->ticks, &m->new_input, &m->transitions);
         }
     }
-    if (run[0]) {
-        r = rg_run_0(inst, false);
-        if (r == RG_RUN_FAULT) return fmi3Error;
-        d->m0.in_cycle = (r == RG_RUN_MICRO);
-    }
-    if (run[1]) {
-        r = rg_run_1(inst, false);
-        if (r == RG_RUN_FAULT) return fmi3Error;
-        d->m1.in_cycle = (r == RG_RUN_MICRO);
-    }
-    if (run[2]) {
-        r = rg_run_2(inst, false);
-        if (r == RG_RUN_FAULT) return fmi3Error;
-        d->m2.in_cycle = (r == RG_RUN_MICRO);
-    }
-    (void)r;
+    if (run[0] && rg_run_failed(rg_run_0(inst), &d->m0.in_cycle)) return fmi3Error;
+    if (run[1] && rg_run_failed(rg_run_1(inst), &d->m1.in_cycle)) return fmi3Error;
+    if (run[2] && rg_run_failed(rg_run_2(inst), &d->m2.in_cycle)) return fmi3Error;
     return fmi3OK;
 }
 
@@ -633,9 +446,8 @@ static fmi3Status rg_model_update(rg_instance *inst, bool *discrete_states_need_
                                   bool *terminate_simulation, bool *next_event_time_defined,
                                   double *next_event_time)
 {
-    rg_model_data *d = &inst->s.data;
+    const rg_model_data *d = &inst->s.data;
     bool need = false;
-    (void)d;
     (void)terminate_simulation;
     (void)next_event_time_defined;
     (void)next_event_time;
@@ -643,17 +455,5 @@ static fmi3Status rg_model_update(rg_instance *inst, bool *discrete_states_need_
     need = need || d->m1.in_cycle;
     need = need || d->m2.in_cycle;
     *discrete_states_need_update = need;
-    return fmi3OK;
-}
-
-static fmi3Status rg_model_do_step(rg_instance *inst, double t_end, bool *event_handling_needed,
-                                   bool *terminate_simulation, double *last_successful_time)
-{
-    /* The state machines only react in Event Mode; a step just lets time pass. */
-    (void)inst;
-    (void)t_end;
-    (void)event_handling_needed;
-    (void)terminate_simulation;
-    (void)last_successful_time;
     return fmi3OK;
 }

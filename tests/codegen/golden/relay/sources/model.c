@@ -5,118 +5,22 @@
  * Each state machine is a function that resumes at block m->pc and runs until the cycle ends
  * (RG_RUN_SUSPENDED), until a micro-step boundary in stepwise semantics (RG_RUN_MICRO), or
  * until a run-time error (RG_RUN_FAULT, reported through logMessage and fmi3Error). Every block
- * opens with a comment naming what it does and the model line it comes from. */
+ * opens with a comment naming what it does and the model line it comes from; every guard is
+ * quoted as the model writes it above its test. The helpers (RG_BEGIN_TRANSITION, rg_deliver,
+ * the arithmetic) are robogen_machine.h's. */
 
-#include <string.h>
-
-/* ---- arithmetic as robogen defines it: wrapping integers, checked division --------------- */
-
-enum { RG_FAULT_NONE = 0, RG_FAULT_DIVISION = 1, RG_FAULT_INDEX = 2, RG_FAULT_RUNAWAY = 3, RG_FAULT_STUCK = 4,
-       RG_FAULT_CONVERSION = 5 };
-enum { RG_RUN_SUSPENDED = 0, RG_RUN_MICRO = 1, RG_RUN_FAULT = -1 };
-
-#define RG_MAX_TRANSITIONS 1000UL  /* transitions per cycle before a runaway is reported */
-#define RG_MAX_STEPS 64000UL        /* blocks per cycle, the same bound for any loop */
-#define RG_TRACE(inst, text) \
-    do { if ((inst)->logging_on && (inst)->log_category_on[RG_LOG_TRANSITIONS]) \
-        rg_log((inst), RG_LOG_TRANSITIONS, fmi3OK, "%s", (text)); } while (0)
-
-static inline int64_t rg_i_add(int64_t a, int64_t b) { return (int64_t)((uint64_t)a + (uint64_t)b); }
-static inline int64_t rg_i_sub(int64_t a, int64_t b) { return (int64_t)((uint64_t)a - (uint64_t)b); }
-static inline int64_t rg_i_mul(int64_t a, int64_t b) { return (int64_t)((uint64_t)a * (uint64_t)b); }
-static inline int64_t rg_i_neg(int64_t a) { return (int64_t)(UINT64_C(0) - (uint64_t)a); }
-static inline int64_t rg_i_abs(int64_t a) { return a < 0 ? rg_i_neg(a) : a; }
-static inline int64_t rg_i_min(int64_t a, int64_t b) { return a <= b ? a : b; }
-static inline int64_t rg_i_max(int64_t a, int64_t b) { return a >= b ? a : b; }
-static inline int64_t rg_i_div(rg_model_data *d, int64_t a, int64_t b)
-{
-    if (b == 0) { d->fault = RG_FAULT_DIVISION; return 0; }
-    if (b == -1) return rg_i_neg(a);
-    return a / b;
-}
-static inline int64_t rg_i_mod(rg_model_data *d, int64_t a, int64_t b)
-{
-    if (b == 0) { d->fault = RG_FAULT_DIVISION; return 0; }
-    if (b == -1) return 0;
-    return a % b;
-}
-static inline uint64_t rg_u_add(uint64_t a, uint64_t b) { return a + b; }
-static inline uint64_t rg_u_sub(uint64_t a, uint64_t b) { return a - b; }
-static inline uint64_t rg_u_mul(uint64_t a, uint64_t b) { return a * b; }
-static inline uint64_t rg_u_neg(uint64_t a) { return UINT64_C(0) - a; }
-static inline uint64_t rg_u_abs(uint64_t a) { return a; }
-static inline uint64_t rg_u_min(uint64_t a, uint64_t b) { return a <= b ? a : b; }
-static inline uint64_t rg_u_max(uint64_t a, uint64_t b) { return a >= b ? a : b; }
-static inline uint64_t rg_u_div(rg_model_data *d, uint64_t a, uint64_t b)
-{
-    if (b == 0) { d->fault = RG_FAULT_DIVISION; return 0; }
-    return a / b;
-}
-static inline uint64_t rg_u_mod(rg_model_data *d, uint64_t a, uint64_t b)
-{
-    if (b == 0) { d->fault = RG_FAULT_DIVISION; return 0; }
-    return a % b;
-}
-static inline double rg_r_div(rg_model_data *d, double a, double b)
-{
-    if (b == 0.0) { d->fault = RG_FAULT_DIVISION; return 0.0; }
-    return a / b;
-}
-static inline double rg_r_abs(double a) { return a < 0.0 ? -a : a; }
-/* Conversions: a real becomes an integer by truncation toward zero; outside the integer's range
- * (or NaN) it sets the fault code instead of being undefined behaviour. */
-static inline int64_t rg_r_to_i(rg_model_data *d, double x)
-{
-    if (!(x >= -9223372036854775808.0 && x < 9223372036854775808.0)) { d->fault = RG_FAULT_CONVERSION; return 0; }
-    return (int64_t)x;
-}
-static inline uint64_t rg_r_to_u(rg_model_data *d, double x)
-{
-    if (!(x > -1.0 && x < 18446744073709551616.0)) { d->fault = RG_FAULT_CONVERSION; return 0; }
-    return (uint64_t)x;
-}
-/* nat to int wraps around, like the interpreter (no implementation-defined conversion). */
-static inline int64_t rg_u_to_i(uint64_t x)
-{
-    return x <= (uint64_t)INT64_MAX ? (int64_t)x : -(int64_t)(UINT64_MAX - x) - 1;
-}
-static inline double rg_r_min(double a, double b) { return a <= b ? a : b; }
-static inline double rg_r_max(double a, double b) { return a >= b ? a : b; }
-/* A 1-based index into n elements, as a 0-based offset; out of range sets the fault code. */
-static inline int64_t rg_index(rg_model_data *d, int64_t i, int64_t n)
-{
-    if (i < 1 || i > n) { d->fault = RG_FAULT_INDEX; return 0; }
-    return i - 1;
-}
-
-static const char *rg_fault_text(int32_t fault) RG_MAYBE_UNUSED;
-static const char *rg_fault_text(int32_t fault)
-{
-    switch (fault) {
-    case RG_FAULT_DIVISION: return "division by zero";
-    case RG_FAULT_INDEX: return "index out of range";
-    case RG_FAULT_RUNAWAY: return "runaway cycle";
-    case RG_FAULT_CONVERSION: return "real number out of range for an integer";
-    default: return "run-time error";
-    }
-}
-
-/* A RoboChart deadline was missed: counted and logged, never enforced. */
-static void rg_deadline_miss(rg_instance *inst, const char *message) RG_MAYBE_UNUSED;
-static void rg_deadline_miss(rg_instance *inst, const char *message)
-{
-    inst->s.data.deadline_misses++;
-    rg_log(inst, RG_LOG_WARNING, fmi3Warning, "%s (t=%.17g)", message, inst->s.time);
-}
-
-static int rg_machine_fail(rg_instance *inst, const char *message)
-{
-    inst->s.data.fault = RG_FAULT_STUCK;
-    rg_log(inst, RG_LOG_ERROR, fmi3Error, "%s", message);
-    return RG_RUN_FAULT;
-}
+#include "robogen_machine.h"
 
 /* ---- the FMI variables and clocks (value references as in modelDescription.xml) ---------- */
+
+/* indices into rg_clocks */
+enum {
+    CLOCK_tock = 0,  /* one RoboChart time unit (tock) */
+    CLOCK_request = 1,  /* input event request */
+    CLOCK_reset = 2,  /* input event reset */
+    CLOCK_answer = 3,  /* output event answer */
+    CLOCK_busy = 4,  /* output event busy */
+};
 
 static const rg_clock rg_clocks[RG_CLOCK_ARRAY_SIZE] = {
     { 1, "tock", RG_CLOCK_INPUT_CONSTANT, 1, 0.0 },
@@ -148,6 +52,18 @@ static const rg_variable rg_variables[RG_NUM_VARIABLES] = {
 
 /* ======== state machine relay::Front (relay.rct:57) ======== */
 
+/* The name of a node of Front, for log messages. */
+static const char *Front_node_name(int64_t node)
+{
+    switch (node) {
+    case Front_Node_i: return "i";
+    case Front_Node_Ready: return "Ready";
+    case Front_Node_Waiting: return "Waiting";
+    default: return "?";
+    }
+}
+
+/* What each block does, for log messages (indexed by m->pc). */
 static const char *const rg_labels_0[] = {
     "b0: start Front (relay.rct:57)",
     "b1: EVAL Ready (relay.rct:63)",
@@ -157,66 +73,50 @@ static const char *const rg_labels_0[] = {
     "b5: t3: Waiting -> Ready (relay.rct:68)",
 };
 
-static int rg_fault_0(rg_instance *inst, int32_t pc) RG_MAYBE_UNUSED;
-static int rg_fault_0(rg_instance *inst, int32_t pc)
+static int rg_fault_0(rg_instance *inst) RG_MAYBE_UNUSED;
+static int rg_fault_0(rg_instance *inst)
 {
-    rg_log(inst, RG_LOG_ERROR, fmi3Error, "state machine Front: %s in %s", rg_fault_text(inst->s.data.fault), rg_labels_0[pc]);
-    return RG_RUN_FAULT;
+    const rg_machine_0 *m = &inst->s.data.m0;
+    return rg_report_fault(inst, "Front", rg_labels_0[m->pc], Front_node_name(m->node));
 }
 
 static int rg_runaway_0(rg_instance *inst)
 {
-    inst->s.data.fault = RG_FAULT_RUNAWAY;
-    rg_log(inst, RG_LOG_ERROR, fmi3Error, "state machine Front: more than %lu transitions in one cycle without exec "
-           "(a runaway cycle), at %s", RG_MAX_TRANSITIONS, rg_labels_0[inst->s.data.m0.pc]);
-    return RG_RUN_FAULT;
+    const rg_machine_0 *m = &inst->s.data.m0;
+    return rg_report_runaway(inst, "Front", rg_labels_0[m->pc], Front_node_name(m->node));
 }
 
-/* event request reaches Front: latched until its next run */
-static void rg_deliver_0_0(rg_model_data *d, int64_t v) RG_MAYBE_UNUSED;
-static void rg_deliver_0_0(rg_model_data *d, int64_t v)
-{
-    rg_machine_0 *m = &d->m0;
-    if (m->reg_present[0]) d->dropped_events++;
-    m->reg_present[0] = true;
-    m->reg_e0 = v;
-    m->new_input = true;
-}
-
-/* event reset reaches Front: latched until its next run */
-static void rg_deliver_0_1(rg_model_data *d) RG_MAYBE_UNUSED;
-static void rg_deliver_0_1(rg_model_data *d)
-{
-    rg_machine_0 *m = &d->m0;
-    if (m->reg_present[1]) d->dropped_events++;
-    m->reg_present[1] = true;
-    m->new_input = true;
-}
-
-/* event job reaches Front: latched until its next run */
-static void rg_deliver_0_2(rg_model_data *d, int64_t v) RG_MAYBE_UNUSED;
-static void rg_deliver_0_2(rg_model_data *d, int64_t v)
-{
-    rg_machine_0 *m = &d->m0;
-    if (m->reg_present[2]) d->dropped_events++;
-    m->reg_present[2] = true;
-    m->reg_e2 = v;
-    m->new_input = true;
-}
-
-/* event done reaches Front: latched until its next run */
-static void rg_deliver_0_3(rg_model_data *d, int64_t v) RG_MAYBE_UNUSED;
-static void rg_deliver_0_3(rg_model_data *d, int64_t v)
-{
-    rg_machine_0 *m = &d->m0;
-    if (m->reg_present[3]) d->dropped_events++;
-    m->reg_present[3] = true;
-    m->reg_e3 = v;
-    m->new_input = true;
-}
+/* Where each input event of Front is latched and read (see rg_event_slot). */
+static const rg_event_slot rg_events_0[] = {
+    RG_TYPED_EVENT(m0, Front_Event_request, request),
+    RG_EVENT(m0, Front_Event_reset),
+    RG_TYPED_EVENT(m0, Front_Event_job, job),
+    RG_TYPED_EVENT(m0, Front_Event_done, done),
+};
 
 /* ======== state machine relay::Back (relay.rct:71) ======== */
 
+/* The name of a node of Back, for log messages. */
+static const char *Back_node_name(int64_t node)
+{
+    switch (node) {
+    case Back_Node_i: return "i";
+    case Back_Node_Idle: return "Idle";
+    case Back_Node_Busy: return "Busy";
+    case Back_Node_process_1_s: return "process#1.s";
+    case Back_Node_process_1_Loop: return "process#1.Loop";
+    case Back_Node_process_1_f: return "process#1.f";
+    case Back_Node_pause_2_s: return "pause#2.s";
+    case Back_Node_pause_2_Waiting: return "pause#2.Waiting";
+    case Back_Node_pause_2_f: return "pause#2.f";
+    case Back_Node_process_3_s: return "process#3.s";
+    case Back_Node_process_3_Loop: return "process#3.Loop";
+    case Back_Node_process_3_f: return "process#3.f";
+    default: return "?";
+    }
+}
+
+/* What each block does, for log messages (indexed by m->pc). */
 static const char *const rg_labels_1[] = {
     "b0: start Back (relay.rct:71)",
     "b1: EVAL Idle (relay.rct:77)",
@@ -244,119 +144,73 @@ static const char *const rg_labels_1[] = {
     "b23: t2: Busy -> Idle (relay.rct:83)",
 };
 
-static int rg_fault_1(rg_instance *inst, int32_t pc) RG_MAYBE_UNUSED;
-static int rg_fault_1(rg_instance *inst, int32_t pc)
+static int rg_fault_1(rg_instance *inst) RG_MAYBE_UNUSED;
+static int rg_fault_1(rg_instance *inst)
 {
-    rg_log(inst, RG_LOG_ERROR, fmi3Error, "state machine Back: %s in %s", rg_fault_text(inst->s.data.fault), rg_labels_1[pc]);
-    return RG_RUN_FAULT;
+    const rg_machine_1 *m = &inst->s.data.m1;
+    return rg_report_fault(inst, "Back", rg_labels_1[m->pc], Back_node_name(m->node));
 }
 
 static int rg_runaway_1(rg_instance *inst)
 {
-    inst->s.data.fault = RG_FAULT_RUNAWAY;
-    rg_log(inst, RG_LOG_ERROR, fmi3Error, "state machine Back: more than %lu transitions in one cycle without exec "
-           "(a runaway cycle), at %s", RG_MAX_TRANSITIONS, rg_labels_1[inst->s.data.m1.pc]);
-    return RG_RUN_FAULT;
+    const rg_machine_1 *m = &inst->s.data.m1;
+    return rg_report_runaway(inst, "Back", rg_labels_1[m->pc], Back_node_name(m->node));
 }
 
-/* event job reaches Back: latched until its next run */
-static void rg_deliver_1_0(rg_model_data *d, int64_t v) RG_MAYBE_UNUSED;
-static void rg_deliver_1_0(rg_model_data *d, int64_t v)
-{
-    rg_machine_1 *m = &d->m1;
-    if (m->reg_present[0]) d->dropped_events++;
-    m->reg_present[0] = true;
-    m->reg_e0 = v;
-    m->new_input = true;
-}
+/* Where each input event of Back is latched and read (see rg_event_slot). */
+static const rg_event_slot rg_events_1[] = {
+    RG_TYPED_EVENT(m1, Back_Event_job, job),
+    RG_TYPED_EVENT(m1, Back_Event_done, done),
+    RG_TYPED_EVENT(m1, Back_Event_answer, answer),
+    RG_EVENT(m1, Back_Event_busy),
+};
 
-/* event done reaches Back: latched until its next run */
-static void rg_deliver_1_1(rg_model_data *d, int64_t v) RG_MAYBE_UNUSED;
-static void rg_deliver_1_1(rg_model_data *d, int64_t v)
-{
-    rg_machine_1 *m = &d->m1;
-    if (m->reg_present[1]) d->dropped_events++;
-    m->reg_present[1] = true;
-    m->reg_e1 = v;
-    m->new_input = true;
-}
-
-/* event answer reaches Back: latched until its next run */
-static void rg_deliver_1_2(rg_model_data *d, int64_t v) RG_MAYBE_UNUSED;
-static void rg_deliver_1_2(rg_model_data *d, int64_t v)
-{
-    rg_machine_1 *m = &d->m1;
-    if (m->reg_present[2]) d->dropped_events++;
-    m->reg_present[2] = true;
-    m->reg_e2 = v;
-    m->new_input = true;
-}
-
-/* event busy reaches Back: latched until its next run */
-static void rg_deliver_1_3(rg_model_data *d) RG_MAYBE_UNUSED;
-static void rg_deliver_1_3(rg_model_data *d)
-{
-    rg_machine_1 *m = &d->m1;
-    if (m->reg_present[3]) d->dropped_events++;
-    m->reg_present[3] = true;
-    m->new_input = true;
-}
-
-/* Run state machine Front from m->pc until it suspends, or (micro: stepwise semantics)
- * until it reaches a second transition segment: each segment starts with a step check. */
-static int rg_run_0(rg_instance *inst, bool micro)
+/* Run state machine Front from block m->pc until the work of its run is done. */
+static int rg_run_0(rg_instance *inst)
 {
     rg_model_data *d = &inst->s.data;
     rg_machine_0 *m = &d->m0;
-    bool taken = false;  /* a transition segment was entered in this run */
     unsigned long steps = 0;
-    (void)micro;
-    (void)taken;
     for (;;) {
         if (++steps > RG_MAX_STEPS) return rg_runaway_0(inst);
         switch (m->pc) {
         case 0: /* b0: start Front  relay.rct:57 */
-            if (micro && taken) return RG_RUN_MICRO;  /* stepwise: one transition per instant */
-            taken = true;
-            if (++m->transitions > RG_MAX_TRANSITIONS) return rg_runaway_0(inst);
+            RG_BEGIN_TRANSITION(rg_runaway_0(inst));
             RG_TRACE(inst, "Front: t0: i -> Ready");
-            m->node = 1; m->entered[1] = m->ticks;
+            RG_ENTER(Front_Node_Ready);
             m->pc = 1; continue;
         case 1: /* b1: EVAL Ready  relay.rct:63 */
-            if ((m->smp_present[0] ? (m->v_r = m->smp_e0, true) : false)) { m->pc = 2; continue; }  /* t1: Ready -> Waiting relay.rct:66 */
+            /* t1: Ready -> Waiting request?r  relay.rct:66 */
+            if (m->smp_present[Front_Event_request] ? (m->v_r = m->smp_e_request, true) : false) { m->pc = 2; continue; }
             m->pc = 1; return RG_RUN_SUSPENDED;
         case 2: /* b2: t1: Ready -> Waiting  relay.rct:66 */
-            if (micro && taken) return RG_RUN_MICRO;  /* stepwise: one transition per instant */
-            taken = true;
-            if (++m->transitions > RG_MAX_TRANSITIONS) return rg_runaway_0(inst);
-            m->smp_present[0] = false;
+            RG_BEGIN_TRANSITION(rg_runaway_0(inst));
+            m->smp_present[Front_Event_request] = false;
             RG_TRACE(inst, "Front: t1: Ready -> Waiting");
             {
                 int64_t a0_ = m->v_r;
-                rg_deliver_1_0(d, a0_);
+                rg_deliver(d, &rg_events_1[Back_Event_job], &a0_);
             }
-            m->node = 2; m->entered[2] = m->ticks;
+            RG_ENTER(Front_Node_Waiting);
             m->pc = 3; continue;
         case 3: /* b3: EVAL Waiting  relay.rct:64 */
-            if ((m->smp_present[3] ? (m->v_back = m->smp_e3, true) : false)) { m->pc = 4; continue; }  /* t2: Waiting -> Ready relay.rct:67 */
-            if (m->smp_present[1]) { m->pc = 5; continue; }  /* t3: Waiting -> Ready relay.rct:68 */
+            /* t2: Waiting -> Ready done?back  relay.rct:67 */
+            if (m->smp_present[Front_Event_done] ? (m->v_back = m->smp_e_done, true) : false) { m->pc = 4; continue; }
+            /* t3: Waiting -> Ready reset  relay.rct:68 */
+            if (m->smp_present[Front_Event_reset]) { m->pc = 5; continue; }
             m->pc = 3; return RG_RUN_SUSPENDED;
         case 4: /* b4: t2: Waiting -> Ready  relay.rct:67 */
-            if (micro && taken) return RG_RUN_MICRO;  /* stepwise: one transition per instant */
-            taken = true;
-            if (++m->transitions > RG_MAX_TRANSITIONS) return rg_runaway_0(inst);
-            m->smp_present[3] = false;
+            RG_BEGIN_TRANSITION(rg_runaway_0(inst));
+            m->smp_present[Front_Event_done] = false;
             RG_TRACE(inst, "Front: t2: Waiting -> Ready");
-            m->node = 1; m->entered[1] = m->ticks;
+            RG_ENTER(Front_Node_Ready);
             m->pc = 1; continue;
         case 5: /* b5: t3: Waiting -> Ready  relay.rct:68 */
-            if (micro && taken) return RG_RUN_MICRO;  /* stepwise: one transition per instant */
-            taken = true;
-            if (++m->transitions > RG_MAX_TRANSITIONS) return rg_runaway_0(inst);
-            m->smp_present[1] = false;
+            RG_BEGIN_TRANSITION(rg_runaway_0(inst));
+            m->smp_present[Front_Event_reset] = false;
             RG_TRACE(inst, "Front: t3: Waiting -> Ready");
             m->v_served = UINT64_C(0);
-            m->node = 1; m->entered[1] = m->ticks;
+            RG_ENTER(Front_Node_Ready);
             m->pc = 1; continue;
         default:
             return rg_machine_fail(inst, "state machine Front: invalid resume point");
@@ -364,36 +218,29 @@ static int rg_run_0(rg_instance *inst, bool micro)
     }
 }
 
-/* Run state machine Back from m->pc until it suspends, or (micro: stepwise semantics)
- * until it reaches a second transition segment: each segment starts with a step check. */
-static int rg_run_1(rg_instance *inst, bool micro)
+/* Run state machine Back from block m->pc until the work of its run is done. */
+static int rg_run_1(rg_instance *inst)
 {
     rg_model_data *d = &inst->s.data;
     rg_machine_1 *m = &d->m1;
-    bool taken = false;  /* a transition segment was entered in this run */
     unsigned long steps = 0;
-    (void)micro;
-    (void)taken;
     for (;;) {
         if (++steps > RG_MAX_STEPS) return rg_runaway_1(inst);
         switch (m->pc) {
         case 0: /* b0: start Back  relay.rct:71 */
-            if (micro && taken) return RG_RUN_MICRO;  /* stepwise: one transition per instant */
-            taken = true;
-            if (++m->transitions > RG_MAX_TRANSITIONS) return rg_runaway_1(inst);
+            RG_BEGIN_TRANSITION(rg_runaway_1(inst));
             RG_TRACE(inst, "Back: t0: i -> Idle");
-            m->node = 1; m->entered[1] = m->ticks;
+            RG_ENTER(Back_Node_Idle);
             m->pc = 1; continue;
         case 1: /* b1: EVAL Idle  relay.rct:77 */
-            if ((m->smp_present[0] ? (m->v_j = m->smp_e0, true) : false)) { m->pc = 2; continue; }  /* t1: Idle -> Busy relay.rct:82 */
+            /* t1: Idle -> Busy job?j  relay.rct:82 */
+            if (m->smp_present[Back_Event_job] ? (m->v_j = m->smp_e_job, true) : false) { m->pc = 2; continue; }
             m->pc = 1; return RG_RUN_SUSPENDED;
         case 2: /* b2: t1: Idle -> Busy  relay.rct:82 */
-            if (micro && taken) return RG_RUN_MICRO;  /* stepwise: one transition per instant */
-            taken = true;
-            if (++m->transitions > RG_MAX_TRANSITIONS) return rg_runaway_1(inst);
-            m->smp_present[0] = false;
+            RG_BEGIN_TRANSITION(rg_runaway_1(inst));
+            m->smp_present[Back_Event_job] = false;
             RG_TRACE(inst, "Back: t1: Idle -> Busy");
-            m->node = 2; m->entered[2] = m->ticks;
+            RG_ENTER(Back_Node_Busy);
             m->v_jobs = rg_u_add(m->v_jobs, UINT64_C(1));
             m->v_process_1_x = m->v_j;
             m->v_process_1_times = UINT64_C(2);
@@ -401,45 +248,40 @@ static int rg_run_1(rg_instance *inst, bool micro)
             m->v_process_1_acc = INT64_C(0);
             m->pc = 4; continue;
         case 3: /* b3: after process()  relay.rct:79 */
-            m->node = 2;
+            m->node = Back_Node_Busy;
             m->v_pause_2_units = UINT64_C(1);
             m->pc = 10; continue;
         case 4: /* b4: call process()  relay.rct:79 */
             RG_TRACE(inst, "Back: t0: s -> Loop");
-            m->node = 4; m->entered[4] = m->ticks;
+            RG_ENTER(Back_Node_process_1_Loop);
             m->v_process_1_acc = rg_i_add(m->v_process_1_acc, m->v_process_1_x);
             m->v_process_1_i = rg_u_add(m->v_process_1_i, UINT64_C(1));
             m->pc = 5; continue;
         case 5: /* b5: EVAL process#1.Loop  relay.rct:36 */
-            if ((m->v_process_1_i < m->v_process_1_times)) { m->pc = 6; continue; }  /* t1: Loop -> Loop relay.rct:41 */
-            if ((m->v_process_1_i >= m->v_process_1_times)) { m->pc = 7; continue; }  /* t2: Loop -> f relay.rct:42 */
+            /* t1: Loop -> Loop [i < times]  relay.rct:41 */
+            if (m->v_process_1_i < m->v_process_1_times) { m->pc = 6; continue; }
+            /* t2: Loop -> f [i >= times]  relay.rct:42 */
+            if (m->v_process_1_i >= m->v_process_1_times) { m->pc = 7; continue; }
             m->pc = 5; return RG_RUN_SUSPENDED;
         case 6: /* b6: t1: Loop -> Loop  relay.rct:41 */
-            if (micro && taken) return RG_RUN_MICRO;  /* stepwise: one transition per instant */
-            taken = true;
-            if (++m->transitions > RG_MAX_TRANSITIONS) return rg_runaway_1(inst);
+            RG_BEGIN_TRANSITION(rg_runaway_1(inst));
             RG_TRACE(inst, "Back: t1: Loop -> Loop");
-            m->node = 4; m->entered[4] = m->ticks;
+            RG_ENTER(Back_Node_process_1_Loop);
             m->v_process_1_acc = rg_i_add(m->v_process_1_acc, m->v_process_1_x);
             m->v_process_1_i = rg_u_add(m->v_process_1_i, UINT64_C(1));
             m->pc = 5; continue;
         case 7: /* b7: t2: Loop -> f  relay.rct:42 */
-            if (micro && taken) return RG_RUN_MICRO;  /* stepwise: one transition per instant */
-            taken = true;
-            if (++m->transitions > RG_MAX_TRANSITIONS) return rg_runaway_1(inst);
+            RG_BEGIN_TRANSITION(rg_runaway_1(inst));
             RG_TRACE(inst, "Back: t2: Loop -> f");
-            {
-                int64_t a0_ = m->v_process_1_acc;
-                d->out_answer_value = a0_;
-                rg_activate_output_clock(inst, 3); /* answer */
-            }
+            d->out_answer_value = m->v_process_1_acc;
+            rg_activate_output_clock(inst, CLOCK_answer);
             d->m0.v_served = rg_u_add(d->m0.v_served, UINT64_C(1));
-            m->node = 5; m->entered[5] = m->ticks;
+            RG_ENTER(Back_Node_process_1_f);
             m->pc = 8; continue;
         case 8: /* b8: EVAL process#1.f  relay.rct:39 */
             m->pc = 3; continue;
         case 9: /* b9: after pause()  relay.rct:79 */
-            m->node = 2;
+            m->node = Back_Node_Busy;
             m->v_process_3_x = rg_i_mul(m->v_j, INT64_C(10));
             m->v_process_3_times = m->v_jobs;
             m->v_process_3_i = UINT64_C(0);
@@ -447,80 +289,71 @@ static int rg_run_1(rg_instance *inst, bool micro)
             m->pc = 17; continue;
         case 10: /* b10: call pause()  relay.rct:79 */
             RG_TRACE(inst, "Back: t0: s -> Waiting");
-            m->node = 7; m->entered[7] = m->ticks;
+            RG_ENTER(Back_Node_pause_2_Waiting);
             m->clock_reset[0] = m->ticks;
-            {
-                rg_activate_output_clock(inst, 4); /* busy */
-            }
+            rg_activate_output_clock(inst, CLOCK_busy);
             m->pc = 11; continue;
         case 11: /* b11: EVAL pause#2.Waiting  relay.rct:49 */
-            if ((((m->ticks - m->clock_reset[0]) * UINT64_C(1)) >= UINT64_C(2))) { m->pc = 12; continue; }  /* t1: Waiting -> f relay.rct:54 */
+            /* t1: Waiting -> f [since(W) >= 2]  relay.rct:54 */
+            if (((m->ticks - m->clock_reset[0]) * UINT64_C(1)) >= UINT64_C(2)) { m->pc = 12; continue; }
             m->pc = 11; return RG_RUN_SUSPENDED;
         case 12: /* b12: t1: Waiting -> f  relay.rct:54 */
-            if (micro && taken) return RG_RUN_MICRO;  /* stepwise: one transition per instant */
-            taken = true;
-            if (++m->transitions > RG_MAX_TRANSITIONS) return rg_runaway_1(inst);
+            RG_BEGIN_TRANSITION(rg_runaway_1(inst));
             RG_TRACE(inst, "Back: t1: Waiting -> f");
             { int64_t w_ = rg_u_to_i(m->v_pause_2_units); m->wait_left = w_ > 0 ? w_ : 0; }
             m->pc = 13; continue;
         case 13: /* b13: wait  relay.rct:54 */
-            if ((m->wait_left <= INT64_C(0))) { m->pc = 14; continue; }  /* wait over relay.rct:54 */
+            /* wait over  relay.rct:54 */
+            if (m->wait_left <= INT64_C(0)) { m->pc = 14; continue; }
             m->pc = 13; return RG_RUN_SUSPENDED;
         case 14: /* b14: after wait  relay.rct:54 */
-            m->node = 8; m->entered[8] = m->ticks;
+            RG_ENTER(Back_Node_pause_2_f);
             m->pc = 15; continue;
         case 15: /* b15: EVAL pause#2.f  relay.rct:52 */
             m->pc = 9; continue;
         case 16: /* b16: after process()  relay.rct:79 */
-            m->node = 2;
+            m->node = Back_Node_Busy;
             m->pc = 22; continue;
         case 17: /* b17: call process()  relay.rct:79 */
             RG_TRACE(inst, "Back: t0: s -> Loop");
-            m->node = 10; m->entered[10] = m->ticks;
+            RG_ENTER(Back_Node_process_3_Loop);
             m->v_process_3_acc = rg_i_add(m->v_process_3_acc, m->v_process_3_x);
             m->v_process_3_i = rg_u_add(m->v_process_3_i, UINT64_C(1));
             m->pc = 18; continue;
         case 18: /* b18: EVAL process#3.Loop  relay.rct:36 */
-            if ((m->v_process_3_i < m->v_process_3_times)) { m->pc = 19; continue; }  /* t1: Loop -> Loop relay.rct:41 */
-            if ((m->v_process_3_i >= m->v_process_3_times)) { m->pc = 20; continue; }  /* t2: Loop -> f relay.rct:42 */
+            /* t1: Loop -> Loop [i < times]  relay.rct:41 */
+            if (m->v_process_3_i < m->v_process_3_times) { m->pc = 19; continue; }
+            /* t2: Loop -> f [i >= times]  relay.rct:42 */
+            if (m->v_process_3_i >= m->v_process_3_times) { m->pc = 20; continue; }
             m->pc = 18; return RG_RUN_SUSPENDED;
         case 19: /* b19: t1: Loop -> Loop  relay.rct:41 */
-            if (micro && taken) return RG_RUN_MICRO;  /* stepwise: one transition per instant */
-            taken = true;
-            if (++m->transitions > RG_MAX_TRANSITIONS) return rg_runaway_1(inst);
+            RG_BEGIN_TRANSITION(rg_runaway_1(inst));
             RG_TRACE(inst, "Back: t1: Loop -> Loop");
-            m->node = 10; m->entered[10] = m->ticks;
+            RG_ENTER(Back_Node_process_3_Loop);
             m->v_process_3_acc = rg_i_add(m->v_process_3_acc, m->v_process_3_x);
             m->v_process_3_i = rg_u_add(m->v_process_3_i, UINT64_C(1));
             m->pc = 18; continue;
         case 20: /* b20: t2: Loop -> f  relay.rct:42 */
-            if (micro && taken) return RG_RUN_MICRO;  /* stepwise: one transition per instant */
-            taken = true;
-            if (++m->transitions > RG_MAX_TRANSITIONS) return rg_runaway_1(inst);
+            RG_BEGIN_TRANSITION(rg_runaway_1(inst));
             RG_TRACE(inst, "Back: t2: Loop -> f");
-            {
-                int64_t a0_ = m->v_process_3_acc;
-                d->out_answer_value = a0_;
-                rg_activate_output_clock(inst, 3); /* answer */
-            }
+            d->out_answer_value = m->v_process_3_acc;
+            rg_activate_output_clock(inst, CLOCK_answer);
             d->m0.v_served = rg_u_add(d->m0.v_served, UINT64_C(1));
-            m->node = 11; m->entered[11] = m->ticks;
+            RG_ENTER(Back_Node_process_3_f);
             m->pc = 21; continue;
         case 21: /* b21: EVAL process#3.f  relay.rct:39 */
             m->pc = 16; continue;
         case 22: /* b22: EVAL Busy  relay.rct:78 */
-            if (true) { m->pc = 23; continue; }  /* t2: Busy -> Idle relay.rct:83 */
-            m->pc = 22; return RG_RUN_SUSPENDED;
+            /* t2: Busy -> Idle  relay.rct:83 */
+            m->pc = 23; continue;
         case 23: /* b23: t2: Busy -> Idle  relay.rct:83 */
-            if (micro && taken) return RG_RUN_MICRO;  /* stepwise: one transition per instant */
-            taken = true;
-            if (++m->transitions > RG_MAX_TRANSITIONS) return rg_runaway_1(inst);
+            RG_BEGIN_TRANSITION(rg_runaway_1(inst));
             RG_TRACE(inst, "Back: t2: Busy -> Idle");
             {
                 int64_t a0_ = rg_i_add(m->v_j, INT64_C(1));
-                rg_deliver_0_3(d, a0_);
+                rg_deliver(d, &rg_events_0[Front_Event_done], &a0_);
             }
-            m->node = 1; m->entered[1] = m->ticks;
+            RG_ENTER(Back_Node_Idle);
             m->pc = 1; continue;
         default:
             return rg_machine_fail(inst, "state machine Back: invalid resume point");
@@ -534,15 +367,14 @@ static void rg_model_reset(rg_instance *inst)
 {
     rg_model_data *d = &inst->s.data;
     d->m0.pc = 0;
-    d->m0.node = 0;
+    d->m0.node = Front_Node_i;
     d->m1.pc = 0;
-    d->m1.node = 0;
+    d->m1.node = Back_Node_i;
 }
 
 static fmi3Status rg_model_exit_initialization(rg_instance *inst)
 {
     rg_model_data *d = &inst->s.data;
-    (void)d;
     {
         rg_machine_0 *m = &d->m0;
         m->v_r = INT64_C(0);  /* initial value of r */
@@ -559,31 +391,25 @@ static fmi3Status rg_model_exit_initialization(rg_instance *inst)
 static void rg_model_latch(rg_instance *inst, int clock_index)
 {
     rg_model_data *d = &inst->s.data;
-    (void)d;
     switch (clock_index) {
-    case 1: /* request */
-    {
+    case CLOCK_request: {
         int64_t v;
         v = d->in_request_value;
-        rg_deliver_0_0(d, v);
+        rg_deliver(d, &rg_events_0[Front_Event_request], &v);
         break;
     }
-    case 2: /* reset */
-    {
-        rg_deliver_0_1(d);
+    case CLOCK_reset:
+        rg_deliver(d, &rg_events_0[Front_Event_reset], NULL);
         break;
-    }
-    default:
+    default: /* the periodic clock, and input events that reach no state machine */
         break;
     }
 }
 
-
 static fmi3Status rg_model_evaluate(rg_instance *inst)
 {
     rg_model_data *d = &inst->s.data;
-    bool periodic = inst->s.clock_active[0];  /* tock */
-    int r = RG_RUN_SUSPENDED;
+    bool periodic = inst->s.clock_active[CLOCK_tock];
     d->fault = RG_FAULT_NONE;
     if (periodic) d->cycles++;
     {
@@ -593,41 +419,16 @@ static fmi3Status rg_model_evaluate(rg_instance *inst)
             m->ticks++;
             if (m->wait_left > 0) m->wait_left--;
         }
-        /* events join the buffer between runs: in the middle of a stepwise run they wait, so that the
-         * transition a micro-step decided on finds the buffer it was decided on */
-        if (m->reg_present[0] && !m->in_cycle) {  /* request joins the buffer, where it stays until consumed */
-            if (m->smp_present[0]) d->dropped_events++;
-            m->smp_present[0] = true;
-            m->smp_e0 = m->reg_e0;
-            m->reg_present[0] = false;
-            arrived = true;
+        if (!m->in_cycle) {
+            /* events join the buffer between runs: in the middle of a stepwise run they wait, so
+             * that the transition a micro-step decided on finds the buffer it was decided on */
+            size_t e;
+            for (e = 0; e < 4; e++) arrived = rg_join_buffer(d, &rg_events_0[e]) || arrived;
+            m->new_input = false;
         }
-        if (m->reg_present[1] && !m->in_cycle) {  /* reset joins the buffer, where it stays until consumed */
-            if (m->smp_present[1]) d->dropped_events++;
-            m->smp_present[1] = true;
-            m->reg_present[1] = false;
-            arrived = true;
-        }
-        if (m->reg_present[2] && !m->in_cycle) {  /* job joins the buffer, where it stays until consumed */
-            if (m->smp_present[2]) d->dropped_events++;
-            m->smp_present[2] = true;
-            m->smp_e2 = m->reg_e2;
-            m->reg_present[2] = false;
-            arrived = true;
-        }
-        if (m->reg_present[3] && !m->in_cycle) {  /* done joins the buffer, where it stays until consumed */
-            if (m->smp_present[3]) d->dropped_events++;
-            m->smp_present[3] = true;
-            m->smp_e3 = m->reg_e3;
-            m->reg_present[3] = false;
-            arrived = true;
-        }
-        if (!m->in_cycle) m->new_input = false;
         if (periodic || arrived || m->in_cycle) {
             if (!m->in_cycle) m->transitions = 0;  /* a new run to quiescence */
-            r = rg_run_0(inst, false);
-            if (r == RG_RUN_FAULT) return fmi3Error;
-            m->in_cycle = (r == RG_RUN_MICRO);
+            if (rg_run_failed(rg_run_0(inst), &m->in_cycle)) return fmi3Error;
         }
     }
     {
@@ -637,44 +438,18 @@ static fmi3Status rg_model_evaluate(rg_instance *inst)
             m->ticks++;
             if (m->wait_left > 0) m->wait_left--;
         }
-        /* events join the buffer between runs: in the middle of a stepwise run they wait, so that the
-         * transition a micro-step decided on finds the buffer it was decided on */
-        if (m->reg_present[0] && !m->in_cycle) {  /* job joins the buffer, where it stays until consumed */
-            if (m->smp_present[0]) d->dropped_events++;
-            m->smp_present[0] = true;
-            m->smp_e0 = m->reg_e0;
-            m->reg_present[0] = false;
-            arrived = true;
+        if (!m->in_cycle) {
+            /* events join the buffer between runs: in the middle of a stepwise run they wait, so
+             * that the transition a micro-step decided on finds the buffer it was decided on */
+            size_t e;
+            for (e = 0; e < 4; e++) arrived = rg_join_buffer(d, &rg_events_1[e]) || arrived;
+            m->new_input = false;
         }
-        if (m->reg_present[1] && !m->in_cycle) {  /* done joins the buffer, where it stays until consumed */
-            if (m->smp_present[1]) d->dropped_events++;
-            m->smp_present[1] = true;
-            m->smp_e1 = m->reg_e1;
-            m->reg_present[1] = false;
-            arrived = true;
-        }
-        if (m->reg_present[2] && !m->in_cycle) {  /* answer joins the buffer, where it stays until consumed */
-            if (m->smp_present[2]) d->dropped_events++;
-            m->smp_present[2] = true;
-            m->smp_e2 = m->reg_e2;
-            m->reg_present[2] = false;
-            arrived = true;
-        }
-        if (m->reg_present[3] && !m->in_cycle) {  /* busy joins the buffer, where it stays until consumed */
-            if (m->smp_present[3]) d->dropped_events++;
-            m->smp_present[3] = true;
-            m->reg_present[3] = false;
-            arrived = true;
-        }
-        if (!m->in_cycle) m->new_input = false;
         if (periodic || arrived || m->in_cycle) {
             if (!m->in_cycle) m->transitions = 0;  /* a new run to quiescence */
-            r = rg_run_1(inst, false);
-            if (r == RG_RUN_FAULT) return fmi3Error;
-            m->in_cycle = (r == RG_RUN_MICRO);
+            if (rg_run_failed(rg_run_1(inst), &m->in_cycle)) return fmi3Error;
         }
     }
-    (void)r;
     return fmi3OK;
 }
 
@@ -682,9 +457,8 @@ static fmi3Status rg_model_update(rg_instance *inst, bool *discrete_states_need_
                                   bool *terminate_simulation, bool *next_event_time_defined,
                                   double *next_event_time)
 {
-    rg_model_data *d = &inst->s.data;
+    const rg_model_data *d = &inst->s.data;
     bool need = false;
-    (void)d;
     (void)terminate_simulation;
     (void)next_event_time_defined;
     (void)next_event_time;
@@ -699,17 +473,5 @@ static fmi3Status rg_model_update(rg_instance *inst, bool *discrete_states_need_
         for (e = 0; e < 4; e++) need = need || d->m1.reg_present[e];
     }
     *discrete_states_need_update = need;
-    return fmi3OK;
-}
-
-static fmi3Status rg_model_do_step(rg_instance *inst, double t_end, bool *event_handling_needed,
-                                   bool *terminate_simulation, double *last_successful_time)
-{
-    /* The state machines only react in Event Mode; a step just lets time pass. */
-    (void)inst;
-    (void)t_end;
-    (void)event_handling_needed;
-    (void)terminate_simulation;
-    (void)last_successful_time;
     return fmi3OK;
 }

@@ -5,118 +5,24 @@
  * Each state machine is a function that resumes at block m->pc and runs until the cycle ends
  * (RG_RUN_SUSPENDED), until a micro-step boundary in stepwise semantics (RG_RUN_MICRO), or
  * until a run-time error (RG_RUN_FAULT, reported through logMessage and fmi3Error). Every block
- * opens with a comment naming what it does and the model line it comes from. */
+ * opens with a comment naming what it does and the model line it comes from; every guard is
+ * quoted as the model writes it above its test. The helpers (RG_BEGIN_TRANSITION, rg_deliver,
+ * the arithmetic) are robogen_machine.h's. */
 
-#include <string.h>
-
-/* ---- arithmetic as robogen defines it: wrapping integers, checked division --------------- */
-
-enum { RG_FAULT_NONE = 0, RG_FAULT_DIVISION = 1, RG_FAULT_INDEX = 2, RG_FAULT_RUNAWAY = 3, RG_FAULT_STUCK = 4,
-       RG_FAULT_CONVERSION = 5 };
-enum { RG_RUN_SUSPENDED = 0, RG_RUN_MICRO = 1, RG_RUN_FAULT = -1 };
-
-#define RG_MAX_TRANSITIONS 1000UL  /* transitions per cycle before a runaway is reported */
-#define RG_MAX_STEPS 64000UL        /* blocks per cycle, the same bound for any loop */
-#define RG_TRACE(inst, text) \
-    do { if ((inst)->logging_on && (inst)->log_category_on[RG_LOG_TRANSITIONS]) \
-        rg_log((inst), RG_LOG_TRANSITIONS, fmi3OK, "%s", (text)); } while (0)
-
-static inline int64_t rg_i_add(int64_t a, int64_t b) { return (int64_t)((uint64_t)a + (uint64_t)b); }
-static inline int64_t rg_i_sub(int64_t a, int64_t b) { return (int64_t)((uint64_t)a - (uint64_t)b); }
-static inline int64_t rg_i_mul(int64_t a, int64_t b) { return (int64_t)((uint64_t)a * (uint64_t)b); }
-static inline int64_t rg_i_neg(int64_t a) { return (int64_t)(UINT64_C(0) - (uint64_t)a); }
-static inline int64_t rg_i_abs(int64_t a) { return a < 0 ? rg_i_neg(a) : a; }
-static inline int64_t rg_i_min(int64_t a, int64_t b) { return a <= b ? a : b; }
-static inline int64_t rg_i_max(int64_t a, int64_t b) { return a >= b ? a : b; }
-static inline int64_t rg_i_div(rg_model_data *d, int64_t a, int64_t b)
-{
-    if (b == 0) { d->fault = RG_FAULT_DIVISION; return 0; }
-    if (b == -1) return rg_i_neg(a);
-    return a / b;
-}
-static inline int64_t rg_i_mod(rg_model_data *d, int64_t a, int64_t b)
-{
-    if (b == 0) { d->fault = RG_FAULT_DIVISION; return 0; }
-    if (b == -1) return 0;
-    return a % b;
-}
-static inline uint64_t rg_u_add(uint64_t a, uint64_t b) { return a + b; }
-static inline uint64_t rg_u_sub(uint64_t a, uint64_t b) { return a - b; }
-static inline uint64_t rg_u_mul(uint64_t a, uint64_t b) { return a * b; }
-static inline uint64_t rg_u_neg(uint64_t a) { return UINT64_C(0) - a; }
-static inline uint64_t rg_u_abs(uint64_t a) { return a; }
-static inline uint64_t rg_u_min(uint64_t a, uint64_t b) { return a <= b ? a : b; }
-static inline uint64_t rg_u_max(uint64_t a, uint64_t b) { return a >= b ? a : b; }
-static inline uint64_t rg_u_div(rg_model_data *d, uint64_t a, uint64_t b)
-{
-    if (b == 0) { d->fault = RG_FAULT_DIVISION; return 0; }
-    return a / b;
-}
-static inline uint64_t rg_u_mod(rg_model_data *d, uint64_t a, uint64_t b)
-{
-    if (b == 0) { d->fault = RG_FAULT_DIVISION; return 0; }
-    return a % b;
-}
-static inline double rg_r_div(rg_model_data *d, double a, double b)
-{
-    if (b == 0.0) { d->fault = RG_FAULT_DIVISION; return 0.0; }
-    return a / b;
-}
-static inline double rg_r_abs(double a) { return a < 0.0 ? -a : a; }
-/* Conversions: a real becomes an integer by truncation toward zero; outside the integer's range
- * (or NaN) it sets the fault code instead of being undefined behaviour. */
-static inline int64_t rg_r_to_i(rg_model_data *d, double x)
-{
-    if (!(x >= -9223372036854775808.0 && x < 9223372036854775808.0)) { d->fault = RG_FAULT_CONVERSION; return 0; }
-    return (int64_t)x;
-}
-static inline uint64_t rg_r_to_u(rg_model_data *d, double x)
-{
-    if (!(x > -1.0 && x < 18446744073709551616.0)) { d->fault = RG_FAULT_CONVERSION; return 0; }
-    return (uint64_t)x;
-}
-/* nat to int wraps around, like the interpreter (no implementation-defined conversion). */
-static inline int64_t rg_u_to_i(uint64_t x)
-{
-    return x <= (uint64_t)INT64_MAX ? (int64_t)x : -(int64_t)(UINT64_MAX - x) - 1;
-}
-static inline double rg_r_min(double a, double b) { return a <= b ? a : b; }
-static inline double rg_r_max(double a, double b) { return a >= b ? a : b; }
-/* A 1-based index into n elements, as a 0-based offset; out of range sets the fault code. */
-static inline int64_t rg_index(rg_model_data *d, int64_t i, int64_t n)
-{
-    if (i < 1 || i > n) { d->fault = RG_FAULT_INDEX; return 0; }
-    return i - 1;
-}
-
-static const char *rg_fault_text(int32_t fault) RG_MAYBE_UNUSED;
-static const char *rg_fault_text(int32_t fault)
-{
-    switch (fault) {
-    case RG_FAULT_DIVISION: return "division by zero";
-    case RG_FAULT_INDEX: return "index out of range";
-    case RG_FAULT_RUNAWAY: return "runaway cycle";
-    case RG_FAULT_CONVERSION: return "real number out of range for an integer";
-    default: return "run-time error";
-    }
-}
-
-/* A RoboChart deadline was missed: counted and logged, never enforced. */
-static void rg_deadline_miss(rg_instance *inst, const char *message) RG_MAYBE_UNUSED;
-static void rg_deadline_miss(rg_instance *inst, const char *message)
-{
-    inst->s.data.deadline_misses++;
-    rg_log(inst, RG_LOG_WARNING, fmi3Warning, "%s (t=%.17g)", message, inst->s.time);
-}
-
-static int rg_machine_fail(rg_instance *inst, const char *message)
-{
-    inst->s.data.fault = RG_FAULT_STUCK;
-    rg_log(inst, RG_LOG_ERROR, fmi3Error, "%s", message);
-    return RG_RUN_FAULT;
-}
+#include "robogen_machine.h"
 
 /* ---- the FMI variables and clocks (value references as in modelDescription.xml) ---------- */
+
+/* indices into rg_clocks */
+enum {
+    CLOCK_tock = 0,  /* one RoboChart time unit (tock) */
+    CLOCK_press = 1,  /* input event press */
+    CLOCK_set = 2,  /* input event set */
+    CLOCK_cancel = 3,  /* input event cancel */
+    CLOCK_ring = 4,  /* output event ring */
+    CLOCK_tick = 5,  /* output event tick */
+    CLOCK_armed = 6,  /* output event armed */
+};
 
 static const rg_clock rg_clocks[RG_CLOCK_ARRAY_SIZE] = {
     { 1, "tock", RG_CLOCK_INPUT_CONSTANT, 1, 0.0 },
@@ -150,6 +56,20 @@ static const rg_variable rg_variables[RG_NUM_VARIABLES] = {
 
 /* ======== state machine timers::Alarm (timers.rct:20) ======== */
 
+/* The name of a node of Alarm, for log messages. */
+static const char *Alarm_node_name(int64_t node)
+{
+    switch (node) {
+    case Alarm_Node_i: return "i";
+    case Alarm_Node_Off: return "Off";
+    case Alarm_Node_Armed: return "Armed";
+    case Alarm_Node_Ringing: return "Ringing";
+    case Alarm_Node_Snooze: return "Snooze";
+    default: return "?";
+    }
+}
+
+/* What each block does, for log messages (indexed by m->pc). */
 static const char *const rg_labels_0[] = {
     "b0: start Alarm (timers.rct:20)",
     "b1: EVAL Off (timers.rct:27)",
@@ -174,243 +94,165 @@ static const char *const rg_labels_0[] = {
     "b20: t2: Off -> Off (timers.rct:41)",
 };
 
-static int rg_fault_0(rg_instance *inst, int32_t pc) RG_MAYBE_UNUSED;
-static int rg_fault_0(rg_instance *inst, int32_t pc)
+static int rg_fault_0(rg_instance *inst) RG_MAYBE_UNUSED;
+static int rg_fault_0(rg_instance *inst)
 {
-    rg_log(inst, RG_LOG_ERROR, fmi3Error, "state machine Alarm: %s in %s", rg_fault_text(inst->s.data.fault), rg_labels_0[pc]);
-    return RG_RUN_FAULT;
+    const rg_machine_0 *m = &inst->s.data.m0;
+    return rg_report_fault(inst, "Alarm", rg_labels_0[m->pc], Alarm_node_name(m->node));
 }
 
 static int rg_runaway_0(rg_instance *inst)
 {
-    inst->s.data.fault = RG_FAULT_RUNAWAY;
-    rg_log(inst, RG_LOG_ERROR, fmi3Error, "state machine Alarm: more than %lu transitions in one cycle without exec "
-           "(a runaway cycle), at %s", RG_MAX_TRANSITIONS, rg_labels_0[inst->s.data.m0.pc]);
-    return RG_RUN_FAULT;
+    const rg_machine_0 *m = &inst->s.data.m0;
+    return rg_report_runaway(inst, "Alarm", rg_labels_0[m->pc], Alarm_node_name(m->node));
 }
 
-/* event press reaches Alarm: latched until its next run */
-static void rg_deliver_0_0(rg_model_data *d) RG_MAYBE_UNUSED;
-static void rg_deliver_0_0(rg_model_data *d)
-{
-    rg_machine_0 *m = &d->m0;
-    if (m->reg_present[0]) d->dropped_events++;
-    m->reg_present[0] = true;
-    m->new_input = true;
-}
+/* Where each input event of Alarm is latched and read (see rg_event_slot). */
+static const rg_event_slot rg_events_0[] = {
+    RG_EVENT(m0, Alarm_Event_press),
+    RG_TYPED_EVENT(m0, Alarm_Event_set, set),
+    RG_EVENT(m0, Alarm_Event_cancel),
+    RG_TYPED_EVENT(m0, Alarm_Event_ring, ring),
+    RG_EVENT(m0, Alarm_Event_tick),
+    RG_TYPED_EVENT(m0, Alarm_Event_armed, armed),
+};
 
-/* event set reaches Alarm: latched until its next run */
-static void rg_deliver_0_1(rg_model_data *d, uint64_t v) RG_MAYBE_UNUSED;
-static void rg_deliver_0_1(rg_model_data *d, uint64_t v)
-{
-    rg_machine_0 *m = &d->m0;
-    if (m->reg_present[1]) d->dropped_events++;
-    m->reg_present[1] = true;
-    m->reg_e1 = v;
-    m->new_input = true;
-}
-
-/* event cancel reaches Alarm: latched until its next run */
-static void rg_deliver_0_2(rg_model_data *d) RG_MAYBE_UNUSED;
-static void rg_deliver_0_2(rg_model_data *d)
-{
-    rg_machine_0 *m = &d->m0;
-    if (m->reg_present[2]) d->dropped_events++;
-    m->reg_present[2] = true;
-    m->new_input = true;
-}
-
-/* event ring reaches Alarm: latched until its next run */
-static void rg_deliver_0_3(rg_model_data *d, uint64_t v) RG_MAYBE_UNUSED;
-static void rg_deliver_0_3(rg_model_data *d, uint64_t v)
-{
-    rg_machine_0 *m = &d->m0;
-    if (m->reg_present[3]) d->dropped_events++;
-    m->reg_present[3] = true;
-    m->reg_e3 = v;
-    m->new_input = true;
-}
-
-/* event tick reaches Alarm: latched until its next run */
-static void rg_deliver_0_4(rg_model_data *d) RG_MAYBE_UNUSED;
-static void rg_deliver_0_4(rg_model_data *d)
-{
-    rg_machine_0 *m = &d->m0;
-    if (m->reg_present[4]) d->dropped_events++;
-    m->reg_present[4] = true;
-    m->new_input = true;
-}
-
-/* event armed reaches Alarm: latched until its next run */
-static void rg_deliver_0_5(rg_model_data *d, uint64_t v) RG_MAYBE_UNUSED;
-static void rg_deliver_0_5(rg_model_data *d, uint64_t v)
-{
-    rg_machine_0 *m = &d->m0;
-    if (m->reg_present[5]) d->dropped_events++;
-    m->reg_present[5] = true;
-    m->reg_e5 = v;
-    m->new_input = true;
-}
-
-/* Run state machine Alarm from m->pc until it suspends, or (micro: stepwise semantics)
- * until it reaches a second transition segment: each segment starts with a step check. */
-static int rg_run_0(rg_instance *inst, bool micro)
+/* Run state machine Alarm from block m->pc until the work of its run is done. */
+static int rg_run_0(rg_instance *inst)
 {
     rg_model_data *d = &inst->s.data;
     rg_machine_0 *m = &d->m0;
-    bool taken = false;  /* a transition segment was entered in this run */
     unsigned long steps = 0;
-    (void)micro;
-    (void)taken;
     for (;;) {
         if (++steps > RG_MAX_STEPS) return rg_runaway_0(inst);
         switch (m->pc) {
         case 0: /* b0: start Alarm  timers.rct:20 */
-            if (micro && taken) return RG_RUN_MICRO;  /* stepwise: one transition per instant */
-            taken = true;
-            if (++m->transitions > RG_MAX_TRANSITIONS) return rg_runaway_0(inst);
+            RG_BEGIN_TRANSITION(rg_runaway_0(inst));
             RG_TRACE(inst, "Alarm: t0: i -> Off");
-            m->node = 1; m->entered[1] = m->ticks;
+            RG_ENTER(Alarm_Node_Off);
             m->clock_reset[1] = m->ticks;
             m->pc = 1; continue;
         case 1: /* b1: EVAL Off  timers.rct:27 */
-            if ((m->smp_present[0] && (((m->ticks - m->clock_reset[1]) * UINT64_C(1)) >= UINT64_C(1)))) { m->pc = 2; continue; }  /* t1: Off -> Armed timers.rct:40 */
-            if (((m->smp_present[1] ? (m->v_pending = m->smp_e1, true) : false) && (m->v_pending > UINT64_C(0)))) { m->pc = 20; continue; }  /* t2: Off -> Off timers.rct:41 */
+            /* t1: Off -> Armed press [since(D) >= 1]  timers.rct:40 */
+            if (m->smp_present[Alarm_Event_press] && (((m->ticks - m->clock_reset[1]) * UINT64_C(1)) >= UINT64_C(1))) { m->pc = 2; continue; }
+            /* t2: Off -> Off set?pending [pending > 0]  timers.rct:41 */
+            if ((m->smp_present[Alarm_Event_set] ? (m->v_pending = m->smp_e_set, true) : false) && (m->v_pending > UINT64_C(0))) { m->pc = 20; continue; }
             m->pc = 1; return RG_RUN_SUSPENDED;
         case 2: /* b2: t1: Off -> Armed  timers.rct:40 */
-            if (micro && taken) return RG_RUN_MICRO;  /* stepwise: one transition per instant */
-            taken = true;
-            if (++m->transitions > RG_MAX_TRANSITIONS) return rg_runaway_0(inst);
-            m->smp_present[0] = false;
+            RG_BEGIN_TRANSITION(rg_runaway_0(inst));
+            m->smp_present[Alarm_Event_press] = false;
             RG_TRACE(inst, "Alarm: t1: Off -> Armed");
-            m->node = 2; m->entered[2] = m->ticks;
+            RG_ENTER(Alarm_Node_Armed);
             m->v_t4_deadline = false;
-            {
-                uint64_t a0_ = m->v_delay;
-                d->out_armed_value = a0_;
-                rg_activate_output_clock(inst, 6); /* armed */
-            }
+            d->out_armed_value = m->v_delay;
+            rg_activate_output_clock(inst, CLOCK_armed);
             m->clock_reset[0] = m->ticks;
             m->pc = 3; continue;
         case 3: /* b3: EVAL Armed  timers.rct:30 */
-            if (((!m->v_t4_deadline) && (rg_u_to_i(((m->ticks - m->entered[2]) * UINT64_C(1))) > INT64_C(3)))) {
+            if ((!m->v_t4_deadline) && (rg_u_to_i(((m->ticks - m->entered[Alarm_Node_Armed]) * UINT64_C(1))) > INT64_C(3))) {
                 m->v_t4_deadline = true;
                 rg_deadline_miss(inst, "Alarm: t4: deadline missed: trigger 'cancel' not within 3 time unit(s) of entering Armed (timers.rct:43)");
             }
-            if ((((m->ticks - m->clock_reset[0]) * UINT64_C(1)) >= m->v_delay)) { m->pc = 4; continue; }  /* t3: Armed -> Ringing timers.rct:42 */
-            if (m->smp_present[2]) { m->pc = 19; continue; }  /* t4: Armed -> Off timers.rct:43 */
+            /* t3: Armed -> Ringing [since(C) >= delay]  timers.rct:42 */
+            if (((m->ticks - m->clock_reset[0]) * UINT64_C(1)) >= m->v_delay) { m->pc = 4; continue; }
+            /* t4: Armed -> Off cancel  timers.rct:43 */
+            if (m->smp_present[Alarm_Event_cancel]) { m->pc = 19; continue; }
             m->pc = 3; return RG_RUN_SUSPENDED;
         case 4: /* b4: t3: Armed -> Ringing  timers.rct:42 */
-            if (micro && taken) return RG_RUN_MICRO;  /* stepwise: one transition per instant */
-            taken = true;
-            if (++m->transitions > RG_MAX_TRANSITIONS) return rg_runaway_0(inst);
+            RG_BEGIN_TRANSITION(rg_runaway_0(inst));
             RG_TRACE(inst, "Alarm: t3: Armed -> Ringing");
-            m->node = 3; m->entered[3] = m->ticks;
+            RG_ENTER(Alarm_Node_Ringing);
             m->v_rings = rg_u_add(m->v_rings, UINT64_C(1));
-            {
-                uint64_t a0_ = m->v_rings;
-                d->out_ring_value = a0_;
-                rg_activate_output_clock(inst, 4); /* ring */
-            }
+            d->out_ring_value = m->v_rings;
+            rg_activate_output_clock(inst, CLOCK_ring);
             { int64_t w_ = INT64_C(1); m->wait_left = w_ > 0 ? w_ : 0; }
             m->pc = 5; continue;
         case 5: /* b5: wait  timers.rct:34 */
-            if ((m->wait_left <= INT64_C(0))) { m->pc = 6; continue; }  /* wait over timers.rct:34 */
+            /* wait over  timers.rct:34 */
+            if (m->wait_left <= INT64_C(0)) { m->pc = 6; continue; }
             m->pc = 5; return RG_RUN_SUSPENDED;
         case 6: /* b6: after wait  timers.rct:34 */
-            {
-                rg_activate_output_clock(inst, 5); /* tick */
-            }
+            rg_activate_output_clock(inst, CLOCK_tick);
             m->pc = 7; continue;
         case 7: /* b7: EVAL Ringing  timers.rct:33 */
-            if (m->smp_present[0]) { m->pc = 8; continue; }  /* t5: Ringing -> Snooze timers.rct:44 */
-            if (m->smp_present[2]) { m->pc = 17; continue; }  /* t6: Ringing -> Off timers.rct:45 */
-            if ((((m->ticks - m->entered[3]) * UINT64_C(1)) >= UINT64_C(5))) { m->pc = 18; continue; }  /* t7: Ringing -> Off timers.rct:46 */
+            /* t5: Ringing -> Snooze press  timers.rct:44 */
+            if (m->smp_present[Alarm_Event_press]) { m->pc = 8; continue; }
+            /* t6: Ringing -> Off cancel  timers.rct:45 */
+            if (m->smp_present[Alarm_Event_cancel]) { m->pc = 17; continue; }
+            /* t7: Ringing -> Off [sinceEntry(Ringing) >= 5]  timers.rct:46 */
+            if (((m->ticks - m->entered[Alarm_Node_Ringing]) * UINT64_C(1)) >= UINT64_C(5)) { m->pc = 18; continue; }
             m->pc = 7; return RG_RUN_SUSPENDED;
         case 8: /* b8: t5: Ringing -> Snooze  timers.rct:44 */
-            if (micro && taken) return RG_RUN_MICRO;  /* stepwise: one transition per instant */
-            taken = true;
-            if (++m->transitions > RG_MAX_TRANSITIONS) return rg_runaway_0(inst);
-            m->smp_present[0] = false;
+            RG_BEGIN_TRANSITION(rg_runaway_0(inst));
+            m->smp_present[Alarm_Event_press] = false;
             RG_TRACE(inst, "Alarm: t5: Ringing -> Snooze");
             { int64_t w_ = INT64_C(1); m->wait_left = w_ > 0 ? w_ : 0; }
             m->pc = 9; continue;
         case 9: /* b9: wait  timers.rct:44 */
-            if ((m->wait_left <= INT64_C(0))) { m->pc = 10; continue; }  /* wait over timers.rct:44 */
+            /* wait over  timers.rct:44 */
+            if (m->wait_left <= INT64_C(0)) { m->pc = 10; continue; }
             m->pc = 9; return RG_RUN_SUSPENDED;
         case 10: /* b10: after wait  timers.rct:44 */
             m->clock_reset[0] = m->ticks;
-            m->node = 4; m->entered[4] = m->ticks;
+            RG_ENTER(Alarm_Node_Snooze);
             m->v_deadline_1 = m->ticks;
             { int64_t w_ = rg_u_to_i(m->v_delay); m->wait_left = w_ > 0 ? w_ : 0; }
             m->pc = 11; continue;
         case 11: /* b11: wait  timers.rct:37 */
-            if ((m->wait_left <= INT64_C(0))) { m->pc = 12; continue; }  /* wait over timers.rct:37 */
+            /* wait over  timers.rct:37 */
+            if (m->wait_left <= INT64_C(0)) { m->pc = 12; continue; }
             m->pc = 11; return RG_RUN_SUSPENDED;
         case 12: /* b12: after wait  timers.rct:37 */
-            if ((rg_u_to_i(rg_u_sub(m->ticks, m->v_deadline_1)) > INT64_C(2))) {
+            if (rg_u_to_i(rg_u_sub(m->ticks, m->v_deadline_1)) > INT64_C(2)) {
                 rg_deadline_miss(inst, "Alarm: deadline missed: the statement at timers.rct:37 took longer than 2 time unit(s)");
             }
             m->pc = 13; continue;
         case 13: /* b13: EVAL Snooze  timers.rct:36 */
-            if ((((m->ticks - m->clock_reset[0]) * UINT64_C(1)) >= UINT64_C(1))) { m->pc = 14; continue; }  /* t8: Snooze -> Ringing timers.rct:47 */
+            /* t8: Snooze -> Ringing [since(C) >= 1]  timers.rct:47 */
+            if (((m->ticks - m->clock_reset[0]) * UINT64_C(1)) >= UINT64_C(1)) { m->pc = 14; continue; }
             m->pc = 13; return RG_RUN_SUSPENDED;
         case 14: /* b14: t8: Snooze -> Ringing  timers.rct:47 */
-            if (micro && taken) return RG_RUN_MICRO;  /* stepwise: one transition per instant */
-            taken = true;
-            if (++m->transitions > RG_MAX_TRANSITIONS) return rg_runaway_0(inst);
+            RG_BEGIN_TRANSITION(rg_runaway_0(inst));
             RG_TRACE(inst, "Alarm: t8: Snooze -> Ringing");
-            m->node = 3; m->entered[3] = m->ticks;
+            RG_ENTER(Alarm_Node_Ringing);
             m->v_rings = rg_u_add(m->v_rings, UINT64_C(1));
-            {
-                uint64_t a0_ = m->v_rings;
-                d->out_ring_value = a0_;
-                rg_activate_output_clock(inst, 4); /* ring */
-            }
+            d->out_ring_value = m->v_rings;
+            rg_activate_output_clock(inst, CLOCK_ring);
             { int64_t w_ = INT64_C(1); m->wait_left = w_ > 0 ? w_ : 0; }
             m->pc = 15; continue;
         case 15: /* b15: wait  timers.rct:34 */
-            if ((m->wait_left <= INT64_C(0))) { m->pc = 16; continue; }  /* wait over timers.rct:34 */
+            /* wait over  timers.rct:34 */
+            if (m->wait_left <= INT64_C(0)) { m->pc = 16; continue; }
             m->pc = 15; return RG_RUN_SUSPENDED;
         case 16: /* b16: after wait  timers.rct:34 */
-            {
-                rg_activate_output_clock(inst, 5); /* tick */
-            }
+            rg_activate_output_clock(inst, CLOCK_tick);
             m->pc = 7; continue;
         case 17: /* b17: t6: Ringing -> Off  timers.rct:45 */
-            if (micro && taken) return RG_RUN_MICRO;  /* stepwise: one transition per instant */
-            taken = true;
-            if (++m->transitions > RG_MAX_TRANSITIONS) return rg_runaway_0(inst);
-            m->smp_present[2] = false;
+            RG_BEGIN_TRANSITION(rg_runaway_0(inst));
+            m->smp_present[Alarm_Event_cancel] = false;
             RG_TRACE(inst, "Alarm: t6: Ringing -> Off");
-            m->node = 1; m->entered[1] = m->ticks;
+            RG_ENTER(Alarm_Node_Off);
             m->clock_reset[1] = m->ticks;
             m->pc = 1; continue;
         case 18: /* b18: t7: Ringing -> Off  timers.rct:46 */
-            if (micro && taken) return RG_RUN_MICRO;  /* stepwise: one transition per instant */
-            taken = true;
-            if (++m->transitions > RG_MAX_TRANSITIONS) return rg_runaway_0(inst);
+            RG_BEGIN_TRANSITION(rg_runaway_0(inst));
             RG_TRACE(inst, "Alarm: t7: Ringing -> Off");
-            m->node = 1; m->entered[1] = m->ticks;
+            RG_ENTER(Alarm_Node_Off);
             m->clock_reset[1] = m->ticks;
             m->pc = 1; continue;
         case 19: /* b19: t4: Armed -> Off  timers.rct:43 */
-            if (micro && taken) return RG_RUN_MICRO;  /* stepwise: one transition per instant */
-            taken = true;
-            if (++m->transitions > RG_MAX_TRANSITIONS) return rg_runaway_0(inst);
-            m->smp_present[2] = false;
+            RG_BEGIN_TRANSITION(rg_runaway_0(inst));
+            m->smp_present[Alarm_Event_cancel] = false;
             RG_TRACE(inst, "Alarm: t4: Armed -> Off");
-            m->node = 1; m->entered[1] = m->ticks;
+            RG_ENTER(Alarm_Node_Off);
             m->clock_reset[1] = m->ticks;
             m->pc = 1; continue;
         case 20: /* b20: t2: Off -> Off  timers.rct:41 */
-            if (micro && taken) return RG_RUN_MICRO;  /* stepwise: one transition per instant */
-            taken = true;
-            if (++m->transitions > RG_MAX_TRANSITIONS) return rg_runaway_0(inst);
-            m->smp_present[1] = false;
+            RG_BEGIN_TRANSITION(rg_runaway_0(inst));
+            m->smp_present[Alarm_Event_set] = false;
             RG_TRACE(inst, "Alarm: t2: Off -> Off");
             m->v_delay = m->v_pending;
-            m->node = 1; m->entered[1] = m->ticks;
+            RG_ENTER(Alarm_Node_Off);
             m->clock_reset[1] = m->ticks;
             m->pc = 1; continue;
         default:
@@ -425,13 +267,12 @@ static void rg_model_reset(rg_instance *inst)
 {
     rg_model_data *d = &inst->s.data;
     d->m0.pc = 0;
-    d->m0.node = 0;
+    d->m0.node = Alarm_Node_i;
 }
 
 static fmi3Status rg_model_exit_initialization(rg_instance *inst)
 {
     rg_model_data *d = &inst->s.data;
-    (void)d;
     {
         rg_machine_0 *m = &d->m0;
         m->v_delay = UINT64_C(2);  /* initial value of delay */
@@ -444,36 +285,28 @@ static fmi3Status rg_model_exit_initialization(rg_instance *inst)
 static void rg_model_latch(rg_instance *inst, int clock_index)
 {
     rg_model_data *d = &inst->s.data;
-    (void)d;
     switch (clock_index) {
-    case 1: /* press */
-    {
-        rg_deliver_0_0(d);
+    case CLOCK_press:
+        rg_deliver(d, &rg_events_0[Alarm_Event_press], NULL);
         break;
-    }
-    case 2: /* set */
-    {
+    case CLOCK_set: {
         uint64_t v;
         v = d->in_set_value;
-        rg_deliver_0_1(d, v);
+        rg_deliver(d, &rg_events_0[Alarm_Event_set], &v);
         break;
     }
-    case 3: /* cancel */
-    {
-        rg_deliver_0_2(d);
+    case CLOCK_cancel:
+        rg_deliver(d, &rg_events_0[Alarm_Event_cancel], NULL);
         break;
-    }
-    default:
+    default: /* the periodic clock, and input events that reach no state machine */
         break;
     }
 }
 
-
 static fmi3Status rg_model_evaluate(rg_instance *inst)
 {
     rg_model_data *d = &inst->s.data;
-    bool periodic = inst->s.clock_active[0];  /* tock */
-    int r = RG_RUN_SUSPENDED;
+    bool periodic = inst->s.clock_active[CLOCK_tock];
     d->fault = RG_FAULT_NONE;
     if (periodic) d->cycles++;
     {
@@ -483,56 +316,18 @@ static fmi3Status rg_model_evaluate(rg_instance *inst)
             m->ticks++;
             if (m->wait_left > 0) m->wait_left--;
         }
-        /* events join the buffer between runs: in the middle of a stepwise run they wait, so that the
-         * transition a micro-step decided on finds the buffer it was decided on */
-        if (m->reg_present[0] && !m->in_cycle) {  /* press joins the buffer, where it stays until consumed */
-            if (m->smp_present[0]) d->dropped_events++;
-            m->smp_present[0] = true;
-            m->reg_present[0] = false;
-            arrived = true;
+        if (!m->in_cycle) {
+            /* events join the buffer between runs: in the middle of a stepwise run they wait, so
+             * that the transition a micro-step decided on finds the buffer it was decided on */
+            size_t e;
+            for (e = 0; e < 6; e++) arrived = rg_join_buffer(d, &rg_events_0[e]) || arrived;
+            m->new_input = false;
         }
-        if (m->reg_present[1] && !m->in_cycle) {  /* set joins the buffer, where it stays until consumed */
-            if (m->smp_present[1]) d->dropped_events++;
-            m->smp_present[1] = true;
-            m->smp_e1 = m->reg_e1;
-            m->reg_present[1] = false;
-            arrived = true;
-        }
-        if (m->reg_present[2] && !m->in_cycle) {  /* cancel joins the buffer, where it stays until consumed */
-            if (m->smp_present[2]) d->dropped_events++;
-            m->smp_present[2] = true;
-            m->reg_present[2] = false;
-            arrived = true;
-        }
-        if (m->reg_present[3] && !m->in_cycle) {  /* ring joins the buffer, where it stays until consumed */
-            if (m->smp_present[3]) d->dropped_events++;
-            m->smp_present[3] = true;
-            m->smp_e3 = m->reg_e3;
-            m->reg_present[3] = false;
-            arrived = true;
-        }
-        if (m->reg_present[4] && !m->in_cycle) {  /* tick joins the buffer, where it stays until consumed */
-            if (m->smp_present[4]) d->dropped_events++;
-            m->smp_present[4] = true;
-            m->reg_present[4] = false;
-            arrived = true;
-        }
-        if (m->reg_present[5] && !m->in_cycle) {  /* armed joins the buffer, where it stays until consumed */
-            if (m->smp_present[5]) d->dropped_events++;
-            m->smp_present[5] = true;
-            m->smp_e5 = m->reg_e5;
-            m->reg_present[5] = false;
-            arrived = true;
-        }
-        if (!m->in_cycle) m->new_input = false;
         if (periodic || arrived || m->in_cycle) {
             if (!m->in_cycle) m->transitions = 0;  /* a new run to quiescence */
-            r = rg_run_0(inst, false);
-            if (r == RG_RUN_FAULT) return fmi3Error;
-            m->in_cycle = (r == RG_RUN_MICRO);
+            if (rg_run_failed(rg_run_0(inst), &m->in_cycle)) return fmi3Error;
         }
     }
-    (void)r;
     return fmi3OK;
 }
 
@@ -540,9 +335,8 @@ static fmi3Status rg_model_update(rg_instance *inst, bool *discrete_states_need_
                                   bool *terminate_simulation, bool *next_event_time_defined,
                                   double *next_event_time)
 {
-    rg_model_data *d = &inst->s.data;
+    const rg_model_data *d = &inst->s.data;
     bool need = false;
-    (void)d;
     (void)terminate_simulation;
     (void)next_event_time_defined;
     (void)next_event_time;
@@ -552,17 +346,5 @@ static fmi3Status rg_model_update(rg_instance *inst, bool *discrete_states_need_
         for (e = 0; e < 6; e++) need = need || d->m0.reg_present[e];
     }
     *discrete_states_need_update = need;
-    return fmi3OK;
-}
-
-static fmi3Status rg_model_do_step(rg_instance *inst, double t_end, bool *event_handling_needed,
-                                   bool *terminate_simulation, double *last_successful_time)
-{
-    /* The state machines only react in Event Mode; a step just lets time pass. */
-    (void)inst;
-    (void)t_end;
-    (void)event_handling_needed;
-    (void)terminate_simulation;
-    (void)last_successful_time;
     return fmi3OK;
 }

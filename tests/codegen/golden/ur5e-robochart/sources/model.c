@@ -5,118 +5,29 @@
  * Each state machine is a function that resumes at block m->pc and runs until the cycle ends
  * (RG_RUN_SUSPENDED), until a micro-step boundary in stepwise semantics (RG_RUN_MICRO), or
  * until a run-time error (RG_RUN_FAULT, reported through logMessage and fmi3Error). Every block
- * opens with a comment naming what it does and the model line it comes from. */
+ * opens with a comment naming what it does and the model line it comes from; every guard is
+ * quoted as the model writes it above its test. The helpers (RG_BEGIN_TRANSITION, rg_deliver,
+ * the arithmetic) are robogen_machine.h's. */
 
-#include <string.h>
-
-/* ---- arithmetic as robogen defines it: wrapping integers, checked division --------------- */
-
-enum { RG_FAULT_NONE = 0, RG_FAULT_DIVISION = 1, RG_FAULT_INDEX = 2, RG_FAULT_RUNAWAY = 3, RG_FAULT_STUCK = 4,
-       RG_FAULT_CONVERSION = 5 };
-enum { RG_RUN_SUSPENDED = 0, RG_RUN_MICRO = 1, RG_RUN_FAULT = -1 };
-
-#define RG_MAX_TRANSITIONS 1000UL  /* transitions per cycle before a runaway is reported */
-#define RG_MAX_STEPS 64000UL        /* blocks per cycle, the same bound for any loop */
-#define RG_TRACE(inst, text) \
-    do { if ((inst)->logging_on && (inst)->log_category_on[RG_LOG_TRANSITIONS]) \
-        rg_log((inst), RG_LOG_TRANSITIONS, fmi3OK, "%s", (text)); } while (0)
-
-static inline int64_t rg_i_add(int64_t a, int64_t b) { return (int64_t)((uint64_t)a + (uint64_t)b); }
-static inline int64_t rg_i_sub(int64_t a, int64_t b) { return (int64_t)((uint64_t)a - (uint64_t)b); }
-static inline int64_t rg_i_mul(int64_t a, int64_t b) { return (int64_t)((uint64_t)a * (uint64_t)b); }
-static inline int64_t rg_i_neg(int64_t a) { return (int64_t)(UINT64_C(0) - (uint64_t)a); }
-static inline int64_t rg_i_abs(int64_t a) { return a < 0 ? rg_i_neg(a) : a; }
-static inline int64_t rg_i_min(int64_t a, int64_t b) { return a <= b ? a : b; }
-static inline int64_t rg_i_max(int64_t a, int64_t b) { return a >= b ? a : b; }
-static inline int64_t rg_i_div(rg_model_data *d, int64_t a, int64_t b)
-{
-    if (b == 0) { d->fault = RG_FAULT_DIVISION; return 0; }
-    if (b == -1) return rg_i_neg(a);
-    return a / b;
-}
-static inline int64_t rg_i_mod(rg_model_data *d, int64_t a, int64_t b)
-{
-    if (b == 0) { d->fault = RG_FAULT_DIVISION; return 0; }
-    if (b == -1) return 0;
-    return a % b;
-}
-static inline uint64_t rg_u_add(uint64_t a, uint64_t b) { return a + b; }
-static inline uint64_t rg_u_sub(uint64_t a, uint64_t b) { return a - b; }
-static inline uint64_t rg_u_mul(uint64_t a, uint64_t b) { return a * b; }
-static inline uint64_t rg_u_neg(uint64_t a) { return UINT64_C(0) - a; }
-static inline uint64_t rg_u_abs(uint64_t a) { return a; }
-static inline uint64_t rg_u_min(uint64_t a, uint64_t b) { return a <= b ? a : b; }
-static inline uint64_t rg_u_max(uint64_t a, uint64_t b) { return a >= b ? a : b; }
-static inline uint64_t rg_u_div(rg_model_data *d, uint64_t a, uint64_t b)
-{
-    if (b == 0) { d->fault = RG_FAULT_DIVISION; return 0; }
-    return a / b;
-}
-static inline uint64_t rg_u_mod(rg_model_data *d, uint64_t a, uint64_t b)
-{
-    if (b == 0) { d->fault = RG_FAULT_DIVISION; return 0; }
-    return a % b;
-}
-static inline double rg_r_div(rg_model_data *d, double a, double b)
-{
-    if (b == 0.0) { d->fault = RG_FAULT_DIVISION; return 0.0; }
-    return a / b;
-}
-static inline double rg_r_abs(double a) { return a < 0.0 ? -a : a; }
-/* Conversions: a real becomes an integer by truncation toward zero; outside the integer's range
- * (or NaN) it sets the fault code instead of being undefined behaviour. */
-static inline int64_t rg_r_to_i(rg_model_data *d, double x)
-{
-    if (!(x >= -9223372036854775808.0 && x < 9223372036854775808.0)) { d->fault = RG_FAULT_CONVERSION; return 0; }
-    return (int64_t)x;
-}
-static inline uint64_t rg_r_to_u(rg_model_data *d, double x)
-{
-    if (!(x > -1.0 && x < 18446744073709551616.0)) { d->fault = RG_FAULT_CONVERSION; return 0; }
-    return (uint64_t)x;
-}
-/* nat to int wraps around, like the interpreter (no implementation-defined conversion). */
-static inline int64_t rg_u_to_i(uint64_t x)
-{
-    return x <= (uint64_t)INT64_MAX ? (int64_t)x : -(int64_t)(UINT64_MAX - x) - 1;
-}
-static inline double rg_r_min(double a, double b) { return a <= b ? a : b; }
-static inline double rg_r_max(double a, double b) { return a >= b ? a : b; }
-/* A 1-based index into n elements, as a 0-based offset; out of range sets the fault code. */
-static inline int64_t rg_index(rg_model_data *d, int64_t i, int64_t n)
-{
-    if (i < 1 || i > n) { d->fault = RG_FAULT_INDEX; return 0; }
-    return i - 1;
-}
-
-static const char *rg_fault_text(int32_t fault) RG_MAYBE_UNUSED;
-static const char *rg_fault_text(int32_t fault)
-{
-    switch (fault) {
-    case RG_FAULT_DIVISION: return "division by zero";
-    case RG_FAULT_INDEX: return "index out of range";
-    case RG_FAULT_RUNAWAY: return "runaway cycle";
-    case RG_FAULT_CONVERSION: return "real number out of range for an integer";
-    default: return "run-time error";
-    }
-}
-
-/* A RoboChart deadline was missed: counted and logged, never enforced. */
-static void rg_deadline_miss(rg_instance *inst, const char *message) RG_MAYBE_UNUSED;
-static void rg_deadline_miss(rg_instance *inst, const char *message)
-{
-    inst->s.data.deadline_misses++;
-    rg_log(inst, RG_LOG_WARNING, fmi3Warning, "%s (t=%.17g)", message, inst->s.time);
-}
-
-static int rg_machine_fail(rg_instance *inst, const char *message)
-{
-    inst->s.data.fault = RG_FAULT_STUCK;
-    rg_log(inst, RG_LOG_ERROR, fmi3Error, "%s", message);
-    return RG_RUN_FAULT;
-}
+#include "robogen_machine.h"
 
 /* ---- the FMI variables and clocks (value references as in modelDescription.xml) ---------- */
+
+/* indices into rg_clocks */
+enum {
+    CLOCK_tock = 0,  /* one RoboChart time unit (tock) */
+    CLOCK_moveDiscreteCommand = 1,  /* input event moveDiscreteCommand */
+    CLOCK_feasibleMoveDiscreteCommand = 2,  /* input event feasibleMoveDiscreteCommand */
+    CLOCK_nonfeasibleMoveDiscreteCommand = 3,  /* input event nonfeasibleMoveDiscreteCommand */
+    CLOCK_moveCompleted = 4,  /* input event moveCompleted */
+    CLOCK_robotStopped = 5,  /* input event robotStopped */
+    CLOCK_collision = 6,  /* input event collision */
+    CLOCK_movecartesian = 7,  /* call of platform operation movecartesian */
+    CLOCK_movediscrete = 8,  /* call of platform operation movediscrete */
+    CLOCK_movejoint = 9,  /* call of platform operation movejoint */
+    CLOCK_stop = 10,  /* call of platform operation stop */
+    CLOCK_setvelocity = 11,  /* call of platform operation setvelocity */
+};
 
 static const rg_clock rg_clocks[RG_CLOCK_ARRAY_SIZE] = {
     { 1, "tock", RG_CLOCK_INPUT_CONSTANT, 1, 0.0 },
@@ -177,6 +88,21 @@ static const rg_variable rg_variables[RG_NUM_VARIABLES] = {
 
 /* ======== state machine ur5e_rc::ArmMovement (ur5e.rct:70) ======== */
 
+/* The name of a node of ArmMovement, for log messages. */
+static const char *ArmMovement_node_name(int64_t node)
+{
+    switch (node) {
+    case ArmMovement_Node_i1: return "i1";
+    case ArmMovement_Node_Idle: return "Idle";
+    case ArmMovement_Node_ArmMove: return "ArmMove";
+    case ArmMovement_Node_ArmMoving: return "ArmMoving";
+    case ArmMovement_Node_ArmStop: return "ArmStop";
+    case ArmMovement_Node_ArmStopping: return "ArmStopping";
+    default: return "?";
+    }
+}
+
+/* What each block does, for log messages (indexed by m->pc). */
 static const char *const rg_labels_0[] = {
     "b0: start ArmMovement (ur5e.rct:70)",
     "b1: EVAL Idle (ur5e.rct:79)",
@@ -197,227 +123,145 @@ static const char *const rg_labels_0[] = {
     "b16: t_ignore_collision: Idle -> Idle (ur5e.rct:89)",
 };
 
-static int rg_fault_0(rg_instance *inst, int32_t pc) RG_MAYBE_UNUSED;
-static int rg_fault_0(rg_instance *inst, int32_t pc)
+static int rg_fault_0(rg_instance *inst) RG_MAYBE_UNUSED;
+static int rg_fault_0(rg_instance *inst)
 {
-    rg_log(inst, RG_LOG_ERROR, fmi3Error, "state machine ArmMovement: %s in %s", rg_fault_text(inst->s.data.fault), rg_labels_0[pc]);
-    return RG_RUN_FAULT;
+    const rg_machine_0 *m = &inst->s.data.m0;
+    return rg_report_fault(inst, "ArmMovement", rg_labels_0[m->pc], ArmMovement_node_name(m->node));
 }
 
 static int rg_runaway_0(rg_instance *inst)
 {
-    inst->s.data.fault = RG_FAULT_RUNAWAY;
-    rg_log(inst, RG_LOG_ERROR, fmi3Error, "state machine ArmMovement: more than %lu transitions in one cycle without exec "
-           "(a runaway cycle), at %s", RG_MAX_TRANSITIONS, rg_labels_0[inst->s.data.m0.pc]);
-    return RG_RUN_FAULT;
+    const rg_machine_0 *m = &inst->s.data.m0;
+    return rg_report_runaway(inst, "ArmMovement", rg_labels_0[m->pc], ArmMovement_node_name(m->node));
 }
 
-/* event moveDiscreteCommand reaches ArmMovement: latched until its next run */
-static void rg_deliver_0_0(rg_model_data *d, rg_rec_ur5e_rc_MovementArgs v) RG_MAYBE_UNUSED;
-static void rg_deliver_0_0(rg_model_data *d, rg_rec_ur5e_rc_MovementArgs v)
-{
-    rg_machine_0 *m = &d->m0;
-    if (m->reg_present[0]) d->dropped_events++;
-    m->reg_present[0] = true;
-    m->reg_e0 = v;
-    m->new_input = true;
-}
+/* Where each input event of ArmMovement is latched and read (see rg_event_slot). */
+static const rg_event_slot rg_events_0[] = {
+    RG_TYPED_EVENT(m0, ArmMovement_Event_moveDiscreteCommand, moveDiscreteCommand),
+    RG_EVENT(m0, ArmMovement_Event_feasibleMoveDiscreteCommand),
+    RG_EVENT(m0, ArmMovement_Event_nonfeasibleMoveDiscreteCommand),
+    RG_EVENT(m0, ArmMovement_Event_moveCompleted),
+    RG_EVENT(m0, ArmMovement_Event_robotStopped),
+    RG_EVENT(m0, ArmMovement_Event_collision),
+};
 
-/* event feasibleMoveDiscreteCommand reaches ArmMovement: latched until its next run */
-static void rg_deliver_0_1(rg_model_data *d) RG_MAYBE_UNUSED;
-static void rg_deliver_0_1(rg_model_data *d)
-{
-    rg_machine_0 *m = &d->m0;
-    if (m->reg_present[1]) d->dropped_events++;
-    m->reg_present[1] = true;
-    m->new_input = true;
-}
-
-/* event nonfeasibleMoveDiscreteCommand reaches ArmMovement: latched until its next run */
-static void rg_deliver_0_2(rg_model_data *d) RG_MAYBE_UNUSED;
-static void rg_deliver_0_2(rg_model_data *d)
-{
-    rg_machine_0 *m = &d->m0;
-    if (m->reg_present[2]) d->dropped_events++;
-    m->reg_present[2] = true;
-    m->new_input = true;
-}
-
-/* event moveCompleted reaches ArmMovement: latched until its next run */
-static void rg_deliver_0_3(rg_model_data *d) RG_MAYBE_UNUSED;
-static void rg_deliver_0_3(rg_model_data *d)
-{
-    rg_machine_0 *m = &d->m0;
-    if (m->reg_present[3]) d->dropped_events++;
-    m->reg_present[3] = true;
-    m->new_input = true;
-}
-
-/* event robotStopped reaches ArmMovement: latched until its next run */
-static void rg_deliver_0_4(rg_model_data *d) RG_MAYBE_UNUSED;
-static void rg_deliver_0_4(rg_model_data *d)
-{
-    rg_machine_0 *m = &d->m0;
-    if (m->reg_present[4]) d->dropped_events++;
-    m->reg_present[4] = true;
-    m->new_input = true;
-}
-
-/* event collision reaches ArmMovement: latched until its next run */
-static void rg_deliver_0_5(rg_model_data *d) RG_MAYBE_UNUSED;
-static void rg_deliver_0_5(rg_model_data *d)
-{
-    rg_machine_0 *m = &d->m0;
-    if (m->reg_present[5]) d->dropped_events++;
-    m->reg_present[5] = true;
-    m->new_input = true;
-}
-
-/* Run state machine ArmMovement from m->pc until it suspends, or (micro: stepwise semantics)
- * until it reaches a second transition segment: each segment starts with a step check. */
-static int rg_run_0(rg_instance *inst, bool micro)
+/* Run state machine ArmMovement from block m->pc until the work of its run is done. */
+static int rg_run_0(rg_instance *inst)
 {
     rg_model_data *d = &inst->s.data;
     rg_machine_0 *m = &d->m0;
-    bool taken = false;  /* a transition segment was entered in this run */
     unsigned long steps = 0;
-    (void)micro;
-    (void)taken;
     for (;;) {
         if (++steps > RG_MAX_STEPS) return rg_runaway_0(inst);
         switch (m->pc) {
         case 0: /* b0: start ArmMovement  ur5e.rct:70 */
-            if (micro && taken) return RG_RUN_MICRO;  /* stepwise: one transition per instant */
-            taken = true;
-            if (++m->transitions > RG_MAX_TRANSITIONS) return rg_runaway_0(inst);
+            RG_BEGIN_TRANSITION(rg_runaway_0(inst));
             RG_TRACE(inst, "ArmMovement: t1: i1 -> Idle");
-            m->node = 1; m->entered[1] = m->ticks;
+            RG_ENTER(ArmMovement_Node_Idle);
             m->pc = 1; continue;
         case 1: /* b1: EVAL Idle  ur5e.rct:79 */
-            if ((m->smp_present[0] ? (m->v_margs = m->smp_e0, true) : false)) { m->pc = 2; continue; }  /* t2: Idle -> ArmMove ur5e.rct:86 */
-            if (m->smp_present[3]) { m->pc = 14; continue; }  /* t_ignore_completed: Idle -> Idle ur5e.rct:87 */
-            if (m->smp_present[4]) { m->pc = 15; continue; }  /* t_ignore_stopped: Idle -> Idle ur5e.rct:88 */
-            if (m->smp_present[5]) { m->pc = 16; continue; }  /* t_ignore_collision: Idle -> Idle ur5e.rct:89 */
+            /* t2: Idle -> ArmMove moveDiscreteCommand?margs  ur5e.rct:86 */
+            if (m->smp_present[ArmMovement_Event_moveDiscreteCommand] ? (m->v_margs = m->smp_e_moveDiscreteCommand, true) : false) { m->pc = 2; continue; }
+            /* t_ignore_completed: Idle -> Idle moveCompleted  ur5e.rct:87 */
+            if (m->smp_present[ArmMovement_Event_moveCompleted]) { m->pc = 14; continue; }
+            /* t_ignore_stopped: Idle -> Idle robotStopped  ur5e.rct:88 */
+            if (m->smp_present[ArmMovement_Event_robotStopped]) { m->pc = 15; continue; }
+            /* t_ignore_collision: Idle -> Idle collision  ur5e.rct:89 */
+            if (m->smp_present[ArmMovement_Event_collision]) { m->pc = 16; continue; }
             m->pc = 1; return RG_RUN_SUSPENDED;
         case 2: /* b2: t2: Idle -> ArmMove  ur5e.rct:86 */
-            if (micro && taken) return RG_RUN_MICRO;  /* stepwise: one transition per instant */
-            taken = true;
-            if (++m->transitions > RG_MAX_TRANSITIONS) return rg_runaway_0(inst);
-            m->smp_present[0] = false;
+            RG_BEGIN_TRANSITION(rg_runaway_0(inst));
+            m->smp_present[ArmMovement_Event_moveDiscreteCommand] = false;
             RG_TRACE(inst, "ArmMovement: t2: Idle -> ArmMove");
-            m->node = 2; m->entered[2] = m->ticks;
-            {
-                int64_t a0_ = m->v_margs.target_X;
-                int64_t a1_ = m->v_margs.target_Y;
-                int64_t a2_ = m->v_margs.target_Z;
-                d->out_movediscrete_target_X = a0_;
-                d->out_movediscrete_target_Y = a1_;
-                d->out_movediscrete_target_Z = a2_;
-                rg_activate_output_clock(inst, 8); /* movediscrete */
-            }
+            RG_ENTER(ArmMovement_Node_ArmMove);
+            d->out_movediscrete_target_X = m->v_margs.target_X;
+            d->out_movediscrete_target_Y = m->v_margs.target_Y;
+            d->out_movediscrete_target_Z = m->v_margs.target_Z;
+            rg_activate_output_clock(inst, CLOCK_movediscrete);
             m->pc = 3; continue;
         case 3: /* b3: EVAL ArmMove  ur5e.rct:80 */
-            if (m->smp_present[1]) { m->pc = 4; continue; }  /* t2_1: ArmMove -> ArmMoving ur5e.rct:90 */
-            if (m->smp_present[2]) { m->pc = 13; continue; }  /* t2_nonfeasible: ArmMove -> Idle ur5e.rct:91 */
+            /* t2_1: ArmMove -> ArmMoving feasibleMoveDiscreteCommand  ur5e.rct:90 */
+            if (m->smp_present[ArmMovement_Event_feasibleMoveDiscreteCommand]) { m->pc = 4; continue; }
+            /* t2_nonfeasible: ArmMove -> Idle nonfeasibleMoveDiscreteCommand  ur5e.rct:91 */
+            if (m->smp_present[ArmMovement_Event_nonfeasibleMoveDiscreteCommand]) { m->pc = 13; continue; }
             m->pc = 3; return RG_RUN_SUSPENDED;
         case 4: /* b4: t2_1: ArmMove -> ArmMoving  ur5e.rct:90 */
-            if (micro && taken) return RG_RUN_MICRO;  /* stepwise: one transition per instant */
-            taken = true;
-            if (++m->transitions > RG_MAX_TRANSITIONS) return rg_runaway_0(inst);
-            m->smp_present[1] = false;
+            RG_BEGIN_TRANSITION(rg_runaway_0(inst));
+            m->smp_present[ArmMovement_Event_feasibleMoveDiscreteCommand] = false;
             RG_TRACE(inst, "ArmMovement: t2_1: ArmMove -> ArmMoving");
             m->clock_reset[0] = m->ticks;
-            m->node = 3; m->entered[3] = m->ticks;
+            RG_ENTER(ArmMovement_Node_ArmMoving);
             m->pc = 5; continue;
         case 5: /* b5: EVAL ArmMoving  ur5e.rct:81 */
-            if (m->smp_present[3]) { m->pc = 6; continue; }  /* t2_4: ArmMoving -> ArmStop ur5e.rct:92 */
-            if (m->smp_present[5]) { m->pc = 11; continue; }  /* t2_5: ArmMoving -> ArmStop ur5e.rct:93 */
-            if ((((m->ticks - m->clock_reset[0]) * UINT64_C(1)) >= m->v_MOVE_TIMEOUT)) { m->pc = 12; continue; }  /* t2_timeout: ArmMoving -> ArmStop ur5e.rct:94 */
+            /* t2_4: ArmMoving -> ArmStop moveCompleted  ur5e.rct:92 */
+            if (m->smp_present[ArmMovement_Event_moveCompleted]) { m->pc = 6; continue; }
+            /* t2_5: ArmMoving -> ArmStop collision  ur5e.rct:93 */
+            if (m->smp_present[ArmMovement_Event_collision]) { m->pc = 11; continue; }
+            /* t2_timeout: ArmMoving -> ArmStop [since(C) >= MOVE_TIMEOUT]  ur5e.rct:94 */
+            if (((m->ticks - m->clock_reset[0]) * UINT64_C(1)) >= m->v_MOVE_TIMEOUT) { m->pc = 12; continue; }
             m->pc = 5; return RG_RUN_SUSPENDED;
         case 6: /* b6: t2_4: ArmMoving -> ArmStop  ur5e.rct:92 */
-            if (micro && taken) return RG_RUN_MICRO;  /* stepwise: one transition per instant */
-            taken = true;
-            if (++m->transitions > RG_MAX_TRANSITIONS) return rg_runaway_0(inst);
-            m->smp_present[3] = false;
+            RG_BEGIN_TRANSITION(rg_runaway_0(inst));
+            m->smp_present[ArmMovement_Event_moveCompleted] = false;
             RG_TRACE(inst, "ArmMovement: t2_4: ArmMoving -> ArmStop");
-            m->node = 4; m->entered[4] = m->ticks;
-            {
-                rg_activate_output_clock(inst, 10); /* stop */
-            }
+            RG_ENTER(ArmMovement_Node_ArmStop);
+            rg_activate_output_clock(inst, CLOCK_stop);
             m->pc = 7; continue;
         case 7: /* b7: EVAL ArmStop  ur5e.rct:82 */
-            if (true) { m->pc = 8; continue; }  /* t3: ArmStop -> ArmStopping ur5e.rct:95 */
-            m->pc = 7; return RG_RUN_SUSPENDED;
+            /* t3: ArmStop -> ArmStopping  ur5e.rct:95 */
+            m->pc = 8; continue;
         case 8: /* b8: t3: ArmStop -> ArmStopping  ur5e.rct:95 */
-            if (micro && taken) return RG_RUN_MICRO;  /* stepwise: one transition per instant */
-            taken = true;
-            if (++m->transitions > RG_MAX_TRANSITIONS) return rg_runaway_0(inst);
+            RG_BEGIN_TRANSITION(rg_runaway_0(inst));
             RG_TRACE(inst, "ArmMovement: t3: ArmStop -> ArmStopping");
-            m->node = 5; m->entered[5] = m->ticks;
+            RG_ENTER(ArmMovement_Node_ArmStopping);
             m->pc = 9; continue;
         case 9: /* b9: EVAL ArmStopping  ur5e.rct:83 */
-            if (m->smp_present[4]) { m->pc = 10; continue; }  /* t3_3: ArmStopping -> Idle ur5e.rct:96 */
+            /* t3_3: ArmStopping -> Idle robotStopped  ur5e.rct:96 */
+            if (m->smp_present[ArmMovement_Event_robotStopped]) { m->pc = 10; continue; }
             m->pc = 9; return RG_RUN_SUSPENDED;
         case 10: /* b10: t3_3: ArmStopping -> Idle  ur5e.rct:96 */
-            if (micro && taken) return RG_RUN_MICRO;  /* stepwise: one transition per instant */
-            taken = true;
-            if (++m->transitions > RG_MAX_TRANSITIONS) return rg_runaway_0(inst);
-            m->smp_present[4] = false;
+            RG_BEGIN_TRANSITION(rg_runaway_0(inst));
+            m->smp_present[ArmMovement_Event_robotStopped] = false;
             RG_TRACE(inst, "ArmMovement: t3_3: ArmStopping -> Idle");
-            m->node = 1; m->entered[1] = m->ticks;
+            RG_ENTER(ArmMovement_Node_Idle);
             m->pc = 1; continue;
         case 11: /* b11: t2_5: ArmMoving -> ArmStop  ur5e.rct:93 */
-            if (micro && taken) return RG_RUN_MICRO;  /* stepwise: one transition per instant */
-            taken = true;
-            if (++m->transitions > RG_MAX_TRANSITIONS) return rg_runaway_0(inst);
-            m->smp_present[5] = false;
+            RG_BEGIN_TRANSITION(rg_runaway_0(inst));
+            m->smp_present[ArmMovement_Event_collision] = false;
             RG_TRACE(inst, "ArmMovement: t2_5: ArmMoving -> ArmStop");
-            m->node = 4; m->entered[4] = m->ticks;
-            {
-                rg_activate_output_clock(inst, 10); /* stop */
-            }
+            RG_ENTER(ArmMovement_Node_ArmStop);
+            rg_activate_output_clock(inst, CLOCK_stop);
             m->pc = 7; continue;
         case 12: /* b12: t2_timeout: ArmMoving -> ArmStop  ur5e.rct:94 */
-            if (micro && taken) return RG_RUN_MICRO;  /* stepwise: one transition per instant */
-            taken = true;
-            if (++m->transitions > RG_MAX_TRANSITIONS) return rg_runaway_0(inst);
+            RG_BEGIN_TRANSITION(rg_runaway_0(inst));
             RG_TRACE(inst, "ArmMovement: t2_timeout: ArmMoving -> ArmStop");
-            m->node = 4; m->entered[4] = m->ticks;
-            {
-                rg_activate_output_clock(inst, 10); /* stop */
-            }
+            RG_ENTER(ArmMovement_Node_ArmStop);
+            rg_activate_output_clock(inst, CLOCK_stop);
             m->pc = 7; continue;
         case 13: /* b13: t2_nonfeasible: ArmMove -> Idle  ur5e.rct:91 */
-            if (micro && taken) return RG_RUN_MICRO;  /* stepwise: one transition per instant */
-            taken = true;
-            if (++m->transitions > RG_MAX_TRANSITIONS) return rg_runaway_0(inst);
-            m->smp_present[2] = false;
+            RG_BEGIN_TRANSITION(rg_runaway_0(inst));
+            m->smp_present[ArmMovement_Event_nonfeasibleMoveDiscreteCommand] = false;
             RG_TRACE(inst, "ArmMovement: t2_nonfeasible: ArmMove -> Idle");
-            m->node = 1; m->entered[1] = m->ticks;
+            RG_ENTER(ArmMovement_Node_Idle);
             m->pc = 1; continue;
         case 14: /* b14: t_ignore_completed: Idle -> Idle  ur5e.rct:87 */
-            if (micro && taken) return RG_RUN_MICRO;  /* stepwise: one transition per instant */
-            taken = true;
-            if (++m->transitions > RG_MAX_TRANSITIONS) return rg_runaway_0(inst);
-            m->smp_present[3] = false;
+            RG_BEGIN_TRANSITION(rg_runaway_0(inst));
+            m->smp_present[ArmMovement_Event_moveCompleted] = false;
             RG_TRACE(inst, "ArmMovement: t_ignore_completed: Idle -> Idle");
-            m->node = 1; m->entered[1] = m->ticks;
+            RG_ENTER(ArmMovement_Node_Idle);
             m->pc = 1; continue;
         case 15: /* b15: t_ignore_stopped: Idle -> Idle  ur5e.rct:88 */
-            if (micro && taken) return RG_RUN_MICRO;  /* stepwise: one transition per instant */
-            taken = true;
-            if (++m->transitions > RG_MAX_TRANSITIONS) return rg_runaway_0(inst);
-            m->smp_present[4] = false;
+            RG_BEGIN_TRANSITION(rg_runaway_0(inst));
+            m->smp_present[ArmMovement_Event_robotStopped] = false;
             RG_TRACE(inst, "ArmMovement: t_ignore_stopped: Idle -> Idle");
-            m->node = 1; m->entered[1] = m->ticks;
+            RG_ENTER(ArmMovement_Node_Idle);
             m->pc = 1; continue;
         case 16: /* b16: t_ignore_collision: Idle -> Idle  ur5e.rct:89 */
-            if (micro && taken) return RG_RUN_MICRO;  /* stepwise: one transition per instant */
-            taken = true;
-            if (++m->transitions > RG_MAX_TRANSITIONS) return rg_runaway_0(inst);
-            m->smp_present[5] = false;
+            RG_BEGIN_TRANSITION(rg_runaway_0(inst));
+            m->smp_present[ArmMovement_Event_collision] = false;
             RG_TRACE(inst, "ArmMovement: t_ignore_collision: Idle -> Idle");
-            m->node = 1; m->entered[1] = m->ticks;
+            RG_ENTER(ArmMovement_Node_Idle);
             m->pc = 1; continue;
         default:
             return rg_machine_fail(inst, "state machine ArmMovement: invalid resume point");
@@ -431,67 +275,46 @@ static void rg_model_reset(rg_instance *inst)
 {
     rg_model_data *d = &inst->s.data;
     d->m0.pc = 0;
-    d->m0.node = 0;
+    d->m0.node = ArmMovement_Node_i1;
     d->m0.v_MOVE_TIMEOUT = UINT64_C(40);  /* ArmMovement.MOVE_TIMEOUT */
-}
-
-static fmi3Status rg_model_exit_initialization(rg_instance *inst)
-{
-    rg_model_data *d = &inst->s.data;
-    (void)d;
-    return fmi3OK;
 }
 
 static void rg_model_latch(rg_instance *inst, int clock_index)
 {
     rg_model_data *d = &inst->s.data;
-    (void)d;
     switch (clock_index) {
-    case 1: /* moveDiscreteCommand */
-    {
+    case CLOCK_moveDiscreteCommand: {
         rg_rec_ur5e_rc_MovementArgs v;
         v.target_X = d->in_moveDiscreteCommand_target_X;
         v.target_Y = d->in_moveDiscreteCommand_target_Y;
         v.target_Z = d->in_moveDiscreteCommand_target_Z;
-        rg_deliver_0_0(d, v);
+        rg_deliver(d, &rg_events_0[ArmMovement_Event_moveDiscreteCommand], &v);
         break;
     }
-    case 2: /* feasibleMoveDiscreteCommand */
-    {
-        rg_deliver_0_1(d);
+    case CLOCK_feasibleMoveDiscreteCommand:
+        rg_deliver(d, &rg_events_0[ArmMovement_Event_feasibleMoveDiscreteCommand], NULL);
         break;
-    }
-    case 3: /* nonfeasibleMoveDiscreteCommand */
-    {
-        rg_deliver_0_2(d);
+    case CLOCK_nonfeasibleMoveDiscreteCommand:
+        rg_deliver(d, &rg_events_0[ArmMovement_Event_nonfeasibleMoveDiscreteCommand], NULL);
         break;
-    }
-    case 4: /* moveCompleted */
-    {
-        rg_deliver_0_3(d);
+    case CLOCK_moveCompleted:
+        rg_deliver(d, &rg_events_0[ArmMovement_Event_moveCompleted], NULL);
         break;
-    }
-    case 5: /* robotStopped */
-    {
-        rg_deliver_0_4(d);
+    case CLOCK_robotStopped:
+        rg_deliver(d, &rg_events_0[ArmMovement_Event_robotStopped], NULL);
         break;
-    }
-    case 6: /* collision */
-    {
-        rg_deliver_0_5(d);
+    case CLOCK_collision:
+        rg_deliver(d, &rg_events_0[ArmMovement_Event_collision], NULL);
         break;
-    }
-    default:
+    default: /* the periodic clock, and input events that reach no state machine */
         break;
     }
 }
 
-
 static fmi3Status rg_model_evaluate(rg_instance *inst)
 {
     rg_model_data *d = &inst->s.data;
-    bool periodic = inst->s.clock_active[0];  /* tock */
-    int r = RG_RUN_SUSPENDED;
+    bool periodic = inst->s.clock_active[CLOCK_tock];
     d->fault = RG_FAULT_NONE;
     if (periodic) d->cycles++;
     {
@@ -501,54 +324,18 @@ static fmi3Status rg_model_evaluate(rg_instance *inst)
             m->ticks++;
             if (m->wait_left > 0) m->wait_left--;
         }
-        /* events join the buffer between runs: in the middle of a stepwise run they wait, so that the
-         * transition a micro-step decided on finds the buffer it was decided on */
-        if (m->reg_present[0] && !m->in_cycle) {  /* moveDiscreteCommand joins the buffer, where it stays until consumed */
-            if (m->smp_present[0]) d->dropped_events++;
-            m->smp_present[0] = true;
-            m->smp_e0 = m->reg_e0;
-            m->reg_present[0] = false;
-            arrived = true;
+        if (!m->in_cycle) {
+            /* events join the buffer between runs: in the middle of a stepwise run they wait, so
+             * that the transition a micro-step decided on finds the buffer it was decided on */
+            size_t e;
+            for (e = 0; e < 6; e++) arrived = rg_join_buffer(d, &rg_events_0[e]) || arrived;
+            m->new_input = false;
         }
-        if (m->reg_present[1] && !m->in_cycle) {  /* feasibleMoveDiscreteCommand joins the buffer, where it stays until consumed */
-            if (m->smp_present[1]) d->dropped_events++;
-            m->smp_present[1] = true;
-            m->reg_present[1] = false;
-            arrived = true;
-        }
-        if (m->reg_present[2] && !m->in_cycle) {  /* nonfeasibleMoveDiscreteCommand joins the buffer, where it stays until consumed */
-            if (m->smp_present[2]) d->dropped_events++;
-            m->smp_present[2] = true;
-            m->reg_present[2] = false;
-            arrived = true;
-        }
-        if (m->reg_present[3] && !m->in_cycle) {  /* moveCompleted joins the buffer, where it stays until consumed */
-            if (m->smp_present[3]) d->dropped_events++;
-            m->smp_present[3] = true;
-            m->reg_present[3] = false;
-            arrived = true;
-        }
-        if (m->reg_present[4] && !m->in_cycle) {  /* robotStopped joins the buffer, where it stays until consumed */
-            if (m->smp_present[4]) d->dropped_events++;
-            m->smp_present[4] = true;
-            m->reg_present[4] = false;
-            arrived = true;
-        }
-        if (m->reg_present[5] && !m->in_cycle) {  /* collision joins the buffer, where it stays until consumed */
-            if (m->smp_present[5]) d->dropped_events++;
-            m->smp_present[5] = true;
-            m->reg_present[5] = false;
-            arrived = true;
-        }
-        if (!m->in_cycle) m->new_input = false;
         if (periodic || arrived || m->in_cycle) {
             if (!m->in_cycle) m->transitions = 0;  /* a new run to quiescence */
-            r = rg_run_0(inst, false);
-            if (r == RG_RUN_FAULT) return fmi3Error;
-            m->in_cycle = (r == RG_RUN_MICRO);
+            if (rg_run_failed(rg_run_0(inst), &m->in_cycle)) return fmi3Error;
         }
     }
-    (void)r;
     return fmi3OK;
 }
 
@@ -556,9 +343,8 @@ static fmi3Status rg_model_update(rg_instance *inst, bool *discrete_states_need_
                                   bool *terminate_simulation, bool *next_event_time_defined,
                                   double *next_event_time)
 {
-    rg_model_data *d = &inst->s.data;
+    const rg_model_data *d = &inst->s.data;
     bool need = false;
-    (void)d;
     (void)terminate_simulation;
     (void)next_event_time_defined;
     (void)next_event_time;
@@ -568,17 +354,5 @@ static fmi3Status rg_model_update(rg_instance *inst, bool *discrete_states_need_
         for (e = 0; e < 6; e++) need = need || d->m0.reg_present[e];
     }
     *discrete_states_need_update = need;
-    return fmi3OK;
-}
-
-static fmi3Status rg_model_do_step(rg_instance *inst, double t_end, bool *event_handling_needed,
-                                   bool *terminate_simulation, double *last_successful_time)
-{
-    /* The state machines only react in Event Mode; a step just lets time pass. */
-    (void)inst;
-    (void)t_end;
-    (void)event_handling_needed;
-    (void)terminate_simulation;
-    (void)last_successful_time;
     return fmi3OK;
 }

@@ -5,118 +5,33 @@
  * Each state machine is a function that resumes at block m->pc and runs until the cycle ends
  * (RG_RUN_SUSPENDED), until a micro-step boundary in stepwise semantics (RG_RUN_MICRO), or
  * until a run-time error (RG_RUN_FAULT, reported through logMessage and fmi3Error). Every block
- * opens with a comment naming what it does and the model line it comes from. */
+ * opens with a comment naming what it does and the model line it comes from; every guard is
+ * quoted as the model writes it above its test. The helpers (RG_BEGIN_TRANSITION, rg_deliver,
+ * the arithmetic) are robogen_machine.h's. */
 
-#include <string.h>
-
-/* ---- arithmetic as robogen defines it: wrapping integers, checked division --------------- */
-
-enum { RG_FAULT_NONE = 0, RG_FAULT_DIVISION = 1, RG_FAULT_INDEX = 2, RG_FAULT_RUNAWAY = 3, RG_FAULT_STUCK = 4,
-       RG_FAULT_CONVERSION = 5 };
-enum { RG_RUN_SUSPENDED = 0, RG_RUN_MICRO = 1, RG_RUN_FAULT = -1 };
-
-#define RG_MAX_TRANSITIONS 1000UL  /* transitions per cycle before a runaway is reported */
-#define RG_MAX_STEPS 64000UL        /* blocks per cycle, the same bound for any loop */
-#define RG_TRACE(inst, text) \
-    do { if ((inst)->logging_on && (inst)->log_category_on[RG_LOG_TRANSITIONS]) \
-        rg_log((inst), RG_LOG_TRANSITIONS, fmi3OK, "%s", (text)); } while (0)
-
-static inline int64_t rg_i_add(int64_t a, int64_t b) { return (int64_t)((uint64_t)a + (uint64_t)b); }
-static inline int64_t rg_i_sub(int64_t a, int64_t b) { return (int64_t)((uint64_t)a - (uint64_t)b); }
-static inline int64_t rg_i_mul(int64_t a, int64_t b) { return (int64_t)((uint64_t)a * (uint64_t)b); }
-static inline int64_t rg_i_neg(int64_t a) { return (int64_t)(UINT64_C(0) - (uint64_t)a); }
-static inline int64_t rg_i_abs(int64_t a) { return a < 0 ? rg_i_neg(a) : a; }
-static inline int64_t rg_i_min(int64_t a, int64_t b) { return a <= b ? a : b; }
-static inline int64_t rg_i_max(int64_t a, int64_t b) { return a >= b ? a : b; }
-static inline int64_t rg_i_div(rg_model_data *d, int64_t a, int64_t b)
-{
-    if (b == 0) { d->fault = RG_FAULT_DIVISION; return 0; }
-    if (b == -1) return rg_i_neg(a);
-    return a / b;
-}
-static inline int64_t rg_i_mod(rg_model_data *d, int64_t a, int64_t b)
-{
-    if (b == 0) { d->fault = RG_FAULT_DIVISION; return 0; }
-    if (b == -1) return 0;
-    return a % b;
-}
-static inline uint64_t rg_u_add(uint64_t a, uint64_t b) { return a + b; }
-static inline uint64_t rg_u_sub(uint64_t a, uint64_t b) { return a - b; }
-static inline uint64_t rg_u_mul(uint64_t a, uint64_t b) { return a * b; }
-static inline uint64_t rg_u_neg(uint64_t a) { return UINT64_C(0) - a; }
-static inline uint64_t rg_u_abs(uint64_t a) { return a; }
-static inline uint64_t rg_u_min(uint64_t a, uint64_t b) { return a <= b ? a : b; }
-static inline uint64_t rg_u_max(uint64_t a, uint64_t b) { return a >= b ? a : b; }
-static inline uint64_t rg_u_div(rg_model_data *d, uint64_t a, uint64_t b)
-{
-    if (b == 0) { d->fault = RG_FAULT_DIVISION; return 0; }
-    return a / b;
-}
-static inline uint64_t rg_u_mod(rg_model_data *d, uint64_t a, uint64_t b)
-{
-    if (b == 0) { d->fault = RG_FAULT_DIVISION; return 0; }
-    return a % b;
-}
-static inline double rg_r_div(rg_model_data *d, double a, double b)
-{
-    if (b == 0.0) { d->fault = RG_FAULT_DIVISION; return 0.0; }
-    return a / b;
-}
-static inline double rg_r_abs(double a) { return a < 0.0 ? -a : a; }
-/* Conversions: a real becomes an integer by truncation toward zero; outside the integer's range
- * (or NaN) it sets the fault code instead of being undefined behaviour. */
-static inline int64_t rg_r_to_i(rg_model_data *d, double x)
-{
-    if (!(x >= -9223372036854775808.0 && x < 9223372036854775808.0)) { d->fault = RG_FAULT_CONVERSION; return 0; }
-    return (int64_t)x;
-}
-static inline uint64_t rg_r_to_u(rg_model_data *d, double x)
-{
-    if (!(x > -1.0 && x < 18446744073709551616.0)) { d->fault = RG_FAULT_CONVERSION; return 0; }
-    return (uint64_t)x;
-}
-/* nat to int wraps around, like the interpreter (no implementation-defined conversion). */
-static inline int64_t rg_u_to_i(uint64_t x)
-{
-    return x <= (uint64_t)INT64_MAX ? (int64_t)x : -(int64_t)(UINT64_MAX - x) - 1;
-}
-static inline double rg_r_min(double a, double b) { return a <= b ? a : b; }
-static inline double rg_r_max(double a, double b) { return a >= b ? a : b; }
-/* A 1-based index into n elements, as a 0-based offset; out of range sets the fault code. */
-static inline int64_t rg_index(rg_model_data *d, int64_t i, int64_t n)
-{
-    if (i < 1 || i > n) { d->fault = RG_FAULT_INDEX; return 0; }
-    return i - 1;
-}
-
-static const char *rg_fault_text(int32_t fault) RG_MAYBE_UNUSED;
-static const char *rg_fault_text(int32_t fault)
-{
-    switch (fault) {
-    case RG_FAULT_DIVISION: return "division by zero";
-    case RG_FAULT_INDEX: return "index out of range";
-    case RG_FAULT_RUNAWAY: return "runaway cycle";
-    case RG_FAULT_CONVERSION: return "real number out of range for an integer";
-    default: return "run-time error";
-    }
-}
-
-/* A RoboChart deadline was missed: counted and logged, never enforced. */
-static void rg_deadline_miss(rg_instance *inst, const char *message) RG_MAYBE_UNUSED;
-static void rg_deadline_miss(rg_instance *inst, const char *message)
-{
-    inst->s.data.deadline_misses++;
-    rg_log(inst, RG_LOG_WARNING, fmi3Warning, "%s (t=%.17g)", message, inst->s.time);
-}
-
-static int rg_machine_fail(rg_instance *inst, const char *message)
-{
-    inst->s.data.fault = RG_FAULT_STUCK;
-    rg_log(inst, RG_LOG_ERROR, fmi3Error, "%s", message);
-    return RG_RUN_FAULT;
-}
+#include "robogen_machine.h"
 
 /* ---- the FMI variables and clocks (value references as in modelDescription.xml) ---------- */
+
+/* indices into rg_clocks */
+enum {
+    CLOCK_cycle = 0,  /* one RoboSim cycle */
+    CLOCK_moveDiscreteCommand = 1,  /* input event moveDiscreteCommand */
+    CLOCK_feasibleMoveDiscreteCommand = 2,  /* input event feasibleMoveDiscreteCommand */
+    CLOCK_nonfeasibleMoveDiscreteCommand = 3,  /* input event nonfeasibleMoveDiscreteCommand */
+    CLOCK_openGripperCommand = 4,  /* input event openGripperCommand */
+    CLOCK_closeGripperCommand = 5,  /* input event closeGripperCommand */
+    CLOCK_moveCompleted = 6,  /* input event moveCompleted */
+    CLOCK_robotStopped = 7,  /* input event robotStopped */
+    CLOCK_gripperOpened = 8,  /* input event gripperOpened */
+    CLOCK_gripperClosed = 9,  /* input event gripperClosed */
+    CLOCK_collision = 10,  /* input event collision */
+    CLOCK_movecartesian = 11,  /* call of platform operation movecartesian */
+    CLOCK_movediscrete = 12,  /* call of platform operation movediscrete */
+    CLOCK_movejoint = 13,  /* call of platform operation movejoint */
+    CLOCK_stop = 14,  /* call of platform operation stop */
+    CLOCK_setvelocity = 15,  /* call of platform operation setvelocity */
+};
 
 static const rg_clock rg_clocks[RG_CLOCK_ARRAY_SIZE] = {
     { 1, "cycle", RG_CLOCK_INPUT_CONSTANT, 1, 0.0 },
@@ -184,6 +99,23 @@ static const rg_variable rg_variables[RG_NUM_VARIABLES] = {
 
 /* ======== state machine ur5e::SimDiscreteGrippingArmMovement (ur5e.rst:100) ======== */
 
+/* The name of a node of SimDiscreteGrippingArmMovement, for log messages. */
+static const char *SimDiscreteGrippingArmMovement_node_name(int64_t node)
+{
+    switch (node) {
+    case SimDiscreteGrippingArmMovement_Node_i1: return "i1";
+    case SimDiscreteGrippingArmMovement_Node_Idle: return "Idle";
+    case SimDiscreteGrippingArmMovement_Node_ArmMove: return "ArmMove";
+    case SimDiscreteGrippingArmMovement_Node_ArmMoving: return "ArmMoving";
+    case SimDiscreteGrippingArmMovement_Node_ArmStop: return "ArmStop";
+    case SimDiscreteGrippingArmMovement_Node_ArmStopping: return "ArmStopping";
+    case SimDiscreteGrippingArmMovement_Node_J2: return "J2";
+    case SimDiscreteGrippingArmMovement_Node_J3: return "J3";
+    default: return "?";
+    }
+}
+
+/* What each block does, for log messages (indexed by m->pc). */
 static const char *const rg_labels_0[] = {
     "b0: start SimDiscreteGrippingArmMovement (ur5e.rst:100)",
     "b1: EVAL Idle (ur5e.rst:107)",
@@ -212,287 +144,167 @@ static const char *const rg_labels_0[] = {
     "b24: t2_nonfeasible: ArmMove -> Idle (ur5e.rst:124)",
 };
 
-static int rg_fault_0(rg_instance *inst, int32_t pc) RG_MAYBE_UNUSED;
-static int rg_fault_0(rg_instance *inst, int32_t pc)
+static int rg_fault_0(rg_instance *inst) RG_MAYBE_UNUSED;
+static int rg_fault_0(rg_instance *inst)
 {
-    rg_log(inst, RG_LOG_ERROR, fmi3Error, "state machine SimDiscreteGrippingArmMovement: %s in %s", rg_fault_text(inst->s.data.fault), rg_labels_0[pc]);
-    return RG_RUN_FAULT;
+    const rg_machine_0 *m = &inst->s.data.m0;
+    return rg_report_fault(inst, "SimDiscreteGrippingArmMovement", rg_labels_0[m->pc], SimDiscreteGrippingArmMovement_node_name(m->node));
 }
 
 static int rg_runaway_0(rg_instance *inst)
 {
-    inst->s.data.fault = RG_FAULT_RUNAWAY;
-    rg_log(inst, RG_LOG_ERROR, fmi3Error, "state machine SimDiscreteGrippingArmMovement: more than %lu transitions in one cycle without exec "
-           "(a runaway cycle), at %s", RG_MAX_TRANSITIONS, rg_labels_0[inst->s.data.m0.pc]);
-    return RG_RUN_FAULT;
+    const rg_machine_0 *m = &inst->s.data.m0;
+    return rg_report_runaway(inst, "SimDiscreteGrippingArmMovement", rg_labels_0[m->pc], SimDiscreteGrippingArmMovement_node_name(m->node));
 }
 
-/* event collision reaches SimDiscreteGrippingArmMovement: latched until its next cycle */
-static void rg_deliver_0_0(rg_model_data *d) RG_MAYBE_UNUSED;
-static void rg_deliver_0_0(rg_model_data *d)
-{
-    rg_machine_0 *m = &d->m0;
-    if (m->reg_present[0]) d->dropped_events++;
-    m->reg_present[0] = true;
-    m->new_input = true;
-}
+/* Where each input event of SimDiscreteGrippingArmMovement is latched and read (see rg_event_slot). */
+static const rg_event_slot rg_events_0[] = {
+    RG_EVENT(m0, SimDiscreteGrippingArmMovement_Event_collision),
+    RG_TYPED_EVENT(m0, SimDiscreteGrippingArmMovement_Event_moveDiscreteCommand, moveDiscreteCommand),
+    RG_EVENT(m0, SimDiscreteGrippingArmMovement_Event_feasibleMoveDiscreteCommand),
+    RG_EVENT(m0, SimDiscreteGrippingArmMovement_Event_nonfeasibleMoveDiscreteCommand),
+    RG_EVENT(m0, SimDiscreteGrippingArmMovement_Event_openGripperCommand),
+    RG_EVENT(m0, SimDiscreteGrippingArmMovement_Event_closeGripperCommand),
+    RG_EVENT(m0, SimDiscreteGrippingArmMovement_Event_moveCompleted),
+    RG_EVENT(m0, SimDiscreteGrippingArmMovement_Event_robotStopped),
+    RG_EVENT(m0, SimDiscreteGrippingArmMovement_Event_gripperOpened),
+    RG_EVENT(m0, SimDiscreteGrippingArmMovement_Event_gripperClosed),
+};
 
-/* event moveDiscreteCommand reaches SimDiscreteGrippingArmMovement: latched until its next cycle */
-static void rg_deliver_0_1(rg_model_data *d, rg_rec_ur5e_MovementArgs v) RG_MAYBE_UNUSED;
-static void rg_deliver_0_1(rg_model_data *d, rg_rec_ur5e_MovementArgs v)
-{
-    rg_machine_0 *m = &d->m0;
-    if (m->reg_present[1]) d->dropped_events++;
-    m->reg_present[1] = true;
-    m->reg_e1 = v;
-    m->new_input = true;
-}
-
-/* event feasibleMoveDiscreteCommand reaches SimDiscreteGrippingArmMovement: latched until its next cycle */
-static void rg_deliver_0_2(rg_model_data *d) RG_MAYBE_UNUSED;
-static void rg_deliver_0_2(rg_model_data *d)
-{
-    rg_machine_0 *m = &d->m0;
-    if (m->reg_present[2]) d->dropped_events++;
-    m->reg_present[2] = true;
-    m->new_input = true;
-}
-
-/* event nonfeasibleMoveDiscreteCommand reaches SimDiscreteGrippingArmMovement: latched until its next cycle */
-static void rg_deliver_0_3(rg_model_data *d) RG_MAYBE_UNUSED;
-static void rg_deliver_0_3(rg_model_data *d)
-{
-    rg_machine_0 *m = &d->m0;
-    if (m->reg_present[3]) d->dropped_events++;
-    m->reg_present[3] = true;
-    m->new_input = true;
-}
-
-/* event openGripperCommand reaches SimDiscreteGrippingArmMovement: latched until its next cycle */
-static void rg_deliver_0_4(rg_model_data *d) RG_MAYBE_UNUSED;
-static void rg_deliver_0_4(rg_model_data *d)
-{
-    rg_machine_0 *m = &d->m0;
-    if (m->reg_present[4]) d->dropped_events++;
-    m->reg_present[4] = true;
-    m->new_input = true;
-}
-
-/* event closeGripperCommand reaches SimDiscreteGrippingArmMovement: latched until its next cycle */
-static void rg_deliver_0_5(rg_model_data *d) RG_MAYBE_UNUSED;
-static void rg_deliver_0_5(rg_model_data *d)
-{
-    rg_machine_0 *m = &d->m0;
-    if (m->reg_present[5]) d->dropped_events++;
-    m->reg_present[5] = true;
-    m->new_input = true;
-}
-
-/* event moveCompleted reaches SimDiscreteGrippingArmMovement: latched until its next cycle */
-static void rg_deliver_0_6(rg_model_data *d) RG_MAYBE_UNUSED;
-static void rg_deliver_0_6(rg_model_data *d)
-{
-    rg_machine_0 *m = &d->m0;
-    if (m->reg_present[6]) d->dropped_events++;
-    m->reg_present[6] = true;
-    m->new_input = true;
-}
-
-/* event robotStopped reaches SimDiscreteGrippingArmMovement: latched until its next cycle */
-static void rg_deliver_0_7(rg_model_data *d) RG_MAYBE_UNUSED;
-static void rg_deliver_0_7(rg_model_data *d)
-{
-    rg_machine_0 *m = &d->m0;
-    if (m->reg_present[7]) d->dropped_events++;
-    m->reg_present[7] = true;
-    m->new_input = true;
-}
-
-/* event gripperOpened reaches SimDiscreteGrippingArmMovement: latched until its next cycle */
-static void rg_deliver_0_8(rg_model_data *d) RG_MAYBE_UNUSED;
-static void rg_deliver_0_8(rg_model_data *d)
-{
-    rg_machine_0 *m = &d->m0;
-    if (m->reg_present[8]) d->dropped_events++;
-    m->reg_present[8] = true;
-    m->new_input = true;
-}
-
-/* event gripperClosed reaches SimDiscreteGrippingArmMovement: latched until its next cycle */
-static void rg_deliver_0_9(rg_model_data *d) RG_MAYBE_UNUSED;
-static void rg_deliver_0_9(rg_model_data *d)
-{
-    rg_machine_0 *m = &d->m0;
-    if (m->reg_present[9]) d->dropped_events++;
-    m->reg_present[9] = true;
-    m->new_input = true;
-}
-
-/* Run state machine SimDiscreteGrippingArmMovement from m->pc until it suspends, or (micro: stepwise semantics)
- * until it reaches a second transition segment: each segment starts with a step check. */
-static int rg_run_0(rg_instance *inst, bool micro)
+/* Run state machine SimDiscreteGrippingArmMovement from block m->pc until the work of its cycle is done, or
+ * until it reaches the run's second transition: one transition per micro-step. */
+static int rg_run_0(rg_instance *inst)
 {
     rg_model_data *d = &inst->s.data;
     rg_machine_0 *m = &d->m0;
-    bool taken = false;  /* a transition segment was entered in this run */
+    bool taken = false;  /* a transition began in this run (RG_BEGIN_TRANSITION) */
     unsigned long steps = 0;
-    (void)micro;
-    (void)taken;
     for (;;) {
         if (++steps > RG_MAX_STEPS) return rg_runaway_0(inst);
         switch (m->pc) {
         case 0: /* b0: start SimDiscreteGrippingArmMovement  ur5e.rst:100 */
-            if (micro && taken) return RG_RUN_MICRO;  /* stepwise: one transition per instant */
-            taken = true;
-            if (++m->transitions > RG_MAX_TRANSITIONS) return rg_runaway_0(inst);
+            RG_BEGIN_TRANSITION(rg_runaway_0(inst));
             RG_TRACE(inst, "SimDiscreteGrippingArmMovement: t1: i1 -> Idle");
-            m->node = 1; m->entered[1] = m->ticks;
+            RG_ENTER(SimDiscreteGrippingArmMovement_Node_Idle);
             m->pc = 1; continue;
         case 1: /* b1: EVAL Idle  ur5e.rst:107 */
-            if ((!m->smp_present[1])) { m->pc = 2; continue; }  /* t1_1: Idle -> Idle (exec) ur5e.rst:117 */
-            if ((m->smp_present[1] ? (m->v_margs = m->smp_e1, true) : false)) { m->pc = 4; continue; }  /* t2: Idle -> ArmMove ur5e.rst:119 */
+            /* t1_1: Idle -> Idle (exec) [not $moveDiscreteCommand]  ur5e.rst:117 */
+            if (!m->smp_present[SimDiscreteGrippingArmMovement_Event_moveDiscreteCommand]) { m->pc = 2; continue; }
+            /* t2: Idle -> ArmMove [$moveDiscreteCommand?margs]  ur5e.rst:119 */
+            if (m->smp_present[SimDiscreteGrippingArmMovement_Event_moveDiscreteCommand] ? (m->v_margs = m->smp_e_moveDiscreteCommand, true) : false) { m->pc = 4; continue; }
             return rg_machine_fail(inst, "SimDiscreteGrippingArmMovement: deadlock in state 'Idle' (ur5e.rst:107): no transition is enabled and no exec");
         case 2: /* b2: t1_1: exec decided  ur5e.rst:117 */
             RG_TRACE(inst, "SimDiscreteGrippingArmMovement: t1_1: exec");
             m->pc = 3; return RG_RUN_SUSPENDED;
         case 3: /* b3: t1_1: Idle -> Idle  ur5e.rst:117 */
-            if (micro && taken) return RG_RUN_MICRO;  /* stepwise: one transition per instant */
-            taken = true;
-            if (++m->transitions > RG_MAX_TRANSITIONS) return rg_runaway_0(inst);
+            RG_BEGIN_TRANSITION(rg_runaway_0(inst));
             RG_TRACE(inst, "SimDiscreteGrippingArmMovement: t1_1: Idle -> Idle");
-            m->node = 1; m->entered[1] = m->ticks;
+            RG_ENTER(SimDiscreteGrippingArmMovement_Node_Idle);
             m->pc = 1; continue;
         case 4: /* b4: t2: Idle -> ArmMove  ur5e.rst:119 */
-            if (micro && taken) return RG_RUN_MICRO;  /* stepwise: one transition per instant */
-            taken = true;
-            if (++m->transitions > RG_MAX_TRANSITIONS) return rg_runaway_0(inst);
+            RG_BEGIN_TRANSITION(rg_runaway_0(inst));
             RG_TRACE(inst, "SimDiscreteGrippingArmMovement: t2: Idle -> ArmMove");
-            m->node = 2; m->entered[2] = m->ticks;
-            {
-                int64_t a0_ = m->v_margs.target_X;
-                int64_t a1_ = m->v_margs.target_Y;
-                int64_t a2_ = m->v_margs.target_Z;
-                d->out_movediscrete_target_X = a0_;
-                d->out_movediscrete_target_Y = a1_;
-                d->out_movediscrete_target_Z = a2_;
-                rg_activate_output_clock(inst, 12); /* movediscrete */
-            }
+            RG_ENTER(SimDiscreteGrippingArmMovement_Node_ArmMove);
+            d->out_movediscrete_target_X = m->v_margs.target_X;
+            d->out_movediscrete_target_Y = m->v_margs.target_Y;
+            d->out_movediscrete_target_Z = m->v_margs.target_Z;
+            rg_activate_output_clock(inst, CLOCK_movediscrete);
             m->pc = 5; continue;
         case 5: /* b5: EVAL ArmMove  ur5e.rst:108 */
-            if ((!(m->smp_present[2] || m->smp_present[3]))) { m->pc = 6; continue; }  /* t0: ArmMove -> ArmMove (exec) ur5e.rst:121 */
-            if (m->smp_present[2]) { m->pc = 8; continue; }  /* t2_1: ArmMove -> ArmMoving ur5e.rst:123 */
-            if ((m->smp_present[3] && (!m->smp_present[2]))) { m->pc = 23; continue; }  /* t2_nonfeasible: ArmMove -> Idle (exec) ur5e.rst:124 */
+            /* t0: ArmMove -> ArmMove (exec) [not ($feasibleMoveDiscreteCommand \/ $nonfeasibleMoveDiscreteCommand)]  ur5e.rst:121 */
+            if (!(m->smp_present[SimDiscreteGrippingArmMovement_Event_feasibleMoveDiscreteCommand] || m->smp_present[SimDiscreteGrippingArmMovement_Event_nonfeasibleMoveDiscreteCommand])) { m->pc = 6; continue; }
+            /* t2_1: ArmMove -> ArmMoving [$feasibleMoveDiscreteCommand]  ur5e.rst:123 */
+            if (m->smp_present[SimDiscreteGrippingArmMovement_Event_feasibleMoveDiscreteCommand]) { m->pc = 8; continue; }
+            /* t2_nonfeasible: ArmMove -> Idle (exec) [$nonfeasibleMoveDiscreteCommand /\ not $feasibleMoveDiscreteCommand]  ur5e.rst:124 */
+            if (m->smp_present[SimDiscreteGrippingArmMovement_Event_nonfeasibleMoveDiscreteCommand] && (!m->smp_present[SimDiscreteGrippingArmMovement_Event_feasibleMoveDiscreteCommand])) { m->pc = 23; continue; }
             return rg_machine_fail(inst, "SimDiscreteGrippingArmMovement: deadlock in state 'ArmMove' (ur5e.rst:108): no transition is enabled and no exec");
         case 6: /* b6: t0: exec decided  ur5e.rst:121 */
             RG_TRACE(inst, "SimDiscreteGrippingArmMovement: t0: exec");
             m->pc = 7; return RG_RUN_SUSPENDED;
         case 7: /* b7: t0: ArmMove -> ArmMove  ur5e.rst:121 */
-            if (micro && taken) return RG_RUN_MICRO;  /* stepwise: one transition per instant */
-            taken = true;
-            if (++m->transitions > RG_MAX_TRANSITIONS) return rg_runaway_0(inst);
+            RG_BEGIN_TRANSITION(rg_runaway_0(inst));
             RG_TRACE(inst, "SimDiscreteGrippingArmMovement: t0: ArmMove -> ArmMove");
-            m->node = 2; m->entered[2] = m->ticks;
-            {
-                int64_t a0_ = m->v_margs.target_X;
-                int64_t a1_ = m->v_margs.target_Y;
-                int64_t a2_ = m->v_margs.target_Z;
-                d->out_movediscrete_target_X = a0_;
-                d->out_movediscrete_target_Y = a1_;
-                d->out_movediscrete_target_Z = a2_;
-                rg_activate_output_clock(inst, 12); /* movediscrete */
-            }
+            RG_ENTER(SimDiscreteGrippingArmMovement_Node_ArmMove);
+            d->out_movediscrete_target_X = m->v_margs.target_X;
+            d->out_movediscrete_target_Y = m->v_margs.target_Y;
+            d->out_movediscrete_target_Z = m->v_margs.target_Z;
+            rg_activate_output_clock(inst, CLOCK_movediscrete);
             m->pc = 5; continue;
         case 8: /* b8: t2_1: ArmMove -> ArmMoving  ur5e.rst:123 */
-            if (micro && taken) return RG_RUN_MICRO;  /* stepwise: one transition per instant */
-            taken = true;
-            if (++m->transitions > RG_MAX_TRANSITIONS) return rg_runaway_0(inst);
+            RG_BEGIN_TRANSITION(rg_runaway_0(inst));
             RG_TRACE(inst, "SimDiscreteGrippingArmMovement: t2_1: ArmMove -> ArmMoving");
-            m->node = 3; m->entered[3] = m->ticks;
+            RG_ENTER(SimDiscreteGrippingArmMovement_Node_ArmMoving);
             m->pc = 9; continue;
         case 9: /* b9: EVAL ArmMoving  ur5e.rst:109 */
-            if (true) { m->pc = 10; continue; }  /* t2_2: ArmMoving -> J2 (exec) ur5e.rst:127 */
-            return rg_machine_fail(inst, "SimDiscreteGrippingArmMovement: deadlock in state 'ArmMoving' (ur5e.rst:109): no transition is enabled and no exec");
+            /* t2_2: ArmMoving -> J2 (exec)  ur5e.rst:127 */
+            m->pc = 10; continue;
         case 10: /* b10: t2_2: exec decided  ur5e.rst:127 */
             RG_TRACE(inst, "SimDiscreteGrippingArmMovement: t2_2: exec");
             m->pc = 11; return RG_RUN_SUSPENDED;
         case 11: /* b11: t2_2: ArmMoving -> J2  ur5e.rst:127 */
-            if (micro && taken) return RG_RUN_MICRO;  /* stepwise: one transition per instant */
-            taken = true;
-            if (++m->transitions > RG_MAX_TRANSITIONS) return rg_runaway_0(inst);
+            RG_BEGIN_TRANSITION(rg_runaway_0(inst));
             RG_TRACE(inst, "SimDiscreteGrippingArmMovement: t2_2: ArmMoving -> J2");
-            m->node = 6; m->entered[6] = m->ticks;
+            RG_ENTER(SimDiscreteGrippingArmMovement_Node_J2);
             m->pc = 12; continue;
         case 12: /* b12: EVAL J2  ur5e.rst:112 */
-            if ((!(m->smp_present[0] || m->smp_present[6]))) { m->pc = 13; continue; }  /* t2_3: J2 -> ArmMoving ur5e.rst:128 */
-            if ((m->smp_present[0] || m->smp_present[6])) { m->pc = 14; continue; }  /* t2_4: J2 -> ArmStop ur5e.rst:129 */
+            /* t2_3: J2 -> ArmMoving [not ($collision \/ $moveCompleted)]  ur5e.rst:128 */
+            if (!(m->smp_present[SimDiscreteGrippingArmMovement_Event_collision] || m->smp_present[SimDiscreteGrippingArmMovement_Event_moveCompleted])) { m->pc = 13; continue; }
+            /* t2_4: J2 -> ArmStop [$collision \/ $moveCompleted]  ur5e.rst:129 */
+            if (m->smp_present[SimDiscreteGrippingArmMovement_Event_collision] || m->smp_present[SimDiscreteGrippingArmMovement_Event_moveCompleted]) { m->pc = 14; continue; }
             return rg_machine_fail(inst, "SimDiscreteGrippingArmMovement: deadlock in junction 'J2' (ur5e.rst:112): no transition is enabled and no exec");
         case 13: /* b13: t2_3: J2 -> ArmMoving  ur5e.rst:128 */
-            if (micro && taken) return RG_RUN_MICRO;  /* stepwise: one transition per instant */
-            taken = true;
-            if (++m->transitions > RG_MAX_TRANSITIONS) return rg_runaway_0(inst);
+            RG_BEGIN_TRANSITION(rg_runaway_0(inst));
             RG_TRACE(inst, "SimDiscreteGrippingArmMovement: t2_3: J2 -> ArmMoving");
-            m->node = 3; m->entered[3] = m->ticks;
+            RG_ENTER(SimDiscreteGrippingArmMovement_Node_ArmMoving);
             m->pc = 9; continue;
         case 14: /* b14: t2_4: J2 -> ArmStop  ur5e.rst:129 */
-            if (micro && taken) return RG_RUN_MICRO;  /* stepwise: one transition per instant */
-            taken = true;
-            if (++m->transitions > RG_MAX_TRANSITIONS) return rg_runaway_0(inst);
+            RG_BEGIN_TRANSITION(rg_runaway_0(inst));
             RG_TRACE(inst, "SimDiscreteGrippingArmMovement: t2_4: J2 -> ArmStop");
-            m->node = 4; m->entered[4] = m->ticks;
-            {
-                rg_activate_output_clock(inst, 14); /* stop */
-            }
+            RG_ENTER(SimDiscreteGrippingArmMovement_Node_ArmStop);
+            rg_activate_output_clock(inst, CLOCK_stop);
             m->pc = 15; continue;
         case 15: /* b15: EVAL ArmStop  ur5e.rst:110 */
-            if (true) { m->pc = 16; continue; }  /* t3: ArmStop -> ArmStopping ur5e.rst:130 */
-            return rg_machine_fail(inst, "SimDiscreteGrippingArmMovement: deadlock in state 'ArmStop' (ur5e.rst:110): no transition is enabled and no exec");
+            /* t3: ArmStop -> ArmStopping  ur5e.rst:130 */
+            m->pc = 16; continue;
         case 16: /* b16: t3: ArmStop -> ArmStopping  ur5e.rst:130 */
-            if (micro && taken) return RG_RUN_MICRO;  /* stepwise: one transition per instant */
-            taken = true;
-            if (++m->transitions > RG_MAX_TRANSITIONS) return rg_runaway_0(inst);
+            RG_BEGIN_TRANSITION(rg_runaway_0(inst));
             RG_TRACE(inst, "SimDiscreteGrippingArmMovement: t3: ArmStop -> ArmStopping");
-            m->node = 5; m->entered[5] = m->ticks;
+            RG_ENTER(SimDiscreteGrippingArmMovement_Node_ArmStopping);
             m->pc = 17; continue;
         case 17: /* b17: EVAL ArmStopping  ur5e.rst:111 */
-            if (true) { m->pc = 18; continue; }  /* t3_1: ArmStopping -> J3 (exec) ur5e.rst:131 */
-            return rg_machine_fail(inst, "SimDiscreteGrippingArmMovement: deadlock in state 'ArmStopping' (ur5e.rst:111): no transition is enabled and no exec");
+            /* t3_1: ArmStopping -> J3 (exec)  ur5e.rst:131 */
+            m->pc = 18; continue;
         case 18: /* b18: t3_1: exec decided  ur5e.rst:131 */
             RG_TRACE(inst, "SimDiscreteGrippingArmMovement: t3_1: exec");
             m->pc = 19; return RG_RUN_SUSPENDED;
         case 19: /* b19: t3_1: ArmStopping -> J3  ur5e.rst:131 */
-            if (micro && taken) return RG_RUN_MICRO;  /* stepwise: one transition per instant */
-            taken = true;
-            if (++m->transitions > RG_MAX_TRANSITIONS) return rg_runaway_0(inst);
+            RG_BEGIN_TRANSITION(rg_runaway_0(inst));
             RG_TRACE(inst, "SimDiscreteGrippingArmMovement: t3_1: ArmStopping -> J3");
-            m->node = 7; m->entered[7] = m->ticks;
+            RG_ENTER(SimDiscreteGrippingArmMovement_Node_J3);
             m->pc = 20; continue;
         case 20: /* b20: EVAL J3  ur5e.rst:113 */
-            if ((!m->smp_present[7])) { m->pc = 21; continue; }  /* t3_2: J3 -> ArmStopping ur5e.rst:132 */
-            if (m->smp_present[7]) { m->pc = 22; continue; }  /* t3_3: J3 -> Idle ur5e.rst:133 */
+            /* t3_2: J3 -> ArmStopping [not $robotStopped]  ur5e.rst:132 */
+            if (!m->smp_present[SimDiscreteGrippingArmMovement_Event_robotStopped]) { m->pc = 21; continue; }
+            /* t3_3: J3 -> Idle [$robotStopped]  ur5e.rst:133 */
+            if (m->smp_present[SimDiscreteGrippingArmMovement_Event_robotStopped]) { m->pc = 22; continue; }
             return rg_machine_fail(inst, "SimDiscreteGrippingArmMovement: deadlock in junction 'J3' (ur5e.rst:113): no transition is enabled and no exec");
         case 21: /* b21: t3_2: J3 -> ArmStopping  ur5e.rst:132 */
-            if (micro && taken) return RG_RUN_MICRO;  /* stepwise: one transition per instant */
-            taken = true;
-            if (++m->transitions > RG_MAX_TRANSITIONS) return rg_runaway_0(inst);
+            RG_BEGIN_TRANSITION(rg_runaway_0(inst));
             RG_TRACE(inst, "SimDiscreteGrippingArmMovement: t3_2: J3 -> ArmStopping");
-            m->node = 5; m->entered[5] = m->ticks;
+            RG_ENTER(SimDiscreteGrippingArmMovement_Node_ArmStopping);
             m->pc = 17; continue;
         case 22: /* b22: t3_3: J3 -> Idle  ur5e.rst:133 */
-            if (micro && taken) return RG_RUN_MICRO;  /* stepwise: one transition per instant */
-            taken = true;
-            if (++m->transitions > RG_MAX_TRANSITIONS) return rg_runaway_0(inst);
+            RG_BEGIN_TRANSITION(rg_runaway_0(inst));
             RG_TRACE(inst, "SimDiscreteGrippingArmMovement: t3_3: J3 -> Idle");
-            m->node = 1; m->entered[1] = m->ticks;
+            RG_ENTER(SimDiscreteGrippingArmMovement_Node_Idle);
             m->pc = 1; continue;
         case 23: /* b23: t2_nonfeasible: exec decided  ur5e.rst:124 */
             RG_TRACE(inst, "SimDiscreteGrippingArmMovement: t2_nonfeasible: exec");
             m->pc = 24; return RG_RUN_SUSPENDED;
         case 24: /* b24: t2_nonfeasible: ArmMove -> Idle  ur5e.rst:124 */
-            if (micro && taken) return RG_RUN_MICRO;  /* stepwise: one transition per instant */
-            taken = true;
-            if (++m->transitions > RG_MAX_TRANSITIONS) return rg_runaway_0(inst);
+            RG_BEGIN_TRANSITION(rg_runaway_0(inst));
             RG_TRACE(inst, "SimDiscreteGrippingArmMovement: t2_nonfeasible: ArmMove -> Idle");
-            m->node = 1; m->entered[1] = m->ticks;
+            RG_ENTER(SimDiscreteGrippingArmMovement_Node_Idle);
             m->pc = 1; continue;
         default:
             return rg_machine_fail(inst, "state machine SimDiscreteGrippingArmMovement: invalid resume point");
@@ -506,96 +318,57 @@ static void rg_model_reset(rg_instance *inst)
 {
     rg_model_data *d = &inst->s.data;
     d->m0.pc = 0;
-    d->m0.node = 0;
-}
-
-static fmi3Status rg_model_exit_initialization(rg_instance *inst)
-{
-    rg_model_data *d = &inst->s.data;
-    (void)d;
-    return fmi3OK;
+    d->m0.node = SimDiscreteGrippingArmMovement_Node_i1;
 }
 
 static void rg_model_latch(rg_instance *inst, int clock_index)
 {
     rg_model_data *d = &inst->s.data;
-    (void)d;
     switch (clock_index) {
-    case 1: /* moveDiscreteCommand */
-    {
+    case CLOCK_moveDiscreteCommand: {
         rg_rec_ur5e_MovementArgs v;
         v.target_X = d->in_moveDiscreteCommand_target_X;
         v.target_Y = d->in_moveDiscreteCommand_target_Y;
         v.target_Z = d->in_moveDiscreteCommand_target_Z;
-        rg_deliver_0_1(d, v);
+        rg_deliver(d, &rg_events_0[SimDiscreteGrippingArmMovement_Event_moveDiscreteCommand], &v);
         break;
     }
-    case 2: /* feasibleMoveDiscreteCommand */
-    {
-        rg_deliver_0_2(d);
+    case CLOCK_feasibleMoveDiscreteCommand:
+        rg_deliver(d, &rg_events_0[SimDiscreteGrippingArmMovement_Event_feasibleMoveDiscreteCommand], NULL);
+        break;
+    case CLOCK_nonfeasibleMoveDiscreteCommand:
+        rg_deliver(d, &rg_events_0[SimDiscreteGrippingArmMovement_Event_nonfeasibleMoveDiscreteCommand], NULL);
+        break;
+    case CLOCK_openGripperCommand:
+        rg_deliver(d, &rg_events_0[SimDiscreteGrippingArmMovement_Event_openGripperCommand], NULL);
+        break;
+    case CLOCK_closeGripperCommand:
+        rg_deliver(d, &rg_events_0[SimDiscreteGrippingArmMovement_Event_closeGripperCommand], NULL);
+        break;
+    case CLOCK_moveCompleted:
+        rg_deliver(d, &rg_events_0[SimDiscreteGrippingArmMovement_Event_moveCompleted], NULL);
+        break;
+    case CLOCK_robotStopped:
+        rg_deliver(d, &rg_events_0[SimDiscreteGrippingArmMovement_Event_robotStopped], NULL);
+        break;
+    case CLOCK_gripperOpened:
+        rg_deliver(d, &rg_events_0[SimDiscreteGrippingArmMovement_Event_gripperOpened], NULL);
+        break;
+    case CLOCK_gripperClosed:
+        rg_deliver(d, &rg_events_0[SimDiscreteGrippingArmMovement_Event_gripperClosed], NULL);
+        break;
+    case CLOCK_collision:
+        rg_deliver(d, &rg_events_0[SimDiscreteGrippingArmMovement_Event_collision], NULL);
+        break;
+    default: /* the periodic clock, and input events that reach no state machine */
         break;
     }
-    case 3: /* nonfeasibleMoveDiscreteCommand */
-    {
-        rg_deliver_0_3(d);
-        break;
-    }
-    case 4: /* openGripperCommand */
-    {
-        rg_deliver_0_4(d);
-        break;
-    }
-    case 5: /* closeGripperCommand */
-    {
-        rg_deliver_0_5(d);
-        break;
-    }
-    case 6: /* moveCompleted */
-    {
-        rg_deliver_0_6(d);
-        break;
-    }
-    case 7: /* robotStopped */
-    {
-        rg_deliver_0_7(d);
-        break;
-    }
-    case 8: /* gripperOpened */
-    {
-        rg_deliver_0_8(d);
-        break;
-    }
-    case 9: /* gripperClosed */
-    {
-        rg_deliver_0_9(d);
-        break;
-    }
-    case 10: /* collision */
-    {
-        rg_deliver_0_0(d);
-        break;
-    }
-    default:
-        break;
-    }
-}
-
-/* RoboSim: a cycle starts; the events latched since the previous cycle become its sample. */
-static void rg_start_cycle(bool *present_reg, bool *present_smp, size_t n_events, uint64_t *ticks, bool *new_input,
-                           uint64_t *transitions)
-{
-    memcpy(present_smp, present_reg, n_events * sizeof(bool));
-    memset(present_reg, 0, n_events * sizeof(bool));
-    *new_input = false;
-    (*ticks)++;
-    *transitions = 0;
 }
 
 static fmi3Status rg_model_evaluate(rg_instance *inst)
 {
     rg_model_data *d = &inst->s.data;
-    bool periodic = inst->s.clock_active[0];  /* cycle */
-    int r = RG_RUN_SUSPENDED;
+    bool periodic = inst->s.clock_active[CLOCK_cycle];
     d->fault = RG_FAULT_NONE;
     if (periodic) d->cycles++;
     /* Every machine samples its inputs before any runs: what one machine sends another in this
@@ -608,17 +381,12 @@ static fmi3Status rg_model_evaluate(rg_instance *inst)
         run[0] = m->in_cycle;
         if (!m->in_cycle && m->pending > 0) {
             m->pending--;
-            m->smp_e1 = m->reg_e1;
+            m->smp_e_moveDiscreteCommand = m->reg_e_moveDiscreteCommand;
             rg_start_cycle(m->reg_present, m->smp_present, 10, &m->ticks, &m->new_input, &m->transitions);
             run[0] = true;
         }
     }
-    if (run[0]) {
-        r = rg_run_0(inst, true);
-        if (r == RG_RUN_FAULT) return fmi3Error;
-        d->m0.in_cycle = (r == RG_RUN_MICRO);
-    }
-    (void)r;
+    if (run[0] && rg_run_failed(rg_run_0(inst), &d->m0.in_cycle)) return fmi3Error;
     return fmi3OK;
 }
 
@@ -626,26 +394,13 @@ static fmi3Status rg_model_update(rg_instance *inst, bool *discrete_states_need_
                                   bool *terminate_simulation, bool *next_event_time_defined,
                                   double *next_event_time)
 {
-    rg_model_data *d = &inst->s.data;
+    const rg_model_data *d = &inst->s.data;
     bool need = false;
-    (void)d;
     (void)terminate_simulation;
     (void)next_event_time_defined;
     (void)next_event_time;
     need = need || d->m0.in_cycle;
     need = need || d->m0.pending > 0;
     *discrete_states_need_update = need;
-    return fmi3OK;
-}
-
-static fmi3Status rg_model_do_step(rg_instance *inst, double t_end, bool *event_handling_needed,
-                                   bool *terminate_simulation, double *last_successful_time)
-{
-    /* The state machines only react in Event Mode; a step just lets time pass. */
-    (void)inst;
-    (void)t_end;
-    (void)event_handling_needed;
-    (void)terminate_simulation;
-    (void)last_successful_time;
     return fmi3OK;
 }

@@ -5,122 +5,26 @@
  * Each state machine is a function that resumes at block m->pc and runs until the cycle ends
  * (RG_RUN_SUSPENDED), until a micro-step boundary in stepwise semantics (RG_RUN_MICRO), or
  * until a run-time error (RG_RUN_FAULT, reported through logMessage and fmi3Error). Every block
- * opens with a comment naming what it does and the model line it comes from. */
+ * opens with a comment naming what it does and the model line it comes from; every guard is
+ * quoted as the model writes it above its test. The helpers (RG_BEGIN_TRANSITION, rg_deliver,
+ * the arithmetic) are robogen_machine.h's. */
 
-#include <string.h>
-
-/* ---- arithmetic as robogen defines it: wrapping integers, checked division --------------- */
-
-enum { RG_FAULT_NONE = 0, RG_FAULT_DIVISION = 1, RG_FAULT_INDEX = 2, RG_FAULT_RUNAWAY = 3, RG_FAULT_STUCK = 4,
-       RG_FAULT_CONVERSION = 5 };
-enum { RG_RUN_SUSPENDED = 0, RG_RUN_MICRO = 1, RG_RUN_FAULT = -1 };
-
-#define RG_MAX_TRANSITIONS 1000UL  /* transitions per cycle before a runaway is reported */
-#define RG_MAX_STEPS 64000UL        /* blocks per cycle, the same bound for any loop */
-#define RG_TRACE(inst, text) \
-    do { if ((inst)->logging_on && (inst)->log_category_on[RG_LOG_TRANSITIONS]) \
-        rg_log((inst), RG_LOG_TRANSITIONS, fmi3OK, "%s", (text)); } while (0)
-
-static inline int64_t rg_i_add(int64_t a, int64_t b) { return (int64_t)((uint64_t)a + (uint64_t)b); }
-static inline int64_t rg_i_sub(int64_t a, int64_t b) { return (int64_t)((uint64_t)a - (uint64_t)b); }
-static inline int64_t rg_i_mul(int64_t a, int64_t b) { return (int64_t)((uint64_t)a * (uint64_t)b); }
-static inline int64_t rg_i_neg(int64_t a) { return (int64_t)(UINT64_C(0) - (uint64_t)a); }
-static inline int64_t rg_i_abs(int64_t a) { return a < 0 ? rg_i_neg(a) : a; }
-static inline int64_t rg_i_min(int64_t a, int64_t b) { return a <= b ? a : b; }
-static inline int64_t rg_i_max(int64_t a, int64_t b) { return a >= b ? a : b; }
-static inline int64_t rg_i_div(rg_model_data *d, int64_t a, int64_t b)
-{
-    if (b == 0) { d->fault = RG_FAULT_DIVISION; return 0; }
-    if (b == -1) return rg_i_neg(a);
-    return a / b;
-}
-static inline int64_t rg_i_mod(rg_model_data *d, int64_t a, int64_t b)
-{
-    if (b == 0) { d->fault = RG_FAULT_DIVISION; return 0; }
-    if (b == -1) return 0;
-    return a % b;
-}
-static inline uint64_t rg_u_add(uint64_t a, uint64_t b) { return a + b; }
-static inline uint64_t rg_u_sub(uint64_t a, uint64_t b) { return a - b; }
-static inline uint64_t rg_u_mul(uint64_t a, uint64_t b) { return a * b; }
-static inline uint64_t rg_u_neg(uint64_t a) { return UINT64_C(0) - a; }
-static inline uint64_t rg_u_abs(uint64_t a) { return a; }
-static inline uint64_t rg_u_min(uint64_t a, uint64_t b) { return a <= b ? a : b; }
-static inline uint64_t rg_u_max(uint64_t a, uint64_t b) { return a >= b ? a : b; }
-static inline uint64_t rg_u_div(rg_model_data *d, uint64_t a, uint64_t b)
-{
-    if (b == 0) { d->fault = RG_FAULT_DIVISION; return 0; }
-    return a / b;
-}
-static inline uint64_t rg_u_mod(rg_model_data *d, uint64_t a, uint64_t b)
-{
-    if (b == 0) { d->fault = RG_FAULT_DIVISION; return 0; }
-    return a % b;
-}
-static inline double rg_r_div(rg_model_data *d, double a, double b)
-{
-    if (b == 0.0) { d->fault = RG_FAULT_DIVISION; return 0.0; }
-    return a / b;
-}
-static inline double rg_r_abs(double a) { return a < 0.0 ? -a : a; }
-/* Conversions: a real becomes an integer by truncation toward zero; outside the integer's range
- * (or NaN) it sets the fault code instead of being undefined behaviour. */
-static inline int64_t rg_r_to_i(rg_model_data *d, double x)
-{
-    if (!(x >= -9223372036854775808.0 && x < 9223372036854775808.0)) { d->fault = RG_FAULT_CONVERSION; return 0; }
-    return (int64_t)x;
-}
-static inline uint64_t rg_r_to_u(rg_model_data *d, double x)
-{
-    if (!(x > -1.0 && x < 18446744073709551616.0)) { d->fault = RG_FAULT_CONVERSION; return 0; }
-    return (uint64_t)x;
-}
-/* nat to int wraps around, like the interpreter (no implementation-defined conversion). */
-static inline int64_t rg_u_to_i(uint64_t x)
-{
-    return x <= (uint64_t)INT64_MAX ? (int64_t)x : -(int64_t)(UINT64_MAX - x) - 1;
-}
-static inline double rg_r_min(double a, double b) { return a <= b ? a : b; }
-static inline double rg_r_max(double a, double b) { return a >= b ? a : b; }
-/* A 1-based index into n elements, as a 0-based offset; out of range sets the fault code. */
-static inline int64_t rg_index(rg_model_data *d, int64_t i, int64_t n)
-{
-    if (i < 1 || i > n) { d->fault = RG_FAULT_INDEX; return 0; }
-    return i - 1;
-}
+#include "robogen_machine.h"
 
 /* ---- the model's user functions, defined in user_functions.c (robogen --functions) ------- */
 static bool rg_user_even(int64_t n);  /* function even (userfun.rst:9) */
 static double rg_user_sat(double x, double hi);  /* function sat (userfun.rst:5) */
 
-static const char *rg_fault_text(int32_t fault) RG_MAYBE_UNUSED;
-static const char *rg_fault_text(int32_t fault)
-{
-    switch (fault) {
-    case RG_FAULT_DIVISION: return "division by zero";
-    case RG_FAULT_INDEX: return "index out of range";
-    case RG_FAULT_RUNAWAY: return "runaway cycle";
-    case RG_FAULT_CONVERSION: return "real number out of range for an integer";
-    default: return "run-time error";
-    }
-}
-
-/* A RoboChart deadline was missed: counted and logged, never enforced. */
-static void rg_deadline_miss(rg_instance *inst, const char *message) RG_MAYBE_UNUSED;
-static void rg_deadline_miss(rg_instance *inst, const char *message)
-{
-    inst->s.data.deadline_misses++;
-    rg_log(inst, RG_LOG_WARNING, fmi3Warning, "%s (t=%.17g)", message, inst->s.time);
-}
-
-static int rg_machine_fail(rg_instance *inst, const char *message)
-{
-    inst->s.data.fault = RG_FAULT_STUCK;
-    rg_log(inst, RG_LOG_ERROR, fmi3Error, "%s", message);
-    return RG_RUN_FAULT;
-}
-
 /* ---- the FMI variables and clocks (value references as in modelDescription.xml) ---------- */
+
+/* indices into rg_clocks */
+enum {
+    CLOCK_cycle = 0,  /* one RoboSim cycle */
+    CLOCK_reading = 1,  /* input event reading */
+    CLOCK_count = 2,  /* input event count */
+    CLOCK_level = 3,  /* output event level */
+    CLOCK_parity = 4,  /* output event parity */
+};
 
 static const rg_clock rg_clocks[RG_CLOCK_ARRAY_SIZE] = {
     { 1, "cycle", RG_CLOCK_INPUT_CONSTANT, 1, 0.0 },
@@ -151,6 +55,20 @@ static const rg_variable rg_variables[RG_NUM_VARIABLES] = {
 
 /* ======== state machine userfun::Filter (userfun.rst:14) ======== */
 
+/* The name of a node of Filter, for log messages. */
+static const char *Filter_node_name(int64_t node)
+{
+    switch (node) {
+    case Filter_Node_i: return "i";
+    case Filter_Node_Wait: return "Wait";
+    case Filter_Node_Report: return "Report";
+    case Filter_Node_Quiet: return "Quiet";
+    case Filter_Node_j: return "j";
+    default: return "?";
+    }
+}
+
+/* What each block does, for log messages (indexed by m->pc). */
 static const char *const rg_labels_0[] = {
     "b0: start Filter (userfun.rst:14)",
     "b1: EVAL Wait (userfun.rst:21)",
@@ -168,137 +86,98 @@ static const char *const rg_labels_0[] = {
     "b13: t5: Wait -> Wait (userfun.rst:31)",
 };
 
-static int rg_fault_0(rg_instance *inst, int32_t pc) RG_MAYBE_UNUSED;
-static int rg_fault_0(rg_instance *inst, int32_t pc)
+static int rg_fault_0(rg_instance *inst) RG_MAYBE_UNUSED;
+static int rg_fault_0(rg_instance *inst)
 {
-    rg_log(inst, RG_LOG_ERROR, fmi3Error, "state machine Filter: %s in %s", rg_fault_text(inst->s.data.fault), rg_labels_0[pc]);
-    return RG_RUN_FAULT;
+    const rg_machine_0 *m = &inst->s.data.m0;
+    return rg_report_fault(inst, "Filter", rg_labels_0[m->pc], Filter_node_name(m->node));
 }
 
 static int rg_runaway_0(rg_instance *inst)
 {
-    inst->s.data.fault = RG_FAULT_RUNAWAY;
-    rg_log(inst, RG_LOG_ERROR, fmi3Error, "state machine Filter: more than %lu transitions in one cycle without exec "
-           "(a runaway cycle), at %s", RG_MAX_TRANSITIONS, rg_labels_0[inst->s.data.m0.pc]);
-    return RG_RUN_FAULT;
+    const rg_machine_0 *m = &inst->s.data.m0;
+    return rg_report_runaway(inst, "Filter", rg_labels_0[m->pc], Filter_node_name(m->node));
 }
 
-/* event reading reaches Filter: latched until its next cycle */
-static void rg_deliver_0_0(rg_model_data *d, double v) RG_MAYBE_UNUSED;
-static void rg_deliver_0_0(rg_model_data *d, double v)
-{
-    rg_machine_0 *m = &d->m0;
-    if (m->reg_present[0]) d->dropped_events++;
-    m->reg_present[0] = true;
-    m->reg_e0 = v;
-    m->new_input = true;
-}
+/* Where each input event of Filter is latched and read (see rg_event_slot). */
+static const rg_event_slot rg_events_0[] = {
+    RG_TYPED_EVENT(m0, Filter_Event_reading, reading),
+    RG_TYPED_EVENT(m0, Filter_Event_count, count),
+};
 
-/* event count reaches Filter: latched until its next cycle */
-static void rg_deliver_0_1(rg_model_data *d, int64_t v) RG_MAYBE_UNUSED;
-static void rg_deliver_0_1(rg_model_data *d, int64_t v)
-{
-    rg_machine_0 *m = &d->m0;
-    if (m->reg_present[1]) d->dropped_events++;
-    m->reg_present[1] = true;
-    m->reg_e1 = v;
-    m->new_input = true;
-}
-
-/* Run state machine Filter from m->pc until it suspends, or (micro: stepwise semantics)
- * until it reaches a second transition segment: each segment starts with a step check. */
-static int rg_run_0(rg_instance *inst, bool micro)
+/* Run state machine Filter from block m->pc until the work of its cycle is done. */
+static int rg_run_0(rg_instance *inst)
 {
     rg_model_data *d = &inst->s.data;
     rg_machine_0 *m = &d->m0;
-    bool taken = false;  /* a transition segment was entered in this run */
     unsigned long steps = 0;
-    (void)micro;
-    (void)taken;
     for (;;) {
         if (++steps > RG_MAX_STEPS) return rg_runaway_0(inst);
         switch (m->pc) {
         case 0: /* b0: start Filter  userfun.rst:14 */
-            if (micro && taken) return RG_RUN_MICRO;  /* stepwise: one transition per instant */
-            taken = true;
-            if (++m->transitions > RG_MAX_TRANSITIONS) return rg_runaway_0(inst);
+            RG_BEGIN_TRANSITION(rg_runaway_0(inst));
             RG_TRACE(inst, "Filter: t0: i -> Wait");
-            m->node = 1; m->entered[1] = m->ticks;
+            RG_ENTER(Filter_Node_Wait);
             m->pc = 1; continue;
         case 1: /* b1: EVAL Wait  userfun.rst:21 */
-            if (((m->smp_present[0] ? (m->v_last = m->smp_e0, true) : false) || (m->smp_present[1] ? (m->v_n = m->smp_e1, true) : false))) { m->pc = 2; continue; }  /* t1: Wait -> j userfun.rst:26 */
-            if ((!(m->smp_present[0] || m->smp_present[1]))) { m->pc = 12; continue; }  /* t5: Wait -> Wait (exec) userfun.rst:31 */
+            /* t1: Wait -> j [$reading?last \/ $count?n]  userfun.rst:26 */
+            if ((m->smp_present[Filter_Event_reading] ? (m->v_last = m->smp_e_reading, true) : false) || (m->smp_present[Filter_Event_count] ? (m->v_n = m->smp_e_count, true) : false)) { m->pc = 2; continue; }
+            /* t5: Wait -> Wait (exec) [not ($reading \/ $count)]  userfun.rst:31 */
+            if (!(m->smp_present[Filter_Event_reading] || m->smp_present[Filter_Event_count])) { m->pc = 12; continue; }
             return rg_machine_fail(inst, "Filter: deadlock in state 'Wait' (userfun.rst:21): no transition is enabled and no exec");
         case 2: /* b2: t1: Wait -> j  userfun.rst:26 */
-            if (micro && taken) return RG_RUN_MICRO;  /* stepwise: one transition per instant */
-            taken = true;
-            if (++m->transitions > RG_MAX_TRANSITIONS) return rg_runaway_0(inst);
+            RG_BEGIN_TRANSITION(rg_runaway_0(inst));
             RG_TRACE(inst, "Filter: t1: Wait -> j");
-            m->node = 4; m->entered[4] = m->ticks;
+            RG_ENTER(Filter_Node_j);
             m->pc = 3; continue;
         case 3: /* b3: EVAL j  userfun.rst:24 */
-            if ((rg_user_even(m->v_n) || (m->v_last > 1.0))) { m->pc = 4; continue; }  /* t2: j -> Report userfun.rst:27 */
-            if (true) { m->pc = 8; continue; }  /* t3: j -> Quiet userfun.rst:28 */
-            return rg_machine_fail(inst, "Filter: deadlock in junction 'j' (userfun.rst:24): no transition is enabled and no exec");
+            /* t2: j -> Report [even(n) \/ last > 1.0]  userfun.rst:27 */
+            if (rg_user_even(m->v_n) || (m->v_last > 1.0)) { m->pc = 4; continue; }
+            /* t3: j -> Quiet [else]  userfun.rst:28 */
+            m->pc = 8; continue;
         case 4: /* b4: t2: j -> Report  userfun.rst:27 */
-            if (micro && taken) return RG_RUN_MICRO;  /* stepwise: one transition per instant */
-            taken = true;
-            if (++m->transitions > RG_MAX_TRANSITIONS) return rg_runaway_0(inst);
+            RG_BEGIN_TRANSITION(rg_runaway_0(inst));
             RG_TRACE(inst, "Filter: t2: j -> Report");
-            m->node = 2; m->entered[2] = m->ticks;
-            {
-                double a0_ = rg_user_sat(m->v_last, m->v_LIMIT);
-                d->out_level_value = a0_;
-                rg_activate_output_clock(inst, 3); /* level */
-            }
-            {
-                bool a0_ = rg_user_even(m->v_n);
-                d->out_parity_value = a0_;
-                rg_activate_output_clock(inst, 4); /* parity */
-            }
+            RG_ENTER(Filter_Node_Report);
+            d->out_level_value = rg_user_sat(m->v_last, m->v_LIMIT);
+            rg_activate_output_clock(inst, CLOCK_level);
+            d->out_parity_value = rg_user_even(m->v_n);
+            rg_activate_output_clock(inst, CLOCK_parity);
             m->pc = 5; continue;
         case 5: /* b5: EVAL Report  userfun.rst:22 */
-            if (true) { m->pc = 6; continue; }  /* t4: Report -> Wait (exec) userfun.rst:29 */
-            return rg_machine_fail(inst, "Filter: deadlock in state 'Report' (userfun.rst:22): no transition is enabled and no exec");
+            /* t4: Report -> Wait (exec)  userfun.rst:29 */
+            m->pc = 6; continue;
         case 6: /* b6: t4: exec decided  userfun.rst:29 */
             RG_TRACE(inst, "Filter: t4: exec");
             m->pc = 7; return RG_RUN_SUSPENDED;
         case 7: /* b7: t4: Report -> Wait  userfun.rst:29 */
-            if (micro && taken) return RG_RUN_MICRO;  /* stepwise: one transition per instant */
-            taken = true;
-            if (++m->transitions > RG_MAX_TRANSITIONS) return rg_runaway_0(inst);
+            RG_BEGIN_TRANSITION(rg_runaway_0(inst));
             RG_TRACE(inst, "Filter: t4: Report -> Wait");
-            m->node = 1; m->entered[1] = m->ticks;
+            RG_ENTER(Filter_Node_Wait);
             m->pc = 1; continue;
         case 8: /* b8: t3: j -> Quiet  userfun.rst:28 */
-            if (micro && taken) return RG_RUN_MICRO;  /* stepwise: one transition per instant */
-            taken = true;
-            if (++m->transitions > RG_MAX_TRANSITIONS) return rg_runaway_0(inst);
+            RG_BEGIN_TRANSITION(rg_runaway_0(inst));
             RG_TRACE(inst, "Filter: t3: j -> Quiet");
-            m->node = 3; m->entered[3] = m->ticks;
+            RG_ENTER(Filter_Node_Quiet);
             m->pc = 9; continue;
         case 9: /* b9: EVAL Quiet  userfun.rst:23 */
-            if (true) { m->pc = 10; continue; }  /* t6: Quiet -> Wait (exec) userfun.rst:30 */
-            return rg_machine_fail(inst, "Filter: deadlock in state 'Quiet' (userfun.rst:23): no transition is enabled and no exec");
+            /* t6: Quiet -> Wait (exec)  userfun.rst:30 */
+            m->pc = 10; continue;
         case 10: /* b10: t6: exec decided  userfun.rst:30 */
             RG_TRACE(inst, "Filter: t6: exec");
             m->pc = 11; return RG_RUN_SUSPENDED;
         case 11: /* b11: t6: Quiet -> Wait  userfun.rst:30 */
-            if (micro && taken) return RG_RUN_MICRO;  /* stepwise: one transition per instant */
-            taken = true;
-            if (++m->transitions > RG_MAX_TRANSITIONS) return rg_runaway_0(inst);
+            RG_BEGIN_TRANSITION(rg_runaway_0(inst));
             RG_TRACE(inst, "Filter: t6: Quiet -> Wait");
-            m->node = 1; m->entered[1] = m->ticks;
+            RG_ENTER(Filter_Node_Wait);
             m->pc = 1; continue;
         case 12: /* b12: t5: exec decided  userfun.rst:31 */
             RG_TRACE(inst, "Filter: t5: exec");
             m->pc = 13; return RG_RUN_SUSPENDED;
         case 13: /* b13: t5: Wait -> Wait  userfun.rst:31 */
-            if (micro && taken) return RG_RUN_MICRO;  /* stepwise: one transition per instant */
-            taken = true;
-            if (++m->transitions > RG_MAX_TRANSITIONS) return rg_runaway_0(inst);
+            RG_BEGIN_TRANSITION(rg_runaway_0(inst));
             RG_TRACE(inst, "Filter: t5: Wait -> Wait");
-            m->node = 1; m->entered[1] = m->ticks;
+            RG_ENTER(Filter_Node_Wait);
             m->pc = 1; continue;
         default:
             return rg_machine_fail(inst, "state machine Filter: invalid resume point");
@@ -312,14 +191,13 @@ static void rg_model_reset(rg_instance *inst)
 {
     rg_model_data *d = &inst->s.data;
     d->m0.pc = 0;
-    d->m0.node = 0;
+    d->m0.node = Filter_Node_i;
     d->m0.v_LIMIT = 2.5;  /* Filter.LIMIT */
 }
 
 static fmi3Status rg_model_exit_initialization(rg_instance *inst)
 {
     rg_model_data *d = &inst->s.data;
-    (void)d;
     {
         rg_machine_0 *m = &d->m0;
         m->v_last = 0.0;  /* initial value of last */
@@ -331,43 +209,28 @@ static fmi3Status rg_model_exit_initialization(rg_instance *inst)
 static void rg_model_latch(rg_instance *inst, int clock_index)
 {
     rg_model_data *d = &inst->s.data;
-    (void)d;
     switch (clock_index) {
-    case 1: /* reading */
-    {
+    case CLOCK_reading: {
         double v;
         v = d->in_reading_value;
-        rg_deliver_0_0(d, v);
+        rg_deliver(d, &rg_events_0[Filter_Event_reading], &v);
         break;
     }
-    case 2: /* count */
-    {
+    case CLOCK_count: {
         int64_t v;
         v = d->in_count_value;
-        rg_deliver_0_1(d, v);
+        rg_deliver(d, &rg_events_0[Filter_Event_count], &v);
         break;
     }
-    default:
+    default: /* the periodic clock, and input events that reach no state machine */
         break;
     }
-}
-
-/* RoboSim: a cycle starts; the events latched since the previous cycle become its sample. */
-static void rg_start_cycle(bool *present_reg, bool *present_smp, size_t n_events, uint64_t *ticks, bool *new_input,
-                           uint64_t *transitions)
-{
-    memcpy(present_smp, present_reg, n_events * sizeof(bool));
-    memset(present_reg, 0, n_events * sizeof(bool));
-    *new_input = false;
-    (*ticks)++;
-    *transitions = 0;
 }
 
 static fmi3Status rg_model_evaluate(rg_instance *inst)
 {
     rg_model_data *d = &inst->s.data;
-    bool periodic = inst->s.clock_active[0];  /* cycle */
-    int r = RG_RUN_SUSPENDED;
+    bool periodic = inst->s.clock_active[CLOCK_cycle];
     d->fault = RG_FAULT_NONE;
     if (periodic) d->cycles++;
     /* Every machine samples its inputs before any runs: what one machine sends another in this
@@ -378,17 +241,12 @@ static fmi3Status rg_model_evaluate(rg_instance *inst)
         bool start = periodic;
         run[0] = start;
         if (start) {
-            m->smp_e0 = m->reg_e0;
-            m->smp_e1 = m->reg_e1;
+            m->smp_e_reading = m->reg_e_reading;
+            m->smp_e_count = m->reg_e_count;
             rg_start_cycle(m->reg_present, m->smp_present, 2, &m->ticks, &m->new_input, &m->transitions);
         }
     }
-    if (run[0]) {
-        r = rg_run_0(inst, false);
-        if (r == RG_RUN_FAULT) return fmi3Error;
-        d->m0.in_cycle = (r == RG_RUN_MICRO);
-    }
-    (void)r;
+    if (run[0] && rg_run_failed(rg_run_0(inst), &d->m0.in_cycle)) return fmi3Error;
     return fmi3OK;
 }
 
@@ -396,25 +254,12 @@ static fmi3Status rg_model_update(rg_instance *inst, bool *discrete_states_need_
                                   bool *terminate_simulation, bool *next_event_time_defined,
                                   double *next_event_time)
 {
-    rg_model_data *d = &inst->s.data;
+    const rg_model_data *d = &inst->s.data;
     bool need = false;
-    (void)d;
     (void)terminate_simulation;
     (void)next_event_time_defined;
     (void)next_event_time;
     need = need || d->m0.in_cycle;
     *discrete_states_need_update = need;
-    return fmi3OK;
-}
-
-static fmi3Status rg_model_do_step(rg_instance *inst, double t_end, bool *event_handling_needed,
-                                   bool *terminate_simulation, double *last_successful_time)
-{
-    /* The state machines only react in Event Mode; a step just lets time pass. */
-    (void)inst;
-    (void)t_end;
-    (void)event_handling_needed;
-    (void)terminate_simulation;
-    (void)last_successful_time;
     return fmi3OK;
 }
