@@ -6,7 +6,6 @@ the C tables and the XML; output is deterministic (no time stamps, declaration o
 
 from __future__ import annotations
 
-import hashlib
 from dataclasses import dataclass, field
 from fractions import Fraction
 from pathlib import Path
@@ -15,8 +14,20 @@ from typing import Sequence
 import jinja2
 
 from robogen import __version__
-from robogen.codegen.c import CNames, Emitter, c_comment, c_string, ctype, literal, mangle, user_function_prototype
+from robogen.codegen.c import (
+    CNames,
+    Emitter,
+    c_comment,
+    c_string,
+    ctype,
+    literal,
+    mangle,
+    user_function_prototype,
+)
+from robogen.codegen.description import model_description
 from robogen.diagnostics import DiagnosticSink, Note, RobogenError, Span, error
+from robogen.fmu.modeldesc import instantiation_token
+from robogen.fmu.modeldesc_writer import write_model_description
 from robogen.ir import model as ir
 from robogen.ir.dump import dump
 from robogen.semantics import types as T
@@ -116,14 +127,9 @@ def _env() -> jinja2.Environment:
         lstrip_blocks=True,
         autoescape=False,
     )
-    env.filters["xml"] = _xml
     env.filters["c_string"] = c_string
     env.filters["c_comment"] = c_comment
     return env
-
-
-def _xml(text: object) -> str:
-    return str(text).replace("&", "&amp;").replace("<", "&lt;").replace(">", "&gt;").replace('"', "&quot;")
 
 
 def _decimal(value: Fraction) -> str:
@@ -147,7 +153,7 @@ def generate(fmu: ir.Fmu, options: CodegenOptions | None = None, *, diagrams: Se
     names = CNames.of(fmu)
     layout = _Layout(fmu, names.vars)
     ir_text = dump(fmu)
-    token = instantiation_token(ir_text)
+    token = instantiation_token(ir_text)  # a hash of the path-free IR: changes with the model's meaning only
     gen = Generated(fmu, fmu.model_identifier, token, variables=layout.variables)
     env = _env()
     machines = _machines_code(fmu, layout, names, line_comments)
@@ -180,7 +186,8 @@ def generate(fmu: ir.Fmu, options: CodegenOptions | None = None, *, diagrams: Se
         literal=literal,
     )
     ident = fmu.model_identifier
-    gen.files["modelDescription.xml"] = env.get_template("modelDescription.xml.j2").render(**context)
+    gen.files["modelDescription.xml"] = write_model_description(model_description(
+        fmu, token, layout.variables, [(e.name, e.items) for e in layout.enums], context["interval"]))
     gen.files["sources/config.h"] = env.get_template("config.h.j2").render(**context)
     gen.files["sources/model.c"] = env.get_template("model.c.j2").render(**context)
     gen.files[f"sources/{ident}.c"] = env.get_template("unity.c.j2").render(**context)
@@ -191,13 +198,6 @@ def generate(fmu: ir.Fmu, options: CodegenOptions | None = None, *, diagrams: Se
     gen.files["documentation/externalDependencies.txt"] = "none beyond libc and libm\n"
     gen.files["documentation/ir.txt"] = ir_text
     return gen
-
-
-def instantiation_token(ir_text: str) -> str:
-    """The FMU's instantiationToken: a GUID-shaped hash of its path-free IR dump, so it changes
-    with the model's meaning and interface, and not with where the model's files are."""
-    h = hashlib.sha256(ir_text.encode("utf-8")).hexdigest()
-    return "{" + f"{h[0:8]}-{h[8:12]}-{h[12:16]}-{h[16:20]}-{h[20:32]}" + "}"
 
 
 def _functions_file(fmu: ir.Fmu, path: Path | None) -> str | None:
@@ -434,22 +434,6 @@ class _Layout:
     def _data(self, t: T.Type, member: str, comment: str) -> None:
         self._type(t)
         self.data_fields.append((ctype(t), member, comment))
-
-    @property
-    def outputs(self) -> list[FmiVar]:
-        return [v for v in self.variables if v.causality == "output"]
-
-    @property
-    def output_clocks(self) -> list[FmiVar]:
-        return [v for v in self.variables if v.causality == "output" and v.fmi_type == "Clock"]
-
-    @property
-    def input_clock_vrs(self) -> str:
-        return " ".join(str(v.vr) for v in self.variables if v.fmi_type == "Clock" and v.causality == "input")
-
-    @property
-    def table(self) -> list[FmiVar]:
-        return self.variables
 
 
 def _shape(t: T.Type) -> tuple[T.Type, tuple[int, ...]]:
