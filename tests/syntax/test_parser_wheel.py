@@ -72,7 +72,7 @@ def test_the_installed_wheel_parses_and_checks_a_model_outside_the_source_tree(t
     assert {"robogen/grammar/robochart.lark", "robogen/grammar/robosim.lark", "robogen/syntax/parser.py"} <= names
     # what code generation reads at run time ships too: the C runtime and the templates
     assert {"robogen/runtime/robogen_runtime.c", "robogen/runtime/robogen_runtime.h",
-            "robogen/templates/model.c.j2", "robogen/templates/modelDescription.xml.j2"} <= names
+            "robogen/templates/model.c.j2", "robogen/templates/config.h.j2"} <= names
 
     env = tmp_path / "env"
     run(sys.executable, "-m", "venv", "--without-pip", env)

@@ -1,21 +1,20 @@
 """The generated FMU's model description, as :mod:`robogen.fmu.modeldesc` data.
 
 The generator lays out the FMI variables once (value references, types, clocks, start values:
-:class:`robogen.codegen.generate.FmiVar`); this module turns that layout into a
-:class:`~robogen.fmu.modeldesc.ModelDescription`, which the one writer of the project
+:class:`robogen.codegen.generate.FmiVar`, each of which gives its :class:`~robogen.fmu.modeldesc.Variable`);
+this module completes them into a :class:`~robogen.fmu.modeldesc.ModelDescription`, which the one writer of the project
 (:func:`robogen.fmu.modeldesc_writer.write_model_description`) writes as ``modelDescription.xml``.
 The C tables are generated from the same layout, so the two cannot disagree.
 """
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING, Sequence
+from typing import Sequence
 
 from robogen import __version__
 from robogen.fmu.modeldesc import (
     CoSimulation,
     DefaultExperiment,
-    Dimension,
     EnumerationType,
     Item,
     LogCategory,
@@ -24,9 +23,6 @@ from robogen.fmu.modeldesc import (
     Variable,
 )
 from robogen.ir import model as ir
-
-if TYPE_CHECKING:
-    from robogen.codegen.generate import FmiVar
 
 #: What a generated FMU logs, by category (the runtime's RG_LOG_* categories).
 LOG_CATEGORIES = (
@@ -37,7 +33,7 @@ LOG_CATEGORIES = (
 )
 
 
-def model_description(fmu: ir.Fmu, token: str, variables: Sequence["FmiVar"],
+def model_description(fmu: ir.Fmu, token: str, variables: Sequence[Variable],
                       enums: Sequence[tuple[str, Sequence[tuple[str, int]]]], interval: str) -> ModelDescription:
     """The description of ``fmu``: its laid-out ``variables`` after the independent ``time``,
     the enumeration types ``enums`` (name, items), the default step ``interval`` (decimal text)."""
@@ -54,33 +50,19 @@ def model_description(fmu: ir.Fmu, token: str, variables: Sequence["FmiVar"],
         log_categories=LOG_CATEGORIES,
         default_experiment=DefaultExperiment(start_time="0", step_size=interval),
         variables=(Variable("time", 0, "Float64", "independent", "continuous", description="simulation time"),
-                   *(_variable(v) for v in variables)),
+                   *variables),
         unknowns=_structure(variables),
     )
 
 
-def _variable(v: "FmiVar") -> Variable:
-    if v.fmi_type == "Clock":
-        return Variable(v.name, v.vr, "Clock", v.causality, "discrete", description=v.description,
-                        interval_variability=v.interval_variability, interval_decimal=v.interval or None,
-                        shift_decimal=v.shift if v.interval else None)
-    return Variable(v.name, v.vr, v.fmi_type, v.causality, v.variability, description=v.description,
-                    initial=v.initial, start=() if v.start is None else (v.start,), declared_type=v.declared_type,
-                    clocks=() if v.clock is None else (v.clock,), dimensions=tuple(Dimension(start=d) for d in v.dims))
-
-
-def _structure(variables: Sequence["FmiVar"]) -> tuple[Unknown, ...]:
+def _structure(variables: Sequence[Variable]) -> tuple[Unknown, ...]:
     """Every output, an output clock depending on the input clocks and a clocked output on its
     clock; the output clocks are also initial unknowns."""
-    input_clocks = tuple(v.vr for v in variables if v.fmi_type == "Clock" and v.causality == "input")
+    input_clocks = tuple(v.value_reference for v in variables if v.type == "Clock" and v.causality == "input")
     outputs = [v for v in variables if v.causality == "output"]
-    unknowns = []
-    for v in outputs:
-        if v.fmi_type == "Clock":
-            unknowns.append(Unknown("Output", v.vr, input_clocks))
-        else:
-            unknowns.append(Unknown("Output", v.vr, None if v.clock is None else (v.clock,)))
-    unknowns += [Unknown("InitialUnknown", v.vr) for v in outputs if v.fmi_type == "Clock"]
+    unknowns = [Unknown("Output", v.value_reference, input_clocks if v.type == "Clock" else (v.clocks or None))
+                for v in outputs]
+    unknowns += [Unknown("InitialUnknown", v.value_reference) for v in outputs if v.type == "Clock"]
     return tuple(unknowns)
 
 

@@ -26,7 +26,7 @@ from robogen.codegen.c import (
 )
 from robogen.codegen.description import model_description
 from robogen.diagnostics import DiagnosticSink, Note, RobogenError, Span, error
-from robogen.fmu.modeldesc import instantiation_token
+from robogen.fmu.modeldesc import Dimension, Variable, instantiation_token
 from robogen.fmu.modeldesc_writer import write_model_description
 from robogen.ir import model as ir
 from robogen.ir.dump import dump
@@ -90,6 +90,17 @@ class FmiVar:
     @property
     def settable_in_init(self) -> bool:
         return self.causality in ("parameter", "input")
+
+    def described(self) -> Variable:
+        """How modelDescription.xml declares it."""
+        if self.fmi_type == "Clock":
+            return Variable(self.name, self.vr, "Clock", self.causality, "discrete", description=self.description,
+                            interval_variability=self.interval_variability, interval_decimal=self.interval or None,
+                            shift_decimal=self.shift if self.interval else None)
+        return Variable(self.name, self.vr, self.fmi_type, self.causality, self.variability, description=self.description,
+                        initial=self.initial, start=() if self.start is None else (self.start,),
+                        declared_type=self.declared_type, clocks=() if self.clock is None else (self.clock,),
+                        dimensions=tuple(Dimension(start=d) for d in self.dims))
 
 
 @dataclass
@@ -187,7 +198,8 @@ def generate(fmu: ir.Fmu, options: CodegenOptions | None = None, *, diagrams: Se
     )
     ident = fmu.model_identifier
     gen.files["modelDescription.xml"] = write_model_description(model_description(
-        fmu, token, layout.variables, [(e.name, e.items) for e in layout.enums], context["interval"]))
+        fmu, token, [v.described() for v in layout.variables], [(e.name, e.items) for e in layout.enums],
+        context["interval"]))
     gen.files["sources/config.h"] = env.get_template("config.h.j2").render(**context)
     gen.files["sources/model.c"] = env.get_template("model.c.j2").render(**context)
     gen.files[f"sources/{ident}.c"] = env.get_template("unity.c.j2").render(**context)
