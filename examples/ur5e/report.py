@@ -14,7 +14,7 @@ class Timing:
     seconds: float
 
 
-def _at(at: At | None) -> str:
+def _instant(at: At | None) -> str:
     return "—" if at is None else f"({_t(at[0])}, {at[1]})"
 
 
@@ -79,8 +79,8 @@ def summary(reports: dict[str, Report], titles: dict[str, str], timings: list[Ti
     ]
     for c in main.commands:
         lines.append(
-            f"| {c.index + 1} | {c.target} | {_at(c.at)} | {_at(c.dmodel_call)} | {_at(c.platform_call)} | {_t(c.motion_start)} "
-            f"| {_at(c.completed)} | {_at(c.completed_sample)} | {_at(c.stop)} | {_at(c.stopped)} | {_t(c.idle)} | {c.motions} "
+            f"| {c.index + 1} | {c.target} | {_instant(c.at)} | {_instant(c.dmodel_call)} | {_instant(c.platform_call)} | {_t(c.motion_start)} "
+            f"| {_instant(c.completed)} | {_instant(c.completed_sample)} | {_instant(c.stop)} | {_instant(c.stopped)} | {_t(c.idle)} | {c.motions} "
             f"| {c.ee_error_mm:.4f} mm |" if c.ee_error_mm is not None else "| — |"
         )
     errors = [c.ee_error_mm for c in main.commands if c.ee_error_mm is not None]
@@ -92,8 +92,8 @@ def summary(reports: dict[str, Report], titles: dict[str, str], timings: list[Ti
         if c is None or c.dmodel_call is None or c.platform_call is None:
             continue
         hops.append(
-            f"- {titles[name]}: controller `moveDiscreteCommand` at {_at(c.at)} → d-model `movediscrete` at "
-            f"{_at(c.dmodel_call)} → platform `movediscrete` at {_at(c.platform_call)}: "
+            f"- {titles[name]}: controller `moveDiscreteCommand` at {_instant(c.at)} → d-model `movediscrete` at "
+            f"{_instant(c.dmodel_call)} → platform `movediscrete` at {_instant(c.platform_call)}: "
             f"**{c.platform_call[0] - c.at[0]:.1f} s** of simulated time over two hops, "
             f"{c.platform_call[1] - c.at[1]} super-dense step(s)."
         )
