@@ -113,7 +113,10 @@ class FmuInstance:
                 self.binding.fmi3Terminate()
             except FMI3Error:
                 pass
-        self.binding.fmi3FreeInstance()
+        try:
+            self.binding.fmi3FreeInstance()
+        except FMI3Error:  # an isolated instance's worker that died meanwhile: nothing left to free
+            pass
 
     # -- time-based input clocks ------------------------------------------------------------
     def schedule_clocks(self, start: float, overrides: dict[str, dict]) -> None:

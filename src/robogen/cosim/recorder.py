@@ -75,7 +75,7 @@ class Recorder:
         self.columns = ["time", "superdense", *columns]
         self.rows: list[list] = []
         self.keep_rows = keep_rows
-        self.recorded = 0  # rows recorded so far
+        self.recorded = 0  # rows recorded so far (counted where there is a file: it is kept if any)
         self.kept: Path | None = None  # the results file, once closed with rows in it
         self.files: list[tuple[Path, Path]] = []
         self._file = self._events = None
@@ -121,14 +121,7 @@ class Recorder:
         when there is no file), for a loop that records a row at every step."""
         if self._writer is not None:
             return self.append_row
-        return self._count_and_keep if self.keep_rows else self._count
-
-    def _count_and_keep(self, row: list) -> None:
-        self.recorded += 1
-        self.rows.append(row)
-
-    def _count(self, row: list) -> None:
-        self.recorded += 1
+        return self.rows.append if self.keep_rows else _discard  # no file: nothing to keep or rename
 
     def append_rows(self, rows: list[list]) -> None:
         """Several rows at once (the C stretch's chunks); the same as append_row on each."""
@@ -232,3 +225,8 @@ class Progress:
 
 def _discard(row: list) -> None:
     """append_row where rows go nowhere (no file, rows not kept)."""
+
+
+def _discard(row: list) -> None:
+    """append_row where rows go nowhere (no file, rows not kept)."""
+

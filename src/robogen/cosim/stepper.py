@@ -185,7 +185,9 @@ class CStretch:
     def __init__(self, lib, plan: StretchPlan):
         self.lib, self.plan = lib, plan
         self._keep: list = []  # the C arrays the struct points into
-        self.s = ffi.gc(self._struct(plan), lib.rg_release)  # frees the arena with the struct
+        struct = self._struct(plan)
+        # frees the arena with the struct (the destructor holds the struct's memory until it ran)
+        self.s = ffi.gc(struct, lambda pointer, _owner=struct: lib.rg_release(pointer))
         self.width = max(1, self.s.width)
         self.columns = self._columns(plan)
         self.times = ffi.new("double[]", CHUNK)
