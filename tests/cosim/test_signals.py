@@ -53,3 +53,34 @@ def test_a_signal_stops_the_run_cleanly(write_system, misbehaving, tmp_path, sig
     times = [float(line.split(",")[0]) for line in lines[1:]]
     assert len(times) > 2 and times == sorted(times)
     assert list((tmp_path / "tmp").iterdir()) == [] and list(tmp_path.glob(".*.tmp")) == []
+
+
+def test_a_signal_during_the_clean_up_is_raised_once_it_is_done():
+    from robogen.cosim.signals import Interrupted, deferred, interruptible
+
+    done = []
+    with pytest.raises(Interrupted) as stopped:
+        with interruptible([signal.SIGTERM]):
+            with deferred():
+                signal.raise_signal(signal.SIGTERM)
+                done.append("flushed and removed")  # the clean-up goes on
+    assert done == ["flushed and removed"]
+    assert (stopped.value.name, stopped.value.exit_status) == ("SIGTERM", 143)
+
+
+def test_ctrl_c_in_a_python_fmus_step_interrupts_simulate_system(write_system, misbehaving, tmp_path):
+    import threading
+
+    from robogen.cosim import simulate_system
+    from robogen.cosim.signals import Interrupted
+
+    path = write_system(SLOW.replace("MISBEHAVING", str(misbehaving)))
+    timer = threading.Timer(1.0, os.kill, (os.getpid(), signal.SIGINT))
+    timer.start()
+    try:
+        with pytest.raises(Interrupted) as stopped:
+            simulate_system(path, output=tmp_path / "r.csv")  # the master handles SIGINT itself here
+    finally:
+        timer.cancel()
+    assert stopped.value.signum == signal.SIGINT and stopped.value.results == tmp_path / "r.csv"
+    assert (tmp_path / "r.csv").read_text().count("\n") > 2

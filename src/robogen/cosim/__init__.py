@@ -74,9 +74,9 @@ def simulate_system(system_toml_path: str | Path, *, stop: float | None = None, 
                     watch: bool = False, warn: Callable | None = None) -> SimulationResult:
     from robogen.cosim.assemble import FmuCache, build_master
     from robogen.cosim.crash import watch_run
-    from robogen.cosim.signals import Interrupted
+    from robogen.cosim.signals import Interrupted, deferred
 
-    watcher = watch_run(watch)
+    watcher, recorder = watch_run(watch), None
     try:
         cache = FmuCache()
         watcher.publish(temp=cache.root)
@@ -89,12 +89,14 @@ def simulate_system(system_toml_path: str | Path, *, stop: float | None = None, 
             stats = master.run()
         except RobogenError as exc:
             raise RunError(exc.diagnostics, recorder.kept) from None
-        except Interrupted as exc:
-            exc.results = recorder.kept
-            raise
         finally:
-            cache.close()
+            with deferred():
+                cache.close()
+    except Interrupted as exc:  # in the run, or in its clean-up
+        exc.results = recorder.kept if recorder is not None else None
+        raise
     finally:
-        watcher.close()
+        with deferred():
+            watcher.close()
     return SimulationResult(recorder.columns, recorder.rows, stats,
                             Path(output) if output else None, Path(events) if events else None)

@@ -134,11 +134,12 @@ class Master:
                     raise signals.Interrupted(signals.caught()) from None
                 raise self._as_error(exc) from None
             finally:
-                self._shutdown()
-                progress.close()
-                self.recorder.close()
-                if self._pacer is not None:
-                    self.stats.realtime = self._pacer.summary()
+                with signals.deferred():
+                    self._shutdown()
+                    progress.close()
+                    self.recorder.close()
+                    if self._pacer is not None:
+                        self.stats.realtime = self._pacer.summary()
         return self.stats
 
     def _finished(self, t: float) -> bool:

@@ -13,7 +13,8 @@ interruption, not the FMU's error.
 
 Handlers are Python's: they run in the main thread only, between two bytecodes, so a call into
 C (an FMU's step, the C stretch) finishes first (the C stretch hands control back at least
-every 0.2 s).
+every 0.2 s). A signal that arrives during the clean-up itself (:func:`deferred`) is raised when
+the clean-up is done, so the rows are always flushed and the folders always removed.
 """
 
 from __future__ import annotations
@@ -40,6 +41,8 @@ class Interrupted(KeyboardInterrupt):
 
 
 _caught: int | None = None
+_deferring = 0  # depth of deferred() blocks: a signal then waits for the clean-up to finish
+_pending = False  # a signal came in a deferred() block and is yet to be raised
 
 
 def caught() -> int | None:
@@ -48,11 +51,29 @@ def caught() -> int | None:
 
 
 def _handler(signum: int, frame) -> None:
-    global _caught
+    global _caught, _pending
     if _caught is not None:
         return  # already winding down
     _caught = signum
+    if _deferring:
+        _pending = True
+        return
     raise Interrupted(signum)
+
+
+@contextmanager
+def deferred() -> Iterator[None]:
+    """Clean-up that must finish (flush, free, remove): a signal that comes meanwhile is raised
+    on leaving the block, not inside it."""
+    global _deferring, _pending
+    _deferring += 1
+    try:
+        yield
+    finally:
+        _deferring -= 1
+        if not _deferring and _pending:
+            _pending = False
+            raise Interrupted(_caught)
 
 
 @contextmanager
@@ -61,7 +82,7 @@ def interruptible(signums: Iterable[int], *, only_if_default: bool = False) -> I
     back afterwards. ``only_if_default``: leave a signal alone whose handler someone else chose
     (a host application, or an outer :func:`interruptible`). Outside the main thread (where
     Python cannot handle signals) it does nothing."""
-    global _caught
+    global _caught, _pending
     if threading.current_thread() is not threading.main_thread():
         yield
         return
@@ -69,7 +90,7 @@ def interruptible(signums: Iterable[int], *, only_if_default: bool = False) -> I
     previous = {s: signal.getsignal(s) for s in signums}
     mine = [s for s, h in previous.items() if not only_if_default or h in defaults]
     if mine:
-        _caught = None
+        _caught, _pending = None, False
     for s in mine:
         signal.signal(s, _handler)
     try:
@@ -78,7 +99,7 @@ def interruptible(signums: Iterable[int], *, only_if_default: bool = False) -> I
         for s in mine:
             signal.signal(s, previous[s])
         if mine:
-            _caught = None
+            _caught, _pending = None, False
 
 
-__all__ = ["Interrupted", "caught", "interruptible"]
+__all__ = ["Interrupted", "caught", "deferred", "interruptible"]
