@@ -5,6 +5,11 @@ master's process, an ordinary located error with every row kept when it runs iso
 from __future__ import annotations
 
 import csv
+import os
+import signal
+import subprocess
+import sys
+import time
 
 import pytest
 
@@ -90,3 +95,19 @@ def test_a_crash_while_loading_is_reported_too(fmus, write_system, robogen_proce
     assert proc.returncode == -11
     assert "instance 'd' crashed (SIGSEGV) in fmi3DoStep at t=0" in proc.stderr
     assert leftovers(tmp_path) == []
+
+
+def test_a_run_killed_from_outside_is_reported_as_killed(write_system, misbehaving, tmp_path):
+    path = write_system(f'[experiment]\nstop = 100.0\nstep = 0.01\n[instances.p]\nfmu = "{misbehaving}"\n'
+                        "start = { delay = 0.01 }\n")
+    (tmp_path / "tmp").mkdir()
+    proc = subprocess.Popen([sys.executable, "-m", "robogen", "simulate", str(path), "-o", "r.csv"], cwd=tmp_path,
+                            text=True, stderr=subprocess.PIPE, env={**os.environ, "TMPDIR": str(tmp_path / "tmp")})
+    while not list(tmp_path.glob(".r.csv.*.tmp")):
+        time.sleep(0.05)
+    time.sleep(0.5)
+    proc.send_signal(signal.SIGKILL)
+    _, err = proc.communicate(timeout=60)
+    assert proc.returncode == -signal.SIGKILL
+    assert "robogen simulate: the run was killed (SIGKILL, or for want of memory) in fmi3DoStep of instance 'p' at t=" in err
+    assert leftovers(tmp_path) == [] and (tmp_path / "r.csv").read_text().startswith("time,superdense,p.y\n")

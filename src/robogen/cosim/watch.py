@@ -68,8 +68,11 @@ def report(memory: bytes, fault: str) -> tuple[str, dict]:
     instance = instances[call >> 8] if 0 <= call >> 8 < len(instances) else None
     function = functions[call & 255] if 0 <= call & 255 < len(functions) else None
     how = _signal(fault)
-    if instance is None or function is None:
-        text = f"robogen simulate: the simulation crashed ({how}) before its first FMI call"
+    where = f"in {function} of instance '{instance}' at t={time:.12g}" if instance and function else "before its first FMI call"
+    if how == "killed":  # no fatal signal of its own: killed from outside (kill -9, out of memory)
+        text = f"robogen simulate: the run was killed (SIGKILL, or for want of memory) {where}"
+    elif instance is None or function is None:
+        text = f"robogen simulate: the simulation crashed ({how}) {where}"
     else:
         text = f"robogen simulate: instance '{instance}' crashed ({how}) in {function} at t={time:.12g}"
     lines = [text]
