@@ -103,7 +103,9 @@ def test_a_run_killed_from_outside_is_reported_as_killed(write_system, misbehavi
     (tmp_path / "tmp").mkdir()
     proc = subprocess.Popen([sys.executable, "-m", "robogen", "simulate", str(path), "-o", "r.csv"], cwd=tmp_path,
                             text=True, stderr=subprocess.PIPE, env={**os.environ, "TMPDIR": str(tmp_path / "tmp")})
+    deadline = time.monotonic() + 60
     while not list(tmp_path.glob(".r.csv.*.tmp")):
+        assert proc.poll() is None and time.monotonic() < deadline, "the run did not start"
         time.sleep(0.05)
     time.sleep(0.5)
     proc.send_signal(signal.SIGKILL)
