@@ -1,11 +1,15 @@
 """Benchmark of robogen's co-simulation master against fmpy, run in the same process.
 
 Prints medians and ratios (never asserted anywhere):
-  1. one FMI call (fmi3GetFloat64 of one value): robogen's cffi binding vs fmpy's FMU3Slave
+  1. one FMI call (fmi3GetFloat64 of one value): robogen's cffi binding vs fmpy's FMU3Slave;
+     and what noting each call for a crash report costs (robogen.cosim.crash)
   2. 100,000 communication steps of a trivial FMU: robogen.cosim vs fmpy.simulate_fmu
      (both record the one output at every step, in memory; event mode on in both)
-  3. the cost of one event iteration (a stair FMU with a time event at every step vs none)
+  3. the cost of one event iteration (a stair FMU with a time event at every step vs none), and
+     of its flush when the rows go to a CSV file
   4. 1, 10 and 100 chained FMUs: time per communication step (linear growth is the target)
+  5. isolation (robogen.cosim.proxy): one call through a worker process vs in process, a whole
+     run isolated vs in process; the start of the crash watcher
 
     python bench/bench_master.py [--quick]
 """
@@ -24,7 +28,10 @@ import fmpy
 from fmpy.fmi3 import FMU3Slave
 
 from robogen.cosim import simulate_system
-from robogen.cosim.fmi3 import Binding, Library, ffi, vr_array
+from robogen.cosim.crash import watch_run
+from robogen.cosim.fmi3 import Binding, CallNotes, Library, ffi, vr_array
+from robogen.cosim.proxy import ProxyBinding
+from robogen.cosim.recorder import Recorder
 
 ROOT = Path(__file__).resolve().parent.parent
 QUICK = "--quick" in sys.argv
@@ -79,9 +86,22 @@ def bench_calls(fmus: dict[str, Path], folder: Path) -> None:
         for _ in range(n):
             get([2])
 
+    notes, code = CallNotes(), 7
+
+    def noting():  # the store each call makes before it calls the FMU
+        call = notes.call
+        for _ in range(n):
+            call[0] = code
+
+    def empty():
+        for _ in range(n):
+            pass
+
     a, b = median_time(ours), median_time(theirs)
+    note = median_time(noting) - median_time(empty)
     print(f"1. one fmi3GetFloat64 call: robogen {1e6 * a / n:.3f} us, fmpy FMU3Slave.getFloat64 {1e6 * b / n:.3f} us "
-          f"-> robogen {b / a:.1f}x faster")
+          f"-> robogen {b / a:.1f}x faster; noting the call for a crash report: {1e9 * note / n:.0f} ns "
+          f"({100 * note / a:.1f}% of the call; in the C stretch one store)")
     inst.fmi3FreeInstance()
     slave.terminate()
     slave.freeInstance()
@@ -131,9 +151,27 @@ def bench_events(fmus: dict[str, Path], folder: Path) -> None:
     a = median_time(lambda: runs.__setitem__("a", simulate_system(every)))
     b = median_time(lambda: runs.__setitem__("b", simulate_system(never)))
     n_events = runs["a"].stats.event_iterations - runs["b"].stats.event_iterations
+    flush = _flush_cost(folder / "flushes.csv")
     print(f"3. one event iteration (Enter Event Mode, one instant, update, record 2 rows, Enter Step Mode): "
           f"{1e6 * (a - b) / n_events:.1f} us over a plain step ({n_events} event iterations; "
-          f"{1e6 * b / steps:.1f} us per plain step)")
+          f"{1e6 * b / steps:.1f} us per plain step); its flush of the CSV file (2 rows): {1e6 * flush:.1f} us")
+
+
+def _flush_cost(path: Path) -> float:
+    """Seconds per flush of two freshly written rows (what the master adds to an event iteration)."""
+    n = 2_000 if QUICK else 20_000
+    row = [0.5, 0, 1.25, 3, True]
+
+    def rows(flushing: bool):
+        recorder = Recorder(["a", "b", "c"], path, None, keep_rows=False)
+        for _ in range(n):
+            recorder.append_row(row)
+            recorder.append_row(row)
+            if flushing:
+                recorder.flush()
+        recorder.close()
+
+    return (median_time(lambda: rows(True), repeat=5) - median_time(lambda: rows(False), repeat=5)) / n
 
 
 def bench_scaling(fmus: dict[str, Path], folder: Path) -> None:
@@ -151,6 +189,38 @@ def bench_scaling(fmus: dict[str, Path], folder: Path) -> None:
           f"per FMU: {1e6 * per_step[10] / 10:.1f} us (10), {1e6 * per_step[100] / 100:.1f} us (100)")
 
 
+def bench_isolation(fmus: dict[str, Path], folder: Path) -> None:
+    n = 2_000 if QUICK else 20_000
+    unzipped = fmpy.extract(str(fmus["trivial"]), str(folder / "trivial-i"))
+    md = fmpy.read_model_description(unzipped)
+    so = str(Path(unzipped) / "binaries" / "x86_64-linux" / "trivial.so")
+    here, there = Binding(Library(so), "here"), ProxyBinding(so, "there")
+    for b in (here, there):
+        b.fmi3InstantiateCoSimulation(md.instantiationToken, None)
+        b.fmi3EnterInitializationMode(None, 0.0, None)
+    vrs = [2]
+
+    def calls(binding):
+        get = binding.get_values
+        for _ in range(n):
+            get("Float64", vrs)
+
+    a, b = median_time(lambda: calls(here)), median_time(lambda: calls(there))
+    for x in (here, there):
+        x.fmi3FreeInstance()
+    there.close()
+    steps = 2_000 if QUICK else 20_000
+    path = system(folder, "isolated", f'[experiment]\nstop = {steps * 0.001}\nstep = 0.001\n'
+                                      f'[instances.t]\nfmu = "{fmus["trivial"]}"\n')
+    general = median_time(lambda: simulate_system(path, trace=lambda line: None))  # in process, general loop
+    isolated = median_time(lambda: simulate_system(path, isolate=True))
+    start = median_time(lambda: watch_run(True).close())
+    print(f"5. isolation: one fmi3GetFloat64 through a worker process {1e6 * b / n:.1f} us vs {1e6 * a / n:.2f} us "
+          f"in process ({b / a:.0f}x); {steps} steps of a trivial FMU isolated {isolated:.3f} s "
+          f"({1e6 * isolated / steps:.1f} us/step) vs {general:.3f} s in process in the same (general) loop "
+          f"({isolated / general:.1f}x); the crash watcher starts and stops in {1e3 * start:.1f} ms")
+
+
 def main() -> None:
     builder = load_builder()
     with tempfile.TemporaryDirectory() as tmp:
@@ -161,6 +231,7 @@ def main() -> None:
         bench_steps(fmus, folder)
         bench_events(fmus, folder)
         bench_scaling(fmus, folder)
+        bench_isolation(fmus, folder)
 
 
 if __name__ == "__main__":

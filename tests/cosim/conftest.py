@@ -3,6 +3,8 @@
 from __future__ import annotations
 
 import importlib.util
+import os
+import subprocess
 import sys
 from pathlib import Path
 
@@ -26,7 +28,7 @@ def fmu_builder():
 
 @pytest.fixture(scope="session")
 def fmus(tmp_path_factory, fmu_builder) -> dict[str, Path]:
-    """name -> path of every test FMU (ball, stair, ticker, relay, zeno, failer, trivial)."""
+    """name -> path of every test FMU (ball, stair, ticker, relay, zeno, failer, trivial, alltypes)."""
     return fmu_builder.build_all(tmp_path_factory.mktemp("fmus"))
 
 
@@ -42,3 +44,25 @@ def write_system(tmp_path, fmus):
         return p
 
     return write
+
+
+@pytest.fixture(scope="session")
+def misbehaving(tmp_path_factory) -> Path:
+    """The Python FMU of misbehaving_models.Misbehaving (crashes, raises or sleeps on request)."""
+    from robogen.pyfmu.build import package
+
+    return package("misbehaving_models:Misbehaving", tmp_path_factory.mktemp("pyfmus") / "misbehaving.fmu").path
+
+
+@pytest.fixture
+def robogen_process(tmp_path):
+    """run(*args, env=None) -> CompletedProcess: ``robogen ARGS`` in a process of its own (for
+    crashes and signals), in tmp_path, with TMPDIR = tmp_path/tmp (to see what it leaves there)."""
+
+    def run(*args: str, env: dict | None = None, timeout: float = 120) -> subprocess.CompletedProcess:
+        tmp = tmp_path / "tmp"
+        tmp.mkdir(exist_ok=True)
+        return subprocess.run([sys.executable, "-m", "robogen", *map(str, args)], cwd=tmp_path, capture_output=True,
+                              text=True, timeout=timeout, env={**os.environ, "TMPDIR": str(tmp), **(env or {})})
+
+    return run

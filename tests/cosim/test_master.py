@@ -5,8 +5,10 @@ from __future__ import annotations
 import csv
 import json
 import math
+import re
 import subprocess
 import sys
+from pathlib import Path
 
 import fmpy
 import pytest
@@ -172,6 +174,124 @@ def test_events_log_and_results_are_byte_identical_across_runs(write_system, tmp
     assert first[-1]["values"] == {"x_out": 4}
 
 
+def test_a_next_event_time_within_the_tolerance_of_the_stop_time_is_handled_at_the_stop_time(write_system):
+    # the stair's first step up is due at 0.99999999999, 1e-11 before the stop time: the run ends
+    # at the stop time itself, where the event is handled
+    path = write_system('[experiment]\nstop = 1.0\nstep = 0.25\n[instances.s]\nfmu = "{stair}"\n'
+                        'start = { period = 0.99999999999 }\n')
+    res = simulate_system(path)
+    assert [r[:2] for r in res.rows[-2:]] == [[1.0, 0], [1.0, 1]] and res.rows[-1][2] == 1
+    assert res.stats.end_time == 1.0
+
+
+def test_a_system_without_event_mode_starts_with_one_row(fmu_builder, tmp_path):
+    fmu = fmu_builder.build("trivial", tmp_path, spec={**fmu_builder.MODELS["trivial"], "event_mode": False})
+    path = tmp_path / "plain.toml"
+    path.write_text(f'[experiment]\nstop = 0.2\nstep = 0.1\n[instances.t]\nfmu = "{fmu}"\nstart = {{ u = 2.0 }}\n')
+    res = simulate_system(path)
+    # trivial: y = u + t; no Event Mode, so no event iteration and no (0, 1) row
+    assert res.rows == [[0.0, 0, 2.0], [0.1, 0, 2.1], [0.2, 0, 2.2]]
+    assert res.stats.event_iterations == 0
+
+
+# ----------------------------------------------------------------------------------------
+# Feedback through the master
+
+
+def test_an_instance_may_drive_its_own_input_clock(write_system):
+    path = write_system("""connections = ["a.out -> a.tin", "a.c_bin -> a.ci_bin", "a.c_s -> a.ci_s"]
+[experiment]
+stop = 0.3
+step = 0.1
+[instances.a]
+fmu = "{alltypes}"
+[record]
+variables = ["a.out", "a.tin", "a.c_bin", "a.ci_bin", "a.ci_s"]
+""")
+    rows = rows_as_dicts(simulate_system(path))
+    ticks = [r for r in rows if r["a.out"] == 1]
+    assert [r["time"] for r in ticks] == [0.0, 0.3]  # a's own tick, forwarded to its own input clock
+    assert all(r["a.tin"] == 1 and r["a.ci_bin"] == r["a.c_bin"] for r in ticks)
+    assert ticks[1]["a.ci_bin"] == b"\x03\x02" and ticks[1]["a.ci_s"] == 'a b,"3","2"'
+
+
+def test_a_clock_loop_through_one_instance_that_never_settles_is_named(write_system):
+    # with echo, each tick of tin asks for an instant in which out ticks again: out -> tin forever
+    path = write_system("""connections = ["a.out -> a.tin"]
+[experiment]
+stop = 1.0
+step = 0.1
+max_event_iterations = 20
+[instances.a]
+fmu = "{alltypes}"
+start = { echo = true }
+""")
+    with pytest.raises(RobogenError) as exc:
+        simulate_system(path)
+    d = exc.value.diagnostics[0]
+    assert "t=0 did not settle after 20 super-dense instants" in d.message and "'a'" in d.message
+    [loop] = [n for n in d.notes if "loop" in n.message]
+    assert loop.message == "the active clocks trigger each other around the loop 'a.out -> a.tin'"
+    assert (loop.span.line, loop.span.column) == (1, 16)
+
+
+def test_an_algebraic_loop_names_every_connection_of_its_cycle(write_system):
+    # alltypes: y_f64 = u_f64 + 0.25 n + 0.1, so a value that goes round a -> b -> a grows by 0.2 each time
+    path = write_system("""connections = ["a.y_f64 -> b.u_f64", "b.y_f64 -> a.u_f64"]
+[experiment]
+stop = 1.0
+step = 0.1
+[instances.a]
+fmu = "{alltypes}"
+[instances.b]
+fmu = "{alltypes}"
+[instances.c]
+fmu = "{alltypes}"
+""")
+    with pytest.raises(RobogenError) as exc:
+        simulate_system(path)
+    d = exc.value.diagnostics[0]
+    assert d.message.startswith("values did not settle at t=0: an algebraic loop a -> b -> a")
+    assert (d.span.line, d.span.column) == (1, 16)  # "a.y_f64 -> b.u_f64"
+    assert [(n.message, n.span.column) for n in d.notes] == [("'b.y_f64 -> a.u_f64' is part of the loop", 38)]
+
+
+# ----------------------------------------------------------------------------------------
+# Start values and steps
+
+
+def test_a_start_value_the_fmu_refuses_is_reported_at_its_key(write_system):
+    path = write_system('[experiment]\nstop = 1.0\nstep = 0.1\n[instances.a]\nfmu = "{alltypes}"\n'
+                        'start = { u_i8 = 3, u_f64 = nan }\n')
+    with pytest.raises(RobogenError) as exc:
+        simulate_system(path)
+    d = exc.value.diagnostics[0]
+    assert d.message == "instance 'a' refused the start value nan of 'u_f64' (fmi3SetFloat64 returned fmi3Error)"
+    assert (d.span.line, d.span.column) == (6, 21)
+    assert [n.message for n in d.notes] == ["the FMU logged: fmi3SetFloat64: the value is not a finite number"]
+
+
+@pytest.mark.parametrize("stop, step, latest", [(1.0, 1e-300, "1"), (1e12, 1e-4, "1e+12")])
+def test_a_step_that_cannot_advance_time_is_refused(write_system, stop, step, latest):
+    path = write_system(f'[experiment]\nstop = {stop!r}\nstep = {step!r}\n[instances.t]\nfmu = "{{trivial}}"\n')
+    with pytest.raises(RobogenError) as exc:
+        simulate_system(path)
+    d = exc.value.diagnostics[0]
+    assert d.message.startswith(f"the communication step {step!r} cannot advance time: at t={latest}, times closer than")
+    assert (d.span.line, d.span.column) == (3, 1)
+
+
+def test_a_run_of_more_than_1e8_rows_is_warned_about_before_it_starts(write_system):
+    from robogen.cosim.assemble import build_master
+
+    path = write_system('[experiment]\nstop = 1000.0\nstep = 5e-6\n[instances.t]\nfmu = "{trivial}"\n')
+    warnings = []
+    _master, cache = build_master(path, warn=warnings.append)
+    cache.close()
+    [w] = warnings
+    assert w.message.startswith("this run records about 2e+08 rows") and w.span.line == 3
+
+
 # ----------------------------------------------------------------------------------------
 # Failures
 
@@ -208,6 +328,18 @@ fmu = "{failer}"
     lines = out.read_text().splitlines()
     assert lines[0] == "time,superdense,failer.y"
     assert [float(x.split(",")[0]) for x in lines[1:]] == pytest.approx([0.0, 0.0] + [k / 10 for k in range(1, 6)])
+
+
+def test_a_python_fmus_exception_is_shown_with_its_type_message_and_place(write_system, misbehaving, tmp_path, capsys):
+    path = write_system(f'[experiment]\nstop = 5.0\nstep = 0.5\n[instances.p]\nfmu = "{misbehaving}"\n'
+                        'start = { fail_time = 2.0 }\n')
+    assert main(["simulate", str(path), "-o", str(tmp_path / "r.csv")]) == 1  # logging off, as the master instantiates
+    err = capsys.readouterr().err
+    assert "error: instance 'p': fmi3DoStep returned fmi3Error at t=1.5" in err
+    source = (Path(__file__).parent / "misbehaving_models.py").read_text().splitlines()
+    line = 1 + next(i for i, text in enumerate(source) if "1.0 / (self.fail_time" in text)
+    # (the model's module: the FMU's copy, or the test's own where this process imported it first)
+    assert re.search(rf"ZeroDivisionError: float division by zero \(at (\S+/)?misbehaving_models\.py:{line} in do_step\)", err)
 
 
 # ----------------------------------------------------------------------------------------

@@ -4,6 +4,8 @@ to terminate, the same error (and kept rows) when an FMU fails."""
 
 from __future__ import annotations
 
+import json
+
 import pytest
 
 from robogen.cosim import simulate_system, stepper
@@ -85,3 +87,61 @@ def test_a_connected_stretch_records_every_instance_after_the_exchange(write_sys
     # t = 0.002: a.y = 0.002, b.y = 0.001 + 0.002, c.y = 0.001 + 0.002
     assert [r[:2] for r in quiet.rows[2:4]] == [[0.001, 0], [0.002, 0]]
     assert [r[2:] for r in quiet.rows[2:4]] == [pytest.approx([0.001, 0.001, 0.001]), pytest.approx([0.002, 0.003, 0.003])]
+
+
+# ----------------------------------------------------------------------------------------
+# Every FMI 3.0 type (tests/cosim/fmus/alltypes.c): y = derive(u, n) after the n-th step; the
+# clocked c = derive(y, k) at the k-th tick of `tick` (every 0.3 s, from t = 0).
+
+TYPES = ("f32", "f64", "i8", "u8", "i16", "u16", "i32", "u32", "i64", "u64", "b", "s", "bin", "e")
+
+
+def alltypes(step: float, connected: bool) -> str:
+    """One all-types instance, or two with every output of a connected to the input of b of the
+    same type (values, the clock out -> tin and the clocked values), b's clocked inputs recorded."""
+    if not connected:
+        return f'[experiment]\nstop = 1.2\nstep = {step}\n[instances.a]\nfmu = "{{alltypes}}"\n'
+    links = [f"a.y_{t} -> b.u_{t}" for t in TYPES] + ["a.out -> b.tin"] + [f"a.c_{t} -> b.ci_{t}" for t in TYPES]
+    record = ["a.*", "b.*"] + [f"b.ci_{t}" for t in TYPES]
+    return (f"connections = {links!r}\n[experiment]\nstop = 1.2\nstep = {step}\n"
+            '[instances.a]\nfmu = "{alltypes}"\n[instances.b]\nfmu = "{alltypes}"\n'
+            f"[record]\nvariables = {record!r}\n").replace("'", '"')
+
+
+@pytest.mark.parametrize("step", [0.1, 0.7], ids=["step-shorter-than-the-clock", "step-longer-than-the-clock"])
+def test_every_fmi_type_is_recorded_byte_for_byte_alike_by_the_c_and_the_python_loop(loops, write_system, step):
+    python, c = loops(write_system(alltypes(step, connected=False), name="alltypes.toml"))
+    assert c.output.read_bytes() == python.output.read_bytes()
+    assert c.rows == python.rows
+    row = dict(zip(python.columns, python.rows[2]))  # the first step's point (a grid point or the tick at 0.3): n = 1
+    assert row["time"] == min(step, 0.3)
+    assert [row[f"a.y_{t}"] for t in TYPES] == [
+        0.5, 1.85, -4, 37, -300, 1000, -100000, 3_000_000_000, -1_000_000_007, 7 + 0x8000000000000001, True,
+        'a b,"1"', b"\x01", 3]
+    tick = dict(zip(python.columns, python.rows[0]))  # (0, 0): the first tick, k = 1, c = derive(derive(u, 0), 1)
+    assert (tick["a.tick"], tick["a.out"], tick["a.c_f64"], tick["a.c_s"], tick["a.c_bin"], tick["a.c_e"]) == (
+        1, 1, 1.6 + 0.25 + 0.1, 'a b,"0","1"', b"\x01", 3)
+    lines = c.output.read_text().splitlines()
+    assert lines[1].endswith(',True,"a b,""0"",""1""",0x01,3')  # a String in quotes, a Binary in hex
+    assert ',False,"a b,""0""",0x,2,' in lines[1]  # the empty Binary is 0x, not an empty cell
+    assert lines[2].endswith(",,,,,,,,,,,,,,")  # (0, 1): the clocked values are gone with their clock
+
+
+@pytest.mark.parametrize("step", [0.1, 0.7], ids=["step-shorter-than-the-clock", "step-longer-than-the-clock"])
+def test_every_fmi_type_travels_through_connections(monkeypatch, write_system, tmp_path, step):
+    path = write_system(alltypes(step, connected=True), name="connected.toml")
+    python = simulate_with("Python", monkeypatch, path, output=tmp_path / "python.csv", events=tmp_path / "events.jsonl")
+    c = simulate_with("C", monkeypatch, path, output=tmp_path / "c.csv")
+    general = simulate_system(path, output=tmp_path / "general.csv", trace=lambda line: None)
+    assert (python.stats.stretch, c.stats.stretch, general.stats.stretch) == ("Python", "Python", None)
+    assert python.output.read_bytes() == c.output.read_bytes() == general.output.read_bytes()
+    row = dict(zip(python.columns, python.rows[2]))  # after the first step: b.u = a.y = derive(u, 1), then
+    # b.y = derive(b.u, 1): the Binary grows by a byte, the String by ',"1"', the UInt64 wraps, the Enumeration cycles
+    assert (row["b.y_bin"], row["b.y_s"], row["b.y_u64"], row["b.y_e"]) == (b"\x01\x01", 'a b,"1","1"', 9, 1)
+    first = dict(zip(python.columns, python.rows[0]))  # (0, 0): a's first tick forwarded to b with its values
+    assert first["b.tin"] == 1
+    assert [first[f"b.ci_{t}"] for t in TYPES] == [first[f"a.c_{t}"] for t in TYPES]
+    assert first["b.ci_bin"] == b"\x01"
+    events = [json.loads(line) for line in (tmp_path / "events.jsonl").read_text().splitlines()]
+    out = next(e for e in events if e["fmu"] == "a" and e["clock"] == "out")
+    assert out["values"]["c_bin"] == "0x01" and out["values"]["c_s"] == 'a b,"0","1"'

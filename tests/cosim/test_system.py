@@ -75,7 +75,8 @@ def test_connection_errors_name_the_problem(write_system):
         (5, 3, "'ball.h0' is not an input (causality parameter)"),
         (5, 3, "'r1.u' is not an output (causality input)"),
         (5, 3, "a clock connects only to a clock: 'r1.u' is a clock, 'ball.h0' is a variable of type Float64"),
-        (6, 3, "a connection must join two different instances"),
+        # an instance may feed itself (FMI allows it); this one fails only because e is a parameter
+        (6, 3, "'ball.e' is not an input (causality parameter)"),
     ]
     # r1.y -> ticker.tick is fine: a triggered output clock may drive a periodic input clock's port
 
@@ -120,3 +121,65 @@ def test_cli_reports_located_errors_without_traceback(write_system, capsys):
     err = capsys.readouterr().err
     assert ":1:16: error: FMU instance 'ticker' has no variable 'outt' (did you mean 'out'?)" in err
     assert "Traceback" not in err
+
+
+# ----------------------------------------------------------------------------------------
+# [record]: names and patterns (the rule `robogen plot --vars` follows too)
+
+
+def test_record_takes_names_and_the_patterns_plot_accepts(write_system):
+    path = write_system(HEAD + '[record]\nvariables = ["ball.h0", "*.?", "ticker.[ot]*", "r1.x_*"]\n')
+    columns = simulate_system(path).columns[2:]
+    # a name selects any variable (ball.h0 is a parameter); a pattern selects among the outputs and
+    # input clocks, in declaration order, each once
+    assert columns == ["ball.h0", "r1.u", "r1.y", "r1.n", "ball.h", "ball.v", "ticker.tick", "ticker.out",
+                       "ticker.ticks", "r1.x_out"]
+
+
+def test_record_patterns_that_match_nothing_are_located(write_system):
+    got = errors(write_system, HEAD + '[record]\nvariables = ["ball.q*", "bal.*", "r1.x_in"]\n')
+    assert got == [(12, 14, "no output or input clock matches 'ball.q*'"),
+                   (12, 25, "unknown instance 'bal' (did you mean 'ball'?)")]
+
+
+# ----------------------------------------------------------------------------------------
+# What the master refuses before it runs
+
+
+def test_duplicate_value_references_are_refused_at_the_second_variable(fmu_builder, tmp_path):
+    spec = {"vars": [fmu_builder.var("y", 1, "Float64", "output", "continuous"),
+                     fmu_builder.var("u", 1, "Float64", "input", "continuous", start="0"),
+                     fmu_builder.var("stop_at", 3, "Float64", "parameter", "fixed", start="0")]}
+    fmu = fmu_builder.build("trivial", tmp_path, spec=spec)
+    path = tmp_path / "dup.toml"
+    path.write_text(f'[experiment]\nstop = 1.0\nstep = 0.1\n[instances.t]\nfmu = "{fmu}"\n')
+    with pytest.raises(RobogenError) as exc:
+        simulate_system(path)
+    d = exc.value.diagnostics[0]
+    assert d.message == ("the FMU of instance 't' gives value reference 1 to both 'y' and 'u' "
+                         "(value references must be unique)")
+    assert d.span.path == f"{fmu}/modelDescription.xml" and d.span.line > 1
+    assert d.notes[0].span.line == 5  # fmu = ...
+
+
+@pytest.mark.parametrize("output, events, message", [
+    ("{system}", None, "-o {system} is also an input of this command; refusing to overwrite it"),
+    ("{trivial}", None, "-o {trivial} is also an input of this command; refusing to overwrite it"),
+    ("r.csv", "{system}", "--events {system} is also an input of this command; refusing to overwrite it"),
+    ("r.csv", "r.csv", "--events r.csv is also an input of this command; refusing to overwrite it"),
+    ("{folder}", None, "-o {folder} is a folder; name a file"),
+])
+def test_results_files_never_overwrite_an_input_or_each_other(write_system, fmus, tmp_path, monkeypatch, output, events, message):
+    path = write_system('[experiment]\nstop = 1.0\nstep = 0.1\n[instances.t]\nfmu = "{trivial}"\n')
+    before = path.read_bytes(), fmus["trivial"].read_bytes()
+    names = {"system": path, "trivial": fmus["trivial"], "folder": tmp_path}
+    monkeypatch.chdir(tmp_path)
+    with pytest.raises(RobogenError) as exc:
+        simulate_system(path, output=output.format(**names), events=events and events.format(**names))
+    assert exc.value.diagnostics[0].message == message.format(**names)
+    assert (path.read_bytes(), fmus["trivial"].read_bytes()) == before
+
+
+def test_isolate_must_be_a_boolean(write_system):
+    got = errors(write_system, '[experiment]\nstop = 1.0\nstep = 0.1\n[instances.t]\nfmu = "{trivial}"\nisolate = "yes"\n')
+    assert got == [(6, 1, "'isolate' must be true or false")]

@@ -136,3 +136,80 @@ def test_command_line_writes_the_fmu(tmp_path, capsys):
     assert main(["package-py", "pyfmu_fixture_models:Counter", "-o", str(target), "--set", "period=0.1"]) == 0
     assert "wrote" in capsys.readouterr().err
     assert b'intervalDecimal="0.1"' in read(target, "modelDescription.xml")
+
+
+# ---- the user's own mistakes: located errors, never an internal error --------------------------
+
+BROKEN_MODULES = {
+    # a module that raises while it is imported: located at the raising line
+    "raises_on_import": ("import math\n\nLIMIT = math.sqrt(-1)\n",
+                         "importing 'raises_on_import' failed: ValueError: math domain error", 3),
+    # a declaration FMI 3.0 does not allow: located at the class statement
+    "bad_declaration": ("from robogen.pyfmu import Float64, Model\n\n\nclass Bad(Model):\n"
+                        "    x = Float64(0.0, causality='parameter', variability='continuous')\n",
+                        "a declaration in 'bad_declaration' is not valid: Bad: variable 'x': a parameter must be", 4),
+    # a Float64 whose start is not a number
+    "bad_start": ("from robogen.pyfmu import Float64, Model\n\n\nclass Bad(Model):\n"
+                  "    x = Float64('high', causality='output')\n",
+                  "importing 'bad_start' failed: TypeError: x: expected Float64, got str 'high'", 4),
+    # a default outside the limits the class declares
+    "bad_default": ("from robogen.pyfmu import Model, Setting\n\n\nclass Bad(Model):\n"
+                    "    gain = Setting(-2.0, 'a gain', gt=0)\n",
+                    "a declaration in 'bad_default' is not valid: Bad.gain: the default -2.0 is not > 0", 4),
+}
+
+
+@pytest.mark.parametrize("module", sorted(BROKEN_MODULES))
+def test_a_broken_model_module_is_a_located_error(module, tmp_path, monkeypatch, capsys):
+    source, message, line = BROKEN_MODULES[module]  # line: where in the module the error points
+    (tmp_path / f"{module}.py").write_text(source)
+    monkeypatch.syspath_prepend(str(tmp_path))
+    assert main(["package-py", f"{module}:Bad", "-o", str(tmp_path / "x.fmu")]) == 1
+    err = capsys.readouterr().err
+    assert f"error: {message}" in err
+    assert "Traceback" not in err and "internal error" not in err
+    assert f"{module}.py:{line}:1: error" in err
+    assert not (tmp_path / "x.fmu").exists()
+
+
+LIMITED = """from robogen.pyfmu import Clock, Float64, Int64, Model, Setting, String
+
+
+class Limited(Model):
+    period = Setting(0.5, "interval of 'tick' [s]")
+    offset = Setting(0.0, "shift of 'tick' [s]")
+    gain = Setting(1.0, "a gain", ge=0.5, lt=10)
+    mode = Setting("fast", "how", choices=("fast", "slow"))
+    tick = Clock(kind="constant", causality="input", interval="period", shift="offset")
+    count = Int64(causality="output", clock=None)
+    label = String("x", causality="parameter", variability="fixed")
+    y = Float64(causality="output")
+"""
+
+
+@pytest.mark.parametrize("setting, message", [
+    ("period=0", "--set period=0: 0.0 is not > 0 (the interval of clock 'tick')"),
+    ("period=-1", "--set period=-1: -1.0 is not > 0 (the interval of clock 'tick')"),
+    ("offset=-0.1", "--set offset=-0.1: -0.1 is not >= 0 (the shift of clock 'tick')"),
+    ("gain=0.1", "--set gain=0.1: 0.1 is not >= 0.5"),
+    ("gain=10", "--set gain=10: 10.0 is not < 10"),
+    ("mode=medium", "--set mode=medium: 'medium' is not one of 'fast', 'slow'"),
+])
+def test_settings_are_checked_against_what_the_class_declares(setting, message, tmp_path, monkeypatch, capsys):
+    (tmp_path / "limited_models.py").write_text(LIMITED)
+    monkeypatch.syspath_prepend(str(tmp_path))
+    assert main(["package-py", "limited_models:Limited", "--set", setting, "-o", str(tmp_path / "x.fmu")]) == 1
+    err = capsys.readouterr().err
+    assert f"error: {message}" in err and "Traceback" not in err
+    assert not (tmp_path / "x.fmu").exists()
+
+
+def test_package_resources_that_fail_are_located(tmp_path, monkeypatch, capsys):
+    (tmp_path / "resourceful.py").write_text(
+        "from robogen.pyfmu import Float64, Model\n\n\nclass R(Model):\n    y = Float64(causality='output')\n\n"
+        "    @classmethod\n    def package_resources(cls):\n        return {'table.csv': open('/no/such/table.csv').read()}\n")
+    monkeypatch.syspath_prepend(str(tmp_path))
+    assert main(["package-py", "resourceful:R", "-o", str(tmp_path / "x.fmu")]) == 1
+    err = capsys.readouterr().err
+    assert "resourceful.py:9:1: error: R.package_resources() failed: FileNotFoundError:" in err
+    assert "Traceback" not in err

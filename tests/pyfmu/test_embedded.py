@@ -84,6 +84,27 @@ def test_python_exception_becomes_fmi3error_with_the_traceback_logged(fmus):
     fmu.slave.freeInstance()  # the host goes on
 
 
+def test_errors_are_logged_with_logging_off_with_the_place_in_the_models_code(fmus):
+    # FMI 3.0: errors reach logMessage whatever loggingOn says; other messages do not
+    fmu = Fmu(fmus["counter"], logging=False)
+    fmu.set_f64(fail_after=0.2)
+    fmu.slave.enterInitializationMode(startTime=0.0)
+    fmu.slave.exitInitializationMode()
+    fmu.slave.updateDiscreteStates()
+    fmu.slave.enterStepMode()
+    with pytest.raises(FMICallException):
+        fmu.slave.doStep(0.0, 0.5)
+    [(status, _category, message)] = fmu.logs
+    assert status == ERROR
+    lines = message.splitlines()
+    assert lines[:2] == ["fmi3DoStep: Python exception in the FMU", "Traceback (most recent call last):"]
+    assert "robogen/pyfmu" not in message  # only the model's own frames
+    # (in this process the model's module is the test's own, imported before the FMU was)
+    assert re.fullmatch(r"RuntimeError: deliberate failure after t = 0\.2 \(at (\S+/)?pyfmu_fixture_models\.py:\d+ in do_step\)",
+                        lines[-1])
+    fmu.slave.freeInstance()
+
+
 def test_usage_errors_are_logged_without_traceback(fmus):
     fmu = started(fmus["counter"])
     with pytest.raises(FMICallException):

@@ -11,18 +11,27 @@ Python API::
                             # stretch (the quiet stretches' loop: "C", "Python" or None)
 
 ``simulate_system(system_toml_path, *, stop=None, step=None, output=None, events=None,
-realtime=None, progress=False, trace=None, keep_rows=True) -> SimulationResult``
+realtime=None, progress=False, trace=None, keep_rows=True, isolate=False, watch=False, warn=None)
+-> SimulationResult``
 
 - ``stop``/``step`` override ``[experiment] stop``/``step`` of the file.
-- ``output``: CSV path, streamed as the run goes; ``events``: JSON-lines events log path.
+- ``output``: CSV path, streamed as the run goes; ``events``: JSON-lines events log path. Both
+  are written under temporary names and renamed when the run ends (the rows recorded so far,
+  however it ended); neither may be the system file, one of its FMUs, or the other.
 - ``realtime``: pace simulated time at this factor of the wall clock (1.0 = real time); the
   lag statistics land in ``result.stats.realtime``.
 - ``progress``: draw a progress bar on stderr (None: only when stderr is a terminal).
 - ``trace``: a callable receiving one line per FMI call.
+- ``isolate``: run every FMU instance in a worker process of its own (instances with
+  ``isolate = true`` in the file always are): a crash becomes an error (:mod:`robogen.cosim.proxy`).
+- ``watch``: a watching process reports a crash of this process (:mod:`robogen.cosim.crash`).
+- ``warn``: receives the warnings found before the run (default: printed on stderr).
 
 Bad input (system file, FMUs) and failing FMUs raise :class:`robogen.diagnostics.RobogenError`
-with located diagnostics; the CSV written up to the failure stays on disk. The system file
-format is described in docs/system-toml.md; the algorithm in :mod:`robogen.cosim.master`.
+with located diagnostics; once the run has started, a :class:`RunError` whose ``results`` is the
+CSV holding the rows recorded so far (None if none). SIGINT raises
+:class:`robogen.cosim.signals.Interrupted` (with ``results`` too) after the same clean-up. The
+system file format is described in docs/system-toml.md; the algorithm in :mod:`robogen.cosim.master`.
 """
 
 from __future__ import annotations
@@ -31,7 +40,9 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Callable
 
-__all__ = ["simulate_system", "SimulationResult"]
+from robogen.diagnostics import RobogenError
+
+__all__ = ["simulate_system", "SimulationResult", "RunError"]
 
 
 @dataclass
@@ -48,17 +59,44 @@ class SimulationResult:
         return [r[i] for r in self.rows]
 
 
+class RunError(RobogenError):
+    """A run that stopped on an error after it started; ``results`` holds its rows so far."""
+
+    def __init__(self, diagnostics, results: Path | None):
+        super().__init__(diagnostics)
+        self.results = results
+
+
 def simulate_system(system_toml_path: str | Path, *, stop: float | None = None, step: float | None = None,
                     output: str | Path | None = None, events: str | Path | None = None,
                     realtime: float | None = None, progress: bool | None = False,
-                    trace: Callable[[str], None] | None = None, keep_rows: bool = True) -> SimulationResult:
-    from robogen.cosim.assemble import build_master
+                    trace: Callable[[str], None] | None = None, keep_rows: bool = True, isolate: bool = False,
+                    watch: bool = False, warn: Callable | None = None) -> SimulationResult:
+    from robogen.cosim.assemble import FmuCache, build_master
+    from robogen.cosim.crash import watch_run
+    from robogen.cosim.signals import Interrupted, deferred
 
-    master, cache = build_master(Path(system_toml_path), stop=stop, step=step, output=output, events=events,
-                                 realtime=realtime, progress=progress, trace=trace, keep_rows=keep_rows)
+    watcher, recorder = watch_run(watch), None
     try:
-        stats = master.run()
+        cache = FmuCache()
+        watcher.publish(temp=cache.root)
+        master, cache = build_master(Path(system_toml_path), stop=stop, step=step, output=output, events=events,
+                                     realtime=realtime, progress=progress, trace=trace, keep_rows=keep_rows,
+                                     isolate=isolate, cache=cache, notes=watcher.notes, warn=warn)
+        recorder = master.recorder
+        watcher.publish(temp=cache.root, files=recorder.files, output=output)
+        try:
+            stats = master.run()
+        except RobogenError as exc:
+            raise RunError(exc.diagnostics, recorder.kept) from None
+        finally:
+            with deferred():
+                cache.close()
+    except Interrupted as exc:  # in the run, or in its clean-up
+        exc.results = recorder.kept if recorder is not None else None
+        raise
     finally:
-        cache.close()
-    return SimulationResult(master.recorder.columns, master.recorder.rows, stats,
+        with deferred():
+            watcher.close()
+    return SimulationResult(recorder.columns, recorder.rows, stats,
                             Path(output) if output else None, Path(events) if events else None)

@@ -1,33 +1,50 @@
 """From a system file to a ready :class:`~robogen.cosim.master.Master`: load, check, order, wire.
 
-:func:`build_master` reads the system file, extracts and checks each FMU once
-(:class:`FmuCache`, which also removes the extracted files when the run is over), orders the
-instances for the dependency order of their connections and binds each to its FMU's binary.
+:func:`build_master` reads the system file, checks that the results files are not among its
+inputs, extracts and checks each FMU once (:class:`FmuCache`, which also removes the extracted
+files and stops the worker processes when the run is over), orders the instances for the
+dependency order of their connections and binds each to its FMU's binary: in this process, or,
+for an isolated instance, in a worker process of its own (:mod:`robogen.cosim.proxy`).
 """
 
 from __future__ import annotations
 
 import math
 import shutil
+import sys
 import tempfile
 from pathlib import Path
+from typing import Callable
 
-from robogen.cosim.fmi3 import Binding, Library, LoadError
+from robogen.cosim.fmi3 import Binding, CallNotes, Library, LoadError
 from robogen.cosim.instances import FmuInstance
 from robogen.cosim.master import Master, RunOptions
+from robogen.cosim.proxy import ProxyBinding
 from robogen.cosim.recorder import Recorder
-from robogen.cosim.system import Link, System, load_system, resolve, split_name
-from robogen.diagnostics import DiagnosticSink, Note, RobogenError, Span
+from robogen.cosim.system import Link, System, load_system, record_list, resolve
+from robogen.diagnostics import Diagnostic, DiagnosticSink, Note, RobogenError, SourceMap, Span, render, warning
 from robogen.fmu.extract import extract_fmu
+from robogen.fmu.fmi import tolerance
 from robogen.fmu.headers import PLATFORM_TUPLE
 from robogen.fmu.modeldesc import ModelDescription, load_model_description
+from robogen.outputs import check_not_input, output_file
+
+#: A run that would record more rows than this gets a warning before it starts.
+MANY_ROWS = 10**8
 
 
 def build_master(path: Path, *, stop=None, step=None, output=None, events=None, realtime=None,
-                 progress=False, trace=None, keep_rows=True) -> tuple[Master, FmuCache]:
+                 progress=False, trace=None, keep_rows=True, isolate=False, cache: FmuCache | None = None,
+                 notes: CallNotes | None = None, warn: Callable[[Diagnostic], None] | None = None) -> tuple[Master, FmuCache]:
+    """The master of one run of the system file at ``path`` and the cache it loaded the FMUs
+    into (close it after the run). ``isolate``: every instance in a worker process (else those
+    with ``isolate = true``); ``notes``: where the bindings note their calls; ``warn`` receives
+    the warnings found before the run (default: printed on stderr)."""
     system = load_system(path)
-    options = _options(system, stop, step, realtime, progress)
-    cache = FmuCache()
+    output, events = _outputs(system, output, events)
+    options = _options(system, stop, step, realtime, progress, warn or _print_warning)
+    cache = cache if cache is not None else FmuCache()
+    notes = notes if notes is not None else CallNotes()
     try:
         loaded = _load_fmus(system, cache)
         models = {n: md for n, (_folder, md) in loaded.items()}
@@ -37,15 +54,31 @@ def build_master(path: Path, *, stop=None, step=None, output=None, events=None, 
         for name in dependency_order(system, links):
             folder, md = loaded[name]
             spec = system.instances[name]
-            binding = Binding(cache.library(folder, md, spec.fmu_span), name, trace=trace)
+            binding = cache.bind(folder, md, spec.fmu_span, name, trace, notes, isolate or spec.isolate)
             instances.append(FmuInstance(name, md, folder, binding, spec.span))
-        record = _record_list(system, instances)
-        recorder = Recorder([f"{u.name}.{v.name}" for u, v in record], Path(output) if output else None,
-                            Path(events) if events else None, keep_rows)
-        return Master(system, instances, links, record, options, recorder), cache
+        by_name = {u.name: u for u in instances}
+        record = [(by_name[n], v) for n, v in record_list(system, models)]
+        recorder = Recorder([f"{u.name}.{v.name}" for u, v in record], output, events, keep_rows, [v.type for _u, v in record])
+        return Master(system, instances, links, record, options, recorder, notes), cache
     except BaseException:
         cache.close()
         raise
+
+
+def _outputs(system: System, output, events) -> tuple[Path | None, Path | None]:
+    """The results and events files, checked: neither is the system file, an FMU of the system or
+    the other one; each can be written (its folder is created)."""
+    inputs = [system.path, *(spec.fmu for spec in system.instances.values())]
+    out = output_file(output, inputs=inputs, option="-o") if output is not None else None
+    if events is not None:
+        if out is not None:
+            check_not_input(Path(events), [out], "--events")
+        events = output_file(events, inputs=inputs, option="--events")
+    return out, events
+
+
+def _print_warning(diagnostic: Diagnostic) -> None:
+    print(render(diagnostic, SourceMap()), file=sys.stderr)
 
 
 def _load_fmus(system: System, cache: FmuCache) -> dict[str, tuple[Path, ModelDescription]]:
@@ -72,13 +105,15 @@ def _check_event_mode(system: System, models: dict[str, ModelDescription]) -> No
 
 
 class FmuCache:
-    """Extracts each distinct .fmu once per run and loads each binary once."""
+    """Extracts each distinct .fmu once per run, loads each binary once, starts the worker
+    processes of isolated instances, and removes it all in :meth:`close`."""
 
     def __init__(self) -> None:
         self.root = Path(tempfile.mkdtemp(prefix="robogen-sim-"))
         self.folders: dict[Path, Path] = {}
         self.models: dict[Path, ModelDescription] = {}
         self.libraries: dict[str, Library] = {}
+        self.workers: list[ProxyBinding] = []
 
     def load(self, fmu: Path, span: Span) -> tuple[Path, ModelDescription]:
         key = fmu.resolve()
@@ -90,14 +125,18 @@ class FmuCache:
             self.models[key] = load_model_description(folder, f"{fmu}/modelDescription.xml")
         return self.folders[key], self.models[key]
 
-    def library(self, folder: Path, md: ModelDescription, span: Span) -> Library:
+    def binary(self, folder: Path, md: ModelDescription, span: Span) -> Path:
+        """The FMU's shared object for this platform."""
         ident = md.co_simulation.model_identifier
         path = folder / "binaries" / PLATFORM_TUPLE / f"{ident}.so"
         if not path.is_file():
             found = sorted(p.name for p in (folder / "binaries").iterdir()) if (folder / "binaries").is_dir() else []
             raise RobogenError.at(f"the FMU has no binary for this platform: binaries/{PLATFORM_TUPLE}/{ident}.so is missing",
                                   span, Note(f"platforms in the archive: {', '.join(found) or 'none'}"))
-        key = str(path)
+        return path
+
+    def library(self, folder: Path, md: ModelDescription, span: Span) -> Library:
+        key = str(self.binary(folder, md, span))
         if key not in self.libraries:
             try:
                 self.libraries[key] = Library(key)
@@ -105,11 +144,27 @@ class FmuCache:
                 raise RobogenError.at(str(exc), span) from None
         return self.libraries[key]
 
+    def bind(self, folder: Path, md: ModelDescription, span: Span, name: str, trace, notes: CallNotes,
+             isolate: bool) -> Binding | ProxyBinding:
+        """A binding of a new instance of the FMU: in this process, or in a worker process."""
+        if not isolate:
+            return Binding(self.library(folder, md, span), name, trace=trace, notes=notes)
+        try:
+            worker = ProxyBinding(str(self.binary(folder, md, span)), name, trace=trace, notes=notes)
+        except LoadError as exc:
+            raise RobogenError.at(str(exc), span) from None
+        self.workers.append(worker)
+        return worker
+
     def close(self) -> None:
+        for worker in self.workers:
+            worker.close()
+        self.workers.clear()
         shutil.rmtree(self.root, ignore_errors=True)
 
 
-def _options(system: System, stop, step, realtime, progress) -> RunOptions:
+def _options(system: System, stop, step, realtime, progress, warn: Callable[[Diagnostic], None]) -> RunOptions:
+    step_span = system.span("experiment", "step") if step is None and system.step is not None else None
     stop = system.stop if stop is None else float(stop)
     step = system.step if step is None else float(step)
     if stop is None:
@@ -117,12 +172,28 @@ def _options(system: System, stop, step, realtime, progress) -> RunOptions:
     if step is None:
         raise RobogenError.at("no communication step: give [experiment] step = ... or --step", system.span("experiment"))
     if not (math.isfinite(step) and step > 0):
-        raise RobogenError.at(f"the communication step must be positive, not {step}", system.span("experiment", "step"))
+        raise RobogenError.at(f"the communication step must be positive, not {step}", step_span)
     if not math.isfinite(stop) or stop < system.start:
         raise RobogenError.at(f"the stop time {stop} is before the start time {system.start}", system.span("experiment", "stop"))
     if realtime is not None and not (math.isfinite(realtime) and realtime > 0):
         raise RobogenError.at(f"the real-time factor must be positive, not {realtime}", None)
+    _check_step(system, stop, step, step_span, warn)
     return RunOptions(system.start, stop, step, realtime, progress)
+
+
+def _check_step(system: System, stop: float, step: float, where: Span | None, warn: Callable[[Diagnostic], None]) -> None:
+    """A step must advance time everywhere in the run: larger than the time tolerance at the
+    latest time (there t + step == t, or counts as t). Warn before a run of over MANY_ROWS rows."""
+    latest = max(abs(system.start), abs(stop))
+    if step <= tolerance(latest):  # includes latest + step == latest
+        raise RobogenError.at(f"the communication step {step!r} cannot advance time: at t={latest:g}, times closer "
+                              f"than {tolerance(latest):g} are the same time to the master and the FMUs", where,
+                              Note("choose a larger step (or --step)"))
+    rows = (stop - system.start) / step
+    if rows > MANY_ROWS:
+        warn(warning(f"this run records about {rows:.3g} rows (({stop:g} - {system.start:g}) / {step!r}); "
+                     "at tens of bytes each that is far more than a results file should hold", where,
+                     Note("a larger step, an earlier stop time or fewer [record] variables make it smaller")))
 
 
 def dependency_order(system: System, links: list[Link]) -> list[str]:
@@ -134,7 +205,7 @@ def dependency_order(system: System, links: list[Link]) -> list[str]:
     succ: dict[str, set[str]] = {n: set() for n in names}
     indeg = {n: 0 for n in names}
     for l in links:
-        if l.target not in succ[l.source]:
+        if l.target not in succ[l.source] and l.target != l.source:  # an instance feeding itself orders nothing
             succ[l.source].add(l.target)
             indeg[l.target] += 1
     order: list[str] = []
@@ -147,26 +218,3 @@ def dependency_order(system: System, links: list[Link]) -> list[str]:
         for m in succ[n]:
             indeg[m] -= 1
     return order
-
-
-def _record_list(system: System, instances: list[FmuInstance]):
-    """(instance, variable) pairs to record: the [record] list, else every output and input clock."""
-    by_name = {u.name: u for u in instances}
-    declared = [by_name[n] for n in system.instances]
-    if system.record is None:
-        return [(u, v) for u in declared for v in u.md.variables
-                if v.causality == "output" or (v.is_clock and v.causality == "input")]
-    out = []
-    for name, _span in system.record:
-        inst, var = split_name(name)
-        u = by_name[inst]
-        if var == "*":
-            out += [(u, v) for v in u.md.variables if v.causality == "output" or (v.is_clock and v.causality == "input")]
-        else:
-            out.append((u, u.vars[var]))
-    seen, unique = set(), []
-    for u, v in out:
-        if (u.name, v.name) not in seen:
-            seen.add((u.name, v.name))
-            unique.append((u, v))
-    return unique

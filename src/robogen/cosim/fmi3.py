@@ -9,14 +9,21 @@ message the FMU logged). Several output arguments come back as a named tuple
 (:class:`StepResult`, :class:`DiscreteStates`).
 
 Value arrays are cffi buffers so the hot loop allocates nothing: :func:`vr_array` and
-:func:`value_array` make them once; the getters fill a caller-owned buffer. An optional
-``trace`` callable receives one line per call (``fmi3DoStep(ball, 0.5, 0.5) -> fmi3OK``).
+:func:`value_array` make them once; the getters fill a caller-owned buffer. Above them,
+:meth:`Binding.get_values` and :meth:`Binding.set_values` take and give Python lists of any FMI
+type (Strings as ``str``, Binaries as ``bytes``, Enumerations as ``int``); they allocate, and
+serve the calls made once per event or per run. An optional ``trace`` callable receives one line
+per call (``fmi3DoStep(ball, 0.5, 0.5) -> fmi3OK``).
+
+Before each call the binding notes which call it makes in its :class:`CallNotes` (a few bytes
+that may live in memory shared with a watching process, :mod:`robogen.cosim.crash`), so that
+a crash inside the FMU can still be reported by instance and function.
 
 Loops that make millions of calls (the master's quiet stretches) may call the FMU's C functions
 without this layer: :meth:`Binding.raw` gives the function, :attr:`Binding.handle` the instance
-and :attr:`Binding.step_outputs` fmi3DoStep's output arguments; such a loop checks the status
-itself and raises :meth:`Binding.error`. While a trace is on there is no raw access, so that
-every call is seen.
+and :attr:`Binding.step_outputs` fmi3DoStep's output arguments; such a loop notes its calls and
+checks the status itself, and raises :meth:`Binding.error`. While a trace is on there is no raw
+access, so that every call is seen.
 """
 
 from __future__ import annotations
@@ -25,7 +32,7 @@ from typing import Callable, NamedTuple, Sequence
 
 import cffi
 
-from robogen.fmu.fmi import ERROR, WARNING, status_name
+from robogen.fmu.fmi import ERROR, FATAL, WARNING, status_name
 
 ffi = cffi.FFI()
 ffi.cdef(
@@ -62,6 +69,7 @@ ffi.cdef(
     fmi3Status fmi3GetUInt64(fmi3Instance, const fmi3ValueReference[], size_t, uint64_t[], size_t);
     fmi3Status fmi3GetBoolean(fmi3Instance, const fmi3ValueReference[], size_t, bool[], size_t);
     fmi3Status fmi3GetString(fmi3Instance, const fmi3ValueReference[], size_t, const char*[], size_t);
+    fmi3Status fmi3GetBinary(fmi3Instance, const fmi3ValueReference[], size_t, size_t[], const uint8_t*[], size_t);
     fmi3Status fmi3GetClock(fmi3Instance, const fmi3ValueReference[], size_t, bool[]);
     fmi3Status fmi3SetFloat32(fmi3Instance, const fmi3ValueReference[], size_t, const float[], size_t);
     fmi3Status fmi3SetFloat64(fmi3Instance, const fmi3ValueReference[], size_t, const double[], size_t);
@@ -75,6 +83,7 @@ ffi.cdef(
     fmi3Status fmi3SetUInt64(fmi3Instance, const fmi3ValueReference[], size_t, const uint64_t[], size_t);
     fmi3Status fmi3SetBoolean(fmi3Instance, const fmi3ValueReference[], size_t, const bool[], size_t);
     fmi3Status fmi3SetString(fmi3Instance, const fmi3ValueReference[], size_t, const char* const[], size_t);
+    fmi3Status fmi3SetBinary(fmi3Instance, const fmi3ValueReference[], size_t, const size_t[], const uint8_t* const[], size_t);
     fmi3Status fmi3SetClock(fmi3Instance, const fmi3ValueReference[], size_t, const bool[]);
 
     fmi3Status fmi3GetFMUState(fmi3Instance, fmi3FMUState*);
@@ -93,15 +102,29 @@ ffi.cdef(
 )
 
 
-# FMI type -> C element type of its value arrays. Enumeration values travel as Int64.
+# FMI type -> C element type of its value arrays. Enumeration values travel as Int64; a Binary
+# array holds pointers, its sizes travel in a size_t array beside it.
 C_TYPES = {
     "Float32": "float", "Float64": "double",
     "Int8": "int8_t", "UInt8": "uint8_t", "Int16": "int16_t", "UInt16": "uint16_t",
     "Int32": "int32_t", "UInt32": "uint32_t", "Int64": "int64_t", "UInt64": "uint64_t",
-    "Boolean": "bool", "String": "const char*", "Clock": "bool", "Enumeration": "int64_t",
+    "Boolean": "bool", "String": "const char*", "Binary": "const uint8_t*", "Clock": "bool", "Enumeration": "int64_t",
 }
 ACCESSOR = {t: t for t in C_TYPES}
 ACCESSOR["Enumeration"] = "Int64"
+
+#: The FMI functions a binding calls, numbered for :class:`CallNotes` (the order is the notes' code).
+FUNCTIONS = (
+    "fmi3InstantiateCoSimulation", "fmi3FreeInstance", "fmi3EnterInitializationMode", "fmi3ExitInitializationMode",
+    "fmi3EnterEventMode", "fmi3EnterStepMode", "fmi3Terminate", "fmi3Reset", "fmi3DoStep",
+    "fmi3UpdateDiscreteStates", "fmi3GetFMUState", "fmi3SetFMUState", "fmi3FreeFMUState",
+    "fmi3GetIntervalDecimal", "fmi3GetShiftDecimal", "fmi3SetIntervalDecimal", "fmi3SetShiftDecimal",
+    "fmi3GetClock", "fmi3SetClock",
+    *sorted({f"fmi3Get{a}" for a in ACCESSOR.values() if a != "Clock"} | {f"fmi3Set{a}" for a in ACCESSOR.values() if a != "Clock"}),
+)
+FUNCTION_CODE = {name: code for code, name in enumerate(FUNCTIONS)}
+#: The code of a function outside FUNCTIONS (a caller of Binding._call may name any).
+UNLISTED = 255
 
 REQUIRED = [name for name in (
     "fmi3GetVersion fmi3InstantiateCoSimulation fmi3FreeInstance fmi3EnterInitializationMode "
@@ -120,6 +143,45 @@ class FMI3Error(Exception):
         super().__init__(f"{who}{function} returned {status_name(status)}{extra}")
 
 
+class FMUCrashed(FMI3Error):
+    """The process running an FMU instance died during a call (an isolated instance: its worker
+    process, :mod:`robogen.cosim.proxy`). The instance is gone: it is treated as after fmi3Fatal."""
+
+    def __init__(self, function: str, instance: str, how: str):
+        self.how = how  # "SIGSEGV", "exit status 3", ...
+        super().__init__(function, FATAL, instance, f"the process running it ended: {how}")
+
+
+class CallNotes:
+    """Where this process notes the FMI call under way: ``call[0]`` is ``(instance << 8) | function``
+    (:data:`FUNCTIONS`), ``time[0]`` the communication point or event time the master is at.
+
+    The notes are plain memory, written before each call at the cost of one store; they live in
+    ``memory`` (e.g. shared with a watching process, :mod:`robogen.cosim.crash`) or, without it,
+    in memory of their own. ``instances`` lists the names the instance numbers stand for.
+    """
+
+    SIZE = 16  # bytes: int32 call, int32 spare, double time
+
+    def __init__(self, memory=None):
+        self.memory = memory if memory is not None else ffi.new("char[]", self.SIZE)
+        self.call = ffi.cast("int32_t *", self.memory)
+        self.time = ffi.cast("double *", self.memory + 8)
+        self.instances: list[str] = []
+
+    def base(self, instance: str) -> int:
+        """The code base of a new instance's calls (its number, shifted)."""
+        self.instances.append(instance)
+        return (len(self.instances) - 1) << 8
+
+    def describe(self) -> tuple[str, str, float]:
+        """(instance, function, time) of the call noted last."""
+        code = self.call[0]
+        instance = self.instances[code >> 8] if 0 <= code >> 8 < len(self.instances) else "?"
+        function = FUNCTIONS[code & 255] if (code & 255) < len(FUNCTIONS) else "?"
+        return instance, function, self.time[0]
+
+
 class LoadError(Exception):
     """The shared object cannot be loaded or lacks an FMI function."""
 
@@ -130,6 +192,33 @@ def vr_array(vrs: Sequence[int]):
 
 def value_array(fmi_type: str, n: int):
     return ffi.new(f"{C_TYPES[fmi_type]}[]", max(n, 1))
+
+
+def size_array(n: int):
+    """The valueSizes array of fmi3GetBinary/fmi3SetBinary."""
+    return ffi.new("size_t[]", max(n, 1))
+
+
+def decode_strings(values, n: int) -> list[str]:
+    """The first n C strings of a ``const char*`` array (NULL reads as empty)."""
+    return [ffi.string(p).decode("utf-8", "replace") if p != ffi.NULL else "" for p in values[0:n]]
+
+
+def decode_binaries(sizes, values, n: int) -> list[bytes]:
+    """The first n byte strings of an fmi3Binary array and its sizes."""
+    return [ffi.unpack(ffi.cast("char *", p), size) if p != ffi.NULL else b"" for p, size in zip(values[0:n], sizes[0:n])]
+
+
+def encode(fmi_type: str, values: Sequence) -> tuple[object, object, list]:
+    """(value array, sizes array or None, the objects that must outlive the call) for a Set call."""
+    if fmi_type == "String":
+        keep = [ffi.new("char[]", str(v).encode()) for v in values]
+        return ffi.new("const char*[]", keep or 1), None, keep
+    if fmi_type == "Binary":
+        keep = [ffi.from_buffer(bytes(v)) for v in values]
+        pointers = ffi.new("const uint8_t*[]", [ffi.cast("const uint8_t *", k) for k in keep] or 1)
+        return pointers, ffi.new("size_t[]", [len(k) for k in keep] or 1), keep
+    return ffi.new(f"{C_TYPES[fmi_type]}[]", list(values) or 1), None, []
 
 
 class Library:
@@ -207,17 +296,23 @@ class Binding:
     """One fmi3Instance. Methods are the FMI 3.0 functions; errors raise FMI3Error."""
 
     def __init__(self, library: Library, name: str, trace: Callable[[str], None] | None = None,
-                 log: Callable[[str, int, str], None] | None = None):
+                 log: Callable[[str, int, str], None] | None = None, notes: CallNotes | None = None):
         self.library, self.lib, self.name = library, library.lib, name
         self.trace, self.log = trace, log
         self.handle = ffi.NULL
         self.last_message = ""
+        self.notes = notes if notes is not None else CallNotes()
+        self.note_base = self.notes.base(name)
+        self._note = self.notes.call
         self._env = ffi.new_handle(self)
         self._b4 = ffi.new("bool[6]")
         self._d1 = ffi.new("double[1]")
         self._state = ffi.new("fmi3FMUState*")
         b = self._b4
         self.step_outputs = StepOutputs(b + 0, b + 1, b + 2, self._d1)
+        self._code_step = self.note_base | FUNCTION_CODE["fmi3DoStep"]
+        self._code_update = self.note_base | FUNCTION_CODE["fmi3UpdateDiscreteStates"]
+        self._code_get_float64 = self.note_base | FUNCTION_CODE["fmi3GetFloat64"]
 
     @property
     def instantiated(self) -> bool:
@@ -226,6 +321,10 @@ class Binding:
     def raw(self, function: str):
         """The FMU's C function of this name, for calls that bypass this layer; None while tracing."""
         return getattr(self.lib, function) if self.trace is None else None
+
+    def note_code(self, function: str) -> int:
+        """What a loop that bypasses this layer writes to ``notes.call[0]`` before calling ``function``."""
+        return self.note_base | FUNCTION_CODE[function]
 
     def error(self, function: str, status: int) -> FMI3Error:
         """The error for ``function`` having returned ``status``, with the FMU's last message."""
@@ -243,6 +342,7 @@ class Binding:
         self.trace(f"{function}({self.name}{', ' if shown else ''}{shown}) -> {status_name(status)}")
 
     def _call(self, function: str, *args) -> int:
+        self._note[0] = self.note_base | FUNCTION_CODE.get(function, UNLISTED)
         status = getattr(self.lib, function)(self.handle, *args)
         if self.trace is not None:
             self._trace(function, args, status)
@@ -255,6 +355,7 @@ class Binding:
                                     loggingOn: bool = False, eventModeUsed: bool = False,
                                     earlyReturnAllowed: bool = False) -> None:
         res = ffi.new("char[]", resourcePath.encode()) if resourcePath else ffi.NULL
+        self._note[0] = self.note_base | FUNCTION_CODE["fmi3InstantiateCoSimulation"]
         self.handle = self.lib.fmi3InstantiateCoSimulation(
             self.name.encode(), instantiationToken.encode(), res, visible, loggingOn, eventModeUsed,
             earlyReturnAllowed, ffi.NULL, 0, self._env, _log_message, ffi.NULL)
@@ -266,6 +367,7 @@ class Binding:
 
     def fmi3FreeInstance(self) -> None:
         if self.handle != ffi.NULL:
+            self._note[0] = self.note_base | FUNCTION_CODE["fmi3FreeInstance"]
             self.lib.fmi3FreeInstance(self.handle)
             if self.trace is not None:
                 self.trace(f"fmi3FreeInstance({self.name})")
@@ -291,22 +393,43 @@ class Binding:
         return self._call("fmi3Reset")
 
     # -- values ----------------------------------------------------------------------------
-    def get(self, fmi_type: str, vrs, n: int, values) -> None:
-        """fmi3Get<Type>(vrs, n, values, n) into a caller-owned buffer."""
+    def get(self, fmi_type: str, vrs, n: int, values, sizes=None) -> None:
+        """fmi3Get<Type>(vrs, n, values, n) into a caller-owned buffer (Binary: and ``sizes``)."""
         if fmi_type == "Clock":
             self._call("fmi3GetClock", vrs, n, values)
+        elif fmi_type == "Binary":
+            self._call("fmi3GetBinary", vrs, n, sizes, values, n)
         else:
             self._call("fmi3Get" + ACCESSOR[fmi_type], vrs, n, values, n)
 
-    def set(self, fmi_type: str, vrs, n: int, values) -> None:
+    def set(self, fmi_type: str, vrs, n: int, values, sizes=None) -> None:
         if fmi_type == "Clock":
             self._call("fmi3SetClock", vrs, n, values)
+        elif fmi_type == "Binary":
+            self._call("fmi3SetBinary", vrs, n, sizes, values, n)
         else:
             self._call("fmi3Set" + ACCESSOR[fmi_type], vrs, n, values, n)
+
+    def get_values(self, fmi_type: str, vrs: Sequence[int]) -> list:
+        """The values of ``vrs`` (all of ``fmi_type``) as a Python list."""
+        n = len(vrs)
+        values, sizes = value_array(fmi_type, n), size_array(n) if fmi_type == "Binary" else None
+        self.get(fmi_type, vr_array(vrs), n, values, sizes)
+        if fmi_type == "String":
+            return decode_strings(values, n)
+        if fmi_type == "Binary":
+            return decode_binaries(sizes, values, n)
+        return ffi.unpack(values, n)
+
+    def set_values(self, fmi_type: str, vrs: Sequence[int], values: Sequence) -> None:
+        """Set ``vrs`` (all of ``fmi_type``) to ``values``."""
+        buffer, sizes, _keep = encode(fmi_type, values)
+        self.set(fmi_type, vr_array(vrs), len(vrs), buffer, sizes)
 
     def fmi3GetFloat64(self, vrs, n: int, values) -> int:
         if self.trace is not None:
             return self._call("fmi3GetFloat64", vrs, n, values, n)
+        self._note[0] = self._code_get_float64
         status = self.lib.fmi3GetFloat64(self.handle, vrs, n, values, n)
         if status > WARNING:
             raise self.error("fmi3GetFloat64", status)
@@ -347,11 +470,13 @@ class Binding:
 
     def fmi3FreeFMUState(self) -> None:
         if self._state[0] != ffi.NULL and self.handle != ffi.NULL:
+            self._note[0] = self.note_base | FUNCTION_CODE["fmi3FreeFMUState"]
             self.lib.fmi3FreeFMUState(self.handle, self._state)
 
     # -- Event Mode and Step Mode ------------------------------------------------------------
     def fmi3UpdateDiscreteStates(self) -> DiscreteStates:
         b, d = self._b4, self._d1
+        self._note[0] = self._code_update
         status = self.lib.fmi3UpdateDiscreteStates(self.handle, b, b + 1, b + 2, b + 3, b + 4, d)
         if self.trace is not None:
             self._trace("fmi3UpdateDiscreteStates", (), status)
@@ -362,6 +487,7 @@ class Binding:
     def fmi3DoStep(self, currentCommunicationPoint: float, communicationStepSize: float,
                    noSetFMUStatePriorToCurrentPoint: bool = True) -> StepResult:
         b, d = self._b4, self._d1
+        self._note[0] = self._code_step
         status = self.lib.fmi3DoStep(self.handle, currentCommunicationPoint, communicationStepSize,
                                      noSetFMUStatePriorToCurrentPoint, b, b + 1, b + 2, d)
         if self.trace is not None:

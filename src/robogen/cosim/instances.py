@@ -15,14 +15,21 @@ import math
 from pathlib import Path
 
 from robogen.cosim.clocks import APERIODIC, PERIODIC, Aperiodic, Periodic
-from robogen.cosim.fmi3 import ACCESSOR, C_TYPES, Binding, FMI3Error, ffi, value_array, vr_array
-from robogen.diagnostics import RobogenError, Span
-from robogen.fmu.fmi import FATAL, INTERVAL_CHANGED, INTERVAL_NOT_YET_KNOWN, WARNING
+from robogen.cosim.fmi3 import (
+    ACCESSOR, Binding, FMI3Error, decode_binaries, decode_strings, ffi, size_array, value_array, vr_array,
+)
+from robogen.diagnostics import Note, RobogenError, Span
+from robogen.fmu.fmi import FATAL, INTERVAL_CHANGED, INTERVAL_NOT_YET_KNOWN, WARNING, status_name
 from robogen.fmu.modeldesc import ModelDescription, Variable
 
 
 class Reader:
-    """One fmi3Get<Type> call that fills a buffer with several variables of one instance."""
+    """One fmi3Get<Type> call that fills a buffer with several variables of one instance.
+
+    ``values[i]`` is the value of ``vrs[i]`` after :meth:`read`: the cffi buffer itself for
+    numbers and Booleans, a list of ``str`` (String) or ``bytes`` (Binary) decoded from it. A
+    binding without raw C access (a trace, a worker process) is read through its list API.
+    """
 
     def __init__(self, binding: Binding, fmi_type: str, vrs: list[int]):
         self.binding, self.fmi_type, self.vrs = binding, fmi_type, vrs
@@ -30,20 +37,28 @@ class Reader:
         self.count = len(vrs)
         self.c_vrs = vr_array(vrs)
         self.buffer = value_array(fmi_type, self.count)
-        self.decodes = fmi_type == "String"  # the buffer holds C strings; values holds them decoded
-        self.values = [""] * self.count if self.decodes else self.buffer
+        self.sizes = size_array(self.count) if fmi_type == "Binary" else None
+        self.decodes = fmi_type in ("String", "Binary")  # values holds the buffer's contents decoded
         self.function = "fmi3Get" + ACCESSOR[fmi_type]
-        self.c_function = binding.raw(self.function)  # None while tracing
+        self.c_function = binding.raw(self.function)  # None while tracing or out of process
+        self.values = [None] * self.count if self.decodes or self.c_function is None else self.buffer
+        self.note_code = binding.note_code(self.function) if self.c_function is not None else 0
 
     def read(self) -> None:
         if self.c_function is None:
-            self.binding.get(self.fmi_type, self.c_vrs, self.count, self.buffer)
+            self.values[:] = self.binding.get_values(self.fmi_type, self.vrs)
+            return
+        self.binding.notes.call[0] = self.note_code
+        if self.sizes is not None:
+            status = self.c_function(self.binding.handle, self.c_vrs, self.count, self.sizes, self.buffer, self.count)
         else:
             status = self.c_function(self.binding.handle, self.c_vrs, self.count, self.buffer, self.count)
-            if status > WARNING:
-                raise self.binding.error(self.function, status)
-        if self.decodes:
-            self.values[:] = [_decode(p) for p in self.buffer[0:self.count]]
+        if status > WARNING:
+            raise self.binding.error(self.function, status)
+        if self.sizes is not None:
+            self.values[:] = decode_binaries(self.sizes, self.buffer, self.count)
+        elif self.decodes:
+            self.values[:] = decode_strings(self.buffer, self.count)
 
 
 class FmuInstance:
@@ -77,16 +92,17 @@ class FmuInstance:
         self.binding.fmi3InstantiateCoSimulation(self.md.instantiation_token, resources, False, False,
                                                  eventModeUsed=self.event_mode, earlyReturnAllowed=self.early)
 
-    def set_start_values(self, values: dict[str, object]) -> None:
-        """The system file's start values, one Set call per type (Initialization Mode)."""
-        by_type: dict[str, tuple[list, list]] = {}
-        for name, value in values.items():
+    def set_start_values(self, values: dict[str, tuple[object, Span]]) -> None:
+        """The system file's start values, one Set call each (Initialization Mode); a value the
+        FMU refuses is reported at its key in the system file."""
+        for name, (value, span) in values.items():
             var = self.vars[name]
-            vrs, vals = by_type.setdefault(var.type, ([], []))
-            vrs.append(var.value_reference)
-            vals.append(value)
-        for fmi_type, (vrs, vals) in sorted(by_type.items()):
-            self.set_values(fmi_type, vrs, vals)
+            try:
+                self.set_values(var.type, [var.value_reference], [value])
+            except FMI3Error as exc:
+                logged = [Note(f"the FMU logged: {exc.message}")] if exc.message else []
+                raise RobogenError.at(f"instance '{self.name}' refused the start value {value!r} of '{name}' "
+                                      f"({exc.function} returned {status_name(exc.status)})", span, *logged) from None
 
     def shut_down(self) -> None:
         """fmi3Terminate if healthy, then free; never call an instance again after fmi3Fatal."""
@@ -97,7 +113,10 @@ class FmuInstance:
                 self.binding.fmi3Terminate()
             except FMI3Error:
                 pass
-        self.binding.fmi3FreeInstance()
+        try:
+            self.binding.fmi3FreeInstance()
+        except FMI3Error:  # an isolated instance's worker that died meanwhile: nothing left to free
+            pass
 
     # -- time-based input clocks ------------------------------------------------------------
     def schedule_clocks(self, start: float, overrides: dict[str, dict]) -> None:
@@ -184,22 +203,11 @@ class FmuInstance:
         return [vr for i, vr in enumerate(self.out_clocks) if buf[i]]
 
     def get_one(self, var: Variable):
-        buf = value_array(var.type, 1)
-        self.binding.get(var.type, vr_array([var.value_reference]), 1, buf)
-        return _decode(buf[0]) if var.type == "String" else buf[0]
+        return self.binding.get_values(var.type, [var.value_reference])[0]
 
     def set_values(self, fmi_type: str, vrs: list[int], values: list) -> None:
-        if fmi_type == "String":
-            keep = [ffi.new("char[]", str(v).encode()) for v in values]
-            buf = ffi.new("const char*[]", keep)
-        else:
-            buf = ffi.new(f"{C_TYPES[fmi_type]}[]", values)
-        self.binding.set(fmi_type, vr_array(vrs), len(vrs), buf)
+        self.binding.set_values(fmi_type, vrs, values)
 
     def set_clocks(self, vrs: list[int]) -> None:
         self.binding.fmi3SetClock(vr_array(vrs), len(vrs), ffi.new("bool[]", [True] * len(vrs)))
         self.active.update(vrs)
-
-
-def _decode(p) -> str:
-    return ffi.string(p).decode("utf-8", "replace") if p != ffi.NULL else ""

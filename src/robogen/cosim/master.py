@@ -20,7 +20,14 @@ An event iteration runs super-dense instants (t, 0), (t, 1), ... Each instant ac
 time-based clocks (first instant only), then forwards clocks and values through a worklist in
 dependency order (an FMU's outputs are read after its inputs for the instant were set), records
 the instant, and closes it with fmi3UpdateDiscreteStates on every FMU. It continues while an FMU
-asks for an update or a connected value changed, up to ``max_event_iterations`` instants.
+asks for an update or a connected value changed, up to ``max_event_iterations`` instants. A
+system without any FMU in Event Mode has no event iteration: its start is one row (t_start, 0).
+
+A time event within the time tolerance of the stop time is handled at the stop time, so the last
+row is always at the stop time. Before each FMI call the bindings note it, and the master notes
+the time (:class:`~robogen.cosim.fmi3.CallNotes`); the rows are flushed to the results file at the
+end of every event iteration. A run stopped by a signal (:mod:`robogen.cosim.signals`) ends as
+any failure does: every instance terminated and freed, the rows recorded so far kept.
 """
 
 from __future__ import annotations
@@ -29,14 +36,17 @@ import heapq
 import math
 from dataclasses import dataclass
 
+from signal import SIGINT
+
+from robogen.cosim import signals
 from robogen.cosim.clocks import grid_index
-from robogen.cosim.fmi3 import FMI3Error, StepResult
+from robogen.cosim.fmi3 import CallNotes, FMI3Error, FMUCrashed, StepResult
 from robogen.cosim.instances import FmuInstance
 from robogen.cosim.recorder import Pacer, Progress, Recorder
 from robogen.cosim.stepper import CStretch
 from robogen.cosim.stretch import PythonStretch, Stretch, StretchPlan
 from robogen.cosim.system import Link, System
-from robogen.cosim.wiring import CLOCK, VALUE, ValueExchange, plain, wire
+from robogen.cosim.wiring import CLOCK, VALUE, ValueExchange, find_cycle, plain, wire
 from robogen.diagnostics import Note, RobogenError
 from robogen.fmu.fmi import DISCARD, status_name, tolerance
 
@@ -72,8 +82,9 @@ class Master:
     """One run of a system: its instances (in dependency order), their wiring, the results."""
 
     def __init__(self, system: System, instances: list[FmuInstance], links: list[Link], record: list,
-                 options: RunOptions, recorder: Recorder):
-        self.system, self.options, self.recorder = system, options, recorder
+                 options: RunOptions, recorder: Recorder, notes: CallNotes):
+        self.system, self.options, self.recorder, self.notes = system, options, recorder, notes
+        self.links = links
         self.instances = instances  # in dependency order
         self.by_name = {u.name: u for u in instances}
         self.stats = Stats()
@@ -99,28 +110,36 @@ class Master:
         from point to point up to the stop time, with Event Mode where an event is due."""
         opt = self.options
         progress = Progress(opt.start, opt.stop, enabled=opt.progress)
-        try:
-            self._setup()
-            t = opt.start
-            self._event_iteration(t)
-            # Pacing starts once the system is initialised: loading and instantiating the FMUs
-            # is not simulated time, and must not show as lag.
-            self._pacer = Pacer(opt.realtime, opt.start) if opt.realtime else None
-            self._choose_stretch(progress)
-            while not self._finished(t):
-                t, event = self._advance(t)
-                if event:
-                    self._event_mode(t)
-                progress.update(t)
-            self.stats.end_time = t
-        except FMI3Error as exc:
-            raise self._as_error(exc) from None
-        finally:
-            self._shutdown()
-            progress.close()
-            self.recorder.close()
-            if self._pacer is not None:
-                self.stats.realtime = self._pacer.summary()
+        with signals.interruptible([SIGINT], only_if_default=True):
+            try:
+                self._setup()
+                t = opt.start
+                if self.event_instances:
+                    self._event_iteration(t)
+                else:
+                    self._record(t, 0)
+                    self.recorder.flush()
+                # Pacing starts once the system is initialised: loading and instantiating the FMUs
+                # is not simulated time, and must not show as lag.
+                self._pacer = Pacer(opt.realtime, opt.start) if opt.realtime else None
+                self._choose_stretch(progress)
+                while not self._finished(t):
+                    t, event = self._advance(t)
+                    if event:
+                        self._event_mode(t)
+                    progress.update(t)
+                self.stats.end_time = t
+            except FMI3Error as exc:
+                if signals.caught() is not None:  # the FMU failed because the signal interrupted it
+                    raise signals.Interrupted(signals.caught()) from None
+                raise self._as_error(exc) from None
+            finally:
+                with signals.deferred():
+                    self._shutdown()
+                    progress.close()
+                    self.recorder.close()
+                    if self._pacer is not None:
+                        self.stats.realtime = self._pacer.summary()
         return self.stats
 
     def _finished(self, t: float) -> bool:
@@ -134,13 +153,14 @@ class Master:
     # -- setup ------------------------------------------------------------------------------
     def _setup(self) -> None:
         opt = self.options
+        self.notes.time[0] = opt.start
         for u in self.instances:
             u.instantiate(opt.start)
         for u in self.instances:
             u.binding.fmi3EnterInitializationMode(self.system.tolerance, opt.start, opt.stop)
         for u in self.instances:
             spec = self.system.instances[u.name]
-            u.set_start_values({name: value for name, (value, _span) in spec.start.items()})
+            u.set_start_values(spec.start)
             u.schedule_clocks(opt.start, {name: timing for name, (timing, _span) in spec.clocks.items()})
         self._timed = [u for u in self.instances if u.periodic or u.aperiodic]
         # values in dependency order (Initialization Mode allows Get outputs / Set inputs)
@@ -156,7 +176,7 @@ class Master:
         opt = self.options
         reads = [r for u in self.wiring.record_reads for r in u.readers]
         plan = StretchPlan(opt.start, opt.step, self.instances, self.values, reads, self.wiring.columns,
-                           self.recorder, progress, self._pacer)
+                           self.recorder, progress, self._pacer, self.notes)
         self._stretch = None
         if not any(u.early or u.binding.raw("fmi3DoStep") is None for u in plan.instances):
             self._stretch = CStretch.for_plan(plan) or PythonStretch(plan)
@@ -164,12 +184,15 @@ class Master:
 
     # -- time ---------------------------------------------------------------------------------
     def _next_point(self, t: float) -> float:
+        """The next grid point, clock tick or nextEventTime after t; one within the time tolerance
+        of the stop time is the stop time (an event there is handled there)."""
         opt = self.options
         n = grid_index(t - opt.start, opt.step)
         grid = opt.start + (n + 1) * opt.step
         if grid <= t + tolerance(t):
             grid = opt.start + (n + 2) * opt.step
-        return min(grid, opt.stop, self._next_event)
+        point = min(grid, opt.stop, self._next_event)
+        return opt.stop if point >= self._stop_limit else point
 
     def _refresh_timing(self, t: float) -> None:
         """The earliest clock tick or nextEventTime after t, over all FMUs (after setup and each Event Mode)."""
@@ -188,6 +211,7 @@ class Master:
             if event or self._finished(t):
                 return t, event
         t_next = self._next_point(t)
+        self.notes.time[0] = t
         t, event = self._step_with_early_returns(t, t_next) if self.any_early else self._step_on_grid(t, t_next)
         self.stats.steps += 1
         if self._pacer is not None:
@@ -266,6 +290,7 @@ class Master:
 
     def _event_iteration(self, t: float) -> None:
         self.stats.event_iterations += 1
+        self.notes.time[0] = t
         limit = t + tolerance(t)
         for u in self._timed:
             u.activate_due_clocks(t, limit)
@@ -289,6 +314,7 @@ class Master:
         for u in self._timed:
             u.read_intervals(t, ticked_all[u.name])
         self._record(t, k)
+        self.recorder.flush()
         for u in self.event_instances:
             u.binding.fmi3EnterStepMode()
         self._refresh_timing(t)
@@ -314,20 +340,47 @@ class Master:
         queued = {u.name for u in instances}
         forwarded: set[tuple[str, int]] = set()
         budget = 50 * (len(self.instances) + 1) ** 2
+        woke: dict[tuple[str, str], int] = {}  # how often a set b's inputs, for naming an algebraic loop
         while heap:
             budget -= 1
             if budget < 0:
-                names = ", ".join(sorted(queued))
-                raise RobogenError.at(f"values did not settle at t={_when(t)}: an algebraic loop between {names}", self.system.span("connections"))
+                raise self._algebraic_loop(t, woke)
             _, name = heapq.heappop(heap)
             queued.discard(name)
             u = self.by_name[name]
             woken = self._forward_clocks(u, forwarded) if clocks else set()
             woken |= self.values.forward(u)
             for w in woken:
+                woke[name, w] = woke.get((name, w), 0) + 1
+            for w in woken:
                 if w not in queued and (not event_mode or self.by_name[w].event_mode):
                     queued.add(w)
                     heapq.heappush(heap, (self.rank[w], w))
+
+    def _algebraic_loop(self, t: float, woke: dict[tuple[str, str], int]) -> RobogenError:
+        """The error for values that keep changing at t, located at the connections of the loop
+        (among the instances that set each other's inputs most often)."""
+        busiest = max(woke.values(), default=0)
+        edges: dict[str, set[str]] = {}
+        for (a, b), count in woke.items():
+            if 2 * count >= busiest:
+                edges.setdefault(a, set()).add(b)
+        loop = self._connections_around(find_cycle(edges), clocks=False)
+        where = " -> ".join([*(link.source for link in loop), loop[0].source]) if loop else "the connected instances"
+        notes = [Note(f"'{link.source}.{link.src.name} -> {link.target}.{link.dst.name}' is part of the loop", link.span)
+                 for link in loop[1:]]
+        return RobogenError.at(f"values did not settle at t={_when(t)}: an algebraic loop {where} "
+                               "(each instance's output changes the next one's input)",
+                               loop[0].span if loop else self.system.span("connections"), *notes)
+
+    def _connections_around(self, cycle: list[str], clocks: bool) -> list[Link]:
+        """One connection (of clocks, or of values) for each step a -> b of an instance cycle."""
+        loop = []
+        for a, b in zip(cycle, cycle[1:]):
+            link = next((k for k in self.links if k.source == a and k.target == b and k.src.is_clock == clocks), None)
+            if link is not None:
+                loop.append(link)
+        return loop
 
     def _forward_clocks(self, u: FmuInstance, forwarded: set[tuple[str, int]]) -> set[str]:
         """Note u's active output clocks; set the clocks (and clocked values) they drive, once per
@@ -355,9 +408,22 @@ class Master:
         who = ", ".join(f"'{u.name}'" for u in needs) or "none (connected values keep changing)"
         diag_notes = [Note(f"instance '{u.name}' is declared here", u.span) for u in needs]
         diag_notes.append(Note(f"clocks active in the last instant: {', '.join(active) or 'none'}"))
+        loop = self._clock_loop(ticked)
+        if loop:
+            names = ", ".join(f"'{k.source}.{k.src.name} -> {k.target}.{k.dst.name}'" for k in loop)
+            diag_notes.append(Note(f"the active clocks trigger each other around the loop {names}", loop[0].span))
         raise RobogenError.at(
             f"event iteration at t={_when(t)} did not settle after {k} super-dense instants (Zeno behaviour): "
             f"FMUs still asking for an update: {who}", (needs[0].span if needs else self.system.span("experiment")), *diag_notes)
+
+    def _clock_loop(self, ticked: dict[str, set[int]]) -> list[Link]:
+        """The connections of a loop of clocks active in the last instant (an instance may drive
+        its own input clock), or none."""
+        drives: dict[str, set[str]] = {}
+        for (source, vr), routes in self.wiring.clock_routes.items():
+            if vr in ticked.get(source, ()):
+                drives.setdefault(source, set()).update(r.target.name for r in routes if r.target_clock in ticked[r.target.name])
+        return self._connections_around(find_cycle(drives), clocks=True)
 
     # -- recording ----------------------------------------------------------------------------
     def _record(self, t: float, k: int) -> None:
@@ -391,10 +457,13 @@ class Master:
         """A failed FMI call as a located error, at the failing instance's time."""
         u = self.by_name[exc.instance]
         u.failed_status = exc.status
+        kept = "; the results recorded so far are kept"
+        if isinstance(exc, FMUCrashed):
+            return RobogenError.at(f"instance '{exc.instance}' crashed ({exc.how}) in {exc.function} at t={_when(u.time)}{kept}",
+                                   u.span, Note("the instance ran in a process of its own (isolate = true); the run stopped cleanly"))
         what = "discarded the call (fmi3Discard; the master does not retry)" if exc.status == DISCARD else f"returned {status_name(exc.status)}"
         notes = [Note(f"the FMU logged: {exc.message}")] if exc.message else []
-        return RobogenError.at(f"instance '{exc.instance}': {exc.function} {what} at t={_when(u.time)}; the results recorded so far are kept",
-                               u.span, *notes)
+        return RobogenError.at(f"instance '{exc.instance}': {exc.function} {what} at t={_when(u.time)}{kept}", u.span, *notes)
 
     def _shutdown(self) -> None:
         """fmi3Terminate every healthy instance, free all but those that returned fmi3Fatal."""

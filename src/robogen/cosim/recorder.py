@@ -2,13 +2,22 @@
 
 The CSV has ``time`` and ``superdense`` columns, then one column per recorded variable
 (``instance.variable``): clocks as 0/1, clocked variables only while their clock is active
-(empty otherwise). Rows are written through a buffered file that is flushed at least every
-0.25 s of wall time and always when the run ends, however it ends. Floats are written with
-``repr`` (shortest round-trip form), so identical runs give byte-identical files.
+(empty otherwise). Floats are written with ``repr`` (shortest round-trip form), so identical
+runs give byte-identical files; integers in decimal, Booleans as ``True``/``False``; a String
+always in double quotes (a quote inside doubled, as RFC 4180 quotes), so the empty String ``""``
+differs from an empty cell; a Binary as ``0x`` and two lowercase hexadecimal digits per byte
+(``0x`` alone when empty). The events log writes Binaries the same way, as JSON strings.
+
+Each file is written under a temporary name next to it and renamed over it when the recorder
+closes (:func:`robogen.outputs.replacing`): a run that recorded rows, however it ended, leaves
+them at the name asked for; a run that failed before its first row leaves the previous file
+untouched. Rows go through a buffered file that is flushed at every event iteration (the master
+calls :meth:`Recorder.flush`), at least every :data:`FLUSH_SECONDS` of wall time, and at the end.
 """
 
 from __future__ import annotations
 
+import contextlib
 import csv
 import io
 import json
@@ -16,76 +25,137 @@ import sys
 import time as _time
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Callable
+from typing import Callable, Sequence
 
-FLUSH_SECONDS = 0.25
+from robogen.outputs import replacing
+
+FLUSH_SECONDS = 0.2
 #: A communication point reached later than this after it was due counts as an overrun.
 OVERRUN_SECONDS = 1e-3
 
 
-class Recorder:
-    """Where result rows go: kept in ``rows`` (``keep_rows``), written to the CSV, or both."""
+def string_cell(value: str | None) -> str:
+    """A String's CSV cell: always quoted (an absent value is an empty cell)."""
+    return "" if value is None else '"' + value.replace('"', '""') + '"'
 
-    def __init__(self, columns: list[str], output: Path | None, events: Path | None, keep_rows: bool = True):
+
+def binary_cell(value: bytes | None) -> str:
+    """A Binary's CSV cell (and events-log string): ``0x`` and its bytes in hexadecimal."""
+    return "" if value is None else "0x" + bytes(value).hex()
+
+
+def _plain_cell(value) -> str:
+    """Any other value's cell, as the csv module writes it."""
+    return "" if value is None else str(value)
+
+
+_CELLS = {"String": string_cell, "Binary": binary_cell}
+
+
+def _json_value(value):
+    if isinstance(value, (bytes, bytearray)):
+        return binary_cell(value)
+    raise TypeError(f"{type(value).__name__} is not a value of an FMI type")
+
+
+class _Discarded(Exception):
+    """Closes a temporary output without renaming it (nothing worth keeping was written)."""
+
+
+class Recorder:
+    """Where result rows go: kept in ``rows`` (``keep_rows``), written to the CSV, or both.
+
+    ``types`` are the FMI types of the recorded columns (after ``time`` and ``superdense``);
+    ``files`` lists (temporary path, final path) of each file being written, for a process that
+    must rename them after this one died (:mod:`robogen.cosim.crash`).
+    """
+
+    def __init__(self, columns: list[str], output: Path | None, events: Path | None, keep_rows: bool = True,
+                 types: Sequence[str] = ()):
         self.columns = ["time", "superdense", *columns]
         self.rows: list[list] = []
         self.keep_rows = keep_rows
+        self.recorded = 0  # rows recorded so far (counted where there is a file: it is kept if any)
+        self.kept: Path | None = None  # the results file, once closed with rows in it
+        self.files: list[tuple[Path, Path]] = []
         self._file = self._events = None
         self._writer = None
-        if output is not None:
-            Path(output).parent.mkdir(parents=True, exist_ok=True)
-            self._file = open(output, "w", newline="", encoding="utf-8", buffering=1 << 16)
-            self._writer = csv.writer(self._file, lineterminator="\n")
-            self._writer.writerow(self.columns)
-        if events is not None:
-            Path(events).parent.mkdir(parents=True, exist_ok=True)
-            self._events = open(events, "w", encoding="utf-8", buffering=1 << 16)
-        self._last_flush = _time.monotonic()
-        self._written = 0  # rows written to the CSV: a flush is considered every 256
+        self._outputs = contextlib.ExitStack()
+        cells = [_CELLS.get(t, _plain_cell) for t in types]
+        self._cells = [_plain_cell, _plain_cell, *cells] if any(c is not _plain_cell for c in cells) else None
+        self._output = output
+        try:
+            if output is not None:
+                self._file = self._open(output, newline="")
+                self._writer = csv.writer(self._file, lineterminator="\n")
+                self._writer.writerow(self.columns)
+                self._write = self._writer.writerow if self._cells is None else self._write_cells
+            if events is not None:
+                self._events = self._open(events)
+        except BaseException:
+            self._outputs.__exit__(_Discarded, _Discarded(), None)
+            raise
+        self._flush_due = _time.monotonic() + FLUSH_SECONDS
+
+    def _open(self, path: Path, newline: str | None = None):
+        """A file written under a temporary name, renamed to ``path`` when closed with rows."""
+        temporary = self._outputs.enter_context(replacing(path))
+        self.files.append((temporary, Path(path)))
+        return self._outputs.enter_context(open(temporary, "w", newline=newline, encoding="utf-8", buffering=1 << 16))
 
     def append_row(self, row: list) -> None:
+        self.recorded += 1
         if self.keep_rows:
             self.rows.append(row)
         if self._writer is not None:
-            self._writer.writerow(row)
-            self._written += 1
-            if self._written & 255 == 0:
-                self._flush_if_due()
+            self._write(row)
+            if _time.monotonic() > self._flush_due:
+                self.flush()
+
+    def _write_cells(self, row: list) -> None:
+        """A row with String or Binary columns, each cell in its format."""
+        self._file.write(",".join([cell(v) for cell, v in zip(self._cells, row)]) + "\n")
 
     def row_sink(self) -> Callable[[list], None]:
         """append_row as the cheapest callable for where the rows go (the kept list's own append
         when there is no file), for a loop that records a row at every step."""
         if self._writer is not None:
             return self.append_row
-        return self.rows.append if self.keep_rows else _discard
+        return self.rows.append if self.keep_rows else _discard  # no file: nothing to keep or rename
 
     def append_rows(self, rows: list[list]) -> None:
         """Several rows at once (the C stretch's chunks); the same as append_row on each."""
+        self.recorded += len(rows)
         if self.keep_rows:
             self.rows.extend(rows)
         if self._writer is not None and rows:
-            self._writer.writerows(rows)
-            self._written += len(rows)
-            self._flush_if_due()
-
-    def _flush_if_due(self) -> None:
-        if _time.monotonic() - self._last_flush > FLUSH_SECONDS:
-            self.flush()
+            if self._cells is None:
+                self._writer.writerows(rows)
+            else:
+                for row in rows:
+                    self._write_cells(row)
+            if _time.monotonic() > self._flush_due:
+                self.flush()
 
     def event(self, t: float, k: int, fmu: str, clock: str, values: dict) -> None:
         if self._events is not None:
-            self._events.write(json.dumps({"time": t, "index": k, "fmu": fmu, "clock": clock, "values": values}) + "\n")
+            record = {"time": t, "index": k, "fmu": fmu, "clock": clock, "values": values}
+            self._events.write(json.dumps(record, default=_json_value) + "\n")
 
     def flush(self) -> None:
-        self._last_flush = _time.monotonic()
+        self._flush_due = _time.monotonic() + FLUSH_SECONDS
         for f in (self._file, self._events):
             if f is not None:
                 f.flush()
 
     def close(self) -> None:
-        for f in (self._file, self._events):
-            if f is not None and not f.closed:
-                f.close()
+        """Close the files: renamed to their names if rows were recorded, else removed (the
+        previous files, if any, stay)."""
+        if self.recorded:
+            self._outputs.close()
+            self.kept = self._output
+        else:
+            self._outputs.__exit__(_Discarded, _Discarded(), None)
 
     @property
     def recording_events(self) -> bool:
@@ -155,3 +225,8 @@ class Progress:
 
 def _discard(row: list) -> None:
     """append_row where rows go nowhere (no file, rows not kept)."""
+
+
+def _discard(row: list) -> None:
+    """append_row where rows go nowhere (no file, rows not kept)."""
+

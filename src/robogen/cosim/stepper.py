@@ -1,14 +1,15 @@
 """The quiet stretch in C (stepper.c): :class:`CStretch`, one of the implementations of
 :class:`robogen.cosim.stretch.Stretch`, for stretches in which the master only steps the FMUs
-and records their outputs (no value to forward between FMUs, no pacing, every recorded type one
-the loop stores).
+and records their outputs (no value to forward between FMUs, no pacing); it stores every FMI
+type (Strings and Binaries as copies in an arena the rows point into).
 
 The library is compiled once with the system C compiler and cached under
 ``$XDG_CACHE_HOME/robogen`` (or ``~/.cache/robogen``), named by the hash of its source; if there is
 no compiler, or ``ROBOGEN_NO_C_STEPPER`` is set, :func:`load` returns None and the master runs
 the Python stretch, which computes the same results. Rows come back as 8-byte slots and are
 turned into result rows a column at a time (``memoryview`` slices), so the per-step cost is that
-of the FMI calls themselves.
+of the FMI calls themselves. A chunk of rows ends after :data:`~robogen.cosim.recorder.FLUSH_SECONDS`
+of wall time at the latest, so slow FMUs do not hold rows back from the results file.
 """
 
 from __future__ import annotations
@@ -17,7 +18,9 @@ import functools
 import hashlib
 import importlib.resources
 import os
+import struct
 import tempfile
+import time
 from enum import IntEnum
 from itertools import repeat
 from pathlib import Path
@@ -27,6 +30,7 @@ import cffi
 
 from robogen.cosim.fmi3 import C_TYPES
 from robogen.cosim.fmi3 import ffi as fmi_ffi
+from robogen.cosim.recorder import FLUSH_SECONDS
 from robogen.cosim.stretch import StretchEnd, StretchPlan
 from robogen.cosim.wiring import CLOCK, VALUE
 
@@ -35,6 +39,7 @@ ffi.cdef(
     """
     typedef int (*rg_do_step_fn)(void *, double, double, bool, bool *, bool *, bool *, double *);
     typedef int (*rg_get_fn)(void *, const uint32_t *, size_t, void *, size_t);
+    typedef int (*rg_get_binary_fn)(void *, const uint32_t *, size_t, size_t *, const uint8_t **, size_t);
     typedef struct {
         int n_instances;
         rg_do_step_fn *do_step;
@@ -42,17 +47,26 @@ ffi.cdef(
         const bool *event_mode;
         bool *flags;
         double *last_time;
+        const int32_t *step_note;
         int n_reads;
         rg_get_fn *get;
+        rg_get_binary_fn *get_binary;
         void **read_instance;
         const uint32_t **vrs;
         const size_t *count;
         const int *kind;
         void **buffer;
+        size_t **sizes;
+        const int32_t *read_note;
         int width;
+        int32_t *note_call;
+        double *note_time;
+        char *arena;
+        size_t arena_size, arena_used;
     } rg_stretch;
-    long rg_run_stretch(const rg_stretch *s, double start, double h, long *n, double *t, double limit,
-                        long max_rows, double *times, uint64_t *slots, int *why, int *who, int *status);
+    long rg_run_stretch(rg_stretch *s, double start, double h, long *n, double *t, double limit, long max_rows,
+                        double deadline, double *times, uint64_t *slots, int *why, int *who, int *status);
+    void rg_release(rg_stretch *s);
     """
 )
 
@@ -64,24 +78,29 @@ CHUNK = 4096
 class Why(IntEnum):
     """Why rg_run_stretch returned (stepper.c's enum of the same names)."""
 
-    LIMIT = 0  # the next grid point is the horizon's, or max_rows rows are stored
+    LIMIT = 0  # the next grid point is the horizon's
     EVENT = 1
     TERMINATE = 2
     STEP_FAILED = 3
     GET_FAILED = 4
+    NO_MEMORY = 5  # no memory left for the Strings and Binaries of a chunk
+    PAUSE = 6  # the chunk is full, or its wall-clock deadline passed: the rows go to the recorder
 
 
 #: The C element types the loop stores in its slots, as stepper.c's kinds (K_F64 ...), and how
-#: Python reads a slot back: as a double, a signed or an unsigned 64-bit integer.
+#: Python reads a slot back: as a double, a signed or an unsigned 64-bit integer, or the offset of
+#: a String's or a Binary's copy in the arena.
 _KINDS = {"double": 0, "float": 1, "int64_t": 2, "uint64_t": 3, "int32_t": 4, "uint32_t": 5,
-          "int16_t": 6, "uint16_t": 7, "int8_t": 8, "uint8_t": 9, "bool": 10}
-_BOOL = _KINDS["bool"]
-_FORMAT = {0: "d", 1: "d", 2: "q", 3: "Q", 4: "q", 5: "Q", 6: "q", 7: "Q", 8: "q", 9: "Q", 10: "q"}
+          "int16_t": 6, "uint16_t": 7, "int8_t": 8, "uint8_t": 9, "bool": 10, "const char*": 11,
+          "const uint8_t*": 12}
+_BOOL, _STRING, _BINARY = _KINDS["bool"], _KINDS["const char*"], _KINDS["const uint8_t*"]
+_FORMAT = {0: "d", 1: "d", 2: "q", 3: "Q", 4: "q", 5: "Q", 6: "q", 7: "Q", 8: "q", 9: "Q", 10: "q", 11: "Q", 12: "Q"}
+_SIZE = struct.Struct("N")  # the length before each copy in the arena (size_t)
 
 
 def kind(fmi_type: str) -> int | None:
-    """The slot kind of an FMI type's values, or None if the C loop does not store it."""
-    return _KINDS.get(C_TYPES.get(fmi_type, ""))
+    """The slot kind of an FMI type's values, or None if the C loop does not store it (clocks)."""
+    return _KINDS.get(C_TYPES.get(fmi_type, "")) if fmi_type != "Clock" else None
 
 
 def load():
@@ -144,7 +163,7 @@ class _Slot(NamedTuple):
 
     slot: int
     format: str
-    boolean: bool
+    kind: int
 
 
 class CStretch:
@@ -166,7 +185,9 @@ class CStretch:
     def __init__(self, lib, plan: StretchPlan):
         self.lib, self.plan = lib, plan
         self._keep: list = []  # the C arrays the struct points into
-        self.s = self._struct(plan)
+        struct = self._struct(plan)
+        # frees the arena with the struct (the destructor holds the struct's memory until it ran)
+        self.s = ffi.gc(struct, lambda pointer, _owner=struct: lib.rg_release(pointer))
         self.width = max(1, self.s.width)
         self.columns = self._columns(plan)
         self.times = ffi.new("double[]", CHUNK)
@@ -190,14 +211,21 @@ class CStretch:
         s.event_mode = self._array("bool[]", [u.event_mode for u in plan.instances] or [False])
         s.flags = self._array("bool[]", 4 * max(1, n))
         s.last_time = self._array("double[]", max(1, n))
+        s.step_note = self._array("int32_t[]", [u.binding.note_code("fmi3DoStep") for u in plan.instances] or [0])
         s.n_reads = len(plan.reads)
-        s.get = pointers("rg_get_fn[]", [r.c_function for r in plan.reads])
+        binary = [r.fmi_type == "Binary" for r in plan.reads]
+        s.get = pointers("rg_get_fn[]", [fmi_ffi.NULL if b else r.c_function for r, b in zip(plan.reads, binary)])
+        s.get_binary = pointers("rg_get_binary_fn[]", [r.c_function if b else fmi_ffi.NULL for r, b in zip(plan.reads, binary)])
         s.read_instance = pointers("void *[]", [r.binding.handle for r in plan.reads])
         s.vrs = pointers("uint32_t *[]", [r.c_vrs for r in plan.reads])
         s.count = self._array("size_t[]", [r.count for r in plan.reads] or [0])
         s.kind = self._array("int[]", [kind(r.fmi_type) for r in plan.reads] or [0])
         s.buffer = pointers("void *[]", [r.buffer for r in plan.reads])
+        s.sizes = pointers("size_t *[]", [r.sizes if r.sizes is not None else fmi_ffi.NULL for r in plan.reads])
+        s.read_note = self._array("int32_t[]", [r.note_code for r in plan.reads] or [0])
         s.width = sum(r.count for r in plan.reads)
+        s.note_call = ffi.cast("int32_t *", _address(plan.notes.call))
+        s.note_time = ffi.cast("double *", _address(plan.notes.time))
         return s
 
     def _pointers(self, ctype: str, cdata: list):
@@ -215,7 +243,7 @@ class CStretch:
         for c in plan.columns:
             if c.kind == VALUE:
                 k = kind(c.reader.fmi_type)
-                columns.append(_Slot(offsets[id(c.reader)] + c.index, _FORMAT[k], k == _BOOL))
+                columns.append(_Slot(offsets[id(c.reader)] + c.index, _FORMAT[k], k))
             else:
                 columns.append(0 if c.kind == CLOCK else None)
         return columns
@@ -235,19 +263,22 @@ class CStretch:
             if chunk.why == Why.GET_FAILED:
                 read = plan.reads[chunk.who]
                 raise read.binding.error(read.function, chunk.status)
+            if chunk.why == Why.NO_MEMORY:
+                raise MemoryError("no memory left for the recorded Strings and Binaries")
             if plan.progress.enabled:
                 plan.progress.update(t)
-            if chunk.why != Why.LIMIT or chunk.rows < CHUNK:
+            if chunk.why != Why.PAUSE:
                 terminating = plan.instances[chunk.who] if chunk.who >= 0 else None
                 return StretchEnd(t, steps, chunk.why == Why.EVENT, terminating)
 
     def _chunk(self, n: int, t: float, limit: float) -> _Chunk:
-        """Steps as far as one chunk of rows allows."""
+        """Steps as far as one chunk of rows, or FLUSH_SECONDS of wall time, allows."""
         self._n[0], self._t[0] = n, t
+        deadline = time.monotonic() + FLUSH_SECONDS
         steps = self.lib.rg_run_stretch(self.s, self.plan.start, self.plan.step, self._n, self._t, limit, CHUNK,
-                                        self.times, self.slots, self._why, self._who, self._status)
+                                        deadline, self.times, self.slots, self._why, self._who, self._status)
         why = Why(self._why[0])
-        rows = steps - 1 if why in (Why.EVENT, Why.GET_FAILED) else steps
+        rows = steps - 1 if why in (Why.EVENT, Why.GET_FAILED, Why.NO_MEMORY) else steps
         return _Chunk(steps, rows, self._n[0], self._t[0], why, self._who[0], self._status[0])
 
     def _rows(self, count: int) -> list[list]:
@@ -260,7 +291,21 @@ class CStretch:
         for c in self.columns:
             if isinstance(c, _Slot):
                 values = views[c.format][c.slot:count * self.width:self.width].tolist()
-                columns.append(list(map(bool, values)) if c.boolean else values)
+                if c.kind == _BOOL:
+                    values = list(map(bool, values))
+                elif c.kind in (_STRING, _BINARY):
+                    values = self._copies(values, c.kind == _STRING)
+                columns.append(values)
             else:
                 columns.append(repeat(c, count))
         return [list(row) for row in zip(*columns)]
+
+    def _copies(self, offsets: list[int], text: bool) -> list:
+        """The Strings (``text``) or Binaries at these offsets of the arena."""
+        arena = ffi.buffer(self.s.arena, self.s.arena_used)
+        out = []
+        for offset in offsets:
+            start = offset + _SIZE.size
+            data = arena[start:start + _SIZE.unpack_from(arena, offset)[0]]
+            out.append(data.decode("utf-8", "replace") if text else data)
+        return out

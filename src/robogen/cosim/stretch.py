@@ -12,7 +12,9 @@ step goes there: it is a time event or the stop time), or after the first step a
 asks for Event Mode (``end.event``; that point is not recorded, the event iteration records it) or
 to terminate (``end.terminating``, the first instance that asked; that point is recorded). A
 failing call raises its :class:`~robogen.cosim.fmi3.FMI3Error`; the rows before it are recorded
-and every instance's ``time`` is the last point reached, as after a normal end.
+and every instance's ``time`` is the last point reached, as after a normal end. Before each FMI
+call a stretch notes it, and the time, in the plan's :class:`~robogen.cosim.fmi3.CallNotes`, as the
+bindings do (the report of a crash, :mod:`robogen.cosim.crash`, reads them).
 
 The master picks the implementation once per run (:meth:`robogen.cosim.master.Master._choose_stretch`); both give the same results byte for
 byte: the C loop (:class:`robogen.cosim.stepper.CStretch`) where it can run, else
@@ -26,6 +28,7 @@ from dataclasses import dataclass
 from typing import NamedTuple, Protocol
 
 from robogen.cosim.clocks import grid_index
+from robogen.cosim.fmi3 import CallNotes
 from robogen.cosim.instances import FmuInstance, Reader
 from robogen.cosim.recorder import Pacer, Progress, Recorder
 from robogen.cosim.wiring import CLOCK, VALUE, Column, ValueExchange, plain
@@ -53,6 +56,7 @@ class StretchPlan:
     recorder: Recorder
     progress: Progress
     pacer: Pacer | None
+    notes: CallNotes  # where each call is noted before it is made (the instances' bindings' notes)
 
     def index(self, t: float) -> int:
         """n of the grid point start + n * step at or just before t."""
@@ -75,6 +79,7 @@ class _Step(NamedTuple):
     """fmi3DoStep of one instance, called without the binding's layer."""
 
     instance: FmuInstance
+    note: int  # the call's code in the notes
     function: object
     handle: object
     event: object  # the output arguments' pointers
@@ -87,6 +92,7 @@ class _Step(NamedTuple):
 class _Read(NamedTuple):
     """One Reader's fmi3Get<Type>, called without the binding's layer."""
 
+    note: int
     function: object
     handle: object
     vrs: object
@@ -102,11 +108,11 @@ class PythonStretch:
 
     def __init__(self, plan: StretchPlan):
         self.plan = plan
-        self.calls = plain([_Step(u, u.binding.raw("fmi3DoStep"), u.binding.handle, *u.binding.step_outputs, u.event_mode)
-                            for u in plan.instances])
-        self.raw_reads = plain([_Read(r.c_function, r.binding.handle, r.c_vrs, r.count, r.buffer, r)
+        self.calls = plain([_Step(u, u.binding.note_code("fmi3DoStep"), u.binding.raw("fmi3DoStep"), u.binding.handle,
+                                  *u.binding.step_outputs, u.event_mode) for u in plan.instances])
+        self.raw_reads = plain([_Read(r.note_code, r.c_function, r.binding.handle, r.c_vrs, r.count, r.buffer, r)
                                 for r in plan.reads if not r.decodes])
-        self.decoded_reads = [r for r in plan.reads if r.decodes]  # Strings: read, then decoded
+        self.decoded_reads = [r for r in plan.reads if r.decodes]  # Strings, Binaries: read, then decoded
         # where each column's value is after the reads: a reader's values, or a constant
         self.sources = [(c.reader.values, c.index) if c.kind == VALUE else ((0,) if c.kind == CLOCK else (None,), 0)
                         for c in plan.columns]
@@ -119,6 +125,7 @@ class PythonStretch:
         exchange = plan.values.exchange if plan.values.connected else None
         pacer, progress = plan.pacer, (plan.progress if plan.progress.enabled else None)
         append_row = plan.recorder.row_sink()
+        note, note_time = plan.notes.call, plan.notes.time
         steps, terminating = 0, None
         try:
             while True:
@@ -127,7 +134,9 @@ class PythonStretch:
                 if t_next >= limit or t_next <= t:
                     return StretchEnd(t, steps, False, None)
                 event = False
-                for u, do_step, handle, ev, term, er, lst, event_mode in calls:
+                note_time[0] = t
+                for u, code, do_step, handle, ev, term, er, lst, event_mode in calls:
+                    note[0] = code
                     status = do_step(handle, t, t_next - t, True, ev, term, er, lst)
                     if status > WARNING:
                         raise u.binding.error("fmi3DoStep", status)
@@ -141,9 +150,11 @@ class PythonStretch:
                     pacer.wait(t)
                 if event:
                     return StretchEnd(t, steps, True, terminating)
+                note_time[0] = t
                 if exchange is not None:
                     exchange(plan.instances)
-                for get, handle, vrs, count, buffer, reader in raw_reads:
+                for code, get, handle, vrs, count, buffer, reader in raw_reads:
+                    note[0] = code
                     status = get(handle, vrs, count, buffer, count)
                     if status > WARNING:
                         raise reader.binding.error(reader.function, status)

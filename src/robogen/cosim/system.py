@@ -4,14 +4,18 @@ Loading happens in two passes, each collecting every problem before failing:
 
 1. :func:`load_system` checks the file against the schema (keys, types, ranges) and returns a
    :class:`System` whose every element carries its :class:`Span` in the TOML file.
-2. :func:`resolve` checks it against the FMUs' model descriptions: endpoints exist, causality
-   and types match, clocks connect only to clocks, a clocked variable's clock is connected to
-   the clock of its target, the FMUs offer FMI 3.0 Co-Simulation, ``hasEventMode`` wherever
-   clocks are connected. The format is documented in docs/system-toml.md.
+2. :func:`resolve` checks it against the FMUs' model descriptions: value references are unique,
+   endpoints exist, causality and types match, clocks connect only to clocks, a clocked
+   variable's clock is connected to the clock of its target, the FMUs offer FMI 3.0
+   Co-Simulation, ``hasEventMode`` wherever clocks are connected, every recorded name or pattern
+   names something. The format is documented in docs/system-toml.md.
+
+Names in ``[record]`` and in ``robogen plot --vars`` are matched by one rule, :func:`matching`.
 """
 
 from __future__ import annotations
 
+import fnmatch
 import math
 import re
 import tomllib
@@ -25,7 +29,7 @@ from robogen.cosim.tomlspan import SpanIndex
 _ARROW = re.compile(r"^\s*(\S+)\s*->\s*(\S+)\s*$")
 TOP_KEYS = ("experiment", "instances", "connections", "record")
 EXPERIMENT_KEYS = ("start", "stop", "step", "tolerance", "max_event_iterations", "order")
-INSTANCE_KEYS = ("fmu", "start", "clocks")
+INSTANCE_KEYS = ("fmu", "start", "clocks", "isolate")
 CLOCK_KEYS = ("interval", "shift")
 RECORD_KEYS = ("variables",)
 
@@ -55,6 +59,7 @@ class InstanceSpec:
     fmu_span: Span
     start: dict[str, tuple[object, Span]] = field(default_factory=dict)
     clocks: dict[str, tuple[dict, Span]] = field(default_factory=dict)
+    isolate: bool = False  # run the instance in a worker process of its own (robogen.cosim.proxy)
 
 
 @dataclass
@@ -80,6 +85,15 @@ def split_name(text: str) -> tuple[str, str] | None:
     """'inst.var.with.dots' -> ('inst', 'var.with.dots'): only the first dot separates."""
     inst, dot, var = text.partition(".")
     return (inst, var) if dot and inst and var else None
+
+
+def matching(pattern: str, names: list[str]) -> list[str]:
+    """The names that a ``[record]`` entry or a ``robogen plot --vars`` pattern selects: the name
+    itself if it is one (FMI names may contain ``[``), else those the pattern matches as a
+    shell-style glob (``*``, ``?``, ``[seq]``; case-sensitive), in the order of ``names``."""
+    if pattern in names:
+        return [pattern]
+    return [n for n in names if fnmatch.fnmatchcase(n, pattern)]
 
 
 def load_system(path: str | Path) -> System:
@@ -191,6 +205,10 @@ def _instance(name: str, spec, path: Path, check: _SchemaCheck) -> InstanceSpec 
         check.error(f"instance '{name}' needs fmu = \"PATH.fmu\"", *where, "fmu")
         return None
     inst = InstanceSpec(name, (path.parent / fmu), check.idx.span(*where), check.idx.span(*where, "fmu"))
+    isolate = spec.get("isolate", False)
+    if not isinstance(isolate, bool):
+        check.error("'isolate' must be true or false", *where, "isolate")
+    inst.isolate = isolate is True
     starts = spec.get("start", {})
     if not isinstance(starts, dict):
         check.error("'start' must be a table of variable = value", *where, "start")
@@ -306,6 +324,7 @@ class _ModelCheck:
         self.system, self.models, self.sink = system, models, DiagnosticSink()
         self.names = {n: m.by_name() for n, m in models.items()}
         self.targets: dict[tuple[str, str], Span] = {}  # connected inputs: where first connected
+        self.recordable = [f"{n}.{v.name}" for n, v in recordable(models)]
 
     def lookup(self, end: Endpoint, span: Span) -> Variable | None:
         if end.instance not in self.models:
@@ -322,6 +341,13 @@ class _ModelCheck:
         md, inst, names, sink = self.models[name], self.system.instances[name], self.names[name], self.sink
         if md.co_simulation is None:
             sink.error(f"FMU of instance '{name}' has no FMI 3.0 Co-Simulation interface (<CoSimulation> is missing)", inst.fmu_span)
+        first: dict[int, Variable] = {}
+        for var in md.variables:
+            other = first.setdefault(var.value_reference, var)
+            if other is not var:
+                sink.error(f"the FMU of instance '{name}' gives value reference {var.value_reference} to both "
+                           f"'{other.name}' and '{var.name}' (value references must be unique)", md.span(var.line),
+                           Note(f"the FMU is used by instance '{name}'", inst.fmu_span))
         for var_name, (value, span) in inst.start.items():
             var = names.get(var_name)
             if var is None:
@@ -349,9 +375,6 @@ class _ModelCheck:
             self.sink.error(f"'{c.target}' is connected twice", c.span, Note("first connected here", self.targets[key]))
             return None
         self.targets[key] = c.span
-        if c.source.instance == c.target.instance:
-            self.sink.error("a connection must join two different instances", c.span)
-            return None
         if not self.compatible(c, src, dst):
             return None
         return Link(c.source.instance, src, c.target.instance, dst, c.span)
@@ -390,15 +413,51 @@ class _ModelCheck:
                         f"needs its clocks connected: add \"{sc} -> {dc}\"", link.span)
 
     def recorded(self, name: str, span: Span) -> None:
+        """A [record] entry: an exact variable name (any causality), or a pattern that matches
+        at least one output or input clock."""
         parts = split_name(name)
-        if parts is None:
-            self.sink.error(f"recorded name '{name}' must be \"instance.variable\" or \"instance.*\"", span)
+        if parts is not None and parts[0] in self.models and parts[1] in self.names[parts[0]]:
             return
-        inst, var = parts
-        if inst not in self.models:
-            self.sink.error(f"unknown instance '{inst}'{did_you_mean(inst, self.models)}", span)
-        elif var != "*" and var not in self.names[inst]:
+        if parts is not None and not is_pattern(parts[0]) and parts[0] not in self.models:
+            self.sink.error(f"unknown instance '{parts[0]}'{did_you_mean(parts[0], self.models)}", span)
+        elif is_pattern(name):
+            if not matching(name, self.recordable):
+                self.sink.error(f"no output or input clock matches '{name}'", span)
+        elif parts is None:
+            self.sink.error(f"recorded name '{name}' must be \"instance.variable\" or a pattern such as \"instance.*\"", span)
+        else:
+            inst, var = parts
             self.sink.error(f"FMU instance '{inst}' has no variable '{var}'{did_you_mean(var, self.names[inst])}", span)
+
+
+def is_pattern(name: str) -> bool:
+    return any(c in name for c in "*?[")
+
+
+def recordable(models: dict[str, ModelDescription]) -> list[tuple[str, Variable]]:
+    """What is recorded by default, and what patterns select from: every output and input clock
+    of every instance, in declaration order."""
+    return [(n, v) for n, md in models.items() for v in md.variables
+            if v.causality == "output" or (v.is_clock and v.causality == "input")]
+
+
+def record_list(system: System, models: dict[str, ModelDescription]) -> list[tuple[str, Variable]]:
+    """(instance, variable) to record, each once, in the order of [record] (checked by
+    :func:`resolve`); without [record], :func:`recordable`."""
+    default = recordable(models)
+    if system.record is None:
+        return default
+    names = [f"{n}.{v.name}" for n, v in default]
+    by_name = dict(zip(names, default))
+    chosen: dict[str, tuple[str, Variable]] = {}
+    for entry, _span in system.record:
+        parts = split_name(entry)
+        if parts is not None and parts[0] in models and parts[1] in models[parts[0]].by_name():
+            chosen.setdefault(entry, (parts[0], models[parts[0]].by_name()[parts[1]]))
+        else:
+            for name in matching(entry, names):
+                chosen.setdefault(name, by_name[name])
+    return list(chosen.values())
 
 
 def _kind(v: Variable) -> str:

@@ -158,3 +158,29 @@ class ValueExchange:
 
 
 _UNSET = object()
+
+
+def find_cycle(edges: dict[str, set[str]]) -> list[str]:
+    """A cycle of the directed graph ``edges`` as the path around it, ``[a, b, ..., a]`` (a
+    self-loop is ``[a, a]``); empty if it has none. Nodes are tried in sorted order, so the
+    answer is the same for the same graph."""
+    state: dict[str, str] = {}
+    path: list[str] = []
+
+    def visit(v: str) -> list[str]:
+        state[v] = "open"
+        path.append(v)
+        for w in sorted(edges.get(v, ())):
+            if state.get(w) == "open":
+                return path[path.index(w):] + [w]
+            if w not in state and (found := visit(w)):
+                return found
+        path.pop()
+        state[v] = "done"
+        return []
+
+    for v in sorted(edges):
+        if v not in state and (found := visit(v)):
+            return found
+    return []
+

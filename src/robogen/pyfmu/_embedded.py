@@ -7,8 +7,11 @@ library at that point; the model class and :mod:`robogen.pyfmu.slave` are import
 instantiation from the FMU's ``resources/python`` folder, known only then.
 
 Every bound function catches every exception: an FMI usage error is logged as its message, any
-other exception with its traceback, and the call returns fmi3Error (instantiation: NULL). The
-``error=`` values below are cffi's last resort should that handling itself fail.
+other exception as its type, message and place in the model's code with the model's frames of
+its traceback, a KeyboardInterrupt (a signal the host turned into one while the model ran) as an
+interruption; the call returns fmi3Error (instantiation: NULL). Errors are logged whether
+logging is on or not (shim.c). The ``error=`` values below are cffi's last resort should that
+handling itself fail.
 """
 
 from __future__ import annotations
@@ -48,6 +51,21 @@ def _resource_folder(raw: str) -> Path:
         from urllib.parse import unquote, urlparse
         raw = unquote(urlparse(raw).path)
     return Path(raw)
+
+
+def _describe(function: str, exc: BaseException) -> str:
+    """The report of an exception from the model: its traceback as Python prints it, but with the
+    frames of the model's own code only (not robogen's runtime), the last line naming where in
+    the model it was raised: ``RuntimeError: ... (at model.py:50 in do_step)``."""
+    frames = [f for f in traceback.extract_tb(exc.__traceback__)
+              if "/robogen/pyfmu/" not in f.filename and not f.filename.startswith("<")]
+    last = "".join(traceback.format_exception_only(type(exc), exc)).rstrip("\n")
+    if frames:
+        where = frames[-1]
+        shown = where.filename.split("/resources/python/", 1)[-1]  # the module as the user knows it
+        last += f" (at {shown}:{where.lineno} in {where.name})"
+    return "\n".join([f"{function}: Python exception in the FMU", "Traceback (most recent call last):",
+                      *(line.rstrip("\n") for line in traceback.format_list(frames)), last])
 
 
 def bind(ffi: Any, lib: Any, config: dict) -> None:
@@ -94,12 +112,15 @@ class _Embedding:
         return log
 
     def report(self, c_instance: Any, function: str, exc: BaseException, usage_error: type | None) -> None:
-        """Log an exception: a usage error as its message, anything else with its traceback."""
+        """Log an exception (always: the FMU returns fmi3Error): a usage error as its message, an
+        interruption (Ctrl-C in the host) as such, anything else as its type, message and place
+        in the model's code, then the traceback of the model's frames."""
         if usage_error is not None and isinstance(exc, usage_error):
             text = str(exc)
+        elif isinstance(exc, KeyboardInterrupt):
+            text = f"{function}: interrupted ({exc or type(exc).__name__})"
         else:
-            text = f"{function}: Python exception in the FMU\n" + "".join(
-                traceback.format_exception(type(exc), exc, exc.__traceback__))
+            text = _describe(function, exc)
         self.logger(c_instance)(ERROR, "logStatusError", text)
 
     def load(self, resources: Path) -> tuple[type, Any]:

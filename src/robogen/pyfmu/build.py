@@ -27,17 +27,18 @@ import re
 import sys
 import sysconfig
 import tempfile
+import traceback
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Iterable, Mapping, Sequence
 
 from robogen import toolchain
-from robogen.diagnostics import RobogenError, did_you_mean
+from robogen.diagnostics import RobogenError, Span, did_you_mean
 from robogen.fmu.archive import write_fmu
 from robogen.fmu.headers import PLATFORM_TUPLE, include_dir
 from robogen.fmu.modeldesc_writer import write_model_description
 from robogen.pyfmu.description import model_description
-from robogen.pyfmu.model import Model
+from robogen.pyfmu.model import DeclarationError, Model
 
 HERE = Path(__file__).resolve().parent
 RUNTIME_MODULES = ("robogen.pyfmu.slave", "robogen.pyfmu.model")
@@ -57,7 +58,8 @@ class Packaged:
 
 
 def load_model_class(spec: str) -> type[Model]:
-    """``package.module:Class`` -> the class, or a RobogenError saying what is wrong."""
+    """``package.module:Class`` -> the class, or a RobogenError saying what is wrong (an import
+    that fails, or a declaration the class makes wrongly, is located in the user's code)."""
     module_name, sep, class_name = spec.partition(":")
     if not sep or not module_name or not class_name:
         raise RobogenError.at(f"'{spec}' is not MODULE:CLASS (e.g. robogen.platforms.ur5e:UR5ePlatform)", None)
@@ -68,13 +70,14 @@ def load_model_class(spec: str) -> type[Model]:
     except ModuleNotFoundError as exc:
         if exc.name and module_name.startswith(exc.name):
             raise RobogenError.at(f"no module named '{module_name}' (is it on PYTHONPATH?)", None) from None
-        raise RobogenError.at(f"importing '{module_name}' failed: {exc}", None) from None
+        raise RobogenError.at(f"importing '{module_name}' failed: {exc}", _user_code(exc)) from None
     except SyntaxError as exc:
-        span = None
-        if exc.filename and exc.lineno:
-            from robogen.diagnostics import Span
-            span = Span.point(exc.filename, exc.lineno, exc.offset or 1)
+        span = Span.point(exc.filename, exc.lineno, exc.offset or 1) if exc.filename and exc.lineno else None
         raise RobogenError.at(f"syntax error in '{module_name}': {exc.msg}", span) from None
+    except DeclarationError as exc:
+        raise RobogenError.at(f"a declaration in '{module_name}' is not valid: {exc}", _user_code(exc)) from None
+    except (Exception, SystemExit) as exc:  # the user's module raised while it was imported
+        raise RobogenError.at(f"importing '{module_name}' failed: {type(exc).__name__}: {exc}", _user_code(exc)) from None
     cls = getattr(module, class_name, None)
     if cls is None:
         names = [n for n, v in vars(module).items() if isinstance(v, type) and issubclass(v, Model) and v is not Model]
@@ -83,6 +86,26 @@ def load_model_class(spec: str) -> type[Model]:
     if not (isinstance(cls, type) and issubclass(cls, Model)) or cls is Model:
         raise RobogenError.at(f"'{spec}' is not a subclass of robogen.pyfmu.Model", None)
     return cls
+
+
+def _package_resources(cls: type[Model]) -> dict[str, bytes]:
+    """The class's extra resources; its own failure is located in its code."""
+    try:
+        return cls.package_resources()
+    except RobogenError:
+        raise
+    except Exception as exc:
+        raise RobogenError.at(f"{cls.__name__}.package_resources() failed: {type(exc).__name__}: {exc}",
+                              _user_code(exc)) from None
+
+
+def _user_code(exc: BaseException) -> Span | None:
+    """Where in the user's code ``exc`` was raised: its innermost frame outside robogen's own
+    package and the import machinery (for a declaration error, the class statement)."""
+    own = str(HERE.parent)
+    frames = [f for f in traceback.extract_tb(exc.__traceback__)
+              if not f.filename.startswith(own) and not f.filename.startswith("<")]
+    return Span.point(frames[-1].filename, frames[-1].lineno or 1) if frames else None
 
 
 def parse_settings(cls: type[Model], assignments: Iterable[str]) -> dict[str, object]:
@@ -347,7 +370,7 @@ def package(spec: str, output: str | os.PathLike, assignments: Iterable[str] = (
     }
     for relative, source in collect_python(module_name).items():
         files[f"resources/python/{relative}"] = source
-    for name, data in configured.package_resources().items():
+    for name, data in _package_resources(configured).items():
         files[f"resources/{name}"] = data
 
     with tempfile.TemporaryDirectory(prefix="robogen-pyfmu-") as tmp:

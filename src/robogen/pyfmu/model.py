@@ -30,6 +30,7 @@ when the FMU is written and the FMU applies the same values at run time.
 from __future__ import annotations
 
 import math
+import operator
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any, ClassVar, Iterable, Mapping
@@ -268,14 +269,23 @@ class Setting:
     "...")``, a type instead of a value, has none, and packaging needs ``--set NAME=VALUE``.
     Reading it on the class or an instance gives its value (None while a required one has none);
     ``Model.configured`` makes a subclass with other values.
+
+    A number may be limited: ``gt``/``ge`` (greater than / at least) and ``lt``/``le`` (less
+    than / at most); any setting to ``choices``. ``robogen package-py --set`` refuses a value
+    outside them, and the default must lie inside. A setting that names a constant clock's
+    interval must be positive, one that names its shift at least 0, without saying so.
     """
 
-    def __init__(self, default: Any, description: str = "") -> None:
+    def __init__(self, default: Any, description: str = "", *, gt: float | None = None, ge: float | None = None,
+                 lt: float | None = None, le: float | None = None, choices: Iterable[Any] | None = None) -> None:
         self.required = isinstance(default, type)
         self.kind: type = default if self.required else type(default)
         self.default = None if self.required else default
         self.description = description
         self.attr = ""
+        self.limits: list[tuple[str, float, str]] = [(op, bound, "") for op, bound in
+                                                     (("gt", gt), ("ge", ge), ("lt", lt), ("le", le)) if bound is not None]
+        self.choices = tuple(choices) if choices is not None else None
 
     def __set_name__(self, owner: type, attr: str) -> None:
         self.attr = attr
@@ -283,8 +293,27 @@ class Setting:
     def __get__(self, obj: Any, owner: type) -> Any:
         return self.default
 
+    def require(self, op: str, bound: float, reason: str) -> None:
+        """A limit the model's structure implies (e.g. a clock interval's ``gt 0``)."""
+        if (op, bound, reason) not in self.limits:
+            self.limits.append((op, bound, reason))
+
+    def check(self, value: Any) -> None:
+        """Raise ValueError if ``value`` breaks a limit or is not one of the choices."""
+        for op, bound, reason in self.limits:
+            test, sign = _LIMITS[op]
+            if not test(value, bound):
+                raise ValueError(f"{value!r} is not {sign} {bound!r}" + (f" ({reason})" if reason else ""))
+        if self.choices is not None and value not in self.choices:
+            raise ValueError(f"{value!r} is not one of {', '.join(repr(c) for c in self.choices)}")
+
     def parse(self, text: str) -> Any:
-        """The value of ``--set NAME=TEXT``, of the setting's type."""
+        """The value of ``--set NAME=TEXT``, of the setting's type and within its limits."""
+        value = self._parse(text)
+        self.check(value)
+        return value
+
+    def _parse(self, text: str) -> Any:
         kind = self.kind
         if kind is bool:
             if text.lower() in ("1", "true", "yes", "on"):
@@ -300,6 +329,9 @@ class Setting:
         if kind is int:
             return int(text)
         return text
+
+
+_LIMITS = {"gt": (operator.gt, ">"), "ge": (operator.ge, ">="), "lt": (operator.lt, "<"), "le": (operator.le, "<=")}
 
 
 @dataclass(frozen=True)
@@ -381,6 +413,7 @@ class Model:
         cls._by_name = by_name
         cls._settings = settings
         cls._check_references()
+        cls._check_settings()
 
     @classmethod
     def _check_references(cls) -> None:
@@ -393,9 +426,25 @@ class Model:
                 if dep not in cls._by_name:
                     raise DeclarationError(f"{cls.__name__}.{var.name}: depends on undeclared '{dep}'")
             if isinstance(var, Clock):
-                for value in (var.interval, var.shift):
-                    if isinstance(value, str) and value not in cls._settings:
-                        raise DeclarationError(f"{cls.__name__}.{var.name}: '{value}' is not a Setting")
+                for value, op, what in ((var.interval, "gt", "interval"), (var.shift, "ge", "shift")):
+                    if isinstance(value, str):
+                        if value not in cls._settings:
+                            raise DeclarationError(f"{cls.__name__}.{var.name}: '{value}' is not a Setting")
+                        cls._settings[value].require(op, 0, f"the {what} of clock '{var.name}'")
+
+    @classmethod
+    def _check_settings(cls) -> None:
+        """Limits are numbers on number settings; the defaults the class declares lie within them."""
+        for attr, setting in vars(cls).items():
+            if not isinstance(setting, Setting) or isinstance(setting, _SettingValue):
+                continue
+            if setting.limits and setting.kind not in (int, float):
+                raise DeclarationError(f"{cls.__name__}.{attr}: only a number setting can have limits")
+            if not setting.required:
+                try:
+                    setting.check(setting.default)
+                except ValueError as exc:
+                    raise DeclarationError(f"{cls.__name__}.{attr}: the default {exc}") from None
 
     # -- class-level queries --------------------------------------------------------------------
 

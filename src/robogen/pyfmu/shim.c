@@ -69,9 +69,14 @@ static unsigned category_bit(const char *name)
     return 0;
 }
 
+/* Errors are always reported (FMI 3.0: whatever loggingOn and the categories say); other
+ * messages only while logging is on for their category. */
 static void log_text(const pyfmu_instance *inst, fmi3Status status, const char *category, const char *message)
 {
-    if (inst != NULL && inst->log_message != NULL && inst->logging_on && (inst->categories & category_bit(category))) {
+    if (inst == NULL || inst->log_message == NULL) {
+        return;
+    }
+    if (status >= fmi3Error || (inst->logging_on && (inst->categories & category_bit(category)))) {
         inst->log_message(inst->environment, status, category, message);
     }
 }

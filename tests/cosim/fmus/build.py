@@ -13,22 +13,41 @@ import sys
 import tempfile
 from pathlib import Path
 
-from robogen.fmu.modeldesc import CoSimulation, ModelDescription, Unknown, Variable
+from robogen.fmu.modeldesc import CoSimulation, EnumerationType, Item, ModelDescription, Unknown, Variable
 from robogen.fmu.modeldesc_writer import with_content_token, write_model_description
 
 HERE = Path(__file__).resolve().parent
 
 
 def var(name: str, vr: int, type_: str, causality: str, variability: str, *, start: str | None = None,
-        clock: int | None = None) -> Variable:
+        clock: int | None = None, declared_type: str | None = None) -> Variable:
     return Variable(name, vr, type_, causality, variability, start=() if start is None else (start,),
-                    clocks=() if clock is None else (clock,))
+                    clocks=() if clock is None else (clock,), declared_type=declared_type)
 
 
 def clock(name: str, vr: int, causality: str, kind: str, interval: str | None = None) -> Variable:
     """A clock; a periodic one (``interval`` given) starts at shift 0."""
     return Variable(name, vr, "Clock", causality, "discrete", interval_variability=kind, interval_decimal=interval,
                     shift_decimal=None if interval is None else "0")
+
+
+#: The value types of the all-types FMU, in the order of alltypes.c's groups: (suffix, FMI type).
+ALL_TYPES = (("f32", "Float32"), ("f64", "Float64"), ("i8", "Int8"), ("u8", "UInt8"), ("i16", "Int16"),
+             ("u16", "UInt16"), ("i32", "Int32"), ("u32", "UInt32"), ("i64", "Int64"), ("u64", "UInt64"),
+             ("b", "Boolean"), ("s", "String"), ("bin", "Binary"), ("e", "Enumeration"))
+LEVEL = EnumerationType("Level", (Item("low", 1), Item("mid", 2), Item("high", 3)))
+
+
+def _group(prefix: str, base: int, causality: str, clock: int | None = None, starts: dict | None = None) -> list[Variable]:
+    """One variable of each type of ALL_TYPES, value references from ``base``; inputs get start values."""
+    out = []
+    for i, (suffix, fmi_type) in enumerate(ALL_TYPES):
+        continuous = fmi_type.startswith("Float") and clock is None
+        start = (starts or {}).get(suffix, "false" if fmi_type == "Boolean" else "" if fmi_type in ("String", "Binary") else "0")
+        out.append(var(f"{prefix}{suffix}", base + i, fmi_type, causality, "continuous" if continuous else "discrete",
+                       start=start if causality == "input" else None, clock=clock,
+                       declared_type="Level" if fmi_type == "Enumeration" else None))
+    return out
 
 
 MODELS: dict[str, dict] = {
@@ -79,6 +98,7 @@ MODELS: dict[str, dict] = {
         vars=[
             var("y", 1, "Float64", "output", "continuous"),
             var("fail_time", 2, "Float64", "parameter", "fixed", start="0.5"),
+            var("crash_time", 3, "Float64", "parameter", "fixed", start="-1"),
         ]),
     "trivial": dict(
         vars=[
@@ -86,6 +106,19 @@ MODELS: dict[str, dict] = {
             var("y", 2, "Float64", "output", "continuous"),
             var("stop_at", 3, "Float64", "parameter", "fixed", start="0"),
         ]),
+    "alltypes": dict(
+        vars=[
+            clock("tick", 1, "input", "constant", interval="0.3"),
+            clock("out", 2, "output", "triggered"),
+            clock("tin", 3, "input", "triggered"),
+            var("echo", 4, "Boolean", "parameter", "fixed", start="false"),
+            *_group("y_", 10, "output"),
+            *_group("u_", 30, "input", starts={"f64": "1.5", "i8": "-3", "u64": "7", "s": "a b", "e": "2"}),
+            *_group("c_", 50, "output", clock=2),
+            *_group("ci_", 70, "input", clock=3, starts={"e": "1"}),
+        ],
+        deps={2: (1,), **{50 + i: (2,) for i in range(len(ALL_TYPES))}},
+        types=(LEVEL,)),
 }
 
 
@@ -98,11 +131,11 @@ def model_description(name: str, spec: dict) -> ModelDescription:
                   for v in outputs if not v.clocks]
     return with_content_token(ModelDescription(
         model_name=name, instantiation_token="",
-        co_simulation=CoSimulation(name, has_event_mode=True, can_handle_variable_step=True,
+        co_simulation=CoSimulation(name, has_event_mode=spec.get("event_mode", True), can_handle_variable_step=True,
                                    might_return_early=spec.get("early", False),
                                    can_get_and_set_state=spec.get("state", False)),
         variables=(Variable("time", 0, "Float64", "independent", "continuous"), *spec["vars"]),
-        unknowns=tuple(structure)))
+        unknowns=tuple(structure), type_definitions=spec.get("types", ())))
 
 
 def build(name: str, outdir: Path, *, xml: str | None = None, spec: dict | None = None,

@@ -41,15 +41,29 @@ static const char *access_problem(Instance *c, const VarInfo *v, bool write) {
     return NULL;
 }
 
+/* The bytes of one value of a numeric or Boolean type. */
+static size_t value_size(int type) {
+    switch (type) {
+    case T_F64: case T_I64: case T_U64: return 8;
+    case T_F32: case T_I32: case T_U32: return 4;
+    case T_I16: case T_U16: return 2;
+    case T_I8: case T_U8: return 1;
+    default: return sizeof(bool);
+    }
+}
+
+static const char *checked(Instance *c, const VarInfo *v, int type, bool write) {
+    if (!v || v->type != type) return "unknown value reference or wrong type";
+    return access_problem(c, v, write);
+}
+
 static fmi3Status get_values(Instance *c, const char *fn, int type, const fmi3ValueReference vr[], size_t n, void *out) {
     for (size_t i = 0; i < n; i++) {
         const VarInfo *v = find(vr[i]);
-        if (!v || v->type != type) return fail(c, fn, "unknown value reference or wrong type");
-        const char *why = access_problem(c, v, false);
+        const char *why = checked(c, v, type, false);
         if (why) return fail(c, fn, why);
-        if (type == T_F64) ((double *)out)[i] = *(double *)field(c, v);
-        else if (type == T_I64) ((int64_t *)out)[i] = *(int64_t *)field(c, v);
-        else ((bool *)out)[i] = *(bool *)field(c, v);
+        if (type == T_STRING) ((const char **)out)[i] = (const char *)field(c, v);
+        else memcpy((char *)out + i * value_size(type), field(c, v), value_size(type));
     }
     return fmi3OK;
 }
@@ -57,12 +71,17 @@ static fmi3Status get_values(Instance *c, const char *fn, int type, const fmi3Va
 static fmi3Status set_values(Instance *c, const char *fn, int type, const fmi3ValueReference vr[], size_t n, const void *in) {
     for (size_t i = 0; i < n; i++) {
         const VarInfo *v = find(vr[i]);
-        if (!v || v->type != type) return fail(c, fn, "unknown value reference or wrong type");
-        const char *why = access_problem(c, v, true);
+        const char *why = checked(c, v, type, true);
         if (why) return fail(c, fn, why);
-        if (type == T_F64) *(double *)field(c, v) = ((const double *)in)[i];
-        else if (type == T_I64) *(int64_t *)field(c, v) = ((const int64_t *)in)[i];
-        else *(bool *)field(c, v) = ((const bool *)in)[i];
+        if (type == T_STRING) {
+            const char *text = ((const char *const *)in)[i];
+            snprintf((char *)field(c, v), TEXT_SIZE, "%s", text ? text : "");
+        } else {
+            const char *value = (const char *)in + i * value_size(type);
+            if ((type == T_F64 && !isfinite(*(const double *)value)) || (type == T_F32 && !isfinite(*(const float *)value)))
+                return fail(c, fn, "the value is not a finite number");
+            memcpy(field(c, v), value, value_size(type));
+        }
     }
     model_changed(c);
     return fmi3OK;
@@ -155,29 +174,55 @@ FMI3_Export fmi3Status fmi3Reset(fmi3Instance instance) {
 
 /* ---- getters and setters ------------------------------------------------------------- */
 
-FMI3_Export fmi3Status fmi3GetFloat64(fmi3Instance i, const fmi3ValueReference vr[], size_t n, fmi3Float64 v[], size_t nv) {
+#define GETSET(T, CT, TYPE)                                                                                    \
+    FMI3_Export fmi3Status fmi3Get##T(fmi3Instance i, const fmi3ValueReference vr[], size_t n, CT v[], size_t nv) { \
+        (void)nv;                                                                                              \
+        return get_values(i, "fmi3Get" #T, TYPE, vr, n, v);                                                    \
+    }                                                                                                          \
+    FMI3_Export fmi3Status fmi3Set##T(fmi3Instance i, const fmi3ValueReference vr[], size_t n, const CT v[], size_t nv) { \
+        (void)nv;                                                                                              \
+        return set_values(i, "fmi3Set" #T, TYPE, vr, n, v);                                                    \
+    }
+GETSET(Float32, fmi3Float32, T_F32)
+GETSET(Float64, fmi3Float64, T_F64)
+GETSET(Int8, fmi3Int8, T_I8)
+GETSET(UInt8, fmi3UInt8, T_U8)
+GETSET(Int16, fmi3Int16, T_I16)
+GETSET(UInt16, fmi3UInt16, T_U16)
+GETSET(Int32, fmi3Int32, T_I32)
+GETSET(UInt32, fmi3UInt32, T_U32)
+GETSET(Int64, fmi3Int64, T_I64)
+GETSET(UInt64, fmi3UInt64, T_U64)
+GETSET(Boolean, fmi3Boolean, T_BOOL)
+GETSET(String, fmi3String, T_STRING)
+
+FMI3_Export fmi3Status fmi3GetBinary(fmi3Instance i, const fmi3ValueReference vr[], size_t n, size_t sizes[], fmi3Binary v[], size_t nv) {
+    Instance *c = i;
     (void)nv;
-    return get_values(i, "fmi3GetFloat64", T_F64, vr, n, v);
+    for (size_t k = 0; k < n; k++) {
+        const VarInfo *var = find(vr[k]);
+        const char *why = checked(c, var, T_BINARY, false);
+        if (why) return fail(c, "fmi3GetBinary", why);
+        const Bytes *b = field(c, var);
+        sizes[k] = b->size;
+        v[k] = b->data;
+    }
+    return fmi3OK;
 }
-FMI3_Export fmi3Status fmi3SetFloat64(fmi3Instance i, const fmi3ValueReference vr[], size_t n, const fmi3Float64 v[], size_t nv) {
+FMI3_Export fmi3Status fmi3SetBinary(fmi3Instance i, const fmi3ValueReference vr[], size_t n, const size_t sizes[], const fmi3Binary v[], size_t nv) {
+    Instance *c = i;
     (void)nv;
-    return set_values(i, "fmi3SetFloat64", T_F64, vr, n, v);
-}
-FMI3_Export fmi3Status fmi3GetInt64(fmi3Instance i, const fmi3ValueReference vr[], size_t n, fmi3Int64 v[], size_t nv) {
-    (void)nv;
-    return get_values(i, "fmi3GetInt64", T_I64, vr, n, v);
-}
-FMI3_Export fmi3Status fmi3SetInt64(fmi3Instance i, const fmi3ValueReference vr[], size_t n, const fmi3Int64 v[], size_t nv) {
-    (void)nv;
-    return set_values(i, "fmi3SetInt64", T_I64, vr, n, v);
-}
-FMI3_Export fmi3Status fmi3GetBoolean(fmi3Instance i, const fmi3ValueReference vr[], size_t n, fmi3Boolean v[], size_t nv) {
-    (void)nv;
-    return get_values(i, "fmi3GetBoolean", T_BOOL, vr, n, v);
-}
-FMI3_Export fmi3Status fmi3SetBoolean(fmi3Instance i, const fmi3ValueReference vr[], size_t n, const fmi3Boolean v[], size_t nv) {
-    (void)nv;
-    return set_values(i, "fmi3SetBoolean", T_BOOL, vr, n, v);
+    for (size_t k = 0; k < n; k++) {
+        const VarInfo *var = find(vr[k]);
+        const char *why = checked(c, var, T_BINARY, true);
+        if (why) return fail(c, "fmi3SetBinary", why);
+        if (sizes[k] > BYTES_SIZE) return fail(c, "fmi3SetBinary", "value longer than the variable holds");
+        Bytes *b = field(c, var);
+        b->size = sizes[k];
+        if (sizes[k]) memcpy(b->data, v[k], sizes[k]);
+    }
+    model_changed(c);
+    return fmi3OK;
 }
 
 FMI3_Export fmi3Status fmi3GetClock(fmi3Instance instance, const fmi3ValueReference vr[], size_t n, fmi3Clock v[]) {
@@ -203,34 +248,6 @@ FMI3_Export fmi3Status fmi3SetClock(fmi3Instance instance, const fmi3ValueRefere
     }
     model_changed(c);
     return fmi3OK;
-}
-
-#define UNSUPPORTED_GETSET(T, CT)                                                                              \
-    FMI3_Export fmi3Status fmi3Get##T(fmi3Instance i, const fmi3ValueReference vr[], size_t n, CT v[], size_t nv) { \
-        (void)vr; (void)n; (void)v; (void)nv;                                                                  \
-        return fail(i, "fmi3Get" #T, "no variables of this type");                                             \
-    }                                                                                                          \
-    FMI3_Export fmi3Status fmi3Set##T(fmi3Instance i, const fmi3ValueReference vr[], size_t n, const CT v[], size_t nv) { \
-        (void)vr; (void)n; (void)v; (void)nv;                                                                  \
-        return fail(i, "fmi3Set" #T, "no variables of this type");                                             \
-    }
-UNSUPPORTED_GETSET(Float32, fmi3Float32)
-UNSUPPORTED_GETSET(Int8, fmi3Int8)
-UNSUPPORTED_GETSET(UInt8, fmi3UInt8)
-UNSUPPORTED_GETSET(Int16, fmi3Int16)
-UNSUPPORTED_GETSET(UInt16, fmi3UInt16)
-UNSUPPORTED_GETSET(Int32, fmi3Int32)
-UNSUPPORTED_GETSET(UInt32, fmi3UInt32)
-UNSUPPORTED_GETSET(UInt64, fmi3UInt64)
-UNSUPPORTED_GETSET(String, fmi3String)
-
-FMI3_Export fmi3Status fmi3GetBinary(fmi3Instance i, const fmi3ValueReference vr[], size_t n, size_t s[], fmi3Binary v[], size_t nv) {
-    (void)vr; (void)n; (void)s; (void)v; (void)nv;
-    return fail(i, "fmi3GetBinary", "no variables of this type");
-}
-FMI3_Export fmi3Status fmi3SetBinary(fmi3Instance i, const fmi3ValueReference vr[], size_t n, const size_t s[], const fmi3Binary v[], size_t nv) {
-    (void)vr; (void)n; (void)s; (void)v; (void)nv;
-    return fail(i, "fmi3SetBinary", "no variables of this type");
 }
 
 /* ---- FMU state (a copy of the model struct) ------------------------------------------ */

@@ -2,12 +2,13 @@
 #define ROBOGEN_TEST_FRAMEWORK_TYPES_H
 /* framework_types.h + framework.h: a minimal FMI 3.0 Co-Simulation runtime for robogen's own test FMUs.
  *
- * A model file defines `Model`, includes framework_types.h, defines the table `VARS` (one row per
+ * A model file defines `Model` (String and Binary variables as the Text and Bytes of
+ * framework_values.h), includes framework_types.h, defines the table `VARS` (one row per
  * variable, value references included) and the hooks below, then includes framework.h.
  * MODEL_TOKEN comes from the build (-D), the same string as in modelDescription.xml. The runtime exports the
  * 75 fmi3* functions, checks the state machine and the clocked-access rules of FMI 3.0 §2.4
- * (so a master that breaks them gets fmi3Error), and deactivates every clock in
- * fmi3UpdateDiscreteStates.
+ * (so a master that breaks them gets fmi3Error), refuses a Float value that is not finite, and
+ * deactivates every clock in fmi3UpdateDiscreteStates.
  *
  * Hooks:
  *   model_defaults(m)                         start values
@@ -27,8 +28,10 @@
 #include <string.h>
 
 #include "fmi3Functions.h"
+#include "framework_values.h"
 
-enum { T_F64, T_I64, T_BOOL, T_CLOCK };
+/* Value types (an Enumeration is stored and accessed as T_I64). */
+enum { T_F64, T_I64, T_BOOL, T_CLOCK, T_F32, T_I8, T_U8, T_I16, T_U16, T_I32, T_U32, T_U64, T_STRING, T_BINARY };
 enum { C_PARAM, C_INPUT, C_OUTPUT, C_LOCAL };
 enum { S_INSTANTIATED = 1, S_INIT = 2, S_EVENT = 4, S_STEP = 8, S_TERMINATED = 16 };
 
