@@ -452,7 +452,7 @@ def test_module_and_connections():
     )
     module = f.items[0]
     assert module.members[:2] == (ast.Reference("p", "rref", N("q", "P")), ast.Reference("c", "cref", N("C")))
-    assert module.members[2] == ast.Connection("p", "e", "c", "f", asynchronous=True, mult=True)
+    assert module.members[2] == ast.Connection("p", "e", "c", "f", asynchronous=True, bidirectional=True)
     assert module.members[3] == ast.Connection("c", "g", "p", "h")
     assert [s.line for s in module.members[2].spans] == [2, 2, 3, 3]
 

@@ -137,7 +137,7 @@ def check_controller(ctrl: Controller, scope_of: ScopeOf, sink: DiagnosticSink) 
     resolve = software_operations(ctrl, scope_of)
     done: dict[int, list[Use]] = {}
     for conn in ctrl.connections:
-        if conn.mult:
+        if conn.bidirectional:
             continue
         for role in ("from", "to"):
             name, event, span, _ = connection_end(conn, role)
@@ -206,7 +206,7 @@ def check_module(mod: Module, sink: DiagnosticSink) -> None:
                     tail, note = problem
                     part = _part(name, ctrl.name)
                     end = "start" if role == "from" else "end"
-                    kind = "bidirectional" if conn.mult else "unidirectional"
+                    kind = "bidirectional" if conn.bidirectional else "unidirectional"
                     sink.error(f"{event} on {part} is used as the {end} of a {kind} connection, but {part} {tail}", span,
                                Note(note, inner.span))
                     break
@@ -221,12 +221,12 @@ def _disagreement(conn: ast.Connection, role: str, ctrl: Controller, inner: ast.
     if not (into or out_of):
         return None
     c = ctrl.name
-    if conn.mult:
-        if inner.mult:
+    if conn.bidirectional:
+        if inner.bidirectional:
             return None
         return f"does not contain a bidirectional connection to {event} (rule Cn5)", f"{c}'s connection on {event} is unidirectional"
     rule = "Cn7" if role == "from" else "Cn6"
-    if inner.mult:
+    if inner.bidirectional:
         return f"contains a bidirectional connection to {event} (rule {rule})", f"{c}'s connection on {event} is bidirectional"
     if role == "to" and not into:
         return f"contains a connection to {event} (rule Cn6)", f"inside {c}, this connection sends {event} out of {c}"

@@ -557,7 +557,7 @@ class Connection(Node):
     target: str
     target_event: str
     asynchronous: bool = False
-    mult: bool = False
+    bidirectional: bool = False  # RoboChart's [ mult ] flag: the connection carries events both ways
     spans: tuple[Span | None, ...] = field(default=(), compare=False, hash=False, repr=False, kw_only=True)
     # spans of source, source_event, target, target_event
 

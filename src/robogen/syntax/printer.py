@@ -369,7 +369,7 @@ def _line(d: ast.Node) -> str:
         return f"{d.kind} {_id(d.name)} = {_qname(d.target)}"
     if isinstance(d, ast.Connection):
         text = f"connection {_id(d.source)} on {_id(d.source_event)} to {_id(d.target)} on {_id(d.target_event)}"
-        return text + (" ( _async )" if d.asynchronous else "") + (" [ mult ]" if d.mult else "")
+        return text + (" ( _async )" if d.asynchronous else "") + (" [ mult ]" if d.bidirectional else "")
     if isinstance(d, ast.CycleDef):
         return f"cycleDef {_expr(d.expr)}"
     if isinstance(d, ast.NodeDecl):
