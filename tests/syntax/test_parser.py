@@ -351,6 +351,30 @@ def test_qualified_input_variables_and_empty_filters():
     assert (trigger.filter.span.column, trigger.filter.span.end_column) == (46, 51)  # [| |]
 
 
+def test_a_communication_statement_takes_a_filter_without_send():
+    """RoboTool's `'send'? Communication`: the filter does not need the keyword."""
+    def comm(kind: str, var=None, value=None, predicate=None) -> ast.Communicate:
+        return ast.Communicate(ast.Communication("e", kind, var, value, ast.Filter(None, None, predicate)), False)
+
+    s = action("e[| x > 1 |]!x ; e[||]?y ; e [| p |] ; e[|q|].E::lit")
+    assert s == ast.Seq((
+        comm("!", value=N("x"), predicate=Bin(">", N("x"), I(1))),
+        comm("?", var="y"),
+        comm("", predicate=N("p")),
+        comm(".", value=N("E", "lit"), predicate=N("q")),
+    ))  # fmt: skip
+    first = s.stmts[0]
+    assert (first.span.column, first.span.end_column) == (43, 57)  # e[| x > 1 |]!x
+    assert (first.comm.filter.span.column, first.comm.filter.span.end_column) == (44, 55)
+
+
+def test_the_empty_tuple():
+    """RoboTool's `'(|' (values+=Expression ...)? '|)'`: a tuple may have no component."""
+    assert condition("(||) == (| |)") == Bin("==", ast.TupleLit(()), ast.TupleLit(()))
+    empty = condition("(||) == x").left
+    assert (empty.span.column, empty.span.end_column) == (46, 50)
+
+
 def test_vector_and_matrix_sizes_are_atoms():
     f = parse_text("stm S { var v: vector(nat, (N)), m: matrix(real, P::K, (2)) }")
     v, m = (x.type for x in f.items[0].members[0].vars)
@@ -367,6 +391,9 @@ DOLLAR_ATOMS = [
     ("$P::op($r.f)", ast.DollarCall("op", (ast.DollarValue("r", N("f")),), ("P",))),
     ("x = $e?I::y : $ok", ast.Assign(N("x"), ast.DollarInput("e", "y", ast.Dollar("ok"), var_qualifier=("I",)))),
     ("x = f($a) + $b.$c", ast.Assign(N("x"), Bin("+", ast.Call(N("f"), (ast.Dollar("a"),)), ast.DollarValue("b", ast.Dollar("c"))))),
+    # RoboTool's CallExp over a $ atom: a call of what $f denotes
+    ("x = $f(1) + $P::g()", ast.Assign(N("x"), Bin("+", ast.Call(ast.Dollar("f"), (I(1),)), ast.Call(ast.Dollar("g", ("P",)), ())))),
+    ("$Out!$f($x)", ast.DollarOutput("Out", "!", ast.Call(ast.Dollar("f"), (ast.Dollar("x"),)))),
 ]
 
 
@@ -548,7 +575,7 @@ SYNTAX_ERRORS = [
         47,
         "unexpected '+'; expected one of '}', '(', '.', ';', '<{', '[', 'during', 'entry', ... (7 more)",
     ),
-    ("stm S { var t: nat = (| |) }", 1, 25, "unexpected '|)'; expected an expression"),
+    ("stm S { var t: nat = (| 1, |) }", 1, 28, "unexpected '|)'; expected an expression"),
     ("stm S { var x: nat = 1 + 2 > }", 1, 30, "unexpected '}'; expected an expression"),
     ("stm S { var x: nat = x\n\n\t\t< }", 3, 5, "unexpected '}'; expected an expression"),
     (

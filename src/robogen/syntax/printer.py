@@ -92,8 +92,9 @@ def _expr(e: ast.Expr) -> str:
     if isinstance(e, ast.Index):  # `$v[i]` needs no parentheses
         obj = _expr(e.obj) if isinstance(e.obj, ast.Dollar) else _wrap(e.obj, _ATOM)
         return f"{obj}[{', '.join(_expr(i) for i in e.indices)}]"
-    if isinstance(e, ast.Call):
-        return f"{_wrap(e.func, _ATOM)}({', '.join(_expr(a) for a in e.args)})"
+    if isinstance(e, ast.Call):  # `$f(a)` needs no parentheses either
+        func = _expr(e.func) if isinstance(e.func, ast.Dollar) else _wrap(e.func, _ATOM)
+        return f"{func}({', '.join(_expr(a) for a in e.args)})"
     if isinstance(e, ast.IfExpr):
         return f"if {_expr(e.cond)} then {_expr(e.then)} else {_expr(e.otherwise)} end"
     if isinstance(e, ast.Cast):
@@ -110,7 +111,7 @@ def _expr(e: ast.Expr) -> str:
     if isinstance(e, ast.RecordLit):
         return f"{_qname(e.type)}(| {', '.join(f'{_id(f.name)} = {_expr(f.value)}' for f in e.fields)} |)"
     if isinstance(e, ast.TupleLit):
-        return f"(| {', '.join(_expr(i) for i in e.items)} |)"
+        return f"(| {', '.join(_expr(i) for i in e.items)} |)" if e.items else "(||)"
     if isinstance(e, ast.SeqLit):
         return f"<{', '.join(_wrap(i, 12) for i in e.items)}>"
     if isinstance(e, ast.SetLit):

@@ -189,6 +189,9 @@ class Expressions:
     def tuple_lit(self, c):
         return ast.TupleLit(tuple(c), span=self._span(c, left=("(|",), right=("|)",)))
 
+    def tuple_empty(self, c):
+        return ast.TupleLit((), span=self._span(c, left=("(|",)))
+
     def record_lit(self, c):
         return ast.RecordLit(c[0], tuple(c[1:]), span=self._span(c, right=("|)",)))
 
