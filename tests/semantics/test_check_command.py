@@ -67,7 +67,7 @@ BAD_INPUTS = [
     ("empty.rct", b"", 0, "empty.rct:1:1: warning: the file is empty: it declares nothing"),
     ("text.rst", "intérêt ≠ modèle".encode(), 1, "text.rst:1:1: error: unexpected name 'int'; expected one of 'controller', 'datatype', "
      "'diagram', 'enumeration', 'function', 'import', 'interface', 'module', ... (7 more)"),
-    ("deep.rct", ("stm S { var x: nat = " + "(" * 5000 + "1" + ")" * 5000 + " + 1" * 200 + " }").encode(), 1,
+    ("deep.rct", ("stm S { var x: nat = " + "(" * 101 + "1" + ")" * 101 + " + 1" * 5000 + " }").encode(), 1,
      "deep.rct:1:22: error: nested too deeply: robogen accepts at most 100 levels of nested expressions, statements, types or states"),
 ]  # fmt: skip
 

@@ -4,7 +4,9 @@ they must point at."""
 
 from __future__ import annotations
 
-from support.frontend import at, diagnostics, error, machine, robosim, warning
+from support.frontend import at, diagnostics, error, machine, robosim, shallow_stack, warning
+
+from robogen.semantics import check_texts
 
 
 # ---------------------------------------------------------------------------- RoboChart types
@@ -158,6 +160,27 @@ def test_since_should_be_compared_with_a_constant():
         warning(text, "n }", "'since' should be compared with a constant"),
         warning(text, "n < sinceEntry", "'sinceEntry' should be compared with a constant"),
     ]
+
+
+def test_a_flat_expression_of_a_thousand_operands_checks():
+    n = 1000
+    total = " + ".join(f"x * {i}" for i in range(n))
+    every = " /\\ ".join(f"x > {i} \\/ b" for i in range(n))
+    text = machine(
+        "var x: nat, y: int, b: boolean",
+        "event e: int",
+        f"transition t1 {{ from A to A condition {every} }}",
+        action=f"y = {total} - 1 ; e!({total}) ; b = {every}",
+    )
+    with shallow_stack():
+        model = check_texts({"m.rct": text})
+    assert model.diagnostics == ()
+    assign = model.files[0].items[0].members[-1].action.stmts[0]
+    assert model.type_of(assign.value).show() == "int" and model.type_of(assign.value.left).show() == "nat"
+    # a mistake deep inside a flat expression is located at the operand
+    bad = text.replace("x * 500 +", "true +", 1)
+    with shallow_stack():
+        assert diagnostics(bad) == [error(bad, "true +", "'+' needs numbers, not boolean")]
 
 
 def test_clocks_and_states_named_by_time_expressions_must_exist():

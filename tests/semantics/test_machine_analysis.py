@@ -3,7 +3,7 @@ that can never fire, guards that overlap, RoboSim cycles that may never end)."""
 
 from __future__ import annotations
 
-from support.frontend import at, diagnostics
+from support.frontend import at, diagnostics, shallow_stack
 
 from robogen.semantics import check_texts
 
@@ -279,3 +279,33 @@ def test_a_machine_with_more_states_in_a_row_than_python_recursion_allows():
     assert warning[3].startswith("transitions 'a0', 'a1', 'a10', 'a100', 'a1000', ") and warning[3].endswith(
         "'z' form a cycle without exec: a cycle that takes them may never end"
     )
+
+
+def test_guards_of_a_thousand_operands_are_analysed_in_loops():
+    n = 1000
+    always = " /\\ ".join(["b"] * n)
+    text = lines(
+        "stm S {",
+        "\tvar x: nat, b: boolean",
+        "\tinitial i",
+        "\tstate A { }",
+        "\tstate B { }",
+        "\ttransition t0 { from i to A }",
+        f"\ttransition t1 {{ from A to B condition {always} }}",
+        "\ttransition t2 { from A to B condition " + " \\/ ".join(["not b"] * (n - 1) + ["b"]) + " }",
+        "\ttransition t3 { from B to A condition " + " + ".join(["x"] * n) + " > 3 }",
+        "\ttransition t4 { from B to A condition " + " + ".join(["x"] * n) + " < 2 }",
+        f"\ttransition t5 {{ from B to B condition {always} /\\ not b }}",
+        "}",
+    )
+    with shallow_stack():
+        found = diagnostics(text)
+    assert found == [
+        (
+            "warning",
+            *at(text, "t2 {"),
+            "transitions 't1' and 't2' leave 'A' and can be enabled together (for example when b is true); "
+            "'t1' is taken, as it is declared first",
+        ),
+        ("warning", *at(text, f"{always} /\\ not b"), "transition 't5' can never fire: its condition is always false"),
+    ]  # t3 and t4 exclude each other: 1000 x > 3 needs x >= 1, 1000 x < 2 needs x = 0

@@ -650,11 +650,36 @@ def test_binary_content_is_reported_not_parsed():
     assert syntax_errors("stm S {\n  ab\x00cd }") == [(2, 5, "file contains NUL bytes; is it a binary file, not a model?")]
 
 
+def nested_calls(depth: int) -> str:
+    """`f(f(...f(1)...))`: ``depth`` calls, each inside the one before."""
+    return "f(" * depth + "1" + ")" * depth
+
+
 def test_nesting_deeper_than_the_limit_is_an_error_not_a_crash():
-    deep = " + ".join(["1"] * (MAX_NESTING + 5))
-    assert syntax_errors(f"stm S {{ var x: nat = {deep} }}") == [
-        (1, 22, f"nested too deeply: robogen accepts at most {MAX_NESTING} levels of nested expressions, statements, types or states")
+    # reported at the outermost call too deep: the fifth from the outside
+    assert syntax_errors(f"stm S {{ var x: nat = {nested_calls(MAX_NESTING + 5)} }}") == [
+        (1, 30, f"nested too deeply: robogen accepts at most {MAX_NESTING} levels of nested expressions, statements, types or states")
     ]
     states = "state A { " * (MAX_NESTING + 1) + "}" * (MAX_NESTING + 1)
     assert syntax_errors(f"stm S {{ {states} }}")[0][2].startswith("nested too deeply")
-    parse_text(f"stm S {{ var x: nat = {' + '.join(['1'] * MAX_NESTING)} }}")  # the limit itself is fine
+    parens = "(" * (MAX_NESTING + 1) + "1" + ")" * (MAX_NESTING + 1)
+    assert syntax_errors(f"stm S {{ var x: nat = {parens} }}")[0][2].startswith("nested too deeply")
+    right = "1 + (" * MAX_NESTING + "1" + ")" * MAX_NESTING  # each sum inside parentheses: two levels
+    assert syntax_errors(f"stm S {{ var x: nat = {right} }}")[0][2].startswith("nested too deeply")
+    parse_text(f"stm S {{ var x: nat = {nested_calls(MAX_NESTING)} }}")  # the limit itself is fine
+
+
+FLAT = [
+    # a flat chain of operators is one level of nesting, however long (only real nesting counts)
+    " + ".join(f"x{i}" for i in range(1000)),
+    " /\\ ".join(f"x{i} > {i}" for i in range(1000)),
+    " \\/ ".join(f"a{i} /\\ b{i} == {i} + y * 2 - z" for i in range(1000)),
+    "(" * (MAX_NESTING - 2) + " * ".join(["x"] * 1000) + ")" * (MAX_NESTING - 2) + " + 1" * 1000,
+]
+
+
+@pytest.mark.parametrize("text", FLAT, ids=["sum", "conjunction", "mixed levels", "chains at the limit"])
+def test_a_flat_expression_of_a_thousand_operands_is_not_nested(text):
+    e = condition(text)
+    first, links = ast.chain(e)
+    assert len(links) >= 999 and not isinstance(first, ast.Binary)

@@ -4,7 +4,7 @@ with only the parentheses precedence needs."""
 from __future__ import annotations
 
 import pytest
-from support.frontend import REFERENCE, corpus_files, reference_files, relative_ids
+from support.frontend import REFERENCE, corpus_files, reference_files, relative_ids, shallow_stack
 
 from robogen.syntax import ast, printer
 from robogen.syntax.parser import parse_file, parse_text
@@ -84,6 +84,13 @@ def test_calls_through_dollar_and_filters_without_send():
     f = parse_text("stm S { transition t { from a to b action e[| x > 1 |]!x ; e[||]?y } }")
     assert printer.stmt(f.items[0].members[0].action) == "e[| x > 1 |]!x ; e[||]?y"
     assert parse_text(printer.file(f)) == f
+
+
+def test_a_flat_expression_of_a_thousand_operands_prints_in_a_loop():
+    text = " \\/ ".join(f"(x{i} + 1) * 2 - y > {i} /\\ b{i}" for i in range(1000))
+    with shallow_stack():
+        printed = printer.expr(cond(text))
+        assert printer.expr(cond(printed)) == printed == text
 
 
 def test_statements_keep_their_grouping():

@@ -205,9 +205,17 @@ class ExprChecker(Calls, DollarForms):
         return T.INT if t == T.NAT else t
 
     def _e_Binary(self, e: ast.Binary) -> T.Type:
+        """A chain of binary operators (ast.chain), typed from its leftmost operand out in a loop:
+        a flat expression may have thousands of operands."""
+        first, links = ast.chain(e)
+        a = self.expr(first)
+        for link in links:
+            a = self._set(link, self._binary(link, a, self.expr(link.right)))
+        return a
+
+    def _binary(self, e: ast.Binary, a: T.Type, b: T.Type) -> T.Type:
+        """The type of ``e`` from those of its operands, ``a`` on the left and ``b`` on the right."""
         op = e.op
-        a = self.expr(e.left)
-        b = self.expr(e.right)
         if op in ("iff", "=>", "\\/", "/\\"):
             for side, t in ((e.left, a), (e.right, b)):
                 if not T.is_boolean(t):
@@ -270,7 +278,8 @@ class ExprChecker(Calls, DollarForms):
         if isinstance(e, ast.Unary):
             return self._constant(e.operand)
         if isinstance(e, ast.Binary):
-            return self._constant(e.left) and self._constant(e.right)
+            first, links = ast.chain(e)
+            return self._constant(first) and all(self._constant(link.right) for link in links)
         return False
 
     def _record(self, t: T.Type) -> T.Type:

@@ -84,9 +84,7 @@ def _expr(e: ast.Expr) -> str:
             return f"not {_wrap(e.operand, _LEVEL['not'])}"
         return f"-{_wrap(e.operand, _LEVEL['neg'])}"
     if isinstance(e, ast.Binary):
-        lv = _LEVEL[e.op]
-        # left-associative: the right operand needs a strictly tighter level
-        return f"{_wrap(e.left, lv)} {e.op} {_wrap(e.right, lv + 1)}"
+        return _chain(e)
     if isinstance(e, ast.Field):
         return f"{_wrap(e.obj, _ATOM)}.{_id(e.field)}"
     if isinstance(e, ast.Index):  # `$v[i]` needs no parentheses
@@ -141,6 +139,22 @@ def _expr(e: ast.Expr) -> str:
     if isinstance(e, ast.DollarValue):
         return f"${_path(e.qualifier, e.event)}.{_value(e.value)}"
     raise TypeError(f"cannot print {type(e).__name__}")  # pragma: no cover
+
+
+def _chain(e: ast.Binary) -> str:
+    """A chain of binary operators (ast.chain), left to right in a loop. Every operator is
+    left-associative: a right operand needs a strictly tighter level, a left operand of a looser
+    level is put in parentheses (all those opened at the start, before the leftmost operand)."""
+    first, links = ast.chain(e)
+    parts = [_expr(first)]
+    opened = 0
+    for link in links:
+        level = _LEVEL[link.op]
+        if _level(link.left) < level:
+            opened += 1
+            parts.append(")")
+        parts += [f" {link.op} ", _wrap(link.right, level + 1)]
+    return "(" * opened + "".join(parts)
 
 
 def _path(qualifier: tuple[str, ...], name: str) -> str:
