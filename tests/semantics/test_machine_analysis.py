@@ -228,18 +228,15 @@ def test_a_value_bound_in_the_guard_is_not_the_value_read_before():
     assert diagnostics(text, "m.rst") == []
 
 
+def loops_on_a(*conditions: str) -> str:
+    """A machine with a nat x, a state A and a self-loop t1, t2, ... on A for each condition."""
+    loops = [f"\ttransition t{k} {{ from A to A condition {c} }}" for k, c in enumerate(conditions, 1)]
+    return lines("stm S {", "\tvar x: nat", "\tinitial i", "\tstate A { }", "\ttransition t0 { from i to A }", *loops, "}")
+
+
 def test_arithmetic_the_evaluator_does_not_follow_is_declined_not_a_crash():
     # division of two literals used to reach an unsupported operator in the evaluator
-    text = lines(
-        "stm S {",
-        "\tvar x: nat",
-        "\tinitial i",
-        "\tstate A { }",
-        "\ttransition t0 { from i to A }",
-        "\ttransition t1 { from A to A condition 4 / 2 > 1 }",
-        "\ttransition t2 { from A to A condition x % 2 == 1 /\\ 6 / 3 == 2 }",
-        "}",
-    )
+    text = loops_on_a("4 / 2 > 1", "x % 2 == 1 /\\ 6 / 3 == 2")
     assert diagnostics(text) == []
 
 
@@ -279,6 +276,20 @@ def test_a_machine_with_more_states_in_a_row_than_python_recursion_allows():
     assert warning[3].startswith("transitions 'a0', 'a1', 'a10', 'a100', 'a1000', ") and warning[3].endswith(
         "'z' form a cycle without exec: a cycle that takes them may never end"
     )
+
+
+def test_a_comparison_and_its_negation_are_one_proposition():
+    # x >= 3 is not (x < 3): t1 holds for x = 3 and t2 for x = 4, only t3 never holds
+    text = loops_on_a("x >= 3 /\\ not (x < 3)", "x > 3 /\\ not (x <= 3) /\\ x < 9", "x >= 3 /\\ x < 3")
+    assert diagnostics(text) == [
+        (
+            "warning",
+            *at(text, "t2 {"),
+            "transitions 't1' and 't2' leave 'A' and can be enabled together (for example when x = 4); "
+            "'t1' is taken, as it is declared first",
+        ),
+        ("warning", *at(text, "x >= 3 /\\ x < 3"), "transition 't3' can never fire: its condition is always false"),
+    ]
 
 
 def test_guards_of_a_thousand_operands_are_analysed_in_loops():

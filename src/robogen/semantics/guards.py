@@ -460,7 +460,7 @@ def abstractly_satisfiable(g: ast.Expr) -> bool:
     def norm(e: ast.Expr):
         """A key for an atom and whether it is negated: a > b is not (a <= b)."""
         if isinstance(e, ast.Binary) and e.op in (">", ">="):
-            return ("cmp", "<=" if e.op == ">" else "<", _key(e.left), _key(e.right)), e.op == ">"
+            return ("cmp", "<=" if e.op == ">" else "<", _key(e.left), _key(e.right)), True
         if isinstance(e, ast.Binary) and e.op == "!=":
             return ("cmp", "==", _key(e.left), _key(e.right)), True
         if isinstance(e, ast.Binary) and e.op in ("<", "<=", "=="):
