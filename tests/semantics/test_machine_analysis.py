@@ -6,6 +6,8 @@ from __future__ import annotations
 from support.frontend import at, diagnostics, shallow_stack
 
 from robogen.semantics import check_texts
+from robogen.semantics.graph import FORMATS, render
+from robogen.syntax import printer
 
 
 def lines(*text: str) -> str:
@@ -320,3 +322,17 @@ def test_guards_of_a_thousand_operands_are_analysed_in_loops():
         ),
         ("warning", *at(text, f"{always} /\\ not b"), "transition 't5' can never fire: its condition is always false"),
     ]  # t3 and t4 exclude each other: 1000 x > 3 needs x >= 1, 1000 x < 2 needs x = 0
+
+
+def test_a_chain_of_ten_thousand_states_is_checked_without_recursion():
+    n = 10_000
+    states = [f"state S{j} {{ }}" for j in range(n)]
+    moves = [f"transition m{j} {{ from S{j} to S{(j + 1) % n} exec action k = k + 1 }}" for j in range(n)]
+    text = robosim("var k: nat", *states, "transition s { from i to S0 }", *moves)
+    with shallow_stack():
+        model = check_texts({"m.rst": text})
+        dot, mermaid = (render(model.scopes, fmt) for fmt in FORMATS)
+        printed = printer.file(model.files[0])
+    assert model.diagnostics == ()
+    assert dot.count(" -> ") == mermaid.count(" --> ") == n + 1
+    assert printed.count("\texec\n") == n
