@@ -162,6 +162,32 @@ def test_since_should_be_compared_with_a_constant():
     ]
 
 
+def test_a_comparison_the_type_of_a_nat_decides_is_a_warning():
+    text = machine(
+        "var k: nat, i: int, b: boolean",
+        "clock C",
+        "transition t1 { from A to A condition k >= 0 \\/ since(C) < 0 }",
+        action="b = 0 <= (k) ; b = k > -1 ; b = k == -2 ; b = -0.5 >= k ; b = k > 0 ; b = i >= 0 ; b = k - 1 >= 0 ; b = 0 >= -1",
+    )
+    never = "a nat is never negative"
+    assert diagnostics(text) == [
+        warning(text, "k >= 0", f"'k >= 0' is always true for nat k: {never}"),
+        warning(text, "since(C) < 0", f"'since(C) < 0' is always false for nat since(C): {never}"),
+        warning(text, "0 <= (k)", f"'0 <= k' is always true for nat k: {never}"),
+        warning(text, "k > -1", f"'k > -1' is always true for nat k: {never}"),
+        warning(text, "k == -2", f"'k == -2' is always false for nat k: {never}"),
+        warning(text, "-0.5 >= k", f"'-0.5 >= k' is always false for nat k: {never}"),
+    ]
+
+
+def test_the_model_says_which_comparisons_are_constant_and_their_value():
+    text = machine("var k: nat, b: boolean", action="b = k >= 0 ; b = 0 > k ; b = k > 0")
+    model = check_texts({"m.rct": text})
+    values = [model.constant_comparison(s.value) for s in model.files[0].items[0].members[-1].action.stmts]
+    assert values == [True, False, None]
+    assert model.constant_comparison(model.files[0].items[0].members[-1].action.stmts[0].target) is None
+
+
 def test_a_flat_expression_of_a_thousand_operands_checks():
     n = 1000
     total = " + ".join(f"x * {i}" for i in range(n))

@@ -13,12 +13,14 @@ from dataclasses import dataclass
 from typing import Callable, Mapping
 
 from robogen.diagnostics import DiagnosticSink, Note, did_you_mean
+from robogen.semantics import limits
 from robogen.semantics import types as T
 from robogen.semantics.algebra import linear, negation
 from robogen.semantics.calls import Calls, literal_args, plural
 from robogen.semantics.dollar import DollarForms
 from robogen.semantics.model import EnumLitSym, MachineScope, Tables, VarSym
 from robogen.syntax import ast
+from robogen.syntax.printer import expr as expr_text
 
 
 @dataclass
@@ -225,12 +227,14 @@ class ExprChecker(Calls, DollarForms):
             if not T.comparable(a, b):
                 self._err(f"cannot compare {a.show()} with {b.show()}", e)
             self._since_rule(e)
+            self._type_limits(e, a, b)
             return T.BOOLEAN
         if op in ("<", "<=", ">", ">="):
             for side, t in ((e.left, a), (e.right, b)):
                 if not T.is_numeric(t):
                     self._err(f"'{op}' needs numbers, not {t.show()}", side)
             self._since_rule(e)
+            self._type_limits(e, a, b)
             return T.BOOLEAN
         if op == "in":
             if not isinstance(b, (T.SetT, T.SeqT, T.UnknownT)):
@@ -268,6 +272,14 @@ class ExprChecker(Calls, DollarForms):
                     f"'{'since' if isinstance(timed, ast.Since) else 'sinceEntry'}' should be compared with a constant",
                     other.span,
                 )
+
+    def _type_limits(self, e: ast.Binary, a: T.Type, b: T.Type) -> None:
+        """A comparison the operands' types decide (``k >= 0`` for a nat ``k``): a warning, and
+        its value in the tables for code generation (:mod:`robogen.semantics.limits`)."""
+        value = limits.constant_comparison(e, a, b)
+        if value is not None:
+            self.tables.comparisons[id(e)] = value
+            self.sink.warning(limits.message(e, value, expr_text), e.span)
 
     def _constant(self, e: ast.Expr) -> bool:
         if isinstance(e, (ast.IntLit, ast.RealLit, ast.BoolLit)):

@@ -11,7 +11,8 @@ Later stages (IR lowering, diagrams) read only this module and :mod:`robogen.sem
 - :class:`Controller` and :class:`Module`: the containers with their parts, connections,
   events and periods; a module's :class:`Platform` with its events and operations;
 - the model's tables: the type of every expression and resolved type expression, the symbol
-  every name resolves to (``type_of``, ``symbol``, ``bound_var``, ``scope_of``).
+  every name resolves to (``type_of``, ``symbol``, ``bound_var``, ``scope_of``), the comparisons
+  the operands' types decide (``constant_comparison``).
 
 New constructs extend this vocabulary (a symbol kind, a field of a container) rather than
 giving later stages a way back into the checker.
@@ -276,6 +277,8 @@ class Tables:
     refs: dict[object, object] = field(default_factory=dict)
     # resolved type expressions: id(node) -> (node, type); the node is held so its id stays unique
     type_exprs: dict[int, tuple[ast.TypeExpr, Type]] = field(default_factory=dict)
+    # comparisons whose value the operands' types decide: id(node) -> value (robogen.semantics.limits)
+    comparisons: dict[int, bool] = field(default_factory=dict)
 
     def type_of(self, e: ast.Expr) -> Type:
         return self.types.get(id(e), UNKNOWN)
@@ -334,6 +337,15 @@ class SemanticModel:
     def bound_var(self, node: ast.Node) -> VarSym | None:
         """The variable an input ``e?x`` or ``$e?x`` stores the event's value in."""
         return self.tables.bound_var(node)
+
+    def constant_comparison(self, e: ast.Binary) -> bool | None:
+        """The value of a comparison that its operands' types decide, whatever their values: True
+        for ``k >= 0`` and False for ``k < 0`` when ``k`` is a nat (a nat compared with a number
+        literal, on either side, where every nat gives one value: ``k > -1``, ``0 > k``, ``k == -2``,
+        ...; see :mod:`robogen.semantics.limits`). None for every other expression. The checker
+        warned about each; code generation uses the value rather than generate a comparison that
+        C compilers flag as always true or false (``-Wtype-limits``)."""
+        return self.tables.comparisons.get(id(e))
 
     @staticmethod
     def text(e: ast.Expr) -> str:
