@@ -363,6 +363,8 @@ class Guards:
 
 
 def _numeric(operation: Callable[[Number, Number], object]) -> Callable[[object, Callable, dict], object]:
+    """The step of an arithmetic operator or comparison: both operands must be numbers."""
+
     def step(x: object, right: Callable, env: dict) -> object:
         y = right(env)
         if type(x) not in _NUMBERS or type(y) not in _NUMBERS:

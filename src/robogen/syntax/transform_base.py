@@ -156,6 +156,7 @@ class SpanBuilder(Transformer):
         return self._record(node, d + 1, c)
 
     def _record(self, node, d: int, c):
+        """Keep ``node``'s depth ``d``; the first node deeper than MAX_NESTING is reported."""
         self._depth[id(node)] = d
         self._alive.append(node)
         if d > MAX_NESTING and not self._too_deep:
