@@ -162,6 +162,11 @@ def test_since_should_be_compared_with_a_constant():
     ]
 
 
+def test_the_empty_tuple_is_the_empty_product():
+    text = machine("var u: nat * nat, b: boolean", action="b = (||) == (||) ; u = (||)")
+    assert diagnostics(text) == [error(text, "(||) }", "cannot assign empty product to 'u' of type nat * nat")]
+
+
 def test_a_comparison_the_type_of_a_nat_decides_is_a_warning():
     text = machine(
         "var k: nat, i: int, b: boolean",
