@@ -45,3 +45,17 @@ def test_a_field_of_a_record_variable_and_what_dollar_cannot_select():
         error(text, "$Out1", "cannot assign boolean to 'r' of type real"),
         error(text, "Out1", "'Out1' is an output event; output events cannot be tested in a condition", 2),
     ]
+
+
+def test_a_call_through_dollar_calls_a_function_variable_and_never_an_operation():
+    text = "\n".join([
+        "interface Scaling { var scale: real -> real }",
+        "interface Motors { move(v: real) }",
+        robosim("input context { requires Scaling }", "output context { requires Motors }", "var r: real",
+                action="r = $scale(2.0) ; $move($scale(r)) ; r = $scale(true) ; r = $move(1.0) ; r = $scale()"),
+    ])  # fmt: skip
+    assert diagnostics(text, "m.rst") == [
+        error(text, "true", "argument 1 of this function of type real -> real must be real, but this is boolean"),
+        error(text, "$move(1.0)", "'move' is an operation; operations are called as statements, not in expressions"),
+        error(text, "$scale()", "this function of type real -> real takes 1 argument, but 0 were given"),
+    ]

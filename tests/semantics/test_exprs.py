@@ -4,7 +4,9 @@ they must point at."""
 
 from __future__ import annotations
 
-from support.frontend import at, diagnostics, error, machine, robosim, warning
+from support.frontend import at, diagnostics, error, machine, robosim, shallow_stack, warning
+
+from robogen.semantics import check_texts
 
 
 # ---------------------------------------------------------------------------- RoboChart types
@@ -158,6 +160,58 @@ def test_since_should_be_compared_with_a_constant():
         warning(text, "n }", "'since' should be compared with a constant"),
         warning(text, "n < sinceEntry", "'sinceEntry' should be compared with a constant"),
     ]
+
+
+def test_the_empty_tuple_is_the_empty_product():
+    text = machine("var u: nat * nat, b: boolean", action="b = (||) == (||) ; u = (||)")
+    assert diagnostics(text) == [error(text, "(||) }", "cannot assign empty product to 'u' of type nat * nat")]
+
+
+def test_a_comparison_the_type_of_a_nat_decides_is_a_warning():
+    text = machine(
+        "var k: nat, i: int, b: boolean",
+        "clock C",
+        "transition t1 { from A to A condition k >= 0 \\/ since(C) < 0 }",
+        action="b = 0 <= (k) ; b = k > -1 ; b = k == -2 ; b = -0.5 >= k ; b = k > 0 ; b = i >= 0 ; b = k - 1 >= 0 ; b = 0 >= -1",
+    )
+    never = "a nat is never negative"
+    assert diagnostics(text) == [
+        warning(text, "k >= 0", f"'k >= 0' is always true for nat k: {never}"),
+        warning(text, "since(C) < 0", f"'since(C) < 0' is always false for nat since(C): {never}"),
+        warning(text, "0 <= (k)", f"'0 <= k' is always true for nat k: {never}"),
+        warning(text, "k > -1", f"'k > -1' is always true for nat k: {never}"),
+        warning(text, "k == -2", f"'k == -2' is always false for nat k: {never}"),
+        warning(text, "-0.5 >= k", f"'-0.5 >= k' is always false for nat k: {never}"),
+    ]
+
+
+def test_the_model_says_which_comparisons_are_constant_and_their_value():
+    text = machine("var k: nat, b: boolean", action="b = k >= 0 ; b = 0 > k ; b = k > 0")
+    model = check_texts({"m.rct": text})
+    values = [model.constant_comparison(s.value) for s in model.files[0].items[0].members[-1].action.stmts]
+    assert values == [True, False, None]
+    assert model.constant_comparison(model.files[0].items[0].members[-1].action.stmts[0].target) is None
+
+
+def test_a_flat_expression_of_a_thousand_operands_checks():
+    n = 1000
+    total = " + ".join(f"x * {i}" for i in range(n))
+    every = " /\\ ".join(f"x > {i} \\/ b" for i in range(n))
+    text = machine(
+        "var x: nat, y: int, b: boolean",
+        "event e: int",
+        f"transition t1 {{ from A to A condition {every} }}",
+        action=f"y = {total} - 1 ; e!({total}) ; b = {every}",
+    )
+    with shallow_stack():
+        model = check_texts({"m.rct": text})
+    assert model.diagnostics == ()
+    assign = model.files[0].items[0].members[-1].action.stmts[0]
+    assert model.type_of(assign.value).show() == "int" and model.type_of(assign.value.left).show() == "nat"
+    # a mistake deep inside a flat expression is located at the operand
+    bad = text.replace("x * 500 +", "true +", 1)
+    with shallow_stack():
+        assert diagnostics(bad) == [error(bad, "true +", "'+' needs numbers, not boolean")]
 
 
 def test_clocks_and_states_named_by_time_expressions_must_exist():

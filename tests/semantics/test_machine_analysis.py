@@ -3,9 +3,11 @@ that can never fire, guards that overlap, RoboSim cycles that may never end)."""
 
 from __future__ import annotations
 
-from support.frontend import at, diagnostics
+from support.frontend import at, diagnostics, shallow_stack
 
 from robogen.semantics import check_texts
+from robogen.semantics.graph import FORMATS, render
+from robogen.syntax import printer
 
 
 def lines(*text: str) -> str:
@@ -228,18 +230,15 @@ def test_a_value_bound_in_the_guard_is_not_the_value_read_before():
     assert diagnostics(text, "m.rst") == []
 
 
+def loops_on_a(*conditions: str) -> str:
+    """A machine with a nat x, a state A and a self-loop t1, t2, ... on A for each condition."""
+    loops = [f"\ttransition t{k} {{ from A to A condition {c} }}" for k, c in enumerate(conditions, 1)]
+    return lines("stm S {", "\tvar x: nat", "\tinitial i", "\tstate A { }", "\ttransition t0 { from i to A }", *loops, "}")
+
+
 def test_arithmetic_the_evaluator_does_not_follow_is_declined_not_a_crash():
     # division of two literals used to reach an unsupported operator in the evaluator
-    text = lines(
-        "stm S {",
-        "\tvar x: nat",
-        "\tinitial i",
-        "\tstate A { }",
-        "\ttransition t0 { from i to A }",
-        "\ttransition t1 { from A to A condition 4 / 2 > 1 }",
-        "\ttransition t2 { from A to A condition x % 2 == 1 /\\ 6 / 3 == 2 }",
-        "}",
-    )
+    text = loops_on_a("4 / 2 > 1", "x % 2 == 1 /\\ 6 / 3 == 2")
     assert diagnostics(text) == []
 
 
@@ -279,3 +278,61 @@ def test_a_machine_with_more_states_in_a_row_than_python_recursion_allows():
     assert warning[3].startswith("transitions 'a0', 'a1', 'a10', 'a100', 'a1000', ") and warning[3].endswith(
         "'z' form a cycle without exec: a cycle that takes them may never end"
     )
+
+
+def test_a_comparison_and_its_negation_are_one_proposition():
+    # x >= 3 is not (x < 3): t1 holds for x = 3 and t2 for x = 4, only t3 never holds
+    text = loops_on_a("x >= 3 /\\ not (x < 3)", "x > 3 /\\ not (x <= 3) /\\ x < 9", "x >= 3 /\\ x < 3")
+    assert diagnostics(text) == [
+        (
+            "warning",
+            *at(text, "t2 {"),
+            "transitions 't1' and 't2' leave 'A' and can be enabled together (for example when x = 4); "
+            "'t1' is taken, as it is declared first",
+        ),
+        ("warning", *at(text, "x >= 3 /\\ x < 3"), "transition 't3' can never fire: its condition is always false"),
+    ]
+
+
+def test_guards_of_a_thousand_operands_are_analysed_in_loops():
+    n = 1000
+    always = " /\\ ".join(["b"] * n)
+    text = lines(
+        "stm S {",
+        "\tvar x: nat, b: boolean",
+        "\tinitial i",
+        "\tstate A { }",
+        "\tstate B { }",
+        "\ttransition t0 { from i to A }",
+        f"\ttransition t1 {{ from A to B condition {always} }}",
+        "\ttransition t2 { from A to B condition " + " \\/ ".join(["not b"] * (n - 1) + ["b"]) + " }",
+        "\ttransition t3 { from B to A condition " + " + ".join(["x"] * n) + " > 3 }",
+        "\ttransition t4 { from B to A condition " + " + ".join(["x"] * n) + " < 2 }",
+        f"\ttransition t5 {{ from B to B condition {always} /\\ not b }}",
+        "}",
+    )
+    with shallow_stack():
+        found = diagnostics(text)
+    assert found == [
+        (
+            "warning",
+            *at(text, "t2 {"),
+            "transitions 't1' and 't2' leave 'A' and can be enabled together (for example when b is true); "
+            "'t1' is taken, as it is declared first",
+        ),
+        ("warning", *at(text, f"{always} /\\ not b"), "transition 't5' can never fire: its condition is always false"),
+    ]  # t3 and t4 exclude each other: 1000 x > 3 needs x >= 1, 1000 x < 2 needs x = 0
+
+
+def test_a_chain_of_ten_thousand_states_is_checked_without_recursion():
+    n = 10_000
+    states = [f"state S{j} {{ }}" for j in range(n)]
+    moves = [f"transition m{j} {{ from S{j} to S{(j + 1) % n} exec action k = k + 1 }}" for j in range(n)]
+    text = robosim("var k: nat", *states, "transition s { from i to S0 }", *moves)
+    with shallow_stack():
+        model = check_texts({"m.rst": text})
+        dot, mermaid = (render(model.scopes, fmt) for fmt in FORMATS)
+        printed = printer.file(model.files[0])
+    assert model.diagnostics == ()
+    assert dot.count(" -> ") == mermaid.count(" --> ") == n + 1
+    assert printed.count("\texec\n") == n

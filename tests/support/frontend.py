@@ -3,7 +3,10 @@ diagnostics reduced to comparable tuples."""
 
 from __future__ import annotations
 
+import contextlib
 import dataclasses
+import inspect
+import sys
 from pathlib import Path
 from typing import Iterator
 
@@ -97,3 +100,16 @@ def warning(text: str, snippet: str, message: str, occurrence: int = 1) -> tuple
 def robosim(*members: str, action: str = "skip") -> str:
     """A RoboSim machine S like ``machine``'s, with a period and an exec self-loop on A."""
     return machine("cycleDef cycle == 1", *members, "transition tx { from A to A exec }", action=action, path="m.rst")
+
+
+@contextlib.contextmanager
+def shallow_stack(frames: int = 150) -> Iterator[None]:
+    """Let the code inside recurse at most ``frames`` calls deeper than here: what it does in a
+    loop passes, what it does by recursion proportional to the size of its input (thousands of
+    states, operands) fails with RecursionError."""
+    limit = sys.getrecursionlimit()
+    sys.setrecursionlimit(len(inspect.stack(0)) + frames)
+    try:
+        yield
+    finally:
+        sys.setrecursionlimit(limit)

@@ -351,6 +351,30 @@ def test_qualified_input_variables_and_empty_filters():
     assert (trigger.filter.span.column, trigger.filter.span.end_column) == (46, 51)  # [| |]
 
 
+def test_a_communication_statement_takes_a_filter_without_send():
+    """RoboTool's `'send'? Communication`: the filter does not need the keyword."""
+    def comm(kind: str, var=None, value=None, predicate=None) -> ast.Communicate:
+        return ast.Communicate(ast.Communication("e", kind, var, value, ast.Filter(None, None, predicate)), False)
+
+    s = action("e[| x > 1 |]!x ; e[||]?y ; e [| p |] ; e[|q|].E::lit")
+    assert s == ast.Seq((
+        comm("!", value=N("x"), predicate=Bin(">", N("x"), I(1))),
+        comm("?", var="y"),
+        comm("", predicate=N("p")),
+        comm(".", value=N("E", "lit"), predicate=N("q")),
+    ))  # fmt: skip
+    first = s.stmts[0]
+    assert (first.span.column, first.span.end_column) == (43, 57)  # e[| x > 1 |]!x
+    assert (first.comm.filter.span.column, first.comm.filter.span.end_column) == (44, 55)
+
+
+def test_the_empty_tuple():
+    """RoboTool's `'(|' (values+=Expression ...)? '|)'`: a tuple may have no component."""
+    assert condition("(||) == (| |)") == Bin("==", ast.TupleLit(()), ast.TupleLit(()))
+    empty = condition("(||) == x").left
+    assert (empty.span.column, empty.span.end_column) == (46, 50)
+
+
 def test_vector_and_matrix_sizes_are_atoms():
     f = parse_text("stm S { var v: vector(nat, (N)), m: matrix(real, P::K, (2)) }")
     v, m = (x.type for x in f.items[0].members[0].vars)
@@ -367,6 +391,9 @@ DOLLAR_ATOMS = [
     ("$P::op($r.f)", ast.DollarCall("op", (ast.DollarValue("r", N("f")),), ("P",))),
     ("x = $e?I::y : $ok", ast.Assign(N("x"), ast.DollarInput("e", "y", ast.Dollar("ok"), var_qualifier=("I",)))),
     ("x = f($a) + $b.$c", ast.Assign(N("x"), Bin("+", ast.Call(N("f"), (ast.Dollar("a"),)), ast.DollarValue("b", ast.Dollar("c"))))),
+    # RoboTool's CallExp over a $ atom: a call of what $f denotes
+    ("x = $f(1) + $P::g()", ast.Assign(N("x"), Bin("+", ast.Call(ast.Dollar("f"), (I(1),)), ast.Call(ast.Dollar("g", ("P",)), ())))),
+    ("$Out!$f($x)", ast.DollarOutput("Out", "!", ast.Call(ast.Dollar("f"), (ast.Dollar("x"),)))),
 ]
 
 
@@ -452,7 +479,7 @@ def test_module_and_connections():
     )
     module = f.items[0]
     assert module.members[:2] == (ast.Reference("p", "rref", N("q", "P")), ast.Reference("c", "cref", N("C")))
-    assert module.members[2] == ast.Connection("p", "e", "c", "f", asynchronous=True, mult=True)
+    assert module.members[2] == ast.Connection("p", "e", "c", "f", asynchronous=True, bidirectional=True)
     assert module.members[3] == ast.Connection("c", "g", "p", "h")
     assert [s.line for s in module.members[2].spans] == [2, 2, 3, 3]
 
@@ -548,7 +575,7 @@ SYNTAX_ERRORS = [
         47,
         "unexpected '+'; expected one of '}', '(', '.', ';', '<{', '[', 'during', 'entry', ... (7 more)",
     ),
-    ("stm S { var t: nat = (| |) }", 1, 25, "unexpected '|)'; expected an expression"),
+    ("stm S { var t: nat = (| 1, |) }", 1, 28, "unexpected '|)'; expected an expression"),
     ("stm S { var x: nat = 1 + 2 > }", 1, 30, "unexpected '}'; expected an expression"),
     ("stm S { var x: nat = x\n\n\t\t< }", 3, 5, "unexpected '}'; expected an expression"),
     (
@@ -623,11 +650,36 @@ def test_binary_content_is_reported_not_parsed():
     assert syntax_errors("stm S {\n  ab\x00cd }") == [(2, 5, "file contains NUL bytes; is it a binary file, not a model?")]
 
 
+def nested_calls(depth: int) -> str:
+    """`f(f(...f(1)...))`: ``depth`` calls, each inside the one before."""
+    return "f(" * depth + "1" + ")" * depth
+
+
 def test_nesting_deeper_than_the_limit_is_an_error_not_a_crash():
-    deep = " + ".join(["1"] * (MAX_NESTING + 5))
-    assert syntax_errors(f"stm S {{ var x: nat = {deep} }}") == [
-        (1, 22, f"nested too deeply: robogen accepts at most {MAX_NESTING} levels of nested expressions, statements, types or states")
+    # reported at the outermost call too deep: the fifth from the outside
+    assert syntax_errors(f"stm S {{ var x: nat = {nested_calls(MAX_NESTING + 5)} }}") == [
+        (1, 30, f"nested too deeply: robogen accepts at most {MAX_NESTING} levels of nested expressions, statements, types or states")
     ]
     states = "state A { " * (MAX_NESTING + 1) + "}" * (MAX_NESTING + 1)
     assert syntax_errors(f"stm S {{ {states} }}")[0][2].startswith("nested too deeply")
-    parse_text(f"stm S {{ var x: nat = {' + '.join(['1'] * MAX_NESTING)} }}")  # the limit itself is fine
+    parens = "(" * (MAX_NESTING + 1) + "1" + ")" * (MAX_NESTING + 1)
+    assert syntax_errors(f"stm S {{ var x: nat = {parens} }}")[0][2].startswith("nested too deeply")
+    right = "1 + (" * MAX_NESTING + "1" + ")" * MAX_NESTING  # each sum inside parentheses: two levels
+    assert syntax_errors(f"stm S {{ var x: nat = {right} }}")[0][2].startswith("nested too deeply")
+    parse_text(f"stm S {{ var x: nat = {nested_calls(MAX_NESTING)} }}")  # the limit itself is fine
+
+
+FLAT = [
+    # a flat chain of operators is one level of nesting, however long (only real nesting counts)
+    " + ".join(f"x{i}" for i in range(1000)),
+    " /\\ ".join(f"x{i} > {i}" for i in range(1000)),
+    " \\/ ".join(f"a{i} /\\ b{i} == {i} + y * 2 - z" for i in range(1000)),
+    "(" * (MAX_NESTING - 2) + " * ".join(["x"] * 1000) + ")" * (MAX_NESTING - 2) + " + 1" * 1000,
+]
+
+
+@pytest.mark.parametrize("text", FLAT, ids=["sum", "conjunction", "mixed levels", "chains at the limit"])
+def test_a_flat_expression_of_a_thousand_operands_is_not_nested(text):
+    e = condition(text)
+    first, links = ast.chain(e)
+    assert len(links) >= 999 and not isinstance(first, ast.Binary)

@@ -4,7 +4,7 @@ with only the parentheses precedence needs."""
 from __future__ import annotations
 
 import pytest
-from support.frontend import REFERENCE, corpus_files, reference_files, relative_ids
+from support.frontend import REFERENCE, corpus_files, reference_files, relative_ids, shallow_stack
 
 from robogen.syntax import ast, printer
 from robogen.syntax.parser import parse_file, parse_text
@@ -54,6 +54,12 @@ def cond(text: str, path: str = "m.rct") -> ast.Expr:
         ("(r.f)[1]", "r.f[1]"),
         ("{x: nat | x > 0 @ x * 2}", "{x: nat | x > 0 @ x * 2}"),
         ("x is (nat * nat)", "x is (nat * nat)"),
+        # chains: a looser operator on the left is parenthesised, however far down the chain
+        ("((a \\/ b) /\\ c) /\\ d", "(a \\/ b) /\\ c /\\ d"),
+        ("((a \\/ b) \\/ c) /\\ d", "(a \\/ b \\/ c) /\\ d"),
+        ("(((a - b) * c) - d) * e", "((a - b) * c - d) * e"),
+        ("(a /\\ b) \\/ c => d", "a /\\ b \\/ c => d"),
+        ("(||) == (| 1 |)", "(||) == (| 1 |)"),
     ],
 )
 def test_expressions_print_with_the_parentheses_precedence_needs(text, printed):
@@ -69,6 +75,22 @@ def test_robosim_expressions_and_statements():
     t = f.items[0].members[0]
     assert printer.stmt(t.action) == "$o!(x + 1) ; $p(1) ; $v = 2 ; exec"
     assert printer.transition_label(t) == "exec / $o!(x + 1) ; $p(1) ; $v = 2 ; exec"
+
+
+def test_calls_through_dollar_and_filters_without_send():
+    f = parse_text("stm S { transition t { from a to b exec action x = $f(1) + $g() ; $o!$f($x) } }", "m.rst")
+    assert printer.stmt(f.items[0].members[0].action) == "x = $f(1) + $g() ; $o!$f($x)"
+    assert parse_text(printer.file(f), "m.rst") == f
+    f = parse_text("stm S { transition t { from a to b action e[| x > 1 |]!x ; e[||]?y } }")
+    assert printer.stmt(f.items[0].members[0].action) == "e[| x > 1 |]!x ; e[||]?y"
+    assert parse_text(printer.file(f)) == f
+
+
+def test_a_flat_expression_of_a_thousand_operands_prints_in_a_loop():
+    text = " \\/ ".join(f"(x{i} + 1) * 2 - y > {i} /\\ b{i}" for i in range(1000))
+    with shallow_stack():
+        printed = printer.expr(cond(text))
+        assert printer.expr(cond(printed)) == printed == text
 
 
 def test_statements_keep_their_grouping():

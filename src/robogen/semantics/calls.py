@@ -8,8 +8,9 @@ What a call ``f(args)`` calls, as RoboTool resolves it (``RoboChartScopeProvider
   parameter (a function value), else a function visible from the file: the model's own, a
   toolkit function, or one of robogen's extensions (:mod:`robogen.semantics.toolkit`);
 - any other expression whose type is a function: a lambda, a parenthesised expression, a cast
-  (``(override(f, g) as nat -> nat)(0)``). A function whose domain is a product takes one
-  argument per component; another takes one argument.
+  (``(override(f, g) as nat -> nat)(0)``), RoboSim's ``$f`` of a function-typed variable. A
+  function whose domain is a product takes one argument per component; another takes one
+  argument. ``$op(args)`` of an operation is a statement, not an expression.
 
 Generic functions are typed by unifying their type variables with the arguments' types.
 A named function used as a value has a product domain even for one parameter (RoboTool's
@@ -35,7 +36,12 @@ class Calls:
             t = self._call_named(e, f, arg_types)
             if t is not None:
                 return t
+        if isinstance(f, ast.Dollar) and f.name in self.scope.ops and self._dollar_variable(f.name) is None:
+            return self._operation_in_expression(f.name, f)
         return self._call_value(e, self.expr(f), arg_types)
+
+    def _operation_in_expression(self, name: str, f: ast.Expr) -> T.Type:
+        return self._err(f"'{name}' is an operation; operations are called as statements, not in expressions", f)
 
     def _call_named(self, e: ast.Call, f: ast.Name, arg_types: list[T.Type]) -> T.Type | None:
         """The type of a call of a name; None when the name is a variable (a function value)."""
@@ -47,7 +53,7 @@ class Calls:
             return lit.enum
         if not f.qualified:
             if f.last in self.scope.ops:
-                return self._err(f"'{f.last}' is an operation; operations are called as statements, not in expressions", f)
+                return self._operation_in_expression(f.last, f)
             if self.lookup_var(f.last) is not None:
                 return None
         decl = self.lookup_global(f, self.scope.file, (ast.FunctionDef,), "function", False)

@@ -13,6 +13,7 @@ connections of the assembled containers.
 
 from __future__ import annotations
 
+import dataclasses
 from fractions import Fraction
 from typing import Iterable
 
@@ -37,19 +38,21 @@ def check(workspace: Workspace) -> SemanticModel:
     with without_gc():
         checker.run()
         controllers, modules = checker.assemble()
+        # the connection checks read the model as later stages do (which operation a call runs)
+        model = SemanticModel(
+            files=tuple(workspace.files),
+            root=workspace.root,
+            diagnostics=(),
+            scopes=tuple(checker.scopes.values()),
+            controllers=tuple(controllers),
+            modules=tuple(modules),
+            tables=checker.tables,
+        )
         for c in controllers:
-            connections.check_controller(c, workspace.sink, lambda node: checker.scopes.get(id(node)))
+            connections.check_controller(c, model, workspace.sink)
         for m in modules:
             connections.check_module(m, workspace.sink)
-    return SemanticModel(
-        files=tuple(workspace.files),
-        root=workspace.root,
-        diagnostics=tuple(workspace.sink.sorted()),
-        scopes=tuple(checker.scopes.values()),
-        controllers=tuple(controllers),
-        modules=tuple(modules),
-        tables=checker.tables,
-    )
+    return dataclasses.replace(model, diagnostics=tuple(workspace.sink.sorted()))
 
 
 class Checker:

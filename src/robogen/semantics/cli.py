@@ -1,4 +1,7 @@
-"""`robogen check PATH...`: parse, resolve and check models; report every problem at once."""
+"""`robogen check PATH...`: parse, resolve and check models; report every problem at once.
+
+The diagnostics go to standard error; the summary line (``checked N files: ...``), the command's
+result, to standard output."""
 
 from __future__ import annotations
 
@@ -25,8 +28,7 @@ def run(args: argparse.Namespace) -> int:
     errors, warnings = len(model.errors), len(model.warnings)
     print(
         f"checked {n_files} file{'s' if n_files != 1 else ''}: "
-        f"{errors} error{'s' if errors != 1 else ''}, {warnings} warning{'s' if warnings != 1 else ''}",
-        file=sys.stderr,
+        f"{errors} error{'s' if errors != 1 else ''}, {warnings} warning{'s' if warnings != 1 else ''}"
     )
     if errors or (args.werror and warnings):
         return 1

@@ -16,7 +16,7 @@ from typing import Mapping
 from robogen.diagnostics import DiagnosticSink, Note, did_you_mean, working_on
 from robogen.semantics import directions
 from robogen.semantics import types as T
-from robogen.semantics.model import Controller, EventSym, MachineScope, Module
+from robogen.semantics.model import Controller, EventSym, MachineScope, Module, SemanticModel
 from robogen.syntax import ast
 
 
@@ -29,15 +29,15 @@ class _End:
     machine: MachineScope | None = None
 
 
-def check_controller(c: Controller, sink: DiagnosticSink, scope_of: directions.ScopeOf) -> None:
-    """The connections of controller ``c``; ``scope_of`` gives the scope of an operation
-    definition (the machines' calls are followed into the operations they run)."""
+def check_controller(c: Controller, model: SemanticModel, sink: DiagnosticSink) -> None:
+    """The connections of controller ``c`` of ``model`` (the machines' calls are followed into
+    the operations they run)."""
     ends = {c.name: _End("controller", c.events)}
     for name, m in c.machines:
         ends[name] = _End("state machine", m.events, m)
     with working_on(c.node.span):
         _check(f"controller '{c.name}'", c.connections, ends, sink, None)
-        directions.check_controller(c, scope_of, sink)
+        directions.check_controller(c, model, sink)
 
 
 def check_module(mod: Module, sink: DiagnosticSink) -> None:

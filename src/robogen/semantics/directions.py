@@ -35,43 +35,10 @@ from typing import Callable, Iterator
 
 from robogen.diagnostics import DiagnosticSink, Note, Span
 from robogen.semantics import types as T
-from robogen.semantics.machine_analysis import statements
-from robogen.semantics.model import Controller, EventSym, MachineScope, Module
+from robogen.semantics.model import IN, OUT, Controller, EventSym, MachineScope, Module, SemanticModel, communication_of
 from robogen.syntax import ast
 
-IN, OUT = "in", "out"
-
-# The scope of an operation definition node (an operation declared anywhere in the workspace).
-ScopeOf = Callable[[ast.Node], "MachineScope | None"]
-
-
 # ---------------------------------------------------------------------------- what a machine does
-
-
-def _actions(scope: MachineScope) -> Iterator[tuple[str, str, ast.Node]]:
-    """What the body of a machine or operation does, as ``(kind, name, node)``: ``IN`` or ``OUT``
-    on the event ``name`` (a plain or input trigger, or ``e?x`` in an action, is an input; ``e``,
-    ``e!v`` and ``e.v`` in an action are outputs), or ``"call"`` of the operation ``name``. Actions
-    are searched through sequences, conditionals and deadlines ``S <{ d }``."""
-    if scope.region is None:
-        return
-    for region in scope.region.walk():
-        for t in region.transitions:
-            if t.trigger is not None:
-                yield (IN if t.trigger.kind in ("", "?") else OUT), t.trigger.event, t.trigger
-            yield from _communications(t.action)
-        for node in region.nodes.values():
-            for m in getattr(node, "members", ()):
-                if isinstance(m, ast.StateAction):
-                    yield from _communications(m.stmt)
-
-
-def _communications(action: ast.Stmt | None) -> Iterator[tuple[str, str, ast.Node]]:
-    for s in statements(action):
-        if isinstance(s, ast.Communicate):
-            yield (IN if s.comm.kind == "?" else OUT), s.comm.event, s
-        elif isinstance(s, ast.CallStmt) and isinstance(s.call.func, ast.Name) and len(s.call.func.parts) == 1:
-            yield "call", s.call.func.parts[0], s
 
 
 @dataclass(frozen=True)
@@ -84,7 +51,8 @@ class Use:
     via: tuple[str, ...]  # the operations called, from the machine's call down to the one communicating
 
 
-Resolve = Callable[[str, MachineScope], "MachineScope | None"]
+# The software operation a call statement of a body runs (None: the robotic platform's).
+Resolve = Callable[[ast.CallStmt | ast.DollarCall, MachineScope], "MachineScope | None"]
 
 
 def uses(machine: MachineScope, resolve: Resolve) -> list[Use]:
@@ -95,49 +63,35 @@ def uses(machine: MachineScope, resolve: Resolve) -> list[Use]:
 
 
 def _uses(scope: MachineScope, resolve: Resolve, via: tuple[str, ...], seen: set[int]) -> Iterator[Use]:
-    for kind, name, node in _actions(scope):
-        if kind != "call":
-            event = scope.events.get(name)
-            if event is not None:
-                yield Use(event, kind, node, via)
+    for x in scope.body():
+        if isinstance(x, (ast.CallStmt, ast.DollarCall)):
+            op = resolve(x, scope)
+            if op is None or id(op.node) in seen:
+                continue
+            seen.add(id(op.node))
+            # each operation the machine calls is followed on its own, so that it is named with
+            # everything it does even when another call reached the same operations first
+            yield from _uses(op, resolve, via + (op.name,), seen if via else {id(scope.node), id(op.node)})
             continue
-        op = resolve(name, scope)
-        if op is None or id(op.node) in seen:
-            continue
-        seen.add(id(op.node))
-        # each operation the machine calls is followed on its own, so that it is named with
-        # everything it does even when another call reached the same operations first
-        yield from _uses(op, resolve, via + (op.name,), seen if via else {id(scope.node), id(op.node)})
-
-
-def software_operations(ctrl: Controller, scope_of: ScopeOf) -> Resolve:
-    """How calls resolve inside ``ctrl``: to the controller's operation of that name (inline or
-    opref), else to the definition visible from the calling file; operations without a software
-    definition (the platform's) do nothing here."""
-
-    def resolve(name: str, caller: MachineScope) -> MachineScope | None:
-        op = caller.ops.get(name)
-        if op is None or op.platform:
-            return None
-        for used, definition in ctrl.operations:
-            if name in (used, definition.name):
-                return definition
-        visible = caller.definitions.get(name)
-        return scope_of(visible) if visible is not None else None
-
-    return resolve
+        use = communication_of(x)
+        event = scope.events.get(use.event) if use is not None else None
+        if event is not None:
+            yield Use(event, use.direction, use.node, via)  # type: ignore[union-attr]
 
 
 # ---------------------------------------------------------------------------- Cn8 and Cn9
 
 
-def check_controller(ctrl: Controller, scope_of: ScopeOf, sink: DiagnosticSink) -> None:
-    """Cn8 and Cn9 on the controller's unidirectional connections."""
+def check_controller(ctrl: Controller, model: SemanticModel, sink: DiagnosticSink) -> None:
+    """Cn8 and Cn9 on the controller's unidirectional connections; calls run the operations
+    ``model`` resolves them to inside ``ctrl`` (as code generation runs them)."""
     machines = {name: m for name, m in ctrl.machines if name != ctrl.name and not m.robosim}
-    resolve = software_operations(ctrl, scope_of)
+
+    def resolve(call: ast.CallStmt | ast.DollarCall, caller: MachineScope) -> MachineScope | None:
+        return model.operation_called(call, caller, ctrl)
     done: dict[int, list[Use]] = {}
     for conn in ctrl.connections:
-        if conn.mult:
+        if conn.bidirectional:
             continue
         for role in ("from", "to"):
             name, event, span, _ = connection_end(conn, role)
@@ -206,7 +160,7 @@ def check_module(mod: Module, sink: DiagnosticSink) -> None:
                     tail, note = problem
                     part = _part(name, ctrl.name)
                     end = "start" if role == "from" else "end"
-                    kind = "bidirectional" if conn.mult else "unidirectional"
+                    kind = "bidirectional" if conn.bidirectional else "unidirectional"
                     sink.error(f"{event} on {part} is used as the {end} of a {kind} connection, but {part} {tail}", span,
                                Note(note, inner.span))
                     break
@@ -221,12 +175,12 @@ def _disagreement(conn: ast.Connection, role: str, ctrl: Controller, inner: ast.
     if not (into or out_of):
         return None
     c = ctrl.name
-    if conn.mult:
-        if inner.mult:
+    if conn.bidirectional:
+        if inner.bidirectional:
             return None
         return f"does not contain a bidirectional connection to {event} (rule Cn5)", f"{c}'s connection on {event} is unidirectional"
     rule = "Cn7" if role == "from" else "Cn6"
-    if inner.mult:
+    if inner.bidirectional:
         return f"contains a bidirectional connection to {event} (rule {rule})", f"{c}'s connection on {event} is bidirectional"
     if role == "to" and not into:
         return f"contains a connection to {event} (rule Cn6)", f"inside {c}, this connection sends {event} out of {c}"
@@ -252,4 +206,4 @@ def _part(used: str, defined: str) -> str:
     return used if used == defined else f"{used} ({defined})"
 
 
-__all__ = ["IN", "OUT", "Use", "uses", "software_operations", "connection_end", "check_controller", "check_module"]
+__all__ = ["Use", "uses", "connection_end", "check_controller", "check_module"]

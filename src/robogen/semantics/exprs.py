@@ -13,12 +13,14 @@ from dataclasses import dataclass
 from typing import Callable, Mapping
 
 from robogen.diagnostics import DiagnosticSink, Note, did_you_mean
+from robogen.semantics import limits
 from robogen.semantics import types as T
 from robogen.semantics.algebra import linear, negation
 from robogen.semantics.calls import Calls, literal_args, plural
 from robogen.semantics.dollar import DollarForms
 from robogen.semantics.model import EnumLitSym, MachineScope, Tables, VarSym
 from robogen.syntax import ast
+from robogen.syntax.printer import expr as expr_text
 
 
 @dataclass
@@ -205,9 +207,17 @@ class ExprChecker(Calls, DollarForms):
         return T.INT if t == T.NAT else t
 
     def _e_Binary(self, e: ast.Binary) -> T.Type:
+        """A chain of binary operators (ast.chain), typed from its leftmost operand out in a loop:
+        a flat expression may have thousands of operands."""
+        first, links = ast.chain(e)
+        a = self.expr(first)
+        for link in links:
+            a = self._set(link, self._binary(link, a, self.expr(link.right)))
+        return a
+
+    def _binary(self, e: ast.Binary, a: T.Type, b: T.Type) -> T.Type:
+        """The type of ``e`` from those of its operands, ``a`` on the left and ``b`` on the right."""
         op = e.op
-        a = self.expr(e.left)
-        b = self.expr(e.right)
         if op in ("iff", "=>", "\\/", "/\\"):
             for side, t in ((e.left, a), (e.right, b)):
                 if not T.is_boolean(t):
@@ -217,12 +227,14 @@ class ExprChecker(Calls, DollarForms):
             if not T.comparable(a, b):
                 self._err(f"cannot compare {a.show()} with {b.show()}", e)
             self._since_rule(e)
+            self._type_limits(e, a, b)
             return T.BOOLEAN
         if op in ("<", "<=", ">", ">="):
             for side, t in ((e.left, a), (e.right, b)):
                 if not T.is_numeric(t):
                     self._err(f"'{op}' needs numbers, not {t.show()}", side)
             self._since_rule(e)
+            self._type_limits(e, a, b)
             return T.BOOLEAN
         if op == "in":
             if not isinstance(b, (T.SetT, T.SeqT, T.UnknownT)):
@@ -261,6 +273,14 @@ class ExprChecker(Calls, DollarForms):
                     other.span,
                 )
 
+    def _type_limits(self, e: ast.Binary, a: T.Type, b: T.Type) -> None:
+        """A comparison the operands' types decide (``k >= 0`` for a nat ``k``): a warning, and
+        its value in the tables for code generation (:mod:`robogen.semantics.limits`)."""
+        value = limits.constant_comparison(e, a, b)
+        if value is not None:
+            self.tables.comparisons[id(e)] = value
+            self.sink.warning(limits.message(e, value, expr_text), e.span)
+
     def _constant(self, e: ast.Expr) -> bool:
         if isinstance(e, (ast.IntLit, ast.RealLit, ast.BoolLit)):
             return True
@@ -270,7 +290,8 @@ class ExprChecker(Calls, DollarForms):
         if isinstance(e, ast.Unary):
             return self._constant(e.operand)
         if isinstance(e, ast.Binary):
-            return self._constant(e.left) and self._constant(e.right)
+            first, links = ast.chain(e)
+            return self._constant(first) and all(self._constant(link.right) for link in links)
         return False
 
     def _record(self, t: T.Type) -> T.Type:

@@ -9,9 +9,9 @@ from __future__ import annotations
 
 import argparse
 import sys
-from pathlib import Path
 
 from robogen.diagnostics import RobogenError, UsageError, did_you_mean, error
+from robogen.outputs import check_not_input, output_file, write_text
 from robogen.semantics import check_paths
 from robogen.semantics.model import MachineScope, Region, SemanticModel
 from robogen.syntax import ast
@@ -24,18 +24,20 @@ def configure(p: argparse.ArgumentParser) -> None:
     p.add_argument("paths", nargs="+", metavar="MODEL", help="model files and/or directories")
     p.add_argument("--machine", metavar="NAME", help="draw only this state machine or operation")
     p.add_argument("--format", choices=FORMATS, default="dot", help="diagram language (default: dot)")
-    p.add_argument("-o", "--output", metavar="FILE", help="write to FILE instead of standard output")
+    p.add_argument("-o", "--output", metavar="FILE",
+                   help="write to FILE instead of standard output (never one of the models; replaced only once complete)")
 
 
 def run(args: argparse.Namespace) -> int:
+    output = output_file(args.output, inputs=args.paths) if args.output else None
     model = check_paths(args.paths)
     if model.errors:
         raise RobogenError(model.errors)
     scopes = select(model, args.machine)
     text = render(scopes, args.format)
-    if args.output:
-        Path(args.output).parent.mkdir(parents=True, exist_ok=True)
-        Path(args.output).write_text(text, encoding="utf-8")
+    if output is not None:
+        check_not_input(output, [f.path for f in model.files])  # a model file found in a folder given
+        write_text(output, text)
     else:
         sys.stdout.write(text)
     return 0

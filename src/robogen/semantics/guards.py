@@ -14,6 +14,9 @@ function of a leaf, a value bound by ``$e?x`` and read before) makes it decline 
 
 Each distinct leaf of a machine gets a small integer; a guard is compiled once into a closure
 over an environment that maps those integers to values (evaluation is the analyses' hot spot).
+A guard may be a flat chain of thousands of operands (``a /\\ b /\\ ...``): chains are walked,
+compiled and evaluated in loops (:func:`robogen.syntax.ast.chain`), and sub-expressions are
+told apart by :func:`_key`, never by hashing a deep node.
 """
 
 from __future__ import annotations
@@ -25,6 +28,7 @@ from typing import Callable, Iterator
 from robogen.semantics import types as T
 from robogen.semantics.model import EnumLitSym, EventSym, Tables, VarSym
 from robogen.syntax import ast
+from robogen.syntax.printer import expr as _printed
 
 Number = int | Fraction
 _NUMBERS = (int, Fraction)  # compared with type(x) in ..., so that booleans are not numbers
@@ -72,11 +76,26 @@ def const_value(e: ast.Name, tables: Tables) -> Number | bool | str | None:
     return -value if negate else value
 
 
-class _Leaf:
-    __slots__ = ("key", "finite", "numeric")
+# Sub-expressions whose node is its own key (hashing them is cheap and follows no operand).
+_SHALLOW = (ast.Name, ast.IntLit, ast.RealLit, ast.BoolLit, ast.StringLit, ast.Keyword, ast.Dollar, ast.Since, ast.SinceEntry)
 
-    def __init__(self, key: tuple, finite: list | None, numeric: T.Type | None):
-        self.key = key  # ("ev", name), ("opaque", expr) or ("leaf", expr): also how a witness is described
+
+def _key(e: ast.Expr) -> object:
+    """A key equal for equal sub-expressions: a name, a literal or a field of one is its own key;
+    another sub-expression is keyed by its text (hashing a node follows its operands recursively,
+    and a flat chain of operators may be thousands deep; the text is printed in a loop)."""
+    x = e
+    while isinstance(x, ast.Field):
+        x = x.obj
+    return e if isinstance(x, _SHALLOW) else _printed(e)
+
+
+class _Leaf:
+    __slots__ = ("kind", "expr", "finite", "numeric")
+
+    def __init__(self, kind: str, expr: object, finite: list | None, numeric: T.Type | None):
+        self.kind = kind  # "ev" (an event; expr is its name), "opaque" or "leaf": how a witness is described
+        self.expr = expr
         self.finite = finite  # the domain of a non-numeric leaf
         self.numeric = numeric  # the type of a numeric leaf, whose domain depends on the literals
 
@@ -95,12 +114,17 @@ class Guards:
 
     # ------------------------------------------------------------------ leaves
 
-    def _leaf(self, key: tuple, finite: list | None = None, numeric: T.Type | None = None) -> int:
+    def _leaf(self, kind: str, expr: object, finite: list | None = None, numeric: T.Type | None = None) -> int:
+        key = (kind, expr if kind == "ev" else _key(expr))  # type: ignore[arg-type]
         n = self._ids.get(key)
         if n is None:
             n = self._ids[key] = len(self._leaves)
-            self._leaves.append(_Leaf(key, finite, numeric))
+            self._leaves.append(_Leaf(kind, expr, finite, numeric))
         return n
+
+    def _leaf_id(self, kind: str, expr: object) -> int | None:
+        """The number of a leaf already registered, if it is one."""
+        return self._ids.get((kind, expr if kind == "ev" else _key(expr)))  # type: ignore[arg-type]
 
     def facts(self, g: ast.Expr) -> tuple[tuple[int, ...], frozenset]:
         """The leaves of ``g`` in the order first met, and the number literals it mentions."""
@@ -121,12 +145,14 @@ class Guards:
             elif isinstance(e, ast.Unary) and e.op in ("not", "-"):
                 visit(e.operand)
             elif isinstance(e, ast.Binary) and e.op in _VISITED:
-                visit(e.left)
-                visit(e.right)
+                first, links = ast.chain(e, _VISITED)
+                visit(first)
+                for link in links:
+                    visit(link.right)
             elif isinstance(e, ast.DollarInput):
-                order[self._leaf(("ev", e.event), [False, True])] = None
+                order[self._leaf("ev", e.event, [False, True])] = None
                 if e.predicate is not None:
-                    order[self._leaf(("opaque", e.predicate), [False, True])] = None
+                    order[self._leaf("opaque", e.predicate, [False, True])] = None
             elif isinstance(e, ast.Name) and isinstance(tables.ref(e), EnumLitSym):
                 pass
             elif isinstance(e, ast.Name) and const_value(e, tables) is not None:
@@ -137,20 +163,19 @@ class Guards:
                 if self.period is not None:
                     literals.add(self.period)
             elif isinstance(e, ast.Dollar) and isinstance(tables.ref(e), EventSym):
-                order[self._leaf(("ev", e.name), [False, True])] = None
+                order[self._leaf("ev", e.name, [False, True])] = None
             else:
                 t = tables.type_of(e)
-                key = ("leaf", e)
                 if t == T.BOOLEAN:
-                    n = self._leaf(key, [False, True])
+                    n = self._leaf("leaf", e, [False, True])
                 elif isinstance(t, T.EnumT):
-                    n = self._leaf(key, list(t.literals))
+                    n = self._leaf("leaf", e, list(t.literals))
                 elif isinstance(t, T.Given):
-                    n = self._leaf(key, [f"{t.simple}#1", f"{t.simple}#2", f"{t.simple}#3"])
+                    n = self._leaf("leaf", e, [f"{t.simple}#1", f"{t.simple}#2", f"{t.simple}#3"])
                 elif t in T.NUMERIC:
-                    n = self._leaf(key, numeric=t)
+                    n = self._leaf("leaf", e, numeric=t)
                 else:
-                    n = self._leaf(key, [False, True])  # opaque
+                    n = self._leaf("leaf", e, [False, True])  # opaque
                 order[n] = None
 
         visit(g)
@@ -231,7 +256,7 @@ class Guards:
             occurred = self._ids[("ev", e.event)]
             if e.predicate is None:
                 return lambda env: env[occurred]
-            holds = self._ids[("opaque", e.predicate)]
+            holds = self._leaf_id("opaque", e.predicate)
             return lambda env: env[occurred] and env[holds]
         if isinstance(e, ast.Unary):
             operand = self._compile(e.operand)
@@ -239,37 +264,32 @@ class Guards:
                 return lambda env: not operand(env)
             return lambda env: _negate(operand(env))
         if isinstance(e, ast.Binary):
-            return self._binary(e.op, self._compile(e.left), self._compile(e.right))
-        n = self._ids.get(("leaf", e))
+            return self._chain(e)
+        n = self._leaf_id("leaf", e)
         if n is None:
             return _unknown
         return lambda env: env[n]
 
-    @staticmethod
-    def _binary(op: str, a: Callable, b: Callable) -> Callable[[dict], object]:
-        if op == "/\\":
-            return lambda env: a(env) and b(env)
-        if op == "\\/":
-            return lambda env: a(env) or b(env)
-        if op == "=>":
-            return lambda env: (not a(env)) or b(env)
-        if op == "iff":
-            return lambda env: a(env) == b(env)
-        if op == "==":
-            return lambda env: a(env) == b(env)
-        if op == "!=":
-            return lambda env: a(env) != b(env)
-        arith = _ARITHMETIC.get(op)
-        if arith is None:  # division, modulus, membership, concatenation: not followed
-            return _unknown
+    def _chain(self, e: ast.Binary) -> Callable[[dict], object]:
+        """A chain of binary operators (ast.chain): one operator is one closure; a longer chain
+        is evaluated in a loop over its links, each combining the value so far with its right
+        operand (evaluated only when the operator needs it, as `and` and `or` do)."""
+        first, links = ast.chain(e)
+        if any(link.op not in _STEPS for link in links):  # division, modulus, membership, concatenation
+            return _unknown  # not followed: the chain's value needs that operator's
+        if len(links) == 1:
+            step, left, right = _STEPS[e.op], self._compile(e.left), self._compile(e.right)
+            return lambda env: step(left(env), right, env)
+        start = self._compile(first)
+        steps = [(_STEPS[link.op], self._compile(link.right)) for link in links]
 
-        def numeric(env: dict) -> object:
-            x, y = a(env), b(env)
-            if type(x) not in _NUMBERS or type(y) not in _NUMBERS:
-                raise Unknown
-            return arith(x, y)
+        def evaluate(env: dict) -> object:
+            value = start(env)
+            for step, right in steps:
+                value = step(value, right, env)
+            return value
 
-        return numeric
+        return evaluate
 
     # ------------------------------------------------------------------ questions
 
@@ -305,7 +325,8 @@ class Guards:
         if isinstance(e, ast.Unary) and e.op == "not":
             return self._exact(e.operand)
         if isinstance(e, ast.Binary) and e.op in _LOGIC:
-            return self._exact(e.left) and self._exact(e.right)
+            first, links = ast.chain(e, _LOGIC)
+            return self._exact(first) and all(self._exact(link.right) for link in links)
         if isinstance(e, ast.Binary) and (e.op in _ORDER or (e.op in ("==", "!=") and tables.type_of(e.left) in T.NUMERIC)):
             return any(self._numeric_constant(a) and _plain_leaf(b) for a, b in ((e.left, e.right), (e.right, e.left)))
         if isinstance(e, ast.Binary) and e.op in ("==", "!="):
@@ -325,11 +346,11 @@ class Guards:
         """A witness in words: `$e occurs, x = 4, m = off`."""
         parts = []
         for n, value in env.items():
-            key = self._leaves[n].key
-            if key[0] == "ev" and value:
-                parts.append(f"${key[1]} occurs")
-            elif key[0] == "leaf":
-                text = _text(key[1])
+            leaf = self._leaves[n]
+            if leaf.kind == "ev" and value:
+                parts.append(f"${leaf.expr} occurs")
+            elif leaf.kind == "leaf":
+                text = _text(leaf.expr)  # type: ignore[arg-type]
                 if text is None:
                     continue
                 if isinstance(value, bool):
@@ -341,14 +362,34 @@ class Guards:
         return ", ".join(parts) if parts else "always"
 
 
-_ARITHMETIC: dict[str, Callable[[Number, Number], object]] = {
-    "<": lambda x, y: x < y,
-    "<=": lambda x, y: x <= y,
-    ">": lambda x, y: x > y,
-    ">=": lambda x, y: x >= y,
-    "+": lambda x, y: x + y,
-    "-": lambda x, y: x - y,
-    "*": lambda x, y: x * y,
+def _numeric(operation: Callable[[Number, Number], object]) -> Callable[[object, Callable, dict], object]:
+    """The step of an arithmetic operator or comparison: both operands must be numbers."""
+
+    def step(x: object, right: Callable, env: dict) -> object:
+        y = right(env)
+        if type(x) not in _NUMBERS or type(y) not in _NUMBERS:
+            raise Unknown
+        return operation(x, y)  # type: ignore[arg-type]
+
+    return step
+
+
+# How each operator the evaluator follows combines the value of its left operand with its right
+# operand (a closure, evaluated only if needed).
+_STEPS: dict[str, Callable[[object, Callable, dict], object]] = {
+    "/\\": lambda x, right, env: x and right(env),
+    "\\/": lambda x, right, env: x or right(env),
+    "=>": lambda x, right, env: (not x) or right(env),
+    "iff": lambda x, right, env: x == right(env),
+    "==": lambda x, right, env: x == right(env),
+    "!=": lambda x, right, env: x != right(env),
+    "<": _numeric(lambda x, y: x < y),
+    "<=": _numeric(lambda x, y: x <= y),
+    ">": _numeric(lambda x, y: x > y),
+    ">=": _numeric(lambda x, y: x >= y),
+    "+": _numeric(lambda x, y: x + y),
+    "-": _numeric(lambda x, y: x - y),
+    "*": _numeric(lambda x, y: x * y),
 }
 
 
@@ -404,8 +445,10 @@ def rebinds(g: ast.Expr) -> bool:
         elif isinstance(e, ast.Unary):
             visit(e.operand)
         elif isinstance(e, ast.Binary):
-            visit(e.left)
-            visit(e.right)
+            first, links = ast.chain(e)
+            visit(first)
+            for link in links:
+                visit(link.right)
 
     visit(g)
     return bool(bound) and any(n in bound for n in names)
@@ -419,14 +462,14 @@ def abstractly_satisfiable(g: ast.Expr) -> bool:
     def norm(e: ast.Expr):
         """A key for an atom and whether it is negated: a > b is not (a <= b)."""
         if isinstance(e, ast.Binary) and e.op in (">", ">="):
-            return ("cmp", "<=" if e.op == ">" else "<", e.left, e.right), e.op == ">"
+            return ("cmp", "<=" if e.op == ">" else "<", _key(e.left), _key(e.right)), True
         if isinstance(e, ast.Binary) and e.op == "!=":
-            return ("cmp", "==", e.left, e.right), True
+            return ("cmp", "==", _key(e.left), _key(e.right)), True
         if isinstance(e, ast.Binary) and e.op in ("<", "<=", "=="):
-            return ("cmp", e.op, e.left, e.right), False
+            return ("cmp", e.op, _key(e.left), _key(e.right)), False
         if isinstance(e, ast.DollarInput):
-            return ("ev", e.event, e.predicate), False
-        return ("atom", e), False
+            return ("ev", e.event, None if e.predicate is None else _key(e.predicate)), False
+        return ("atom", _key(e)), False
 
     def collect(e: ast.Expr) -> None:
         if isinstance(e, ast.BoolLit):
@@ -434,8 +477,10 @@ def abstractly_satisfiable(g: ast.Expr) -> bool:
         if isinstance(e, ast.Unary) and e.op == "not":
             collect(e.operand)
         elif isinstance(e, ast.Binary) and e.op in _LOGIC:
-            collect(e.left)
-            collect(e.right)
+            first, links = ast.chain(e, _LOGIC)
+            collect(first)
+            for link in links:
+                collect(link.right)
         else:
             atoms[norm(e)[0]] = None
 
@@ -445,8 +490,12 @@ def abstractly_satisfiable(g: ast.Expr) -> bool:
         if isinstance(e, ast.Unary) and e.op == "not":
             return not holds(e.operand, env)
         if isinstance(e, ast.Binary) and e.op in _LOGIC:
-            a, b = holds(e.left, env), holds(e.right, env)
-            return {"/\\": a and b, "\\/": a or b, "=>": (not a) or b, "iff": a == b}[e.op]
+            first, links = ast.chain(e, _LOGIC)
+            a = holds(first, env)
+            for link in links:
+                b = holds(link.right, env)
+                a = {"/\\": a and b, "\\/": a or b, "=>": (not a) or b, "iff": a == b}[link.op]
+            return a
         key, negated = norm(e)
         return env[key] != negated
 

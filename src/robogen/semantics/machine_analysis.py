@@ -20,7 +20,7 @@ from typing import Iterator
 
 from robogen.diagnostics import DiagnosticSink, Note
 from robogen.semantics.guards import Guards, abstractly_satisfiable, number
-from robogen.semantics.model import MachineScope, Region, Tables
+from robogen.semantics.model import MachineScope, Region, Tables, state_action, statements
 from robogen.syntax import ast
 
 
@@ -61,31 +61,13 @@ def _by_source(region: Region) -> dict[str, list[ast.Transition]]:
     return out
 
 
-def statements(s: ast.Stmt | None) -> Iterator[ast.Stmt]:
-    """``s`` and every statement inside it (through sequences, conditionals and deadlines)."""
-    if s is None:
-        return
-    yield s
-    if isinstance(s, ast.Seq):
-        for x in s.stmts:
-            yield from statements(x)
-    elif isinstance(s, ast.IfStmt):
-        yield from statements(s.then)
-        yield from statements(s.otherwise)
-    elif isinstance(s, ast.StmtDeadline):
-        yield from statements(s.stmt)
-
-
 def has_exec(s: ast.Stmt | None) -> bool:
     return any(isinstance(x, ast.Exec) for x in statements(s))
 
 
-def _action(state: ast.NodeDecl, kind: str) -> ast.Stmt | None:
-    if isinstance(state, ast.State):
-        for m in state.members:
-            if isinstance(m, ast.StateAction) and m.kind == kind:
-                return m.stmt
-    return None
+def _runs_exec(node: ast.NodeDecl) -> bool:
+    """Does being in ``node`` run exec by itself (an entry or during action with exec)?"""
+    return has_exec(state_action(node, "entry")) or has_exec(state_action(node, "during"))
 
 
 def _always_enabled(t: ast.Transition) -> bool:
@@ -224,7 +206,7 @@ def _exec_reachability(scope: MachineScope, never: set[int], sink: DiagnosticSin
     nodes, succ = _flat_graph(scope, never)
     good: set[int] = set()
     for nid, (region, node) in nodes.items():
-        if has_exec(_action(node, "entry")) or has_exec(_action(node, "during")):
+        if _runs_exec(node):
             good.add(nid)
         for t, _ in succ[nid]:
             if t is not None and (t.exec or has_exec(t.action)):
@@ -255,7 +237,7 @@ def _exec_reachability(scope: MachineScope, never: set[int], sink: DiagnosticSin
 
 def _exec_free_cycles(scope: MachineScope, never: set[int], sink: DiagnosticSink) -> None:
     nodes, succ = _flat_graph(scope, never)
-    runs_exec = {nid for nid, (_, node) in nodes.items() if has_exec(_action(node, "entry")) or has_exec(_action(node, "during"))}
+    runs_exec = {nid for nid, (_, node) in nodes.items() if _runs_exec(node)}
     edges: dict[int, list[tuple[ast.Transition | None, int]]] = {
         nid: [(t, d) for t, d in succ[nid] if (t is None or not (t.exec or has_exec(t.action))) and d not in runs_exec]
         for nid in nodes
@@ -319,4 +301,4 @@ def _strongly_connected(nodes, edges: dict[int, list[tuple[ast.Transition | None
     return sccs
 
 
-__all__ = ["analyse_machine", "has_exec", "statements"]
+__all__ = ["analyse_machine", "has_exec"]

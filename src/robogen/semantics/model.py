@@ -11,7 +11,11 @@ Later stages (IR lowering, diagrams) read only this module and :mod:`robogen.sem
 - :class:`Controller` and :class:`Module`: the containers with their parts, connections,
   events and periods; a module's :class:`Platform` with its events and operations;
 - the model's tables: the type of every expression and resolved type expression, the symbol
-  every name resolves to (``type_of``, ``symbol``, ``bound_var``, ``scope_of``).
+  every name resolves to (``type_of``, ``symbol``, ``bound_var``, ``scope_of``), the comparisons
+  the operands' types decide (``constant_comparison``);
+- what bodies do, known in one place for every stage: the walk over a body's triggers and
+  statements (:meth:`MachineScope.body`, :func:`statements`, ``communications``), and which
+  software operation a call runs (``operation_called``).
 
 New constructs extend this vocabulary (a symbol kind, a field of a container) rather than
 giving later stages a way back into the checker.
@@ -22,7 +26,7 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 from fractions import Fraction
 from types import MappingProxyType
-from typing import Iterator, Mapping
+from typing import Callable, Iterator, Mapping
 
 from robogen.diagnostics import Diagnostic, Span
 from robogen.semantics.types import UNKNOWN, Type
@@ -218,6 +222,83 @@ class MachineScope:
             for name, node in region.nodes.items():
                 yield region.path + (name,), node
 
+    def body(self) -> Iterator[ast.Communication | ast.Stmt]:
+        """What the body does, in declaration order, region by region: each transition's trigger
+        and every statement of its action, then every statement of each node's entry, during and
+        exit actions (statements inside sequences, conditionals and deadlines included, see
+        :func:`statements`). Nothing for a body without nodes."""
+        if self.region is None:
+            return
+        for region in self.region.walk():
+            for t in region.transitions:
+                if t.trigger is not None:
+                    yield t.trigger
+                yield from statements(t.action)
+            for node in region.nodes.values():
+                for m in getattr(node, "members", ()):
+                    if isinstance(m, ast.StateAction):
+                        yield from statements(m.stmt)
+
+    def communications(self) -> Iterator["EventUse"]:
+        """The RoboChart communications of the body, in the order of :meth:`body`: a trigger (``e``,
+        ``e?x``) is an input; in an action, ``e?x`` is an input and ``e``, ``e!v``, ``e.v`` are
+        outputs. (A RoboSim machine's ``$`` forms have the directions its contexts declare.)"""
+        for x in self.body():
+            use = communication_of(x)
+            if use is not None:
+                yield use
+
+    def calls(self) -> Iterator[ast.CallStmt | ast.DollarCall]:
+        """The operation calls of the body (``op(a)``, RoboSim's ``$op(a)``), in the order of :meth:`body`."""
+        for x in self.body():
+            if isinstance(x, (ast.CallStmt, ast.DollarCall)):
+                yield x
+
+
+IN, OUT = "in", "out"
+
+
+@dataclass(frozen=True)
+class EventUse:
+    """One communication of a body (see :meth:`MachineScope.communications`)."""
+
+    event: str  # the event's name, as the body declares it (MachineScope.events)
+    direction: str  # IN or OUT
+    node: ast.Communication | ast.Communicate  # the trigger, or the statement
+
+
+def communication_of(x: ast.Communication | ast.Stmt) -> EventUse | None:
+    """The communication that a trigger or a statement of a body is, if it is one (see
+    :meth:`MachineScope.communications`)."""
+    if isinstance(x, ast.Communication):
+        return EventUse(x.event, IN if x.kind in ("", "?") else OUT, x)
+    if isinstance(x, ast.Communicate):
+        return EventUse(x.comm.event, IN if x.comm.kind == "?" else OUT, x)
+    return None
+
+
+def statements(s: ast.Stmt | None) -> Iterator[ast.Stmt]:
+    """``s`` and every statement inside it, in textual order (through sequences, conditionals and
+    deadlines ``S <{ d }``); nothing for None. A loop, not a recursion."""
+    todo = [s] if s is not None else []
+    while todo:
+        x = todo.pop()
+        yield x
+        if isinstance(x, ast.Seq):
+            todo.extend(reversed(x.stmts))
+        elif isinstance(x, ast.IfStmt):
+            todo.extend(y for y in (x.otherwise, x.then) if y is not None)
+        elif isinstance(x, ast.StmtDeadline):
+            todo.append(x.stmt)
+
+
+def state_action(node: ast.Node, kind: str) -> ast.Stmt | None:
+    """The ``entry``, ``during`` or ``exit`` action of a state, if it has one."""
+    for m in getattr(node, "members", ()):
+        if isinstance(m, ast.StateAction) and m.kind == kind:
+            return m.stmt
+    return None
+
 
 # ============================================================================ containers
 
@@ -264,6 +345,27 @@ class Module:
         return self.node.name
 
 
+def called_operation(op: "OpSym | None", caller: MachineScope, controller: Controller | None, module: Module | None,
+                     scope_of: Callable[[ast.Node], MachineScope | None]) -> MachineScope | None:
+    """The software operation definition that a call of ``op`` in ``caller`` runs, or None when the
+    call goes to the robotic platform: an operation of RoboSim's output context (``$op``) or of the
+    ``module``'s platform; else the ``controller``'s operation of that name (an inline definition
+    or an ``opref``, matched by the name it is used under or its own), else the definition
+    visible from the caller's file (its package, its imports, files without a package), never
+    an operation of the same name elsewhere in the workspace. ``scope_of`` gives a definition's
+    scope. (The one resolution of calls: :meth:`SemanticModel.operation_called` and the checks.)"""
+    if op is None or op.platform:
+        return None
+    if module is not None and module.platform is not None and op.name in module.platform.operations:
+        return None
+    if controller is not None:
+        for used, definition in controller.operations:
+            if op.name in (used, definition.name):
+                return definition
+    visible = caller.definitions.get(op.name)
+    return scope_of(visible) if visible is not None else None
+
+
 # ============================================================================ the model
 
 
@@ -277,6 +379,8 @@ class Tables:
     refs: dict[object, object] = field(default_factory=dict)
     # resolved type expressions: id(node) -> (node, type); the node is held so its id stays unique
     type_exprs: dict[int, tuple[ast.TypeExpr, Type]] = field(default_factory=dict)
+    # comparisons whose value the operands' types decide: id(node) -> value (robogen.semantics.limits)
+    comparisons: dict[int, bool] = field(default_factory=dict)
 
     def type_of(self, e: ast.Expr) -> Type:
         return self.types.get(id(e), UNKNOWN)
@@ -336,6 +440,28 @@ class SemanticModel:
         """The variable an input ``e?x`` or ``$e?x`` stores the event's value in."""
         return self.tables.bound_var(node)
 
+    def communications(self, body: MachineScope) -> Iterator[EventUse]:
+        """The RoboChart communications of a machine's or operation's body, each with its event,
+        its direction (IN or OUT) and its trigger or statement (:meth:`MachineScope.communications`)."""
+        return body.communications()
+
+    def operation_called(self, call: ast.CallStmt | ast.DollarCall, caller: MachineScope,
+                         controller: Controller | None = None, module: Module | None = None) -> MachineScope | None:
+        """The software operation definition a call statement of ``caller`` runs inside
+        ``controller`` (and ``module``), or None when the robotic platform performs it (see
+        :func:`called_operation`)."""
+        op = self.symbol(call.call.func if isinstance(call, ast.CallStmt) else call)
+        return called_operation(op if isinstance(op, OpSym) else None, caller, controller, module, self.scope_of)
+
+    def constant_comparison(self, e: ast.Binary) -> bool | None:
+        """The value of a comparison that its operands' types decide, whatever their values: True
+        for ``k >= 0`` and False for ``k < 0`` when ``k`` is a nat (a nat compared with a number
+        literal, on either side, where every nat gives one value: ``k > -1``, ``0 > k``, ``k == -2``,
+        ...; see :mod:`robogen.semantics.limits`). None for every other expression. The checker
+        warned about each; code generation uses the value rather than generate a comparison that
+        C compilers flag as always true or false (``-Wtype-limits``)."""
+        return self.tables.comparisons.get(id(e))
+
     @staticmethod
     def text(node: ast.Expr | ast.Communication) -> str:
         """An expression or a communication (a trigger) as model text, for messages and generated
@@ -345,5 +471,6 @@ class SemanticModel:
 
 __all__ = [
     "VarSym", "KIND_WORDS", "ClockSym", "EventSym", "OpSym", "FuncSym", "EnumLitSym", "Symbol",
-    "Region", "MachineScope", "Platform", "Controller", "Module", "Tables", "SemanticModel",
+    "Region", "MachineScope", "IN", "OUT", "EventUse", "communication_of", "statements", "state_action",
+    "Platform", "Controller", "Module", "called_operation", "Tables", "SemanticModel",
 ]

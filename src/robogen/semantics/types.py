@@ -97,10 +97,10 @@ class SeqT(Type):
 
 @dataclass(frozen=True, slots=True)
 class ProductT(Type):
-    items: tuple[Type, ...]
+    items: tuple[Type, ...]  # none: the type of the empty tuple (||)
 
     def show(self) -> str:
-        return " * ".join(_paren(t) for t in self.items)
+        return " * ".join(_paren(t) for t in self.items) if self.items else "empty product"
 
 
 @dataclass(frozen=True, slots=True)

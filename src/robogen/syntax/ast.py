@@ -11,7 +11,7 @@ the ``members_of`` helpers select them by class.
 from __future__ import annotations
 
 from dataclasses import dataclass, field
-from typing import Iterator, TypeVar
+from typing import Container, Iterator, TypeVar
 
 from robogen.diagnostics import Span
 
@@ -168,6 +168,24 @@ class Binary(Expr):
     op: str
     left: Expr
     right: Expr
+
+
+def chain(e: Expr, ops: Container[str] | None = None) -> tuple[Expr, list[Binary]]:
+    """A left-nested chain of binary operators, as a loop can walk it: the leftmost operand and the
+    binary nodes from the innermost out. ``a + b * c - d`` is ``(a, [a + b * c, ... - d])``: each
+    node's left operand is the one before it (the first node's is ``a``), and the value of the
+    chain is built by combining, node by node, with its right operand. The chain follows left
+    operands while they are binary nodes (of ``ops``, if given), parenthesised ones included.
+
+    Every binary operator associates to the left, so a flat expression of thousands of operands
+    is a chain thousands deep: stages walk it with this, never by recursion (the parser counts
+    such a chain as one level of nesting, see robogen.syntax.transform_base.MAX_NESTING)."""
+    links: list[Binary] = []
+    while isinstance(e, Binary) and (ops is None or e.op in ops):
+        links.append(e)
+        e = e.left
+    links.reverse()
+    return e, links
 
 
 @dataclass(frozen=True, slots=True)
@@ -557,7 +575,7 @@ class Connection(Node):
     target: str
     target_event: str
     asynchronous: bool = False
-    mult: bool = False
+    bidirectional: bool = False  # RoboChart's [ mult ] flag: the connection carries events both ways
     spans: tuple[Span | None, ...] = field(default=(), compare=False, hash=False, repr=False, kw_only=True)
     # spans of source, source_event, target, target_event
 

@@ -84,16 +84,15 @@ def _expr(e: ast.Expr) -> str:
             return f"not {_wrap(e.operand, _LEVEL['not'])}"
         return f"-{_wrap(e.operand, _LEVEL['neg'])}"
     if isinstance(e, ast.Binary):
-        lv = _LEVEL[e.op]
-        # left-associative: the right operand needs a strictly tighter level
-        return f"{_wrap(e.left, lv)} {e.op} {_wrap(e.right, lv + 1)}"
+        return _chain(e)
     if isinstance(e, ast.Field):
         return f"{_wrap(e.obj, _ATOM)}.{_id(e.field)}"
     if isinstance(e, ast.Index):  # `$v[i]` needs no parentheses
         obj = _expr(e.obj) if isinstance(e.obj, ast.Dollar) else _wrap(e.obj, _ATOM)
         return f"{obj}[{', '.join(_expr(i) for i in e.indices)}]"
-    if isinstance(e, ast.Call):
-        return f"{_wrap(e.func, _ATOM)}({', '.join(_expr(a) for a in e.args)})"
+    if isinstance(e, ast.Call):  # `$f(a)` needs no parentheses either
+        func = _expr(e.func) if isinstance(e.func, ast.Dollar) else _wrap(e.func, _ATOM)
+        return f"{func}({', '.join(_expr(a) for a in e.args)})"
     if isinstance(e, ast.IfExpr):
         return f"if {_expr(e.cond)} then {_expr(e.then)} else {_expr(e.otherwise)} end"
     if isinstance(e, ast.Cast):
@@ -110,7 +109,7 @@ def _expr(e: ast.Expr) -> str:
     if isinstance(e, ast.RecordLit):
         return f"{_qname(e.type)}(| {', '.join(f'{_id(f.name)} = {_expr(f.value)}' for f in e.fields)} |)"
     if isinstance(e, ast.TupleLit):
-        return f"(| {', '.join(_expr(i) for i in e.items)} |)"
+        return f"(| {', '.join(_expr(i) for i in e.items)} |)" if e.items else "(||)"
     if isinstance(e, ast.SeqLit):
         return f"<{', '.join(_wrap(i, 12) for i in e.items)}>"
     if isinstance(e, ast.SetLit):
@@ -140,6 +139,22 @@ def _expr(e: ast.Expr) -> str:
     if isinstance(e, ast.DollarValue):
         return f"${_path(e.qualifier, e.event)}.{_value(e.value)}"
     raise TypeError(f"cannot print {type(e).__name__}")  # pragma: no cover
+
+
+def _chain(e: ast.Binary) -> str:
+    """A chain of binary operators (ast.chain), left to right in a loop. Every operator is
+    left-associative: a right operand needs a strictly tighter level, a left operand of a looser
+    level is put in parentheses (all those opened at the start, before the leftmost operand)."""
+    first, links = ast.chain(e)
+    parts = [_expr(first)]
+    opened = 0
+    for link in links:
+        level = _LEVEL[link.op]
+        if _level(link.left) < level:
+            opened += 1
+            parts.append(")")
+        parts += [f" {link.op} ", _wrap(link.right, level + 1)]
+    return "(" * opened + "".join(parts)
 
 
 def _path(qualifier: tuple[str, ...], name: str) -> str:
@@ -369,7 +384,7 @@ def _line(d: ast.Node) -> str:
         return f"{d.kind} {_id(d.name)} = {_qname(d.target)}"
     if isinstance(d, ast.Connection):
         text = f"connection {_id(d.source)} on {_id(d.source_event)} to {_id(d.target)} on {_id(d.target_event)}"
-        return text + (" ( _async )" if d.asynchronous else "") + (" [ mult ]" if d.mult else "")
+        return text + (" ( _async )" if d.asynchronous else "") + (" [ mult ]" if d.bidirectional else "")
     if isinstance(d, ast.CycleDef):
         return f"cycleDef {_expr(d.expr)}"
     if isinstance(d, ast.NodeDecl):

@@ -30,20 +30,31 @@ def _tracked(method):
     return callback
 
 
-# The callbacks of recursive constructs, whose nodes _nest measures.
+def _chained(method):
+    def callback(self, c):
+        return self._nest_operand(method(self, c), c[0], c[-1])
+
+    callback.__name__ = method.__name__
+    return callback
+
+
+# The callbacks of binary operators, whose left operand may continue a flat chain (see _nest_operand).
+for _callback in ("iff", "implies", "or_", "and_", "compare", "member", "arith"):
+    setattr(ToAst, _callback, _chained(getattr(ToAst, _callback)))
+
+# The callbacks of other recursive constructs, whose nodes _nest measures.
 for _callback in (
     # types
     "function_type", "relation_type", "product_type", "set_type", "seq_type", "vector_type", "matrix_type",
     # states (only nested states count: transitions and actions have no depth entry)
     "state",
     # statements (seq and paren keep their own accounts)
-    "stmt_deadline", "if_stmt", "assign", "bare_stmt", "comm_input_stmt", "comm_output_stmt", "comm_sync_stmt", "send", "wait",
+    "stmt_deadline", "if_stmt", "assign", "bare_stmt", "comm_input_stmt", "comm_output_stmt", "comm_sync_stmt", "send", "filtered_stmt", "wait",
     "dollar_output", "dollar_sync", "dollar_call", "dollar_assign",
     # expressions
-    "binder", "decl", "such_that", "iff", "implies", "or_", "and_", "not_", "compare", "member", "the", "let",
-    "let_def", "if_expr", "cast", "arith", "neg", "field", "index", "call", "range_oo", "range_oc", "range_cc", "range_co", "seq_lit", "set_lit",
+    "binder", "decl", "such_that", "not_", "the", "let", "let_def", "if_expr", "cast", "neg", "field", "index", "call", "range_oo", "range_oc", "range_cc", "range_co", "seq_lit", "set_lit",
     "set_range", "set_comprehension", "set_body", "tuple_lit", "record_lit", "field_value", "vector_lit", "inverse",
-    "transpose", "dollar_input", "dollar_value", "dollar_index", "communication",
+    "transpose", "dollar_input", "dollar_value", "dollar_index", "dollar_apply", "communication",
 ):
     setattr(ToAst, _callback, _tracked(getattr(ToAst, _callback)))
 del _callback

@@ -14,6 +14,11 @@ from robogen.diagnostics import Diagnostic, Span, error
 from robogen.syntax import ast
 
 # How deeply expressions, statements, types and states may nest (real models stay below 20).
+# Only real nesting counts: parentheses, operands inside operands, calls inside calls, nested
+# conditionals and states. A flat chain of one precedence level or several (`a + b - c`,
+# `p /\ q /\ r`, `x + y > 3 /\ ok`) is one level however long: it is left-nested in the AST,
+# and every stage walks such a chain along its left operands in a loop (ast.chain), not by
+# recursion.
 MAX_NESTING = 100
 
 
@@ -112,6 +117,7 @@ class SpanBuilder(Transformer):
         self._line_starts = [0] + [m.end() for m in re.finditer("\n", text)]
         # nesting depth of the nodes of recursive constructs, by id (see _nest)
         self._depth: dict[int, int] = {}
+        self._chains: set[int] = set()  # the binary nodes built by an operator's callback (not parenthesised)
         self._alive: list = []  # keeps those nodes alive, so that their ids stay unique
         self._too_deep = False
 
@@ -129,8 +135,8 @@ class SpanBuilder(Transformer):
 
     def _nest(self, node, c):
         """Record how deeply ``node`` nests constructs of its own kind (expressions, statements,
-        types, states), from the depths of its children. Later stages walk the tree
-        recursively, so a file nested deeper than MAX_NESTING is rejected here, with its
+        types, states), from the depths of its children. Later stages follow real nesting by
+        recursion, so a file nested deeper than MAX_NESTING is rejected here, with its
         location, rather than overflowing the interpreter's stack somewhere downstream."""
         depth = self._depth
         d = 0
@@ -147,8 +153,11 @@ class SpanBuilder(Transformer):
             else:
                 v = depth.get(id(x), 0)
                 d = v if v > d else d
-        d += 1
-        depth[id(node)] = d
+        return self._record(node, d + 1, c)
+
+    def _record(self, node, d: int, c):
+        """Keep ``node``'s depth ``d``; the first node deeper than MAX_NESTING is reported."""
+        self._depth[id(node)] = d
         self._alive.append(node)
         if d > MAX_NESTING and not self._too_deep:
             self._too_deep = True
@@ -160,6 +169,16 @@ class SpanBuilder(Transformer):
                 )
             )
         return node
+
+    def _nest_operand(self, node, left, right):
+        """Record the depth of a binary node: its right operand nests one level deeper, its left
+        operand too unless it is itself an unparenthesised binary node, which the node only
+        continues (so that ``a + b + ... + z`` has the depth of one sum)."""
+        depth = self._depth
+        d_left = depth.get(id(left), 0) + (0 if id(left) in self._chains else 1)
+        d_right = depth.get(id(right), 0) + 1
+        self._chains.add(id(node))
+        return self._record(node, d_left if d_left > d_right else d_right, (left, right))
 
     def _line_col(self, offset: int) -> tuple[int, int]:
         line = bisect.bisect_right(self._line_starts, offset)

@@ -169,15 +169,15 @@ class Declarations:
     def async_flag(self, c):
         return Flag("async", span_pos(self._span(c, left=("(",), right=(")",))))
 
-    def mult_flag(self, c):
-        return Flag("mult", span_pos(self._span(c, left=("[",), right=("]",))))
+    def bidirectional_flag(self, c):
+        return Flag("bidirectional", span_pos(self._span(c, left=("[",), right=("]",))))
 
     def connection(self, c):
         names, flags = c[:4], {f.what for f in c[4:]}
         return ast.Connection(
             *(self._name(t) for t in names),
             asynchronous="async" in flags,
-            mult="mult" in flags,
+            bidirectional="bidirectional" in flags,
             span=self._span(c, left=("connection",)),
             spans=tuple(self._tspan(t) for t in names),
         )

@@ -155,15 +155,13 @@ class Expressions:
         return ast.SeqLit(items, span=self._span(c, left=("<",)))
 
     def paren(self, c):
-        """`( e )`, `( S )` or `( T )`: the node inside, its span widened over the parentheses."""
+        """`( e )`, `( S )` or `( T )`: the node inside, its span widened over the parentheses (a
+        level of nesting, and the end of a flat chain of operators)."""
         node = c[0]
         span = self._span(c, left=("(",), right=(")",))
         if span is None or node.span is None:
             return node
-        wider = dataclasses.replace(node, span=span)
-        self._depth[id(wider)] = self._depth.get(id(node), 0)
-        self._alive.append(wider)
-        return wider
+        return self._record(dataclasses.replace(node, span=span), self._depth.get(id(node), 0) + 1, c)
 
     def seq_items(self, c):
         return tuple(c)
@@ -188,6 +186,9 @@ class Expressions:
 
     def tuple_lit(self, c):
         return ast.TupleLit(tuple(c), span=self._span(c, left=("(|",), right=("|)",)))
+
+    def tuple_empty(self, c):
+        return ast.TupleLit((), span=self._span(c, left=("(|",)))
 
     def record_lit(self, c):
         return ast.RecordLit(c[0], tuple(c[1:]), span=self._span(c, right=("|)",)))

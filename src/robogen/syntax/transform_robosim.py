@@ -60,6 +60,11 @@ class RoboSim:
         """`$x[i]`: an element of a variable read with `$`."""
         return ast.Index(self.dollar(c[:1]), c[1], span=self._span(c, left=("$",), right=("]",)))
 
+    def dollar_apply(self, c):
+        """`$f(a)` in an expression: a call of what `$f` denotes."""
+        args = c[1] if len(c) > 1 else ()
+        return ast.Call(self.dollar(c[:1]), args, span=self._span(c, left=("$",), right=(")",) if args else ("(", ")")))
+
     def dollar_input(self, c):
         event, qualifier = _split(c[0])
         var, var_qualifier = _split(c[1])

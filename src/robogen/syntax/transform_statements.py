@@ -44,6 +44,11 @@ class Statements:
     def send(self, c):
         return ast.Communicate(c[0], True, span=self._span(c, left=("send",)))
 
+    def filtered_stmt(self, c):
+        """A communication with a filter, written without `send`: `e[| p |]!v`."""
+        comm = self.communication(c)
+        return ast.Communicate(comm, False, span=comm.span)
+
     def bare_stmt(self, c):
         """A statement that is only a target: a call `op(args)`, a plain event `e`, or `e.v`
         (and `e.f(args)`, whose value is a call: RoboTool's `value=CallExp`)."""
