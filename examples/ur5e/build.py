@@ -25,7 +25,7 @@ from robogen.codegen.api import package_model
 from robogen.diagnostics import RobogenError, error
 from robogen.ir.lower import LoweringOptions
 
-ROOT = Path(__file__).resolve().parents[2]  # the repository: examples/ur5e/build.py
+ROOT = Path(__file__).absolute().parents[2]  # the checkout holding examples/ur5e/build.py (links not followed)
 MODELS = ROOT / "models" / "ur5e"
 TIME_UNIT = Fraction(1, 2)  # s per model time unit: one cycle (or tock) every 0.5 s
 

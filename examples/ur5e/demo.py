@@ -28,7 +28,7 @@ REALTIME_FACTOR = 50.0
 
 def _rel(path: Path | str) -> str:
     try:
-        return str(Path(path).resolve().relative_to(ROOT))
+        return str(Path(path).absolute().relative_to(ROOT))
     except ValueError:
         return str(path)
 
