@@ -4,7 +4,7 @@ Everything goes to one output folder (``build/ur5e`` for `make demo`):
 
 - ``dmodel.fmu``: the d-model from ``models/ur5e/ur5e.rst``, exhaustive semantics, with a model
   time unit of 0.5 s so that ``cycle == 1`` ticks every 0.5 s as the reference d-model did
-  (docs/ur5e-case-study.md §3);
+  (the paper's case study);
 - ``dmodel-stepwise.fmu``: the same model in stepwise semantics;
 - ``dmodel-robochart.fmu``: the RoboChart model ``ur5e.rct``, its ``tock`` every 0.5 s;
 - ``platform.fmu`` (PyBullet UR5e, ``sample`` every 0.5 s) and ``controller.fmu`` (the plan).

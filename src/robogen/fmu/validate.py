@@ -1,5 +1,6 @@
 """Checking an .fmu: archive safety and layout, the FMI 3.0 XSD, fmpy's checks, and the clock
-rules neither fmpy nor fmutool make (shared/docs/fmi3.md §2.2, §3, §4, §5, §7).
+rules of the FMI 3.0 standard (clocks and their kinds, clocked variables, ModelStructure, the
+Co-Simulation API's exports) that neither fmpy nor fmutool check.
 
 ``validate_fmu(path) -> list[Diagnostic]`` returns errors and warnings, each located in a file
 inside the archive (``NAME.fmu/modelDescription.xml:LINE``) where a line is known.

@@ -1,6 +1,6 @@
 """UR5e kinematics from the published Denavit-Hartenberg table, and the case study's grid.
 
-Standard DH convention (../shared/docs/ur5e-case-study.md §5): the transform from frame i-1 to
+Standard DH convention (Universal Robots' published UR5e DH parameters): the transform from frame i-1 to
 frame i is ``Rz(q_i) Tz(d_i) Tx(a_i) Rx(alpha_i)``. Frame 0 is the UR controller's "Base"
 frame, frame 6 the tool flange (z out of the flange). Everything here is numpy on 6-vectors and
 4x4 homogeneous matrices; nothing depends on PyBullet, so the URDF and the simulation can be

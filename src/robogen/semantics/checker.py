@@ -1,4 +1,5 @@
-"""Resolution and well-formedness checks of a whole workspace (docs/robosim-robochart.md §5).
+"""Resolution and well-formedness checks of a whole workspace: the RoboChart and RoboSim
+reference manuals' well-formedness conditions, as RoboTool's validators implement them.
 
 :func:`check` takes a :class:`~robogen.semantics.workspace.Workspace` and returns the frozen
 :class:`~robogen.semantics.model.SemanticModel`: every diagnostic found (all of them: problems

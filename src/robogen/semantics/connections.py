@@ -1,4 +1,4 @@
-"""Connections of modules and controllers (docs/robosim-robochart.md §3.1): both ends exist and
+"""Connections of modules and controllers (RoboChart reference manual, connections): both ends exist and
 have the event, each end of an event is connected once, connected events carry the same type,
 connections with the robotic platform are asynchronous, a RoboSim machine receives only on its
 inputs and sends only on its outputs, and RoboChart's direction rules hold

@@ -1,4 +1,4 @@
-"""Cycle periods (docs/robosim-robochart.md §5): the value of ``cycleDef cycle == p`` and the
+"""Cycle periods (RoboSim reference manual, cycleDef): the value of ``cycleDef cycle == p`` and the
 robogen rule that every machine, controller and module of one model has the same period."""
 
 from __future__ import annotations

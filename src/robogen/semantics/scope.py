@@ -6,7 +6,7 @@ visible in its body, each as a symbol that remembers where it was declared, and 
 region tree. Later stages (checks, IR lowering) resolve names through these scopes, so there is
 one lookup logic. The builder collects into a mutable draft and returns the frozen scope.
 
-Visibility (docs/robosim-robochart.md §2.3–§3.2):
+Visibility (as the RoboChart reference manual and RoboTool's scope provider define it):
 
 - own declarations (``var``/``const`` lists, ``clock``, ``event``; operation parameters);
 - members of interfaces the container ``uses``, ``requires`` or ``provides`` (variables,

@@ -23,7 +23,7 @@ def _id(name: str) -> str:
 def _qname(name: ast.Name) -> str:
     return "::".join(_id(p) for p in name.parts)
 
-# Binding strength, loosest first (docs/robosim-robochart.md §2.9).
+# Binding strength, loosest first (the precedence of RoboTool's grammar, grammar/robochart.lark).
 _LEVEL = {
     "iff": 2,
     "=>": 3,
