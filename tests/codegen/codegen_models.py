@@ -43,6 +43,7 @@ TEST_MODELS = {
         ModelCase("beacon", MODELS / "beacon.rst", settings={"step": "0.25"}),
         ModelCase("timers", MODELS / "timers.rct"),
         ModelCase("inputs", MODELS / "inputs.rct"),
+        ModelCase("binding", MODELS / "binding.rct"),
         ModelCase("relay", MODELS / "relay.rct"),
         ModelCase("nested", MODELS / "nested.rct"),
         ModelCase("ur5e_rct", ROOT / "models" / "ur5e" / "ur5e.rct"),

@@ -337,11 +337,9 @@ class MachineLowering(StatementLowering, ExpressionLowering):
             if ev is None:
                 raise not_supported(f"a trigger on '{t.trigger.event}', which this boundary never receives", t.trigger.span)
             event_index = ev.index
-            if t.trigger.kind == "?":
-                var = self.model.bound_var(t.trigger)
-                guard = ir.BindIn(T.BOOLEAN, ev.index, self.var_ref(graph, var, t.trigger.var_span))
-            else:
-                guard = ir.Occurred(T.BOOLEAN, ev.index)
+            # e?x binds x when the transition is taken (see _completion), never while guards are
+            # only evaluated: the condition reads x as it was before the communication.
+            guard = ir.Occurred(T.BOOLEAN, ev.index)
         if t.condition is not None:
             cond = self.expr(t.condition, graph)
             guard = cond if guard is None else ir.Bin(T.BOOLEAN, "and", guard, cond)
@@ -358,6 +356,10 @@ class MachineLowering(StatementLowering, ExpressionLowering):
         self.node_now = graph.node_ids[id(leaf)]
         cur = b
         if consume is not None:
+            if t.trigger is not None and t.trigger.kind == "?":  # bound as the transition is taken
+                var = self.model.bound_var(t.trigger)
+                cur.stmts.append(ir.Assign(t.trigger.span, self.var_ref(graph, var, t.trigger.var_span),
+                                           ir.Payload(self.machine.event(t.trigger.event).type, consume)))
             cur.stmts.append(ir.Consume(t.span, consume))
         cur.stmts.append(ir.Trace(t.span, f"{t.name}: {src.name} -> {t.target}"))  # type: ignore[attr-defined]
         chain = self._chain(graph, leaf)
