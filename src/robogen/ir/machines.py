@@ -16,7 +16,7 @@ from fractions import Fraction
 from robogen.diagnostics import DiagnosticSink, Note, RobogenError, Span
 from robogen.ir import model as ir
 from robogen.ir.boundary import Boundary
-from robogen.ir.constants import constant_value, parse_setting
+from robogen.ir.constants import constant_value, default_value, parse_setting, shown
 from robogen.ir.expressions import ExpressionLowering
 from robogen.ir.region_tree import Graph, place_of, state_action
 from robogen.ir.ports import Ports
@@ -101,7 +101,9 @@ class MachineLowering(StatementLowering, ExpressionLowering):
         return var
 
     def _constant(self, var: ir.Var, v: VarSym) -> None:
-        """A constant is an FMU parameter; its start value comes from --set or its initialiser."""
+        """A constant is an FMU parameter; its start value comes from --set, its initialiser, or
+        (a constant the model leaves without a value) the default value of its type, with a
+        warning: the importer sets it in Initialization Mode."""
         fmu = self.ctx.fmu
         fmi_name = f"{self.scope.name}.{v.name}"
         settings = self.ctx.settings
@@ -110,17 +112,21 @@ class MachineLowering(StatementLowering, ExpressionLowering):
         if text is not None:
             value = parse_setting(text, var.type, v.span, fmi_name)
         elif v.init is not None:
-            known = {p.var.name: p.value for p in fmu.params if p.machine == self.machine.index}
-            value = constant_value(v.init, var.type, self.model, known)
+            mine = [p for p in fmu.params if p.machine == self.machine.index]
+            value = constant_value(v.init, var.type, self.model, {p.var.name: p.value for p in mine if not p.free})
             if value is None:
-                self.ctx.sink.error(f"the value of constant '{v.name}' must be computable from literals and other constants", v.init.span)
+                free = [p.var.name for p in mine if p.free]
+                self.ctx.sink.error(f"the value of constant '{v.name}' must be computable from literals and other constants", v.init.span,
+                                    *([Note("constants without a value in the model (" + ", ".join(free) + ") are known only "
+                                            "when the importer sets them: give them with --set")] if free else []))
         else:
-            self.ctx.sink.error(
-                f"constant '{v.name}' has no value: give one in the model or with --set {v.name}=VALUE",
-                v.span,
-                Note("RoboChart constants without a value are model parameters; an FMU parameter needs a start value"),
-            )
-        fmu.params.append(ir.Param(fmi_name, var, self.machine.index, value))
+            value = default_value(var.type)
+            if not any(w.span == v.span for w in self.ctx.sink.warnings):  # one per constant, however many machines use it
+                self.ctx.sink.warning(
+                    f"constant '{v.name}' has no value: it becomes FMU parameter '{fmi_name}' with start "
+                    f"{shown(value, var.type)}; set it with --set {v.name}=... or in the importer",
+                    v.span)
+        fmu.params.append(ir.Param(fmi_name, var, self.machine.index, value, free=text is None and v.init is None))
 
     def clock(self, name: str) -> int:
         self.machine.clocks.append(name)
