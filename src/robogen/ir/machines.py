@@ -47,7 +47,10 @@ _NODE_KINDS = {ast.State: "state", ast.Junction: "junction", ast.Final: "final",
 
 
 class MachineLowering(StatementLowering, ExpressionLowering):
-    def __init__(self, ctx: FmuContext, scope: MachineScope, ctrl: Controller | None, index: int, used_name: str):
+    def __init__(self, ctx: FmuContext, scope: MachineScope, ctrl: Controller | None, index: int, used_name: str,
+                 name: str | None = None):
+        """``name``: the machine's name in the FMU (its own, or its instance path where two
+        machines of the FMU have one name: :attr:`Boundary.machine_names`)."""
         self.ctx = ctx
         self.model = ctx.model
         self.boundary = ctx.boundary
@@ -57,7 +60,7 @@ class MachineLowering(StatementLowering, ExpressionLowering):
         self.ctrl = ctrl
         self.used_name = used_name
         self.robosim = scope.robosim
-        self.machine = ir.Machine(scope.name, scope.qname, scope.node.name_span, index=index)  # type: ignore[attr-defined]
+        self.machine = ir.Machine(name or scope.name, scope.qname, scope.node.name_span, index=index)  # type: ignore[attr-defined]
         self.vars: dict[str, ir.Var] = {}
         self.evals: dict[tuple[int, int], int] = {}  # (graph, leaf node) -> evaluation block
         self.completions: dict[tuple[int, int], int] = {}  # (transition, leaf node) -> completion block
@@ -105,7 +108,7 @@ class MachineLowering(StatementLowering, ExpressionLowering):
         (a constant the model leaves without a value) the default value of its type, with a
         warning: the importer sets it in Initialization Mode."""
         fmu = self.ctx.fmu
-        fmi_name = f"{self.scope.name}.{v.name}"
+        fmi_name = f"{self.machine.name}.{v.name}"
         settings = self.ctx.settings
         text = settings.get(fmi_name, settings.get(v.name))
         value: object = None
