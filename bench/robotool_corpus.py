@@ -121,6 +121,7 @@ def _internal(exc: BaseException) -> str:
 def run_workspace(workspace: str, package: bool) -> dict:
     """Check (and package) one workspace; the path is relative to the current directory."""
     from robogen.codegen.api import package_model
+    from robogen.ir.boundary import boundaries
     from robogen.diagnostics import RobogenError
     from robogen.semantics import check_paths
 
@@ -139,9 +140,10 @@ def run_workspace(workspace: str, package: bool) -> dict:
     result["check_seconds"] = round(time.perf_counter() - started, 3)
     if not package or model.errors:
         return result
-    targets = [("module", m.qname) for m in model.modules]
+    modules, machines = boundaries(model)  # each named by a label that selects it alone
+    targets = [("module", m.label) for m in modules]
     if not targets:
-        targets = [("machine", s.qname) for s in model.machines]
+        targets = [("machine", s.label) for s in machines]
     for kind, name in targets or [("default", None)]:  # nothing to name: let robogen say what it does
         entry = {"kind": kind, "name": name or "(no module or machine)", "status": "ok", "message": ""}
         with tempfile.TemporaryDirectory(prefix="robotool-corpus-") as tmp:

@@ -47,6 +47,8 @@ TEST_MODELS = {
         ModelCase("relay", MODELS / "relay.rct"),
         ModelCase("nested", MODELS / "nested.rct"),
         ModelCase("ur5e_rct", ROOT / "models" / "ur5e" / "ur5e.rct"),
+        ModelCase("gripper", MODELS / "gripper.rst"),
+        ModelCase("twins", MODELS / "twins.rct"),
     )
 }
 OWN_MODELS = [n for n in TEST_MODELS if n != "ur5e"]
