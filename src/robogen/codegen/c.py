@@ -423,7 +423,8 @@ class Emitter:
         handed to every route (a port's clocked outputs and clock, or another machine's register).
         An argument read once by the one port it goes to is assigned straight to its output."""
         values = [self.expr(a) for a in s.args]
-        if not self.fallible and len(s.routes) == 1 and s.routes[0][0] == "port":
+        collection = any(isinstance(a.type, (T.SetT, T.SeqT)) for a in s.args)  # copied from a temporary
+        if not self.fallible and len(s.routes) == 1 and s.routes[0][0] == "port" and not collection:
             port = s.routes[0][1]
             if [k for k, _ in self._port_reads(port)] == list(range(len(values))):
                 return self._to_port(port, values, indent)
@@ -465,8 +466,13 @@ class Emitter:
 
     def _to_port(self, index: int, values: list[str], indent: str) -> list[str]:
         """Write ``values`` (C expressions of the arguments) to output port ``index`` and activate its clock."""
-        lines = [f"{indent}d->{cname} = {values[k]}{access};"
-                 for (cname, _), (k, access) in zip(self.port_fields[index], self._port_reads(index))]
+        lines = []
+        for (cname, _), (k, access) in zip(self.port_fields[index], self._port_reads(index)):
+            if access.endswith(".#elements"):  # a collection's elements: an array, copied
+                source = f"{values[k]}{access[:-len('.#elements')]}.a"
+                lines.append(f"{indent}memcpy(d->{cname}.a, {source}, sizeof d->{cname}.a);")
+            else:
+                lines.append(f"{indent}d->{cname} = {values[k]}{access.replace('.#size', '.n')};")
         clock = self.names.clocks[self.fmu.outputs[index].name]
         return lines + [f"{indent}rg_activate_output_clock(inst, {clock});"]
 

@@ -362,8 +362,11 @@ class Interpreter:
                 value = _get_path(args[pi], f.path[1:])
             else:
                 value = _get_path(args[0], f.path)
+            if isinstance(f.type, T.VectorT) and f.path and f.path[-1] == "#elements":
+                value = list(value) + [_zero(f.type.element)] * ((f.type.size or 0) - len(value))
             out[f.fmi_name] = copy.deepcopy(value)
         return out
+
 
     def _store(self, target: ir.Expr, value, m: ir.Machine, ms: MachineState) -> None:
         if isinstance(target, ir.Ref):
@@ -573,7 +576,13 @@ def arith(op: str, a, b, t: T.Type):
 
 
 def _get_path(value, path: tuple[str, ...]):
+    """The part of a value at ``path`` (record fields; ``#size``/``#elements`` of a collection,
+    its elements as the FMU's array of the capacity, zeros after the last)."""
     for p in path:
+        if p == "#size":
+            return len(value)
+        if p == "#elements":
+            return value  # padded by the caller, which knows the array's size
         value = value[p]
     return value
 
