@@ -337,16 +337,14 @@ class Emitter:
     def _Coll(self, e: ir.Coll) -> str:
         """A collection operation: a function of robogen.codegen.collections, with its site (the
         index of its run-time messages in rg_sites) where it can fail."""
-        from robogen.codegen.collections import FALLIBLE, call
-
         args = [self.expr(a) for a in e.args]
         site = len(self.sites)
-        if e.op in FALLIBLE:
+        if self.collections.fallible(e.op):  # type: ignore[attr-defined]
             self.fallible = True
             where = self.fmu.place(e.span)
             self.sites += [overflow_message(e.text, where, self.fmu.capacity) if e.op in CAN_OVERFLOW else "",
                            empty_message(e.op, e.text, where) if e.op in EMPTY_FAULTS else ""]
-        return call(self.collections, e, args, site)
+        return self.collections.call(e, args, site)  # type: ignore[attr-defined]
 
     def _CallU(self, e: ir.CallU) -> str:
         return f"rg_user_{e.name}({', '.join(self.expr(a) for a in e.args)})"

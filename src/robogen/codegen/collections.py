@@ -69,6 +69,13 @@ class CollectionCode:
                 self._element(ft)
         self.elements[t] = None
 
+    def fallible(self, op: str) -> bool:
+        """Does the C function of ``op`` take the model data and a site (it may fail)?"""
+        return op in FALLIBLE
+
+    def call(self, e: ir.Coll, args: list[str], site: int) -> str:
+        return call(self, e, args, site)
+
     def text(self) -> str:
         parts: dict[str, str] = {}  # by function name: an enumeration's elements are int64_t, as int's
         for t in self.elements:
