@@ -29,6 +29,9 @@ def add_model_options(p: argparse.ArgumentParser) -> None:
     p.add_argument("--given-type", choices=("int", "nat", "real"), default="int", help="the scalar type of given types (default int)")
     p.add_argument("--max-transitions", type=int, default=1000, metavar="N",
                    help="transitions per cycle before a runaway cycle is reported (default 1000)")
+    p.add_argument("--capacity", type=int, default=32, metavar="N",
+                   help="the most elements a set or sequence holds (default 32); a result with more is a run-time "
+                        "fmi3Error naming the expression and its model line (docs/collections.md)")
     p.add_argument("--functions", metavar="FILE.c",
                    help="C file implementing the model's user functions, each as static <type> rg_user_<name>(...)")
     p.add_argument("--no-line-comments", action="store_true", help="leave the model file:line out of the generated C comments")
@@ -43,6 +46,8 @@ def options_from(args: argparse.Namespace) -> LoweringOptions:
         settings[name.strip()] = value
     if args.max_transitions < 1:
         raise RobogenError(error("--max-transitions must be at least 1", None))
+    if not 1 <= args.capacity <= 1 << 20:
+        raise RobogenError(error("--capacity must be between 1 and 1048576", None))
     return LoweringOptions(
         semantics=args.semantics,
         trigger=args.trigger,
@@ -50,6 +55,7 @@ def options_from(args: argparse.Namespace) -> LoweringOptions:
         settings=settings,
         given=args.given_type,
         max_steps=args.max_transitions,
+        capacity=args.capacity,
     )
 
 

@@ -51,6 +51,8 @@ def default_value(t: T.Type, real_zero: object = Fraction(0)) -> object:
     if isinstance(t, (T.VectorT, T.MatrixT)):
         size = t.size if isinstance(t, T.VectorT) else (t.rows or 0) * (t.columns or 0)
         return [default_value(t.element, real_zero) for _ in range(size or 0)]
+    if isinstance(t, (T.SetT, T.SeqT)):
+        return []  # the empty set or sequence
     return 0  # nat, int, and the first literal of an enumeration
 
 

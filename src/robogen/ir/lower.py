@@ -34,6 +34,7 @@ class LoweringOptions:
     settings: dict[str, str] = field(default_factory=dict)  # constant name -> value text (--set)
     given: str = "int"  # the scalar type of given types
     max_steps: int = 1000
+    capacity: int = 32  # the most elements a set or sequence holds
 
 
 def lower(model: SemanticModel, boundary: Boundary, options: LoweringOptions | None = None) -> ir.Fmu:
@@ -72,6 +73,7 @@ def _header(model: SemanticModel, b: Boundary, options: LoweringOptions) -> ir.F
         sources=tuple(sorted({f.path for f in model.files})),
         span=getattr(b.node, "name_span", None),
         max_steps=options.max_steps,
+        capacity=options.capacity,
         root=model.root,
     )
 

@@ -21,7 +21,7 @@ from robogen.ir.expressions import ExpressionLowering
 from robogen.ir.region_tree import Graph, place_of, state_action
 from robogen.ir.ports import Ports
 from robogen.ir.statements import StatementLowering
-from robogen.ir.supported import check_codegen_type, normalise, not_supported
+from robogen.ir.supported import check_codegen_type, is_scalar, normalise, not_supported
 from robogen.semantics import types as T
 from robogen.semantics.model import Controller, FuncSym, MachineScope, OpSym, Region, SemanticModel, VarSym
 from robogen.syntax import ast
@@ -109,6 +109,11 @@ class MachineLowering(StatementLowering, ExpressionLowering):
         warning: the importer sets it in Initialization Mode."""
         fmu = self.ctx.fmu
         fmi_name = f"{self.machine.name}.{v.name}"
+        if not is_scalar(var.type):  # a set, sequence, tuple or record: its initialiser, computed once
+            if v.init is None:
+                self.ctx.sink.error(f"constant '{v.name}' of type {var.type.show()} has no value: give one in the model",
+                                    v.span, Note("only constants of scalar types are FMU parameters (--set)"))
+            return
         settings = self.ctx.settings
         text = settings.get(fmi_name, settings.get(v.name))
         value: object = None
@@ -178,7 +183,7 @@ class MachineLowering(StatementLowering, ExpressionLowering):
         self.index_regions(graph, root, None)
         for name, v in self.scope.vars.items():
             var = self.vars[name]
-            if v.kind == "var" and v.init is not None:
+            if (v.kind == "var" or (v.kind == "const" and not is_scalar(var.type))) and v.init is not None:
                 var.init = self.conv(self.expr(v.init, graph), var.type, v.init.span)
         start = self.block(f"start {self.scope.name}", self.scope.node.name_span)  # type: ignore[attr-defined]
         start.step = True  # the initial transition is the first transition segment

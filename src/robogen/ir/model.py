@@ -258,6 +258,20 @@ class CallU(Expr):
 
 
 @dataclass(frozen=True)
+class Coll(Expr):
+    """An operation on sets and sequences (RoboChart's set enumeration ``{a, b}``, sequence
+    enumeration ``<a, b>``, ``in``, ``^`` and the toolkit functions; :mod:`robogen.ir.collections`
+    gives their meaning). Collections hold at most ``Fmu.capacity`` elements: an operation whose
+    result would hold more is a run-time error naming ``text`` (the expression as the model
+    writes it) and ``span``, as is ``head``/``last``/``min``/``max`` of an empty collection."""
+
+    op: str
+    args: tuple[Expr, ...]
+    text: str = ""
+    span: Span | None = None
+
+
+@dataclass(frozen=True)
 class UserFunction:
     """A function the model declares by its contract only; the code generator takes its body
     from the user (``--functions``), the reference interpreter a Python implementation."""
@@ -455,6 +469,7 @@ class Fmu:
     params: list[Param] = field(default_factory=list)
     user_functions: list[UserFunction] = field(default_factory=list)
     max_steps: int = 1000  # transitions per cycle before a runaway cycle is reported
+    capacity: int = 32  # the most elements a set or sequence holds (robogen compile --capacity)
     root: str = ""  # the workspace root (absolute), to which generated files name model files
     # what lowering warns about (constants that become parameters without a value, renamed
     # ports); the front end prints them. Not in the dump: they restate the model's meaning.
