@@ -137,6 +137,29 @@ class Recorder:
             if _time.monotonic() > self._flush_due:
                 self.flush()
 
+    @property
+    def takes_text(self) -> bool:
+        """Whether rows may come as CSV lines (:meth:`append_text`): they go to a CSV file only."""
+        return self._writer is not None and not self.keep_rows
+
+    @property
+    def discards(self) -> bool:
+        """Whether rows go nowhere (no file, not kept)."""
+        return self._writer is None and not self.keep_rows
+
+    @property
+    def flush_due(self) -> float:
+        """The time.monotonic() by which the rows appended so far are to be flushed."""
+        return self._flush_due
+
+    def append_text(self, text: str, rows: int) -> None:
+        """``rows`` rows already written as the CSV lines append_row would write (the C stretch's
+        chunks, where :attr:`takes_text`)."""
+        self.recorded += rows
+        self._file.write(text)
+        if _time.monotonic() > self._flush_due:
+            self.flush()
+
     def event(self, t: float, k: int, fmu: str, clock: str, values: dict) -> None:
         if self._events is not None:
             record = {"time": t, "index": k, "fmu": fmu, "clock": clock, "values": values}
