@@ -228,8 +228,8 @@ static long double scaled(long double v, int k) { return k >= 0 ? v * P10[k] : v
 static int fast_shortest(double ax, char *digits)
 {
     int e10 = (int)floor(log10(ax)), k, p, i;
-    long double y, lo, hi;
-    uint64_t d = 0;
+    long double y, lo, hi, r = 0;
+    uint64_t d;
     if (LDBL_MANT_DIG < 64 || e10 < -11 || e10 > 43) return -1000;
     k = 16 - e10;
     y = scaled(ax, k);
@@ -242,20 +242,23 @@ static int fast_shortest(double ax, char *digits)
     lo = scaled((long double)ax - 0.5L * ((long double)ax - nextafter(ax, 0)), k);
     hi = scaled((long double)ax + 0.5L * ((long double)nextafter(ax, INFINITY) - ax), k);
     for (p = 15; p <= 17; p++) {
-        long double unit = P10[17 - p], q = y / unit, f = q - floorl(q), c;
+        /* q rounded to an integer by the addition of 2^63 (a long double's units there are 1): no
+         * switch of the x87 rounding mode, as floorl and integer casts make */
+        long double unit = P10[17 - p], q = y / unit, c;
         int tries;
-        if (fabsl(f - 0.5L) < 0.001L) return -1000;
-        d = (uint64_t)floorl(q) + (f > 0.5L ? 1u : 0u);
+        r = (q + 0x1p63L) - 0x1p63L;
+        if (fabsl(fabsl(q - r) - 0.5L) < 0.001L) return -1000;
         for (tries = 0; tries < (p == 16 ? 2 : 1); tries++) { /* 16 digits: the far neighbour too */
-            c = (long double)d * unit;
+            c = r * unit;
             if (fabsl(c - lo) < 0.004L || fabsl(c - hi) < 0.004L) return -1000;
             if (lo < c && c < hi) goto found;
-            d = c < y ? d + 1 : d - 1;
+            r += c < y ? 1 : -1;
         }
     }
     return -1000;
 found:
-    if (d >= (uint64_t)P10[p]) { /* 99..9 rounded up to 100..0 */
+    d = (uint64_t)llrintl(r);
+    if (d >= (uint64_t)llrintl(P10[p])) { /* 99..9 rounded up to 100..0 */
         d /= 10;
         e10++;
     }

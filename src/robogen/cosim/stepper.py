@@ -290,8 +290,8 @@ class CStretch:
         self._keep: list = []  # the C arrays the struct points into
         struct = self._struct(plan, layout)
         # frees the arena, the text and the last values with the struct (the destructor holds the
-        # struct's memory until it ran)
-        self.s = ffi.gc(struct, lambda pointer, _owner=struct: lib.rg_release(pointer))
+        # struct's memory, and the arrays it points into, until it ran)
+        self.s = ffi.gc(struct, lambda pointer, _owner=struct, _keep=self._keep: lib.rg_release(pointer))
         self.width = max(1, self.s.width)
         self.columns = self._columns(plan)
         self.times = ffi.new("double[]", CHUNK)
