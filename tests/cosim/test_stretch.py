@@ -12,6 +12,7 @@ import struct
 import pytest
 
 from robogen.cosim import simulate_system, stepper
+from robogen.cosim.recorder import FLUSH_SECONDS, Recorder
 from robogen.diagnostics import RobogenError
 
 SYSTEMS = {
@@ -215,3 +216,19 @@ def test_every_fmi_type_travels_through_connections(monkeypatch, write_system, t
     events = [json.loads(line) for line in (tmp_path / "events.jsonl").read_text().splitlines()]
     out = next(e for e in events if e["fmu"] == "a" and e["clock"] == "out")
     assert out["values"]["c_bin"] == "0x01" and out["values"]["c_s"] == 'a b,"0","1"'
+
+
+def test_a_chunk_waits_for_the_flush_of_a_results_file_only(tmp_path, monkeypatch):
+    # The C loop's chunk ends by the recorder's next flush: never where no file is written (a
+    # deadline that passed once would otherwise cut every later chunk to one row).
+    kept = Recorder(["a"], None, None, keep_rows=True)
+    assert kept.flush_due == math.inf
+    now = [100.0]
+    monkeypatch.setattr("robogen.cosim.recorder._time.monotonic", lambda: now[0])
+    written = Recorder(["a"], tmp_path / "out.csv", None, keep_rows=False)
+    assert written.flush_due == 100.0 + FLUSH_SECONDS
+    now[0] = 101.0
+    written.append_text("0.0,0,1.5\n", 1)  # overdue: flushed, and the next flush is due from now
+    assert written.flush_due == 101.0 + FLUSH_SECONDS and written.recorded == 1
+    written.close()
+    assert (tmp_path / "out.csv").read_text() == "time,superdense,a\n0.0,0,1.5\n"

@@ -21,6 +21,7 @@ import contextlib
 import csv
 import io
 import json
+import math
 import sys
 import time as _time
 from dataclasses import dataclass, field
@@ -149,8 +150,9 @@ class Recorder:
 
     @property
     def flush_due(self) -> float:
-        """The time.monotonic() by which the rows appended so far are to be flushed."""
-        return self._flush_due
+        """The time.monotonic() by which the rows appended so far are to be flushed (never
+        without a results file)."""
+        return self._flush_due if self._file is not None else math.inf
 
     def append_text(self, text: str, rows: int) -> None:
         """``rows`` rows already written as the CSV lines append_row would write (the C stretch's
