@@ -53,13 +53,14 @@ class Ecos:
         done = subprocess.run([str(self.program), "--version"], env=self.env, capture_output=True, text=True, check=False)
         return (done.stdout or done.stderr).strip().splitlines()[-1] if (done.stdout or done.stderr) else "?"
 
-    def simulate(self, ssp: Path, stop: float, step: float, csv: bool, folder: Path) -> float:
-        """Wall seconds of one ``ecos simulate`` of the archive (in ``folder``, where its CSV goes)."""
+    def simulate(self, ssp: Path, stop: float, step: float, csv: bool, folder: Path, parallel: bool = True) -> float:
+        """Wall seconds of one ``ecos simulate`` of the archive (in ``folder``, where its CSV goes);
+        ``parallel``: ECOS's default, its FMUs stepped by TBB's threads (else --noParallel)."""
         if round(stop / step) < MIN_STEPS:
             raise ValueError(f"ECOS needs at least {MIN_STEPS} steps")
         folder.mkdir(parents=True, exist_ok=True)
         args = [str(self.program), "simulate", "--path", str(ssp), "--stopTime", repr(stop), "--stepSize", repr(step),
-                "--logLevel", "off", *([] if csv else ["--noCsv"])]
+                "--logLevel", "off", *([] if csv else ["--noCsv"]), *([] if parallel else ["--noParallel"])]
         t0 = time.perf_counter()
         done = subprocess.run(args, cwd=folder, env=self.env, capture_output=True, text=True, check=False)
         elapsed = time.perf_counter() - t0
