@@ -9,7 +9,8 @@ Prints medians and ratios (never asserted anywhere), then the table of the targe
      (both record the one output at every step, in memory; event mode on in both)
   3. the cost of one event iteration (a stair FMU with a time event at every step vs none), and
      of its flush when the rows go to a CSV file
-  4. 1, 10, 100 and 1,000 chained FMUs: the cost of one FMU-step (linear growth is the target)
+  4. 1, 10, 100 and 1,000 chained FMUs, 1,000,000 FMU-steps each: the cost of one FMU-step
+     (flat: linear growth is the target)
   5. isolation (robogen.cosim.proxy): one call through a worker process vs in process, a whole
      run isolated vs in process; the start of the crash watcher
   6. ECOS (bench extra, bench/ecos_peer.py): 100 chained trivial FMUs, 10,000 steps, every
@@ -188,19 +189,20 @@ def _flush_cost(path: Path) -> float:
 
 
 def bench_scaling(fmus: dict[str, Path], folder: Path) -> None:
-    """The cost of one FMU-step of a chain of n trivial FMUs, rows to a CSV file: the time of
-    ``steps`` steps less that of 10 (loading and instantiating the FMUs), per step and FMU."""
-    steps = 200 if QUICK else 2_000
+    """The cost of one FMU-step of a chain of n trivial FMUs, rows to a CSV file: the time of as
+    many steps as make the same number of FMU-steps for every n, less that of 10 steps (loading
+    and instantiating the FMUs), per step and FMU."""
+    fmu_steps = 100_000 if QUICK else 1_000_000
     per_fmu_step = {}
     for n in (1, 10, 100, 1000):
-        runs = {}
+        steps, runs = max(fmu_steps // n, 500), {}
         for count in (10, steps):
             path = system(folder, f"chain{n}-{count}", chain_system(fmus["trivial"], n, count * 0.01, 0.01))
             runs[count] = median_time(lambda: simulate_system(path, keep_rows=False, output=folder / f"chain{n}.csv"))
         per_fmu_step[n] = (runs[steps] - runs[10]) / ((steps - 10) * n)
     base = per_fmu_step[10]
     line = ", ".join(f"{n} FMUs {1e6 * c:.3f} us ({c / base:.2f}x)" for n, c in per_fmu_step.items())
-    print(f"4. one FMU-step of a chain of trivial FMUs ({steps} steps, CSV to disk, the cost of 10 steps "
+    print(f"4. one FMU-step of a chain of trivial FMUs ({fmu_steps:,} FMU-steps or 500 steps, CSV to disk, the cost of 10 steps "
           f"subtracted; x: against 10 FMUs): {line}")
     TABLE.append(("cost per FMU-step, 1 / 10 / 100 / 1,000 chained FMUs (CSV)",
                   " / ".join(f"{1e6 * c:.3f}" for c in per_fmu_step.values()) + " us",
