@@ -499,7 +499,7 @@ class CStretch:
                 columns.append(values)
             else:
                 columns.append(repeat(c, count))
-        return [list(row) for row in zip(*columns)]
+        return list(map(list, zip(*columns)))
 
     def _copies(self, offsets: list[int], text: bool) -> list:
         """The Strings (``text``) or Binaries at these offsets of the arena."""
