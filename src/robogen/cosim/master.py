@@ -46,7 +46,7 @@ from robogen.cosim.recorder import Pacer, Progress, Recorder
 from robogen.cosim.stepper import CStretch
 from robogen.cosim.stretch import PythonStretch, Stretch, StretchPlan
 from robogen.cosim.system import Link, System
-from robogen.cosim.wiring import CLOCK, VALUE, ValueExchange, find_cycle, plain, wire
+from robogen.cosim.wiring import CLOCK, CLOCKED, VALUE, ValueExchange, find_cycle, plain, wire
 from robogen.diagnostics import Note, RobogenError
 from robogen.fmu.fmi import DISCARD, status_name, tolerance
 
@@ -96,6 +96,9 @@ class Master:
         self.wiring = wire(instances, links, record)
         self.values = ValueExchange(self.wiring.value_links)
         self._columns = plain(self.wiring.columns)
+        self._routes = _route_plans(self.wiring)
+        self._clocked_columns = _clocked_columns(self.wiring)
+        self._event_values = _event_values(instances)
         self._stop_limit = options.stop - tolerance(options.stop)
         self._next_event = math.inf
         self._stretch: Stretch | None = None  # None: every point goes through the general step
@@ -286,6 +289,7 @@ class Master:
     def _event_mode(self, t: float) -> None:
         for u in self.event_instances:
             u.binding.fmi3EnterEventMode()
+            u.new_instant()
         self._event_iteration(t)
 
     def _event_iteration(self, t: float) -> None:
@@ -325,6 +329,7 @@ class Master:
         for u in self.event_instances:
             states = u.binding.fmi3UpdateDiscreteStates()
             u.active.clear()
+            u.new_instant()
             u.next_event_time = states.next_event_time if states.next_event_time_defined else None
             if states.discrete_states_need_update:
                 needs.append(u)
@@ -384,22 +389,23 @@ class Master:
 
     def _forward_clocks(self, u: FmuInstance, forwarded: set[tuple[str, int]]) -> set[str]:
         """Note u's active output clocks; set the clocks (and clocked values) they drive, once per
-        instant. The names of the instances set."""
+        instant: the values a clock carries read with one Get call per type, and set with one
+        Set call per type on each target. The names of the instances set."""
         woken = set()
         for vr in u.read_clocks():
             u.active.add(vr)
             if (u.name, vr) in forwarded:
                 continue
             forwarded.add((u.name, vr))
-            for route in self.wiring.clock_routes.get((u.name, vr), ()):
-                target = route.target
+            for target, target_clock, sources, batches in self._routes.get((u.name, vr), ()):
                 if not target.event_mode:
                     continue
-                if route.target_clock not in target.active:
-                    target.set_clocks([route.target_clock])
-                for source_var, target_var in route.values:
-                    value = u.get_one(source_var)
-                    target.set_values(target_var.type, [target_var.value_reference], [value])
+                if target_clock not in target.active:
+                    target.set_clocks([target_clock])
+                if sources:
+                    values = u.clocked_values(sources)
+                    for fmi_type, vrs, indices in batches:
+                        target.set_values(fmi_type, vrs, [values[i] for i in indices])
                 woken.add(target.name)
         return woken
 
@@ -436,10 +442,14 @@ class Master:
                 row.append(reader.values[index])
             elif kind == CLOCK:
                 row.append(1 if var.value_reference in u.active else 0)
-            elif any(c in u.active for c in var.clocks):
-                row.append(u.get_one(var))
             else:
-                row.append(None)
+                row.append(None)  # a clocked value: filled below while its clock is active
+        for u, cells in self._clocked_columns:
+            if u.active:
+                live = [(position, var) for position, var, clocks in cells if not clocks.isdisjoint(u.active)]
+                if live:
+                    for (position, _), value in zip(live, u.clocked_values([var for _, var in live])):
+                        row[position] = value
         self.recorder.append_row(row)
 
     def _log_events(self, t: float, k: int) -> None:
@@ -447,10 +457,9 @@ class Master:
             return
         for u in self.instances:
             for vr in sorted(u.active):
-                clock = u.by_vr[vr]
-                values = {v.name: u.get_one(v) for v in u.md.variables
-                          if vr in v.clocks and not v.is_clock and v.causality in ("input", "output")}
-                self.recorder.event(t, k, u.name, clock.name, values)
+                variables = self._event_values[u.name].get(vr, [])
+                values = dict(zip((v.name for v in variables), u.clocked_values(variables)))
+                self.recorder.event(t, k, u.name, u.by_vr[vr].name, values)
 
     # -- errors and shutdown --------------------------------------------------------------------
     def _as_error(self, exc: FMI3Error) -> RobogenError:
@@ -469,3 +478,38 @@ class Master:
         """fmi3Terminate every healthy instance, free all but those that returned fmi3Fatal."""
         for u in self.instances:
             u.shut_down()
+
+
+def _route_plans(wiring) -> dict[tuple[str, int], list[tuple]]:
+    """Each clock route as (target, target clock, the source variables it carries, and per type
+    (type, target value references, indices into the sources)): what _forward_clocks calls."""
+    plans: dict[tuple[str, int], list[tuple]] = {}
+    for key, routes in wiring.clock_routes.items():
+        for route in routes:
+            sources = [value.source for value in route.values]
+            by_type: dict[str, tuple[list[int], list[int]]] = {}
+            for i, value in enumerate(route.values):
+                vrs, indices = by_type.setdefault(value.target.type, ([], []))
+                vrs.append(value.target.value_reference)
+                indices.append(i)
+            batches = [(fmi_type, vrs, indices) for fmi_type, (vrs, indices) in by_type.items()]
+            plans.setdefault(key, []).append((route.target, route.target_clock, sources, batches))
+    return plans
+
+
+def _clocked_columns(wiring) -> list[tuple[FmuInstance, list[tuple[int, object, frozenset[int]]]]]:
+    """The recorded clocked variables per instance: (row position, variable, its clocks)."""
+    by_instance: dict[str, tuple[FmuInstance, list]] = {}
+    for i, column in enumerate(wiring.columns):
+        if column.kind == CLOCKED:
+            cells = by_instance.setdefault(column.instance.name, (column.instance, []))[1]
+            cells.append((2 + i, column.variable, frozenset(column.variable.clocks)))
+    return list(by_instance.values())
+
+
+def _event_values(instances: list[FmuInstance]) -> dict[str, dict[int, list]]:
+    """Per instance and clock: the clocked inputs and outputs the events log shows with it."""
+    return {u.name: {c.value_reference: [v for v in u.md.variables if c.value_reference in v.clocks and not v.is_clock
+                                         and v.causality in ("input", "output")]
+                     for c in u.md.variables if c.is_clock}
+            for u in instances}
