@@ -120,7 +120,7 @@ class Master:
                 if self.event_instances:
                     self._event_iteration(t)
                 else:
-                    self._record(t, 0)
+                    self._record(t, 0, event=False)
                     self.recorder.flush()
                 # Pacing starts once the system is initialised: loading and instantiating the FMUs
                 # is not simulated time, and must not show as lag.
@@ -222,7 +222,7 @@ class Master:
         if event or self._next_event <= t + tolerance(t):
             return t, True
         self.values.exchange(self.instances)
-        self._record(t, 0)
+        self._record(t, 0, event=False)
         return t, False
 
     def _quiet_stretch(self, t: float) -> tuple[float, bool]:
@@ -432,7 +432,9 @@ class Master:
         return self._connections_around(find_cycle(drives), clocks=True)
 
     # -- recording ----------------------------------------------------------------------------
-    def _record(self, t: float, k: int) -> None:
+    def _record(self, t: float, k: int, event: bool = True) -> None:
+        """Record the row (t, k): of an event iteration, or a plain one (``event`` false, which
+        decimation may drop)."""
         # Instances with value connections were read while forwarding; read the others here.
         for u in self.wiring.record_reads:
             u.read_outputs()
@@ -450,7 +452,10 @@ class Master:
                 if live:
                     for (position, _), value in zip(live, u.clocked_values([var for _, var in live])):
                         row[position] = value
-        self.recorder.append_row(row)
+        if event:
+            self.recorder.append_event_row(row)
+        else:
+            self.recorder.append_row(row)
 
     def _log_events(self, t: float, k: int) -> None:
         if not self.recorder.recording_events:
