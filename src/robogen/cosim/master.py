@@ -104,6 +104,7 @@ class Master:
         self._stretch: Stretch | None = None  # None: every point goes through the general step
         self._pacer: Pacer | None = None
         self._timed: list[FmuInstance] = []  # the instances with time-based input clocks (known after setup)
+        self._aperiodic: list[FmuInstance] = []  # those with aperiodic ones
 
     # ------------------------------------------------------------------------------------
     # The run
@@ -166,6 +167,7 @@ class Master:
             u.set_start_values(spec.start)
             u.schedule_clocks(opt.start, {name: timing for name, (timing, _span) in spec.clocks.items()})
         self._timed = [u for u in self.instances if u.periodic or u.aperiodic]
+        self._aperiodic = [u for u in self.instances if u.aperiodic]
         # values in dependency order (Initialization Mode allows Get outputs / Set inputs)
         self._propagate(opt.start, clocks=False, event_mode=False)
         for u in self.instances:
@@ -200,9 +202,16 @@ class Master:
     def _refresh_timing(self, t: float) -> None:
         """The earliest clock tick or nextEventTime after t, over all FMUs (after setup and each Event Mode)."""
         limit = t + tolerance(t)
-        ticks = [tick for u in self._timed if (tick := u.next_tick()) > limit]
-        events = [u.next_event_time for u in self.instances if u.next_event_time is not None and u.next_event_time > limit]
-        self._next_event = min(ticks + events, default=math.inf)
+        earliest = math.inf
+        for u in self._timed:
+            tick = u.next_tick()
+            if limit < tick < earliest:
+                earliest = tick
+        for u in self.event_instances:  # only those in Event Mode announce a next event time
+            event = u.next_event_time
+            if event is not None and limit < event < earliest:
+                earliest = event
+        self._next_event = earliest
 
     # -- Step Mode ------------------------------------------------------------------------------
     def _advance(self, t: float) -> tuple[float, bool]:
@@ -299,24 +308,25 @@ class Master:
         for u in self._timed:
             u.activate_due_clocks(t, limit)
         k = 0
-        ticked_all: dict[str, set[int]] = {u.name: set() for u in self.instances}
+        ticked_all: dict[str, set[int]] = {u.name: set() for u in self._aperiodic}  # for the changing clocks' intervals
+        last = self.system.max_event_iterations - 1
         while True:
             self.stats.instants += 1
             self._propagate(t, clocks=True, event_mode=True)
             self._record(t, k)
             self._log_events(t, k)
-            ticked = {u.name: set(u.active) for u in self.instances}
-            for name, vrs in ticked.items():
-                ticked_all[name] |= vrs
+            for u in self._aperiodic:
+                ticked_all[u.name] |= u.active
+            ticked = {u.name: set(u.active) for u in self.instances} if k >= last else None  # for the Zeno error
             needs = self._update_discrete_states(t)
             k += 1
-            changed = self.values.exchange(self.instances) if not needs else False
+            changed = self.values.exchange(self.instances) if not needs and self.values.connected else False
             if not needs and not changed:
                 break
             if k >= self.system.max_event_iterations:
                 self._zeno(t, k, needs, ticked)
         for u in self._timed:
-            u.read_intervals(t, ticked_all[u.name])
+            u.read_intervals(t, ticked_all.get(u.name, ()))
         self._record(t, k)
         self.recorder.flush()
         for u in self.event_instances:
@@ -338,8 +348,15 @@ class Master:
         return needs
 
     def _propagate(self, t: float, clocks: bool, event_mode: bool) -> None:
-        """Forward clocks and values in dependency order until nothing new happens at this instant."""
+        """Forward clocks and values in dependency order until nothing new happens at this instant
+        (without connections: read each instance's output clocks, nothing to forward)."""
         instances = self.event_instances if event_mode else self.instances
+        if not self._routes and not self.values.connected:
+            if clocks:
+                for u in instances:
+                    if u.out_clocks:
+                        u.active.update(u.read_clocks())
+            return
         heap = [(self.rank[u.name], u.name) for u in instances]
         heapq.heapify(heap)
         queued = {u.name for u in instances}
