@@ -99,6 +99,7 @@ class Master:
         self._routes = _route_plans(self.wiring)
         self._clocked_columns = _clocked_columns(self.wiring)
         self._event_values = _event_values(instances)
+        self._events_logged = recorder.recording_events
         self._stop_limit = options.stop - tolerance(options.stop)
         self._next_event = math.inf
         self._stretch: Stretch | None = None  # None: every point goes through the general step
@@ -475,7 +476,7 @@ class Master:
             self.recorder.append_row(row)
 
     def _log_events(self, t: float, k: int) -> None:
-        if not self.recorder.recording_events:
+        if not self._events_logged:
             return
         for u in self.instances:
             for vr in sorted(u.active):

@@ -200,6 +200,8 @@ class Recorder:
     def flush(self) -> None:
         """Flush the CSV and events files (a Parquet file is written by row groups and completed
         at close: flushing would only make its row groups small)."""
+        if self._file is None and self._events is None:
+            return  # nothing to flush (rows kept in memory, or a Parquet file)
         self._flush_due = _time.monotonic() + FLUSH_SECONDS
         for f in (self._file, self._events):
             if f is not None:
