@@ -69,13 +69,19 @@ class _Binding:
     def fmi3SetClock(self, vrs, n, values):
         pass
 
+    def fmi3GetClock(self, vrs, n, values):
+        self.gets.append(["clocks", *vrs[0:n]])
+        for i in range(n):
+            values[i] = self.values[vrs[i]]
+
 
 def _instance() -> tuple[FmuInstance, _Binding]:
     """Input clocks a (1), b (2); output clock y (3) clocking o_a (4, depends on a), o_none (5,
-    depends on nothing) and o_all (6, no dependencies attribute: on everything)."""
+    depends on nothing) and o_all (6, no dependencies attribute: on everything); an input p (7)."""
     clocks = [Variable(n, vr, "Clock", c, "discrete", interval_variability="triggered")
               for n, vr, c in (("a", 1, "input"), ("b", 2, "input"), ("y", 3, "output"))]
     outputs = [Variable(n, vr, "Int64", "output", "discrete", clocks=(3,)) for n, vr in (("o_a", 4), ("o_none", 5), ("o_all", 6))]
+    outputs.append(Variable("p", 7, "Int64", "input", "discrete", start=("0",)))
     unknowns = (Unknown("Output", 3, (1, 2)), Unknown("Output", 4, (1,)), Unknown("Output", 5, ()), Unknown("Output", 6, None))
     md = ModelDescription("m", "{token}", CoSimulation("m", has_event_mode=True), tuple(clocks + outputs), unknowns)
     binding = _Binding({4: 40, 5: 50, 6: 60})
@@ -100,3 +106,19 @@ def test_a_clocked_output_is_read_again_only_after_a_set_it_depends_on():
     u.new_instant()  # after fmi3UpdateDiscreteStates every output may have changed
     assert u.clocked_values([o_none]) == [51]
     assert binding.gets[3:] == [[5]]
+
+
+def test_an_output_clock_is_read_again_only_after_a_set_it_depends_on():
+    u, binding = _instance()
+    binding.values[3] = False
+    u.watch_clocks([3])  # y depends on the input clocks a and b
+    assert u.read_clocks() == [] and u.read_clocks() == []
+    assert binding.gets == [["clocks", 3]]
+    binding.values[3] = True
+    u.set_values("Int64", [7], [0])  # p: not an input y depends on
+    assert u.read_clocks() == [] and len(binding.gets) == 1
+    u.set_clocks([2])
+    assert u.read_clocks() == [3]
+    assert binding.gets == [["clocks", 3], ["clocks", 3]]
+    u.new_instant()
+    assert u.read_clocks() == [3] and len(binding.gets) == 3

@@ -11,8 +11,8 @@ current super-dense instant.
 In Event Mode the master reads clocked values and sets inputs in batches: one Get or Set call per
 type for all the variables a clock carries (:meth:`FmuInstance.clocked_values`,
 :meth:`FmuInstance.set_values`), through buffers made once per set of value references. A
-clocked output read in a super-dense instant is not read again in that instant unless a call
-since could have changed it. FMI 3.0 lets an output change in Event Mode only through
+clocked output or an output clock read in a super-dense instant is not read again in that
+instant unless a call since could have changed it. FMI 3.0 lets an output change in Event Mode only through
 fmi3UpdateDiscreteStates (which closes the instant) or a Set/SetClock of a known it depends on:
 its ``<Output dependencies>`` in the ModelStructure (none given: every known). So a Set or
 SetClock forgets the outputs that depend on what it set, and :meth:`FmuInstance.new_instant`
@@ -248,13 +248,22 @@ class FmuInstance:
         return r.values[i]
 
     def read_clocks(self) -> list[int]:
-        """Output clocks (of those watched) that read active now."""
+        """Output clocks (of those watched) that read active now: not read again in an instant
+        where nothing they depend on was set since (see the module docstring)."""
         n = len(self.out_clocks)
         if not n:
             return []
+        fresh = self._fresh
+        if all(vr in fresh for vr in self.out_clocks):
+            return [vr for vr in self.out_clocks if fresh[vr]]
         buf = self.out_clock_buffer
         self.binding.fmi3GetClock(self.out_clock_vrs, n, buf)
-        return [vr for i, vr in enumerate(self.out_clocks) if buf[i]]
+        active = []
+        for i, vr in enumerate(self.out_clocks):
+            fresh[vr] = on = bool(buf[i])
+            if on:
+                active.append(vr)
+        return active
 
     def get_one(self, var: Variable):
         return self.binding.get_values(var.type, [var.value_reference])[0]
