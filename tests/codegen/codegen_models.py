@@ -48,6 +48,7 @@ TEST_MODELS = {
         ModelCase("ur5e_rct", ROOT / "models" / "ur5e" / "ur5e.rct"),
         ModelCase("gripper", MODELS / "gripper.rst"),
         ModelCase("twins", MODELS / "twins.rct"),
+        ModelCase("clashes", MODELS / "clashes.rct"),
     )
 }
 OWN_MODELS = [n for n in TEST_MODELS if n != "ur5e"]

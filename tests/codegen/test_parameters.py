@@ -14,7 +14,7 @@ import re
 
 import pytest
 
-from codegen_driver import FmuRunner, Instant, Scenario, Tick, interpret
+from codegen_driver import FmuRunner, Instant, Scenario, Tick, run_checked
 from codegen_models import TEST_MODELS
 from robogen.codegen.api import lower_paths
 from robogen.cosim import fmi3
@@ -63,14 +63,8 @@ def test_parameters_set_in_initialization_reach_the_operations(built, semantics)
     b = built("gripper", semantics)
     inputs = {1: CLOSE, 3: CLOSED, 4: OPEN, 5: OPENED}
     scenario = Scenario([Instant(True, (inputs[t],) if t in inputs else ()) for t in range(7)], half=False)
-    runner = FmuRunner(b.folder)
-    try:
-        trace = runner.run(scenario, parameters=SETTINGS)
-        default = runner.run(scenario)
-    finally:
-        runner.close()
+    trace, default = run_checked(b, scenario, SETTINGS), run_checked(b, scenario)
     assert trace.error is None, trace.error
-    assert trace.comparable() == interpret(b.fmu, scenario, runner.desc, parameters=SETTINGS).comparable()
     calls = {s.instant: s.outputs for s in trace.steps if s.outputs}
     assert calls == {
         0: {"setvelocity": {"setvelocity.target_v": 0.25}},
@@ -127,11 +121,7 @@ def test_move_commands_give_the_case_study_trace(built, semantics):
     scenario = Scenario([Instant(True, (MOVE_INPUTS[t],) if t in MOVE_INPUTS else ()) for t in range(10)], half=False)
     traces = {}
     for name in ("gripper", "ur5e"):
-        runner = FmuRunner(built(name, semantics).folder)
-        try:
-            traces[name] = runner.run(scenario)
-        finally:
-            runner.close()
+        traces[name] = run_checked(built(name, semantics), scenario)
         assert traces[name].error is None
     ours = _arm_calls(built("gripper", semantics), traces["gripper"].steps)
     assert ours == _arm_calls(built("ur5e", semantics), traces["ur5e"].steps)

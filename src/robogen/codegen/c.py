@@ -408,10 +408,13 @@ class Emitter:
             lines.append(f"{inner}{self.fault_return}")
             self.fallible = False
         temporaries = [f"a{k}_" for k in range(len(values))]
+        read: set[int] = set()  # arguments some route reads: the others are evaluated for their faults only
         for route in s.routes:
             if route[0] == "port":
                 lines += self._to_port(route[1], temporaries, inner)
+                read |= {k for k, _ in self._port_reads(route[1])}
             else:
+                read.add(0)
                 _, mi, ei = route
                 self.delivers_to.add(mi)
                 target = self.names.machines[mi]
@@ -422,7 +425,7 @@ class Emitter:
                 lines.append(f"{inner}rg_deliver(d, &{target.event_table}[{target.events[ei]}], {value});")
         if not s.routes:
             lines.append(f"{inner}/* {c_comment(s.name)} is connected to nothing: evaluated, sent nowhere */")
-            lines += [f"{inner}(void){t};" for t in temporaries]
+        lines += [f"{inner}(void){t};" for k, t in enumerate(temporaries) if k not in read]
         lines.append(f"{indent}}}")
         return lines
 

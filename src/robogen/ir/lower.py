@@ -55,7 +55,7 @@ def lower(model: SemanticModel, boundary: Boundary, options: LoweringOptions | N
         with working_on(ml.scope.node.span):
             ml.build()
     ctx.sink.raise_if_errors()
-    fmu.warnings = ctx.sink.warnings
+    fmu.warnings += ctx.sink.warnings
     return fmu
 
 

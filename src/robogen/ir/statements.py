@@ -178,7 +178,8 @@ class StatementLowering:
         values = tuple(self.conv(self.expr(a, graph), self._norm(pt), a.span) for a, (_, pt) in zip(args, op.params))
         definition = self.software_operation(op.name, graph.scope) if not op.platform else None
         if definition is None:
-            cur.stmts.append(ir.Emit(span, op.name, values, self.ports.output_routes(self, op.name, "operation", span)))  # type: ignore[arg-type]
+            params = tuple((p, self._norm(t)) for p, t in op.params)
+            cur.stmts.append(ir.Emit(span, op.name, values, self.ports.output_routes(self, op.name, "operation", span, params)))  # type: ignore[arg-type]
             return cur
         return self._inline(definition, values, cur, graph, span)
 
