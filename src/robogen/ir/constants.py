@@ -8,6 +8,7 @@ from __future__ import annotations
 from fractions import Fraction
 
 from robogen.diagnostics import RobogenError, Span
+from robogen.ir import model as ir
 from robogen.semantics import types as T
 from robogen.semantics.model import EnumLitSym, SemanticModel, VarSym
 from robogen.syntax import ast
@@ -52,6 +53,16 @@ def default_value(t: T.Type, real_zero: object = Fraction(0)) -> object:
         size = t.size if isinstance(t, T.VectorT) else (t.rows or 0) * (t.columns or 0)
         return [default_value(t.element, real_zero) for _ in range(size or 0)]
     return 0  # nat, int, and the first literal of an enumeration
+
+
+def default_expr(t: T.Type) -> ir.Expr:
+    """The default value of type ``t`` as an IR expression (a record literal's omitted fields)."""
+    if isinstance(t, T.RecordT):
+        return ir.RecordLit(t, tuple((n, default_expr(ft)) for n, ft in t.fields))
+    if isinstance(t, (T.VectorT, T.MatrixT)):
+        size = t.size if isinstance(t, T.VectorT) else (t.rows or 0) * (t.columns or 0)
+        return ir.VectorLit(t, tuple(default_expr(t.element) for _ in range(size or 0)))
+    return ir.Lit(t, default_value(t))
 
 
 def shown(value: object, t: T.Type) -> str:
@@ -105,4 +116,4 @@ def _evaluate(e: ast.Expr, model: SemanticModel, known: dict[str, object]):
     raise KeyError(type(e).__name__)
 
 
-__all__ = ["parse_setting", "constant_value", "default_value", "shown"]
+__all__ = ["parse_setting", "constant_value", "default_value", "default_expr", "shown"]

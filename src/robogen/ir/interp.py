@@ -522,7 +522,7 @@ def arith(op: str, a, b, t: T.Type):
             if b == 0.0:
                 raise RuntimeFault("division by zero")
             return a / b
-        if op == "mod":  # pragma: no cover - the checker rejects % on reals
+        if op == "mod":  # RoboChart's % on reals: fmod, the sign of the dividend as on integers
             if b == 0.0:
                 raise RuntimeFault("division by zero")
             return math.fmod(a, b)

@@ -204,6 +204,9 @@ class StatementLowering:
         the block where the caller goes on when the operation reaches its final node."""
         if op.name in self.inline_stack:
             raise not_supported(f"the recursive call of operation '{op.name}'", span)
+        if op.region is None or not op.region.initials():
+            raise not_supported(f"a call of operation '{op.name}', whose definition has no initial node (an abstract "
+                                "operation: the model gives it no behaviour to generate)", span)
         self.site += 1
         site = self.site
         after = self.block(f"after {op.name}()", span)
