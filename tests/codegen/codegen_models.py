@@ -49,6 +49,7 @@ TEST_MODELS = {
         ModelCase("gripper", MODELS / "gripper.rst"),
         ModelCase("twins", MODELS / "twins.rct"),
         ModelCase("clashes", MODELS / "clashes.rct"),
+        ModelCase("opconsts", MODELS / "opconsts.rct"),
         ModelCase("linear", MODELS / "linear.rst", choices={"y.value": [-2.5, -1.0, 0.5, 1.5, 3.0, 1e300, 0.0]}),
     )
 }

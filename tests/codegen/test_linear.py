@@ -16,15 +16,18 @@ def outputs(trace) -> dict[int, dict]:
 @pytest.mark.parametrize("semantics", ["exhaustive", "stepwise"])
 def test_vector_and_matrix_arithmetic(built, semantics):
     """u = (3, -4), w = (1, 2), m the quarter turn ((0, -1), (1, 0)): mm = m * m = -I,
-    mm * w + m * u = (-1, -2) + (4, 3) = (3, 1), u * w = 3 - 8 = -5, r * (2.0, 2.0) = 1.0 + 3.0."""
+    mm * w + m * u + shift = (-1, -2) + (4, 3) + (1, -1) = (4, 0), u * w = 3 - 8 = -5,
+    r * (2.0, 2.0) = 1.0 + 3.0. The constants start with their values (row-major)."""
     b = built("linear", semantics)
     scenario = Scenario([Instant(True, (Tick("v", {"v.value": [1, 2]}),)), Instant(True)], half=False)
     got = outputs(run_checked(b, scenario))
     assert got[1] == {
         "sum": {"sum.value": [4, -2]}, "diff": {"diff.value": [2, -6]}, "neg": {"neg.value": [-1, -2]},
-        "scaled": {"scaled.value": [2, 4]}, "rotated": {"rotated.value": [3, 1]}, "dot": {"dot.value": -5},
+        "scaled": {"scaled.value": [2, 4]}, "rotated": {"rotated.value": [4, 0]}, "dot": {"dot.value": -5},
         "twice": {"twice.value": 4.0}, "always": {"always.value": True}, "never": {"never.value": False},
     }
+    xml = b.sources["modelDescription.xml"]
+    assert 'name="Lin.m" valueReference=' in xml and 'start="0 -1 1 0"' in xml and 'start="1 -1"' in xml
     assert "n >= " not in b.sources["sources/model.c"] and "n < " not in b.sources["sources/model.c"]
 
 

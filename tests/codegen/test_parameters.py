@@ -129,3 +129,17 @@ def test_move_commands_give_the_case_study_trace(built, semantics):
     second = {"movediscrete.target_X": 1, "movediscrete.target_Y": 1, "movediscrete.target_Z": 1}
     assert ours == {1: [("movediscrete", move)], 2: [("movediscrete", move)], 4: [("stop", {})],
                     7: [("movediscrete", second)], 8: [("movediscrete", second)]}
+
+
+def test_constants_that_operations_need_are_parameters_of_the_machine(built):
+    """opconsts.rct: clamp(r) reports min(r, limit) + bias, scale(r) sends scaled 3 r. With limit = 5
+    and bias = 100: readings 9 and 3 give 105 and 103; without settings both start at 0."""
+    b = built("opconsts", "exhaustive")
+    assert [(p.fmi_name, p.free) for p in b.fmu.params] == [("Clamper.clamp.bias", True), ("Clamper.limit", True)]
+    assert [w.span.line for w in b.fmu.warnings] == [25, 8]
+    reading = lambda v: Instant(True, (Tick("reading", {"reading.value": v}),))  # noqa: E731
+    scenario = Scenario([reading(9), reading(3)], half=False)
+    got = run_checked(b, scenario, {"Clamper.limit": 5, "Clamper.clamp.bias": 100})
+    assert [s.outputs for s in got.steps] == [{"report": {"report.value": 105}, "scaled": {"scaled.value": 27}},
+                                             {"report": {"report.value": 103}, "scaled": {"scaled.value": 9}}]
+    assert [s.outputs["report"] for s in run_checked(b, scenario).steps] == [{"report.value": 0}] * 2

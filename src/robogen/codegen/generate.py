@@ -286,11 +286,15 @@ def _equalities(types: list[T.Type], needed: set[str]) -> tuple[list[str], dict[
 
 
 def _param_starts(p: ir.Param) -> list[tuple[str, str]]:
-    """The start value rg_model_reset writes (none for records, vectors and matrices: the
-    instance's memory starts zeroed, which is their default value)."""
-    if p.value is None or isinstance(p.var.type, (T.RecordT, T.VectorT, T.MatrixT)):
+    """The start values rg_model_reset writes: (C access inside the parameter, value); each
+    element of a vector or matrix. None for records and for a value the model leaves out: the
+    instance's memory starts zeroed, which is their default value."""
+    t = p.var.type
+    if isinstance(t, (T.VectorT, T.MatrixT)) and isinstance(p.value, list):
+        return [(f".a[{k}]", literal(x, t.element)) for k, x in enumerate(p.value)]
+    if p.value is None or isinstance(t, (T.RecordT, T.VectorT, T.MatrixT)):
         return []
-    return [("", literal(p.value, p.var.type))]
+    return [("", literal(p.value, t))]
 
 
 # ---------------------------------------------------------------------------- layout
@@ -346,6 +350,8 @@ class _Layout:
     def _start(self, t: T.Type, value: object = None) -> str:
         if isinstance(t, (T.VectorT, T.MatrixT)):
             element, dims = _shape(t)
+            if isinstance(value, list):
+                return " ".join(self._start(element, x) for x in value)
             return " ".join([self._start(element)] * (dims[0] * (dims[1] if len(dims) > 1 else 1)))
         if t == T.BOOLEAN:
             return "true" if value else "false"

@@ -83,8 +83,18 @@ def constant_value(e: ast.Expr, t: T.Type, model: SemanticModel, known: dict[str
     ``known`` holds the values of the constants declared before it."""
     try:
         v = _evaluate(e, model, known)
+        return _typed(v, t)
     except (KeyError, ZeroDivisionError, TypeError):
         return None
+
+
+def _typed(v: object, t: T.Type) -> object:
+    """A computed value as a value of ``t`` (numbers of a real type exact fractions, vectors and
+    matrices row-major lists of their elements)."""
+    if isinstance(t, (T.VectorT, T.MatrixT)):
+        if not isinstance(v, list):
+            raise TypeError("not a vector")
+        return [_typed(x, t.element) for x in v]
     if t == T.REAL and isinstance(v, (int, Fraction)) and not isinstance(v, bool):
         return Fraction(v)
     return v
@@ -104,6 +114,8 @@ def _evaluate(e: ast.Expr, model: SemanticModel, known: dict[str, object]):
         if isinstance(sym, VarSym) and sym.kind == "const":
             return known[sym.name]
         raise KeyError(e.text)
+    if isinstance(e, ast.VectorLit):  # row-major
+        return [_evaluate(x, model, known) for row in e.rows for x in row]
     if isinstance(e, ast.Unary):
         v = _evaluate(e.operand, model, known)
         return (not v) if e.op == "not" else -v

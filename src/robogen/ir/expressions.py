@@ -77,8 +77,9 @@ class ExpressionLowering:
         if not isinstance(sym, VarSym):
             raise not_supported("this variable reference", span)
         var = graph.env.get(sym.name) or self.vars.get(sym.name)
-        if var is None and sym.shared and sym.kind == "var":
-            # a variable the controller provides, used by an operation the machine calls
+        if var is None and ((sym.shared and sym.kind == "var") or sym.kind == "const"):
+            # a variable the controller provides, or a constant an operation requires, used by
+            # an operation the machine calls: the machine's (a constant: an FMU parameter)
             var = self._declare_var(sym, sym.name)
         if var is None:
             raise not_supported(f"variable '{sym.name}' here", span)

@@ -58,6 +58,8 @@ def _zero(t: T.Type):
 
 def python_value(v: object, t: T.Type):
     """A literal of the IR as the interpreter's value."""
+    if isinstance(t, (T.VectorT, T.MatrixT)) and isinstance(v, list):  # a parameter's start value
+        return [python_value(x, t.element) for x in v]
     if t == T.REAL:
         return float(v)  # type: ignore[arg-type]
     if t == T.BOOLEAN:

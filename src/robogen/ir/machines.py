@@ -100,15 +100,20 @@ class MachineLowering(StatementLowering, ExpressionLowering):
         if v.shared and v.kind == "var":
             shared[key] = var
         if v.kind == "const":
-            self._constant(var, v)
+            self._constant(var, v, f"{self.machine.name}.{name}")
         return var
 
-    def _constant(self, var: ir.Var, v: VarSym) -> None:
+    def operation_constant(self, op: MachineScope, v: VarSym) -> ir.Var:
+        """A constant an operation declares without a value: one FMU parameter of the machine,
+        ``<machine>.<operation>.<name>``, whichever call site reads it."""
+        name = f"{op.name}.{v.name}"
+        return self.vars.get(name) or self._declare_var(v, name)
+
+    def _constant(self, var: ir.Var, v: VarSym, fmi_name: str) -> None:
         """A constant is an FMU parameter; its start value comes from --set, its initialiser, or
         (a constant the model leaves without a value) the default value of its type, with a
         warning: the importer sets it in Initialization Mode."""
         fmu = self.ctx.fmu
-        fmi_name = f"{self.machine.name}.{v.name}"
         settings = self.ctx.settings
         text = settings.get(fmi_name, settings.get(v.name))
         value: object = None

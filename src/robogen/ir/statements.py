@@ -244,6 +244,9 @@ class StatementLowering:
         for name, v in op.vars.items():
             if v.shared:
                 continue
+            if v.kind == "const" and v.init is None:  # a parameter of the FMU, not of the call
+                env[name] = self.operation_constant(op, v)
+                continue
             t = self._norm(v.type)
             check_codegen_type(t, v.span, f"variable '{name}' of operation '{op.name}'")
             var = ir.Var(f"{op.name}#{site}.{name}", t, "local", None, v.span, False, len(self.machine.vars))

@@ -8,8 +8,8 @@
 #include <stdint.h>
 
 #define RG_MODEL_IDENTIFIER "Lin"
-#define RG_INSTANTIATION_TOKEN "{6af18246-ccde-0443-87c0-9cbeadffad2e}"
-#define RG_NUM_VARIABLES 45
+#define RG_INSTANTIATION_TOKEN "{ff1c8dc6-f889-80f8-9ed8-53f02fefc72c}"
+#define RG_NUM_VARIABLES 46
 #define RG_NUM_CLOCKS 15
 #define RG_MIGHT_RETURN_EARLY 0
 #define RG_STEPWISE 0  /* 1: stepwise semantics, one transition per fmi3UpdateDiscreteStates */
@@ -71,7 +71,8 @@ typedef struct {
     double reg_e_y, smp_e_y;  /* the value of y */
     rg_vec_i_2 v_u;  /* var u */
     rg_vec_i_2 v_w;  /* var w */
-    rg_mat_i_2_2 v_m;  /* var m */
+    rg_mat_i_2_2 v_m;  /* const m */
+    rg_vec_i_2 v_shift;  /* const shift */
     rg_mat_i_2_2 v_mm;  /* var mm */
     rg_vec_r_2 v_r;  /* var r */
     double v_q;  /* var q */

@@ -82,20 +82,21 @@ static const rg_variable rg_variables[RG_NUM_VARIABLES] = {
     { 29, "always.value", RG_BOOLEAN, RG_OUTPUT, RG_DISCRETE, 13, offsetof(rg_model_data, out_always_value), 1, false },
     { 30, "never", RG_CLOCK, RG_OUTPUT, RG_DISCRETE, -1, 0, 1, false },
     { 31, "never.value", RG_BOOLEAN, RG_OUTPUT, RG_DISCRETE, 14, offsetof(rg_model_data, out_never_value), 1, false },
-    { 32, "Lin.state", RG_INT64, RG_OUTPUT, RG_DISCRETE, -1, offsetof(rg_model_data, m0.node), 1, false },
-    { 33, "cycles", RG_UINT64, RG_OUTPUT, RG_DISCRETE, -1, offsetof(rg_model_data, cycles), 1, false },
-    { 34, "dropped_events", RG_UINT64, RG_OUTPUT, RG_DISCRETE, -1, offsetof(rg_model_data, dropped_events), 1, false },
-    { 35, "deadline_misses", RG_UINT64, RG_OUTPUT, RG_DISCRETE, -1, offsetof(rg_model_data, deadline_misses), 1, false },
-    { 36, "Lin.u", RG_INT64, RG_LOCAL, RG_DISCRETE, -1, offsetof(rg_model_data, m0.v_u), 2, false },
-    { 37, "Lin.w", RG_INT64, RG_LOCAL, RG_DISCRETE, -1, offsetof(rg_model_data, m0.v_w), 2, false },
-    { 38, "Lin.m", RG_INT64, RG_LOCAL, RG_DISCRETE, -1, offsetof(rg_model_data, m0.v_m), 4, false },
-    { 39, "Lin.mm", RG_INT64, RG_LOCAL, RG_DISCRETE, -1, offsetof(rg_model_data, m0.v_mm), 4, false },
-    { 40, "Lin.r", RG_FLOAT64, RG_LOCAL, RG_DISCRETE, -1, offsetof(rg_model_data, m0.v_r), 2, false },
-    { 41, "Lin.q", RG_FLOAT64, RG_LOCAL, RG_DISCRETE, -1, offsetof(rg_model_data, m0.v_q), 1, false },
-    { 42, "Lin.n", RG_UINT64, RG_LOCAL, RG_DISCRETE, -1, offsetof(rg_model_data, m0.v_n), 1, false },
-    { 43, "Lin.last.value", RG_FLOAT64, RG_LOCAL, RG_DISCRETE, -1, offsetof(rg_model_data, m0.v_last.value), 1, false },
-    { 44, "Lin.last.count", RG_UINT64, RG_LOCAL, RG_DISCRETE, -1, offsetof(rg_model_data, m0.v_last.count), 1, false },
-    { 45, "Lin.last.ok", RG_BOOLEAN, RG_LOCAL, RG_DISCRETE, -1, offsetof(rg_model_data, m0.v_last.ok), 1, false },
+    { 32, "Lin.m", RG_INT64, RG_PARAMETER, RG_FIXED, -1, offsetof(rg_model_data, m0.v_m), 4, true },
+    { 33, "Lin.shift", RG_INT64, RG_PARAMETER, RG_FIXED, -1, offsetof(rg_model_data, m0.v_shift), 2, true },
+    { 34, "Lin.state", RG_INT64, RG_OUTPUT, RG_DISCRETE, -1, offsetof(rg_model_data, m0.node), 1, false },
+    { 35, "cycles", RG_UINT64, RG_OUTPUT, RG_DISCRETE, -1, offsetof(rg_model_data, cycles), 1, false },
+    { 36, "dropped_events", RG_UINT64, RG_OUTPUT, RG_DISCRETE, -1, offsetof(rg_model_data, dropped_events), 1, false },
+    { 37, "deadline_misses", RG_UINT64, RG_OUTPUT, RG_DISCRETE, -1, offsetof(rg_model_data, deadline_misses), 1, false },
+    { 38, "Lin.u", RG_INT64, RG_LOCAL, RG_DISCRETE, -1, offsetof(rg_model_data, m0.v_u), 2, false },
+    { 39, "Lin.w", RG_INT64, RG_LOCAL, RG_DISCRETE, -1, offsetof(rg_model_data, m0.v_w), 2, false },
+    { 40, "Lin.mm", RG_INT64, RG_LOCAL, RG_DISCRETE, -1, offsetof(rg_model_data, m0.v_mm), 4, false },
+    { 41, "Lin.r", RG_FLOAT64, RG_LOCAL, RG_DISCRETE, -1, offsetof(rg_model_data, m0.v_r), 2, false },
+    { 42, "Lin.q", RG_FLOAT64, RG_LOCAL, RG_DISCRETE, -1, offsetof(rg_model_data, m0.v_q), 1, false },
+    { 43, "Lin.n", RG_UINT64, RG_LOCAL, RG_DISCRETE, -1, offsetof(rg_model_data, m0.v_n), 1, false },
+    { 44, "Lin.last.value", RG_FLOAT64, RG_LOCAL, RG_DISCRETE, -1, offsetof(rg_model_data, m0.v_last.value), 1, false },
+    { 45, "Lin.last.count", RG_UINT64, RG_LOCAL, RG_DISCRETE, -1, offsetof(rg_model_data, m0.v_last.count), 1, false },
+    { 46, "Lin.last.ok", RG_BOOLEAN, RG_LOCAL, RG_DISCRETE, -1, offsetof(rg_model_data, m0.v_last.ok), 1, false },
 };
 
 /* ======== state machine linear::Lin (linear.rst:34) ======== */
@@ -183,7 +184,7 @@ static int rg_run_0(rg_instance *inst)
             d->out_scaled_value = ((rg_vec_i_2){ { rg_i_mul(INT64_C(2), m->v_w.a[0]), rg_i_mul(INT64_C(2), m->v_w.a[1]) } });
             rg_activate_output_clock(inst, CLOCK_scaled);
             m->v_mm = ((rg_mat_i_2_2){ { rg_i_add(rg_i_mul(m->v_m.a[0], m->v_m.a[0]), rg_i_mul(m->v_m.a[1], m->v_m.a[2])), rg_i_add(rg_i_mul(m->v_m.a[0], m->v_m.a[1]), rg_i_mul(m->v_m.a[1], m->v_m.a[3])), rg_i_add(rg_i_mul(m->v_m.a[2], m->v_m.a[0]), rg_i_mul(m->v_m.a[3], m->v_m.a[2])), rg_i_add(rg_i_mul(m->v_m.a[2], m->v_m.a[1]), rg_i_mul(m->v_m.a[3], m->v_m.a[3])) } });
-            d->out_rotated_value = ((rg_vec_i_2){ { rg_i_add(rg_i_add(rg_i_mul(m->v_mm.a[0], m->v_w.a[0]), rg_i_mul(m->v_mm.a[1], m->v_w.a[1])), rg_i_add(rg_i_mul(m->v_m.a[0], m->v_u.a[0]), rg_i_mul(m->v_m.a[1], m->v_u.a[1]))), rg_i_add(rg_i_add(rg_i_mul(m->v_mm.a[2], m->v_w.a[0]), rg_i_mul(m->v_mm.a[3], m->v_w.a[1])), rg_i_add(rg_i_mul(m->v_m.a[2], m->v_u.a[0]), rg_i_mul(m->v_m.a[3], m->v_u.a[1]))) } });
+            d->out_rotated_value = ((rg_vec_i_2){ { rg_i_add(rg_i_add(rg_i_add(rg_i_mul(m->v_mm.a[0], m->v_w.a[0]), rg_i_mul(m->v_mm.a[1], m->v_w.a[1])), rg_i_add(rg_i_mul(m->v_m.a[0], m->v_u.a[0]), rg_i_mul(m->v_m.a[1], m->v_u.a[1]))), m->v_shift.a[0]), rg_i_add(rg_i_add(rg_i_add(rg_i_mul(m->v_mm.a[2], m->v_w.a[0]), rg_i_mul(m->v_mm.a[3], m->v_w.a[1])), rg_i_add(rg_i_mul(m->v_m.a[2], m->v_u.a[0]), rg_i_mul(m->v_m.a[3], m->v_u.a[1]))), m->v_shift.a[1]) } });
             rg_activate_output_clock(inst, CLOCK_rotated);
             d->out_dot_value = rg_i_add(rg_i_mul(m->v_u.a[0], m->v_w.a[0]), rg_i_mul(m->v_u.a[1], m->v_w.a[1]));
             rg_activate_output_clock(inst, CLOCK_dot);
@@ -253,6 +254,12 @@ static void rg_model_reset(rg_instance *inst)
     rg_model_data *d = &inst->s.data;
     d->m0.pc = 0;
     d->m0.node = Lin_Node_i;
+    d->m0.v_m.a[0] = INT64_C(0);  /* Lin.m */
+    d->m0.v_m.a[1] = (int64_t)UINT64_C(18446744073709551615);  /* Lin.m */
+    d->m0.v_m.a[2] = INT64_C(1);  /* Lin.m */
+    d->m0.v_m.a[3] = INT64_C(0);  /* Lin.m */
+    d->m0.v_shift.a[0] = INT64_C(1);  /* Lin.shift */
+    d->m0.v_shift.a[1] = (int64_t)UINT64_C(18446744073709551615);  /* Lin.shift */
 }
 
 static fmi3Status rg_model_exit_initialization(rg_instance *inst)
@@ -261,7 +268,6 @@ static fmi3Status rg_model_exit_initialization(rg_instance *inst)
     {
         rg_machine_0 *m = &d->m0;
         m->v_u = ((rg_vec_i_2){ { INT64_C(3), rg_u_to_i(((uint64_t)rg_i_neg(INT64_C(4)))) } });  /* initial value of u */
-        m->v_m = ((rg_mat_i_2_2){ { INT64_C(0), rg_u_to_i(((uint64_t)rg_i_neg(INT64_C(1)))), INT64_C(1), INT64_C(0) } });  /* initial value of m */
         m->v_r = ((rg_vec_r_2){ { 0.5, 1.5 } });  /* initial value of r */
         m->v_q = 0.0;  /* initial value of q */
         m->v_n = UINT64_C(0);  /* initial value of n */
