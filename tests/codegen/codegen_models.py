@@ -55,6 +55,9 @@ TEST_MODELS = {
         ModelCase("ur5e_rct", ROOT / "models" / "ur5e" / "ur5e.rct"),
         ModelCase("gripper", MODELS / "gripper.rst"),
         ModelCase("twins", MODELS / "twins.rct"),
+        ModelCase("clashes", MODELS / "clashes.rct"),
+        ModelCase("opconsts", MODELS / "opconsts.rct"),
+        ModelCase("linear", MODELS / "linear.rst", choices={"y.value": [-2.5, -1.0, 0.5, 1.5, 3.0, 1e300, 0.0]}),
     )
 }
 OWN_MODELS = [n for n in TEST_MODELS if n != "ur5e"]

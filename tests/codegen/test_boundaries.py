@@ -13,7 +13,7 @@ import re
 
 import pytest
 
-from codegen_driver import FmuRunner, Instant, Scenario, Tick, interpret
+from codegen_driver import Instant, Scenario, Tick, run_checked
 from codegen_models import TEST_MODELS
 from robogen.cli import main
 from robogen.diagnostics import RobogenError
@@ -34,12 +34,7 @@ def test_instances_of_one_definition_have_their_own_variables(built):
     bump_l, bump_r, ping = Tick("bumpL", {}), Tick("bumpR", {}), Tick("ping", {})
     scenario = Scenario([Instant(True, (bump_l,)), Instant(True, (bump_r, ping)), Instant(True, (bump_l,))], half=False)
     settings = {"left.count.step": 2}
-    runner = FmuRunner(b.folder)
-    try:
-        trace = runner.run(scenario, parameters=settings)
-    finally:
-        runner.close()
-    assert trace.comparable() == interpret(b.fmu, scenario, runner.desc, parameters=settings).comparable()
+    trace = run_checked(b, scenario, settings)
     assert {s.instant: s.outputs for s in trace.steps if s.outputs} == {
         0: {"totalL": {"totalL.value": 3}},
         1: {"totalR": {"totalR.value": 1}, "pong": {}},
@@ -105,3 +100,24 @@ def test_a_model_with_nothing_to_compile_says_so(tmp_path, capsys):
     assert main(["compile", str(types), "-o", str(tmp_path / "out")]) == 1
     assert f"{types}:1:1: error: the model has no module and no state machine, so there is nothing to compile into an FMU " \
            "(it declares only types, interfaces or functions)" in capsys.readouterr().err
+
+
+def test_ports_named_like_fmi_or_another_port_are_renamed(built):
+    """clashes.rct: the clocks are renamed, each with a warning; a platform operation called
+    inside a software operation gets its argument (report(x * 2 + 1): 7 for time = 3)."""
+    b = built("clashes", "exhaustive")
+    assert [(w.span.line, w.message) for w in b.fmu.warnings] == [
+        (10, "input event 'time' becomes the FMI clock 'time_event': 'time' is FMI's independent variable"),
+        (11, "input event 'cycles' becomes the FMI clock 'cycles_event': 'cycles' is one of robogen's own FMI variables"),
+        (16, "platform operation 'stop' becomes the FMI clock 'stop_call': 'stop' is the clock of another port"),
+    ]
+    assert [(p.name, p.source) for p in b.fmu.inputs + b.fmu.outputs] == [
+        ("time_event", "time"), ("cycles_event", "cycles"), ("stop", "stop"), ("stop_call", "stop"), ("report", "report")]
+    scenario = Scenario([Instant(True, (Tick("time_event", {"time_event.value": 3}),)), Instant(True, (Tick("cycles_event", {}),)),
+                         Instant(True, (Tick("time_event", {"time_event.value": 4}),))], half=False)
+    trace = run_checked(b, scenario)
+    assert {s.instant: s.outputs for s in trace.steps if s.outputs} == {
+        0: {"stop": {}, "stop_call": {}, "report": {"report.level": 7}},
+        2: {"stop": {}, "stop_call": {}, "report": {"report.level": 9}},
+    }
+    assert [s.variables["Clash.seen"] for s in trace.steps] == [3, 103, 4]

@@ -14,7 +14,7 @@ import re
 
 import pytest
 
-from codegen_driver import FmuRunner, Instant, Scenario, Tick, interpret
+from codegen_driver import FmuRunner, Instant, Scenario, Tick, run_checked
 from codegen_models import TEST_MODELS
 from robogen.codegen.api import lower_paths
 from robogen.cosim import fmi3
@@ -63,14 +63,8 @@ def test_parameters_set_in_initialization_reach_the_operations(built, semantics)
     b = built("gripper", semantics)
     inputs = {1: CLOSE, 3: CLOSED, 4: OPEN, 5: OPENED}
     scenario = Scenario([Instant(True, (inputs[t],) if t in inputs else ()) for t in range(7)], half=False)
-    runner = FmuRunner(b.folder)
-    try:
-        trace = runner.run(scenario, parameters=SETTINGS)
-        default = runner.run(scenario)
-    finally:
-        runner.close()
+    trace, default = run_checked(b, scenario, SETTINGS), run_checked(b, scenario)
     assert trace.error is None, trace.error
-    assert trace.comparable() == interpret(b.fmu, scenario, runner.desc, parameters=SETTINGS).comparable()
     calls = {s.instant: s.outputs for s in trace.steps if s.outputs}
     assert calls == {
         0: {"setvelocity": {"setvelocity.target_v": 0.25}},
@@ -127,11 +121,7 @@ def test_move_commands_give_the_case_study_trace(built, semantics):
     scenario = Scenario([Instant(True, (MOVE_INPUTS[t],) if t in MOVE_INPUTS else ()) for t in range(10)], half=False)
     traces = {}
     for name in ("gripper", "ur5e"):
-        runner = FmuRunner(built(name, semantics).folder)
-        try:
-            traces[name] = runner.run(scenario)
-        finally:
-            runner.close()
+        traces[name] = run_checked(built(name, semantics), scenario)
         assert traces[name].error is None
     ours = _arm_calls(built("gripper", semantics), traces["gripper"].steps)
     assert ours == _arm_calls(built("ur5e", semantics), traces["ur5e"].steps)
@@ -139,3 +129,17 @@ def test_move_commands_give_the_case_study_trace(built, semantics):
     second = {"movediscrete.target_X": 1, "movediscrete.target_Y": 1, "movediscrete.target_Z": 1}
     assert ours == {1: [("movediscrete", move)], 2: [("movediscrete", move)], 4: [("stop", {})],
                     7: [("movediscrete", second)], 8: [("movediscrete", second)]}
+
+
+def test_constants_that_operations_need_are_parameters_of_the_machine(built):
+    """opconsts.rct: clamp(r) reports min(r, limit) + bias, scale(r) sends scaled 3 r. With limit = 5
+    and bias = 100: readings 9 and 3 give 105 and 103; without settings both start at 0."""
+    b = built("opconsts", "exhaustive")
+    assert [(p.fmi_name, p.free) for p in b.fmu.params] == [("Clamper.clamp.bias", True), ("Clamper.limit", True)]
+    assert [w.span.line for w in b.fmu.warnings] == [25, 8]
+    reading = lambda v: Instant(True, (Tick("reading", {"reading.value": v}),))  # noqa: E731
+    scenario = Scenario([reading(9), reading(3)], half=False)
+    got = run_checked(b, scenario, {"Clamper.limit": 5, "Clamper.clamp.bias": 100})
+    assert [s.outputs for s in got.steps] == [{"report": {"report.value": 105}, "scaled": {"scaled.value": 27}},
+                                             {"report": {"report.value": 103}, "scaled": {"scaled.value": 9}}]
+    assert [s.outputs["report"] for s in run_checked(b, scenario).steps] == [{"report.value": 0}] * 2

@@ -11,7 +11,7 @@ import re
 
 import pytest
 
-from codegen_driver import FmuRunner, Instant, Scenario, Tick, interpret
+from codegen_driver import FmuRunner, Instant, Scenario, Tick, interpret, run_checked
 
 
 def scenario(*instants: Instant) -> Scenario:
@@ -28,13 +28,7 @@ def tick(clock: str, **payload) -> Tick:
 
 def run_both(b, s: Scenario):
     """The FMU's trace, after checking that the interpreter's is the same."""
-    runner = FmuRunner(b.folder)
-    try:
-        got = runner.run(s)
-    finally:
-        runner.close()
-    assert got.comparable() == interpret(b.fmu, s, runner.desc).comparable()
-    return got
+    return run_checked(b, s)
 
 
 def last_steps(trace) -> dict[int, object]:

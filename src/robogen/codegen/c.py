@@ -190,6 +190,18 @@ def bare(text: str) -> str:
     return text
 
 
+def _fixed_offset(e: ir.IndexOf) -> int | None:
+    """The array offset of an element whose indices are literals in range (None otherwise)."""
+    if not all(isinstance(i, ir.Lit) and not isinstance(i.value, bool) for i in e.indices):
+        return None
+    ks = [int(i.value) - 1 for i in e.indices]  # type: ignore[attr-defined]
+    t = e.base.type
+    dims = [t.size] if isinstance(t, T.VectorT) else [t.rows, t.columns]  # type: ignore[attr-defined]
+    if len(ks) != len(dims) or not all(0 <= k < (n or 0) for k, n in zip(ks, dims)):
+        return None
+    return ks[0] if len(ks) == 1 else ks[0] * dims[1] + ks[1]
+
+
 class Emitter:
     """Translates the IR of machine ``machine`` into C text, inside its run function
     ``rg_run_<index>``: machine memory is ``m->``, model data ``d->``, the instance ``inst``."""
@@ -231,9 +243,12 @@ class Emitter:
         return f"{self.expr(e.base)}.{e.name}"
 
     def _IndexOf(self, e: ir.IndexOf) -> str:
-        self.fallible = True
         t = e.base.type
         base = self.expr(e.base)
+        fixed = _fixed_offset(e)
+        if fixed is not None:  # literal indices in range (vector arithmetic): no run-time check
+            return f"{base}.a[{fixed}]"
+        self.fallible = True
         if isinstance(t, T.VectorT):
             return f"{base}.a[rg_index(d, {self.expr(e.indices[0])}, {t.size})]"
         if isinstance(t, T.SeqT):
@@ -272,9 +287,9 @@ class Emitter:
             return f"({a} {dict(lt='<', le='<=', gt='>', ge='>=')[op]} {b})"
         t = e.type
         if t == T.REAL:
-            if op == "div":
+            if op in ("div", "mod"):
                 self.fallible = True
-                return f"rg_r_div(d, {a}, {b})"
+                return f"rg_r_{op}(d, {a}, {b})"
             return f"({a} {dict(add='+', sub='-', mul='*')[op]} {b})"
         if op in ("div", "mod"):
             self.fallible = True
@@ -433,10 +448,13 @@ class Emitter:
             lines.append(f"{inner}{self.fault_return}")
             self.fallible = False
         temporaries = [f"a{k}_" for k in range(len(values))]
+        read: set[int] = set()  # arguments some route reads: the others are evaluated for their faults only
         for route in s.routes:
             if route[0] == "port":
                 lines += self._to_port(route[1], temporaries, inner)
+                read |= {k for k, _ in self._port_reads(route[1])}
             else:
+                read.add(0)
                 _, mi, ei = route
                 self.delivers_to.add(mi)
                 target = self.names.machines[mi]
@@ -447,7 +465,7 @@ class Emitter:
                 lines.append(f"{inner}rg_deliver(d, &{target.event_table}[{target.events[ei]}], {value});")
         if not s.routes:
             lines.append(f"{inner}/* {c_comment(s.name)} is connected to nothing: evaluated, sent nowhere */")
-            lines += [f"{inner}(void){t};" for t in temporaries]
+        lines += [f"{inner}(void){t};" for k, t in enumerate(temporaries) if k not in read]
         lines.append(f"{indent}}}")
         return lines
 

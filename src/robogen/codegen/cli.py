@@ -25,7 +25,8 @@ def add_model_options(p: argparse.ArgumentParser) -> None:
     p.add_argument("--time-unit", metavar="SECONDS", default="1",
                    help="seconds per model time unit: the RoboSim period p becomes a clock interval of p x SECONDS; the RoboChart tock period (default 1)")
     p.add_argument("--set", metavar="NAME=VALUE", action="append", default=[],
-                   help="value of a model constant (repeatable); constants without a value in the model need one")
+                   help="value of a model constant (repeatable); a constant the model leaves without a value is otherwise an FMU "
+                        "parameter that starts at its type's default (0, 0.0, false, the first literal), set by the importer")
     p.add_argument("--given-type", choices=("int", "nat", "real"), default="int", help="the scalar type of given types (default int)")
     p.add_argument("--max-transitions", type=int, default=1000, metavar="N",
                    help="transitions per cycle before a runaway cycle is reported (default 1000)")

@@ -6,6 +6,7 @@ the C tables and the XML; output is deterministic (no time stamps, declaration o
 
 from __future__ import annotations
 
+import re
 from dataclasses import dataclass, field
 from fractions import Fraction
 from pathlib import Path
@@ -225,16 +226,25 @@ def _functions_file(fmu: ir.Fmu, path: Path | None) -> str | None:
     if not fmu.user_functions:
         return None
     if path is None:
-        raise RobogenError([
-            error(f"function '{u.name}' has no implementation: give robogen a C file with --functions", u.first_call or u.span,
-                  Note(f"the file must define: {user_function_prototype(u)} {{ ... }}"))
-            for u in fmu.user_functions
-        ])
+        raise _unimplemented(fmu.user_functions, "give robogen a C file with --functions")
     path = Path(path)
     try:
-        return path.read_text(encoding="utf-8")
+        text = path.read_text(encoding="utf-8")
     except (OSError, UnicodeDecodeError) as exc:
         raise RobogenError.at(f"cannot read the functions file {path}: {exc}", Span.whole_file(str(path))) from None
+    missing = [u for u in fmu.user_functions if not re.search(rf"\brg_user_{re.escape(u.name)}\s*\(", text)]
+    if missing:  # every one, located at its first call, rather than the C compiler's first complaint
+        raise _unimplemented(missing, f"{path} does not define it")
+    return text
+
+
+def _unimplemented(functions: Sequence[ir.UserFunction], why: str) -> RobogenError:
+    """One error per function, at its first call, spelling out the C definition to write."""
+    return RobogenError([
+        error(f"function '{u.name}' has no implementation: {why}", u.first_call or u.span,
+              Note(f"the file must define: {user_function_prototype(u)} {{ ... }}"))
+        for u in functions
+    ])
 
 
 def _typedef(t: T.Type, capacity: int) -> str:
@@ -291,11 +301,15 @@ STRUCTS = (T.RecordT, T.VectorT, T.MatrixT, T.SetT, T.SeqT)  # C types compared 
 
 
 def _param_starts(p: ir.Param) -> list[tuple[str, str]]:
-    """The start value rg_model_reset writes (none for records, vectors and matrices: the
-    instance's memory starts zeroed, which is their default value)."""
-    if p.value is None or isinstance(p.var.type, (T.RecordT, T.VectorT, T.MatrixT)):
+    """The start values rg_model_reset writes: (C access inside the parameter, value); each
+    element of a vector or matrix. None for records and for a value the model leaves out: the
+    instance's memory starts zeroed, which is their default value."""
+    t = p.var.type
+    if isinstance(t, (T.VectorT, T.MatrixT)) and isinstance(p.value, list):
+        return [(f".a[{k}]", literal(x, t.element)) for k, x in enumerate(p.value)]
+    if p.value is None or isinstance(t, (T.RecordT, T.VectorT, T.MatrixT)):
         return []
-    return [("", literal(p.value, p.var.type))]
+    return [("", literal(p.value, t))]
 
 
 # ---------------------------------------------------------------------------- layout
@@ -351,6 +365,8 @@ class _Layout:
     def _start(self, t: T.Type, value: object = None) -> str:
         if isinstance(t, (T.VectorT, T.MatrixT)):
             element, dims = _shape(t)
+            if isinstance(value, list):
+                return " ".join(self._start(element, x) for x in value)
             return " ".join([self._start(element)] * (dims[0] * (dims[1] if len(dims) > 1 else 1)))
         if t == T.BOOLEAN:
             return "true" if value else "false"
@@ -362,9 +378,11 @@ class _Layout:
         """An event or operation port: its triggered clock, then one clocked variable per field."""
         inward = causality == "input"
         if inward:
-            what = f"input event {port.name}"
+            what = f"input event {port.source}"
         else:
-            what = ("call of platform operation " if port.kind == "operation" else "output event ") + port.name
+            what = ("call of platform operation " if port.kind == "operation" else "output event ") + port.source
+        if port.model_name:
+            what += f" (renamed: the FMU has another variable named {port.source})"
         c = FmiVar(port.name, self._next_vr(), "Clock", causality, "discrete", interval_variability="triggered",
                    description=what, span=port.span)
         self._add_clock(c, "RG_CLOCK_INPUT_TRIGGERED" if inward else "RG_CLOCK_OUTPUT_TRIGGERED")
@@ -374,11 +392,11 @@ class _Layout:
             self._data(f.type, member, f"clocked {causality} {f.fmi_name}")
             fmi_type, declared = self._scalar(_shape(f.type)[0])
             if inward:
-                description = f"value of input event {port.name}"
+                description = f"value of input event {port.source}"
             elif port.kind == "operation":
-                description = f"argument {f.path[0]} of platform operation {port.name}"
+                description = f"argument {f.path[0]} of platform operation {port.source}"
             else:
-                description = f"value of output event {port.name}"
+                description = f"value of output event {port.source}"
             self.variables.append(FmiVar(
                 f.fmi_name, self._next_vr(), fmi_type, causality, "discrete", member,
                 start=self._start(f.type) if inward else None, clock=c.vr, clock_index=self.clock_index[port.name],

@@ -8,6 +8,7 @@ from __future__ import annotations
 from fractions import Fraction
 
 from robogen.diagnostics import RobogenError, Span
+from robogen.ir import model as ir
 from robogen.semantics import types as T
 from robogen.semantics.model import EnumLitSym, SemanticModel, VarSym
 from robogen.syntax import ast
@@ -56,6 +57,16 @@ def default_value(t: T.Type, real_zero: object = Fraction(0)) -> object:
     return 0  # nat, int, and the first literal of an enumeration
 
 
+def default_expr(t: T.Type) -> ir.Expr:
+    """The default value of type ``t`` as an IR expression (a record literal's omitted fields)."""
+    if isinstance(t, T.RecordT):
+        return ir.RecordLit(t, tuple((n, default_expr(ft)) for n, ft in t.fields))
+    if isinstance(t, (T.VectorT, T.MatrixT)):
+        size = t.size if isinstance(t, T.VectorT) else (t.rows or 0) * (t.columns or 0)
+        return ir.VectorLit(t, tuple(default_expr(t.element) for _ in range(size or 0)))
+    return ir.Lit(t, default_value(t))
+
+
 def shown(value: object, t: T.Type) -> str:
     """A start value as the model would write it (for messages)."""
     if t == T.REAL:
@@ -74,8 +85,18 @@ def constant_value(e: ast.Expr, t: T.Type, model: SemanticModel, known: dict[str
     ``known`` holds the values of the constants declared before it."""
     try:
         v = _evaluate(e, model, known)
+        return _typed(v, t)
     except (KeyError, ZeroDivisionError, TypeError):
         return None
+
+
+def _typed(v: object, t: T.Type) -> object:
+    """A computed value as a value of ``t`` (numbers of a real type exact fractions, vectors and
+    matrices row-major lists of their elements)."""
+    if isinstance(t, (T.VectorT, T.MatrixT)):
+        if not isinstance(v, list):
+            raise TypeError("not a vector")
+        return [_typed(x, t.element) for x in v]
     if t == T.REAL and isinstance(v, (int, Fraction)) and not isinstance(v, bool):
         return Fraction(v)
     return v
@@ -95,6 +116,8 @@ def _evaluate(e: ast.Expr, model: SemanticModel, known: dict[str, object]):
         if isinstance(sym, VarSym) and sym.kind == "const":
             return known[sym.name]
         raise KeyError(e.text)
+    if isinstance(e, ast.VectorLit):  # row-major
+        return [_evaluate(x, model, known) for row in e.rows for x in row]
     if isinstance(e, ast.Unary):
         v = _evaluate(e.operand, model, known)
         return (not v) if e.op == "not" else -v
@@ -107,4 +130,4 @@ def _evaluate(e: ast.Expr, model: SemanticModel, known: dict[str, object]):
     raise KeyError(type(e).__name__)
 
 
-__all__ = ["parse_setting", "constant_value", "default_value", "shown"]
+__all__ = ["parse_setting", "constant_value", "default_value", "default_expr", "shown"]

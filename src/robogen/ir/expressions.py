@@ -11,7 +11,9 @@ from fractions import Fraction
 from typing import TYPE_CHECKING
 
 from robogen.diagnostics import Span, working_on
+from robogen.ir import linear
 from robogen.ir import model as ir
+from robogen.ir.constants import default_expr
 from robogen.ir.region_tree import Graph
 from robogen.ir.supported import TupleT, check_codegen_type, is_collection, is_scalar, not_supported, tuple_type
 from robogen.semantics import types as T
@@ -98,8 +100,9 @@ class ExpressionLowering:
         if not isinstance(sym, VarSym):
             raise not_supported("this variable reference", span)
         var = graph.env.get(sym.name) or self.vars.get(sym.name)
-        if var is None and sym.shared and sym.kind == "var":
-            # a variable the controller provides, used by an operation the machine calls
+        if var is None and ((sym.shared and sym.kind == "var") or sym.kind == "const"):
+            # a variable the controller provides, or a constant an operation requires, used by
+            # an operation the machine calls: the machine's (a constant: an FMU parameter)
             var = self._declare_var(sym, sym.name)
         if var is None:
             raise not_supported(f"variable '{sym.name}' here", span)
@@ -194,6 +197,8 @@ class ExpressionLowering:
         if e.op == "not":
             return ir.Un(T.BOOLEAN, "not", operand)
         t = self._type(e)
+        if isinstance(t, (T.VectorT, T.MatrixT)):
+            return linear.negate(operand, t, self.conv, e.span)
         return ir.Un(t, "neg", self.conv(operand, t, e.span))
 
     def _e_Binary(self, e: ast.Binary, graph: Graph) -> ir.Expr:
@@ -208,6 +213,8 @@ class ExpressionLowering:
         if op in ("eq", "ne", "lt", "le", "gt", "ge"):
             return self._comparison(e, op, a, b)
         t = self._type(e)
+        if op in ("add", "sub", "mul") and any(isinstance(x.type, (T.VectorT, T.MatrixT)) for x in (a, b)):
+            return linear.arithmetic(op, a, b, t, self.conv, e.span)
         if t not in T.NUMERIC:
             raise not_supported(f"'{e.op}' on {t.show()}", e.span)
         return ir.Bin(t, op, self.conv(a, t, e.left.span), self.conv(b, t, e.right.span))
@@ -221,6 +228,9 @@ class ExpressionLowering:
         return self.coll(t, "cat", (self.conv(a, t, e.left.span), self.conv(b, t, e.right.span)), e)
 
     def _comparison(self, e: ast.Binary, op: str, a: ir.Expr, b: ir.Expr) -> ir.Expr:
+        known = self.model.constant_comparison(e)  # k >= 0 for a nat k: C compilers reject the test (-Wtype-limits)
+        if known is not None:
+            return ir.Lit(T.BOOLEAN, known)
         if a.type in T.NUMERIC and b.type in T.NUMERIC:
             t = T.REAL if T.REAL in (a.type, b.type) else (T.NAT if a.type == b.type == T.NAT else T.INT)
             return ir.Bin(T.BOOLEAN, op, self.conv(a, t, e.left.span), self.conv(b, t, e.right.span))
@@ -282,8 +292,9 @@ class ExpressionLowering:
     def _e_RecordLit(self, e: ast.RecordLit, graph: Graph) -> ir.Expr:
         t = self._type(e)
         assert isinstance(t, T.RecordT)
-        given = {fv.name: fv.value for fv in e.fields}
-        return ir.RecordLit(t, tuple((n, self.conv(self.expr(given[n], graph), ft, given[n].span)) for n, ft in t.fields))
+        given = {fv.name: fv.value for fv in e.fields}  # a field left out has its type's default value
+        return ir.RecordLit(t, tuple((n, self.conv(self.expr(given[n], graph), ft, given[n].span) if n in given else default_expr(ft))
+                                     for n, ft in t.fields))
 
     def _e_TupleLit(self, e: ast.TupleLit, graph: Graph) -> ir.Expr:
         items = tuple(self.expr(x, graph) for x in e.items)

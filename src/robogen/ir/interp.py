@@ -59,6 +59,8 @@ def _zero(t: T.Type):
 
 def python_value(v: object, t: T.Type):
     """A literal of the IR as the interpreter's value."""
+    if isinstance(t, (T.VectorT, T.MatrixT)) and isinstance(v, list):  # a parameter's start value
+        return [python_value(x, t.element) for x in v]
     if t == T.REAL:
         return float(v)  # type: ignore[arg-type]
     if t == T.BOOLEAN:
@@ -543,7 +545,7 @@ def arith(op: str, a, b, t: T.Type):
             if b == 0.0:
                 raise RuntimeFault("division by zero")
             return a / b
-        if op == "mod":  # pragma: no cover - the checker rejects % on reals
+        if op == "mod":  # RoboChart's % on reals: fmod, the sign of the dividend as on integers
             if b == 0.0:
                 raise RuntimeFault("division by zero")
             return math.fmod(a, b)

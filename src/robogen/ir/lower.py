@@ -57,7 +57,7 @@ def lower(model: SemanticModel, boundary: Boundary, options: LoweringOptions | N
             ml.build()
     ctx.check_settings()
     ctx.sink.raise_if_errors()
-    fmu.warnings = ctx.sink.warnings
+    fmu.warnings += ctx.sink.warnings
     return fmu
 
 

@@ -114,18 +114,24 @@ class MachineLowering(StatementLowering, ExpressionLowering):
         if v.shared and v.kind == "var":
             shared[key] = var
         if v.kind == "const":
-            self._constant(var, v)
+            self._constant(var, v, f"{self.machine.name}.{name}")
         return var
 
-    def _constant(self, var: ir.Var, v: VarSym) -> None:
+    def operation_constant(self, op: MachineScope, v: VarSym) -> ir.Var:
+        """A constant an operation declares without a value: one FMU parameter of the machine,
+        ``<machine>.<operation>.<name>``, whichever call site reads it."""
+        name = f"{op.name}.{v.name}"
+        return self.vars.get(name) or self._declare_var(v, name)
+
+    def _constant(self, var: ir.Var, v: VarSym, fmi_name: str) -> None:
         """A constant is an FMU parameter; its start value comes from --set, its initialiser, or
         (a constant the model leaves without a value) the default value of its type, with a
         warning: the importer sets it in Initialization Mode."""
         fmu = self.ctx.fmu
-        fmi_name = f"{self.machine.name}.{v.name}"
         for name in (fmi_name, v.name):
             self.ctx.constants[name] = self.ctx.constants.get(name, False) or is_scalar(var.type)
-        if not is_scalar(var.type):  # a set, sequence, tuple or record: its initialiser, computed once
+        if not (is_scalar(var.type) or isinstance(var.type, (T.VectorT, T.MatrixT))):
+            # a set, sequence, tuple or record: its initialiser, computed once
             if v.init is None:
                 self.ctx.sink.error(f"constant '{v.name}' of type {var.type.show()} has no value: give one in the model",
                                     v.span, Note("only constants of scalar types are FMU parameters (--set)"))

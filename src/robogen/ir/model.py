@@ -101,6 +101,14 @@ class Port:
     # input ports: where the event goes inside the FMU, (machine index, event index)
     routes: list[tuple[int, int]] = field(default_factory=list)
     index: int = 0
+    # the event or operation of the model, when the FMI name differs from it (a name FMI or
+    # robogen already uses, or the name of another port: :class:`robogen.ir.ports.Ports`)
+    model_name: str = ""
+
+    @property
+    def source(self) -> str:
+        """The name of the event or operation in the model."""
+        return self.model_name or self.name
 
 
 @dataclass(eq=False)

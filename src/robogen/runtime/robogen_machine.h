@@ -14,6 +14,7 @@
 #ifndef ROBOGEN_MACHINE_H
 #define ROBOGEN_MACHINE_H
 
+#include <math.h>
 #include <string.h>
 
 /* ---- runs and faults ------------------------------------------------------------------------ */
@@ -247,6 +248,12 @@ static inline double rg_r_div(rg_model_data *d, double a, double b)
 {
     if (b == 0.0) { d->fault = RG_FAULT_DIVISION; return 0.0; }
     return a / b;
+}
+/* RoboChart's % on reals: the remainder with the sign of the dividend, as on integers (fmod). */
+static inline double rg_r_mod(rg_model_data *d, double a, double b)
+{
+    if (b == 0.0) { d->fault = RG_FAULT_DIVISION; return 0.0; }
+    return fmod(a, b);
 }
 static inline double rg_r_abs(double a) { return a < 0.0 ? -a : a; }
 static inline double rg_r_min(double a, double b) { return a <= b ? a : b; }
