@@ -46,6 +46,9 @@ TEST_MODELS = {
         ModelCase("inputs", MODELS / "inputs.rct"),
         ModelCase("relay", MODELS / "relay.rct"),
         ModelCase("nested", MODELS / "nested.rct"),
+        ModelCase("functions", MODELS / "functions.rct", choices={
+            "set.value": [0, 1, 2, 3], "use.value": [0, 1, 2, 3, 4, 2**63],
+        }),
         ModelCase("collections", MODELS / "collections.rct", capacity=5, choices={
             "add.value": [-1, 0, 1, 2, 3, 4, 5],
             "drop.value": [0, 1, 2, 3, 4, 5, -1, 9, 9, 9],

@@ -4,6 +4,7 @@ its model line, in the FMU as in the reference interpreter, and never corrupts m
 from __future__ import annotations
 
 from codegen_driver import FmuRunner, Instant, Scenario, Tick, build, interpret
+from codegen_models import MODELS
 from robogen.ir.lower import LoweringOptions
 
 MODEL = """\
@@ -44,3 +45,50 @@ def test_a_capacity_of_2_overflows_at_the_third_member(tmp_path):
     assert sizes == [2, 2]
     last = got.steps[-1].variables
     assert last["Grow.s.elements"] == [1, 2] and last["Grow.s.size"] == 2
+
+
+FUNCTION_VARIABLE = """\
+stm Late {
+	var f: nat -> nat
+	event go
+	event out: nat
+	initial i
+	state Idle { }
+	transition t0 { from i to Idle }
+	transition t1 { from Idle to Idle trigger go action out!f(1) ; f = lambda x: nat @ x + 1 }
+}
+"""
+
+
+def _run(tmp_path, name: str, text: str, scenario: Scenario, options: LoweringOptions | None = None):
+    path = tmp_path / f"{name}.rct"
+    path.write_text(text)
+    built = build([path], tmp_path / name, options=options)
+    runner = FmuRunner(built.folder)
+    try:
+        got = runner.run(scenario)
+    finally:
+        runner.close()
+    expected = interpret(built.fmu, scenario, runner.desc)
+    assert got.comparable() == expected.comparable()
+    return got, expected
+
+
+def test_a_function_variable_applied_before_any_assignment_is_a_located_error(tmp_path):
+    scenario = Scenario([Instant(True, early=(Tick("go", {}),))], half=False)
+    got, expected = _run(tmp_path, "late", FUNCTION_VARIABLE, scenario)
+    message = "function variable 'f' applied before it has a value at late.rct:8"
+    assert expected.error is not None and message in expected.error.where
+    assert got.error is not None and message in got.error.where, got.error.where
+
+
+def test_function_values_give_the_hand_calculated_results(tmp_path):
+    """tests/codegen/models/functions.rct: f starts as x, then x * 10 - 5, then x + 1 overridden at
+    2 (100) and 3 (-3); the two-parameter lambda gives n * 2 - 1."""
+    ticks = [("use", 2), ("set", 1), ("use", 3), ("set", 2), ("use", 2), ("use", 3), ("use", 4), ("set", 0), ("use", 2)]
+    scenario = Scenario([Instant(True, early=(Tick(c, {f"{c}.value": v}),)) for c, v in ticks], half=False)
+    text = (MODELS / "functions.rct").read_text()
+    got, _ = _run(tmp_path, "functions", text, scenario)
+    applied = [(s.outputs["applied"]["applied.value"], s.outputs["product"]["product.value"])
+               for s in got.steps if "applied" in s.outputs]
+    assert applied == [(2, 3), (25, 5), (100, 3), (-3, 5), (5, 7), (3, 3)]

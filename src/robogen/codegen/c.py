@@ -23,7 +23,7 @@ from robogen.semantics import types as T
 
 
 def ctype(t: T.Type) -> str:
-    if t == T.INT or isinstance(t, T.EnumT):
+    if t == T.INT or isinstance(t, (T.EnumT, T.FunctionT)):  # a function: the number of its value
         return "int64_t"
     if t == T.NAT:
         return "uint64_t"
@@ -342,8 +342,11 @@ class Emitter:
         if self.collections.fallible(e.op):  # type: ignore[attr-defined]
             self.fallible = True
             where = self.fmu.place(e.span)
-            self.sites += [overflow_message(e.text, where, self.fmu.capacity) if e.op in CAN_OVERFLOW else "",
-                           empty_message(e.op, e.text, where) if e.op in EMPTY_FAULTS else ""]
+            if e.op == "undefined":
+                self.sites += [f"{e.text} at {where}", ""]
+            else:
+                    self.sites += [overflow_message(e.text, where, self.fmu.capacity) if e.op in CAN_OVERFLOW else "",
+                               empty_message(e.op, e.text, where) if e.op in EMPTY_FAULTS else ""]
         return self.collections.call(e, args, site)  # type: ignore[attr-defined]
 
     def _CallU(self, e: ir.CallU) -> str:

@@ -49,6 +49,7 @@ class CollectionCode:
         self.needed: dict[tuple[str, T.Type], None] = {}  # insertion-ordered
         self.types: dict[T.Type, None] = {}  # collection types used (for their typedefs)
         self.elements: dict[T.Type, None] = {}  # element types compared
+        self.undefined: dict[str, str] = {}  # C function -> its text: a value that does not exist
 
     def need(self, op: str, t: T.SetT | T.SeqT) -> str:
         """Record that the model uses ``op`` on ``t``; the name of its C function."""
@@ -82,6 +83,7 @@ class CollectionCode:
             parts.setdefault(cmp_function(t), _cmp(t))
         for op, t in self.needed:
             parts.setdefault(function(op, t), _BODIES[op](t, self.capacity))
+        parts.update(self.undefined)
         return "\n\n".join(parts.values())
 
 
@@ -262,7 +264,7 @@ _BODIES = {
 assert set(EMPTY_FAULTS) <= set(_BODIES)
 
 # operations whose C function takes the model data and a site: they can fail (or build a result)
-FALLIBLE = {"set", "seq", "union", "inter", "diff", "symdiff", "cat", "head", "last", "tail", "front", "reverse",
+FALLIBLE = {"undefined", "set", "seq", "union", "inter", "diff", "symdiff", "cat", "head", "last", "tail", "front", "reverse",
             "elems", "range", "min", "max"}
 
 
@@ -283,6 +285,12 @@ def call(code: CollectionCode, e: ir.Coll, args: list[str], site: int) -> str:
         return f"(({args[0]}).n > 0)"
     if op == "range":
         return f"{code.need('range', e.type)}(d, {site}, {args[0]}, {args[1]})"  # type: ignore[arg-type]
+    if op == "undefined":  # a run-time error in place of a value of type e.type
+        name = f"rg_undefined_{elem_tag(e.type)}"
+        c = ctype(e.type)
+        code.undefined[name] = (f"{_sig(c, name, 'rg_model_data *d, int32_t site')}\n{{\n    {c} zero;\n"
+                                f"    memset(&zero, 0, sizeof zero);\n    {_fault('site')};\n    return zero;\n}}")
+        return f"{name}(d, {site})"
     name = code.need(op, e.args[0].type)  # type: ignore[arg-type]
     if op in FALLIBLE:
         return f"{name}(d, {site}, {', '.join(args)})"

@@ -479,6 +479,8 @@ def _flat(name: str, t: T.Type, access: str, capacity: int = 0):
     if isinstance(t, T.RecordT):
         for n, ft in t.fields:
             yield from _flat(f"{name}.{n}", ft, f"{access}.{n}", capacity)
+    elif isinstance(t, T.FunctionT):
+        return  # the number of a function value (robogen.ir.functions): not an FMI variable
     elif isinstance(t, (T.SetT, T.SeqT)):
         if not isinstance(t.element, T.RecordT):
             yield f"{name}.elements", T.VectorT(t.element, capacity), f"{access}.a"

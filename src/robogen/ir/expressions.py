@@ -95,6 +95,8 @@ class ExpressionLowering:
         raise not_supported("this assignment target", e.span)
 
     def var_ref(self, graph: Graph, sym, span: Span | None) -> ir.Expr:
+        if isinstance(sym, VarSym) and sym.kind == "binder" and id(sym.decl) in self.bound:  # type: ignore[attr-defined]
+            return self.bound[id(sym.decl)]  # type: ignore[attr-defined]  # a lambda's parameter, applied
         if not isinstance(sym, VarSym):
             raise not_supported("this variable reference", span)
         var = graph.env.get(sym.name) or self.vars.get(sym.name)
@@ -330,6 +332,8 @@ class ExpressionLowering:
             return self._user_call(sym, e, graph)
         if isinstance(sym, FuncSym) and getattr(sym.builtin, "package", None) in TOOLKIT:
             return self._toolkit_call(sym, e, graph)
+        if sym is None or isinstance(sym, VarSym):  # a function value: a lambda, override, a variable
+            return self.apply(e.func, [self.expr(a, graph) for a in e.args], e, graph)  # type: ignore[attr-defined]
         name = sym.name if isinstance(sym, FuncSym) else "?"
         raise not_supported(f"a call of function '{name}' (robogen has no implementation of it)", e.span)
 

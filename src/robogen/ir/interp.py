@@ -477,6 +477,8 @@ class Interpreter:
     def _collection(self, e: ir.Coll, m: ir.Machine, ms: MachineState):
         args = [self._eval(a, m, ms) for a in e.args]
         where = self.fmu.place(e.span)
+        if e.op == "undefined":
+            raise RuntimeFault(f"machine {m.name}: {e.text} at {where}")
         try:
             return copy.deepcopy(C.apply(e.op, args, [a.type for a in e.args], self.fmu.capacity,
                                          C.overflow_message(e.text, where, self.fmu.capacity),
@@ -597,6 +599,8 @@ def _flatten_value(prefix: str, t: T.Type, v, out: dict[str, object], capacity: 
     if isinstance(t, T.RecordT):
         for n, ft in t.fields:
             _flatten_value(f"{prefix}.{n}", ft, v[n], out, capacity)
+    elif isinstance(t, T.FunctionT):
+        pass  # the number of a function value: not an FMI variable
     elif isinstance(t, (T.SetT, T.SeqT)):  # as the FMU shows it: elements padded with zeros, and size
         if not isinstance(t.element, T.RecordT):
             out[f"{prefix}.elements"] = copy.deepcopy(v) + [_zero(t.element)] * (capacity - len(v))

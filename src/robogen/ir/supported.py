@@ -40,6 +40,8 @@ def normalise(t: T.Type, given: str = "int") -> T.Type:
         return T.SetT(normalise(t.element, given))
     if isinstance(t, T.SeqT):
         return T.SeqT(normalise(t.element, given))
+    if isinstance(t, T.FunctionT):
+        return T.FunctionT(normalise(t.domain, given), normalise(t.range, given), t.relation)
     if isinstance(t, T.RecordT):
         return T.RecordT(t.qname, tuple((n, normalise(ft, given)) for n, ft in t.fields))
     if isinstance(t, T.VectorT):
@@ -72,6 +74,10 @@ def check_codegen_type(t: T.Type, span: Span | None, what: str) -> None:
     if isinstance(t, T.MatrixT) and is_scalar(t.element):
         if t.rows is None or t.columns is None:
             raise not_supported(f"{what}: a matrix whose size is not given by integer literals", span)
+        return
+    if isinstance(t, T.FunctionT) and not t.relation:  # stored as the number of a function value
+        check_codegen_type(t.domain, span, f"the domain of {what}")
+        check_codegen_type(t.range, span, f"the range of {what}")
         return
     if isinstance(t, (T.SetT, T.SeqT)):
         if not (is_scalar(t.element) or isinstance(t.element, T.RecordT)):
