@@ -23,7 +23,8 @@ from robogen.semantics import types as T
 
 
 def ctype(t: T.Type) -> str:
-    if t == T.INT or isinstance(t, (T.EnumT, T.FunctionT)):  # a function: the number of its value
+    # a function: the number of its value; a string: its number among the model's strings
+    if t == T.INT or t == T.STRING or isinstance(t, (T.EnumT, T.FunctionT)):
         return "int64_t"
     if t == T.NAT:
         return "uint64_t"
@@ -206,6 +207,7 @@ class Emitter:
         self.delivers_to: set[int] = set()  # machines this one sends events to (their event tables)
         self.collections = None  # the CollectionCode of the FMU (robogen.codegen.collections)
         self.sites: list[str] = []  # run-time messages of collection operations (model.c's rg_sites)
+        self.strings: list[str] = [""]  # the model's strings, numbered: a string is its number in C
 
     @property
     def fault_return(self) -> str:
@@ -219,6 +221,10 @@ class Emitter:
         return method(e)
 
     def _Lit(self, e: ir.Lit) -> str:
+        if e.type == T.STRING:  # strings are only literals (and equality): a string is its number
+            if e.value not in self.strings:
+                self.strings.append(e.value)  # type: ignore[arg-type]
+            return f"INT64_C({self.strings.index(e.value)}) /* {c_comment(c_string(e.value))} */"  # type: ignore[arg-type]
         return literal(e.value, e.type)
 
     def _Ref(self, e: ir.Ref) -> str:

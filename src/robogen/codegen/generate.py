@@ -479,8 +479,8 @@ def _flat(name: str, t: T.Type, access: str, capacity: int = 0):
     if isinstance(t, T.RecordT):
         for n, ft in t.fields:
             yield from _flat(f"{name}.{n}", ft, f"{access}.{n}", capacity)
-    elif isinstance(t, T.FunctionT):
-        return  # the number of a function value (robogen.ir.functions): not an FMI variable
+    elif isinstance(t, T.FunctionT) or t == T.STRING:
+        return  # the number of a function value (robogen.ir.functions) or string: not an FMI variable
     elif isinstance(t, (T.SetT, T.SeqT)):
         if not isinstance(t.element, T.RecordT):
             yield f"{name}.elements", T.VectorT(t.element, capacity), f"{access}.a"
@@ -499,8 +499,9 @@ def _machines_code(fmu: ir.Fmu, layout: _Layout, names: CNames, line_comments: b
     any machine that events are delivered to is latched through it)."""
     emitters = [Emitter(fmu, m, layout.port_fields_out, names, line_comments) for m in fmu.machines]
     sites: list[str] = []  # one list for the FMU: each emitter numbers its sites after the others'
+    strings = [""]  # one numbering of the strings for the FMU
     for em in emitters:
-        em.collections, em.sites = collections, sites
+        em.collections, em.sites, em.strings = collections, sites, strings
     codes = [_machine_code(fmu, em, line_comments) for em in emitters]
     delivered = {mi for p in fmu.inputs for mi, _ in p.routes} | {mi for em in emitters for mi in em.delivers_to}
     for m, code in zip(fmu.machines, codes):

@@ -23,7 +23,6 @@ if TYPE_CHECKING:  # the attributes MachineLowering provides
     from robogen.semantics.model import SemanticModel
 
 _UNSUPPORTED = {
-    ast.StringLit: "a string",
     ast.Binder: "a quantifier, lambda or definite description",
     ast.Let: "'let'",
     ast.SetRange: "a set range",
@@ -157,6 +156,9 @@ class ExpressionLowering:
     def _e_RealLit(self, e: ast.RealLit, graph: Graph) -> ir.Expr:
         return ir.Lit(T.REAL, Fraction(e.text))
 
+    def _e_StringLit(self, e: ast.StringLit, graph: Graph) -> ir.Expr:
+        return ir.Lit(T.STRING, e.value)
+
     def _e_BoolLit(self, e: ast.BoolLit, graph: Graph) -> ir.Expr:
         return ir.Lit(T.BOOLEAN, e.value)
 
@@ -228,7 +230,7 @@ class ExpressionLowering:
             return ir.Bin(T.BOOLEAN, op, self.conv(a, t, e.left.span), self.conv(b, t, e.right.span))
         if op not in ("eq", "ne"):
             raise not_supported(f"'{e.op}' on {a.type.show()}", e.span)
-        if not (is_scalar(a.type) or isinstance(a.type, (T.RecordT, T.VectorT, T.MatrixT, T.SetT, T.SeqT))):
+        if not (is_scalar(a.type) or isinstance(a.type, (T.RecordT, T.VectorT, T.MatrixT, T.SetT, T.SeqT)) or a.type == T.STRING):
             raise not_supported(f"comparing values of type {a.type.show()}", e.span)
         if a.type != b.type:  # a literal takes the type of the other side: [| 0, 0 |] is vector(nat, 2)
             if self.conv(b, a.type, e.right.span).type == a.type:

@@ -55,6 +55,8 @@ def wrap_nat(v: int) -> int:
 def _zero(t: T.Type):
     if t == T.REAL:
         return 0.0
+    if t == T.STRING:
+        return ""
     if t == T.BOOLEAN:
         return False
     if isinstance(t, T.RecordT):
@@ -599,8 +601,8 @@ def _flatten_value(prefix: str, t: T.Type, v, out: dict[str, object], capacity: 
     if isinstance(t, T.RecordT):
         for n, ft in t.fields:
             _flatten_value(f"{prefix}.{n}", ft, v[n], out, capacity)
-    elif isinstance(t, T.FunctionT):
-        pass  # the number of a function value: not an FMI variable
+    elif isinstance(t, T.FunctionT) or t == T.STRING:
+        pass  # the number of a function value or of a string: not an FMI variable
     elif isinstance(t, (T.SetT, T.SeqT)):  # as the FMU shows it: elements padded with zeros, and size
         if not isinstance(t.element, T.RecordT):
             out[f"{prefix}.elements"] = copy.deepcopy(v) + [_zero(t.element)] * (capacity - len(v))

@@ -61,7 +61,7 @@ def is_scalar(t: T.Type) -> bool:
 def check_codegen_type(t: T.Type, span: Span | None, what: str) -> None:
     """Raise the not-supported error unless values of ``t`` (already normalised) have a
     representation in generated code: scalars, records of them, sized vectors and matrices."""
-    if is_scalar(t):
+    if is_scalar(t) or t == T.STRING:  # a string: one of the model's string literals
         return
     if isinstance(t, T.RecordT):
         for n, ft in t.fields:

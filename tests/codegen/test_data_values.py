@@ -1,10 +1,14 @@
-"""Sets at a capacity of 2: an overflow is an fmi3Error whose message names the expression and
-its model line, in the FMU as in the reference interpreter, and never corrupts memory."""
+"""RoboChart's data values through the FMU and the reference interpreter, with hand-calculated
+results: sets at a capacity of 2 (an overflow is an fmi3Error whose message names the expression
+and its model line, and never corrupts memory), function values, and strings."""
 
 from __future__ import annotations
 
+import pytest
+
 from codegen_driver import FmuRunner, Instant, Scenario, Tick, build, interpret
 from codegen_models import MODELS
+from robogen.diagnostics import RobogenError
 from robogen.ir.lower import LoweringOptions
 
 MODEL = """\
@@ -92,3 +96,34 @@ def test_function_values_give_the_hand_calculated_results(tmp_path):
     applied = [(s.outputs["applied"]["applied.value"], s.outputs["product"]["product.value"])
                for s in got.steps if "applied" in s.outputs]
     assert applied == [(2, 3), (25, 5), (100, 3), (-3, 5), (5, 7), (3, 3)]
+
+
+STRINGS = """\
+stm Str {
+	const greeting: string = "hello"
+	var name: string = "world"
+	event flip
+	event eq: boolean
+	initial i
+	state Idle { }
+	transition t0 { from i to Idle }
+	transition t1 { from Idle to Idle trigger flip
+		action if name == "world" then name = "hello" else name = "world" end ; eq!(name == greeting) }
+}
+"""
+
+
+def test_strings_are_literals_compared_for_equality(tmp_path):
+    scenario = Scenario([Instant(True, early=(Tick("flip", {}),)) for _ in range(3)], half=False)
+    got, _ = _run(tmp_path, "strings", STRINGS, scenario)
+    assert [s.outputs["eq"]["eq.value"] for s in got.steps if "eq" in s.outputs] == [True, False, True]
+
+
+def test_a_string_event_is_not_supported_at_the_fmu_boundary(tmp_path):
+    path = tmp_path / "say.rct"
+    path.write_text('stm Say {\n\tevent said: string\n\tinitial i\n\tstate S { entry said!"hi" }\n'
+                    '\ttransition t0 { from i to S }\n}\n')
+    with pytest.raises(RobogenError) as info:
+        build([path], tmp_path / "say")
+    assert "a string as an FMU port is not supported for code generation" in str(info.value)
+    assert "say.rct:2:" in str(info.value)
