@@ -127,3 +127,32 @@ def test_a_string_event_is_not_supported_at_the_fmu_boundary(tmp_path):
         build([path], tmp_path / "say")
     assert "a string as an FMU port is not supported for code generation" in str(info.value)
     assert "say.rct:2:" in str(info.value)
+
+
+CONVERSIONS = """\
+import set_toolkit::*
+import sequence_toolkit::*
+stm Conv {
+	var a: Set(nat) = {3, 1}
+	var b: Set(int)
+	var q: Seq(nat) = <2, 1>
+	var r: Seq(real)
+	event go
+	event n: nat
+	event sum: real
+	initial i
+	state Idle { }
+	transition t0 { from i to Idle }
+	transition t1 { from Idle to Idle trigger go
+		action b = a ; b = union(b, {-1}) ; n!size(b) ; r = q ; sum!(r[1] + r[2] / 4.0) }
+}
+"""
+
+
+def test_a_set_of_nat_is_used_as_a_set_of_int(tmp_path):
+    scenario = Scenario([Instant(True, early=(Tick("go", {}),))], half=False)
+    got, _ = _run(tmp_path, "conv", CONVERSIONS, scenario)
+    step = next(s for s in got.steps if "n" in s.outputs)
+    assert step.outputs["n"]["n.value"] == 3  # {-1, 1, 3}
+    assert step.outputs["sum"]["sum.value"] == 2.25  # 2 + 1 / 4
+    assert step.variables["Conv.b.elements"][:3] == [-1, 1, 3] and step.variables["Conv.b.size"] == 3

@@ -49,7 +49,7 @@ class CollectionCode:
         self.needed: dict[tuple[str, T.Type], None] = {}  # insertion-ordered
         self.types: dict[T.Type, None] = {}  # collection types used (for their typedefs)
         self.elements: dict[T.Type, None] = {}  # element types compared
-        self.undefined: dict[str, str] = {}  # C function -> its text: a value that does not exist
+        self.extra: dict[str, str] = {}  # C function -> its text: conversions, values that do not exist
 
     def need(self, op: str, t: T.SetT | T.SeqT) -> str:
         """Record that the model uses ``op`` on ``t``; the name of its C function."""
@@ -70,6 +70,29 @@ class CollectionCode:
                 self._element(ft)
         self.elements[t] = None
 
+    def need_conv(self, source: T.SetT | T.SeqT, target: T.SetT | T.SeqT) -> str:
+        """The function converting each number of a ``source`` collection to ``target``'s
+        element type (as robogen.codegen.c converts one number)."""
+        name = f"rg_conv_{collection_ctype(target)[3:]}_{elem_tag(source.element)}"
+        self.types[source] = self.types[target] = None
+        insert = self.need("insert", target) if isinstance(target, T.SetT) else None
+        s, t = source.element, target.element
+        if t == T.REAL:
+            x = "(double)s.a[i]"
+        elif s == T.REAL:
+            x = f"rg_r_to_{'u' if t == T.NAT else 'i'}(d, s.a[i])"
+        elif s == T.NAT and t == T.INT:
+            x = "rg_u_to_i(s.a[i])"
+        else:
+            x = f"(({ctype(t)})s.a[i])"
+        c = collection_ctype(target)
+        store = f"{insert}(d, 0, &r, {x})" if insert else f"r.a[i] = {x}"
+        count = "" if insert else "    r.n = s.n;\n"
+        body = (f"    uint64_t i;\n    {c} r;\n    memset(&r, 0, sizeof r);\n{count}"
+                f"    for (i = 0; i < s.n; i++) {store};\n    (void)d;\n    return r;")
+        self.extra[name] = f"{_sig(c, name, f'rg_model_data *d, {collection_ctype(source)} s')}\n{{\n{body}\n}}"
+        return name
+
     def fallible(self, op: str) -> bool:
         """Does the C function of ``op`` take the model data and a site (it may fail)?"""
         return op in FALLIBLE
@@ -83,13 +106,13 @@ class CollectionCode:
             parts.setdefault(cmp_function(t), _cmp(t))
         for op, t in self.needed:
             parts.setdefault(function(op, t), _BODIES[op](t, self.capacity))
-        parts.update(self.undefined)
+        parts.update(self.extra)
         return "\n\n".join(parts.values())
 
 
 def _DEPENDS(op: str, t: T.SetT | T.SeqT) -> list[tuple[str, T.SetT | T.SeqT]]:
     s = T.SetT(t.element)
-    if op == "make" and isinstance(t, T.SetT):
+    if op in ("make", "canon") and isinstance(t, T.SetT):
         return [("insert", t)]
     if op in ("union", "symdiff"):
         return [("insert", t), ("has", t)]
@@ -211,6 +234,19 @@ def _shrink(op: str):
     return body_of
 
 
+def _canon(t, cap: int) -> str:
+    """The value an FMU input gives: at most the capacity, zeros after the last element, a set
+    in canonical order (inserting never overflows: the result has at most s.n elements)."""
+    c = collection_ctype(t)
+    if isinstance(t, T.SetT):
+        body = (f"    uint64_t i;\n    {c} r;\n    memset(&r, 0, sizeof r);\n"
+                f"    for (i = 0; i < s.n && i < {cap}; i++) {function('insert', t)}(d, 0, &r, s.a[i]);\n    return r;")
+    else:
+        body = (f"    uint64_t i;\n    (void)d;\n    if (s.n > {cap}) s.n = {cap};\n"
+                f"    for (i = s.n; i < {cap}; i++) memset(&s.a[i], 0, sizeof s.a[i]);\n    return s;")
+    return f"{_sig(c, function('canon', t), f'rg_model_data *d, {c} s')}\n{{\n{body}\n}}"
+
+
 def _elems(t, cap: int) -> str:
     c, s = collection_ctype(t), collection_ctype(T.SetT(t.element))
     body = (f"    uint64_t i;\n    {s} r;\n    memset(&r, 0, sizeof r);\n"
@@ -253,7 +289,7 @@ def _fix(op: str):
 
 
 _BODIES = {
-    "make": _make, "insert": _insert, "has": _has, "cat": _cat, "elems": _elems, "indices": _indices,
+    "make": _make, "canon": _canon, "insert": _insert, "has": _has, "cat": _cat, "elems": _elems, "indices": _indices,
     "filter": _filter, "range": _range, "reverse": _shrink("reverse"), "tail": _shrink("tail"),
     "front": _shrink("front"), **{op: _binary_set(op) for op in SET_OPS},
     **{op: _subset(op) for op in ("subseteq", "subset")},
@@ -264,7 +300,7 @@ _BODIES = {
 assert set(EMPTY_FAULTS) <= set(_BODIES)
 
 # operations whose C function takes the model data and a site: they can fail (or build a result)
-FALLIBLE = {"undefined", "set", "seq", "union", "inter", "diff", "symdiff", "cat", "head", "last", "tail", "front", "reverse",
+FALLIBLE = {"undefined", "conv", "set", "seq", "union", "inter", "diff", "symdiff", "cat", "head", "last", "tail", "front", "reverse",
             "elems", "range", "min", "max"}
 
 
@@ -285,10 +321,12 @@ def call(code: CollectionCode, e: ir.Coll, args: list[str], site: int) -> str:
         return f"(({args[0]}).n > 0)"
     if op == "range":
         return f"{code.need('range', e.type)}(d, {site}, {args[0]}, {args[1]})"  # type: ignore[arg-type]
+    if op == "conv":
+        return f"{code.need_conv(e.args[0].type, e.type)}(d, {args[0]})"  # type: ignore[arg-type]
     if op == "undefined":  # a run-time error in place of a value of type e.type
         name = f"rg_undefined_{elem_tag(e.type)}"
         c = ctype(e.type)
-        code.undefined[name] = (f"{_sig(c, name, 'rg_model_data *d, int32_t site')}\n{{\n    {c} zero;\n"
+        code.extra[name] = (f"{_sig(c, name, 'rg_model_data *d, int32_t site')}\n{{\n    {c} zero;\n"
                                 f"    memset(&zero, 0, sizeof zero);\n    {_fault('site')};\n    return zero;\n}}")
         return f"{name}(d, {site})"
     name = code.need(op, e.args[0].type)  # type: ignore[arg-type]

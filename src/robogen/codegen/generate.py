@@ -170,6 +170,7 @@ def generate(fmu: ir.Fmu, options: CodegenOptions | None = None, *, diagrams: Se
     env = _env()
     collections = CollectionCode(fmu.capacity)
     machines, sites = _machines_code(fmu, layout, names, line_comments, collections)
+    latch = {p.index: _latch(p, layout.port_fields_in.get(p.index, []), collections) for p in fmu.inputs}
     for t in collections.types:
         layout._type(t)
     needed = {t for mc in machines for t in mc["equalities"]}
@@ -181,6 +182,7 @@ def generate(fmu: ir.Fmu, options: CodegenOptions | None = None, *, diagrams: Se
         cname=names.vars,
         typedefs=[_typedef(t, fmu.capacity) for t in layout.types],
         sites=sites,
+        latch=latch,
         collection_code=collections.text(),
         equality_bodies=bodies,
         param_starts={p.fmi_name: _param_starts(p) for p in fmu.params},
@@ -288,6 +290,34 @@ def _equalities(types: list[T.Type], needed: set[str]) -> tuple[list[str], dict[
 
 
 STRUCTS = (T.RecordT, T.VectorT, T.MatrixT, T.SetT, T.SeqT)  # C types compared by a function rg_eq_<type>
+
+
+def _latch(port: ir.Port, fields: list[tuple[str, ir.Field_]], collections: CollectionCode) -> list[str]:
+    """The statements of rg_model_latch that assemble the value ``v`` of input port ``port`` from
+    its clocked inputs. A set or sequence takes the array's first ``size`` elements (at most the
+    capacity), a set then in canonical order (robogen.ir.collections.received)."""
+    lines, made = [], []
+    for member, f in fields:
+        *inner, last = f.path or ("",)
+        if last in ("#elements", "#size"):
+            at = "v" + "".join("." + p for p in inner)
+            cap = collections.capacity
+            if last == "#elements":
+                lines.append(f"memcpy({at}.a, d->{member}.a, sizeof {at}.a);")
+            else:
+                lines.append(f"{at}.n = d->{member} > {cap} ? {cap} : d->{member};")
+                made.append((at, _type_at(port.type, tuple(inner))))
+        else:
+            lines.append("v" + "".join("." + p for p in f.path) + f" = d->{member};")
+    for at, t in made:
+        lines.append(f"{at} = {collections.need('canon', t)}(d, {at});")
+    return lines
+
+
+def _type_at(t, path: tuple[str, ...]) -> T.Type:
+    for p in path:
+        t = t.field(p)
+    return t
 
 
 def _param_starts(p: ir.Param) -> list[tuple[str, str]]:

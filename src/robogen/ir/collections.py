@@ -161,6 +161,18 @@ def apply(op: str, args: list, arg_types: list[T.Type], capacity: int, overflow:
     raise CollectionFault(f"unknown collection operation {op}")  # pragma: no cover
 
 
+def received(elements: list, size: int, t: T.Type, capacity: int) -> list:
+    """A set or sequence as an FMU input gives it: ``size`` (at most the capacity: only so many
+    elements exist) elements of the array, a set then put in canonical order without duplicates."""
+    items = elements[:max(0, min(size, capacity))]
+    if isinstance(t, T.SeqT):
+        return items
+    out = Builder(capacity, "")
+    for x in items:
+        out.insert(x, t.element)  # type: ignore[attr-defined]
+    return out.items
+
+
 def overflow_message(text: str, where: str, capacity: int) -> str:
     return f"more than {capacity} elements (the capacity) in {text} at {where}"
 
@@ -176,4 +188,4 @@ def index(q: list, i: int, what: str) -> int:
     return i - 1
 
 
-__all__ = ["CollectionFault", "apply", "compare", "member", "index", "overflow_message", "empty_message", "SET_RESULTS", "SEQ_RESULTS", "EMPTY_FAULTS", "CAN_OVERFLOW"]
+__all__ = ["CollectionFault", "apply", "compare", "member", "index", "received", "overflow_message", "empty_message", "SET_RESULTS", "SEQ_RESULTS", "EMPTY_FAULTS", "CAN_OVERFLOW"]

@@ -132,8 +132,11 @@ class ExpressionLowering:
         representation does not change."""
         if isinstance(e, ir.Coll) and e.op in ("set", "seq"):
             return ir.Coll(t, e.op, tuple(self.conv(x, t.element, span) for x in e.args), e.text, e.span)
-        if isinstance(e.type.element, T.UnknownT) or e.type.element == t.element:  # type: ignore[attr-defined]
+        source = e.type.element  # type: ignore[attr-defined]
+        if isinstance(source, T.UnknownT) or source == t.element:
             return e
+        if source in T.NUMERIC and t.element in T.NUMERIC:  # each element converted (a set re-ordered)
+            return ir.Coll(t, "conv", (e,), f"{e.type.show()} as {t.show()}", span)
         raise not_supported(f"using a {e.type.show()} as a {t.show()}", span)
 
     def since_type(self) -> T.Type:

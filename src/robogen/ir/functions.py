@@ -18,8 +18,6 @@ the model known at generation time, and applying it inlines it:
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING
-
 from robogen.ir import model as ir
 from robogen.ir.region_tree import Graph
 from robogen.ir.supported import not_supported, tuple_type
@@ -27,9 +25,6 @@ from robogen.semantics import types as T
 from robogen.semantics.model import FuncSym, VarSym
 from robogen.syntax import ast
 from robogen.syntax.printer import expr as expr_text
-
-if TYPE_CHECKING:  # the attributes MachineLowering provides
-    from robogen.ir.machines import MachineLowering as _Host  # noqa: F401
 
 
 class FunctionValues:

@@ -143,9 +143,8 @@ class Ports:
         for p in fmu.inputs:
             if p.name == name:
                 return p
-        if t is not None and _holds_collection(t):
-            raise not_supported(f"input event '{name}' carrying a set or sequence (an FMU input)", span)
-        fields = tuple(_flatten(name + ".value" if not isinstance(t, T.RecordT) else name, t, (), span)) if t is not None else ()
+        fields = tuple(_flatten(name + ".value" if not isinstance(t, T.RecordT) else name, t, (), span, fmu.capacity)) \
+            if t is not None else ()
         port = ir.Port(name, "input-event", t, fields, span=span, index=len(fmu.inputs))
         fmu.inputs.append(port)
         return port
@@ -202,12 +201,6 @@ def event_uses(scope: MachineScope) -> tuple[set[str], set[str]]:
                 if isinstance(m, ast.StateAction):
                     stmt(m.stmt)
     return ins, outs
-
-
-def _holds_collection(t: T.Type) -> bool:
-    if isinstance(t, T.RecordT):
-        return any(_holds_collection(ft) for _, ft in t.fields)
-    return isinstance(t, (T.SetT, T.SeqT))
 
 
 def _flatten(prefix: str, t: T.Type | None, path: tuple[str, ...], span: Span | None, capacity: int = 0) -> list[ir.Field_]:
