@@ -156,3 +156,39 @@ def test_a_set_of_nat_is_used_as_a_set_of_int(tmp_path):
     assert step.outputs["n"]["n.value"] == 3  # {-1, 1, 3}
     assert step.outputs["sum"]["sum.value"] == 2.25  # 2 + 1 / 4
     assert step.variables["Conv.b.elements"][:3] == [-1, 1, 3] and step.variables["Conv.b.size"] == 3
+
+
+RELATIONS = """\
+import relation_toolkit::*
+import sequence_toolkit::*
+import set_toolkit::*
+stm Rel {
+	var r: nat <-> int = {(| 1, 10 |), (| 2, 20 |), (| 3, 30 |)}
+	var s: Set(nat * int)
+	var t: int <-> nat
+	var q: Seq(int)
+	event go
+	event n1: nat
+	event n2: nat
+	event n3: nat
+	initial i
+	state Idle { }
+	transition t0 { from i to Idle }
+	transition t1 { from Idle to Idle trigger go
+		action s = override(r, {(| 2, -2 |)}) ; n1!size(dres({1, 2}, s)) ; q = squash(s) ;
+			t = relcomp(rinv(s), {(| 1, 100 |), (| 3, 300 |)}) ; n2!size(rimage(t, {10, -2})) ; n3!size(ran(t)) }
+}
+"""
+
+
+def test_relations_are_sets_of_pairs(tmp_path):
+    """override(r, {(2, -2)}) = {(1, 10), (2, -2), (3, 30)}; its dres to {1, 2} has 2 pairs; squash
+    gives <10, -2, 30>; rinv then relcomp with {(1, 100), (3, 300)} gives {(10, 100), (30, 300)},
+    whose rimage of {10, -2} is {100} and whose ran is {100, 300}."""
+    scenario = Scenario([Instant(True, early=(Tick("go", {}),))], half=False)
+    got, _ = _run(tmp_path, "rel", RELATIONS, scenario)
+    step = next(s for s in got.steps if "n1" in s.outputs)
+    sizes = [step.outputs[n][f"{n}.value"] for n in ("n1", "n2", "n3")]
+    assert sizes == [2, 1, 2]
+    v = step.variables
+    assert v["Rel.q.elements"][:v["Rel.q.size"]] == [10, -2, 30]

@@ -15,7 +15,7 @@ from __future__ import annotations
 
 from robogen.codegen.c import ctype, elem_tag
 from robogen.ir import model as ir
-from robogen.ir.collections import EMPTY_FAULTS
+from robogen.ir.collections import EMPTY_FAULTS, RELATION_OPS
 from robogen.semantics import types as T
 
 SET_OPS = {"union", "inter", "diff", "symdiff"}
@@ -91,6 +91,56 @@ class CollectionCode:
         body = (f"    uint64_t i;\n    {c} r;\n    memset(&r, 0, sizeof r);\n{count}"
                 f"    for (i = 0; i < s.n; i++) {store};\n    (void)d;\n    return r;")
         self.extra[name] = f"{_sig(c, name, f'rg_model_data *d, {collection_ctype(source)} s')}\n{{\n{body}\n}}"
+        return name
+
+    def need_relation(self, op: str, types: list, result: T.Type) -> str:
+        """The function of relation operation ``op`` on arguments of ``types`` (relations: sets
+        of pairs) giving ``result``, as robogen.ir.collections computes it."""
+        name = f"rg_{op}_" + "_".join(ctype(t)[3:] for t in types)
+        if name in self.extra:
+            return name
+        at = 1 if op in ("dres", "dsub") else 0
+        rel = types[at]
+        x, y = rel.element.field("_1"), rel.element.field("_2")
+        for t in (*types, result):
+            if isinstance(t, (T.SetT, T.SeqT)):
+                self.types[t] = None
+                self._element(t.element)
+        r = ctype(result)
+        params = ", ".join(f"{ctype(t)} {n}" for t, n in zip(types, "ab"))
+        ins = self.need("insert", result) if isinstance(result, T.SetT) and op not in _FILTERS else ""
+        lines = [f"    uint64_t i, j;", f"    {r} r;", "    memset(&r, 0, sizeof r);", "    (void)d; (void)site; (void)j;"]
+        A = "ab"[at]
+        if op in ("dom", "ran"):
+            lines.append(f"    for (i = 0; i < a.n && !d->fault; i++) {ins}(d, site, &r, a.a[i]._{1 if op == 'dom' else 2});")
+        elif op == "rinv":
+            lines.append(f"    for (i = 0; i < a.n && !d->fault; i++) {{ {ctype(result.element)} p; p._1 = a.a[i]._2; "
+                         f"p._2 = a.a[i]._1; {ins}(d, site, &r, p); }}")
+        elif op in _FILTERS:
+            key, kt = ("_1", x) if op in ("dres", "dsub") else ("_2", y)
+            has = self.need("has", T.SetT(kt))
+            test = "" if op in ("dres", "rres") else "!"
+            other = "a" if A == "b" else "b"
+            lines.append(f"    for (i = 0; i < {A}.n; i++) if ({test}{has}({other}, {A}.a[i].{key})) r.a[r.n++] = {A}.a[i];")
+        elif op == "rimage":
+            has = self.need("has", T.SetT(x))
+            lines.append(f"    for (i = 0; i < a.n && !d->fault; i++) if ({has}(b, a.a[i]._1)) {ins}(d, site, &r, a.a[i]._2);")
+        elif op == "roverride":
+            cmp = cmp_function(x)
+            lines += [f"    for (i = 0; i < b.n && !d->fault; i++) {ins}(d, site, &r, b.a[i]);",
+                      "    for (i = 0; i < a.n && !d->fault; i++) {",
+                      f"        for (j = 0; j < b.n; j++) if ({cmp}(b.a[j]._1, a.a[i]._1) == 0) break;",
+                      f"        if (j == b.n) {ins}(d, site, &r, a.a[i]);", "    }"]
+        elif op == "relcomp":
+            cmp = cmp_function(y)
+            lines += ["    for (i = 0; i < a.n && !d->fault; i++)", "        for (j = 0; j < b.n && !d->fault; j++)",
+                      f"            if ({cmp}(a.a[i]._2, b.a[j]._1) == 0) {{ {ctype(result.element)} p; p._1 = a.a[i]._1; "
+                      f"p._2 = b.a[j]._2; {ins}(d, site, &r, p); }}"]
+        else:  # squash: the second components, in the order of the first
+            lines.append("    for (i = 0; i < a.n; i++) r.a[r.n++] = a.a[i]._2;")
+        lines.append("    return r;")
+        body = "\n".join(lines)
+        self.extra[name] = f"{_sig(r, name, f'rg_model_data *d, int32_t site, {params}')}\n{{\n{body}\n}}"
         return name
 
     def fallible(self, op: str) -> bool:
@@ -300,7 +350,9 @@ _BODIES = {
 assert set(EMPTY_FAULTS) <= set(_BODIES)
 
 # operations whose C function takes the model data and a site: they can fail (or build a result)
-FALLIBLE = {"undefined", "conv", "set", "seq", "union", "inter", "diff", "symdiff", "cat", "head", "last", "tail", "front", "reverse",
+_FILTERS = ("dres", "dsub", "rres", "rsub")
+
+FALLIBLE = {*RELATION_OPS, "undefined", "conv", "set", "seq", "union", "inter", "diff", "symdiff", "cat", "head", "last", "tail", "front", "reverse",
             "elems", "range", "min", "max"}
 
 
@@ -321,6 +373,9 @@ def call(code: CollectionCode, e: ir.Coll, args: list[str], site: int) -> str:
         return f"(({args[0]}).n > 0)"
     if op == "range":
         return f"{code.need('range', e.type)}(d, {site}, {args[0]}, {args[1]})"  # type: ignore[arg-type]
+    if op in RELATION_OPS:
+        name = code.need_relation(op, [a.type for a in e.args], e.type)
+        return f"{name}(d, {site}, {', '.join(args)})"
     if op == "conv":
         return f"{code.need_conv(e.args[0].type, e.type)}(d, {args[0]})"  # type: ignore[arg-type]
     if op == "undefined":  # a run-time error in place of a value of type e.type

@@ -12,6 +12,7 @@ from typing import TYPE_CHECKING
 
 from robogen.diagnostics import Span, working_on
 from robogen.ir import model as ir
+from robogen.ir.collections import RELATION_OPS
 from robogen.ir.region_tree import Graph
 from robogen.ir.supported import TupleT, check_codegen_type, is_collection, is_scalar, not_supported, tuple_type
 from robogen.semantics import types as T
@@ -51,6 +52,11 @@ TOOLKIT: dict[str, dict[tuple[str, tuple[str, ...]], str]] = {
         ("first", ("pair",)): "first", ("second", ("pair",)): "second",
         **{("maplet", (a, b)): "maplet" for a in ("value", "pair") for b in ("value", "pair")},
         ("dom", ("seq",)): "indices", ("ran", ("seq",)): "elems",
+        # relations: sets of pairs
+        ("dom", ("set",)): "dom", ("ran", ("set",)): "ran", ("rinv", ("set",)): "rinv",
+        ("dres", ("set", "set")): "dres", ("dsub", ("set", "set")): "dsub", ("rres", ("set", "set")): "rres",
+        ("rsub", ("set", "set")): "rsub", ("rimage", ("set", "set")): "rimage", ("override", ("set", "set")): "roverride",
+        ("relcomp", ("set", "set")): "relcomp",
     },
     "sequence_toolkit": {
         ("range", ("value", "value")): "range", ("size", ("set",)): "size", ("size", ("seq",)): "size",
@@ -58,7 +64,7 @@ TOOLKIT: dict[str, dict[tuple[str, tuple[str, ...]], str]] = {
         ("max", ("set",)): "max", ("isNonEmpty", ("seq",)): "nonempty", ("concat", ("seq", "seq")): "cat",
         ("reverse", ("seq",)): "reverse", ("head", ("seq",)): "head", ("last", ("seq",)): "last",
         ("tail", ("seq",)): "tail", ("front", ("seq",)): "front", ("filter", ("seq", "set")): "filter",
-        ("prefix", ("seq", "seq")): "prefix", ("suffix", ("seq", "seq")): "suffix", ("infix", ("seq", "seq")): "infix",
+        ("squash", ("set",)): "squash", ("prefix", ("seq", "seq")): "prefix", ("suffix", ("seq", "seq")): "suffix", ("infix", ("seq", "seq")): "infix",
     },
 }
 
@@ -353,6 +359,8 @@ class ExpressionLowering:
         if op is None:
             shown = ", ".join(a.type.show() for a in args)
             raise not_supported(f"'{sym.name}' of {shown}", e.span)
+        if op in RELATION_OPS:
+            return self._relation_call(sym, op, args, t, e)
         if op in ("first", "second"):
             name = "_1" if op == "first" else "_2"
             return ir.FieldOf(args[0].type.field(name), args[0], name)  # type: ignore[union-attr, arg-type]
@@ -371,6 +379,19 @@ class ExpressionLowering:
             args[0] = self.conv(args[0], args[1].type.element, e.args[0].span)  # type: ignore[union-attr]
         if isinstance(t, (T.SetT, T.SeqT)):
             check_codegen_type(t, e.span, f"the result of '{sym.name}'")
+        return self.coll(t, op, args, e)
+
+    def _relation_call(self, sym: FuncSym, op: str, args: list[ir.Expr], t: T.Type, e: ast.Call) -> ir.Expr:
+        """A relation operation: every relation is a set of pairs (robogen.ir.collections)."""
+        at = 1 if op in ("dres", "dsub") else 0
+        pair = args[at].type.element  # type: ignore[attr-defined]
+        if not (isinstance(pair, TupleT) and len(pair.fields) == 2):
+            raise not_supported(f"'{sym.name}' of {args[at].type.show()} (a relation is a set of pairs)", e.span)
+        x, y = pair.field("_1"), pair.field("_2")
+        wanted = {"dres": (T.SetT(x), None), "dsub": (T.SetT(x), None), "rres": (None, T.SetT(y)),
+                  "rsub": (None, T.SetT(y)), "rimage": (None, T.SetT(x)), "roverride": (None, args[0].type)}.get(op, (None, None))
+        args = [self.conv(a, w, x_.span) if w is not None else a for a, w, x_ in zip(args, wanted, e.args)]
+        check_codegen_type(t, e.span, f"the result of '{sym.name}'")
         return self.coll(t, op, args, e)
 
     def _user_call(self, sym: FuncSym, e: ast.Call, graph: Graph) -> ir.Expr:

@@ -504,7 +504,7 @@ class Interpreter:
         try:
             return copy.deepcopy(C.apply(e.op, args, [a.type for a in e.args], self.fmu.capacity,
                                          C.overflow_message(e.text, where, self.fmu.capacity),
-                                         C.empty_message(e.op, e.text, where)))
+                                         C.empty_message(e.op, e.text, where), e.type))
         except C.CollectionFault as fault:
             raise RuntimeFault(f"machine {m.name}: {fault}") from None
 

@@ -40,6 +40,8 @@ def normalise(t: T.Type, given: str = "int") -> T.Type:
         return T.SetT(normalise(t.element, given))
     if isinstance(t, T.SeqT):
         return T.SeqT(normalise(t.element, given))
+    if isinstance(t, T.FunctionT) and t.relation:  # a relation is the set of its pairs
+        return T.SetT(tuple_type((normalise(t.domain, given), normalise(t.range, given))))
     if isinstance(t, T.FunctionT):
         return T.FunctionT(normalise(t.domain, given), normalise(t.range, given), t.relation)
     if isinstance(t, T.RecordT):
