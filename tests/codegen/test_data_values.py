@@ -27,13 +27,10 @@ stm Grow {
 """
 
 
-def test_a_capacity_of_2_overflows_at_the_third_member(tmp_path):
-    path = tmp_path / "grow.rct"
-    path.write_text(MODEL)
-    built = build([path], tmp_path / "c2", options=LoweringOptions(capacity=2))
-    add = [Tick("add", {"add.value": v}) for v in (2, 2, -5)]
-    # {1} + 2 = {1, 2}; + 2 again changes nothing; + -5 would be {-5, 1, 2}: 3 > 2
-    scenario = Scenario([Instant(True, early=(t,)) for t in add], half=False)
+def _run(tmp_path, name: str, text: str, scenario: Scenario, options: LoweringOptions | None = None):
+    path = tmp_path / f"{name}.rct"
+    path.write_text(text)
+    built = build([path], tmp_path / name, options=options)
     runner = FmuRunner(built.folder)
     try:
         got = runner.run(scenario)
@@ -41,6 +38,14 @@ def test_a_capacity_of_2_overflows_at_the_third_member(tmp_path):
         runner.close()
     expected = interpret(built.fmu, scenario, runner.desc)
     assert got.comparable() == expected.comparable()
+    return got, expected
+
+
+def test_a_capacity_of_2_overflows_at_the_third_member(tmp_path):
+    add = [Tick("add", {"add.value": v}) for v in (2, 2, -5)]
+    # {1} + 2 = {1, 2}; + 2 again changes nothing; + -5 would be {-5, 1, 2}: 3 > 2
+    scenario = Scenario([Instant(True, early=(t,)) for t in add], half=False)
+    got, expected = _run(tmp_path, "grow", MODEL, scenario, LoweringOptions(capacity=2))
     message = "more than 2 elements (the capacity) in union(s, {v}) at grow.rct:11"
     assert expected.error is not None and message in expected.error.where
     assert got.error is not None and message in got.error.where, got.error.where
@@ -64,18 +69,6 @@ stm Late {
 """
 
 
-def _run(tmp_path, name: str, text: str, scenario: Scenario, options: LoweringOptions | None = None):
-    path = tmp_path / f"{name}.rct"
-    path.write_text(text)
-    built = build([path], tmp_path / name, options=options)
-    runner = FmuRunner(built.folder)
-    try:
-        got = runner.run(scenario)
-    finally:
-        runner.close()
-    expected = interpret(built.fmu, scenario, runner.desc)
-    assert got.comparable() == expected.comparable()
-    return got, expected
 
 
 def test_a_function_variable_applied_before_any_assignment_is_a_located_error(tmp_path):

@@ -297,24 +297,27 @@ def _canon(t, cap: int) -> str:
     return f"{_sig(c, function('canon', t), f'rg_model_data *d, {c} s')}\n{{\n{body}\n}}"
 
 
+def _building(result: str, name: str, params: str, loop: str) -> str:
+    """A function that builds its result ``r`` (zeroed first) in the one loop ``loop`` over i."""
+    body = f"    uint64_t i;\n    {result} r;\n    memset(&r, 0, sizeof r);\n    {loop}\n    return r;"
+    return f"{_sig(result, name, params)}\n{{\n{body}\n}}"
+
+
 def _elems(t, cap: int) -> str:
     c, s = collection_ctype(t), collection_ctype(T.SetT(t.element))
-    body = (f"    uint64_t i;\n    {s} r;\n    memset(&r, 0, sizeof r);\n"
-            f"    for (i = 0; i < q.n && !d->fault; i++) {function('insert', T.SetT(t.element))}(d, site, &r, q.a[i]);\n    return r;")
-    return f"{_sig(s, function('elems', t), f'rg_model_data *d, int32_t site, {c} q')}\n{{\n{body}\n}}"
+    loop = f"for (i = 0; i < q.n && !d->fault; i++) {function('insert', T.SetT(t.element))}(d, site, &r, q.a[i]);"
+    return _building(s, function("elems", t), f"rg_model_data *d, int32_t site, {c} q", loop)
 
 
 def _indices(t, cap: int) -> str:
-    c = collection_ctype(t)
-    body = "    uint64_t i;\n    rg_set_u r;\n    memset(&r, 0, sizeof r);\n    r.n = q.n;\n    for (i = 0; i < q.n; i++) r.a[i] = i + 1;\n    return r;"
-    return f"{_sig('rg_set_u', function('indices', t), f'{c} q')}\n{{\n{body}\n}}"
+    loop = "for (i = 0; i < q.n; i++) r.a[r.n++] = i + 1;"
+    return _building("rg_set_u", function("indices", t), f"{collection_ctype(t)} q", loop)
 
 
 def _filter(t, cap: int) -> str:
     c, s = collection_ctype(t), collection_ctype(T.SetT(t.element))
-    body = (f"    uint64_t i;\n    {c} r;\n    memset(&r, 0, sizeof r);\n"
-            f"    for (i = 0; i < q.n; i++) if ({function('has', T.SetT(t.element))}(s, q.a[i])) r.a[r.n++] = q.a[i];\n    return r;")
-    return f"{_sig(c, function('filter', t), f'{c} q, {s} s')}\n{{\n{body}\n}}"
+    loop = f"for (i = 0; i < q.n; i++) if ({function('has', T.SetT(t.element))}(s, q.a[i])) r.a[r.n++] = q.a[i];"
+    return _building(c, function("filter", t), f"{c} q, {s} s", loop)
 
 
 def _range(t, cap: int) -> str:
