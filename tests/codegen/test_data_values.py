@@ -27,16 +27,21 @@ stm Grow {
 """
 
 
-def _run(tmp_path, name: str, text: str, scenario: Scenario, options: LoweringOptions | None = None):
+def _run(tmp_path, name: str, text: str, scenario: Scenario, options: LoweringOptions | None = None,
+         c_functions: str | None = None, functions: dict | None = None):
     path = tmp_path / f"{name}.rct"
     path.write_text(text)
-    built = build([path], tmp_path / name, options=options)
+    c_file = None
+    if c_functions is not None:
+        c_file = tmp_path / f"{name}.c"
+        c_file.write_text(c_functions)
+    built = build([path], tmp_path / name, options=options, functions=c_file)
     runner = FmuRunner(built.folder)
     try:
         got = runner.run(scenario)
     finally:
         runner.close()
-    expected = interpret(built.fmu, scenario, runner.desc)
+    expected = interpret(built.fmu, scenario, runner.desc, functions=functions)
     assert got.comparable() == expected.comparable()
     return got, expected
 
@@ -185,3 +190,38 @@ def test_relations_are_sets_of_pairs(tmp_path):
     assert sizes == [2, 1, 2]
     v = step.variables
     assert v["Rel.q.elements"][:v["Rel.q.size"]] == [10, -2, 30]
+
+
+USER_FUNCTION = """\
+import sequence_toolkit::*
+function total(q: Seq(int), p: nat * int): int { }
+stm U {
+	var q: Seq(int) = <1, 2, 3>
+	event go
+	event out: int
+	initial i
+	state Idle { }
+	transition t0 { from i to Idle }
+	transition t1 { from Idle to Idle trigger go action out!total(q, (| 2, 5 |)) ; q = q ^ <4> }
+}
+"""
+
+TOTAL_C = """\
+static int64_t rg_user_total(rg_seq_i q, rg_tup2_u_i p)
+{
+    int64_t s = 0;
+    uint64_t i;
+    for (i = 0; i < q.n; i++) s += q.a[i];
+    return s * (int64_t)p._1 + p._2;
+}
+"""
+
+
+def test_a_user_function_takes_a_sequence_and_a_tuple(tmp_path):
+    """total(<1, 2, 3>, (2, 5)) = 6 * 2 + 5 = 17, then total(<1, 2, 3, 4>, (2, 5)) = 25."""
+    def total(q, p):
+        return sum(q) * p["_1"] + p["_2"]
+
+    scenario = Scenario([Instant(True, early=(Tick("go", {}),)) for _ in range(2)], half=False)
+    got, _ = _run(tmp_path, "user", USER_FUNCTION, scenario, c_functions=TOTAL_C, functions={"total": total})
+    assert [s.outputs["out"]["out.value"] for s in got.steps if "out" in s.outputs] == [17, 25]

@@ -18,6 +18,7 @@ import re
 from dataclasses import dataclass
 
 from robogen.ir import model as ir
+from robogen.ir.supported import TupleT
 from robogen.ir.collections import CAN_OVERFLOW, EMPTY_FAULTS, empty_message, overflow_message
 from robogen.semantics import types as T
 
@@ -32,6 +33,8 @@ def ctype(t: T.Type) -> str:
         return "double"
     if t == T.BOOLEAN:
         return "bool"
+    if isinstance(t, TupleT):  # by its arity and components: a prefix code, one name per tuple type
+        return f"rg_tup{len(t.fields)}_" + "_".join(elem_tag(ft) for _, ft in t.fields)
     if isinstance(t, T.RecordT):
         return "rg_rec_" + mangle(t.qname)
     if isinstance(t, T.VectorT):

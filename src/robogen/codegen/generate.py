@@ -173,6 +173,9 @@ def generate(fmu: ir.Fmu, options: CodegenOptions | None = None, *, diagrams: Se
     latch = {p.index: _latch(p, layout.port_fields_in.get(p.index, []), collections) for p in fmu.inputs}
     for t in collections.types:
         layout._type(t)
+    for u in fmu.user_functions:  # the C types a --functions file receives and returns
+        for t in (*(pt for _, pt in u.params), u.result):
+            layout._type(t)
     needed = {t for mc in machines for t in mc["equalities"]}
     equalities, bodies = _equalities(layout.types, needed)
     hooks = _hooks(fmu, machines)

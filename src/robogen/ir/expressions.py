@@ -397,14 +397,21 @@ class ExpressionLowering:
     def _user_call(self, sym: FuncSym, e: ast.Call, graph: Graph) -> ir.Expr:
         """A call of a function the model declares by its contract only: the code generator
         takes its implementation from the user (the reference interpreter from Python)."""
+        return self.user_call(sym, [self.expr(a, graph) for a in e.args], e)
+
+    def user_call(self, sym: FuncSym, args: list[ir.Expr], e: ast.Call) -> ir.Expr:
+        """The call of user function ``sym`` on the lowered ``args``. Its parameters and result
+        are numbers, booleans, enumerations, records, tuples, sets or sequences (the C file
+        receives and returns the C types of config.h)."""
         params = tuple((n, self._norm(t)) for n, t in sym.params)
         result = self._norm(sym.result)
         for n, t in params + (("result", result),):
             if not is_scalar(t):
-                raise not_supported(f"function '{sym.name}': {n} of type {t.show()}", e.span)
+                if isinstance(t, T.FunctionT) or "?" in t.show() or "string" in t.show():
+                    raise not_supported(f"function '{sym.name}': {n} of type {t.show()}", e.span)
+                check_codegen_type(t, e.span, f"function '{sym.name}': {n}")
         self.user_function(sym, e, params, result)
-        args = tuple(self.conv(self.expr(a, graph), pt, a.span) for a, (_, pt) in zip(e.args, params))
-        return ir.CallU(result, sym.name, args)
+        return ir.CallU(result, sym.name, tuple(self.conv(a, pt, e.span) for a, (_, pt) in zip(args, params)))
 
     # -- RoboSim inputs
 

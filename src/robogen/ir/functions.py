@@ -49,10 +49,7 @@ class FunctionValues:
             if isinstance(sym, VarSym) and isinstance(T.single(sym.type), T.FunctionT):
                 return self._apply_variable(sym, f, args, e, graph)
             if isinstance(sym, FuncSym) and sym.builtin is None and sym.decl is not None:
-                params = tuple((n, self._norm(t)) for n, t in sym.params)
-                result = self._norm(sym.result)
-                self.user_function(sym, e, params, result)  # type: ignore[arg-type]
-                return ir.CallU(result, sym.name, tuple(self.conv(a, t, e.span) for a, (_, t) in zip(args, params)))
+                return self.user_call(sym, args, e)
         raise not_supported(f"applying {expr_text(f)}", e.span)
 
     def _apply_lambda(self, f: ast.Binder, args: list[ir.Expr], graph: Graph) -> ir.Expr:

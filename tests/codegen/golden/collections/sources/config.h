@@ -33,13 +33,13 @@ typedef struct { uint64_t n; int64_t a[32]; } rg_seq_i;  /* Seq(int): a sequence
 typedef struct {
     uint64_t _1;
     int64_t _2;
-} rg_rec_tuple_nat_int_;
+} rg_tup2_u_i;
 
 /* datatype tuple(int,nat) */
 typedef struct {
     int64_t _1;
     uint64_t _2;
-} rg_rec_tuple_int_nat_;
+} rg_tup2_i_u;
 
 /* ---- memory of each state machine ------------------------------------------------------ */
 
@@ -83,17 +83,17 @@ typedef struct {
     int64_t reg_e_add, smp_e_add;  /* the value of add */
     int64_t reg_e_drop, smp_e_drop;  /* the value of drop */
     uint64_t reg_e_pick, smp_e_pick;  /* the value of pick */
-    rg_rec_tuple_nat_int_ reg_e_pair, smp_e_pair;  /* the value of pair */
+    rg_tup2_u_i reg_e_pair, smp_e_pair;  /* the value of pair */
     rg_set_i reg_e_load, smp_e_load;  /* the value of load */
     uint64_t reg_e_count, smp_e_count;  /* the value of count */
     rg_seq_i reg_e_items, smp_e_items;  /* the value of items */
     rg_set_i reg_e_members, smp_e_members;  /* the value of members */
     int64_t reg_e_first, smp_e_first;  /* the value of first */
     bool reg_e_found, smp_e_found;  /* the value of found */
-    rg_rec_tuple_int_nat_ reg_e_swapped, smp_e_swapped;  /* the value of swapped */
+    rg_tup2_i_u reg_e_swapped, smp_e_swapped;  /* the value of swapped */
     rg_set_i v_s;  /* var s */
     rg_seq_i v_q;  /* var q */
-    rg_rec_tuple_nat_int_ v_p;  /* var p */
+    rg_tup2_u_i v_p;  /* var p */
     uint64_t v_k;  /* var k */
     int64_t v_v;  /* var v */
     rg_set_i v_base;  /* const base */

@@ -483,7 +483,7 @@ static int rg_run_0(rg_instance *inst)
             m->smp_present[Bag_Event_pair] = false;
             RG_TRACE(inst, "Bag: t5: Idle -> Idle");
             {
-                rg_rec_tuple_int_nat_ a0_ = ((rg_rec_tuple_int_nat_){ ._1 = m->v_p._2, ._2 = m->v_p._1 });
+                rg_tup2_i_u a0_ = ((rg_tup2_i_u){ ._1 = m->v_p._2, ._2 = m->v_p._1 });
                 d->out_swapped__1 = a0_._1;
                 d->out_swapped__2 = a0_._2;
                 rg_activate_output_clock(inst, CLOCK_swapped);
@@ -562,7 +562,7 @@ static fmi3Status rg_model_exit_initialization(rg_instance *inst)
             rg_log(inst, RG_LOG_ERROR, fmi3Error, "initial value of q: %s", RG_FAULT_MESSAGE(d));
             return fmi3Error;
         }
-        m->v_p = ((rg_rec_tuple_nat_int_){ ._1 = UINT64_C(0), ._2 = INT64_C(0) });  /* initial value of p */
+        m->v_p = ((rg_tup2_u_i){ ._1 = UINT64_C(0), ._2 = INT64_C(0) });  /* initial value of p */
         m->v_k = UINT64_C(0);  /* initial value of k */
         m->v_v = INT64_C(0);  /* initial value of v */
         m->v_base = rg_make_set_i(d, 38, 3, (const int64_t[]){ INT64_C(1), INT64_C(2), INT64_C(3) });  /* initial value of base */
@@ -597,7 +597,7 @@ static void rg_model_latch(rg_instance *inst, int clock_index)
         break;
     }
     case CLOCK_pair: {
-        rg_rec_tuple_nat_int_ v;
+        rg_tup2_u_i v;
         v._1 = d->in_pair__1;
         v._2 = d->in_pair__2;
         rg_deliver(d, &rg_events_0[Bag_Event_pair], &v);
