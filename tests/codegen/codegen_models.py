@@ -44,6 +44,7 @@ TEST_MODELS = {
         ModelCase("beacon", MODELS / "beacon.rst", settings={"step": "0.25"}),
         ModelCase("timers", MODELS / "timers.rct"),
         ModelCase("inputs", MODELS / "inputs.rct"),
+        ModelCase("binding", MODELS / "binding.rct"),
         ModelCase("relay", MODELS / "relay.rct"),
         ModelCase("nested", MODELS / "nested.rct"),
         ModelCase("functions", MODELS / "functions.rct", choices={
@@ -57,6 +58,8 @@ TEST_MODELS = {
             "load.value.size": [0, 1, 2, 3, 5, 6, 2**64 - 1],
         }),
         ModelCase("ur5e_rct", ROOT / "models" / "ur5e" / "ur5e.rct"),
+        ModelCase("gripper", MODELS / "gripper.rst"),
+        ModelCase("twins", MODELS / "twins.rct"),
     )
 }
 OWN_MODELS = [n for n in TEST_MODELS if n != "ur5e"]

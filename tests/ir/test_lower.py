@@ -123,6 +123,20 @@ def test_robochart_deadlines_are_counted_not_enforced(built):
     assert steps[14].outputs == {"ring": {"ring.value": 2}}
 
 
+def test_an_input_trigger_binds_its_variable_only_when_its_transition_is_taken(built):
+    """binding.rct: button 7 and level 4 arrive at t=0 and wait in the buffer. t1 (button?last,
+    since(C) >= 3) is taken at t=3: 'last' stays 0 until then, becomes 7, shown!7 is sent. t2's
+    condition reads level before the communication (0), so t2 is never taken and level stays 0."""
+    b = built("binding", "exhaustive")
+    trace = run_both(b, scenario(at(tick("button", value=7), tick("level", value=4)), at(), at(), at(), at()))
+    steps = last_steps(trace)
+    assert [steps[i].variables["Latch.last"] for i in range(5)] == [0, 0, 0, 7, 7]
+    assert [steps[i].variables["Latch.taken"] for i in range(5)] == [0, 0, 0, 1, 1]
+    assert [steps[i].variables["Latch.level"] for i in range(5)] == [0] * 5
+    assert steps[3].outputs == {"shown": {"shown.value": 7}}
+    assert all(steps[i].outputs == {} for i in (0, 1, 2, 4))
+
+
 def test_stepwise_runaway_bound_counts_the_whole_cycle(built):
     """arith.rst (max_steps 40): n = 7 sends Idle to Spin, which loops without exec. Stepwise
     takes one transition per instant, so the bound must count across the instants of the cycle:

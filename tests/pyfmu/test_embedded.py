@@ -168,6 +168,21 @@ def test_debug_logging_categories(fmus):
     fmu.close()
 
 
+def test_event_messages_are_made_only_while_their_category_is_logged(fmus):
+    fmu = started(fmus["counter"])
+    fmu.slave.setDebugLogging(True, ["logEvents"])
+    fmu.set_clocks("tick")
+    assert fmu.messages() == ["t=0: input clock tick active"]
+    fmu.slave.updateDiscreteStates()
+    fmu.slave.setDebugLogging(True, ["logStatusWarning"])  # the slave asks the C side before formatting
+    fmu.slave.enterStepMode()
+    fmu.slave.doStep(0.0, 0.5)
+    fmu.slave.enterEventMode()
+    fmu.set_clocks("tick")
+    assert fmu.messages() == ["t=0: input clock tick active"]
+    fmu.close()
+
+
 def test_several_instances_and_several_fmus_in_one_process_keep_their_own_state(fmus, tmp_path):
     a = started(fmus["counter"], "a")
     b = started(fmus["counter"], "b")  # same library

@@ -8,7 +8,7 @@ from pathlib import Path
 
 from robogen.codegen.api import compile_model, parse_time_unit
 from robogen.codegen.generate import CodegenOptions
-from robogen.diagnostics import RobogenError, error
+from robogen.diagnostics import RobogenError, SourceMap, error, render_all
 from robogen.ir.dump import dump
 from robogen.ir.lower import LoweringOptions
 
@@ -63,6 +63,12 @@ def codegen_options_from(args: argparse.Namespace) -> CodegenOptions:
     return CodegenOptions(line_comments=not args.no_line_comments, functions=Path(args.functions) if args.functions else None)
 
 
+def print_warnings(fmu) -> None:
+    """What lowering warned about, on stderr (the command goes on)."""
+    if fmu.warnings:
+        print(render_all(fmu.warnings, SourceMap()), file=sys.stderr)
+
+
 def configure(p: argparse.ArgumentParser) -> None:
     p.add_argument("paths", nargs="+", metavar="MODEL", help="model files and/or directories (one workspace)")
     add_model_options(p)
@@ -73,6 +79,7 @@ def configure(p: argparse.ArgumentParser) -> None:
 def run(args: argparse.Namespace) -> int:
     compiled = compile_model(args.paths, args.output, module=args.module, machine=args.machine,
                              options=options_from(args), codegen=codegen_options_from(args))
+    print_warnings(compiled.fmu)
     if args.dump_ir:
         sys.stdout.write(dump(compiled.fmu))
     n = len(compiled.generated.variables)

@@ -324,7 +324,9 @@ def _type_at(t, path: tuple[str, ...]) -> T.Type:
 
 
 def _param_starts(p: ir.Param) -> list[tuple[str, str]]:
-    if p.value is None:
+    """The start value rg_model_reset writes (none for records, vectors and matrices: the
+    instance's memory starts zeroed, which is their default value)."""
+    if p.value is None or isinstance(p.var.type, (T.RecordT, T.VectorT, T.MatrixT)):
         return []
     return [("", literal(p.value, p.var.type))]
 

@@ -29,7 +29,7 @@ def dump(fmu: ir.Fmu) -> str:
     for p in fmu.outputs:
         out.append(f"  output {p.kind} {p.name}" + _fields(p))
     for p in fmu.params:
-        out.append(f"  parameter {p.fmi_name}: {p.var.type.show()} = {_value(p.value)}")
+        out.append(f"  parameter {p.fmi_name}: {p.var.type.show()} = {_value(p.value)}" + (" (no value in the model)" if p.free else ""))
     for m in fmu.machines:
         out.append(machine(m))
     text = "\n".join(out) + "\n"

@@ -34,6 +34,7 @@ from dataclasses import dataclass, field
 
 from robogen.ir import collections as C
 from robogen.ir import model as ir
+from robogen.ir.constants import default_value
 from robogen.semantics import types as T
 
 MASK = (1 << 64) - 1
@@ -53,21 +54,7 @@ def wrap_nat(v: int) -> int:
 
 
 def _zero(t: T.Type):
-    if t == T.REAL:
-        return 0.0
-    if t == T.STRING:
-        return ""
-    if t == T.BOOLEAN:
-        return False
-    if isinstance(t, T.RecordT):
-        return {n: _zero(ft) for n, ft in t.fields}
-    if isinstance(t, T.VectorT):
-        return [_zero(t.element) for _ in range(t.size or 0)]
-    if isinstance(t, T.MatrixT):
-        return [_zero(t.element) for _ in range((t.rows or 0) * (t.columns or 0))]
-    if isinstance(t, (T.SetT, T.SeqT)):
-        return []
-    return 0  # nat, int, enumerations
+    return default_value(t, 0.0)
 
 
 def python_value(v: object, t: T.Type):

@@ -46,9 +46,9 @@ def lower(model: SemanticModel, boundary: Boundary, options: LoweringOptions | N
     lowerings: list[MachineLowering] = []
     ports = Ports(fmu, boundary, lowerings, lambda t: normalise(t, options.given))  # type: ignore[arg-type]
     ctx = FmuContext(model, boundary, fmu, options.given, options.settings, ports)
-    for i, (used_name, scope, ctrl) in enumerate(boundary.machines):
+    for i, ((used_name, scope, ctrl), name) in enumerate(zip(boundary.machines, boundary.machine_names)):
         with working_on(scope.node.span):
-            ml = MachineLowering(ctx, scope, ctrl, i, used_name)
+            ml = MachineLowering(ctx, scope, ctrl, i, used_name, name)
             fmu.machines.append(ml.machine)
             lowerings.append(ml)
     ports.create()
@@ -56,6 +56,7 @@ def lower(model: SemanticModel, boundary: Boundary, options: LoweringOptions | N
         with working_on(ml.scope.node.span):
             ml.build()
     ctx.sink.raise_if_errors()
+    fmu.warnings = ctx.sink.warnings
     return fmu
 
 

@@ -67,13 +67,15 @@ class Var:
 
 @dataclass(eq=False)
 class Param:
-    """An FMI parameter: a model constant. ``value`` is the start value (a Python value); a
-    constant declared without a value has value None until configured."""
+    """An FMI parameter: a model constant. ``value`` is the start value (a Python value). A
+    constant the model declares without a value (and --set does not give one) is ``free``: its
+    start value is its type's default, and it only gets its real value from the importer."""
 
     fmi_name: str
     var: Var
     machine: int
     value: object
+    free: bool = False
 
 
 @dataclass(frozen=True)
@@ -469,6 +471,9 @@ class Fmu:
     max_steps: int = 1000  # transitions per cycle before a runaway cycle is reported
     capacity: int = 32  # the most elements a set or sequence holds (robogen compile --capacity)
     root: str = ""  # the workspace root (absolute), to which generated files name model files
+    # what lowering warns about (constants that become parameters without a value, renamed
+    # ports); the front end prints them. Not in the dump: they restate the model's meaning.
+    warnings: list = field(default_factory=list)
 
     def source_name(self, path: str) -> str:
         """A model file's name in generated files: relative to the workspace root, so the same

@@ -8,7 +8,7 @@
 #include <stdint.h>
 
 #define RG_MODEL_IDENTIFIER "Bag"
-#define RG_INSTANTIATION_TOKEN "{41f00d82-a972-3df1-9ca5-f4532a1fb556}"
+#define RG_INSTANTIATION_TOKEN "{09983bd1-4e0c-8c18-5502-75749fbdfc59}"
 #define RG_NUM_VARIABLES 43
 #define RG_NUM_CLOCKS 13
 #define RG_MIGHT_RETURN_EARLY 0

@@ -33,11 +33,11 @@ static const char *const rg_sites[] = {
     "",
     "",
     "",
+    "'head' of an empty collection in head(q) at collections.rct:50",
+    "",
     "'tail' of an empty collection in tail(q) at collections.rct:51",
     "",
     "",
-    "",
-    "'head' of an empty collection in head(q) at collections.rct:53",
     "more than 32 elements (the capacity) in {p[2]} at collections.rct:55",
     "",
     "more than 32 elements (the capacity) in union(base, {p[2]}) at collections.rct:55",
@@ -167,6 +167,14 @@ static rg_seq_i rg_filter_seq_i(rg_seq_i q, rg_set_i s)
     return r;
 }
 
+static int64_t rg_head_seq_i(rg_model_data *d, int32_t site, rg_seq_i s) RG_MAYBE_UNUSED;
+static int64_t rg_head_seq_i(rg_model_data *d, int32_t site, rg_seq_i s)
+{
+    int64_t zero;
+    if (s.n == 0) { memset(&zero, 0, sizeof zero); d->fault = RG_FAULT_COLLECTION; d->fault_site = site + 1; return zero; }
+    return s.a[0];
+}
+
 static rg_seq_i rg_reverse_seq_i(rg_model_data *d, int32_t site, rg_seq_i s) RG_MAYBE_UNUSED;
 static rg_seq_i rg_reverse_seq_i(rg_model_data *d, int32_t site, rg_seq_i s)
 {
@@ -175,14 +183,6 @@ static rg_seq_i rg_reverse_seq_i(rg_model_data *d, int32_t site, rg_seq_i s)
     for (i = 0; i < s.n; i++) r.a[i] = s.a[s.n - 1 - i];
     (void)d; (void)site;
     return r;
-}
-
-static int64_t rg_head_seq_i(rg_model_data *d, int32_t site, rg_seq_i s) RG_MAYBE_UNUSED;
-static int64_t rg_head_seq_i(rg_model_data *d, int32_t site, rg_seq_i s)
-{
-    int64_t zero;
-    if (s.n == 0) { memset(&zero, 0, sizeof zero); d->fault = RG_FAULT_COLLECTION; d->fault_site = site + 1; return zero; }
-    return s.a[0];
 }
 
 static rg_set_i rg_inter_set_i(rg_model_data *d, int32_t site, rg_set_i a, rg_set_i b) RG_MAYBE_UNUSED;
@@ -329,10 +329,9 @@ static const char *const rg_labels_0[] = {
     "b3: t7: Idle -> Idle (collections.rct:46)",
     "b4: t2: Idle -> Idle (collections.rct:48)",
     "b5: t3: Idle -> Idle (collections.rct:50)",
-    "b6: t4: Idle -> Idle (collections.rct:52)",
-    "b7: t5: Idle -> Idle (collections.rct:54)",
-    "b8: t8: Idle -> Idle (collections.rct:56)",
-    "b9: t6: Idle -> Idle (collections.rct:57)",
+    "b6: t5: Idle -> Idle (collections.rct:54)",
+    "b7: t8: Idle -> Idle (collections.rct:56)",
+    "b8: t6: Idle -> Idle (collections.rct:57)",
 };
 
 static int rg_fault_0(rg_instance *inst) RG_MAYBE_UNUSED;
@@ -380,24 +379,23 @@ static int rg_run_0(rg_instance *inst)
             m->pc = 1; continue;
         case 1: /* b1: EVAL Idle  collections.rct:42 */
             /* t1: Idle -> Idle add?v [size(q) < 4]  collections.rct:44 */
-            if ((m->smp_present[Bag_Event_add] ? (m->v_v = m->smp_e_add, true) : false) && (((m->v_q).n) < UINT64_C(4))) { m->pc = 2; continue; }
+            if (m->smp_present[Bag_Event_add] && (((m->v_q).n) < UINT64_C(4))) { m->pc = 2; continue; }
             /* t7: Idle -> Idle add?v [size(q) >= 4]  collections.rct:46 */
-            if ((m->smp_present[Bag_Event_add] ? (m->v_v = m->smp_e_add, true) : false) && (((m->v_q).n) >= UINT64_C(4))) { m->pc = 3; continue; }
+            if (m->smp_present[Bag_Event_add] && (((m->v_q).n) >= UINT64_C(4))) { m->pc = 3; continue; }
             /* t2: Idle -> Idle drop?v  collections.rct:48 */
-            if (m->smp_present[Bag_Event_drop] ? (m->v_v = m->smp_e_drop, true) : false) { m->pc = 4; continue; }
-            /* t3: Idle -> Idle pick?k [k >= 1 /\ k <= size(q)]  collections.rct:50 */
-            if ((m->smp_present[Bag_Event_pick] ? (m->v_k = m->smp_e_pick, true) : false) && ((m->v_k >= UINT64_C(1)) && (m->v_k <= ((m->v_q).n)))) { m->pc = 5; continue; }
-            /* t4: Idle -> Idle pick?k [k == 0]  collections.rct:52 */
-            if ((m->smp_present[Bag_Event_pick] ? (m->v_k = m->smp_e_pick, true) : false) && (m->v_k == UINT64_C(0))) { m->pc = 6; continue; }
+            if (m->smp_present[Bag_Event_drop]) { m->pc = 4; continue; }
+            /* t3: Idle -> Idle pick?k  collections.rct:50 */
+            if (m->smp_present[Bag_Event_pick]) { m->pc = 5; continue; }
             /* t5: Idle -> Idle pair?p  collections.rct:54 */
-            if (m->smp_present[Bag_Event_pair] ? (m->v_p = m->smp_e_pair, true) : false) { m->pc = 7; continue; }
+            if (m->smp_present[Bag_Event_pair]) { m->pc = 6; continue; }
             /* t8: Idle -> Idle load?s  collections.rct:56 */
-            if (m->smp_present[Bag_Event_load] ? (m->v_s = m->smp_e_load, true) : false) { m->pc = 8; continue; }
+            if (m->smp_present[Bag_Event_load]) { m->pc = 7; continue; }
             /* t6: Idle -> Idle clear [size(q) > 0 \/ v == 5 /\ k == 5]  collections.rct:57 */
-            if (m->smp_present[Bag_Event_clear] && ((((m->v_q).n) > UINT64_C(0)) || ((m->v_v == INT64_C(5)) && (m->v_k == UINT64_C(5))))) { m->pc = 9; continue; }
+            if (m->smp_present[Bag_Event_clear] && ((((m->v_q).n) > UINT64_C(0)) || ((m->v_v == INT64_C(5)) && (m->v_k == UINT64_C(5))))) { m->pc = 8; continue; }
             m->pc = 1; return RG_RUN_SUSPENDED;
         case 2: /* b2: t1: Idle -> Idle  collections.rct:44 */
             RG_BEGIN_TRANSITION(rg_runaway_0(inst));
+            m->v_v = m->smp_e_add;
             m->smp_present[Bag_Event_add] = false;
             RG_TRACE(inst, "Bag: t1: Idle -> Idle");
             m->v_s = rg_union_set_i(d, 2, m->v_s, rg_make_set_i(d, 0, 1, (const int64_t[]){ m->v_v }));
@@ -416,6 +414,7 @@ static int rg_run_0(rg_instance *inst)
             m->pc = 1; continue;
         case 3: /* b3: t7: Idle -> Idle  collections.rct:46 */
             RG_BEGIN_TRANSITION(rg_runaway_0(inst));
+            m->v_v = m->smp_e_add;
             m->smp_present[Bag_Event_add] = false;
             RG_TRACE(inst, "Bag: t7: Idle -> Idle");
             m->v_q = rg_cat_seq_i(d, 12, rg_tail_seq_i(d, 8, m->v_q), rg_make_seq_i(d, 10, 2, (const int64_t[]){ m->v_v, m->v_v }));
@@ -430,6 +429,7 @@ static int rg_run_0(rg_instance *inst)
             m->pc = 1; continue;
         case 4: /* b4: t2: Idle -> Idle  collections.rct:48 */
             RG_BEGIN_TRANSITION(rg_runaway_0(inst));
+            m->v_v = m->smp_e_drop;
             m->smp_present[Bag_Event_drop] = false;
             RG_TRACE(inst, "Bag: t2: Idle -> Idle");
             m->v_s = rg_diff_set_i(d, 16, m->v_s, rg_make_set_i(d, 14, 1, (const int64_t[]){ m->v_v }));
@@ -447,39 +447,40 @@ static int rg_run_0(rg_instance *inst)
             m->pc = 1; continue;
         case 5: /* b5: t3: Idle -> Idle  collections.rct:50 */
             RG_BEGIN_TRANSITION(rg_runaway_0(inst));
+            m->v_k = m->smp_e_pick;
             m->smp_present[Bag_Event_pick] = false;
             RG_TRACE(inst, "Bag: t3: Idle -> Idle");
-            {
-                int64_t a0_ = m->v_q.a[rg_index(d, rg_u_to_i(m->v_k), (int64_t)m->v_q.n)];
-                if (d->fault) return rg_fault_0(inst);
-                d->out_first_value = a0_;
-                rg_activate_output_clock(inst, CLOCK_first);
-            }
-            m->v_q = rg_tail_seq_i(d, 18, m->v_q);
-            if (d->fault) return rg_fault_0(inst);
-            {
-                rg_seq_i a0_ = rg_reverse_seq_i(d, 20, m->v_q);
-                if (d->fault) return rg_fault_0(inst);
-                memcpy(d->out_items_value_elements.a, a0_.a, sizeof d->out_items_value_elements.a);
-                d->out_items_value_size = a0_.n;
-                rg_activate_output_clock(inst, CLOCK_items);
+            if (m->v_k == UINT64_C(0)) {
+                {
+                    int64_t a0_ = rg_head_seq_i(d, 18, m->v_q);
+                    if (d->fault) return rg_fault_0(inst);
+                    d->out_first_value = a0_;
+                    rg_activate_output_clock(inst, CLOCK_first);
+                }
+            } else {
+                if (m->v_k <= ((m->v_q).n)) {
+                    {
+                        int64_t a0_ = m->v_q.a[rg_index(d, rg_u_to_i(m->v_k), (int64_t)m->v_q.n)];
+                        if (d->fault) return rg_fault_0(inst);
+                        d->out_first_value = a0_;
+                        rg_activate_output_clock(inst, CLOCK_first);
+                    }
+                    m->v_q = rg_tail_seq_i(d, 20, m->v_q);
+                    if (d->fault) return rg_fault_0(inst);
+                    {
+                        rg_seq_i a0_ = rg_reverse_seq_i(d, 22, m->v_q);
+                        if (d->fault) return rg_fault_0(inst);
+                        memcpy(d->out_items_value_elements.a, a0_.a, sizeof d->out_items_value_elements.a);
+                        d->out_items_value_size = a0_.n;
+                        rg_activate_output_clock(inst, CLOCK_items);
+                    }
+                }
             }
             RG_ENTER(Bag_Node_Idle);
             m->pc = 1; continue;
-        case 6: /* b6: t4: Idle -> Idle  collections.rct:52 */
+        case 6: /* b6: t5: Idle -> Idle  collections.rct:54 */
             RG_BEGIN_TRANSITION(rg_runaway_0(inst));
-            m->smp_present[Bag_Event_pick] = false;
-            RG_TRACE(inst, "Bag: t4: Idle -> Idle");
-            {
-                int64_t a0_ = rg_head_seq_i(d, 22, m->v_q);
-                if (d->fault) return rg_fault_0(inst);
-                d->out_first_value = a0_;
-                rg_activate_output_clock(inst, CLOCK_first);
-            }
-            RG_ENTER(Bag_Node_Idle);
-            m->pc = 1; continue;
-        case 7: /* b7: t5: Idle -> Idle  collections.rct:54 */
-            RG_BEGIN_TRANSITION(rg_runaway_0(inst));
+            m->v_p = m->smp_e_pair;
             m->smp_present[Bag_Event_pair] = false;
             RG_TRACE(inst, "Bag: t5: Idle -> Idle");
             {
@@ -498,8 +499,9 @@ static int rg_run_0(rg_instance *inst)
             }
             RG_ENTER(Bag_Node_Idle);
             m->pc = 1; continue;
-        case 8: /* b8: t8: Idle -> Idle  collections.rct:56 */
+        case 7: /* b7: t8: Idle -> Idle  collections.rct:56 */
             RG_BEGIN_TRANSITION(rg_runaway_0(inst));
+            m->v_s = m->smp_e_load;
             m->smp_present[Bag_Event_load] = false;
             RG_TRACE(inst, "Bag: t8: Idle -> Idle");
             {
@@ -512,7 +514,7 @@ static int rg_run_0(rg_instance *inst)
             rg_activate_output_clock(inst, CLOCK_count);
             RG_ENTER(Bag_Node_Idle);
             m->pc = 1; continue;
-        case 9: /* b9: t6: Idle -> Idle  collections.rct:57 */
+        case 8: /* b8: t6: Idle -> Idle  collections.rct:57 */
             RG_BEGIN_TRANSITION(rg_runaway_0(inst));
             m->smp_present[Bag_Event_clear] = false;
             RG_TRACE(inst, "Bag: t6: Idle -> Idle");

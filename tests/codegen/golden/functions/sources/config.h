@@ -8,7 +8,7 @@
 #include <stdint.h>
 
 #define RG_MODEL_IDENTIFIER "Fun"
-#define RG_INSTANTIATION_TOKEN "{66df98c2-f958-7794-831c-22cc3e95b73a}"
+#define RG_INSTANTIATION_TOKEN "{b134820e-b2f1-93db-6341-759de3dcd345}"
 #define RG_NUM_VARIABLES 14
 #define RG_NUM_CLOCKS 5
 #define RG_MIGHT_RETURN_EARLY 0

@@ -14,7 +14,7 @@
 /* The run-time errors of the set and sequence operations: two per operation (its result would
  * exceed the capacity of 32 elements; it needs an element of an empty collection). */
 static const char *const rg_sites[] = {
-    "function variable 'f' applied before it has a value at functions.rct:31",
+    "function variable 'f' applied before it has a value at functions.rct:30",
     "",
 };
 #define RG_FAULT_MESSAGE(d) ((d)->fault == RG_FAULT_COLLECTION ? rg_sites[(d)->fault_site] : rg_fault_text((d)->fault))
@@ -83,9 +83,7 @@ static const char *const rg_labels_0[] = {
     "b0: start Fun (functions.rct:18)",
     "b1: EVAL Idle (functions.rct:24)",
     "b2: t1: Idle -> Idle (functions.rct:26)",
-    "b3: t2: Idle -> Idle (functions.rct:27)",
-    "b4: t3: Idle -> Idle (functions.rct:28)",
-    "b5: t4: Idle -> Idle (functions.rct:30)",
+    "b3: t2: Idle -> Idle (functions.rct:29)",
 };
 
 static int rg_fault_0(rg_instance *inst) RG_MAYBE_UNUSED;
@@ -124,40 +122,32 @@ static int rg_run_0(rg_instance *inst)
             RG_ENTER(Fun_Node_Idle);
             m->pc = 1; continue;
         case 1: /* b1: EVAL Idle  functions.rct:24 */
-            /* t1: Idle -> Idle set?n [n == 0]  functions.rct:26 */
-            if ((m->smp_present[Fun_Event_set] ? (m->v_n = m->smp_e_set, true) : false) && (m->v_n == UINT64_C(0))) { m->pc = 2; continue; }
-            /* t2: Idle -> Idle set?n [n == 1]  functions.rct:27 */
-            if ((m->smp_present[Fun_Event_set] ? (m->v_n = m->smp_e_set, true) : false) && (m->v_n == UINT64_C(1))) { m->pc = 3; continue; }
-            /* t3: Idle -> Idle set?n [n >= 2]  functions.rct:28 */
-            if ((m->smp_present[Fun_Event_set] ? (m->v_n = m->smp_e_set, true) : false) && (m->v_n >= UINT64_C(2))) { m->pc = 4; continue; }
-            /* t4: Idle -> Idle use?n  functions.rct:30 */
-            if (m->smp_present[Fun_Event_use] ? (m->v_n = m->smp_e_use, true) : false) { m->pc = 5; continue; }
+            /* t1: Idle -> Idle set?n  functions.rct:26 */
+            if (m->smp_present[Fun_Event_set]) { m->pc = 2; continue; }
+            /* t2: Idle -> Idle use?n  functions.rct:29 */
+            if (m->smp_present[Fun_Event_use]) { m->pc = 3; continue; }
             m->pc = 1; return RG_RUN_SUSPENDED;
         case 2: /* b2: t1: Idle -> Idle  functions.rct:26 */
             RG_BEGIN_TRANSITION(rg_runaway_0(inst));
+            m->v_n = m->smp_e_set;
             m->smp_present[Fun_Event_set] = false;
             RG_TRACE(inst, "Fun: t1: Idle -> Idle");
-            m->v_f = INT64_C(2);
+            if (m->v_n == UINT64_C(0)) {
+                m->v_f = INT64_C(2);
+            } else {
+                if (m->v_n == UINT64_C(1)) {
+                    m->v_f = INT64_C(3);
+                } else {
+                    m->v_f = INT64_C(4);
+                }
+            }
             RG_ENTER(Fun_Node_Idle);
             m->pc = 1; continue;
-        case 3: /* b3: t2: Idle -> Idle  functions.rct:27 */
+        case 3: /* b3: t2: Idle -> Idle  functions.rct:29 */
             RG_BEGIN_TRANSITION(rg_runaway_0(inst));
-            m->smp_present[Fun_Event_set] = false;
-            RG_TRACE(inst, "Fun: t2: Idle -> Idle");
-            m->v_f = INT64_C(3);
-            RG_ENTER(Fun_Node_Idle);
-            m->pc = 1; continue;
-        case 4: /* b4: t3: Idle -> Idle  functions.rct:28 */
-            RG_BEGIN_TRANSITION(rg_runaway_0(inst));
-            m->smp_present[Fun_Event_set] = false;
-            RG_TRACE(inst, "Fun: t3: Idle -> Idle");
-            m->v_f = INT64_C(4);
-            RG_ENTER(Fun_Node_Idle);
-            m->pc = 1; continue;
-        case 5: /* b5: t4: Idle -> Idle  functions.rct:30 */
-            RG_BEGIN_TRANSITION(rg_runaway_0(inst));
+            m->v_n = m->smp_e_use;
             m->smp_present[Fun_Event_use] = false;
-            RG_TRACE(inst, "Fun: t4: Idle -> Idle");
+            RG_TRACE(inst, "Fun: t2: Idle -> Idle");
             {
                 int64_t a0_ = ((m->v_f == INT64_C(1)) ? rg_u_to_i(m->v_n) : ((m->v_f == INT64_C(2)) ? rg_u_to_i(rg_u_add(m->v_n, UINT64_C(1))) : ((m->v_f == INT64_C(3)) ? rg_i_sub(rg_u_to_i(rg_u_mul(m->v_n, UINT64_C(10))), INT64_C(5)) : ((m->v_f == INT64_C(4)) ? rg_u_to_i(((rg_u_to_i(m->v_n) == INT64_C(2)) ? UINT64_C(100) : ((rg_u_to_i(m->v_n) == INT64_C(3)) ? ((uint64_t)rg_i_neg(INT64_C(3))) : rg_u_add(m->v_n, UINT64_C(1))))) : rg_undefined_i(d, 0)))));
                 if (d->fault) return rg_fault_0(inst);
