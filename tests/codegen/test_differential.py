@@ -128,7 +128,7 @@ def cycle_ends(trace) -> tuple[dict[int, dict], int | None]:
 # buffered event, may run in one instant and send on one output (items, members, count).
 @pytest.mark.parametrize("name", [n for n in TEST_MODELS if n not in ("relay", "collections")])
 def test_exhaustive_and_stepwise_agree_at_the_end_of_every_cycle(built, name):
-    """docs/robosim-robochart.md §7.6: both modes sample inputs once per cycle and latch late ones,
+    """The two semantics (README): both modes sample inputs once per cycle and latch late ones,
     so at the end of every instant they show the same states, variables and outputs."""
     exhaustive, stepwise = built(name, "exhaustive"), built(name, "stepwise")
     desc = Description(exhaustive.folder)

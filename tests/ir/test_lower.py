@@ -1,7 +1,7 @@
 """Hand-written expected behaviour of lowered machines, checked on the FMU and the interpreter.
 
 The differential tests prove that the C does what the IR says; these prove that the IR says what
-docs/robosim-robochart.md §4 and §7 say, with traces worked out by hand from the models.
+the RoboChart and RoboSim semantics and robogen's FMI mapping (README) say, with traces worked out by hand from the models.
 Scenarios tick the periodic clock at every instant (one period apart).
 """
 

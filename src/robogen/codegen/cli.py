@@ -8,7 +8,7 @@ from pathlib import Path
 
 from robogen.codegen.api import compile_model, parse_time_unit
 from robogen.codegen.generate import CodegenOptions
-from robogen.diagnostics import RobogenError, SourceMap, error, render_all
+from robogen.diagnostics import RobogenError, SourceMap, error, render_all, warning
 from robogen.ir.dump import dump
 from robogen.ir.lower import LoweringOptions
 
@@ -63,10 +63,14 @@ def codegen_options_from(args: argparse.Namespace) -> CodegenOptions:
     return CodegenOptions(line_comments=not args.no_line_comments, functions=Path(args.functions) if args.functions else None)
 
 
-def print_warnings(fmu) -> None:
-    """What lowering warned about, on stderr (the command goes on)."""
-    if fmu.warnings:
-        print(render_all(fmu.warnings, SourceMap()), file=sys.stderr)
+def print_warnings(fmu, args: argparse.Namespace) -> None:
+    """What lowering warned about, and a --functions file the model has no use for, on stderr
+    (the command goes on)."""
+    found = list(fmu.warnings)
+    if args.functions and not fmu.user_functions:
+        found.append(warning(f"--functions {args.functions}: the model calls no user function; the file is not used", None))
+    if found:
+        print(render_all(found, SourceMap()), file=sys.stderr)
 
 
 def configure(p: argparse.ArgumentParser) -> None:
@@ -79,7 +83,7 @@ def configure(p: argparse.ArgumentParser) -> None:
 def run(args: argparse.Namespace) -> int:
     compiled = compile_model(args.paths, args.output, module=args.module, machine=args.machine,
                              options=options_from(args), codegen=codegen_options_from(args))
-    print_warnings(compiled.fmu)
+    print_warnings(compiled.fmu, args)
     if args.dump_ir:
         sys.stdout.write(dump(compiled.fmu))
     n = len(compiled.generated.variables)

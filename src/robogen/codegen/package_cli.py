@@ -30,6 +30,6 @@ def run(args: argparse.Namespace) -> int:
         target, compiled = package_model(args.paths, args.output, module=args.module, machine=args.machine,
                                   options=options_from(args), codegen=codegen_options_from(args),
                                   validate=not args.no_validate)
-        print_warnings(compiled.fmu)
+        print_warnings(compiled.fmu, args)
     print(f"wrote {target}" + ("" if args.no_validate else " (valid)"), file=sys.stderr)
     return 0

@@ -195,13 +195,14 @@ class Recorder:
 
     @property
     def takes_text(self) -> bool:
-        """Whether rows may come as CSV lines (:meth:`append_text`): they go to a CSV file only."""
-        return self._writer is not None and not self.keep_rows
+        """Whether rows may come as CSV lines (:meth:`append_text`): they go to a CSV file only,
+        every one of them (no decimation)."""
+        return self._writer is not None and not self.keep_rows and self.every is None
 
     @property
     def discards(self) -> bool:
-        """Whether rows go nowhere (no file, not kept)."""
-        return self._writer is None and not self.keep_rows
+        """Whether rows go nowhere (no CSV or Parquet file, not kept)."""
+        return self._writer is None and self._table is None and not self.keep_rows
 
     @property
     def flush_due(self) -> float:

@@ -22,7 +22,7 @@ run in the following instants without a clock). Because every machine samples be
 what one machine sends another is seen in the next cycle, whatever their order. RoboChart: a tick
 of ``tock`` advances time (clocks, waits); events latched in the instant join the machine's
 buffer (one place per event; it keeps an event until a transition or an input statement consumes
-it, docs/robosim-robochart.md §7.7) and the machine runs to quiescence (exhaustive) or takes one
+it, as the README's FMI mapping says) and the machine runs to quiescence (exhaustive) or takes one
 transition (stepwise); events that arrive after the evaluation ask for another instant.
 """
 

@@ -55,6 +55,7 @@ def lower(model: SemanticModel, boundary: Boundary, options: LoweringOptions | N
     for ml in lowerings:
         with working_on(ml.scope.node.span):
             ml.build()
+    ctx.check_settings()
     ctx.sink.raise_if_errors()
     fmu.warnings = ctx.sink.warnings
     return fmu

@@ -13,7 +13,7 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 from fractions import Fraction
 
-from robogen.diagnostics import DiagnosticSink, Note, RobogenError, Span
+from robogen.diagnostics import DiagnosticSink, Note, RobogenError, Span, did_you_mean
 from robogen.ir import model as ir
 from robogen.ir.boundary import Boundary
 from robogen.ir.constants import constant_value, default_value, parse_setting, shown
@@ -41,6 +41,20 @@ class FmuContext:
     sink: DiagnosticSink = field(default_factory=DiagnosticSink)
     # variables a controller provides, shared by its machines: (id(controller), name) -> storage
     shared_vars: dict[tuple[int, str], ir.Var] = field(default_factory=dict)
+    # every constant lowered, by FMI name and by its own name -> whether --set may give its value
+    constants: dict[str, bool] = field(default_factory=dict)
+
+    def check_settings(self) -> None:
+        """Each --set must name a constant of the FMU that takes a value from the command line."""
+        for name in self.settings:
+            if name not in self.constants:
+                scalar = [n for n, settable in self.constants.items() if settable]
+                self.sink.error(f"--set {name}: the FMU has no constant named '{name}'{did_you_mean(name, scalar)}", None,
+                                *([Note("its constants: " + ", ".join(sorted(scalar)))] if scalar else
+                                  [Note("it has no constant a --set could give a value")]))
+            elif not self.constants[name]:
+                self.sink.error(f"--set {name}: only constants of scalar types take a value from --set; "
+                                "give this one its value in the model", None)
 
 
 _NODE_KINDS = {ast.State: "state", ast.Junction: "junction", ast.Final: "final", ast.Initial: "initial",
@@ -112,6 +126,8 @@ class MachineLowering(StatementLowering, ExpressionLowering, FunctionValues):
         warning: the importer sets it in Initialization Mode."""
         fmu = self.ctx.fmu
         fmi_name = f"{self.machine.name}.{v.name}"
+        for name in (fmi_name, v.name):
+            self.ctx.constants[name] = self.ctx.constants.get(name, False) or is_scalar(var.type)
         if not is_scalar(var.type):  # a set, sequence, tuple or record: its initialiser, computed once
             if v.init is None:
                 self.ctx.sink.error(f"constant '{v.name}' of type {var.type.show()} has no value: give one in the model",

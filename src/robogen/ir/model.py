@@ -15,7 +15,7 @@ second ``step`` block it reaches, so every ``fmi3UpdateDiscreteStates`` takes ex
 transition, together with the evaluation of the guards that follow it: the run that enters a
 state also finds out whether the state's next transition is an ``exec`` (the cycle ends there,
 ``discreteStatesNeedUpdate = false``) or another transition (``true``), as
-docs/robosim-robochart.md §7.5 asks. In exhaustive semantics ``step`` only counts.
+robogen's stepwise semantics asks (README: The two semantics). In exhaustive semantics ``step`` only counts.
 
 That one mechanism expresses RoboSim's exec transitions (decide now, act next cycle), exec
 statements in the middle of actions, RoboChart's ``wait(n)`` and quiescence, entry and exit
@@ -368,7 +368,7 @@ class StartWait(Stmt):
 @dataclass(frozen=True)
 class DeadlineMiss(Stmt):
     """A RoboChart deadline was missed: counted in the output ``deadline_misses`` and logged;
-    never enforced (docs/robosim-robochart.md §4.3)."""
+    never enforced (README: Known limits)."""
 
     text: Text
 
