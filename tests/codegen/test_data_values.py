@@ -225,3 +225,28 @@ def test_a_user_function_takes_a_sequence_and_a_tuple(tmp_path):
     scenario = Scenario([Instant(True, early=(Tick("go", {}),)) for _ in range(2)], half=False)
     got, _ = _run(tmp_path, "user", USER_FUNCTION, scenario, c_functions=TOTAL_C, functions={"total": total})
     assert [s.outputs["out"]["out.value"] for s in got.steps if "out" in s.outputs] == [17, 25]
+
+
+RECORD_DEFAULTS = """\
+datatype DT {
+	q: nat
+	p: nat
+	s: Set(int)
+}
+stm R {
+	var i: DT = DT(| p = 2 |)
+	event go
+	event out: nat
+	initial i0
+	state Idle { }
+	transition t0 { from i0 to Idle }
+	transition t1 { from Idle to Idle trigger go action out!(i.q + i.p + size(i.s)) ; i = DT(| q = 5, p = i.p |) }
+}
+"""
+
+
+def test_a_record_literal_that_leaves_out_fields_gives_them_their_default(tmp_path):
+    """RoboTool warns about DT(| p = 2 |); q is 0 and s empty: 0 + 2 + 0 = 2, then 5 + 2 + 0 = 7."""
+    scenario = Scenario([Instant(True, early=(Tick("go", {}),)) for _ in range(2)], half=False)
+    got, _ = _run(tmp_path, "defaults", "import sequence_toolkit::*\n" + RECORD_DEFAULTS, scenario)
+    assert [s.outputs["out"]["out.value"] for s in got.steps if "out" in s.outputs] == [2, 7]

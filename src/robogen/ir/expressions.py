@@ -39,6 +39,27 @@ _BINARY = {
 }
 
 
+def default_expr(t: T.Type, span: Span | None) -> ir.Expr:
+    """The default value of type ``t`` as an expression: 0, 0.0, false, "", the first literal of an
+    enumeration, the empty set or sequence, and that of each part of a record or vector."""
+    if t == T.REAL:
+        return ir.Lit(t, Fraction(0))
+    if t == T.BOOLEAN:
+        return ir.Lit(t, False)
+    if t == T.STRING:
+        return ir.Lit(t, "")
+    if isinstance(t, T.RecordT):
+        return ir.RecordLit(t, tuple((n, default_expr(ft, span)) for n, ft in t.fields))
+    if isinstance(t, (T.VectorT, T.MatrixT)):
+        size = t.size if isinstance(t, T.VectorT) else (t.rows or 0) * (t.columns or 0)
+        return ir.VectorLit(t, tuple(default_expr(t.element, span) for _ in range(size or 0)))
+    if isinstance(t, (T.SetT, T.SeqT)):
+        return ir.Coll(t, "set" if isinstance(t, T.SetT) else "seq", (), "{}" if isinstance(t, T.SetT) else "<>", span)
+    if is_scalar(t):
+        return ir.Lit(t, 0)
+    raise not_supported(f"a record literal that leaves out a field of type {t.show()}", span)
+
+
 # toolkit functions code generation implements: (name, the forms of the arguments) -> operation
 # of robogen.ir.collections (first, second and maplet are tuple operations)
 TOOLKIT: dict[str, dict[tuple[str, tuple[str, ...]], str]] = {
@@ -296,7 +317,9 @@ class ExpressionLowering:
         t = self._type(e)
         assert isinstance(t, T.RecordT)
         given = {fv.name: fv.value for fv in e.fields}
-        return ir.RecordLit(t, tuple((n, self.conv(self.expr(given[n], graph), ft, given[n].span)) for n, ft in t.fields))
+        # a field the literal leaves out (RoboTool warns) has the default value of its type
+        return ir.RecordLit(t, tuple((n, self.conv(self.expr(given[n], graph), ft, given[n].span) if n in given
+                                      else default_expr(ft, e.span)) for n, ft in t.fields))
 
     def _e_TupleLit(self, e: ast.TupleLit, graph: Graph) -> ir.Expr:
         items = tuple(self.expr(x, graph) for x in e.items)
