@@ -47,10 +47,15 @@ TEST_MODELS = {
         ModelCase("binding", MODELS / "binding.rct"),
         ModelCase("relay", MODELS / "relay.rct"),
         ModelCase("nested", MODELS / "nested.rct"),
+        ModelCase("functions", MODELS / "functions.rct", choices={
+            "set.value": [0, 1, 2, 3], "use.value": [0, 1, 2, 3, 4, 2**63],
+        }),
         ModelCase("collections", MODELS / "collections.rct", capacity=5, choices={
             "add.value": [-1, 0, 1, 2, 3, 4, 5],
             "drop.value": [0, 1, 2, 3, 4, 5, -1, 9, 9, 9],
             "pick.value": [0] + [1, 2, 3, 4, 5, 9] * 6,
+            "load.value.elements": [-1, 0, 1, 2, 3, 3, 3, 9],
+            "load.value.size": [0, 1, 2, 3, 5, 6, 2**64 - 1],
         }),
         ModelCase("ur5e_rct", ROOT / "models" / "ur5e" / "ur5e.rct"),
         ModelCase("gripper", MODELS / "gripper.rst"),

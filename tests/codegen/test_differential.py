@@ -77,9 +77,9 @@ ERROR_PATHS = {
     "arith": ("division by zero", "runaway", "deadlock in state 'Stuck'", "out of range for"),
     "data": ("division by zero", "out of range"),
     # the messages name the expression and its model line (capacity 5)
-    "collections": ("more than 5 elements (the capacity) in union(s, {v}) at collections.rct:43",
-                    "'head' of an empty collection in head(q) at collections.rct:48",
-                    "'front' of an empty collection in front(q) at collections.rct:55"),
+    "collections": ("more than 5 elements (the capacity) in union(s, {v}) at collections.rct:45",
+                    "'head' of an empty collection in head(q) at collections.rct:50",
+                    "'front' of an empty collection in front(q) at collections.rct:58"),
 }
 
 

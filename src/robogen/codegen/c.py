@@ -18,12 +18,14 @@ import re
 from dataclasses import dataclass
 
 from robogen.ir import model as ir
+from robogen.ir.supported import TupleT
 from robogen.ir.collections import CAN_OVERFLOW, EMPTY_FAULTS, empty_message, overflow_message
 from robogen.semantics import types as T
 
 
 def ctype(t: T.Type) -> str:
-    if t == T.INT or isinstance(t, T.EnumT):
+    # a function: the number of its value; a string: its number among the model's strings
+    if t == T.INT or t == T.STRING or isinstance(t, (T.EnumT, T.FunctionT)):
         return "int64_t"
     if t == T.NAT:
         return "uint64_t"
@@ -31,6 +33,8 @@ def ctype(t: T.Type) -> str:
         return "double"
     if t == T.BOOLEAN:
         return "bool"
+    if isinstance(t, TupleT):  # by its arity and components: a prefix code, one name per tuple type
+        return f"rg_tup{len(t.fields)}_" + "_".join(elem_tag(ft) for _, ft in t.fields)
     if isinstance(t, T.RecordT):
         return "rg_rec_" + mangle(t.qname)
     if isinstance(t, T.VectorT):
@@ -218,6 +222,7 @@ class Emitter:
         self.delivers_to: set[int] = set()  # machines this one sends events to (their event tables)
         self.collections = None  # the CollectionCode of the FMU (robogen.codegen.collections)
         self.sites: list[str] = []  # run-time messages of collection operations (model.c's rg_sites)
+        self.strings: list[str] = [""]  # the model's strings, numbered: a string is its number in C
 
     @property
     def fault_return(self) -> str:
@@ -231,6 +236,10 @@ class Emitter:
         return method(e)
 
     def _Lit(self, e: ir.Lit) -> str:
+        if e.type == T.STRING:  # strings are only literals (and equality): a string is its number
+            if e.value not in self.strings:
+                self.strings.append(e.value)  # type: ignore[arg-type]
+            return f"INT64_C({self.strings.index(e.value)}) /* {c_comment(c_string(e.value))} */"  # type: ignore[arg-type]
         return literal(e.value, e.type)
 
     def _Ref(self, e: ir.Ref) -> str:
@@ -357,8 +366,11 @@ class Emitter:
         if self.collections.fallible(e.op):  # type: ignore[attr-defined]
             self.fallible = True
             where = self.fmu.place(e.span)
-            self.sites += [overflow_message(e.text, where, self.fmu.capacity) if e.op in CAN_OVERFLOW else "",
-                           empty_message(e.op, e.text, where) if e.op in EMPTY_FAULTS else ""]
+            if e.op == "undefined":
+                self.sites += [f"{e.text} at {where}", ""]
+            else:
+                    self.sites += [overflow_message(e.text, where, self.fmu.capacity) if e.op in CAN_OVERFLOW else "",
+                               empty_message(e.op, e.text, where) if e.op in EMPTY_FAULTS else ""]
         return self.collections.call(e, args, site)  # type: ignore[attr-defined]
 
     def _CallU(self, e: ir.CallU) -> str:

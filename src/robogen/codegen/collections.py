@@ -15,7 +15,7 @@ from __future__ import annotations
 
 from robogen.codegen.c import ctype, elem_tag
 from robogen.ir import model as ir
-from robogen.ir.collections import EMPTY_FAULTS
+from robogen.ir.collections import EMPTY_FAULTS, RELATION_OPS
 from robogen.semantics import types as T
 
 SET_OPS = {"union", "inter", "diff", "symdiff"}
@@ -49,6 +49,7 @@ class CollectionCode:
         self.needed: dict[tuple[str, T.Type], None] = {}  # insertion-ordered
         self.types: dict[T.Type, None] = {}  # collection types used (for their typedefs)
         self.elements: dict[T.Type, None] = {}  # element types compared
+        self.extra: dict[str, str] = {}  # C function -> its text: conversions, values that do not exist
 
     def need(self, op: str, t: T.SetT | T.SeqT) -> str:
         """Record that the model uses ``op`` on ``t``; the name of its C function."""
@@ -69,6 +70,79 @@ class CollectionCode:
                 self._element(ft)
         self.elements[t] = None
 
+    def need_conv(self, source: T.SetT | T.SeqT, target: T.SetT | T.SeqT) -> str:
+        """The function converting each number of a ``source`` collection to ``target``'s
+        element type (as robogen.codegen.c converts one number)."""
+        name = f"rg_conv_{collection_ctype(target)[3:]}_{elem_tag(source.element)}"
+        self.types[source] = self.types[target] = None
+        insert = self.need("insert", target) if isinstance(target, T.SetT) else None
+        s, t = source.element, target.element
+        if t == T.REAL:
+            x = "(double)s.a[i]"
+        elif s == T.REAL:
+            x = f"rg_r_to_{'u' if t == T.NAT else 'i'}(d, s.a[i])"
+        elif s == T.NAT and t == T.INT:
+            x = "rg_u_to_i(s.a[i])"
+        else:
+            x = f"(({ctype(t)})s.a[i])"
+        c = collection_ctype(target)
+        store = f"{insert}(d, 0, &r, {x})" if insert else f"r.a[i] = {x}"
+        count = "" if insert else "    r.n = s.n;\n"
+        body = (f"    uint64_t i;\n    {c} r;\n    memset(&r, 0, sizeof r);\n{count}"
+                f"    for (i = 0; i < s.n; i++) {store};\n    (void)d;\n    return r;")
+        self.extra[name] = f"{_sig(c, name, f'rg_model_data *d, {collection_ctype(source)} s')}\n{{\n{body}\n}}"
+        return name
+
+    def need_relation(self, op: str, types: list, result: T.Type) -> str:
+        """The function of relation operation ``op`` on arguments of ``types`` (relations: sets
+        of pairs) giving ``result``, as robogen.ir.collections computes it."""
+        name = f"rg_{op}_" + "_".join(ctype(t)[3:] for t in types)
+        if name in self.extra:
+            return name
+        at = 1 if op in ("dres", "dsub") else 0
+        rel = types[at]
+        x, y = rel.element.field("_1"), rel.element.field("_2")
+        for t in (*types, result):
+            if isinstance(t, (T.SetT, T.SeqT)):
+                self.types[t] = None
+                self._element(t.element)
+        r = ctype(result)
+        params = ", ".join(f"{ctype(t)} {n}" for t, n in zip(types, "ab"))
+        ins = self.need("insert", result) if isinstance(result, T.SetT) and op not in _FILTERS else ""
+        lines = ["    uint64_t i, j;", f"    {r} r;", "    memset(&r, 0, sizeof r);", "    (void)d; (void)site; (void)j;"]
+        A = "ab"[at]
+        if op in ("dom", "ran"):
+            lines.append(f"    for (i = 0; i < a.n && !d->fault; i++) {ins}(d, site, &r, a.a[i]._{1 if op == 'dom' else 2});")
+        elif op == "rinv":
+            lines.append(f"    for (i = 0; i < a.n && !d->fault; i++) {{ {ctype(result.element)} p; p._1 = a.a[i]._2; "
+                         f"p._2 = a.a[i]._1; {ins}(d, site, &r, p); }}")
+        elif op in _FILTERS:
+            key, kt = ("_1", x) if op in ("dres", "dsub") else ("_2", y)
+            has = self.need("has", T.SetT(kt))
+            test = "" if op in ("dres", "rres") else "!"
+            other = "a" if A == "b" else "b"
+            lines.append(f"    for (i = 0; i < {A}.n; i++) if ({test}{has}({other}, {A}.a[i].{key})) r.a[r.n++] = {A}.a[i];")
+        elif op == "rimage":
+            has = self.need("has", T.SetT(x))
+            lines.append(f"    for (i = 0; i < a.n && !d->fault; i++) if ({has}(b, a.a[i]._1)) {ins}(d, site, &r, a.a[i]._2);")
+        elif op == "roverride":
+            cmp = cmp_function(x)
+            lines += [f"    for (i = 0; i < b.n && !d->fault; i++) {ins}(d, site, &r, b.a[i]);",
+                      "    for (i = 0; i < a.n && !d->fault; i++) {",
+                      f"        for (j = 0; j < b.n; j++) if ({cmp}(b.a[j]._1, a.a[i]._1) == 0) break;",
+                      f"        if (j == b.n) {ins}(d, site, &r, a.a[i]);", "    }"]
+        elif op == "relcomp":
+            cmp = cmp_function(y)
+            lines += ["    for (i = 0; i < a.n && !d->fault; i++)", "        for (j = 0; j < b.n && !d->fault; j++)",
+                      f"            if ({cmp}(a.a[i]._2, b.a[j]._1) == 0) {{ {ctype(result.element)} p; p._1 = a.a[i]._1; "
+                      f"p._2 = b.a[j]._2; {ins}(d, site, &r, p); }}"]
+        else:  # squash: the second components, in the order of the first
+            lines.append("    for (i = 0; i < a.n; i++) r.a[r.n++] = a.a[i]._2;")
+        lines.append("    return r;")
+        body = "\n".join(lines)
+        self.extra[name] = f"{_sig(r, name, f'rg_model_data *d, int32_t site, {params}')}\n{{\n{body}\n}}"
+        return name
+
     def fallible(self, op: str) -> bool:
         """Does the C function of ``op`` take the model data and a site (it may fail)?"""
         return op in FALLIBLE
@@ -82,12 +156,13 @@ class CollectionCode:
             parts.setdefault(cmp_function(t), _cmp(t))
         for op, t in self.needed:
             parts.setdefault(function(op, t), _BODIES[op](t, self.capacity))
+        parts.update(self.extra)
         return "\n\n".join(parts.values())
 
 
 def _DEPENDS(op: str, t: T.SetT | T.SeqT) -> list[tuple[str, T.SetT | T.SeqT]]:
     s = T.SetT(t.element)
-    if op == "make" and isinstance(t, T.SetT):
+    if op in ("make", "canon") and isinstance(t, T.SetT):
         return [("insert", t)]
     if op in ("union", "symdiff"):
         return [("insert", t), ("has", t)]
@@ -209,24 +284,40 @@ def _shrink(op: str):
     return body_of
 
 
+def _canon(t, cap: int) -> str:
+    """The value an FMU input gives: at most the capacity, zeros after the last element, a set
+    in canonical order (inserting never overflows: the result has at most s.n elements)."""
+    c = collection_ctype(t)
+    if isinstance(t, T.SetT):
+        body = (f"    uint64_t i;\n    {c} r;\n    memset(&r, 0, sizeof r);\n"
+                f"    for (i = 0; i < s.n && i < {cap}; i++) {function('insert', t)}(d, 0, &r, s.a[i]);\n    return r;")
+    else:
+        body = (f"    uint64_t i;\n    (void)d;\n    if (s.n > {cap}) s.n = {cap};\n"
+                f"    for (i = s.n; i < {cap}; i++) memset(&s.a[i], 0, sizeof s.a[i]);\n    return s;")
+    return f"{_sig(c, function('canon', t), f'rg_model_data *d, {c} s')}\n{{\n{body}\n}}"
+
+
+def _building(result: str, name: str, params: str, loop: str) -> str:
+    """A function that builds its result ``r`` (zeroed first) in the one loop ``loop`` over i."""
+    body = f"    uint64_t i;\n    {result} r;\n    memset(&r, 0, sizeof r);\n    {loop}\n    return r;"
+    return f"{_sig(result, name, params)}\n{{\n{body}\n}}"
+
+
 def _elems(t, cap: int) -> str:
     c, s = collection_ctype(t), collection_ctype(T.SetT(t.element))
-    body = (f"    uint64_t i;\n    {s} r;\n    memset(&r, 0, sizeof r);\n"
-            f"    for (i = 0; i < q.n && !d->fault; i++) {function('insert', T.SetT(t.element))}(d, site, &r, q.a[i]);\n    return r;")
-    return f"{_sig(s, function('elems', t), f'rg_model_data *d, int32_t site, {c} q')}\n{{\n{body}\n}}"
+    loop = f"for (i = 0; i < q.n && !d->fault; i++) {function('insert', T.SetT(t.element))}(d, site, &r, q.a[i]);"
+    return _building(s, function("elems", t), f"rg_model_data *d, int32_t site, {c} q", loop)
 
 
 def _indices(t, cap: int) -> str:
-    c = collection_ctype(t)
-    body = "    uint64_t i;\n    rg_set_u r;\n    memset(&r, 0, sizeof r);\n    r.n = q.n;\n    for (i = 0; i < q.n; i++) r.a[i] = i + 1;\n    return r;"
-    return f"{_sig('rg_set_u', function('indices', t), f'{c} q')}\n{{\n{body}\n}}"
+    loop = "for (i = 0; i < q.n; i++) r.a[r.n++] = i + 1;"
+    return _building("rg_set_u", function("indices", t), f"{collection_ctype(t)} q", loop)
 
 
 def _filter(t, cap: int) -> str:
     c, s = collection_ctype(t), collection_ctype(T.SetT(t.element))
-    body = (f"    uint64_t i;\n    {c} r;\n    memset(&r, 0, sizeof r);\n"
-            f"    for (i = 0; i < q.n; i++) if ({function('has', T.SetT(t.element))}(s, q.a[i])) r.a[r.n++] = q.a[i];\n    return r;")
-    return f"{_sig(c, function('filter', t), f'{c} q, {s} s')}\n{{\n{body}\n}}"
+    loop = f"for (i = 0; i < q.n; i++) if ({function('has', T.SetT(t.element))}(s, q.a[i])) r.a[r.n++] = q.a[i];"
+    return _building(c, function("filter", t), f"{c} q, {s} s", loop)
 
 
 def _range(t, cap: int) -> str:
@@ -251,7 +342,7 @@ def _fix(op: str):
 
 
 _BODIES = {
-    "make": _make, "insert": _insert, "has": _has, "cat": _cat, "elems": _elems, "indices": _indices,
+    "make": _make, "canon": _canon, "insert": _insert, "has": _has, "cat": _cat, "elems": _elems, "indices": _indices,
     "filter": _filter, "range": _range, "reverse": _shrink("reverse"), "tail": _shrink("tail"),
     "front": _shrink("front"), **{op: _binary_set(op) for op in SET_OPS},
     **{op: _subset(op) for op in ("subseteq", "subset")},
@@ -262,7 +353,9 @@ _BODIES = {
 assert set(EMPTY_FAULTS) <= set(_BODIES)
 
 # operations whose C function takes the model data and a site: they can fail (or build a result)
-FALLIBLE = {"set", "seq", "union", "inter", "diff", "symdiff", "cat", "head", "last", "tail", "front", "reverse",
+_FILTERS = ("dres", "dsub", "rres", "rsub")
+
+FALLIBLE = {*RELATION_OPS, "undefined", "conv", "set", "seq", "union", "inter", "diff", "symdiff", "cat", "head", "last", "tail", "front", "reverse",
             "elems", "range", "min", "max"}
 
 
@@ -283,6 +376,17 @@ def call(code: CollectionCode, e: ir.Coll, args: list[str], site: int) -> str:
         return f"(({args[0]}).n > 0)"
     if op == "range":
         return f"{code.need('range', e.type)}(d, {site}, {args[0]}, {args[1]})"  # type: ignore[arg-type]
+    if op in RELATION_OPS:
+        name = code.need_relation(op, [a.type for a in e.args], e.type)
+        return f"{name}(d, {site}, {', '.join(args)})"
+    if op == "conv":
+        return f"{code.need_conv(e.args[0].type, e.type)}(d, {args[0]})"  # type: ignore[arg-type]
+    if op == "undefined":  # a run-time error in place of a value of type e.type
+        name = f"rg_undefined_{elem_tag(e.type)}"
+        c = ctype(e.type)
+        code.extra[name] = (f"{_sig(c, name, 'rg_model_data *d, int32_t site')}\n{{\n    {c} zero;\n"
+                                f"    memset(&zero, 0, sizeof zero);\n    {_fault('site')};\n    return zero;\n}}")
+        return f"{name}(d, {site})"
     name = code.need(op, e.args[0].type)  # type: ignore[arg-type]
     if op in FALLIBLE:
         return f"{name}(d, {site}, {', '.join(args)})"

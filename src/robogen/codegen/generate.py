@@ -171,8 +171,12 @@ def generate(fmu: ir.Fmu, options: CodegenOptions | None = None, *, diagrams: Se
     env = _env()
     collections = CollectionCode(fmu.capacity)
     machines, sites = _machines_code(fmu, layout, names, line_comments, collections)
+    latch = {p.index: _latch(p, layout.port_fields_in.get(p.index, []), collections) for p in fmu.inputs}
     for t in collections.types:
         layout._type(t)
+    for u in fmu.user_functions:  # the C types a --functions file receives and returns
+        for t in (*(pt for _, pt in u.params), u.result):
+            layout._type(t)
     needed = {t for mc in machines for t in mc["equalities"]}
     equalities, bodies = _equalities(layout.types, needed)
     hooks = _hooks(fmu, machines)
@@ -182,6 +186,7 @@ def generate(fmu: ir.Fmu, options: CodegenOptions | None = None, *, diagrams: Se
         cname=names.vars,
         typedefs=[_typedef(t, fmu.capacity) for t in layout.types],
         sites=sites,
+        latch=latch,
         collection_code=collections.text(),
         equality_bodies=bodies,
         param_starts={p.fmi_name: _param_starts(p) for p in fmu.params},
@@ -298,6 +303,34 @@ def _equalities(types: list[T.Type], needed: set[str]) -> tuple[list[str], dict[
 
 
 STRUCTS = (T.RecordT, T.VectorT, T.MatrixT, T.SetT, T.SeqT)  # C types compared by a function rg_eq_<type>
+
+
+def _latch(port: ir.Port, fields: list[tuple[str, ir.Field_]], collections: CollectionCode) -> list[str]:
+    """The statements of rg_model_latch that assemble the value ``v`` of input port ``port`` from
+    its clocked inputs. A set or sequence takes the array's first ``size`` elements (at most the
+    capacity), a set then in canonical order (robogen.ir.collections.received)."""
+    lines, made = [], []
+    for member, f in fields:
+        *inner, last = f.path or ("",)
+        if last in ("#elements", "#size"):
+            at = "v" + "".join("." + p for p in inner)
+            cap = collections.capacity
+            if last == "#elements":
+                lines.append(f"memcpy({at}.a, d->{member}.a, sizeof {at}.a);")
+            else:
+                lines.append(f"{at}.n = d->{member} > {cap} ? {cap} : d->{member};")
+                made.append((at, _type_at(port.type, tuple(inner))))
+        else:
+            lines.append("v" + "".join("." + p for p in f.path) + f" = d->{member};")
+    for at, t in made:
+        lines.append(f"{at} = {collections.need('canon', t)}(d, {at});")
+    return lines
+
+
+def _type_at(t, path: tuple[str, ...]) -> T.Type:
+    for p in path:
+        t = t.field(p)
+    return t
 
 
 def _param_starts(p: ir.Param) -> list[tuple[str, str]]:
@@ -499,6 +532,8 @@ def _flat(name: str, t: T.Type, access: str, capacity: int = 0):
     if isinstance(t, T.RecordT):
         for n, ft in t.fields:
             yield from _flat(f"{name}.{n}", ft, f"{access}.{n}", capacity)
+    elif isinstance(t, T.FunctionT) or t == T.STRING:
+        return  # the number of a function value (robogen.ir.functions) or string: not an FMI variable
     elif isinstance(t, (T.SetT, T.SeqT)):
         if not isinstance(t.element, T.RecordT):
             yield f"{name}.elements", T.VectorT(t.element, capacity), f"{access}.a"
@@ -517,8 +552,9 @@ def _machines_code(fmu: ir.Fmu, layout: _Layout, names: CNames, line_comments: b
     any machine that events are delivered to is latched through it)."""
     emitters = [Emitter(fmu, m, layout.port_fields_out, names, line_comments) for m in fmu.machines]
     sites: list[str] = []  # one list for the FMU: each emitter numbers its sites after the others'
+    strings = [""]  # one numbering of the strings for the FMU
     for em in emitters:
-        em.collections, em.sites = collections, sites
+        em.collections, em.sites, em.strings = collections, sites, strings
     codes = [_machine_code(fmu, em, line_comments) for em in emitters]
     delivered = {mi for p in fmu.inputs for mi, _ in p.routes} | {mi for em in emitters for mi in em.delivers_to}
     for m, code in zip(fmu.machines, codes):

@@ -32,7 +32,8 @@ from robogen.semantics import types as T
 SET_RESULTS = ("set", "union", "inter", "diff", "symdiff", "elems", "indices")
 SEQ_RESULTS = ("seq", "cat", "tail", "front", "reverse", "filter", "range")
 EMPTY_FAULTS = ("head", "last", "tail", "front", "min", "max")
-CAN_OVERFLOW = ("set", "seq", "union", "symdiff", "cat", "elems", "range")
+CAN_OVERFLOW = ("set", "seq", "union", "symdiff", "cat", "elems", "range", "dom", "ran", "rinv", "rimage", "roverride",
+                "relcomp")
 
 
 class CollectionFault(Exception):
@@ -87,12 +88,16 @@ class Builder:
         self.items.insert(i, x)
 
 
-def apply(op: str, args: list, arg_types: list[T.Type], capacity: int, overflow: str, empty: str):
+def apply(op: str, args: list, arg_types: list[T.Type], capacity: int, overflow: str, empty: str,
+          result: T.Type = T.BOOLEAN):
     """The value of operation ``op`` of :class:`~robogen.ir.model.Coll` on ``args`` (Python
-    values of the types ``arg_types``). ``overflow``/``empty``: the messages of its faults."""
+    values of the types ``arg_types``; the result of type ``result``). ``overflow``/``empty``:
+    the messages of its faults."""
     first = arg_types[0] if arg_types else T.INT
     elem = first.element if isinstance(first, (T.SetT, T.SeqT)) else first  # type: ignore[union-attr]
     out = Builder(capacity, overflow)
+    if op in RELATION_OPS:
+        return _relation(op, args, arg_types, result, out)
     if op in ("set", "seq"):
         for x, xt in zip(args, arg_types):
             out.insert(x, xt) if op == "set" else out.append(x)
@@ -161,6 +166,62 @@ def apply(op: str, args: list, arg_types: list[T.Type], capacity: int, overflow:
     raise CollectionFault(f"unknown collection operation {op}")  # pragma: no cover
 
 
+# relations are sets of pairs (tuples with fields _1, _2): their operations, by name
+RELATION_OPS = ("dom", "ran", "rinv", "dres", "dsub", "rres", "rsub", "rimage", "roverride", "relcomp", "squash")
+
+
+def _relation(op: str, args: list, arg_types: list[T.Type], result: T.Type, out: Builder):
+    """``dom``, ``ran``, ``rinv``, ``dres(a, r)``, ``dsub(a, r)``, ``rres(r, b)``, ``rsub(r, b)``,
+    ``rimage(r, a)``, ``override(r, s)`` (``roverride``), ``relcomp(r, s)`` and ``squash(f)``
+    (the second components in the order of the first: a set of pairs is ordered by them)."""
+    relation = 1 if op in ("dres", "dsub") else 0
+    r, pair = args[relation], arg_types[relation].element  # type: ignore[attr-defined]
+    x, y = pair.field("_1"), pair.field("_2")
+    res_elem = result.element if isinstance(result, (T.SetT, T.SeqT)) else result  # type: ignore[union-attr]
+    if op in ("dom", "ran", "rinv"):
+        for p in r:
+            out.insert(p["_1"] if op == "dom" else p["_2"] if op == "ran" else {"_1": p["_2"], "_2": p["_1"]}, res_elem)
+        return out.items
+    if op in ("dres", "dsub", "rres", "rsub"):
+        other = args[1 - relation]
+        key, kt = ("_1", x) if op in ("dres", "dsub") else ("_2", y)
+        return [p for p in r if member(p[key], other, kt) == (op in ("dres", "rres"))]
+    if op == "rimage":
+        for p in r:
+            if member(p["_1"], args[1], x):
+                out.insert(p["_2"], y)
+        return out.items
+    if op == "roverride":
+        s = args[1]
+        for p in s:
+            out.insert(p, pair)
+        for p in r:
+            if not any(compare(q["_1"], p["_1"], x) == 0 for q in s):
+                out.insert(p, pair)
+        return out.items
+    if op == "relcomp":
+        for p in r:
+            for q in args[1]:
+                if compare(p["_2"], q["_1"], y) == 0:
+                    out.insert({"_1": p["_1"], "_2": q["_2"]}, res_elem)
+        return out.items
+    for p in r:  # squash
+        out.append(p["_2"])
+    return out.items
+
+
+def received(elements: list, size: int, t: T.Type, capacity: int) -> list:
+    """A set or sequence as an FMU input gives it: ``size`` (at most the capacity: only so many
+    elements exist) elements of the array, a set then put in canonical order without duplicates."""
+    items = elements[:max(0, min(size, capacity))]
+    if isinstance(t, T.SeqT):
+        return items
+    out = Builder(capacity, "")
+    for x in items:
+        out.insert(x, t.element)  # type: ignore[attr-defined]
+    return out.items
+
+
 def overflow_message(text: str, where: str, capacity: int) -> str:
     return f"more than {capacity} elements (the capacity) in {text} at {where}"
 
@@ -176,4 +237,4 @@ def index(q: list, i: int, what: str) -> int:
     return i - 1
 
 
-__all__ = ["CollectionFault", "apply", "compare", "member", "index", "overflow_message", "empty_message", "SET_RESULTS", "SEQ_RESULTS", "EMPTY_FAULTS", "CAN_OVERFLOW"]
+__all__ = ["CollectionFault", "apply", "compare", "member", "index", "received", "overflow_message", "empty_message", "SET_RESULTS", "SEQ_RESULTS", "EMPTY_FAULTS", "CAN_OVERFLOW"]

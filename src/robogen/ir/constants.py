@@ -9,6 +9,7 @@ from fractions import Fraction
 
 from robogen.diagnostics import RobogenError, Span
 from robogen.ir import model as ir
+from robogen.ir.supported import is_scalar, not_supported
 from robogen.semantics import types as T
 from robogen.semantics.model import EnumLitSym, SemanticModel, VarSym
 from robogen.syntax import ast
@@ -47,6 +48,8 @@ def default_value(t: T.Type, real_zero: object = Fraction(0)) -> object:
         return real_zero
     if t == T.BOOLEAN:
         return False
+    if t == T.STRING:
+        return ""  # a string is one of the model's literals; "" is the first of them in C
     if isinstance(t, T.RecordT):
         return {n: default_value(ft, real_zero) for n, ft in t.fields}
     if isinstance(t, (T.VectorT, T.MatrixT)):
@@ -57,14 +60,20 @@ def default_value(t: T.Type, real_zero: object = Fraction(0)) -> object:
     return 0  # nat, int, and the first literal of an enumeration
 
 
-def default_expr(t: T.Type) -> ir.Expr:
-    """The default value of type ``t`` as an IR expression (a record literal's omitted fields)."""
+def default_expr(t: T.Type, span: Span | None = None) -> ir.Expr:
+    """The default value of type ``t`` as an IR expression (a record literal's omitted fields):
+    :func:`default_value` as a literal, the empty set or sequence, and that of each part of a
+    record, vector or matrix."""
     if isinstance(t, T.RecordT):
-        return ir.RecordLit(t, tuple((n, default_expr(ft)) for n, ft in t.fields))
+        return ir.RecordLit(t, tuple((n, default_expr(ft, span)) for n, ft in t.fields))
     if isinstance(t, (T.VectorT, T.MatrixT)):
         size = t.size if isinstance(t, T.VectorT) else (t.rows or 0) * (t.columns or 0)
-        return ir.VectorLit(t, tuple(default_expr(t.element) for _ in range(size or 0)))
-    return ir.Lit(t, default_value(t))
+        return ir.VectorLit(t, tuple(default_expr(t.element, span) for _ in range(size or 0)))
+    if isinstance(t, (T.SetT, T.SeqT)):
+        return ir.Coll(t, "set" if isinstance(t, T.SetT) else "seq", (), "{}" if isinstance(t, T.SetT) else "<>", span)
+    if is_scalar(t) or t in (T.REAL, T.BOOLEAN, T.STRING):
+        return ir.Lit(t, default_value(t))
+    raise not_supported(f"a record literal that leaves out a field of type {t.show()}", span)
 
 
 def shown(value: object, t: T.Type) -> str:

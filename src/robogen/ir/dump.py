@@ -137,6 +137,8 @@ def expr(e: ir.Expr | None) -> str:
             return "true" if e.value else "false"
         if isinstance(e.value, Fraction):
             return repr(float(e.value))
+        if isinstance(e.value, str):
+            return '"' + e.value.replace("\\", "\\\\").replace('"', '\\"') + '"'
         return str(e.value)
     if isinstance(e, ir.Ref):
         return e.var.name

@@ -13,6 +13,7 @@ from typing import TYPE_CHECKING
 from robogen.diagnostics import Span, working_on
 from robogen.ir import linear
 from robogen.ir import model as ir
+from robogen.ir.collections import RELATION_OPS
 from robogen.ir.constants import default_expr
 from robogen.ir.region_tree import Graph
 from robogen.ir.supported import TupleT, check_codegen_type, is_collection, is_scalar, not_supported, tuple_type
@@ -25,7 +26,6 @@ if TYPE_CHECKING:  # the attributes MachineLowering provides
     from robogen.semantics.model import SemanticModel
 
 _UNSUPPORTED = {
-    ast.StringLit: "a string",
     ast.Binder: "a quantifier, lambda or definite description",
     ast.Let: "'let'",
     ast.SetRange: "a set range",
@@ -54,6 +54,11 @@ TOOLKIT: dict[str, dict[tuple[str, tuple[str, ...]], str]] = {
         ("first", ("pair",)): "first", ("second", ("pair",)): "second",
         **{("maplet", (a, b)): "maplet" for a in ("value", "pair") for b in ("value", "pair")},
         ("dom", ("seq",)): "indices", ("ran", ("seq",)): "elems",
+        # relations: sets of pairs
+        ("dom", ("set",)): "dom", ("ran", ("set",)): "ran", ("rinv", ("set",)): "rinv",
+        ("dres", ("set", "set")): "dres", ("dsub", ("set", "set")): "dsub", ("rres", ("set", "set")): "rres",
+        ("rsub", ("set", "set")): "rsub", ("rimage", ("set", "set")): "rimage", ("override", ("set", "set")): "roverride",
+        ("relcomp", ("set", "set")): "relcomp",
     },
     "sequence_toolkit": {
         ("range", ("value", "value")): "range", ("size", ("set",)): "size", ("size", ("seq",)): "size",
@@ -61,7 +66,7 @@ TOOLKIT: dict[str, dict[tuple[str, tuple[str, ...]], str]] = {
         ("max", ("set",)): "max", ("isNonEmpty", ("seq",)): "nonempty", ("concat", ("seq", "seq")): "cat",
         ("reverse", ("seq",)): "reverse", ("head", ("seq",)): "head", ("last", ("seq",)): "last",
         ("tail", ("seq",)): "tail", ("front", ("seq",)): "front", ("filter", ("seq", "set")): "filter",
-        ("prefix", ("seq", "seq")): "prefix", ("suffix", ("seq", "seq")): "suffix", ("infix", ("seq", "seq")): "infix",
+        ("squash", ("set",)): "squash", ("prefix", ("seq", "seq")): "prefix", ("suffix", ("seq", "seq")): "suffix", ("infix", ("seq", "seq")): "infix",
     },
 }
 
@@ -97,6 +102,8 @@ class ExpressionLowering:
         raise not_supported("this assignment target", e.span)
 
     def var_ref(self, graph: Graph, sym, span: Span | None) -> ir.Expr:
+        if isinstance(sym, VarSym) and sym.kind == "binder" and id(sym.decl) in self.bound:  # type: ignore[attr-defined]
+            return self.bound[id(sym.decl)]  # type: ignore[attr-defined]  # a lambda's parameter, applied
         if not isinstance(sym, VarSym):
             raise not_supported("this variable reference", span)
         var = graph.env.get(sym.name) or self.vars.get(sym.name)
@@ -134,8 +141,11 @@ class ExpressionLowering:
         representation does not change."""
         if isinstance(e, ir.Coll) and e.op in ("set", "seq"):
             return ir.Coll(t, e.op, tuple(self.conv(x, t.element, span) for x in e.args), e.text, e.span)
-        if isinstance(e.type.element, T.UnknownT) or e.type.element == t.element:  # type: ignore[attr-defined]
+        source = e.type.element  # type: ignore[attr-defined]
+        if isinstance(source, T.UnknownT) or source == t.element:
             return e
+        if source in T.NUMERIC and t.element in T.NUMERIC:  # each element converted (a set re-ordered)
+            return ir.Coll(t, "conv", (e,), f"{e.type.show()} as {t.show()}", span)
         raise not_supported(f"using a {e.type.show()} as a {t.show()}", span)
 
     def since_type(self) -> T.Type:
@@ -157,6 +167,9 @@ class ExpressionLowering:
 
     def _e_RealLit(self, e: ast.RealLit, graph: Graph) -> ir.Expr:
         return ir.Lit(T.REAL, Fraction(e.text))
+
+    def _e_StringLit(self, e: ast.StringLit, graph: Graph) -> ir.Expr:
+        return ir.Lit(T.STRING, e.value)
 
     def _e_BoolLit(self, e: ast.BoolLit, graph: Graph) -> ir.Expr:
         return ir.Lit(T.BOOLEAN, e.value)
@@ -236,7 +249,7 @@ class ExpressionLowering:
             return ir.Bin(T.BOOLEAN, op, self.conv(a, t, e.left.span), self.conv(b, t, e.right.span))
         if op not in ("eq", "ne"):
             raise not_supported(f"'{e.op}' on {a.type.show()}", e.span)
-        if not (is_scalar(a.type) or isinstance(a.type, (T.RecordT, T.VectorT, T.MatrixT, T.SetT, T.SeqT))):
+        if not (is_scalar(a.type) or isinstance(a.type, (T.RecordT, T.VectorT, T.MatrixT, T.SetT, T.SeqT)) or a.type == T.STRING):
             raise not_supported(f"comparing values of type {a.type.show()}", e.span)
         if a.type != b.type:  # a literal takes the type of the other side: [| 0, 0 |] is vector(nat, 2)
             if self.conv(b, a.type, e.right.span).type == a.type:
@@ -292,9 +305,10 @@ class ExpressionLowering:
     def _e_RecordLit(self, e: ast.RecordLit, graph: Graph) -> ir.Expr:
         t = self._type(e)
         assert isinstance(t, T.RecordT)
-        given = {fv.name: fv.value for fv in e.fields}  # a field left out has its type's default value
-        return ir.RecordLit(t, tuple((n, self.conv(self.expr(given[n], graph), ft, given[n].span) if n in given else default_expr(ft))
-                                     for n, ft in t.fields))
+        given = {fv.name: fv.value for fv in e.fields}
+        # a field the literal leaves out (RoboTool warns) has the default value of its type
+        return ir.RecordLit(t, tuple((n, self.conv(self.expr(given[n], graph), ft, given[n].span) if n in given
+                                      else default_expr(ft, e.span)) for n, ft in t.fields))
 
     def _e_TupleLit(self, e: ast.TupleLit, graph: Graph) -> ir.Expr:
         items = tuple(self.expr(x, graph) for x in e.items)
@@ -341,6 +355,8 @@ class ExpressionLowering:
             return self._user_call(sym, e, graph)
         if isinstance(sym, FuncSym) and getattr(sym.builtin, "package", None) in TOOLKIT:
             return self._toolkit_call(sym, e, graph)
+        if sym is None or isinstance(sym, VarSym):  # a function value: a lambda, override, a variable
+            return self.apply(e.func, [self.expr(a, graph) for a in e.args], e, graph)  # type: ignore[attr-defined]
         name = sym.name if isinstance(sym, FuncSym) else "?"
         raise not_supported(f"a call of function '{name}' (robogen has no implementation of it)", e.span)
 
@@ -355,6 +371,8 @@ class ExpressionLowering:
         if op is None:
             shown = ", ".join(a.type.show() for a in args)
             raise not_supported(f"'{sym.name}' of {shown}", e.span)
+        if op in RELATION_OPS:
+            return self._relation_call(sym, op, args, t, e)
         if op in ("first", "second"):
             name = "_1" if op == "first" else "_2"
             return ir.FieldOf(args[0].type.field(name), args[0], name)  # type: ignore[union-attr, arg-type]
@@ -375,17 +393,37 @@ class ExpressionLowering:
             check_codegen_type(t, e.span, f"the result of '{sym.name}'")
         return self.coll(t, op, args, e)
 
+    def _relation_call(self, sym: FuncSym, op: str, args: list[ir.Expr], t: T.Type, e: ast.Call) -> ir.Expr:
+        """A relation operation: every relation is a set of pairs (robogen.ir.collections)."""
+        at = 1 if op in ("dres", "dsub") else 0
+        pair = args[at].type.element  # type: ignore[attr-defined]
+        if not (isinstance(pair, TupleT) and len(pair.fields) == 2):
+            raise not_supported(f"'{sym.name}' of {args[at].type.show()} (a relation is a set of pairs)", e.span)
+        x, y = pair.field("_1"), pair.field("_2")
+        wanted = {"dres": (T.SetT(x), None), "dsub": (T.SetT(x), None), "rres": (None, T.SetT(y)),
+                  "rsub": (None, T.SetT(y)), "rimage": (None, T.SetT(x)), "roverride": (None, args[0].type)}.get(op, (None, None))
+        args = [self.conv(a, w, x_.span) if w is not None else a for a, w, x_ in zip(args, wanted, e.args)]
+        check_codegen_type(t, e.span, f"the result of '{sym.name}'")
+        return self.coll(t, op, args, e)
+
     def _user_call(self, sym: FuncSym, e: ast.Call, graph: Graph) -> ir.Expr:
         """A call of a function the model declares by its contract only: the code generator
         takes its implementation from the user (the reference interpreter from Python)."""
+        return self.user_call(sym, [self.expr(a, graph) for a in e.args], e)
+
+    def user_call(self, sym: FuncSym, args: list[ir.Expr], e: ast.Call) -> ir.Expr:
+        """The call of user function ``sym`` on the lowered ``args``. Its parameters and result
+        are numbers, booleans, enumerations, records, tuples, sets or sequences (the C file
+        receives and returns the C types of config.h)."""
         params = tuple((n, self._norm(t)) for n, t in sym.params)
         result = self._norm(sym.result)
         for n, t in params + (("result", result),):
             if not is_scalar(t):
-                raise not_supported(f"function '{sym.name}': {n} of type {t.show()}", e.span)
+                if isinstance(t, T.FunctionT) or "?" in t.show() or "string" in t.show():
+                    raise not_supported(f"function '{sym.name}': {n} of type {t.show()}", e.span)
+                check_codegen_type(t, e.span, f"function '{sym.name}': {n}")
         self.user_function(sym, e, params, result)
-        args = tuple(self.conv(self.expr(a, graph), pt, a.span) for a, (_, pt) in zip(e.args, params))
-        return ir.CallU(result, sym.name, args)
+        return ir.CallU(result, sym.name, tuple(self.conv(a, pt, e.span) for a, (_, pt) in zip(args, params)))
 
     # -- RoboSim inputs
 

@@ -161,12 +161,28 @@ class Interpreter:
         if port.type is None:
             return None
         value = _zero(port.type)
+        collections: dict[tuple[str, ...], list] = {}  # path of a collection -> [elements, size]
         for f in port.fields:
+            if f.path and f.path[-1] in ("#elements", "#size"):
+                given = payload.get(f.fmi_name, _zero(f.type))
+                slot = collections.setdefault(f.path[:-1], [[], 0])
+                if f.path[-1] == "#size":
+                    slot[1] = int(given)  # type: ignore[call-overload]
+                else:
+                    slot[0] = [python_value(x, f.type.element) for x in given]  # type: ignore[union-attr, attr-defined]
+                continue
             v = python_value(payload.get(f.fmi_name, _zero(f.type)), f.type) if not isinstance(f.type, T.VectorT) else list(payload.get(f.fmi_name, _zero(f.type)))  # type: ignore[arg-type]
             if not f.path:
                 value = v
             else:
                 _set_path(value, f.path, v)
+        for path, (elements, size) in collections.items():
+            t = _type_at(port.type, path)
+            v = C.received(elements, size, t, self.fmu.capacity)  # type: ignore[arg-type]
+            if not path:
+                value = v
+            else:
+                _set_path(value, path, v)
         return value
 
     def _deliver(self, mi: int, ei: int, value) -> None:
@@ -468,10 +484,16 @@ class Interpreter:
     def _collection(self, e: ir.Coll, m: ir.Machine, ms: MachineState):
         args = [self._eval(a, m, ms) for a in e.args]
         where = self.fmu.place(e.span)
+        if e.op == "undefined":
+            raise RuntimeFault(f"machine {m.name}: {e.text} at {where}")
+        if e.op == "conv":  # numbers converted one by one, as Conv converts them
+            source, target = e.args[0].type.element, e.type.element  # type: ignore[attr-defined]
+            items = [convert(x, source, target) for x in args[0]]
+            return C.received(items, len(items), e.type, self.fmu.capacity)
         try:
             return copy.deepcopy(C.apply(e.op, args, [a.type for a in e.args], self.fmu.capacity,
                                          C.overflow_message(e.text, where, self.fmu.capacity),
-                                         C.empty_message(e.op, e.text, where)))
+                                         C.empty_message(e.op, e.text, where), e.type))
         except C.CollectionFault as fault:
             raise RuntimeFault(f"machine {m.name}: {fault}") from None
 
@@ -578,6 +600,12 @@ def _get_path(value, path: tuple[str, ...]):
     return value
 
 
+def _type_at(t: T.Type, path: tuple[str, ...]) -> T.Type:
+    for p in path:
+        t = t.field(p)  # type: ignore[attr-defined, assignment]
+    return t
+
+
 def _set_path(value, path: tuple[str, ...], v) -> None:
     for p in path[:-1]:
         value = value[p]
@@ -588,6 +616,8 @@ def _flatten_value(prefix: str, t: T.Type, v, out: dict[str, object], capacity: 
     if isinstance(t, T.RecordT):
         for n, ft in t.fields:
             _flatten_value(f"{prefix}.{n}", ft, v[n], out, capacity)
+    elif isinstance(t, T.FunctionT) or t == T.STRING:
+        pass  # the number of a function value or of a string: not an FMI variable
     elif isinstance(t, (T.SetT, T.SeqT)):  # as the FMU shows it: elements padded with zeros, and size
         if not isinstance(t.element, T.RecordT):
             out[f"{prefix}.elements"] = copy.deepcopy(v) + [_zero(t.element)] * (capacity - len(v))

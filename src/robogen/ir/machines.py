@@ -21,6 +21,7 @@ from robogen.ir.expressions import ExpressionLowering
 from robogen.ir.region_tree import Graph, place_of, state_action
 from robogen.ir.ports import Ports
 from robogen.ir.statements import StatementLowering
+from robogen.ir.functions import FunctionValues
 from robogen.ir.supported import check_codegen_type, is_scalar, normalise, not_supported
 from robogen.semantics import types as T
 from robogen.semantics.model import Controller, FuncSym, MachineScope, OpSym, Region, SemanticModel, VarSym
@@ -60,7 +61,7 @@ _NODE_KINDS = {ast.State: "state", ast.Junction: "junction", ast.Final: "final",
                ast.Probabilistic: "probabilistic"}
 
 
-class MachineLowering(StatementLowering, ExpressionLowering):
+class MachineLowering(StatementLowering, ExpressionLowering, FunctionValues):
     def __init__(self, ctx: FmuContext, scope: MachineScope, ctrl: Controller | None, index: int, used_name: str,
                  name: str | None = None):
         """``name``: the machine's name in the FMU (its own, or its instance path where two
@@ -82,6 +83,8 @@ class MachineLowering(StatementLowering, ExpressionLowering):
         self.site = 0
         self.node_now = 0
         self.deadline_flags: dict[tuple[int, int], ir.Var] = {}  # (graph, transition) -> missed flag
+        self.bound: dict[int, ir.Expr] = {}  # id(binder declaration) -> what it stands for (robogen.ir.functions)
+        self.fn_tables: dict[str, list[ast.Expr]] | None = None  # function variable -> the values it stores
         for name, v in scope.vars.items():
             self._declare_var(v, name)
         for name, e in scope.events.items():
@@ -206,7 +209,10 @@ class MachineLowering(StatementLowering, ExpressionLowering):
         for name, v in self.scope.vars.items():
             var = self.vars[name]
             if (v.kind == "var" or (v.kind == "const" and not is_scalar(var.type))) and v.init is not None:
-                var.init = self.conv(self.expr(v.init, graph), var.type, v.init.span)
+                if isinstance(var.type, T.FunctionT):
+                    var.init = self.function_value(ir.Ref(var.type, var), v.init, v.init.span)
+                else:
+                    var.init = self.conv(self.expr(v.init, graph), var.type, v.init.span)
         start = self.block(f"start {self.scope.name}", self.scope.node.name_span)  # type: ignore[attr-defined]
         start.step = True  # the initial transition is the first transition segment
         self.machine.start = start.id

@@ -146,10 +146,9 @@ class Ports:
         for p in fmu.inputs:
             if p.source == name:
                 return p
-        if t is not None and _holds_collection(t):
-            raise not_supported(f"input event '{name}' carrying a set or sequence (an FMU input)", span)
         clock = self._clock_name(name, "input-event", span)
-        fields = tuple(_flatten(clock + ".value" if not isinstance(t, T.RecordT) else clock, t, (), span)) if t is not None else ()
+        fields = tuple(_flatten(clock + ".value" if not isinstance(t, T.RecordT) else clock, t, (), span, fmu.capacity)) \
+            if t is not None else ()
         port = ir.Port(clock, "input-event", t, fields, span=span, index=len(fmu.inputs), model_name=_renamed(name, clock))
         fmu.inputs.append(port)
         return port
@@ -235,12 +234,6 @@ def event_uses(scope: MachineScope) -> tuple[set[str], set[str]]:
     return ins, outs
 
 
-def _holds_collection(t: T.Type) -> bool:
-    if isinstance(t, T.RecordT):
-        return any(_holds_collection(ft) for _, ft in t.fields)
-    return isinstance(t, (T.SetT, T.SeqT))
-
-
 def _flatten(prefix: str, t: T.Type | None, path: tuple[str, ...], span: Span | None, capacity: int = 0) -> list[ir.Field_]:
     """The scalar FMI variables of a payload of type ``t`` named ``prefix``. A set or sequence of
     scalars is two: its elements (an array of the capacity, zeros after the last; path element
@@ -252,6 +245,8 @@ def _flatten(prefix: str, t: T.Type | None, path: tuple[str, ...], span: Span | 
         for n, ft in t.fields:
             out += _flatten(f"{prefix}.{n}", ft, path + (n,), span, capacity)
         return out
+    if t == T.STRING:
+        raise not_supported(f"'{prefix}': a string as an FMU port", span)
     if isinstance(t, (T.SetT, T.SeqT)):
         if isinstance(t.element, T.RecordT):
             raise not_supported(f"'{prefix}': a {T.form(t)[2:]} of records as an FMU port", span)

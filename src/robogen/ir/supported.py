@@ -40,6 +40,10 @@ def normalise(t: T.Type, given: str = "int") -> T.Type:
         return T.SetT(normalise(t.element, given))
     if isinstance(t, T.SeqT):
         return T.SeqT(normalise(t.element, given))
+    if isinstance(t, T.FunctionT) and t.relation:  # a relation is the set of its pairs
+        return T.SetT(tuple_type((normalise(t.domain, given), normalise(t.range, given))))
+    if isinstance(t, T.FunctionT):
+        return T.FunctionT(normalise(t.domain, given), normalise(t.range, given), t.relation)
     if isinstance(t, T.RecordT):
         return T.RecordT(t.qname, tuple((n, normalise(ft, given)) for n, ft in t.fields))
     if isinstance(t, T.VectorT):
@@ -59,7 +63,7 @@ def is_scalar(t: T.Type) -> bool:
 def check_codegen_type(t: T.Type, span: Span | None, what: str) -> None:
     """Raise the not-supported error unless values of ``t`` (already normalised) have a
     representation in generated code: scalars, records of them, sized vectors and matrices."""
-    if is_scalar(t):
+    if is_scalar(t) or t == T.STRING:  # a string: one of the model's string literals
         return
     if isinstance(t, T.RecordT):
         for n, ft in t.fields:
@@ -72,6 +76,10 @@ def check_codegen_type(t: T.Type, span: Span | None, what: str) -> None:
     if isinstance(t, T.MatrixT) and is_scalar(t.element):
         if t.rows is None or t.columns is None:
             raise not_supported(f"{what}: a matrix whose size is not given by integer literals", span)
+        return
+    if isinstance(t, T.FunctionT) and not t.relation:  # stored as the number of a function value
+        check_codegen_type(t.domain, span, f"the domain of {what}")
+        check_codegen_type(t.range, span, f"the range of {what}")
         return
     if isinstance(t, (T.SetT, T.SeqT)):
         if not (is_scalar(t.element) or isinstance(t.element, T.RecordT)):

@@ -8,9 +8,9 @@
 #include <stdint.h>
 
 #define RG_MODEL_IDENTIFIER "Bag"
-#define RG_INSTANTIATION_TOKEN "{360521c4-d61d-b05f-a158-df6b8d6d721b}"
-#define RG_NUM_VARIABLES 40
-#define RG_NUM_CLOCKS 12
+#define RG_INSTANTIATION_TOKEN "{09983bd1-4e0c-8c18-5502-75749fbdfc59}"
+#define RG_NUM_VARIABLES 43
+#define RG_NUM_CLOCKS 13
 #define RG_MIGHT_RETURN_EARLY 0
 #define RG_STEPWISE 0  /* 1: stepwise semantics, one transition per fmi3UpdateDiscreteStates */
 #define RG_MAX_TRANSITIONS 1000UL  /* transitions per cycle before a runaway is reported */
@@ -33,17 +33,17 @@ typedef struct { uint64_t n; int64_t a[32]; } rg_seq_i;  /* Seq(int): a sequence
 typedef struct {
     uint64_t _1;
     int64_t _2;
-} rg_rec_tuple_nat_int_;
+} rg_tup2_u_i;
 
 /* datatype tuple(int,nat) */
 typedef struct {
     int64_t _1;
     uint64_t _2;
-} rg_rec_tuple_int_nat_;
+} rg_tup2_i_u;
 
 /* ---- memory of each state machine ------------------------------------------------------ */
 
-/* state machine collections::Bag (collections.rct:30) */
+/* state machine collections::Bag (collections.rct:32) */
 
 /* its nodes: the values of FMI output Bag.state (enumeration Bag.Node) */
 typedef enum {
@@ -58,12 +58,13 @@ typedef enum {
     Bag_Event_pick = 2,
     Bag_Event_pair = 3,
     Bag_Event_clear = 4,
-    Bag_Event_count = 5,
-    Bag_Event_items = 6,
-    Bag_Event_members = 7,
-    Bag_Event_first = 8,
-    Bag_Event_found = 9,
-    Bag_Event_swapped = 10,
+    Bag_Event_load = 5,
+    Bag_Event_count = 6,
+    Bag_Event_items = 7,
+    Bag_Event_members = 8,
+    Bag_Event_first = 9,
+    Bag_Event_found = 10,
+    Bag_Event_swapped = 11,
 } Bag_Event;
 
 typedef struct {
@@ -77,21 +78,22 @@ typedef struct {
     bool new_input;      /* an input arrived since the last cycle */
     uint64_t clock_reset[1];  /* tick of each clock's last reset */
     uint64_t entered[2];      /* tick of each node's last entry */
-    bool reg_present[11];  /* incoming events */
-    bool smp_present[11];  /* event buffer */
+    bool reg_present[12];  /* incoming events */
+    bool smp_present[12];  /* event buffer */
     int64_t reg_e_add, smp_e_add;  /* the value of add */
     int64_t reg_e_drop, smp_e_drop;  /* the value of drop */
     uint64_t reg_e_pick, smp_e_pick;  /* the value of pick */
-    rg_rec_tuple_nat_int_ reg_e_pair, smp_e_pair;  /* the value of pair */
+    rg_tup2_u_i reg_e_pair, smp_e_pair;  /* the value of pair */
+    rg_set_i reg_e_load, smp_e_load;  /* the value of load */
     uint64_t reg_e_count, smp_e_count;  /* the value of count */
     rg_seq_i reg_e_items, smp_e_items;  /* the value of items */
     rg_set_i reg_e_members, smp_e_members;  /* the value of members */
     int64_t reg_e_first, smp_e_first;  /* the value of first */
     bool reg_e_found, smp_e_found;  /* the value of found */
-    rg_rec_tuple_int_nat_ reg_e_swapped, smp_e_swapped;  /* the value of swapped */
+    rg_tup2_i_u reg_e_swapped, smp_e_swapped;  /* the value of swapped */
     rg_set_i v_s;  /* var s */
     rg_seq_i v_q;  /* var q */
-    rg_rec_tuple_nat_int_ v_p;  /* var p */
+    rg_tup2_u_i v_p;  /* var p */
     uint64_t v_k;  /* var k */
     int64_t v_v;  /* var v */
     rg_set_i v_base;  /* const base */
@@ -103,6 +105,8 @@ typedef struct {
     uint64_t in_pick_value;  /* clocked input pick.value */
     uint64_t in_pair__1;  /* clocked input pair._1 */
     int64_t in_pair__2;  /* clocked input pair._2 */
+    rg_vec_i_32 in_load_value_elements;  /* clocked input load.value.elements */
+    uint64_t in_load_value_size;  /* clocked input load.value.size */
     uint64_t out_count_value;  /* clocked output count.value */
     rg_vec_i_32 out_items_value_elements;  /* clocked output items.value.elements */
     uint64_t out_items_value_size;  /* clocked output items.value.size */

@@ -14,45 +14,45 @@
 /* The run-time errors of the set and sequence operations: two per operation (its result would
  * exceed the capacity of 32 elements; it needs an element of an empty collection). */
 static const char *const rg_sites[] = {
-    "more than 32 elements (the capacity) in {v} at collections.rct:43",
+    "more than 32 elements (the capacity) in {v} at collections.rct:45",
     "",
-    "more than 32 elements (the capacity) in union(s, {v}) at collections.rct:43",
+    "more than 32 elements (the capacity) in union(s, {v}) at collections.rct:45",
     "",
-    "more than 32 elements (the capacity) in <v> at collections.rct:43",
+    "more than 32 elements (the capacity) in <v> at collections.rct:45",
     "",
-    "more than 32 elements (the capacity) in q ^ <v> at collections.rct:43",
-    "",
-    "",
-    "'tail' of an empty collection in tail(q) at collections.rct:45",
-    "more than 32 elements (the capacity) in <v, v> at collections.rct:45",
-    "",
-    "more than 32 elements (the capacity) in tail(q) ^ <v, v> at collections.rct:45",
-    "",
-    "more than 32 elements (the capacity) in {v} at collections.rct:47",
+    "more than 32 elements (the capacity) in q ^ <v> at collections.rct:45",
     "",
     "",
+    "'tail' of an empty collection in tail(q) at collections.rct:47",
+    "more than 32 elements (the capacity) in <v, v> at collections.rct:47",
     "",
+    "more than 32 elements (the capacity) in tail(q) ^ <v, v> at collections.rct:47",
     "",
-    "'head' of an empty collection in head(q) at collections.rct:48",
-    "",
-    "'tail' of an empty collection in tail(q) at collections.rct:49",
-    "",
-    "",
-    "more than 32 elements (the capacity) in {p[2]} at collections.rct:53",
-    "",
-    "more than 32 elements (the capacity) in union(base, {p[2]}) at collections.rct:53",
+    "more than 32 elements (the capacity) in {v} at collections.rct:49",
     "",
     "",
     "",
     "",
-    "'front' of an empty collection in front(q) at collections.rct:55",
-    "more than 32 elements (the capacity) in ran(q) at collections.rct:55",
+    "'head' of an empty collection in head(q) at collections.rct:50",
     "",
-    "more than 32 elements (the capacity) in {3, 1, 3} at collections.rct:33",
+    "'tail' of an empty collection in tail(q) at collections.rct:51",
     "",
-    "more than 32 elements (the capacity) in <> at collections.rct:34",
     "",
-    "more than 32 elements (the capacity) in {1, 2, 3} at collections.rct:38",
+    "more than 32 elements (the capacity) in {p[2]} at collections.rct:55",
+    "",
+    "more than 32 elements (the capacity) in union(base, {p[2]}) at collections.rct:55",
+    "",
+    "",
+    "",
+    "",
+    "'front' of an empty collection in front(q) at collections.rct:58",
+    "more than 32 elements (the capacity) in ran(q) at collections.rct:58",
+    "",
+    "more than 32 elements (the capacity) in {3, 1, 3} at collections.rct:35",
+    "",
+    "more than 32 elements (the capacity) in <> at collections.rct:36",
+    "",
+    "more than 32 elements (the capacity) in {1, 2, 3} at collections.rct:40",
     "",
 };
 #define RG_FAULT_MESSAGE(d) ((d)->fault == RG_FAULT_COLLECTION ? rg_sites[(d)->fault_site] : rg_fault_text((d)->fault))
@@ -218,6 +218,16 @@ static rg_set_i rg_elems_seq_i(rg_model_data *d, int32_t site, rg_seq_i q)
     return r;
 }
 
+static rg_set_i rg_canon_set_i(rg_model_data *d, rg_set_i s) RG_MAYBE_UNUSED;
+static rg_set_i rg_canon_set_i(rg_model_data *d, rg_set_i s)
+{
+    uint64_t i;
+    rg_set_i r;
+    memset(&r, 0, sizeof r);
+    for (i = 0; i < s.n && i < 32; i++) rg_insert_set_i(d, 0, &r, s.a[i]);
+    return r;
+}
+
 /* ---- the FMI variables and clocks (value references as in modelDescription.xml) ---------- */
 
 /* indices into rg_clocks */
@@ -228,12 +238,13 @@ enum {
     CLOCK_pick = 3,  /* input event pick */
     CLOCK_pair = 4,  /* input event pair */
     CLOCK_clear = 5,  /* input event clear */
-    CLOCK_count = 6,  /* output event count */
-    CLOCK_items = 7,  /* output event items */
-    CLOCK_members = 8,  /* output event members */
-    CLOCK_first = 9,  /* output event first */
-    CLOCK_found = 10,  /* output event found */
-    CLOCK_swapped = 11,  /* output event swapped */
+    CLOCK_load = 6,  /* input event load */
+    CLOCK_count = 7,  /* output event count */
+    CLOCK_items = 8,  /* output event items */
+    CLOCK_members = 9,  /* output event members */
+    CLOCK_first = 10,  /* output event first */
+    CLOCK_found = 11,  /* output event found */
+    CLOCK_swapped = 12,  /* output event swapped */
 };
 
 static const rg_clock rg_clocks[RG_CLOCK_ARRAY_SIZE] = {
@@ -243,12 +254,13 @@ static const rg_clock rg_clocks[RG_CLOCK_ARRAY_SIZE] = {
     { 6, "pick", RG_CLOCK_INPUT_TRIGGERED, 0.0, 0.0 },
     { 8, "pair", RG_CLOCK_INPUT_TRIGGERED, 0.0, 0.0 },
     { 11, "clear", RG_CLOCK_INPUT_TRIGGERED, 0.0, 0.0 },
-    { 12, "count", RG_CLOCK_OUTPUT_TRIGGERED, 0.0, 0.0 },
-    { 14, "items", RG_CLOCK_OUTPUT_TRIGGERED, 0.0, 0.0 },
-    { 17, "members", RG_CLOCK_OUTPUT_TRIGGERED, 0.0, 0.0 },
-    { 20, "first", RG_CLOCK_OUTPUT_TRIGGERED, 0.0, 0.0 },
-    { 22, "found", RG_CLOCK_OUTPUT_TRIGGERED, 0.0, 0.0 },
-    { 24, "swapped", RG_CLOCK_OUTPUT_TRIGGERED, 0.0, 0.0 },
+    { 12, "load", RG_CLOCK_INPUT_TRIGGERED, 0.0, 0.0 },
+    { 15, "count", RG_CLOCK_OUTPUT_TRIGGERED, 0.0, 0.0 },
+    { 17, "items", RG_CLOCK_OUTPUT_TRIGGERED, 0.0, 0.0 },
+    { 20, "members", RG_CLOCK_OUTPUT_TRIGGERED, 0.0, 0.0 },
+    { 23, "first", RG_CLOCK_OUTPUT_TRIGGERED, 0.0, 0.0 },
+    { 25, "found", RG_CLOCK_OUTPUT_TRIGGERED, 0.0, 0.0 },
+    { 27, "swapped", RG_CLOCK_OUTPUT_TRIGGERED, 0.0, 0.0 },
 };
 
 static const rg_variable rg_variables[RG_NUM_VARIABLES] = {
@@ -263,38 +275,41 @@ static const rg_variable rg_variables[RG_NUM_VARIABLES] = {
     { 9, "pair._1", RG_UINT64, RG_INPUT, RG_DISCRETE, 4, offsetof(rg_model_data, in_pair__1), 1, true },
     { 10, "pair._2", RG_INT64, RG_INPUT, RG_DISCRETE, 4, offsetof(rg_model_data, in_pair__2), 1, true },
     { 11, "clear", RG_CLOCK, RG_INPUT, RG_DISCRETE, -1, 0, 1, true },
-    { 12, "count", RG_CLOCK, RG_OUTPUT, RG_DISCRETE, -1, 0, 1, false },
-    { 13, "count.value", RG_UINT64, RG_OUTPUT, RG_DISCRETE, 6, offsetof(rg_model_data, out_count_value), 1, false },
-    { 14, "items", RG_CLOCK, RG_OUTPUT, RG_DISCRETE, -1, 0, 1, false },
-    { 15, "items.value.elements", RG_INT64, RG_OUTPUT, RG_DISCRETE, 7, offsetof(rg_model_data, out_items_value_elements), 32, false },
-    { 16, "items.value.size", RG_UINT64, RG_OUTPUT, RG_DISCRETE, 7, offsetof(rg_model_data, out_items_value_size), 1, false },
-    { 17, "members", RG_CLOCK, RG_OUTPUT, RG_DISCRETE, -1, 0, 1, false },
-    { 18, "members.value.elements", RG_INT64, RG_OUTPUT, RG_DISCRETE, 8, offsetof(rg_model_data, out_members_value_elements), 32, false },
-    { 19, "members.value.size", RG_UINT64, RG_OUTPUT, RG_DISCRETE, 8, offsetof(rg_model_data, out_members_value_size), 1, false },
-    { 20, "first", RG_CLOCK, RG_OUTPUT, RG_DISCRETE, -1, 0, 1, false },
-    { 21, "first.value", RG_INT64, RG_OUTPUT, RG_DISCRETE, 9, offsetof(rg_model_data, out_first_value), 1, false },
-    { 22, "found", RG_CLOCK, RG_OUTPUT, RG_DISCRETE, -1, 0, 1, false },
-    { 23, "found.value", RG_BOOLEAN, RG_OUTPUT, RG_DISCRETE, 10, offsetof(rg_model_data, out_found_value), 1, false },
-    { 24, "swapped", RG_CLOCK, RG_OUTPUT, RG_DISCRETE, -1, 0, 1, false },
-    { 25, "swapped._1", RG_INT64, RG_OUTPUT, RG_DISCRETE, 11, offsetof(rg_model_data, out_swapped__1), 1, false },
-    { 26, "swapped._2", RG_UINT64, RG_OUTPUT, RG_DISCRETE, 11, offsetof(rg_model_data, out_swapped__2), 1, false },
-    { 27, "Bag.state", RG_INT64, RG_OUTPUT, RG_DISCRETE, -1, offsetof(rg_model_data, m0.node), 1, false },
-    { 28, "cycles", RG_UINT64, RG_OUTPUT, RG_DISCRETE, -1, offsetof(rg_model_data, cycles), 1, false },
-    { 29, "dropped_events", RG_UINT64, RG_OUTPUT, RG_DISCRETE, -1, offsetof(rg_model_data, dropped_events), 1, false },
-    { 30, "deadline_misses", RG_UINT64, RG_OUTPUT, RG_DISCRETE, -1, offsetof(rg_model_data, deadline_misses), 1, false },
-    { 31, "Bag.s.elements", RG_INT64, RG_LOCAL, RG_DISCRETE, -1, offsetof(rg_model_data, m0.v_s.a), 32, false },
-    { 32, "Bag.s.size", RG_UINT64, RG_LOCAL, RG_DISCRETE, -1, offsetof(rg_model_data, m0.v_s.n), 1, false },
-    { 33, "Bag.q.elements", RG_INT64, RG_LOCAL, RG_DISCRETE, -1, offsetof(rg_model_data, m0.v_q.a), 32, false },
-    { 34, "Bag.q.size", RG_UINT64, RG_LOCAL, RG_DISCRETE, -1, offsetof(rg_model_data, m0.v_q.n), 1, false },
-    { 35, "Bag.p._1", RG_UINT64, RG_LOCAL, RG_DISCRETE, -1, offsetof(rg_model_data, m0.v_p._1), 1, false },
-    { 36, "Bag.p._2", RG_INT64, RG_LOCAL, RG_DISCRETE, -1, offsetof(rg_model_data, m0.v_p._2), 1, false },
-    { 37, "Bag.k", RG_UINT64, RG_LOCAL, RG_DISCRETE, -1, offsetof(rg_model_data, m0.v_k), 1, false },
-    { 38, "Bag.v", RG_INT64, RG_LOCAL, RG_DISCRETE, -1, offsetof(rg_model_data, m0.v_v), 1, false },
-    { 39, "Bag.base.elements", RG_INT64, RG_LOCAL, RG_DISCRETE, -1, offsetof(rg_model_data, m0.v_base.a), 32, false },
-    { 40, "Bag.base.size", RG_UINT64, RG_LOCAL, RG_DISCRETE, -1, offsetof(rg_model_data, m0.v_base.n), 1, false },
+    { 12, "load", RG_CLOCK, RG_INPUT, RG_DISCRETE, -1, 0, 1, true },
+    { 13, "load.value.elements", RG_INT64, RG_INPUT, RG_DISCRETE, 6, offsetof(rg_model_data, in_load_value_elements), 32, true },
+    { 14, "load.value.size", RG_UINT64, RG_INPUT, RG_DISCRETE, 6, offsetof(rg_model_data, in_load_value_size), 1, true },
+    { 15, "count", RG_CLOCK, RG_OUTPUT, RG_DISCRETE, -1, 0, 1, false },
+    { 16, "count.value", RG_UINT64, RG_OUTPUT, RG_DISCRETE, 7, offsetof(rg_model_data, out_count_value), 1, false },
+    { 17, "items", RG_CLOCK, RG_OUTPUT, RG_DISCRETE, -1, 0, 1, false },
+    { 18, "items.value.elements", RG_INT64, RG_OUTPUT, RG_DISCRETE, 8, offsetof(rg_model_data, out_items_value_elements), 32, false },
+    { 19, "items.value.size", RG_UINT64, RG_OUTPUT, RG_DISCRETE, 8, offsetof(rg_model_data, out_items_value_size), 1, false },
+    { 20, "members", RG_CLOCK, RG_OUTPUT, RG_DISCRETE, -1, 0, 1, false },
+    { 21, "members.value.elements", RG_INT64, RG_OUTPUT, RG_DISCRETE, 9, offsetof(rg_model_data, out_members_value_elements), 32, false },
+    { 22, "members.value.size", RG_UINT64, RG_OUTPUT, RG_DISCRETE, 9, offsetof(rg_model_data, out_members_value_size), 1, false },
+    { 23, "first", RG_CLOCK, RG_OUTPUT, RG_DISCRETE, -1, 0, 1, false },
+    { 24, "first.value", RG_INT64, RG_OUTPUT, RG_DISCRETE, 10, offsetof(rg_model_data, out_first_value), 1, false },
+    { 25, "found", RG_CLOCK, RG_OUTPUT, RG_DISCRETE, -1, 0, 1, false },
+    { 26, "found.value", RG_BOOLEAN, RG_OUTPUT, RG_DISCRETE, 11, offsetof(rg_model_data, out_found_value), 1, false },
+    { 27, "swapped", RG_CLOCK, RG_OUTPUT, RG_DISCRETE, -1, 0, 1, false },
+    { 28, "swapped._1", RG_INT64, RG_OUTPUT, RG_DISCRETE, 12, offsetof(rg_model_data, out_swapped__1), 1, false },
+    { 29, "swapped._2", RG_UINT64, RG_OUTPUT, RG_DISCRETE, 12, offsetof(rg_model_data, out_swapped__2), 1, false },
+    { 30, "Bag.state", RG_INT64, RG_OUTPUT, RG_DISCRETE, -1, offsetof(rg_model_data, m0.node), 1, false },
+    { 31, "cycles", RG_UINT64, RG_OUTPUT, RG_DISCRETE, -1, offsetof(rg_model_data, cycles), 1, false },
+    { 32, "dropped_events", RG_UINT64, RG_OUTPUT, RG_DISCRETE, -1, offsetof(rg_model_data, dropped_events), 1, false },
+    { 33, "deadline_misses", RG_UINT64, RG_OUTPUT, RG_DISCRETE, -1, offsetof(rg_model_data, deadline_misses), 1, false },
+    { 34, "Bag.s.elements", RG_INT64, RG_LOCAL, RG_DISCRETE, -1, offsetof(rg_model_data, m0.v_s.a), 32, false },
+    { 35, "Bag.s.size", RG_UINT64, RG_LOCAL, RG_DISCRETE, -1, offsetof(rg_model_data, m0.v_s.n), 1, false },
+    { 36, "Bag.q.elements", RG_INT64, RG_LOCAL, RG_DISCRETE, -1, offsetof(rg_model_data, m0.v_q.a), 32, false },
+    { 37, "Bag.q.size", RG_UINT64, RG_LOCAL, RG_DISCRETE, -1, offsetof(rg_model_data, m0.v_q.n), 1, false },
+    { 38, "Bag.p._1", RG_UINT64, RG_LOCAL, RG_DISCRETE, -1, offsetof(rg_model_data, m0.v_p._1), 1, false },
+    { 39, "Bag.p._2", RG_INT64, RG_LOCAL, RG_DISCRETE, -1, offsetof(rg_model_data, m0.v_p._2), 1, false },
+    { 40, "Bag.k", RG_UINT64, RG_LOCAL, RG_DISCRETE, -1, offsetof(rg_model_data, m0.v_k), 1, false },
+    { 41, "Bag.v", RG_INT64, RG_LOCAL, RG_DISCRETE, -1, offsetof(rg_model_data, m0.v_v), 1, false },
+    { 42, "Bag.base.elements", RG_INT64, RG_LOCAL, RG_DISCRETE, -1, offsetof(rg_model_data, m0.v_base.a), 32, false },
+    { 43, "Bag.base.size", RG_UINT64, RG_LOCAL, RG_DISCRETE, -1, offsetof(rg_model_data, m0.v_base.n), 1, false },
 };
 
-/* ======== state machine collections::Bag (collections.rct:30) ======== */
+/* ======== state machine collections::Bag (collections.rct:32) ======== */
 
 /* The name of a node of Bag, for log messages. */
 static const char *Bag_node_name(int64_t node)
@@ -308,14 +323,15 @@ static const char *Bag_node_name(int64_t node)
 
 /* What each block does, for log messages (indexed by m->pc). */
 static const char *const rg_labels_0[] = {
-    "b0: start Bag (collections.rct:30)",
-    "b1: EVAL Idle (collections.rct:40)",
-    "b2: t1: Idle -> Idle (collections.rct:42)",
-    "b3: t7: Idle -> Idle (collections.rct:44)",
-    "b4: t2: Idle -> Idle (collections.rct:46)",
-    "b5: t3: Idle -> Idle (collections.rct:48)",
-    "b6: t5: Idle -> Idle (collections.rct:52)",
-    "b7: t6: Idle -> Idle (collections.rct:54)",
+    "b0: start Bag (collections.rct:32)",
+    "b1: EVAL Idle (collections.rct:42)",
+    "b2: t1: Idle -> Idle (collections.rct:44)",
+    "b3: t7: Idle -> Idle (collections.rct:46)",
+    "b4: t2: Idle -> Idle (collections.rct:48)",
+    "b5: t3: Idle -> Idle (collections.rct:50)",
+    "b6: t5: Idle -> Idle (collections.rct:54)",
+    "b7: t8: Idle -> Idle (collections.rct:56)",
+    "b8: t6: Idle -> Idle (collections.rct:57)",
 };
 
 static int rg_fault_0(rg_instance *inst) RG_MAYBE_UNUSED;
@@ -338,6 +354,7 @@ static const rg_event_slot rg_events_0[] = {
     RG_TYPED_EVENT(m0, Bag_Event_pick, pick),
     RG_TYPED_EVENT(m0, Bag_Event_pair, pair),
     RG_EVENT(m0, Bag_Event_clear),
+    RG_TYPED_EVENT(m0, Bag_Event_load, load),
     RG_TYPED_EVENT(m0, Bag_Event_count, count),
     RG_TYPED_EVENT(m0, Bag_Event_items, items),
     RG_TYPED_EVENT(m0, Bag_Event_members, members),
@@ -355,26 +372,28 @@ static int rg_run_0(rg_instance *inst)
     for (;;) {
         if (++steps > RG_MAX_STEPS) return rg_runaway_0(inst);
         switch (m->pc) {
-        case 0: /* b0: start Bag  collections.rct:30 */
+        case 0: /* b0: start Bag  collections.rct:32 */
             RG_BEGIN_TRANSITION(rg_runaway_0(inst));
             RG_TRACE(inst, "Bag: t0: i -> Idle");
             RG_ENTER(Bag_Node_Idle);
             m->pc = 1; continue;
-        case 1: /* b1: EVAL Idle  collections.rct:40 */
-            /* t1: Idle -> Idle add?v [size(q) < 4]  collections.rct:42 */
+        case 1: /* b1: EVAL Idle  collections.rct:42 */
+            /* t1: Idle -> Idle add?v [size(q) < 4]  collections.rct:44 */
             if (m->smp_present[Bag_Event_add] && (((m->v_q).n) < UINT64_C(4))) { m->pc = 2; continue; }
-            /* t7: Idle -> Idle add?v [size(q) >= 4]  collections.rct:44 */
+            /* t7: Idle -> Idle add?v [size(q) >= 4]  collections.rct:46 */
             if (m->smp_present[Bag_Event_add] && (((m->v_q).n) >= UINT64_C(4))) { m->pc = 3; continue; }
-            /* t2: Idle -> Idle drop?v  collections.rct:46 */
+            /* t2: Idle -> Idle drop?v  collections.rct:48 */
             if (m->smp_present[Bag_Event_drop]) { m->pc = 4; continue; }
-            /* t3: Idle -> Idle pick?k  collections.rct:48 */
+            /* t3: Idle -> Idle pick?k  collections.rct:50 */
             if (m->smp_present[Bag_Event_pick]) { m->pc = 5; continue; }
-            /* t5: Idle -> Idle pair?p  collections.rct:52 */
+            /* t5: Idle -> Idle pair?p  collections.rct:54 */
             if (m->smp_present[Bag_Event_pair]) { m->pc = 6; continue; }
-            /* t6: Idle -> Idle clear [size(q) > 0 \/ v == 5 /\ k == 5]  collections.rct:54 */
-            if (m->smp_present[Bag_Event_clear] && ((((m->v_q).n) > UINT64_C(0)) || ((m->v_v == INT64_C(5)) && (m->v_k == UINT64_C(5))))) { m->pc = 7; continue; }
+            /* t8: Idle -> Idle load?s  collections.rct:56 */
+            if (m->smp_present[Bag_Event_load]) { m->pc = 7; continue; }
+            /* t6: Idle -> Idle clear [size(q) > 0 \/ v == 5 /\ k == 5]  collections.rct:57 */
+            if (m->smp_present[Bag_Event_clear] && ((((m->v_q).n) > UINT64_C(0)) || ((m->v_v == INT64_C(5)) && (m->v_k == UINT64_C(5))))) { m->pc = 8; continue; }
             m->pc = 1; return RG_RUN_SUSPENDED;
-        case 2: /* b2: t1: Idle -> Idle  collections.rct:42 */
+        case 2: /* b2: t1: Idle -> Idle  collections.rct:44 */
             RG_BEGIN_TRANSITION(rg_runaway_0(inst));
             m->v_v = m->smp_e_add;
             m->smp_present[Bag_Event_add] = false;
@@ -393,7 +412,7 @@ static int rg_run_0(rg_instance *inst)
             }
             RG_ENTER(Bag_Node_Idle);
             m->pc = 1; continue;
-        case 3: /* b3: t7: Idle -> Idle  collections.rct:44 */
+        case 3: /* b3: t7: Idle -> Idle  collections.rct:46 */
             RG_BEGIN_TRANSITION(rg_runaway_0(inst));
             m->v_v = m->smp_e_add;
             m->smp_present[Bag_Event_add] = false;
@@ -408,7 +427,7 @@ static int rg_run_0(rg_instance *inst)
             }
             RG_ENTER(Bag_Node_Idle);
             m->pc = 1; continue;
-        case 4: /* b4: t2: Idle -> Idle  collections.rct:46 */
+        case 4: /* b4: t2: Idle -> Idle  collections.rct:48 */
             RG_BEGIN_TRANSITION(rg_runaway_0(inst));
             m->v_v = m->smp_e_drop;
             m->smp_present[Bag_Event_drop] = false;
@@ -426,7 +445,7 @@ static int rg_run_0(rg_instance *inst)
             }
             RG_ENTER(Bag_Node_Idle);
             m->pc = 1; continue;
-        case 5: /* b5: t3: Idle -> Idle  collections.rct:48 */
+        case 5: /* b5: t3: Idle -> Idle  collections.rct:50 */
             RG_BEGIN_TRANSITION(rg_runaway_0(inst));
             m->v_k = m->smp_e_pick;
             m->smp_present[Bag_Event_pick] = false;
@@ -459,13 +478,13 @@ static int rg_run_0(rg_instance *inst)
             }
             RG_ENTER(Bag_Node_Idle);
             m->pc = 1; continue;
-        case 6: /* b6: t5: Idle -> Idle  collections.rct:52 */
+        case 6: /* b6: t5: Idle -> Idle  collections.rct:54 */
             RG_BEGIN_TRANSITION(rg_runaway_0(inst));
             m->v_p = m->smp_e_pair;
             m->smp_present[Bag_Event_pair] = false;
             RG_TRACE(inst, "Bag: t5: Idle -> Idle");
             {
-                rg_rec_tuple_int_nat_ a0_ = ((rg_rec_tuple_int_nat_){ ._1 = m->v_p._2, ._2 = m->v_p._1 });
+                rg_tup2_i_u a0_ = ((rg_tup2_i_u){ ._1 = m->v_p._2, ._2 = m->v_p._1 });
                 d->out_swapped__1 = a0_._1;
                 d->out_swapped__2 = a0_._2;
                 rg_activate_output_clock(inst, CLOCK_swapped);
@@ -480,7 +499,22 @@ static int rg_run_0(rg_instance *inst)
             }
             RG_ENTER(Bag_Node_Idle);
             m->pc = 1; continue;
-        case 7: /* b7: t6: Idle -> Idle  collections.rct:54 */
+        case 7: /* b7: t8: Idle -> Idle  collections.rct:56 */
+            RG_BEGIN_TRANSITION(rg_runaway_0(inst));
+            m->v_s = m->smp_e_load;
+            m->smp_present[Bag_Event_load] = false;
+            RG_TRACE(inst, "Bag: t8: Idle -> Idle");
+            {
+                rg_set_i a0_ = m->v_s;
+                memcpy(d->out_members_value_elements.a, a0_.a, sizeof d->out_members_value_elements.a);
+                d->out_members_value_size = a0_.n;
+                rg_activate_output_clock(inst, CLOCK_members);
+            }
+            d->out_count_value = ((m->v_s).n);
+            rg_activate_output_clock(inst, CLOCK_count);
+            RG_ENTER(Bag_Node_Idle);
+            m->pc = 1; continue;
+        case 8: /* b8: t6: Idle -> Idle  collections.rct:57 */
             RG_BEGIN_TRANSITION(rg_runaway_0(inst));
             m->smp_present[Bag_Event_clear] = false;
             RG_TRACE(inst, "Bag: t6: Idle -> Idle");
@@ -530,7 +564,7 @@ static fmi3Status rg_model_exit_initialization(rg_instance *inst)
             rg_log(inst, RG_LOG_ERROR, fmi3Error, "initial value of q: %s", RG_FAULT_MESSAGE(d));
             return fmi3Error;
         }
-        m->v_p = ((rg_rec_tuple_nat_int_){ ._1 = UINT64_C(0), ._2 = INT64_C(0) });  /* initial value of p */
+        m->v_p = ((rg_tup2_u_i){ ._1 = UINT64_C(0), ._2 = INT64_C(0) });  /* initial value of p */
         m->v_k = UINT64_C(0);  /* initial value of k */
         m->v_v = INT64_C(0);  /* initial value of v */
         m->v_base = rg_make_set_i(d, 38, 3, (const int64_t[]){ INT64_C(1), INT64_C(2), INT64_C(3) });  /* initial value of base */
@@ -565,7 +599,7 @@ static void rg_model_latch(rg_instance *inst, int clock_index)
         break;
     }
     case CLOCK_pair: {
-        rg_rec_tuple_nat_int_ v;
+        rg_tup2_u_i v;
         v._1 = d->in_pair__1;
         v._2 = d->in_pair__2;
         rg_deliver(d, &rg_events_0[Bag_Event_pair], &v);
@@ -574,6 +608,14 @@ static void rg_model_latch(rg_instance *inst, int clock_index)
     case CLOCK_clear:
         rg_deliver(d, &rg_events_0[Bag_Event_clear], NULL);
         break;
+    case CLOCK_load: {
+        rg_set_i v;
+        memcpy(v.a, d->in_load_value_elements.a, sizeof v.a);
+        v.n = d->in_load_value_size > 32 ? 32 : d->in_load_value_size;
+        v = rg_canon_set_i(d, v);
+        rg_deliver(d, &rg_events_0[Bag_Event_load], &v);
+        break;
+    }
     default: /* the periodic clock, and input events that reach no state machine */
         break;
     }
@@ -596,7 +638,7 @@ static fmi3Status rg_model_evaluate(rg_instance *inst)
             /* events join the buffer between runs: in the middle of a stepwise run they wait, so
              * that the transition a micro-step decided on finds the buffer it was decided on */
             size_t e;
-            for (e = 0; e < 11; e++) arrived = rg_join_buffer(d, &rg_events_0[e]) || arrived;
+            for (e = 0; e < 12; e++) arrived = rg_join_buffer(d, &rg_events_0[e]) || arrived;
             m->new_input = false;
         }
         if (periodic || arrived || m->in_cycle) {
@@ -619,7 +661,7 @@ static fmi3Status rg_model_update(rg_instance *inst, bool *discrete_states_need_
     need = need || d->m0.in_cycle;
     {
         size_t e;
-        for (e = 0; e < 11; e++) need = need || d->m0.reg_present[e];
+        for (e = 0; e < 12; e++) need = need || d->m0.reg_present[e];
     }
     *discrete_states_need_update = need;
     return fmi3OK;
