@@ -496,7 +496,7 @@ def _machine_code(fmu: ir.Fmu, em: Emitter, line_comments: bool) -> dict:
         cases.append("\n".join(lines))
     inits = []
     for v in m.vars:
-        if v.kind == "var" and v.init is not None:
+        if v.init is not None:  # variables, and the random generator's state
             em.fallible = False
             value = em.expr(v.init)
             inits.append((f"m->v_{em.names.vars[v]}", value, em.fallible, v.name))

@@ -24,7 +24,6 @@ if TYPE_CHECKING:  # the attributes MachineLowering provides
 _UNSUPPORTED = {
     ast.StringLit: "a string",
     ast.Binder: "a quantifier, lambda or definite description",
-    ast.Let: "'let'",
     ast.TupleLit: "a tuple",
     ast.SeqLit: "a sequence",
     ast.SetLit: "a set",
@@ -129,6 +128,10 @@ class ExpressionLowering:
             enum = self._norm(sym.enum)
             assert isinstance(enum, T.EnumT)
             return ir.Lit(enum, enum.literals.index(sym.literal))
+        if isinstance(sym, VarSym):
+            value = self.bound_value(sym, e.span)  # type: ignore[attr-defined]  # a let name, lambda parameter...
+            if value is not None:
+                return value
         return self.var_ref(graph, sym, e.span)
 
     def _e_Keyword(self, e: ast.Keyword, graph: Graph) -> ir.Expr:
@@ -162,10 +165,17 @@ class ExpressionLowering:
         return ir.Un(t, "neg", self.conv(operand, t, e.span))
 
     def _e_Binary(self, e: ast.Binary, graph: Graph) -> ir.Expr:
+        first, links = ast.chain(e)  # a loop over a flat chain of operands, not recursion
+        value = self.expr(first, graph)
+        for link in links:
+            value = self._binary(link, value, self.expr(link.right, graph))
+        return value
+
+    def _binary(self, e: ast.Binary, a: ir.Expr, b: ir.Expr) -> ir.Expr:
+        """Binary expression ``e`` on its lowered operands."""
         op = _BINARY.get(e.op)
         if op is None:
             raise not_supported(f"the operator '{e.op}'", e.span)
-        a, b = self.expr(e.left, graph), self.expr(e.right, graph)
         if op in ("iff", "implies", "or", "and"):
             return ir.Bin(T.BOOLEAN, op, a, b)
         if op in ("eq", "ne", "lt", "le", "gt", "ge"):
@@ -245,6 +255,9 @@ class ExpressionLowering:
     # -- calls
 
     def _e_Call(self, e: ast.Call, graph: Graph) -> ir.Expr:
+        applied = self.applied_lambda(e, graph)  # type: ignore[attr-defined]
+        if applied is not None:
+            return applied
         sym = self.model.symbol(e.func)
         if isinstance(sym, EnumLitSym):
             raise not_supported("an enumeration literal with arguments", e.span)

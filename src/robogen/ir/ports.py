@@ -3,11 +3,14 @@
 For a module, events the robotic platform sends to a controller are input clocks, events sent to
 the platform and calls of the platform's operations are output clocks; connections between
 controllers and machines inside the module become routes inside the FMU. For a single machine,
-its own events and platform operations are the ports.
+its own events and platform operations are the ports. A bidirectional connection (``[ mult ]``)
+carries events both ways: routes follow it in each direction, and a platform event it carries
+both ways is two clocks, the input ``e`` and the output ``e.out``.
 """
 
 from __future__ import annotations
 
+from dataclasses import dataclass
 from typing import Protocol
 
 from robogen.diagnostics import Note, RobogenError, Span
@@ -48,13 +51,13 @@ class Ports:
             return
         info = self.b.module
         platform = info.platform.name if info.platform is not None else ""
-        for conn in info.connections:
+        for conn in directed(info.connections):
             if conn.source == platform:
                 port = self.input_port(conn.source_event, self._platform_event_type(info, conn.source_event), conn.span)
                 for r in self._routes_into_controller(conn.target, conn.target_event, info):
                     if r not in port.routes:
                         port.routes.append(r)
-        for conn in info.connections:
+        for conn in directed(info.connections):
             if conn.target == platform:
                 self.output_port(conn.target_event, "output-event", self._platform_event_type(info, conn.target_event), (), conn.span)
         for ml in self.lowerings:
@@ -87,7 +90,7 @@ class Ports:
         for used, c in info.controllers:
             if used != ctrl_name:
                 continue
-            for conn in c.connections:
+            for conn in directed(c.connections):
                 if conn.source == c.name and conn.source_event == event:
                     routes += self._machine_event(c, conn.target, conn.target_event)
         return routes
@@ -113,7 +116,7 @@ class Ports:
         if ctrl is None:
             return ()
         routes: list[tuple] = []
-        for conn in ctrl.connections:
+        for conn in directed(ctrl.connections):
             if conn.source != ml.used_name or conn.source_event != name:
                 continue
             if conn.target == ctrl.name:  # machine -> its controller -> the module's connections
@@ -129,7 +132,7 @@ class Ports:
         ctrl_used = next((u for u, c in info.controllers if c is ctrl), ctrl.name)
         platform = info.platform.name if info.platform is not None else ""
         routes: list[tuple] = []
-        for mconn in info.connections:
+        for mconn in directed(info.connections):
             if mconn.source == ctrl_used and mconn.source_event == event:
                 if mconn.target == platform:
                     port = self.output_port(mconn.target_event, "output-event", ml.event_type(name), (), span)
@@ -150,6 +153,8 @@ class Ports:
 
     def output_port(self, name: str, kind: str, t: T.Type | None, params, span: Span | None) -> ir.Port:
         fmu = self.fmu
+        if kind == "output-event" and any(p.name == name for p in fmu.inputs):
+            name += ".out"  # a platform event carried both ways ([ mult ]): input clock e, output clock e.out
         for p in fmu.outputs:
             if p.name == name:
                 if p.kind != kind:
@@ -167,6 +172,28 @@ class Ports:
             port = ir.Port(name, kind, t, tuple(fields), span=span, index=len(fmu.outputs))
         fmu.outputs.append(port)
         return port
+
+
+@dataclass(frozen=True)
+class Way:
+    """One direction of a connection: events go from ``source`` to ``target``."""
+
+    source: str
+    source_event: str
+    target: str
+    target_event: str
+    span: Span | None
+
+
+def directed(connections) -> list[Way]:
+    """The directions events take over ``connections``: each connection's own, and for a
+    bidirectional one (RoboChart's ``[ mult ]``) the reverse too, right after it."""
+    ways = []
+    for c in connections:
+        ways.append(Way(c.source, c.source_event, c.target, c.target_event, c.span))
+        if c.bidirectional:
+            ways.append(Way(c.target, c.target_event, c.source, c.source_event, c.span))
+    return ways
 
 
 def event_uses(scope: MachineScope) -> tuple[set[str], set[str]]:
@@ -216,4 +243,4 @@ def _flatten(prefix: str, t: T.Type | None, path: tuple[str, ...], span: Span | 
     return [ir.Field_(prefix, t, path)]
 
 
-__all__ = ["Ports", "MachinePorts", "event_uses"]
+__all__ = ["Ports", "MachinePorts", "Way", "directed", "event_uses"]

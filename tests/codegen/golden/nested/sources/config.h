@@ -8,9 +8,9 @@
 #include <stdint.h>
 
 #define RG_MODEL_IDENTIFIER "Mod"
-#define RG_INSTANTIATION_TOKEN "{e80ccc02-91ff-f7ab-dbf6-4ef8a394f39e}"
-#define RG_NUM_VARIABLES 12
-#define RG_NUM_CLOCKS 4
+#define RG_INSTANTIATION_TOKEN "{778c17b0-80d1-2c9c-61b8-8e5dbb9599dc}"
+#define RG_NUM_VARIABLES 13
+#define RG_NUM_CLOCKS 5
 #define RG_MIGHT_RETURN_EARLY 0
 #define RG_STEPWISE 0  /* 1: stepwise semantics, one transition per fmi3UpdateDiscreteStates */
 #define RG_MAX_TRANSITIONS 1000UL  /* transitions per cycle before a runaway is reported */
