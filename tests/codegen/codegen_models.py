@@ -47,6 +47,7 @@ TEST_MODELS = {
         ModelCase("nested", MODELS / "nested.rct"),
         ModelCase("ur5e_rct", ROOT / "models" / "ur5e" / "ur5e.rct"),
         ModelCase("control", MODELS / "control.rct", choices={"value.value": [-5, 0, 2, 3, 4, 5, 7, 99, 100, 150]}),
+        ModelCase("matrixport", MODELS / "matrixport.rst"),
     )
 }
 OWN_MODELS = [n for n in TEST_MODELS if n != "ur5e"]

@@ -387,7 +387,9 @@ class _Layout:
                 self.variables.append(FmiVar(
                     name, self._next_vr(), fmi_type, "parameter", "fixed", member + access,
                     start=self._start(t, value), declared_type=declared, dims=_shape(t)[1],
-                    description=f"constant {p.var.name}", span=p.var.span))
+                    description=(f"constant {p.var.name}" if p.fmi_name != ir.RANDOM_SEED_NAME else
+                                 "seed of the generator of nondeterministic waits and probabilistic junctions (SplitMix64)"),
+                    span=p.var.span))
         for m in fmu.machines:
             enum_name = f"{m.name}.Node"
             self.enums.append(EnumType(enum_name, [(n.label, n.id) for n in m.nodes]))
@@ -481,6 +483,13 @@ def _machines_code(fmu: ir.Fmu, layout: _Layout, names: CNames, line_comments: b
     return codes
 
 
+# A machine of more blocks than this runs as one C function per this many blocks (and a dispatcher
+# over them), not one function of all of them: GCC needs time and memory superlinear in the size
+# of one function (a 10,000-state machine, 30,000 blocks in one switch, did not compile at -O2
+# with 14 GB). Smaller machines keep the one function.
+PART_SIZE = 512
+
+
 def _machine_code(fmu: ir.Fmu, em: Emitter, line_comments: bool) -> dict:
     m = em.m
     assert m.nodes, f"machine {m.name} has no node"
@@ -501,7 +510,9 @@ def _machine_code(fmu: ir.Fmu, em: Emitter, line_comments: bool) -> dict:
             value = em.expr(v.init)
             inits.append((f"m->v_{em.names.vars[v]}", value, em.fallible, v.name))
     labels = [c_string(f"b{b.id}: {b.label}" + (f" ({fmu.place(b.span)})" if b.span else "")) for b in m.blocks]
-    return dict(machine=m, names=em.own, cases=cases, inits=inits, labels=labels, equalities=em.equalities,
+    parts = [cases[k:k + PART_SIZE] for k in range(0, len(cases), PART_SIZE)]
+    return dict(machine=m, names=em.own, cases=cases, parts=parts, part_size=PART_SIZE, inits=inits, labels=labels,
+                equalities=em.equalities,
                 event_types=[(e.index, ctype(e.type) if e.type is not None else None) for e in m.events])
 
 

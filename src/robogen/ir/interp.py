@@ -176,7 +176,10 @@ class Interpreter:
             return None
         value = _zero(port.type)
         for f in port.fields:
-            v = python_value(payload.get(f.fmi_name, _zero(f.type)), f.type) if not isinstance(f.type, T.VectorT) else list(payload.get(f.fmi_name, _zero(f.type)))  # type: ignore[arg-type]
+            if isinstance(f.type, (T.VectorT, T.MatrixT)):  # an FMI array (a matrix row by row)
+                v = [python_value(x, f.type.element) for x in payload.get(f.fmi_name, _zero(f.type))]  # type: ignore[union-attr]
+            else:
+                v = python_value(payload.get(f.fmi_name, _zero(f.type)), f.type)
             if not f.path:
                 value = v
             else:

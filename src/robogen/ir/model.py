@@ -82,7 +82,7 @@ class Field_:
     fields (and array length) inside the payload value."""
 
     fmi_name: str
-    type: Type  # scalar (or VectorT of scalars, an FMI array)
+    type: Type  # scalar (or a vector or matrix of scalars: an FMI array, a matrix row by row)
     path: tuple[str, ...]
 
 

@@ -16,7 +16,7 @@ from typing import Protocol
 from robogen.diagnostics import Note, RobogenError, Span
 from robogen.ir import model as ir
 from robogen.ir.boundary import Boundary
-from robogen.ir.supported import check_codegen_type, not_supported
+from robogen.ir.supported import check_codegen_type
 from robogen.semantics import types as T
 from robogen.semantics.model import Controller, MachineScope, Module, OpSym
 from robogen.syntax import ast
@@ -238,9 +238,7 @@ def _flatten(prefix: str, t: T.Type | None, path: tuple[str, ...], span: Span | 
         for n, ft in t.fields:
             out += _flatten(f"{prefix}.{n}", ft, path + (n,), span)
         return out
-    if isinstance(t, T.MatrixT):
-        raise not_supported(f"'{prefix}': a matrix as an FMU port", span)
-    return [ir.Field_(prefix, t, path)]
+    return [ir.Field_(prefix, t, path)]  # a vector or matrix is one FMI array variable
 
 
 __all__ = ["Ports", "MachinePorts", "Way", "directed", "event_uses"]

@@ -22,7 +22,8 @@
 enum {
     RG_RUN_SUSPENDED = 0, /* the cycle's work is done; the machine resumes at m->pc next time */
     RG_RUN_MICRO = 1,     /* stepwise: a micro-step ended in front of the run's second transition */
-    RG_RUN_FAULT = -1     /* a run-time error, already logged */
+    RG_RUN_FAULT = -1,    /* a run-time error, already logged */
+    RG_RUN_JUMP = 2       /* a part of a large machine's blocks: control goes on in another part */
 };
 
 /* rg_model_data.fault: the run-time error of the current instant. */

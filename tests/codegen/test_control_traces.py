@@ -89,3 +89,12 @@ def test_values_the_filter_or_the_condition_refuse_are_not_taken(builds):
     xs = [s.variables["Gate.x"] for s in trace.steps]
     assert xs[:3] == [0, 0, 0] and xs[3:] == [150, 150, 150]
     assert trace.steps[-1].variables["Gate.n"] == 0
+
+
+@pytest.mark.parametrize("semantics", ["exhaustive", "stepwise"])
+def test_events_carry_matrices_as_fmi_arrays(builds, semantics):
+    """matrixport.rst: rot carries a 2x3 matrix (an FMI array of 6, row by row); the machine
+    sends its transpose (3x2) on flipped and its first row on row, in the cycle rot arrives."""
+    rot = Tick("rot", {"rot.value": [1, 2, 3, 4, 5, 6]})  # [[1, 2, 3], [4, 5, 6]]
+    outputs, _ = run(builds.get("matrixport", semantics), {1: rot}, 3)
+    assert outputs == {0: {}, 1: {"flipped": {"flipped.value": [1, 4, 2, 5, 3, 6]}, "row": {"row.value": [1, 2, 3]}}, 2: {}}
