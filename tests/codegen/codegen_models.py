@@ -63,6 +63,8 @@ TEST_MODELS = {
         ModelCase("clashes", MODELS / "clashes.rct"),
         ModelCase("opconsts", MODELS / "opconsts.rct"),
         ModelCase("linear", MODELS / "linear.rst", choices={"y.value": [-2.5, -1.0, 0.5, 1.5, 3.0, 1e300, 0.0]}),
+        ModelCase("control", MODELS / "control.rct", choices={"value.value": [-5, 0, 2, 3, 4, 5, 7, 99, 100, 150]}),
+        ModelCase("matrixport", MODELS / "matrixport.rst"),
     )
 }
 OWN_MODELS = [n for n in TEST_MODELS if n != "ur5e"]

@@ -200,6 +200,8 @@ def _fixed_offset(e: ir.IndexOf) -> int | None:
         return None
     ks = [int(i.value) - 1 for i in e.indices]  # type: ignore[attr-defined]
     t = e.base.type
+    if not isinstance(t, (T.VectorT, T.MatrixT)):
+        return None  # a sequence's length is known only at run time
     dims = [t.size] if isinstance(t, T.VectorT) else [t.rows, t.columns]  # type: ignore[attr-defined]
     if len(ks) != len(dims) or not all(0 <= k < (n or 0) for k, n in zip(ks, dims)):
         return None
@@ -275,8 +277,15 @@ class Emitter:
         return f"rg_{tag(e.type)}_neg({a})"
 
     def _Bin(self, e: ir.Bin) -> str:
+        first, links = ir.bin_chain(e)  # a loop over a flat chain of operands, not recursion
+        text = self.expr(first)
+        for link in links:
+            text = self._binary(link, text, self.expr(link.right))
+        return text
+
+    def _binary(self, e: ir.Bin, a: str, b: str) -> str:
+        """Operation ``e`` on the C texts of its operands."""
         op = e.op
-        a, b = self.expr(e.left), self.expr(e.right)
         if op == "and":
             return f"({a} && {b})"
         if op == "or":
@@ -350,6 +359,15 @@ class Emitter:
 
     def _Now(self, e: ir.Now) -> str:
         return "m->ticks"
+
+    def _Draw(self, e: ir.Draw) -> str:
+        state = "&" + self._Ref(ir.Ref(T.NAT, e.state))
+        if e.type == T.REAL:
+            return f"rg_random_real({state})"
+        assert e.low is not None and e.high is not None
+        low, high = self.expr(e.low), self.expr(e.high)
+        self.fallible = True
+        return f"rg_random_int(d, {state}, {low}, {high})"
 
     def _RecordLit(self, e: ir.RecordLit) -> str:
         parts = ", ".join(f".{n} = {self.expr(v)}" for n, v in e.values)

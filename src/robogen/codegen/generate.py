@@ -455,7 +455,9 @@ class _Layout:
                 self.variables.append(FmiVar(
                     name, self._next_vr(), fmi_type, "parameter", "fixed", member + access,
                     start=self._start(t, value), declared_type=declared, dims=_shape(t)[1],
-                    description=f"constant {p.var.name}", span=p.var.span))
+                    description=(f"constant {p.var.name}" if p.fmi_name != ir.RANDOM_SEED_NAME else
+                                 "seed of the generator of nondeterministic waits and probabilistic junctions (SplitMix64)"),
+                    span=p.var.span))
         for m in fmu.machines:
             enum_name = f"{m.name}.Node"
             self.enums.append(EnumType(enum_name, [(n.label, n.id) for n in m.nodes]))
@@ -469,11 +471,12 @@ class _Layout:
                                      description="input events overwritten by a newer one before a machine used them"))
         self.variables.append(FmiVar("deadline_misses", self._next_vr(), "UInt64", "output", "discrete", "deadline_misses", initial="exact", start="0",
                                      description="RoboChart deadlines missed (counted and logged, never enforced)"))
+        parameters = {id(p.var) for p in fmu.params}
         for m in fmu.machines:
             for v in m.vars:
                 self._type(v.type)
-                if v.kind != "var" and not (v.kind == "const" and v.init is not None):
-                    continue  # constants are parameters, but those computed from an initialiser
+                if v.kind not in ("var", "const") or id(v) in parameters:
+                    continue  # constants are parameters, but those computed from an initialiser (sets, ...)
                 for name, t, access in _flat(f"{m.name}.{v.name}", v.type, "", fmu.capacity):
                     fmi_type, declared = self._scalar(_shape(t)[0])
                     self.variables.append(FmiVar(
@@ -562,6 +565,13 @@ def _machines_code(fmu: ir.Fmu, layout: _Layout, names: CNames, line_comments: b
     return codes, sites
 
 
+# A machine of more blocks than this runs as one C function per this many blocks (and a dispatcher
+# over them), not one function of all of them: GCC needs time and memory superlinear in the size
+# of one function (a 10,000-state machine, 30,000 blocks in one switch, did not compile at -O2
+# with 14 GB). Smaller machines keep the one function.
+PART_SIZE = 512
+
+
 def _machine_code(fmu: ir.Fmu, em: Emitter, line_comments: bool) -> dict:
     m = em.m
     assert m.nodes, f"machine {m.name} has no node"
@@ -577,12 +587,14 @@ def _machine_code(fmu: ir.Fmu, em: Emitter, line_comments: bool) -> dict:
         cases.append("\n".join(lines))
     inits = []
     for v in m.vars:
-        if v.kind in ("var", "const") and v.init is not None:
+        if v.init is not None and (v.kind in ("var", "const") or v.name == ir.RANDOM_STATE_NAME):  # and the generator's state
             em.fallible = False
             value = em.expr(v.init)
             inits.append((f"m->v_{em.names.vars[v]}", value, em.fallible, v.name))
     labels = [c_string(f"b{b.id}: {b.label}" + (f" ({fmu.place(b.span)})" if b.span else "")) for b in m.blocks]
-    return dict(machine=m, names=em.own, cases=cases, inits=inits, labels=labels, equalities=em.equalities,
+    parts = [cases[k:k + PART_SIZE] for k in range(0, len(cases), PART_SIZE)]
+    return dict(machine=m, names=em.own, cases=cases, parts=parts, part_size=PART_SIZE, inits=inits, labels=labels,
+                equalities=em.equalities,
                 event_types=[(e.index, ctype(e.type) if e.type is not None else None) for e in m.events])
 
 

@@ -149,7 +149,11 @@ def expr(e: ir.Expr | None) -> str:
     if isinstance(e, ir.Un):
         return f"(not {expr(e.operand)})" if e.op == "not" else f"(-{expr(e.operand)})"
     if isinstance(e, ir.Bin):
-        return f"({expr(e.left)} {_BIN[e.op]} {expr(e.right)})"
+        first, links = ir.bin_chain(e)
+        text = expr(first)
+        for link in links:
+            text = f"({text} {_BIN[link.op]} {expr(link.right)})"
+        return text
     if isinstance(e, ir.Conv):
         return f"{e.type.show()}({expr(e.operand)})"
     if isinstance(e, ir.Cond):
@@ -168,6 +172,9 @@ def expr(e: ir.Expr | None) -> str:
         return "wait_left"
     if isinstance(e, ir.Now):
         return "now"
+    if isinstance(e, ir.Draw):
+        bounds = f"{expr(e.low)}..{expr(e.high)}" if e.low is not None else "[0, 1)"
+        return f"random {bounds} ({e.state.name})"
     if isinstance(e, ir.RecordLit):
         return "{" + ", ".join(f"{n} = {expr(v)}" for n, v in e.values) + "}"
     if isinstance(e, ir.VectorLit):

@@ -27,7 +27,6 @@ if TYPE_CHECKING:  # the attributes MachineLowering provides
 
 _UNSUPPORTED = {
     ast.Binder: "a quantifier, lambda or definite description",
-    ast.Let: "'let'",
     ast.SetRange: "a set range",
     ast.SetComprehension: "a set comprehension",
     ast.Range: "a range",
@@ -180,6 +179,10 @@ class ExpressionLowering:
             enum = self._norm(sym.enum)
             assert isinstance(enum, T.EnumT)
             return ir.Lit(enum, enum.literals.index(sym.literal))
+        if isinstance(sym, VarSym):
+            value = self.bound_value(sym, e.span)  # type: ignore[attr-defined]  # a let name, lambda parameter...
+            if value is not None:
+                return value
         return self.var_ref(graph, sym, e.span)
 
     def _e_Keyword(self, e: ast.Keyword, graph: Graph) -> ir.Expr:
@@ -215,12 +218,19 @@ class ExpressionLowering:
         return ir.Un(t, "neg", self.conv(operand, t, e.span))
 
     def _e_Binary(self, e: ast.Binary, graph: Graph) -> ir.Expr:
+        first, links = ast.chain(e)  # a loop over a flat chain of operands, not recursion
+        value = self.expr(first, graph)
+        for link in links:
+            value = self._binary(link, value, self.expr(link.right, graph))
+        return value
+
+    def _binary(self, e: ast.Binary, a: ir.Expr, b: ir.Expr) -> ir.Expr:
+        """Binary expression ``e`` on its lowered operands."""
         if e.op in ("in", "^", "cat"):
-            return self._collection_binary(e, graph)
+            return self._collection_binary(e, a, b)
         op = _BINARY.get(e.op)
         if op is None:
             raise not_supported(f"the operator '{e.op}'", e.span)
-        a, b = self.expr(e.left, graph), self.expr(e.right, graph)
         if op in ("iff", "implies", "or", "and"):
             return ir.Bin(T.BOOLEAN, op, a, b)
         if op in ("eq", "ne", "lt", "le", "gt", "ge"):
@@ -232,8 +242,7 @@ class ExpressionLowering:
             raise not_supported(f"'{e.op}' on {t.show()}", e.span)
         return ir.Bin(t, op, self.conv(a, t, e.left.span), self.conv(b, t, e.right.span))
 
-    def _collection_binary(self, e: ast.Binary, graph: Graph) -> ir.Expr:
-        a, b = self.expr(e.left, graph), self.expr(e.right, graph)
+    def _collection_binary(self, e: ast.Binary, a: ir.Expr, b: ir.Expr) -> ir.Expr:
         if e.op == "in":
             assert isinstance(b.type, (T.SetT, T.SeqT))
             return self.coll(T.BOOLEAN, "in", (self.conv(a, b.type.element, e.left.span), b), e)
@@ -342,6 +351,9 @@ class ExpressionLowering:
     # -- calls
 
     def _e_Call(self, e: ast.Call, graph: Graph) -> ir.Expr:
+        applied = self.applied_lambda(e, graph)  # type: ignore[attr-defined]
+        if applied is not None:
+            return applied
         sym = self.model.symbol(e.func)
         if isinstance(sym, EnumLitSym):
             raise not_supported("an enumeration literal with arguments", e.span)

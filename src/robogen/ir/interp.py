@@ -53,6 +53,14 @@ def wrap_nat(v: int) -> int:
     return v & MASK
 
 
+def random_next(state: int) -> tuple[int, int]:
+    """SplitMix64 (see robogen.ir.model.RANDOM_SEED): the generator's next state and output."""
+    state = (state + 0x9E3779B97F4A7C15) & MASK
+    z = ((state ^ (state >> 30)) * 0xBF58476D1CE4E5B9) & MASK
+    z = ((z ^ (z >> 27)) * 0x94D049BB133111EB) & MASK
+    return state, z ^ (z >> 31)
+
+
 def _zero(t: T.Type):
     return default_value(t, 0.0)
 
@@ -144,7 +152,7 @@ class Interpreter:
         """Initial values of variables (they may read parameters)."""
         for m, ms in zip(self.fmu.machines, self.machines):
             for v in m.vars:
-                if v.kind in ("var", "const") and v.init is not None:
+                if (v.kind in ("var", "const") or v.name == ir.RANDOM_STATE_NAME) and v.init is not None:  # and the generator's state
                     ms.vars[v.name] = copy.deepcopy(self._eval(v.init, m, ms))
 
     # ------------------------------------------------------------------ instants
@@ -171,7 +179,10 @@ class Interpreter:
                 else:
                     slot[0] = [python_value(x, f.type.element) for x in given]  # type: ignore[union-attr, attr-defined]
                 continue
-            v = python_value(payload.get(f.fmi_name, _zero(f.type)), f.type) if not isinstance(f.type, T.VectorT) else list(payload.get(f.fmi_name, _zero(f.type)))  # type: ignore[arg-type]
+            if isinstance(f.type, (T.VectorT, T.MatrixT)):  # an FMI array (a matrix row by row)
+                v = [python_value(x, f.type.element) for x in payload.get(f.fmi_name, _zero(f.type))]  # type: ignore[union-attr]
+            else:
+                v = python_value(payload.get(f.fmi_name, _zero(f.type)), f.type)
             if not f.path:
                 value = v
             else:
@@ -281,10 +292,11 @@ class Interpreter:
     def variables(self) -> dict[str, object]:
         """Every machine variable, flattened to FMI scalar names (Machine.var.field)."""
         out: dict[str, object] = {}
+        params = {id(p.var): p.fmi_name for p in self.fmu.params}
         for m, ms in zip(self.fmu.machines, self.machines):
             for v in m.vars:
                 if v.kind in ("var", "const"):
-                    _flatten_value(f"{m.name}.{v.name}", v.type, ms.vars[v.name], out, self.fmu.capacity)
+                    _flatten_value(params.get(id(v), f"{m.name}.{v.name}"), v.type, ms.vars[v.name], out, self.fmu.capacity)
         return out
 
     # ------------------------------------------------------------------ execution
@@ -461,6 +473,8 @@ class Interpreter:
             return ms.wait_left
         if isinstance(e, ir.Now):
             return ms.ticks
+        if isinstance(e, ir.Draw):
+            return self._draw(e, m, ms)
         if isinstance(e, ir.RecordLit):
             return {n: self._eval(v, m, ms) for n, v in e.values}
         if isinstance(e, ir.VectorLit):
@@ -497,6 +511,20 @@ class Interpreter:
         except C.CollectionFault as fault:
             raise RuntimeFault(f"machine {m.name}: {fault}") from None
 
+    def _draw(self, e: ir.Draw, m: ir.Machine, ms: MachineState):
+        """The generator's next number, as robogen_machine.h's rg_random_int / rg_random_real."""
+        low = high = 0
+        if e.type != T.REAL:
+            low, high = self._eval(e.low, m, ms), self._eval(e.high, m, ms)  # type: ignore[arg-type]
+            if high < low:
+                raise RuntimeFault(f"a choice from an empty range: {low} to {high}")
+        memory = self._memory(e.state, ms)
+        memory[e.state.name], x = random_next(memory[e.state.name])  # type: ignore[arg-type]
+        if e.type == T.REAL:
+            return float(x >> 11) * (1.0 / 9007199254740992.0)
+        span = (high - low + 1) & MASK
+        return wrap_int(low + (x if span == 0 else x % span))
+
     def _since(self, elapsed: int, t: T.Type):
         p = self.fmu.period
         if t == T.REAL:
@@ -504,14 +532,22 @@ class Interpreter:
         return wrap_nat(elapsed * int(p))
 
     def _binary(self, e: ir.Bin, m: ir.Machine, ms: MachineState):
+        first, links = ir.bin_chain(e)  # a loop over a flat chain of operands, not recursion
+        value = self._eval(first, m, ms)
+        for link in links:
+            value = self._operation(link, value, m, ms)
+        return value
+
+    def _operation(self, e: ir.Bin, a, m: ir.Machine, ms: MachineState):
+        """Operation ``e`` on the value ``a`` of its left operand (its right one evaluated here,
+        only when needed for and, or and implies)."""
         op = e.op
         if op == "and":
-            return bool(self._eval(e.left, m, ms)) and bool(self._eval(e.right, m, ms))
+            return bool(a) and bool(self._eval(e.right, m, ms))
         if op == "or":
-            return bool(self._eval(e.left, m, ms)) or bool(self._eval(e.right, m, ms))
+            return bool(a) or bool(self._eval(e.right, m, ms))
         if op == "implies":
-            return (not self._eval(e.left, m, ms)) or bool(self._eval(e.right, m, ms))
-        a = self._eval(e.left, m, ms)
+            return (not a) or bool(self._eval(e.right, m, ms))
         b = self._eval(e.right, m, ms)
         if op == "iff":
             return bool(a) == bool(b)
@@ -626,4 +662,4 @@ def _flatten_value(prefix: str, t: T.Type, v, out: dict[str, object], capacity: 
         out[prefix] = copy.deepcopy(v)
 
 
-__all__ = ["Interpreter", "Instant", "RuntimeFault", "arith", "convert", "wrap_int", "wrap_nat"]
+__all__ = ["Interpreter", "Instant", "RuntimeFault", "arith", "convert", "random_next", "wrap_int", "wrap_nat"]

@@ -12,9 +12,11 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 from fractions import Fraction
+from typing import Any, Generator
 
 from robogen.diagnostics import DiagnosticSink, Note, RobogenError, Span, did_you_mean
 from robogen.ir import model as ir
+from robogen.ir.bindings import BindingLowering
 from robogen.ir.boundary import Boundary
 from robogen.ir.constants import constant_value, default_value, parse_setting, shown
 from robogen.ir.expressions import ExpressionLowering
@@ -41,6 +43,7 @@ class FmuContext:
     sink: DiagnosticSink = field(default_factory=DiagnosticSink)
     # variables a controller provides, shared by its machines: (id(controller), name) -> storage
     shared_vars: dict[tuple[int, str], ir.Var] = field(default_factory=dict)
+    random: ir.Var | None = None  # the seeded generator's state, once a machine draws
     # every constant lowered, by FMI name and by its own name -> whether --set may give its value
     constants: dict[str, bool] = field(default_factory=dict)
 
@@ -61,7 +64,30 @@ _NODE_KINDS = {ast.State: "state", ast.Junction: "junction", ast.Final: "final",
                ast.Probabilistic: "probabilistic"}
 
 
-class MachineLowering(StatementLowering, ExpressionLowering, FunctionValues):
+Steps = Generator[Any, Any, Any]  # a lowering step that yields the steps it needs done first (see drive)
+
+
+def drive(steps: Steps):
+    """Run a lowering step and the steps it yields, depth first, with a stack of generators
+    instead of Python's: a step yields another step and receives its result. The evaluation of a
+    leaf needs the completion of each of its transitions, which needs the evaluation of the leaf
+    it arrives at: a chain of 10,000 states is 10,000 steps deep, in the same order recursion
+    would take them (the blocks are numbered the same)."""
+    stack = [steps]
+    value = None
+    while stack:
+        try:
+            nxt = stack[-1].send(value)
+        except StopIteration as done:
+            stack.pop()
+            value = done.value
+            continue
+        stack.append(nxt)
+        value = None
+    return value
+
+
+class MachineLowering(StatementLowering, BindingLowering, ExpressionLowering, FunctionValues):
     def __init__(self, ctx: FmuContext, scope: MachineScope, ctrl: Controller | None, index: int, used_name: str,
                  name: str | None = None):
         """``name``: the machine's name in the FMU (its own, or its instance path where two
@@ -83,7 +109,9 @@ class MachineLowering(StatementLowering, ExpressionLowering, FunctionValues):
         self.site = 0
         self.node_now = 0
         self.deadline_flags: dict[tuple[int, int], ir.Var] = {}  # (graph, transition) -> missed flag
-        self.bound: dict[int, ir.Expr] = {}  # id(binder declaration) -> what it stands for (robogen.ir.functions)
+        # id(declaration of a let name or lambda parameter) -> what it stands for (robogen.ir.bindings,
+        # robogen.ir.functions)
+        self.bound: dict = {}
         self.fn_tables: dict[str, list[ast.Expr]] | None = None  # function variable -> the values it stores
         for name, v in scope.vars.items():
             self._declare_var(v, name)
@@ -161,6 +189,21 @@ class MachineLowering(StatementLowering, ExpressionLowering, FunctionValues):
                     v.span)
         fmu.params.append(ir.Param(fmi_name, var, self.machine.index, value, free=text is None and v.init is None))
 
+    def random_state(self) -> ir.Var:
+        """The state of the FMU's seeded generator (robogen.ir.model.RANDOM_SEED), made at its
+        first use: it lives in the first machine that draws, starts at the FMU parameter
+        random_seed when Initialization Mode ends, and every machine draws from it in turn."""
+        ctx = self.ctx
+        if ctx.random is None:
+            holder = self.machine
+            seed = ir.Var(ir.RANDOM_SEED_NAME, T.NAT, "const", None, None, False, len(holder.vars), owner=holder.index)
+            holder.vars.append(seed)
+            ctx.fmu.params.append(ir.Param(ir.RANDOM_SEED_NAME, seed, holder.index, ir.RANDOM_SEED))
+            ctx.random = ir.Var(ir.RANDOM_STATE_NAME, T.NAT, "local", ir.Ref(T.NAT, seed), None, False, len(holder.vars),
+                                owner=holder.index)
+            holder.vars.append(ctx.random)
+        return ctx.random
+
     def clock(self, name: str) -> int:
         self.machine.clocks.append(name)
         return len(self.machine.clocks) - 1
@@ -230,8 +273,6 @@ class MachineLowering(StatementLowering, ExpressionLowering, FunctionValues):
         for name, node in region.nodes.items():
             nid = len(self.machine.nodes)
             kind = _NODE_KINDS[type(node)]
-            if kind == "probabilistic":
-                raise not_supported("a probabilistic junction", node.name_span)
             self.machine.nodes.append(ir.Node(nid, graph.prefix + region.path + (name,), kind, node.name_span))
             graph.node_ids[id(node)] = nid
             graph.parent[id(node)] = parent_state
@@ -303,6 +344,9 @@ class MachineLowering(StatementLowering, ExpressionLowering, FunctionValues):
     # -- evaluation of a leaf, and transitions
 
     def _evaluation(self, graph: Graph, leaf: ast.Node) -> int:
+        return drive(self._evaluation_steps(graph, leaf))
+
+    def _evaluation_steps(self, graph: Graph, leaf: ast.Node) -> Steps:
         """The block that evaluates ``leaf``: its transitions (and those of the states around
         it) in priority order, or suspend / terminate / deadlock when none is enabled."""
         key = (id(graph), graph.node_ids[id(leaf)])
@@ -324,14 +368,41 @@ class MachineLowering(StatementLowering, ExpressionLowering, FunctionValues):
                 for t in self._outgoing(graph, src):
                     if t.deadline is not None:
                         cur.stmts.append(self._deadline_check(graph, t, src))
+        if isinstance(leaf, ast.Probabilistic):
+            cur.term = yield self._probabilistic(graph, leaf, cur, name)
+            return b.id
         cases: list[ir.Case] = []
         for src in sources:
             # declaration order, except that 'condition else' is the default: tried last
             for t in sorted(self._outgoing(graph, src), key=lambda t: t.condition_else):
-                cases.append(self._case(graph, t, src, leaf))
+                cases.append((yield self._case(graph, t, src, leaf)))
         default = self._no_transition(graph, leaf, b.id, name)
         cur.term = default if isinstance(default, ir.Goto) else ir.Branch(tuple(cases), default)
         return b.id
+
+    def _probabilistic(self, graph: Graph, leaf: ast.Node, cur: ir.Block, name: str) -> Steps:
+        """A probabilistic junction: one draw u in [0, 1) from the seeded generator, then the
+        first transition (in declaration order) whose running sum of probabilities exceeds u; the
+        last one takes what remains, so rounding never leaves the junction stuck."""
+        ts = self._outgoing(graph, leaf)
+        if not ts:
+            return ir.Fail(ir.Text((f"deadlock in probabilistic junction '{name}' (", place_of(leaf), "): no transition")))
+        draw = ir.Var(f"{name}.draw", T.REAL, "local", None, leaf.name_span, False, len(self.machine.vars))  # type: ignore[attr-defined]
+        self.machine.vars.append(draw)
+        cur.stmts.append(ir.Assign(leaf.name_span, ir.Ref(T.REAL, draw), ir.Draw(T.REAL, self.random_state())))  # type: ignore[attr-defined]
+        cases = []
+        total: ir.Expr | None = None
+        for k, t in enumerate(ts):
+            if t.probability is None:
+                raise not_supported(f"transition '{t.name}' from a probabilistic junction without a probability", t.span)
+            p = self.conv(self.expr(t.probability, graph), T.REAL, t.probability.span)
+            total = p if total is None else ir.Bin(T.REAL, "add", total, p)
+            last = k == len(ts) - 1
+            guard = ir.Lit(T.BOOLEAN, True) if last else ir.Bin(T.BOOLEAN, "lt", ir.Ref(T.REAL, draw), total)
+            target = yield self._completion(graph, t, leaf, leaf, None)
+            cases.append(ir.Case(guard, target, f"{t.name}: {name} -> {t.target}",
+                                 t.name_span, f"probability {self.model.text(t.probability)}"))
+        return ir.Branch(tuple(cases), ir.Fail(ir.Text(("no transition taken at ", place_of(leaf)))))
 
     def _no_transition(self, graph: Graph, leaf: ast.Node, block: int, name: str) -> ir.Terminator:
         """What happens at ``leaf`` when no transition is enabled: an operation's final node
@@ -348,7 +419,7 @@ class MachineLowering(StatementLowering, ExpressionLowering, FunctionValues):
             return ir.Fail(ir.Text((f"deadlock in {kind} '{name}' (", place_of(leaf), f"): {why}")))
         return ir.Suspend(block)  # RoboChart: wait for an event or for time to pass
 
-    def _case(self, graph: Graph, t: ast.Transition, src: ast.Node, leaf: ast.Node) -> ir.Case:
+    def _case(self, graph: Graph, t: ast.Transition, src: ast.Node, leaf: ast.Node) -> Steps:
         guard, event_index = self._guard(graph, t)
         label = f"{t.name}: {src.name} -> {t.target}"  # type: ignore[attr-defined]
         text = self._guard_text(t)
@@ -356,9 +427,10 @@ class MachineLowering(StatementLowering, ExpressionLowering, FunctionValues):
             # decide now, act next cycle: the completion is the first segment of the next cycle
             decide = self.block(f"{t.name}: exec decided", t.span)
             decide.stmts.append(ir.Trace(t.span, f"{t.name}: exec"))
-            decide.term = ir.Suspend(self._completion(graph, t, src, leaf, None))
+            decide.term = ir.Suspend((yield self._completion(graph, t, src, leaf, None)))
             return ir.Case(guard, decide.id, label + " (exec)", t.name_span, text)
-        return ir.Case(guard, self._completion(graph, t, src, leaf, event_index), label, t.name_span, text)
+        target = yield self._completion(graph, t, src, leaf, event_index)
+        return ir.Case(guard, target, label, t.name_span, text)
 
     def _guard_text(self, t: ast.Transition) -> str:
         """The trigger and condition of ``t`` as model text, in the diagrams' ``trigger [condition]``
@@ -381,13 +453,13 @@ class MachineLowering(StatementLowering, ExpressionLowering, FunctionValues):
             event_index = ev.index
             # e?x binds x when the transition is taken (see _completion), never while guards are
             # only evaluated: the condition reads x as it was before the communication.
-            guard = ir.Occurred(T.BOOLEAN, ev.index)
+            guard = self.receive(t.trigger, ev, graph, bind=False)
         if t.condition is not None:
             cond = self.expr(t.condition, graph)
             guard = cond if guard is None else ir.Bin(T.BOOLEAN, "and", guard, cond)
         return (guard if guard is not None else ir.Lit(T.BOOLEAN, True)), event_index
 
-    def _completion(self, graph: Graph, t: ast.Transition, src: ast.Node, leaf: ast.Node, consume: int | None) -> int:
+    def _completion(self, graph: Graph, t: ast.Transition, src: ast.Node, leaf: ast.Node, consume: int | None) -> Steps:
         """The block that takes ``t`` from ``leaf`` (inside ``src``): exits, action, entry."""
         key = (id(t), graph.node_ids[id(leaf)])
         if key in self.completions:
@@ -415,7 +487,7 @@ class MachineLowering(StatementLowering, ExpressionLowering, FunctionValues):
             cur = self.stmts(t.action, cur, graph)
         cur, arrived = self._enter(graph, self._region_of(graph, src).nodes[t.target], cur)
         if cur.term is None:
-            cur.term = ir.Goto(self._evaluation(graph, arrived))
+            cur.term = ir.Goto((yield self._evaluation_steps(graph, arrived)))
         return b.id
 
     # -- deadlines (RoboChart; RoboSim rejects them in the checker)

@@ -84,7 +84,7 @@ class Field_:
     fields (and array length) inside the payload value."""
 
     fmi_name: str
-    type: Type  # scalar (or VectorT of scalars, an FMI array)
+    type: Type  # scalar (or a vector or matrix of scalars: an FMI array, a matrix row by row)
     path: tuple[str, ...]
 
 
@@ -137,6 +137,17 @@ class Node:
 
 # ============================================================================ expressions
 
+# The FMU's random numbers (nondeterministic waits, probabilistic junctions) come from one
+# SplitMix64 generator (Steele, Lea, Flood: "Fast splittable pseudorandom number generators",
+# OOPSLA 2014): state += 0x9E3779B97F4A7C15, then the state is mixed into the output. Its state
+# starts, when Initialization Mode ends, at the FMU parameter ``random_seed`` (UInt64, this start
+# value), so a run is reproducible for a given seed; the generated C (robogen_machine.h) and the
+# reference interpreter compute the same numbers bit for bit. An integer in [low, high] is
+# low + x mod (high - low + 1) of the 64-bit output x; a real in [0, 1) is (x >> 11) * 2^-53.
+RANDOM_SEED = 0
+RANDOM_SEED_NAME = "random_seed"
+RANDOM_STATE_NAME = "random#state"  # the machine variable holding the generator's state
+
 
 @dataclass(frozen=True)
 class Expr:
@@ -181,6 +192,19 @@ class Bin(Expr):
     op: str
     left: Expr
     right: Expr
+
+
+def bin_chain(e: Expr) -> tuple[Expr, list[Bin]]:
+    """A left-nested chain of binary operations as a loop walks it: the leftmost operand, then
+    the operations from the innermost out (each one's left operand is the value so far). A flat
+    expression of thousands of operands is a chain thousands deep: the printers, the C emitter and
+    the interpreter walk it with this, never by recursion (see robogen.syntax.ast.chain)."""
+    links: list[Bin] = []
+    while isinstance(e, Bin):
+        links.append(e)
+        e = e.left
+    links.reverse()
+    return e, links
 
 
 @dataclass(frozen=True)
@@ -237,6 +261,19 @@ class Now(Expr):
 @dataclass(frozen=True)
 class WaitLeft(Expr):
     """RoboChart: time units left of the current wait (0 when none)."""
+
+
+@dataclass(frozen=True)
+class Draw(Expr):
+    """The next number of the FMU's seeded generator, whose state is ``state`` (see
+    :data:`RANDOM_SEED`). Of type ``int``: an integer drawn uniformly from ``low`` to ``high``
+    (both included; an empty range is a run-time error), a ``wait([a, b])`` or a choice among a
+    set's elements. Of type ``real`` (no bounds): a real in [0, 1), the draw of a probabilistic
+    junction."""
+
+    state: Var
+    low: Expr | None = None
+    high: Expr | None = None
 
 
 @dataclass(frozen=True)

@@ -3,11 +3,14 @@
 For a module, events the robotic platform sends to a controller are input clocks, events sent to
 the platform and calls of the platform's operations are output clocks; connections between
 controllers and machines inside the module become routes inside the FMU. For a single machine,
-its own events and platform operations are the ports.
+its own events and platform operations are the ports. A bidirectional connection (``[ mult ]``)
+carries events both ways: routes follow it in each direction, and a platform event it carries
+both ways is two clocks, the input ``e`` and the output ``e_event`` (see ``_clock_name``).
 """
 
 from __future__ import annotations
 
+from dataclasses import dataclass
 from typing import Protocol
 
 from robogen.diagnostics import Span, warning
@@ -48,13 +51,13 @@ class Ports:
             return
         info = self.b.module
         platform = info.platform.name if info.platform is not None else ""
-        for conn in info.connections:
+        for conn in directed(info.connections):
             if conn.source == platform:
                 port = self.input_port(conn.source_event, self._platform_event_type(info, conn.source_event), conn.span)
                 for r in self._routes_into_controller(conn.target, conn.target_event, info):
                     if r not in port.routes:
                         port.routes.append(r)
-        for conn in info.connections:
+        for conn in directed(info.connections):
             if conn.target == platform:
                 self.output_port(conn.target_event, "output-event", self._platform_event_type(info, conn.target_event), (), conn.span)
         for ml in self.lowerings:
@@ -87,7 +90,7 @@ class Ports:
         for used, c in info.controllers:
             if used != ctrl_name:
                 continue
-            for conn in c.connections:
+            for conn in directed(c.connections):
                 if conn.source == c.name and conn.source_event == event:
                     routes += self._machine_event(c, conn.target, conn.target_event)
         return routes
@@ -116,7 +119,7 @@ class Ports:
         if ctrl is None:
             return ()
         routes: list[tuple] = []
-        for conn in ctrl.connections:
+        for conn in directed(ctrl.connections):
             if conn.source != ml.used_name or conn.source_event != name:
                 continue
             if conn.target == ctrl.name:  # machine -> its controller -> the module's connections
@@ -132,7 +135,7 @@ class Ports:
         ctrl_used = next((u for u, c in info.controllers if c is ctrl), ctrl.name)
         platform = info.platform.name if info.platform is not None else ""
         routes: list[tuple] = []
-        for mconn in info.connections:
+        for mconn in directed(info.connections):
             if mconn.source == ctrl_used and mconn.source_event == event:
                 if mconn.target == platform:
                     port = self.output_port(mconn.target_event, "output-event", ml.event_type(name), (), span)
@@ -201,6 +204,28 @@ def _renamed(name: str, clock: str) -> str:
     return name if clock != name else ""
 
 
+@dataclass(frozen=True)
+class Way:
+    """One direction of a connection: events go from ``source`` to ``target``."""
+
+    source: str
+    source_event: str
+    target: str
+    target_event: str
+    span: Span | None
+
+
+def directed(connections) -> list[Way]:
+    """The directions events take over ``connections``: each connection's own, and for a
+    bidirectional one (RoboChart's ``[ mult ]``) the reverse too, right after it."""
+    ways = []
+    for c in connections:
+        ways.append(Way(c.source, c.source_event, c.target, c.target_event, c.span))
+        if c.bidirectional:
+            ways.append(Way(c.target, c.target_event, c.source, c.source_event, c.span))
+    return ways
+
+
 def event_uses(scope: MachineScope) -> tuple[set[str], set[str]]:
     """RoboChart events have no direction: those a machine receives (triggers, e?x) and those
     it sends (e!v, plain sends), from its transitions and actions."""
@@ -252,9 +277,7 @@ def _flatten(prefix: str, t: T.Type | None, path: tuple[str, ...], span: Span | 
             raise not_supported(f"'{prefix}': a {T.form(t)[2:]} of records as an FMU port", span)
         return [ir.Field_(f"{prefix}.elements", T.VectorT(t.element, capacity), path + ("#elements",)),
                 ir.Field_(f"{prefix}.size", T.NAT, path + ("#size",))]
-    if isinstance(t, T.MatrixT):
-        raise not_supported(f"'{prefix}': a matrix as an FMU port", span)
-    return [ir.Field_(prefix, t, path)]
+    return [ir.Field_(prefix, t, path)]  # a scalar; a vector or matrix is one FMI array variable
 
 
-__all__ = ["Ports", "MachinePorts", "event_uses"]
+__all__ = ["Ports", "MachinePorts", "Way", "directed", "event_uses"]

@@ -62,13 +62,48 @@ class StatementLowering:
         return nxt
 
     def _s_Wait(self, s: ast.Wait, cur: ir.Block, graph: Graph) -> ir.Block:
-        cur.stmts.append(ir.StartWait(s.span, self.conv(self.expr(s.duration, graph), T.INT, s.duration.span)))
+        cur.stmts.append(ir.StartWait(s.span, self._duration(s.duration, cur, graph)))
         wait = self.block("wait", s.span)
         nxt = self.block("after wait", s.span)
         cur.term = ir.Goto(wait.id)
         done = ir.Bin(T.BOOLEAN, "le", ir.WaitLeft(T.INT), ir.Lit(T.INT, 0))
         wait.term = ir.Branch((ir.Case(done, nxt.id, "wait over", s.span),), ir.Suspend(wait.id))
         return nxt
+
+    def _duration(self, d: ast.Expr, cur: ir.Block, graph: Graph) -> ir.Expr:
+        """The time units of ``wait(d)``: ``d`` itself, or a number chosen by the FMU's seeded
+        generator from a range (``[a, b]``, ``(a, b]``...) or a set literal of integers: RoboChart
+        lets a nondeterministically chosen number pass, robogen draws it (robogen.ir.model.Draw)."""
+        if isinstance(d, ast.Range):
+            low, high = (self._integer(x, graph) for x in (d.low, d.high))
+            if not d.low_closed:
+                low = ir.Bin(T.INT, "add", low, ir.Lit(T.INT, 1))
+            if not d.high_closed:
+                high = ir.Bin(T.INT, "sub", high, ir.Lit(T.INT, 1))
+            return ir.Draw(T.INT, self.random_state(), low, high)  # type: ignore[attr-defined]
+        if isinstance(d, ast.SetLit) and d.items:
+            items = [self._integer(x, graph) for x in d.items]
+            k = ir.Draw(T.INT, self.random_state(), ir.Lit(T.INT, 1), ir.Lit(T.INT, len(items)))  # type: ignore[attr-defined]
+            if len(items) == 1:
+                return items[0]
+            self.site += 1  # the k-th element, k drawn once
+            chosen = ir.Var(f"choice#{self.site}", T.INT, "local", None, d.span, False, len(self.machine.vars))
+            self.machine.vars.append(chosen)
+            cur.stmts.append(ir.Assign(d.span, ir.Ref(T.INT, chosen), k))
+            value: ir.Expr = items[-1]
+            for i in range(len(items) - 2, -1, -1):
+                value = ir.Cond(T.INT, ir.Bin(T.BOOLEAN, "eq", ir.Ref(T.INT, chosen), ir.Lit(T.INT, i + 1)), items[i], value)
+            return value
+        value = self.expr(d, graph)
+        if value.type not in T.NUMERIC:
+            raise not_supported(f"wait on a value of type {value.type.show()}", d.span)
+        return self.conv(value, T.INT, d.span)
+
+    def _integer(self, e: ast.Expr, graph: Graph) -> ir.Expr:
+        value = self.expr(e, graph)
+        if value.type not in (T.NAT, T.INT):
+            raise not_supported(f"a wait of {value.type.show()} time units", e.span)
+        return self.conv(value, T.INT, e.span)
 
     def _s_ClockReset(self, s: ast.ClockReset, cur: ir.Block, graph: Graph) -> ir.Block:
         cur.stmts.append(ir.ResetClock(s.span, graph.clocks[s.clock]))
@@ -132,17 +167,17 @@ class StatementLowering:
     # -- communication
 
     def _s_DollarOutput(self, s: ast.DollarOutput, cur: ir.Block, graph: Graph) -> ir.Block:
-        if s.kind == ".":
-            raise not_supported("a synchronisation output $e.v (use $e!v)", s.span)
         return self._emit(s.event, s.value, s.span, cur, graph)
 
     def _s_Communicate(self, s: ast.Communicate, cur: ir.Block, graph: Graph) -> ir.Block:
         c = s.comm
-        if c.kind in ("", "!"):
-            return self._emit(c.event, c.value, s.span, cur, graph)
         if c.kind == "?":
             return self._input(s, cur, graph)
-        raise not_supported("a synchronisation communication e.v in an action", s.span)
+        if c.filter is not None and (c.filter.bind is not None or c.filter.predicate is not None):
+            raise not_supported("a filter on an output or synchronisation", c.filter.span)
+        # e.v offers exactly v: towards the machines and the platform it is connected to, the same
+        # communication as e!v (the receiver's e?x or trigger takes it)
+        return self._emit(c.event, c.value, s.span, cur, graph)
 
     def _emit(self, event: str, value: ast.Expr | None, span: Span | None, cur: ir.Block, graph: Graph) -> ir.Block:
         args = () if value is None else (self._payload(event, value, graph),)
@@ -160,14 +195,26 @@ class StatementLowering:
         ev = self.machine.event(c.event)
         if ev is None:
             raise not_supported(f"an input of '{c.event}', which this boundary never receives", s.span)
-        var = self.model.bound_var(c)
         wait = self.block(f"wait for {c.event}", s.span)
         nxt = self.block(f"after {c.event}?{c.var}", s.span)
         cur.term = ir.Goto(wait.id)
         nxt.stmts.append(ir.Consume(s.span, ev.index))
-        guard = ir.BindIn(T.BOOLEAN, ev.index, self.var_ref(graph, var, c.var_span))
+        guard = self.receive(c, ev, graph)
         wait.term = ir.Branch((ir.Case(guard, nxt.id, f"{c.event}?{c.var}", s.span),), ir.Suspend(wait.id))
         return nxt
+
+    def receive(self, c: ast.Communication, ev: ir.Event, graph: Graph, bind: bool = True) -> ir.Expr:
+        """The test that ``c`` (``e``, ``e?x``, with a filter or not) can take event ``ev`` now;
+        ``e?x`` stores the value in ``x`` when it can, and only then (unless ``bind`` is false: a
+        transition's trigger binds when the transition is taken, see MachineLowering._completion)."""
+        offered: ir.Expr = ir.Occurred(T.BOOLEAN, ev.index)
+        condition = self.filter_guard(c, ev, graph)  # type: ignore[attr-defined]
+        if condition is not None:
+            offered = ir.Bin(T.BOOLEAN, "and", offered, condition)
+        if c.kind != "?" or not bind:
+            return offered
+        bind_in = ir.BindIn(T.BOOLEAN, ev.index, self.var_ref(graph, self.model.bound_var(c), c.var_span))  # type: ignore[attr-defined]
+        return bind_in if condition is None else ir.Bin(T.BOOLEAN, "and", offered, bind_in)
 
     # -- operation calls
 

@@ -23,7 +23,8 @@
 enum {
     RG_RUN_SUSPENDED = 0, /* the cycle's work is done; the machine resumes at m->pc next time */
     RG_RUN_MICRO = 1,     /* stepwise: a micro-step ended in front of the run's second transition */
-    RG_RUN_FAULT = -1     /* a run-time error, already logged */
+    RG_RUN_FAULT = -1,    /* a run-time error, already logged */
+    RG_RUN_JUMP = 2       /* a part of a large machine's blocks: control goes on in another part */
 };
 
 /* rg_model_data.fault: the run-time error of the current instant. */
@@ -34,7 +35,8 @@ enum {
     RG_FAULT_RUNAWAY = 3,
     RG_FAULT_STUCK = 4,
     RG_FAULT_CONVERSION = 5,
-    RG_FAULT_COLLECTION = 6 /* a set or sequence: its message is model.c's rg_sites[fault_site] */
+    RG_FAULT_COLLECTION = 6, /* a set or sequence: its message is model.c's rg_sites[fault_site] */
+    RG_FAULT_EMPTY_RANGE = 7
 };
 
 /* Blocks one run may execute before it is reported as a runaway: the bound for any loop. */
@@ -48,6 +50,7 @@ static const char *rg_fault_text(int32_t fault)
     case RG_FAULT_INDEX: return "index out of range";
     case RG_FAULT_RUNAWAY: return "runaway cycle";
     case RG_FAULT_CONVERSION: return "real number out of range for an integer";
+    case RG_FAULT_EMPTY_RANGE: return "a choice from an empty range";
     default: return "run-time error";
     }
 }
@@ -282,6 +285,31 @@ static inline int64_t rg_index(rg_model_data *d, int64_t i, int64_t n)
 {
     if (i < 1 || i > n) { d->fault = RG_FAULT_INDEX; return 0; }
     return i - 1;
+}
+
+/* ---- the seeded generator (SplitMix64) of nondeterministic waits and probabilistic junctions ---- */
+
+static inline uint64_t rg_random_next(uint64_t *state)
+{
+    uint64_t z = (*state += UINT64_C(0x9E3779B97F4A7C15));
+    z = (z ^ (z >> 30)) * UINT64_C(0xBF58476D1CE4E5B9);
+    z = (z ^ (z >> 27)) * UINT64_C(0x94D049BB133111EB);
+    return z ^ (z >> 31);
+}
+/* An integer from low to high (both included): low + x mod (high - low + 1); the whole range of
+ * int64_t takes x as it is. An empty range sets the fault code. */
+static inline int64_t rg_random_int(rg_model_data *d, uint64_t *state, int64_t low, int64_t high)
+{
+    uint64_t span, x;
+    if (high < low) { d->fault = RG_FAULT_EMPTY_RANGE; return low; }
+    span = (uint64_t)high - (uint64_t)low + 1u;
+    x = rg_random_next(state);
+    return rg_u_to_i((uint64_t)low + (span == 0 ? x : x % span));
+}
+/* A real in [0, 1): the 53 high bits of the next output, scaled. */
+static inline double rg_random_real(uint64_t *state)
+{
+    return (double)(rg_random_next(state) >> 11) * (1.0 / 9007199254740992.0);
 }
 
 #endif /* ROBOGEN_MACHINE_H */

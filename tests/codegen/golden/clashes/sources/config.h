@@ -8,7 +8,7 @@
 #include <stdint.h>
 
 #define RG_MODEL_IDENTIFIER "Clash"
-#define RG_INSTANTIATION_TOKEN "{eb9de809-df76-a96d-f210-649aa66c89d7}"
+#define RG_INSTANTIATION_TOKEN "{d4ae7b9d-685d-70fb-c66c-60f5e889ca08}"
 #define RG_NUM_VARIABLES 13
 #define RG_NUM_CLOCKS 6
 #define RG_MIGHT_RETURN_EARLY 0

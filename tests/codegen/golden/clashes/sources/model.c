@@ -109,12 +109,13 @@ static int rg_run_0(rg_instance *inst)
             m->pc = 1; continue;
         case 1: /* b1: EVAL Idle  clashes.rct:37 */
             /* t1: Idle -> Idle time?seen  clashes.rct:39 */
-            if (m->smp_present[Clash_Event_time] ? (m->v_seen = m->smp_e_time, true) : false) { m->pc = 2; continue; }
+            if (m->smp_present[Clash_Event_time]) { m->pc = 2; continue; }
             /* t2: Idle -> Idle cycles  clashes.rct:40 */
             if (m->smp_present[Clash_Event_cycles]) { m->pc = 6; continue; }
             m->pc = 1; return RG_RUN_SUSPENDED;
         case 2: /* b2: t1: Idle -> Idle  clashes.rct:39 */
             RG_BEGIN_TRANSITION(rg_runaway_0(inst));
+            m->v_seen = m->smp_e_time;
             m->smp_present[Clash_Event_time] = false;
             RG_TRACE(inst, "Clash: t1: Idle -> Idle");
             rg_activate_output_clock(inst, CLOCK_stop);

@@ -8,9 +8,9 @@
 #include <stdint.h>
 
 #define RG_MODEL_IDENTIFIER "Mod"
-#define RG_INSTANTIATION_TOKEN "{21ee8b66-c748-591a-21e6-dfee7b9532b7}"
-#define RG_NUM_VARIABLES 12
-#define RG_NUM_CLOCKS 4
+#define RG_INSTANTIATION_TOKEN "{825f40de-ae01-0a41-0ce7-b4bdf98ca98e}"
+#define RG_NUM_VARIABLES 13
+#define RG_NUM_CLOCKS 5
 #define RG_MIGHT_RETURN_EARLY 0
 #define RG_STEPWISE 0  /* 1: stepwise semantics, one transition per fmi3UpdateDiscreteStates */
 #define RG_MAX_TRANSITIONS 1000UL  /* transitions per cycle before a runaway is reported */

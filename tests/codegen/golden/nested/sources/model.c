@@ -18,14 +18,16 @@ enum {
     CLOCK_tock = 0,  /* one RoboChart time unit (tock) */
     CLOCK_a = 1,  /* input event a */
     CLOCK_b = 2,  /* input event b */
-    CLOCK_out = 3,  /* output event out */
+    CLOCK_b_event = 3,  /* output event b (renamed: the FMU has another variable named b) */
+    CLOCK_out = 4,  /* output event out */
 };
 
 static const rg_clock rg_clocks[RG_CLOCK_ARRAY_SIZE] = {
     { 1, "tock", RG_CLOCK_INPUT_CONSTANT, 1, 0.0 },
     { 2, "a", RG_CLOCK_INPUT_TRIGGERED, 0.0, 0.0 },
     { 4, "b", RG_CLOCK_INPUT_TRIGGERED, 0.0, 0.0 },
-    { 5, "out", RG_CLOCK_OUTPUT_TRIGGERED, 0.0, 0.0 },
+    { 5, "b_event", RG_CLOCK_OUTPUT_TRIGGERED, 0.0, 0.0 },
+    { 6, "out", RG_CLOCK_OUTPUT_TRIGGERED, 0.0, 0.0 },
 };
 
 static const rg_variable rg_variables[RG_NUM_VARIABLES] = {
@@ -33,14 +35,15 @@ static const rg_variable rg_variables[RG_NUM_VARIABLES] = {
     { 2, "a", RG_CLOCK, RG_INPUT, RG_DISCRETE, -1, 0, 1, true },
     { 3, "a.value", RG_INT64, RG_INPUT, RG_DISCRETE, 1, offsetof(rg_model_data, in_a_value), 1, true },
     { 4, "b", RG_CLOCK, RG_INPUT, RG_DISCRETE, -1, 0, 1, true },
-    { 5, "out", RG_CLOCK, RG_OUTPUT, RG_DISCRETE, -1, 0, 1, false },
-    { 6, "out.value", RG_INT64, RG_OUTPUT, RG_DISCRETE, 3, offsetof(rg_model_data, out_out_value), 1, false },
-    { 7, "M.state", RG_INT64, RG_OUTPUT, RG_DISCRETE, -1, offsetof(rg_model_data, m0.node), 1, false },
-    { 8, "cycles", RG_UINT64, RG_OUTPUT, RG_DISCRETE, -1, offsetof(rg_model_data, cycles), 1, false },
-    { 9, "dropped_events", RG_UINT64, RG_OUTPUT, RG_DISCRETE, -1, offsetof(rg_model_data, dropped_events), 1, false },
-    { 10, "deadline_misses", RG_UINT64, RG_OUTPUT, RG_DISCRETE, -1, offsetof(rg_model_data, deadline_misses), 1, false },
-    { 11, "M.v", RG_INT64, RG_LOCAL, RG_DISCRETE, -1, offsetof(rg_model_data, m0.v_v), 1, false },
-    { 12, "M.n", RG_INT64, RG_LOCAL, RG_DISCRETE, -1, offsetof(rg_model_data, m0.v_n), 1, false },
+    { 5, "b_event", RG_CLOCK, RG_OUTPUT, RG_DISCRETE, -1, 0, 1, false },
+    { 6, "out", RG_CLOCK, RG_OUTPUT, RG_DISCRETE, -1, 0, 1, false },
+    { 7, "out.value", RG_INT64, RG_OUTPUT, RG_DISCRETE, 4, offsetof(rg_model_data, out_out_value), 1, false },
+    { 8, "M.state", RG_INT64, RG_OUTPUT, RG_DISCRETE, -1, offsetof(rg_model_data, m0.node), 1, false },
+    { 9, "cycles", RG_UINT64, RG_OUTPUT, RG_DISCRETE, -1, offsetof(rg_model_data, cycles), 1, false },
+    { 10, "dropped_events", RG_UINT64, RG_OUTPUT, RG_DISCRETE, -1, offsetof(rg_model_data, dropped_events), 1, false },
+    { 11, "deadline_misses", RG_UINT64, RG_OUTPUT, RG_DISCRETE, -1, offsetof(rg_model_data, deadline_misses), 1, false },
+    { 12, "M.v", RG_INT64, RG_LOCAL, RG_DISCRETE, -1, offsetof(rg_model_data, m0.v_v), 1, false },
+    { 13, "M.n", RG_INT64, RG_LOCAL, RG_DISCRETE, -1, offsetof(rg_model_data, m0.v_n), 1, false },
 };
 
 /* ======== state machine nested::M (nested.rct:24) ======== */
@@ -173,9 +176,7 @@ static int rg_run_0(rg_instance *inst)
             m->v_v = m->smp_e_a;
             m->smp_present[M_Event_a] = false;
             RG_TRACE(inst, "M: t1: A -> B");
-            {
-                /* b is connected to nothing: evaluated, sent nowhere */
-            }
+            rg_activate_output_clock(inst, CLOCK_b_event);
             d->out_out_value = m->v_n;
             rg_activate_output_clock(inst, CLOCK_out);
             m->clock_reset[0] = m->ticks;

@@ -8,7 +8,7 @@
 #include <stdint.h>
 
 #define RG_MODEL_IDENTIFIER "Clamper"
-#define RG_INSTANTIATION_TOKEN "{f99349a3-177f-ce9b-a18d-ed1e0f3621b6}"
+#define RG_INSTANTIATION_TOKEN "{2d059ec1-e5bc-e888-02d7-f6285f2ff8ff}"
 #define RG_NUM_VARIABLES 14
 #define RG_NUM_CLOCKS 4
 #define RG_MIGHT_RETURN_EARLY 0

@@ -110,10 +110,11 @@ static int rg_run_0(rg_instance *inst)
             m->pc = 1; continue;
         case 1: /* b1: EVAL Idle  opconsts.rct:44 */
             /* t1: Idle -> Idle reading?r  opconsts.rct:46 */
-            if (m->smp_present[Clamper_Event_reading] ? (m->v_r = m->smp_e_reading, true) : false) { m->pc = 2; continue; }
+            if (m->smp_present[Clamper_Event_reading]) { m->pc = 2; continue; }
             m->pc = 1; return RG_RUN_SUSPENDED;
         case 2: /* b2: t1: Idle -> Idle  opconsts.rct:46 */
             RG_BEGIN_TRANSITION(rg_runaway_0(inst));
+            m->v_r = m->smp_e_reading;
             m->smp_present[Clamper_Event_reading] = false;
             RG_TRACE(inst, "Clamper: t1: Idle -> Idle");
             m->v_clamp_1_x = m->v_r;
