@@ -22,6 +22,12 @@ $(STAMP): pyproject.toml | $(PY)
 
 venv: $(STAMP)
 
+# The benchmarks' peers (bench extra) on top of the test install.
+BENCH_STAMP := $(VENV)/.robogen-bench-installed
+$(BENCH_STAMP): pyproject.toml | $(STAMP)
+	$(PY) -m pip install --quiet -e '.[test,bench]'
+	touch $(BENCH_STAMP)
+
 test: $(STAMP)
 	$(PY) -m pytest -q $(PYTEST_ARGS)
 
@@ -51,7 +57,7 @@ $(CAMPAIGN_FMUS)/dmodel-cycle-%.fmu: models/ur5e/ur5e.rst | $(STAMP)
 $(CAMPAIGN_FMUS)/platform-sample-%.fmu: | $(STAMP)
 	$(ROBOGEN) package-py robogen.platforms.ur5e:UR5ePlatform --set sample_period=$* -o $@
 
-bench: $(STAMP)
+bench: $(BENCH_STAMP)
 	@set -e; for b in bench/bench_*.py; do echo "== $$b"; $(PY) $$b; done
 
 # Refresh the golden files of the generated sources (review the diff afterwards).

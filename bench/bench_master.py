@@ -1,15 +1,20 @@
-"""Benchmark of robogen's co-simulation master against fmpy, run in the same process.
+"""Benchmark of robogen's co-simulation master against its peers, run in the same process (fmpy)
+or the same run (ECOS, in a process of its own).
 
-Prints medians and ratios (never asserted anywhere):
+Prints medians and ratios (never asserted anywhere), then the table of the targets of issue 12
+(kept in docs/benchmarks.md with the machine it ran on):
   1. one FMI call (fmi3GetFloat64 of one value): robogen's cffi binding vs fmpy's FMU3Slave;
      and what noting each call for a crash report costs (robogen.cosim.crash)
-  2. 100,000 communication steps of a trivial FMU: robogen.cosim vs fmpy.simulate_fmu
+  2. 1,000,000 communication steps of a trivial FMU: robogen.cosim vs fmpy.simulate_fmu
      (both record the one output at every step, in memory; event mode on in both)
   3. the cost of one event iteration (a stair FMU with a time event at every step vs none), and
      of its flush when the rows go to a CSV file
-  4. 1, 10 and 100 chained FMUs: time per communication step (linear growth is the target)
+  4. 1, 10, 100 and 1,000 chained FMUs, 1,000,000 FMU-steps each: the cost of one FMU-step
+     (flat: linear growth is the target)
   5. isolation (robogen.cosim.proxy): one call through a worker process vs in process, a whole
      run isolated vs in process; the start of the crash watcher
+  6. ECOS (bench extra, bench/ecos_peer.py): 100 chained trivial FMUs, 10,000 steps, every
+     output to a CSV file and without recording; robogen in process, ECOS's program in its own
 
     python bench/bench_master.py [--quick]
 """
@@ -33,9 +38,14 @@ from robogen.cosim.fmi3 import Binding, CallNotes, Library, ffi, vr_array
 from robogen.cosim.proxy import ProxyBinding
 from robogen.cosim.recorder import Recorder
 
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+from ecos_peer import MIN_STEPS, Ecos, chain_ssp, chain_system  # noqa: E402
+
 ROOT = Path(__file__).resolve().parent.parent
 QUICK = "--quick" in sys.argv
 REPEAT = 3
+#: The rows of the closing table: (figure, robogen, peer, ratio, target).
+TABLE: list[tuple[str, str, str, str, str]] = []
 
 
 def load_builder():
@@ -108,7 +118,7 @@ def bench_calls(fmus: dict[str, Path], folder: Path) -> None:
 
 
 def bench_steps(fmus: dict[str, Path], folder: Path) -> None:
-    steps = 10_000 if QUICK else 100_000
+    steps = 100_000 if QUICK else 1_000_000
     h = 1.0 / steps
     path = system(folder, "trivial", f'[experiment]\nstop = 1.0\nstep = {h!r}\n[instances.t]\nfmu = "{fmus["trivial"]}"\n'
                                      '[record]\nvariables = ["t.y"]\n')
@@ -139,6 +149,8 @@ def bench_steps(fmus: dict[str, Path], folder: Path) -> None:
     print(f"2. {steps} steps of a trivial FMU: robogen ({results['ours'].stats.stretch} stretch) {a:.3f} s ({1e6 * a / steps:.2f} us/step), "
           f"fmpy.simulate_fmu {b:.3f} s ({1e6 * b / steps:.2f} us/step) -> robogen {b / a:.2f}x faster (target >= 2.5x); "
           f"robogen's Python loop {c:.3f} s ({1e6 * c / steps:.2f} us/step, {b / c:.2f}x fmpy)")
+    TABLE.append((f"one trivial FMU, {steps:,} steps", f"{a:.2f} s", f"fmpy.simulate_fmu {b:.2f} s", f"{b / a:.1f}x faster",
+                  ">= 10x"))
 
 
 def bench_events(fmus: dict[str, Path], folder: Path) -> None:
@@ -155,6 +167,8 @@ def bench_events(fmus: dict[str, Path], folder: Path) -> None:
     print(f"3. one event iteration (Enter Event Mode, one instant, update, record 2 rows, Enter Step Mode): "
           f"{1e6 * (a - b) / n_events:.1f} us over a plain step ({n_events} event iterations; "
           f"{1e6 * b / steps:.1f} us per plain step); its flush of the CSV file (2 rows): {1e6 * flush:.1f} us")
+    TABLE.append(("one event iteration over a plain step (C FMU)", f"{1e6 * (a - b) / n_events:.1f} us",
+                  f"plain step {1e6 * b / steps:.1f} us", "", "<= 3 us"))
 
 
 def _flush_cost(path: Path) -> float:
@@ -175,18 +189,24 @@ def _flush_cost(path: Path) -> float:
 
 
 def bench_scaling(fmus: dict[str, Path], folder: Path) -> None:
-    steps = 200 if QUICK else 2_000
-    per_step = {}
-    for n in (1, 10, 100):
-        text = "connections = [\n" + "".join(f'  "t{i}.y -> t{i + 1}.u",\n' for i in range(n - 1)) + "]\n"
-        text += f"[experiment]\nstop = {steps * 0.01}\nstep = 0.01\n"
-        text += "".join(f'[instances.t{i}]\nfmu = "{fmus["trivial"]}"\n' for i in range(n))
-        path = system(folder, f"chain{n}", text)
-        per_step[n] = median_time(lambda: simulate_system(path, keep_rows=False, output=folder / f"chain{n}.csv")) / steps
-    base = per_step[1]
-    line = ", ".join(f"{n} FMUs {1e6 * t:.1f} us/step ({t / base:.1f}x)" for n, t in per_step.items())
-    print(f"4. chained trivial FMUs, {steps} steps, CSV to disk: {line}; "
-          f"per FMU: {1e6 * per_step[10] / 10:.1f} us (10), {1e6 * per_step[100] / 100:.1f} us (100)")
+    """The cost of one FMU-step of a chain of n trivial FMUs, rows to a CSV file: the time of as
+    many steps as make the same number of FMU-steps for every n, less that of 10 steps (loading
+    and instantiating the FMUs), per step and FMU."""
+    fmu_steps = 100_000 if QUICK else 1_000_000
+    per_fmu_step = {}
+    for n in (1, 10, 100, 1000):
+        steps, runs = max(fmu_steps // n, 500), {}
+        for count in (10, steps):
+            path = system(folder, f"chain{n}-{count}", chain_system(fmus["trivial"], n, count * 0.01, 0.01))
+            runs[count] = median_time(lambda: simulate_system(path, keep_rows=False, output=folder / f"chain{n}.csv"))
+        per_fmu_step[n] = (runs[steps] - runs[10]) / ((steps - 10) * n)
+    base = per_fmu_step[10]
+    line = ", ".join(f"{n} FMUs {1e6 * c:.3f} us ({c / base:.2f}x)" for n, c in per_fmu_step.items())
+    print(f"4. one FMU-step of a chain of trivial FMUs ({fmu_steps:,} FMU-steps or 500 steps, CSV to disk, the cost of 10 steps "
+          f"subtracted; x: against 10 FMUs): {line}")
+    TABLE.append(("cost per FMU-step, 1 / 10 / 100 / 1,000 chained FMUs (CSV)",
+                  " / ".join(f"{1e6 * c:.3f}" for c in per_fmu_step.values()) + " us",
+                  "", f"1,000 vs 10: {per_fmu_step[1000] / base:.2f}x", "linear (flat per FMU-step)"))
 
 
 def bench_isolation(fmus: dict[str, Path], folder: Path) -> None:
@@ -221,6 +241,60 @@ def bench_isolation(fmus: dict[str, Path], folder: Path) -> None:
           f"({isolated / general:.1f}x); the crash watcher starts and stops in {1e3 * start:.1f} ms")
 
 
+def bench_ecos(fmus: dict[str, Path], folder: Path) -> None:
+    n, steps, h = 100, (1_000 if QUICK else 10_000), 0.01
+    ecos = Ecos.find(folder)
+    if isinstance(ecos, str):
+        print(f"6. ECOS: not measured: {ecos}")
+        return
+    ssp = chain_ssp(fmus["trivial"], n, folder / "chain.ssp")
+    paths = {count: system(folder, f"ecos-chain-{count}", chain_system(fmus["trivial"], n, count * h, h))
+             for count in (MIN_STEPS, steps)}
+    results = {}
+
+    def ours(count: int, csv: bool) -> float:
+        out = folder / "robogen-chain.csv" if csv else None
+        t0 = time.perf_counter()
+        results["ours"] = simulate_system(paths[count], output=out, keep_rows=False)
+        return time.perf_counter() - t0
+
+    def theirs(count: int, csv: bool) -> tuple[float, float]:
+        run = folder / "ecos-run"
+        return (ecos.simulate(ssp, count * h, h, csv, run), ecos.simulate(ssp, count * h, h, csv, run, parallel=False))
+
+    times, modes = {}, {}
+    for csv in (True, False):
+        medians = {}
+        for count in (MIN_STEPS, steps):  # interleaved, so that the machine's load falls on both alike
+            runs = [(ours(count, csv), *theirs(count, csv)) for _ in range(REPEAT)]
+            medians[count] = [statistics.median(run[i] for run in runs) for i in range(3)]
+        # ECOS's faster mode over the whole run is the peer: on a shared machine its threads may wait for a core
+        mode = 1 if medians[steps][1] <= medians[steps][2] else 2
+        modes[csv] = "parallel" if mode == 1 else "--noParallel"
+        for count in (MIN_STEPS, steps):
+            times[csv, count] = (medians[count][0], medians[count][mode])
+        assert results["ours"].stats.stretch == "C" and results["ours"].stats.steps == steps
+    fmu_steps = n * (steps - MIN_STEPS)
+    for csv, label in ((True, "every output to CSV"), (False, "no recording")):
+        (r, e), (r0, e0) = times[csv, steps], times[csv, MIN_STEPS]
+        r_step, e_step = (r - r0) / fmu_steps, (e - e0) / fmu_steps
+        print(f"6. ECOS ({ecos.version()}), {n} chained trivial FMUs, {steps} steps, {label}: robogen {r:.3f} s, "
+              f"ECOS ({modes[csv]}) {e:.3f} s -> robogen {e / r:.2f}x ECOS's speed; per FMU-step (the cost of {MIN_STEPS} steps "
+              f"subtracted) robogen {1e6 * r_step:.3f} us, ECOS {1e6 * e_step:.3f} us ({e_step / r_step:.2f}x)")
+        target = ">= 1.0x ECOS's speed" if csv else "within 2x of ECOS's time (>= 0.5x its speed)"
+        TABLE.append((f"{n} chained trivial FMUs, {steps:,} steps, {label}", f"{r:.2f} s ({1e6 * r_step:.3f} us/FMU-step)",
+                      f"ECOS {e:.2f} s ({1e6 * e_step:.3f} us/FMU-step)", f"{e / r:.2f}x ECOS's speed", target))
+
+
+def print_table() -> None:
+    cpu = next((line.split(":", 1)[1].strip() for line in Path("/proc/cpuinfo").read_text().splitlines()
+                if line.startswith("model name")), "?") if Path("/proc/cpuinfo").exists() else "?"
+    print(f"\nmachine: {os.cpu_count()} CPUs ({cpu}); load average {os.getloadavg()[0]:.1f} at the end; medians of {REPEAT}")
+    print("| figure | robogen | peer | ratio | target |\n| --- | --- | --- | --- | --- |")
+    for row in TABLE:
+        print("| " + " | ".join(row) + " |")
+
+
 def main() -> None:
     builder = load_builder()
     with tempfile.TemporaryDirectory() as tmp:
@@ -232,6 +306,8 @@ def main() -> None:
         bench_events(fmus, folder)
         bench_scaling(fmus, folder)
         bench_isolation(fmus, folder)
+        bench_ecos(fmus, folder)
+        print_table()
 
 
 if __name__ == "__main__":

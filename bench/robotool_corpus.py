@@ -5,8 +5,9 @@ its model files are loaded together, as RoboTool's integration test loads a proj
 workspace the script runs robogen's check in-process (``robogen.semantics.check_paths``); with
 ``--package``, every workspace that checks with 0 errors is also packaged, one FMU per module (or,
 when it has no module, per state machine; when it has neither, once without a name, to record what
-robogen says) into a temporary folder and validated (``robogen.codegen.api.package_model``). A ``RobogenError`` is a located user error (its first
-message is recorded); any other exception is an internal error, i.e. a robogen bug.
+robogen says, and the workspace is counted apart as having nothing to package) into a temporary
+folder and validated (``robogen.codegen.api.package_model``). A ``RobogenError`` is a located user
+error (its first message is recorded); any other exception is an internal error, i.e. a robogen bug.
 
 Each workspace runs in its own subprocess with a time limit, so a hang or a crash costs one row.
 
@@ -120,6 +121,7 @@ def _internal(exc: BaseException) -> str:
 def run_workspace(workspace: str, package: bool) -> dict:
     """Check (and package) one workspace; the path is relative to the current directory."""
     from robogen.codegen.api import package_model
+    from robogen.ir.boundary import boundaries
     from robogen.diagnostics import RobogenError
     from robogen.semantics import check_paths
 
@@ -138,9 +140,10 @@ def run_workspace(workspace: str, package: bool) -> dict:
     result["check_seconds"] = round(time.perf_counter() - started, 3)
     if not package or model.errors:
         return result
-    targets = [("module", m.qname) for m in model.modules]
+    modules, machines = boundaries(model)  # each named by a label that selects it alone
+    targets = [("module", m.label) for m in modules]
     if not targets:
-        targets = [("machine", s.qname) for s in model.machines]
+        targets = [("machine", s.label) for s in machines]
     for kind, name in targets or [("default", None)]:  # nothing to name: let robogen say what it does
         entry = {"kind": kind, "name": name or "(no module or machine)", "status": "ok", "message": ""}
         with tempfile.TemporaryDirectory(prefix="robotool-corpus-") as tmp:
@@ -148,7 +151,9 @@ def run_workspace(workspace: str, package: bool) -> dict:
                 package_model([workspace], Path(tmp) / "out.fmu", **({kind: name} if name else {}))
             except RobogenError as exc:
                 first = exc.diagnostics[0] if exc.diagnostics else None
-                entry.update(status="error", message=_located(first)["text"] if first else str(exc))
+                # a workspace without a module or a machine (only types, functions, operations)
+                # has nothing to package: counted apart, with robogen's message
+                entry.update(status="error" if name else "nothing", message=_located(first)["text"] if first else str(exc))
             except Exception as exc:  # noqa: BLE001
                 entry.update(status="internal", message=_internal(exc))
             entry["message"] = entry["message"].replace(tmp, "<tmp>")  # stable across runs
@@ -229,12 +234,14 @@ def summarise(rows: list[dict], package: bool) -> dict:
         def packaged(r: dict) -> bool:
             return bool(r["package"]) and all(p["status"] == "ok" for p in r["package"])
 
+        nothing = [r for r in checked if r["package"] and all(p["status"] == "nothing" for p in r["package"])]
+        checked = [r for r in checked if r not in nothing]
         targets = [p for r in checked for p in r["package"]]
         accepted_fail = [r for r in fail if not r["errors"] and not r["internal"]]
         s.update(package_workspaces=len(checked), package_workspaces_ok=sum(map(packaged, checked)),
                  package_targets=len(targets), package_targets_ok=sum(p["status"] == "ok" for p in targets),
                  package_internal=sum(p["status"] == "internal" for r in rows for p in r["package"]),
-                 fail_accepted_and_packaged=sum(map(packaged, accepted_fail)))
+                 fail_accepted_and_packaged=sum(map(packaged, accepted_fail)), package_nothing=len(nothing))
     print()
     print(f"valid workspaces that check with 0 errors: {s['valid_checked']}/{s['valid']}")
     print(f"failing projects rejected: {s['fail_rejected']}/{s['fail']}, with RoboTool's rule: {s['fail_right_rule']}/{s['fail']}")
@@ -243,6 +250,7 @@ def summarise(rows: list[dict], package: bool) -> dict:
         print(f"valid workspaces that check and whose every module packages and validates: "
               f"{s['package_workspaces_ok']}/{s['package_workspaces']} ({pct:.0f}%); "
               f"their modules/machines: {s['package_targets_ok']}/{s['package_targets']}")
+        print(f"valid workspaces that check and have nothing to package (no module, no state machine): {s['package_nothing']}")
         print(f"failing projects robogen accepts that also package: {s['fail_accepted_and_packaged']}; "
               f"internal errors while packaging: {s['package_internal']}")
     print(f"workspaces with an internal error (check, package or worker): {s['workspaces_with_internal_errors']}")

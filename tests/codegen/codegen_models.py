@@ -17,6 +17,7 @@ class ModelCase:
     name: str
     path: Path
     max_steps: int = 1000
+    capacity: int = 32  # of sets and sequences (--capacity)
     settings: dict[str, str] = field(default_factory=dict)  # constants without a value (--set)
     # payload choices for the random scenarios (FMI name -> values), to keep run-time errors rare
     choices: dict[str, list] = field(default_factory=dict)
@@ -43,9 +44,17 @@ TEST_MODELS = {
         ModelCase("beacon", MODELS / "beacon.rst", settings={"step": "0.25"}),
         ModelCase("timers", MODELS / "timers.rct"),
         ModelCase("inputs", MODELS / "inputs.rct"),
+        ModelCase("binding", MODELS / "binding.rct"),
         ModelCase("relay", MODELS / "relay.rct"),
         ModelCase("nested", MODELS / "nested.rct"),
+        ModelCase("collections", MODELS / "collections.rct", capacity=5, choices={
+            "add.value": [-1, 0, 1, 2, 3, 4, 5],
+            "drop.value": [0, 1, 2, 3, 4, 5, -1, 9, 9, 9],
+            "pick.value": [0] + [1, 2, 3, 4, 5, 9] * 6,
+        }),
         ModelCase("ur5e_rct", ROOT / "models" / "ur5e" / "ur5e.rct"),
+        ModelCase("gripper", MODELS / "gripper.rst"),
+        ModelCase("twins", MODELS / "twins.rct"),
     )
 }
 OWN_MODELS = [n for n in TEST_MODELS if n != "ur5e"]

@@ -115,6 +115,16 @@ def test_decimation_keeps_the_last_row_of_the_run(write_system, tmp_path):
     assert len((tmp_path / "r.csv").read_text().splitlines()) == 6
 
 
+def test_decimation_holds_when_rows_only_go_to_the_csv(write_system, tmp_path):
+    # Without rows kept in memory the quiet stretches may write CSV lines themselves (the C loop):
+    # decimation must still apply. Same system as above: the same five rows, in the file.
+    path = write_system('[experiment]\nstop = 1.0\nstep = 0.3\n[instances.a]\nfmu = "{trivial}"\n[record]\nevery = 0.4\n')
+    simulate_system(path, output=tmp_path / "r.csv", keep_rows=False)
+    lines = (tmp_path / "r.csv").read_text().splitlines()
+    rows = [line.split(",") for line in lines[1:]]
+    assert [(round(float(t), 9), int(k)) for t, k, *_ in rows] == [(0.0, 0), (0.0, 1), (0.6, 0), (0.9, 0), (1.0, 0)]
+
+
 @pytest.mark.parametrize("value, message", [
     ("0", "'every' must be positive"),
     ('"0.1"', "'every' must be a finite number"),

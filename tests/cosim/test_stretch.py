@@ -5,10 +5,14 @@ to terminate, the same error (and kept rows) when an FMU fails."""
 from __future__ import annotations
 
 import json
+import math
+import random
+import struct
 
 import pytest
 
 from robogen.cosim import simulate_system, stepper
+from robogen.cosim.recorder import FLUSH_SECONDS, Recorder
 from robogen.diagnostics import RobogenError
 
 SYSTEMS = {
@@ -18,6 +22,23 @@ SYSTEMS = {
     "ticker": '[experiment]\nstop = 3.0\nstep = 0.1\n[instances.k]\nfmu = "{ticker}"\n[instances.t]\nfmu = "{trivial}"\n',
     # a terminate request from fmi3DoStep in the middle of a stretch
     "terminate": '[experiment]\nstop = 10.0\nstep = 0.01\n[instances.t]\nfmu = "{trivial}"\nstart = { stop_at = 3.005 }\n',
+    # connected: a chain of five over several chunks, each y forwarded to the next u after every step
+    "chain": 'connections = ["a.y -> b.u", "b.y -> c.u", "c.y -> d.u", "d.y -> e.u"]\n'
+             '[experiment]\nstop = 1.0\nstep = 1e-4\n' + "".join(f'[instances.{n}]\nfmu = "{{trivial}}"\n' for n in "abcde"),
+    # connected across time events: the ticker's phase (changed only at its ticks, every 0.25 s, so
+    # the inputs set by the C loop and by the event iterations alternate) into a chain
+    "ticker-chain": 'connections = ["k.phase -> a.u", "a.y -> b.u"]\n'
+                    '[experiment]\nstop = 3.0\nstep = 0.1\n[instances.k]\nfmu = "{ticker}"\n'
+                    '[instances.a]\nfmu = "{trivial}"\n[instances.b]\nfmu = "{trivial}"\n',
+    # connected, and the last instance asks to terminate in a stretch
+    "chain-terminate": 'connections = ["a.y -> b.u"]\n[experiment]\nstop = 10.0\nstep = 0.01\n'
+                       '[instances.a]\nfmu = "{trivial}"\n[instances.b]\nfmu = "{trivial}"\nstart = { stop_at = 3.005 }\n',
+    # reals whose repr takes every form (the FMUs refuse nan and inf: rg_format_double's own test
+    # has those): exponents, 17 digits, whole numbers
+    "reals": 'connections = ["tiny.y -> small.u"]\n[experiment]\nstop = 0.3\nstep = 0.003\n'
+             + "".join(f'[instances.{n}]\nfmu = "{{trivial}}"\nstart = {{ u = {u} }}\n' for n, u in (
+                 ("big", "1e16"), ("huge", "1e300"), ("max", "1.7976931348623157e308"), ("tiny", "-1e-7"),
+                 ("small", "0.0"), ("whole", "123456789012345.0"), ("neg", "-2.5e-5"))),
 }
 
 
@@ -38,6 +59,14 @@ def loops(monkeypatch):
         python = simulate_with("Python", monkeypatch, path, output=path.with_suffix(".py.csv"), **kwargs)
         c = simulate_with("C", monkeypatch, path, output=path.with_suffix(".c.csv"), **kwargs)
         assert (python.stats.stretch, c.stats.stretch) == ("Python", "C"), "the C stretch did not build here"
+        # the rows only to the file: the C loop writes the CSV lines itself
+        text = simulate_with("C", monkeypatch, path, output=path.with_suffix(".text.csv"), keep_rows=False, **kwargs)
+        assert text.output.read_bytes() == python.output.read_bytes()
+        assert (text.stats.steps, text.stats.end_time) == (python.stats.steps, python.stats.end_time)
+        # the rows nowhere: the same run, nothing stored
+        quiet = simulate_with("C", monkeypatch, path, keep_rows=False, **kwargs)
+        assert (quiet.stats.steps, quiet.stats.event_iterations, quiet.stats.end_time, quiet.stats.terminated_by) == (
+            python.stats.steps, python.stats.event_iterations, python.stats.end_time, python.stats.terminated_by)
         return python, c
 
     return run
@@ -52,25 +81,65 @@ def test_c_stepper_gives_the_python_loops_results(loops, write_system, name):
         assert getattr(c.stats, field) == getattr(python.stats, field), field
     if name == "trivial":
         assert c.stats.steps == 10_000 and len(c.rows) == 10_002  # (0,0), (0,1) and one row per step
-    if name == "terminate":  # the step reaching 3.005 is t = 3.01; its row is recorded
-        assert c.stats.terminated_by == "instance 't' asked to terminate in fmi3DoStep at t=3.01"
+    if name in ("terminate", "chain-terminate"):  # the step reaching 3.005 is t = 3.01; its row is recorded
+        who = "t" if name == "terminate" else "b"
+        assert c.stats.terminated_by == f"instance '{who}' asked to terminate in fmi3DoStep at t=3.01"
         assert c.rows[-1][0] == 301 * 0.01  # the grid is n * h, not a running sum
+    if name == "chain":  # e.y = sum of the chain's times: at t = n h, a.y = t, b.y = t + (t - h), ...
+        row = c.rows[-1]
+        assert row[0] == 1.0 and row[-1] == pytest.approx(5 * 1.0 - 10 * 1e-4)
+    if name == "reals":
+        lines = c.output.read_text().splitlines()
+        cells = dict(zip(lines[0].split(","), lines[-1].split(",")))
+        # 1e16 + 0.3 is 1e16 (the ulp is 2), 0.3 is nothing next to 1e300
+        assert (cells["big.y"], cells["huge.y"], cells["max.y"]) == ("1e+16", "1e+300", "1.7976931348623157e+308")
+        def y(u, n):  # trivial's y after the step to n h: u + t + h, as the FMU computes it
+            return u + (n - 1) * 0.003 + (n * 0.003 - (n - 1) * 0.003)
+
+        assert cells["tiny.y"] == repr(y(-1e-7, 100)) and cells["small.y"] == repr(y(y(-1e-7, 99), 100))
+        assert cells["whole.y"] == "123456789012345.3" and cells["neg.y"] == repr(y(-2.5e-5, 100))
+        assert [cells["tiny.y"][:9], cells["small.y"][:8], cells["neg.y"][:7]] == ["0.2999999", "0.596999", "0.29997"]
 
 
-def test_c_stepper_stops_at_a_failing_fmu_with_the_same_error_and_rows(monkeypatch, write_system, tmp_path):
-    path = write_system('[experiment]\nstop = 2.0\nstep = 0.1\n[instances.f]\nfmu = "{failer}"\n', name="fail.toml")
+@pytest.mark.parametrize("connected", [False, True], ids=["alone", "connected"])
+def test_c_stepper_stops_at_a_failing_fmu_with_the_same_error_and_rows(monkeypatch, write_system, tmp_path, connected):
+    links = 'connections = ["f.y -> t.u"]\n' if connected else ""
+    other = '[instances.t]\nfmu = "{trivial}"\n' if connected else ""
+    path = write_system(links + '[experiment]\nstop = 2.0\nstep = 0.1\n[instances.f]\nfmu = "{failer}"\n' + other,
+                        name="fail.toml")
     c_runs = []  # the C stretch's runs (the failure leaves no statistics to tell)
     original = stepper.CStretch.run
     monkeypatch.setattr(stepper.CStretch, "run", lambda self, t, horizon: c_runs.append(t) or original(self, t, horizon))
     messages = []
-    for loop in ("Python", "C"):
+    for loop, keep_rows in (("Python", True), ("C", True), ("C", False)):
         with pytest.raises(RobogenError) as exc:
-            simulate_with(loop, monkeypatch, path, output=tmp_path / f"{loop}.csv")
+            simulate_with(loop, monkeypatch, path, output=tmp_path / f"{loop}-{keep_rows}.csv", keep_rows=keep_rows)
         messages.append(exc.value.diagnostics[0].message)
-    assert c_runs  # the second run used the C stretch
-    assert messages[0] == messages[1]
+    assert len(c_runs) == 2  # the C runs used the C stretch
+    assert messages[0] == messages[1] == messages[2]
     assert "instance 'f': fmi3DoStep returned fmi3Error at t=0.5" in messages[0]
-    assert (tmp_path / "Python.csv").read_bytes() == (tmp_path / "C.csv").read_bytes()
+    python = (tmp_path / "Python-True.csv").read_bytes()
+    assert python == (tmp_path / "C-True.csv").read_bytes() == (tmp_path / "C-False.csv").read_bytes()
+    assert python.decode().splitlines()[-1].startswith("0.5,0,")  # the rows up to the failing step are kept
+
+
+def test_reals_are_written_as_pythons_repr():
+    """The C loop's float cells (rg_format_double) against repr, over every form repr takes:
+    shortest digits of 1 to 17, exponents from -324 to 308, powers of two (where the double below
+    is nearer than the one above), subnormals, Float32 values widened, grid points n * h."""
+    lib = stepper.load()
+    assert lib is not None, "the C stretch did not build here"
+    rng = random.Random(12)
+    values = [0.0, -0.0, math.inf, -math.inf, math.nan, 1.0, 0.1, 1e16, 1e15, 9999999999999998.0, 1e-4, 1e-5, 5e-324,
+              2.2250738585072014e-308, 1.7976931348623157e308, 123456789012345680.0, 1e22, 1e23, 2 / 3]
+    values += [math.ldexp(1.0, e) * sign for e in range(-1074, 1024) for sign in (1, -1)]
+    values += [struct.unpack("<d", rng.getrandbits(64).to_bytes(8, "little"))[0] for _ in range(50_000)]
+    values += [rng.random() * 10.0 ** rng.randint(-12, 20) for _ in range(50_000)]
+    values += [struct.unpack("<f", rng.getrandbits(32).to_bytes(4, "little"))[0] for _ in range(20_000)]
+    values += [n * 1e-4 for n in range(20_000)] + [n * 0.003 for n in range(20_000)]
+    out = stepper.ffi.new("char[40]")
+    wrong = [(x, text) for x in values if (text := stepper.ffi.string(out, lib.rg_format_double(out, x)).decode()) != repr(x)]
+    assert wrong == []
 
 
 def test_a_connected_stretch_records_every_instance_after_the_exchange(write_system):
@@ -81,7 +150,7 @@ def test_a_connected_stretch_records_every_instance_after_the_exchange(write_sys
                         + "".join(f'[instances.{n}]\nfmu = "{{trivial}}"\n' for n in "abc"), name="chain.toml")
     quiet = simulate_system(path)
     general = simulate_system(path, trace=lambda line: None)  # a trace keeps every point in the general step
-    assert (quiet.stats.stretch, general.stats.stretch) == ("Python", None)  # the C stretch forwards no values yet
+    assert (quiet.stats.stretch, general.stats.stretch) == ("C", None)
     assert quiet.rows == general.rows
     # t = 0.001: a.y = 0 + 0.001, b.y = b.u + 0.001 = 0.001, c.y = 0.001 (then b.u = c.u = 0.001)
     # t = 0.002: a.y = 0.002, b.y = 0.001 + 0.002, c.y = 0.001 + 0.002
@@ -132,9 +201,11 @@ def test_every_fmi_type_travels_through_connections(monkeypatch, write_system, t
     path = write_system(alltypes(step, connected=True), name="connected.toml")
     python = simulate_with("Python", monkeypatch, path, output=tmp_path / "python.csv", events=tmp_path / "events.jsonl")
     c = simulate_with("C", monkeypatch, path, output=tmp_path / "c.csv")
+    text = simulate_with("C", monkeypatch, path, output=tmp_path / "text.csv", keep_rows=False)
     general = simulate_system(path, output=tmp_path / "general.csv", trace=lambda line: None)
-    assert (python.stats.stretch, c.stats.stretch, general.stats.stretch) == ("Python", "Python", None)
+    assert (python.stats.stretch, c.stats.stretch, text.stats.stretch, general.stats.stretch) == ("Python", "C", "C", None)
     assert python.output.read_bytes() == c.output.read_bytes() == general.output.read_bytes()
+    assert text.output.read_bytes() == python.output.read_bytes()
     row = dict(zip(python.columns, python.rows[2]))  # after the first step: b.u = a.y = derive(u, 1), then
     # b.y = derive(b.u, 1): the Binary grows by a byte, the String by ',"1"', the UInt64 wraps, the Enumeration cycles
     assert (row["b.y_bin"], row["b.y_s"], row["b.y_u64"], row["b.y_e"]) == (b"\x01\x01", 'a b,"1","1"', 9, 1)
@@ -145,3 +216,19 @@ def test_every_fmi_type_travels_through_connections(monkeypatch, write_system, t
     events = [json.loads(line) for line in (tmp_path / "events.jsonl").read_text().splitlines()]
     out = next(e for e in events if e["fmu"] == "a" and e["clock"] == "out")
     assert out["values"]["c_bin"] == "0x01" and out["values"]["c_s"] == 'a b,"0","1"'
+
+
+def test_a_chunk_waits_for_the_flush_of_a_results_file_only(tmp_path, monkeypatch):
+    # The C loop's chunk ends by the recorder's next flush: never where no file is written (a
+    # deadline that passed once would otherwise cut every later chunk to one row).
+    kept = Recorder(["a"], None, None, keep_rows=True)
+    assert kept.flush_due == math.inf
+    now = [100.0]
+    monkeypatch.setattr("robogen.cosim.recorder._time.monotonic", lambda: now[0])
+    written = Recorder(["a"], tmp_path / "out.csv", None, keep_rows=False)
+    assert written.flush_due == 100.0 + FLUSH_SECONDS
+    now[0] = 101.0
+    written.append_text("0.0,0,1.5\n", 1)  # overdue: flushed, and the next flush is due from now
+    assert written.flush_due == 101.0 + FLUSH_SECONDS and written.recorded == 1
+    written.close()
+    assert (tmp_path / "out.csv").read_text() == "time,superdense,a\n0.0,0,1.5\n"

@@ -1,6 +1,6 @@
 """The compiled Python FMUs in real hosts: fmpy's FMU3Slave in this process, and the C host of
 host.c in a clean process that dlopen()s the binary with RTLD_LOCAL. Covers the traps of
-../shared/docs/fmi3.md §9: libpython's scope, sys.path, several instances and several FMUs in one
+libpython's scope, sys.path, several instances and several FMUs in one
 process, unloading, and Python exceptions turned into fmi3Error with the traceback logged."""
 
 from __future__ import annotations

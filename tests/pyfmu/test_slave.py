@@ -1,5 +1,5 @@
 """The FMI 3.0 state machine of a Python FMU (robogen.pyfmu.slave), without compiling: the call
-rules of ../shared/docs/fmi3.md §1-§2 and §10, each checked on the fixture models."""
+rules of the FMI 3.0 standard (calling sequences, clocks, Event Mode), each checked on the fixture models."""
 
 from __future__ import annotations
 

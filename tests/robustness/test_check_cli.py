@@ -9,13 +9,10 @@ from __future__ import annotations
 
 import os
 import random
-from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Callable
 
 import pytest
-
-from robogen.cli import main
+from support.cli_cases import Case, run_case
 
 GOOD = "stm S {\n\tvar x: nat\n\tinitial i\n\tstate A { }\n\ttransition t { from i to A action x = 1 }\n}\n"
 BROKEN = "stm S {\n\tinitial i\n\tstate A { entry y = 1 }\n\ttransition t { from i to A }\n}\n"
@@ -37,18 +34,6 @@ def chain(states: int) -> str:
 def junk(size: int) -> bytes:
     rng = random.Random(size)
     return bytes(rng.randrange(256) for _ in range(size))
-
-
-@dataclass
-class Case:
-    name: str
-    argv: list[str]
-    code: int
-    stream: str  # where `message` appears: "out" or "err"
-    message: str
-    files: dict[str, str | bytes] = field(default_factory=dict)  # path -> content ("/" at the end: a folder)
-    setup: Callable[[Path], None] | None = None
-    unchanged: tuple[str, ...] = ()  # files the command must leave as they were
 
 
 def _fifo(folder: Path) -> None:
@@ -121,29 +106,7 @@ CASES = [
 
 @pytest.mark.parametrize("case", CASES, ids=[c.name for c in CASES])
 def test_a_bad_command_line_gets_an_exit_code_and_a_message(case: Case, tmp_path, monkeypatch, capsys):
-    for name, content in case.files.items():
-        path = tmp_path / name
-        path.parent.mkdir(parents=True, exist_ok=True)
-        if name.endswith("/"):
-            path.mkdir(exist_ok=True)
-        elif isinstance(content, bytes):
-            path.write_bytes(content)
-        else:
-            path.write_text(content, encoding="utf-8")
-    if case.setup is not None:
-        case.setup(tmp_path)
-    before = {name: (tmp_path / name).read_bytes() for name in case.unchanged}
-    monkeypatch.chdir(tmp_path)
-
-    code = main(case.argv)
-
-    out, err = capsys.readouterr()
-    assert code == case.code, err
-    assert case.message in (out if case.stream == "out" else err), (out, err)
-    for text in (out, err):
-        assert "Traceback" not in text and "internal error" not in text
-    assert {name: (tmp_path / name).read_bytes() for name in case.unchanged} == before
-    assert not list(tmp_path.glob("**/.*.tmp")), "a temporary file was left behind"
+    run_case(case, tmp_path, monkeypatch, capsys)
 
 
 def test_the_table_covers_check_and_graph():

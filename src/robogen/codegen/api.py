@@ -26,6 +26,7 @@ from robogen.fmu.headers import PLATFORM_TUPLE
 from robogen.ir import model as ir
 from robogen.ir.boundary import Boundary, select_boundary
 from robogen.ir.lower import LoweringOptions, lower
+from robogen.outputs import check_not_input, output_file, output_folder
 from robogen.semantics import SemanticModel, check_paths
 from robogen.semantics.graph import mermaid
 
@@ -64,14 +65,18 @@ def compile_model(paths: Sequence[str | os.PathLike], output: str | os.PathLike 
                   module: str | None = None, machine: str | None = None, options: LoweringOptions | None = None,
                   codegen: CodegenOptions | None = None) -> Compiled:
     """Write the unpacked FMU (everything but the binary) to ``output`` (default build/<Name>)."""
+    if output is not None:
+        check_not_input(Path(output), _inputs(paths, codegen))
     model, boundary = front_end(paths, module=module, machine=machine)
+    if output is not None:
+        check_not_input(Path(output), [f.path for f in model.files])  # a model file found in a folder given
     diagrams = diagrams_of(boundary)
     fmu = lower(model, boundary, options)
     generated = generate(fmu, codegen, diagrams=diagrams)
     folder = Path(output) if output is not None else Path("build") / fmu.model_identifier
-    if folder.exists() and not folder.is_dir():
-        raise RobogenError(error(f"{folder} exists and is not a directory", None))
-    # Replace what a previous compile wrote, keep anything else (e.g. a user's notes).
+    # A new or empty folder, or one robogen wrote before: replace what a previous compile wrote
+    # there, keep anything else (e.g. a user's notes).
+    output_folder(folder, command="compile", inputs=_inputs(paths, codegen))
     for sub in ("sources", "documentation"):
         if (folder / sub).is_dir():
             shutil.rmtree(folder / sub)
@@ -79,6 +84,12 @@ def compile_model(paths: Sequence[str | os.PathLike], output: str | os.PathLike 
     for src in binary.runtime_sources():
         shutil.copyfile(src, folder / "sources" / src.name)
     return Compiled(fmu, generated, folder, model)
+
+
+def _inputs(paths: Sequence[str | os.PathLike], codegen: CodegenOptions | None) -> list[str | os.PathLike]:
+    """The files a compilation reads, which no output may overwrite."""
+    functions = codegen.functions if codegen is not None else None
+    return [*paths, *([functions] if functions is not None else [])]
 
 
 def model_identifier_of(folder: Path) -> str:
@@ -106,6 +117,11 @@ def build_fmu(folder: str | os.PathLike, output: str | os.PathLike, *, model_ide
     """Compile ``folder/sources`` into ``binaries/x86_64-linux/<id>.so`` and zip the FMU. The
     modelIdentifier is read from the folder's buildDescription.xml unless given."""
     folder = Path(folder)
+    output = output_file(output, inputs=[folder / "modelDescription.xml"])
+    for sub in ("sources", "documentation", "resources"):
+        if output.resolve().is_relative_to((folder / sub).resolve()):
+            raise RobogenError(error(f"-o {output} is inside {folder / sub}, an input of this command; "
+                                     "choose a path outside it", None))
     ident = model_identifier or model_identifier_of(folder)
     if not (folder / "modelDescription.xml").is_file():
         raise RobogenError(error(f"{folder}/modelDescription.xml is missing", None))
@@ -135,12 +151,15 @@ def package_model(paths: Sequence[str | os.PathLike], output: str | os.PathLike,
                   machine: str | None = None, options: LoweringOptions | None = None,
                   codegen: CodegenOptions | None = None, validate: bool = True, work: str | os.PathLike | None = None) -> tuple[Path, Compiled]:
     """Compile the model (into ``work``, default a temporary folder) and package it as ``output``."""
+    output = output_file(output, inputs=_inputs(paths, codegen))
     if work is None:
         with tempfile.TemporaryDirectory(prefix="robogen-src-") as tmp:
             compiled = compile_model(paths, Path(tmp) / "fmu", module=module, machine=machine, options=options, codegen=codegen)
+            check_not_input(output, [f.path for f in compiled.model.files])  # a model file found in a folder given
             return build_fmu(compiled.folder, output, model_identifier=compiled.generated.model_identifier,
                              validate=validate), compiled
     compiled = compile_model(paths, work, module=module, machine=machine, options=options, codegen=codegen)
+    check_not_input(output, [f.path for f in compiled.model.files])
     return build_fmu(compiled.folder, output, model_identifier=compiled.generated.model_identifier, validate=validate), compiled
 
 

@@ -18,6 +18,7 @@ import re
 from dataclasses import dataclass
 
 from robogen.ir import model as ir
+from robogen.ir.collections import CAN_OVERFLOW, EMPTY_FAULTS, empty_message, overflow_message
 from robogen.semantics import types as T
 
 
@@ -36,6 +37,8 @@ def ctype(t: T.Type) -> str:
         return f"rg_vec_{tag(t.element)}_{t.size}"
     if isinstance(t, T.MatrixT):
         return f"rg_mat_{tag(t.element)}_{t.rows}_{t.columns}"
+    if isinstance(t, (T.SetT, T.SeqT)):
+        return f"rg_{'set' if isinstance(t, T.SetT) else 'seq'}_{elem_tag(t.element)}"
     raise TypeError(f"no C type for {t.show()}")
 
 
@@ -47,6 +50,11 @@ def tag(t: T.Type) -> str:
     if t == T.BOOLEAN:
         return "b"
     return "i"  # int and enumerations
+
+
+def elem_tag(t: T.Type) -> str:
+    """The part of a collection's C names that names its element type."""
+    return ctype(t)[3:] if isinstance(t, T.RecordT) else tag(t)
 
 
 def mangle(name: str) -> str:
@@ -196,6 +204,8 @@ class Emitter:
         self.fallible = False  # the last expression may set the fault code
         self.equalities: set[str] = set()  # C types whose equality function is needed
         self.delivers_to: set[int] = set()  # machines this one sends events to (their event tables)
+        self.collections = None  # the CollectionCode of the FMU (robogen.codegen.collections)
+        self.sites: list[str] = []  # run-time messages of collection operations (model.c's rg_sites)
 
     @property
     def fault_return(self) -> str:
@@ -226,6 +236,8 @@ class Emitter:
         base = self.expr(e.base)
         if isinstance(t, T.VectorT):
             return f"{base}.a[rg_index(d, {self.expr(e.indices[0])}, {t.size})]"
+        if isinstance(t, T.SeqT):
+            return f"{base}.a[rg_index(d, {self.expr(e.indices[0])}, (int64_t){base}.n)]"
         assert isinstance(t, T.MatrixT)
         r, c = (self.expr(i) for i in e.indices)
         return f"{base}.a[rg_index(d, {r}, {t.rows}) * {t.columns} + rg_index(d, {c}, {t.columns})]"
@@ -251,7 +263,7 @@ class Emitter:
             return f"(!{a} == !{b})"
         if op in ("eq", "ne"):
             t = e.left.type
-            if isinstance(t, (T.RecordT, T.VectorT, T.MatrixT)):
+            if isinstance(t, (T.RecordT, T.VectorT, T.MatrixT, T.SetT, T.SeqT)):
                 self.equalities.add(ctype(t))
                 test = f"rg_eq_{ctype(t)}({a}, {b})"
                 return test if op == "eq" else f"(!{test})"
@@ -321,6 +333,18 @@ class Emitter:
 
     def _VectorLit(self, e: ir.VectorLit) -> str:
         return f"(({ctype(e.type)}){{ {{ {', '.join(self.expr(x) for x in e.items)} }} }})"
+
+    def _Coll(self, e: ir.Coll) -> str:
+        """A collection operation: a function of robogen.codegen.collections, with its site (the
+        index of its run-time messages in rg_sites) where it can fail."""
+        args = [self.expr(a) for a in e.args]
+        site = len(self.sites)
+        if self.collections.fallible(e.op):  # type: ignore[attr-defined]
+            self.fallible = True
+            where = self.fmu.place(e.span)
+            self.sites += [overflow_message(e.text, where, self.fmu.capacity) if e.op in CAN_OVERFLOW else "",
+                           empty_message(e.op, e.text, where) if e.op in EMPTY_FAULTS else ""]
+        return self.collections.call(e, args, site)  # type: ignore[attr-defined]
 
     def _CallU(self, e: ir.CallU) -> str:
         return f"rg_user_{e.name}({', '.join(self.expr(a) for a in e.args)})"
@@ -397,7 +421,8 @@ class Emitter:
         handed to every route (a port's clocked outputs and clock, or another machine's register).
         An argument read once by the one port it goes to is assigned straight to its output."""
         values = [self.expr(a) for a in s.args]
-        if not self.fallible and len(s.routes) == 1 and s.routes[0][0] == "port":
+        collection = any(isinstance(a.type, (T.SetT, T.SeqT)) for a in s.args)  # copied from a temporary
+        if not self.fallible and len(s.routes) == 1 and s.routes[0][0] == "port" and not collection:
             port = s.routes[0][1]
             if [k for k, _ in self._port_reads(port)] == list(range(len(values))):
                 return self._to_port(port, values, indent)
@@ -439,8 +464,13 @@ class Emitter:
 
     def _to_port(self, index: int, values: list[str], indent: str) -> list[str]:
         """Write ``values`` (C expressions of the arguments) to output port ``index`` and activate its clock."""
-        lines = [f"{indent}d->{cname} = {values[k]}{access};"
-                 for (cname, _), (k, access) in zip(self.port_fields[index], self._port_reads(index))]
+        lines = []
+        for (cname, _), (k, access) in zip(self.port_fields[index], self._port_reads(index)):
+            if access.endswith(".#elements"):  # a collection's elements: an array, copied
+                source = f"{values[k]}{access[:-len('.#elements')]}.a"
+                lines.append(f"{indent}memcpy(d->{cname}.a, {source}, sizeof d->{cname}.a);")
+            else:
+                lines.append(f"{indent}d->{cname} = {values[k]}{access.replace('.#size', '.n')};")
         clock = self.names.clocks[self.fmu.outputs[index].name]
         return lines + [f"{indent}rg_activate_output_clock(inst, {clock});"]
 
@@ -491,4 +521,4 @@ class Emitter:
 
 
 __all__ = ["Emitter", "CNames", "MachineNames", "Identifiers", "ctype", "literal", "mangle", "var_identifiers",
-           "user_function_prototype", "c_string", "c_comment", "tag", "truth", "bare"]
+           "user_function_prototype", "c_string", "c_comment", "tag", "elem_tag", "truth", "bare"]

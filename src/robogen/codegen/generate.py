@@ -24,6 +24,7 @@ from robogen.codegen.c import (
     mangle,
     user_function_prototype,
 )
+from robogen.codegen.collections import CollectionCode, typedef as collection_typedef
 from robogen.codegen.description import model_description
 from robogen.diagnostics import DiagnosticSink, Note, RobogenError, Span, error
 from robogen.fmu.modeldesc import Dimension, Variable, instantiation_token
@@ -167,7 +168,10 @@ def generate(fmu: ir.Fmu, options: CodegenOptions | None = None, *, diagrams: Se
     token = instantiation_token(ir_text)  # a hash of the path-free IR: changes with the model's meaning only
     gen = Generated(fmu, fmu.model_identifier, token, variables=layout.variables)
     env = _env()
-    machines = _machines_code(fmu, layout, names, line_comments)
+    collections = CollectionCode(fmu.capacity)
+    machines, sites = _machines_code(fmu, layout, names, line_comments, collections)
+    for t in collections.types:
+        layout._type(t)
     needed = {t for mc in machines for t in mc["equalities"]}
     equalities, bodies = _equalities(layout.types, needed)
     hooks = _hooks(fmu, machines)
@@ -175,7 +179,9 @@ def generate(fmu: ir.Fmu, options: CodegenOptions | None = None, *, diagrams: Se
         user_functions=[(u, user_function_prototype(u)) for u in fmu.user_functions],
         names=names,
         cname=names.vars,
-        typedefs=[_typedef(t) for t in layout.types],
+        typedefs=[_typedef(t, fmu.capacity) for t in layout.types],
+        sites=sites,
+        collection_code=collections.text(),
         equality_bodies=bodies,
         param_starts={p.fmi_name: _param_starts(p) for p in fmu.params},
         diagrams={m.index: diagrams[m.index] if m.index < len(diagrams) else "stateDiagram-v2\n  %% (no diagram)" for m in fmu.machines},
@@ -231,7 +237,9 @@ def _functions_file(fmu: ir.Fmu, path: Path | None) -> str | None:
         raise RobogenError.at(f"cannot read the functions file {path}: {exc}", Span.whole_file(str(path))) from None
 
 
-def _typedef(t: T.Type) -> str:
+def _typedef(t: T.Type, capacity: int) -> str:
+    if isinstance(t, (T.SetT, T.SeqT)):
+        return collection_typedef(t, capacity)
     if isinstance(t, T.RecordT):
         fields = "\n".join(f"    {ctype(ft)} {n};" for n, ft in t.fields)
         return f"/* datatype {t.qname} */\ntypedef struct {{\n{fields}\n}} {ctype(t)};"
@@ -254,7 +262,7 @@ def _equalities(types: list[T.Type], needed: set[str]) -> tuple[list[str], dict[
         t = by_name[name]
         inner = [ft for _, ft in t.fields] if isinstance(t, T.RecordT) else [t.element]  # type: ignore[union-attr]
         for ft in inner:
-            if isinstance(ft, (T.RecordT, T.VectorT, T.MatrixT)):
+            if isinstance(ft, STRUCTS):
                 add(ctype(ft))
 
     for name in needed:
@@ -265,18 +273,27 @@ def _equalities(types: list[T.Type], needed: set[str]) -> tuple[list[str], dict[
         t = by_name[name]
         if isinstance(t, T.RecordT):
             tests = [
-                f"rg_eq_{ctype(ft)}(a.{n}, b.{n})" if isinstance(ft, (T.RecordT, T.VectorT, T.MatrixT)) else f"a.{n} == b.{n}"
+                f"rg_eq_{ctype(ft)}(a.{n}, b.{n})" if isinstance(ft, STRUCTS) else f"a.{n} == b.{n}"
                 for n, ft in t.fields
             ]
             bodies[name] = "    return " + " && ".join(tests) + ";"
+        elif isinstance(t, (T.SetT, T.SeqT)):
+            same = f"rg_eq_{ctype(t.element)}(a.a[i], b.a[i])" if isinstance(t.element, STRUCTS) else "a.a[i] == b.a[i]"
+            bodies[name] = (f"    uint64_t i;\n    if (a.n != b.n) return false;\n    for (i = 0; i < a.n; i++)\n"
+                            f"        if (!({same})) return false;\n    return true;")
         else:
             size = t.size if isinstance(t, T.VectorT) else (t.rows or 0) * (t.columns or 0)  # type: ignore[union-attr]
             bodies[name] = (f"    int i;\n    for (i = 0; i < {size}; i++)\n        if (a.a[i] != b.a[i]) return false;\n    return true;")
     return order, bodies
 
 
+STRUCTS = (T.RecordT, T.VectorT, T.MatrixT, T.SetT, T.SeqT)  # C types compared by a function rg_eq_<type>
+
+
 def _param_starts(p: ir.Param) -> list[tuple[str, str]]:
-    if p.value is None:
+    """The start value rg_model_reset writes (none for records, vectors and matrices: the
+    instance's memory starts zeroed, which is their default value)."""
+    if p.value is None or isinstance(p.var.type, (T.RecordT, T.VectorT, T.MatrixT)):
         return []
     return [("", literal(p.value, p.var.type))]
 
@@ -316,7 +333,7 @@ class _Layout:
         if isinstance(t, T.RecordT):
             for _, ft in t.fields:
                 self._type(ft)
-        elif isinstance(t, (T.VectorT, T.MatrixT)):
+        elif isinstance(t, (T.VectorT, T.MatrixT, T.SetT, T.SeqT)):
             self._type(t.element)
         else:
             if isinstance(t, T.EnumT):
@@ -381,7 +398,7 @@ class _Layout:
             self._port(port, "output")
         for p in fmu.params:
             member = f"m{p.machine}.v_{self.names[p.var]}"
-            for name, t, access in _flat(p.fmi_name, p.var.type, ""):
+            for name, t, access in _flat(p.fmi_name, p.var.type, "", fmu.capacity):
                 fmi_type, declared = self._scalar(_shape(t)[0])
                 value = p.value if not access else None
                 self.variables.append(FmiVar(
@@ -404,9 +421,9 @@ class _Layout:
         for m in fmu.machines:
             for v in m.vars:
                 self._type(v.type)
-                if v.kind != "var":
-                    continue
-                for name, t, access in _flat(f"{m.name}.{v.name}", v.type, ""):
+                if v.kind != "var" and not (v.kind == "const" and v.init is not None):
+                    continue  # constants are parameters, but those computed from an initialiser
+                for name, t, access in _flat(f"{m.name}.{v.name}", v.type, "", fmu.capacity):
                     fmi_type, declared = self._scalar(_shape(t)[0])
                     self.variables.append(FmiVar(
                         name, self._next_vr(), fmi_type, "local", "discrete", f"m{m.index}.v_{self.names[v]}{access}",
@@ -457,11 +474,17 @@ def _shape(t: T.Type) -> tuple[T.Type, tuple[int, ...]]:
     return t, ()
 
 
-def _flat(name: str, t: T.Type, access: str):
-    """(FMI name, scalar or array type, C member access) of each scalar part of a value."""
+def _flat(name: str, t: T.Type, access: str, capacity: int = 0):
+    """(FMI name, scalar or array type, C member access) of each scalar part of a value. A set or
+    sequence of scalars is two: its elements, an array of the capacity (zeros after the last),
+    and its size; one of records has none (its elements are not contiguous in memory)."""
     if isinstance(t, T.RecordT):
         for n, ft in t.fields:
-            yield from _flat(f"{name}.{n}", ft, f"{access}.{n}")
+            yield from _flat(f"{name}.{n}", ft, f"{access}.{n}", capacity)
+    elif isinstance(t, (T.SetT, T.SeqT)):
+        if not isinstance(t.element, T.RecordT):
+            yield f"{name}.elements", T.VectorT(t.element, capacity), f"{access}.a"
+            yield f"{name}.size", T.NAT, f"{access}.n"
     else:
         yield name, t, access
 
@@ -469,16 +492,20 @@ def _flat(name: str, t: T.Type, access: str):
 # ---------------------------------------------------------------------------- machines
 
 
-def _machines_code(fmu: ir.Fmu, layout: _Layout, names: CNames, line_comments: bool) -> list[dict]:
+def _machines_code(fmu: ir.Fmu, layout: _Layout, names: CNames, line_comments: bool,
+                   collections: CollectionCode) -> tuple[list[dict], list[str]]:
     """What the templates need of each machine: its run function's cases, initial values, block
     labels, and whether it has an event table (RoboChart machines join their buffers through it;
     any machine that events are delivered to is latched through it)."""
     emitters = [Emitter(fmu, m, layout.port_fields_out, names, line_comments) for m in fmu.machines]
+    sites: list[str] = []  # one list for the FMU: each emitter numbers its sites after the others'
+    for em in emitters:
+        em.collections, em.sites = collections, sites
     codes = [_machine_code(fmu, em, line_comments) for em in emitters]
     delivered = {mi for p in fmu.inputs for mi, _ in p.routes} | {mi for em in emitters for mi in em.delivers_to}
     for m, code in zip(fmu.machines, codes):
         code["event_table"] = bool(m.events) and (fmu.robochart or m.index in delivered)
-    return codes
+    return codes, sites
 
 
 def _machine_code(fmu: ir.Fmu, em: Emitter, line_comments: bool) -> dict:
@@ -496,7 +523,7 @@ def _machine_code(fmu: ir.Fmu, em: Emitter, line_comments: bool) -> dict:
         cases.append("\n".join(lines))
     inits = []
     for v in m.vars:
-        if v.kind == "var" and v.init is not None:
+        if v.kind in ("var", "const") and v.init is not None:
             em.fallible = False
             value = em.expr(v.init)
             inits.append((f"m->v_{em.names.vars[v]}", value, em.fallible, v.name))

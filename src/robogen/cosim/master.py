@@ -1,6 +1,6 @@
 """The co-simulation algorithm: FMI 3.0 Co-Simulation with Event Mode, clocks and early return.
 
-It follows docs/fmi3.md §1.5 (shared/docs) step by step:
+It follows the FMI 3.0 standard's Co-Simulation master algorithm with Event Mode step by step:
 
     setup       instantiate (eventModeUsed where hasEventMode, earlyReturnAllowed where the FMU
                 might return early), Initialization Mode in dependency order, exit

@@ -35,6 +35,7 @@ import contextlib
 import csv
 import io
 import json
+import math
 import sys
 import time as _time
 from dataclasses import dataclass, field
@@ -191,6 +192,31 @@ class Recorder:
                     self._write_cells(row)
             if _time.monotonic() > self._flush_due:
                 self.flush()
+
+    @property
+    def takes_text(self) -> bool:
+        """Whether rows may come as CSV lines (:meth:`append_text`): they go to a CSV file only,
+        every one of them (no decimation)."""
+        return self._writer is not None and not self.keep_rows and self.every is None
+
+    @property
+    def discards(self) -> bool:
+        """Whether rows go nowhere (no CSV or Parquet file, not kept)."""
+        return self._writer is None and self._table is None and not self.keep_rows
+
+    @property
+    def flush_due(self) -> float:
+        """The time.monotonic() by which the rows appended so far are to be flushed (never
+        without a results file)."""
+        return self._flush_due if self._file is not None else math.inf
+
+    def append_text(self, text: str, rows: int) -> None:
+        """``rows`` rows already written as the CSV lines append_row would write (the C stretch's
+        chunks, where :attr:`takes_text`)."""
+        self.recorded += rows
+        self._file.write(text)
+        if _time.monotonic() > self._flush_due:
+            self.flush()
 
     def event(self, t: float, k: int, fmu: str, clock: str, values: dict) -> None:
         if self._events is not None:

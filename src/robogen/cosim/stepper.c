@@ -1,24 +1,36 @@
-/* The master's quiet stretches in C: consecutive plain communication steps with no event, no
- * early return and no value to forward between FMUs (robogen.cosim.stretch describes the
- * contract; robogen.cosim.stepper.CStretch drives this loop).
+/* The master's quiet stretches in C: consecutive plain communication steps with no event and no
+ * early return (robogen.cosim.stretch describes the contract; robogen.cosim.stepper.CStretch
+ * drives this loop).
  *
  * Built once with the system C compiler (robogen.cosim.stepper) and called through cffi. Each
  * step does exactly what the Python stretch does, in the same order and with the same arithmetic:
  * t_next = start + n * h; fmi3DoStep of every FMU from t with step t_next - t; then, unless an FMU
- * asked for Event Mode, the fmi3Get<Type> calls of the recorded variables, whose values are
- * stored as one row of 8-byte slots (reals as doubles, signed integers as int64, unsigned ones as
- * uint64, Booleans as 0/1, Strings and Binaries as the offset of a copy in the row arena: a
- * size_t length, then the bytes). Python turns the rows into result rows, so the results are
- * byte-identical to those of the Python loop.
+ * asked for Event Mode, the exchange and the recording: the operations in `op` (in dependency
+ * order: a connected FMU's fmi3Get<Type> calls, then the values it forwards, one fmi3Set<Type>
+ * call per target FMU and type for the inputs whose value changed since they were last set; then
+ * the Get calls of the recorded FMUs that forward nothing), and one row of the recorded columns.
+ *
+ * A row is stored in one of three ways (rg_stretch.mode):
+ *   MODE_SLOTS  8-byte slots, one per recorded value (reals as doubles, signed integers as int64,
+ *               unsigned ones as uint64, Booleans as 0/1, Strings and Binaries as the offset of a
+ *               copy in the arena: a size_t length, then the bytes); Python builds the rows.
+ *   MODE_TEXT   the CSV line the recorder would write (robogen.cosim.recorder): reals in the
+ *               shortest form that reads back to the same double, as Python's repr; integers in
+ *               decimal; True/False; Strings in double quotes, a quote doubled; Binaries as 0x
+ *               and lowercase hexadecimal.
+ *   MODE_NONE   nothing (the rows go nowhere).
  *
  * Before each FMI call the loop notes it (rg_stretch.note_call/note_time, the master's
  * robogen.cosim.fmi3.CallNotes), so a crash inside an FMU can be reported by instance, function
  * and time. A chunk also ends at a wall-clock deadline, so the rows reach the results file at
  * least that often however slow the FMUs are. */
 #define _POSIX_C_SOURCE 199309L
+#include <float.h>
+#include <math.h>
 #include <stdbool.h>
 #include <stddef.h>
 #include <stdint.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <time.h>
@@ -26,9 +38,27 @@
 typedef int (*rg_do_step_fn)(void *, double, double, bool, bool *, bool *, bool *, double *);
 typedef int (*rg_get_fn)(void *, const uint32_t *, size_t, void *, size_t);
 typedef int (*rg_get_binary_fn)(void *, const uint32_t *, size_t, size_t *, const uint8_t **, size_t);
+typedef int (*rg_set_fn)(void *, const uint32_t *, size_t, const void *, size_t);
+typedef int (*rg_set_binary_fn)(void *, const uint32_t *, size_t, const size_t *, const uint8_t *const *, size_t);
 
 enum { K_F64 = 0, K_F32, K_I64, K_U64, K_I32, K_U32, K_I16, K_U16, K_I8, K_U8, K_BOOL, K_STRING, K_BINARY };
-enum { WHY_LIMIT = 0, WHY_EVENT, WHY_TERMINATE, WHY_STEP_FAILED, WHY_GET_FAILED, WHY_NO_MEMORY, WHY_PAUSE };
+enum { WHY_LIMIT = 0, WHY_EVENT, WHY_TERMINATE, WHY_STEP_FAILED, WHY_GET_FAILED, WHY_NO_MEMORY, WHY_PAUSE,
+       WHY_SET_FAILED };
+enum { MODE_SLOTS = 0, MODE_TEXT, MODE_NONE };
+
+/* A value last set to a connected input: reals as d (Float32 widened), signed integers as i,
+ * unsigned ones and Booleans as u; Strings and Binaries in last_bytes/last_size. */
+typedef union {
+    double d;
+    int64_t i;
+    uint64_t u;
+} rg_value;
+
+/* A growable byte buffer (the arena of String and Binary copies, the CSV text). */
+typedef struct {
+    char *data;
+    size_t size, used;
+} rg_bytes;
 
 typedef struct {
     int n_instances;
@@ -48,11 +78,39 @@ typedef struct {
     void **buffer;           /* where each fmi3Get writes (the master's own buffers) */
     size_t **sizes;          /* per read: fmi3GetBinary's valueSizes (K_BINARY only) */
     const int32_t *read_note; /* per read: the note of its call */
-    int width;               /* slots per row: the sum of count */
+    uint64_t **copies;       /* per read of Strings or Binaries: the arena offsets of its values' copies */
+    int n_ops;
+    const int *op;           /* after a step, in order: r >= 0 reads r, -1 - g sets group g */
+    int n_sets;              /* groups: the changed inputs of one target FMU and type, from one source */
+    rg_set_fn *set;          /* per group: its fmi3Set<Type> (NULL for K_BINARY) */
+    rg_set_binary_fn *set_binary;
+    void **set_instance;
+    const int *set_kind;
+    const int32_t *set_note;
+    const int *set_first;    /* per group: its first link */
+    const int *set_count;    /* and how many */
+    int n_links;
+    const int *link_read;    /* per link: the read and the index in it of the source's value */
+    const int *link_index;
+    const uint32_t *link_vr; /* the target input */
+    rg_value *last;          /* per link: the value last set */
+    bool *last_valid;        /* false until the input is first set */
+    char **last_bytes;       /* Strings (NUL-terminated) and Binaries: malloc'd copies */
+    size_t *last_size;
+    uint32_t *set_vrs;       /* scratch for one Set call: as many as the largest group */
+    rg_value *set_values;
+    const uint8_t **set_pointers;
+    size_t *set_sizes;
+    int n_columns;           /* recorded columns after time and superdense */
+    const int *column_read;  /* per column: its read (-1: a constant), the index in it */
+    const int *column_index;
+    const char *const *column_text; /* the constant's cell: "0" (a clock), "" (a clocked value) */
+    int mode;
+    int width;               /* slots per row (MODE_SLOTS): the columns that are read */
     int32_t *note_call;      /* the master's call notes */
     double *note_time;
-    char *arena;             /* the Strings and Binaries of the stored rows (malloc'd here) */
-    size_t arena_size, arena_used;
+    rg_bytes arena;          /* String and Binary copies: of a chunk (MODE_SLOTS) or of a row */
+    rg_bytes text;           /* the CSV lines of a chunk (MODE_TEXT) */
 } rg_stretch;
 
 #if defined(__GNUC__)
@@ -63,56 +121,479 @@ typedef struct {
 
 RG_EXPORT long rg_run_stretch(rg_stretch *s, double start, double h, long *n, double *t, double limit, long max_rows,
                               double deadline, double *times, uint64_t *slots, int *why, int *who, int *status);
+RG_EXPORT int rg_keep_last(rg_stretch *s, int link, const char *data, size_t size);
+RG_EXPORT size_t rg_format_double(char *out, double x);
 RG_EXPORT void rg_release(rg_stretch *s);
+
+/* Room for `more` bytes after b->used; false when memory runs out. */
+static bool reserve(rg_bytes *b, size_t more)
+{
+    size_t need = b->used + more;
+    if (need > b->size) {
+        size_t grown = b->size ? 2 * b->size : 65536;
+        char *data;
+        while (grown < need) grown *= 2;
+        data = (char *)realloc(b->data, grown);
+        if (data == NULL) return false;
+        b->data = data;
+        b->size = grown;
+    }
+    return true;
+}
 
 /* A copy of `size` bytes in the arena (a size_t length, then the bytes); its offset, or
  * UINT64_MAX when memory runs out. */
-static uint64_t keep_bytes(rg_stretch *s, const void *data, size_t size)
+static uint64_t keep_bytes(rg_bytes *arena, const void *data, size_t size)
 {
-    size_t need = s->arena_used + sizeof(size_t) + size;
-    uint64_t offset = s->arena_used;
-    if (need > s->arena_size) {
-        size_t grown = s->arena_size ? 2 * s->arena_size : 65536;
-        char *arena;
-        while (grown < need) grown *= 2;
-        arena = (char *)realloc(s->arena, grown);
-        if (arena == NULL) return UINT64_MAX;
-        s->arena = arena;
-        s->arena_size = grown;
-    }
-    memcpy(s->arena + s->arena_used, &size, sizeof(size_t));
-    if (size) memcpy(s->arena + s->arena_used + sizeof(size_t), data, size);
-    s->arena_used = need;
+    uint64_t offset = arena->used;
+    if (!reserve(arena, sizeof(size_t) + size)) return UINT64_MAX;
+    memcpy(arena->data + arena->used, &size, sizeof(size_t));
+    if (size) memcpy(arena->data + arena->used + sizeof(size_t), data, size);
+    arena->used += sizeof(size_t) + size;
     return offset;
 }
 
-static uint64_t slot(rg_stretch *s, int r, size_t i)
+/* ---------------------------------------------------------------------------------------------
+ * Python's repr of a double: the shortest decimal that reads back to it (the closest such when
+ * there are several), in positional form for decimal exponents -4 <= e < 16 (with ".0" when it
+ * is whole), else as d.ddde+XX with at least two exponent digits. */
+
+/* The digits of |x| rounded to `precision` significant digits, into `digits` (NUL-terminated,
+ * trailing zeros kept), and the decimal exponent of the first. */
+static int round_digits(double x, int precision, char *digits)
 {
-    const void *buffer = s->buffer[r];
-    uint64_t out = 0;
-    double d;
-    const char *text;
-    switch (s->kind[r]) {
-    case K_F64: memcpy(&out, (const double *)buffer + i, sizeof out); break;
-    case K_F32: d = (double)((const float *)buffer)[i]; memcpy(&out, &d, sizeof out); break;
-    case K_I64: out = (uint64_t)((const int64_t *)buffer)[i]; break;
-    case K_U64: out = ((const uint64_t *)buffer)[i]; break;
-    case K_I32: out = (uint64_t)(int64_t)((const int32_t *)buffer)[i]; break;
-    case K_U32: out = ((const uint32_t *)buffer)[i]; break;
-    case K_I16: out = (uint64_t)(int64_t)((const int16_t *)buffer)[i]; break;
-    case K_U16: out = ((const uint16_t *)buffer)[i]; break;
-    case K_I8: out = (uint64_t)(int64_t)((const int8_t *)buffer)[i]; break;
-    case K_U8: out = ((const uint8_t *)buffer)[i]; break;
-    case K_STRING:
-        text = ((const char *const *)buffer)[i];
-        out = keep_bytes(s, text ? text : "", text ? strlen(text) : 0);
-        break;
-    case K_BINARY:
-        out = keep_bytes(s, ((const uint8_t *const *)buffer)[i], ((const uint8_t *const *)buffer)[i] ? s->sizes[r][i] : 0);
-        break;
-    default: out = ((const bool *)buffer)[i] ? 1u : 0u; break;
+    char buffer[40];
+    int i, k = 0;
+    snprintf(buffer, sizeof buffer, "%.*e", precision - 1, fabs(x));
+    for (i = 0; buffer[i] != 'e'; i++)
+        if (buffer[i] != '.') digits[k++] = buffer[i];
+    digits[k] = '\0';
+    return atoi(buffer + i + 1);
+}
+
+static void strip_zeros(char *digits)
+{
+    size_t k = strlen(digits);
+    while (k > 1 && digits[k - 1] == '0') digits[--k] = '\0';
+}
+
+static double digits_value(const char *digits, int exponent)
+{
+    char buffer[48];
+    size_t k = strlen(digits);
+    buffer[0] = '0';
+    buffer[1] = '.';
+    memcpy(buffer + 2, digits, k);
+    sprintf(buffer + 2 + k, "e%d", exponent + 1);
+    return strtod(buffer, NULL);
+}
+
+/* The next decimal of as many digits away from zero; the exponent may change. */
+static int step_up(char *digits, int exponent)
+{
+    int i = (int)strlen(digits) - 1;
+    while (i >= 0 && digits[i] == '9') digits[i--] = '0';
+    if (i >= 0) {
+        digits[i]++;
+        return exponent;
     }
-    return out;
+    digits[0] = '1'; /* 99..9 -> 100..0: one digit more before the point */
+    return exponent + 1;
+}
+
+/* The `precision` digits of |x| from its 17 (`d17`, exponent e17), rounded to nearest; where the
+ * 17 digits end in a tie for that rounding (..5 or ..50), from x itself. */
+static int shorter(double x, const char *d17, int e17, int precision, char *digits)
+{
+    const char *tail = d17 + precision;
+    int cmp = tail[0] != '5' ? tail[0] - '5' : precision == 16 ? 0 : tail[1] - '0';
+    if (cmp == 0) return round_digits(x, precision, digits);
+    memcpy(digits, d17, (size_t)precision);
+    digits[precision] = '\0';
+    return cmp > 0 ? step_up(digits, e17) : e17;
+}
+
+/* Powers of ten exact in a long double (x86's 64-bit mantissa; elsewhere at least a double's,
+ * and the checks below then only send more values to the exact path). */
+static const long double P10[] = {1e0L, 1e1L, 1e2L, 1e3L, 1e4L, 1e5L, 1e6L, 1e7L, 1e8L, 1e9L, 1e10L, 1e11L,
+                                  1e12L, 1e13L, 1e14L, 1e15L, 1e16L, 1e17L, 1e18L, 1e19L, 1e20L, 1e21L,
+                                  1e22L, 1e23L, 1e24L, 1e25L, 1e26L, 1e27L};
+
+/* v scaled by 10^k (|k| <= 27): one rounding. */
+static long double scaled(long double v, int k) { return k >= 0 ? v * P10[k] : v / P10[-k]; }
+
+/* The fast path of shortest_digits: |x| scaled to 17 digits in long double arithmetic, whose
+ * error (a few units of 2^-64) is far below the margins it keeps; -1000 where a rounding or a
+ * bound is too close to call (or |x| is out of its range), and the exact path decides. */
+static int fast_shortest(double ax, char *digits)
+{
+    int e10 = (int)floor(log10(ax)), k, p, i;
+    long double y, lo, hi, r = 0;
+    uint64_t d;
+    if (LDBL_MANT_DIG < 64 || e10 < -11 || e10 > 43) return -1000;
+    k = 16 - e10;
+    y = scaled(ax, k);
+    if (y < 1e16L || y >= 1e17L) { /* log10 was off by one */
+        e10 += y < 1e16L ? -1 : 1;
+        k = 16 - e10;
+        if (k < -27 || k > 27) return -1000;
+        y = scaled(ax, k);
+    }
+    lo = scaled((long double)ax - 0.5L * ((long double)ax - nextafter(ax, 0)), k);
+    hi = scaled((long double)ax + 0.5L * ((long double)nextafter(ax, INFINITY) - ax), k);
+    for (p = 15; p <= 17; p++) {
+        /* q rounded to an integer by the addition of 2^63 (a long double's units there are 1): no
+         * switch of the x87 rounding mode, as floorl and integer casts make */
+        long double unit = P10[17 - p], q = y / unit, c;
+        int tries;
+        r = (q + 0x1p63L) - 0x1p63L;
+        if (fabsl(fabsl(q - r) - 0.5L) < 0.001L) return -1000;
+        for (tries = 0; tries < (p == 16 ? 2 : 1); tries++) { /* 16 digits: the far neighbour too */
+            c = r * unit;
+            if (fabsl(c - lo) < 0.004L || fabsl(c - hi) < 0.004L) return -1000;
+            if (lo < c && c < hi) goto found;
+            r += c < y ? 1 : -1;
+        }
+    }
+    return -1000;
+found:
+    d = (uint64_t)llrintl(r);
+    if (d >= (uint64_t)llrintl(P10[p])) { /* 99..9 rounded up to 100..0 */
+        d /= 10;
+        e10++;
+    }
+    for (i = p - 1; i >= 0; i--) {
+        digits[i] = (char)('0' + d % 10);
+        d /= 10;
+    }
+    digits[p] = '\0';
+    strip_zeros(digits);
+    return e10;
+}
+
+/* The shortest digits of |x| (x finite, not 0), their decimal exponent as the result. Any decimal
+ * of 15 digits reads back (DBL_DIG), so if one of at most 15 does, the rounding to 15 digits is
+ * it; 17 digits always read back. */
+static int shortest_digits(double x, char *digits)
+{
+    double ax = fabs(x);
+    char d17[24], d16[24];
+    int e17, e16, e15, precision;
+    if ((e15 = fast_shortest(ax, digits)) != -1000) return e15;
+    if (ax < 2.2250738585072014e-308) { /* subnormal: fewer digits are exact, try them all */
+        for (precision = 1; precision < 17; precision++) {
+            e15 = round_digits(x, precision, digits);
+            if (digits_value(digits, e15) == ax) break;
+        }
+        e15 = round_digits(x, precision, digits);
+        strip_zeros(digits);
+        return e15;
+    }
+    e17 = round_digits(x, 17, d17);
+    e16 = shorter(x, d17, e17, 16, d16);
+    if (digits_value(d16, e16) != ax) {
+        /* Where the double below is nearer than the one above (x a power of two), the correctly
+         * rounded decimal may miss while its neighbour further from zero reads back. */
+        if (digits_value(d16, e16) > ax || digits_value(d16, e16 = step_up(d16, e16)) != ax) {
+            memcpy(digits, d17, sizeof d17);
+            strip_zeros(digits);
+            return e17;
+        }
+        memcpy(digits, d16, sizeof d16);
+        strip_zeros(digits);
+        return e16;
+    }
+    e15 = shorter(x, d17, e17, 15, digits);
+    if (digits_value(digits, e15) != ax) {
+        memcpy(digits, d16, sizeof d16);
+        e15 = e16;
+    }
+    strip_zeros(digits);
+    return e15;
+}
+
+/* repr(x) into out (at least 32 bytes); its length. */
+RG_EXPORT size_t rg_format_double(char *out, double x)
+{
+    char digits[24];
+    int exponent, k, i, n = 0;
+    if (isnan(x)) return (size_t)sprintf(out, "nan");
+    if (isinf(x)) return (size_t)sprintf(out, x < 0 ? "-inf" : "inf");
+    if (x == 0) return (size_t)sprintf(out, signbit(x) ? "-0.0" : "0.0");
+    exponent = shortest_digits(x, digits);
+    k = (int)strlen(digits);
+    if (x < 0) out[n++] = '-';
+    if (exponent < -4 || exponent >= 16) {
+        out[n++] = digits[0];
+        if (k > 1) {
+            out[n++] = '.';
+            memcpy(out + n, digits + 1, (size_t)(k - 1));
+            n += k - 1;
+        }
+        return (size_t)(n + sprintf(out + n, "e%c%02d", exponent < 0 ? '-' : '+', abs(exponent)));
+    }
+    if (exponent < 0) {
+        out[n++] = '0';
+        out[n++] = '.';
+        for (i = -1; i > exponent; i--) out[n++] = '0';
+        memcpy(out + n, digits, (size_t)k);
+        n += k;
+    } else {
+        for (i = 0; i <= exponent || i < k; i++) {
+            if (i == exponent + 1) out[n++] = '.';
+            out[n++] = i < k ? digits[i] : '0';
+        }
+        if (k <= exponent + 1) {
+            out[n++] = '.';
+            out[n++] = '0';
+        }
+    }
+    out[n] = '\0';
+    return (size_t)n;
+}
+
+/* ---------------------------------------------------------------------------------------------
+ * Values */
+
+static double real_of(int kind, const void *buffer, size_t i)
+{
+    return kind == K_F32 ? (double)((const float *)buffer)[i] : ((const double *)buffer)[i];
+}
+
+/* An integer or Boolean value widened to 64 bits (signed kinds sign-extended). */
+static uint64_t integer_of(int kind, const void *buffer, size_t i)
+{
+    switch (kind) {
+    case K_I64: return (uint64_t)((const int64_t *)buffer)[i];
+    case K_U64: return ((const uint64_t *)buffer)[i];
+    case K_I32: return (uint64_t)(int64_t)((const int32_t *)buffer)[i];
+    case K_U32: return ((const uint32_t *)buffer)[i];
+    case K_I16: return (uint64_t)(int64_t)((const int16_t *)buffer)[i];
+    case K_U16: return ((const uint16_t *)buffer)[i];
+    case K_I8: return (uint64_t)(int64_t)((const int8_t *)buffer)[i];
+    case K_U8: return ((const uint8_t *)buffer)[i];
+    default: return ((const bool *)buffer)[i] ? 1u : 0u;
+    }
+}
+
+/* The bytes of a String or Binary value of a read (NULL reads as empty). */
+static const char *bytes_of(const rg_stretch *s, int r, size_t i, size_t *size)
+{
+    const char *data = ((const char *const *)s->buffer[r])[i];
+    if (data == NULL) {
+        *size = 0;
+        return "";
+    }
+    *size = s->kind[r] == K_STRING ? strlen(data) : s->sizes[r][i];
+    return data;
+}
+
+static bool is_bytes(int kind) { return kind == K_STRING || kind == K_BINARY; }
+
+/* One read's fmi3Get<Type> call; 0 or the failing status. Strings and Binaries are copied to the
+ * arena at once: a later call on the same FMU may free the memory they point to. */
+static int get_values(rg_stretch *s, int r, bool *no_memory)
+{
+    size_t i, size;
+    int st;
+    *s->note_call = s->read_note[r];
+    if (s->kind[r] == K_BINARY)
+        st = s->get_binary[r](s->read_instance[r], s->vrs[r], s->count[r], s->sizes[r],
+                              (const uint8_t **)s->buffer[r], s->count[r]);
+    else
+        st = s->get[r](s->read_instance[r], s->vrs[r], s->count[r], s->buffer[r], s->count[r]);
+    if (st > 1 || !is_bytes(s->kind[r]) || s->mode == MODE_NONE) return st > 1 ? st : 0;
+    for (i = 0; i < s->count[r]; i++) {
+        const char *data = bytes_of(s, r, i, &size);
+        s->copies[r][i] = keep_bytes(&s->arena, data, size);
+        if (s->copies[r][i] == UINT64_MAX) *no_memory = true;
+    }
+    return 0;
+}
+
+/* Whether a link's source value differs from the value last set (as Python's != compares them:
+ * NaN differs from itself, -0.0 equals 0.0); if it does, it becomes the value last set, and goes
+ * into slot j of the Set call's arrays. False with *no_memory when a copy cannot be made. */
+static bool changed(rg_stretch *s, int g, int link, int j, bool *no_memory)
+{
+    int r = s->link_read[link], kind = s->set_kind[g];
+    size_t i = (size_t)s->link_index[link], size;
+    rg_value *last = s->last + link;
+    if (kind == K_F64 || kind == K_F32) {
+        double v = real_of(kind, s->buffer[r], i);
+        if (s->last_valid[link] && !(v != last->d)) return false;
+        last->d = v;
+        if (kind == K_F32) memcpy((char *)s->set_values + 4 * (size_t)j, &((const float *)s->buffer[r])[i], 4);
+        else s->set_values[j].d = v;
+    } else if (!is_bytes(kind)) {
+        uint64_t v = integer_of(kind, s->buffer[r], i);
+        size_t width = kind == K_I64 || kind == K_U64 ? 8 : kind == K_I32 || kind == K_U32 ? 4
+                     : kind == K_I16 || kind == K_U16 ? 2 : 1;
+        if (s->last_valid[link] && v == last->u) return false;
+        last->u = v;
+        memcpy((char *)s->set_values + width * (size_t)j, (const char *)s->buffer[r] + width * i, width);
+    } else {
+        const char *data = bytes_of(s, r, i, &size);
+        if (s->last_valid[link] && size == s->last_size[link] && memcmp(data, s->last_bytes[link], size) == 0)
+            return false;
+        if (rg_keep_last(s, link, data, size) != 0) {
+            *no_memory = true;
+            return false;
+        }
+        s->set_pointers[j] = (const uint8_t *)s->last_bytes[link];
+        s->set_sizes[j] = size;
+    }
+    s->last_valid[link] = true;
+    return true;
+}
+
+/* Group g: the connected inputs whose value changed, in one fmi3Set<Type> call; 0, the failing
+ * status, or -1 when memory runs out. */
+static int forward(rg_stretch *s, int g)
+{
+    int k, n = 0, st;
+    bool no_memory = false;
+    for (k = 0; k < s->set_count[g]; k++) {
+        int link = s->set_first[g] + k;
+        if (changed(s, g, link, n, &no_memory)) s->set_vrs[n++] = s->link_vr[link];
+        if (no_memory) return -1;
+    }
+    if (n == 0) return 0;
+    *s->note_call = s->set_note[g];
+    if (s->set_kind[g] == K_BINARY)
+        st = s->set_binary[g](s->set_instance[g], s->set_vrs, (size_t)n, s->set_sizes, s->set_pointers, (size_t)n);
+    else if (s->set_kind[g] == K_STRING)
+        st = s->set[g](s->set_instance[g], s->set_vrs, (size_t)n, s->set_pointers, (size_t)n);
+    else
+        st = s->set[g](s->set_instance[g], s->set_vrs, (size_t)n, s->set_values, (size_t)n);
+    return st > 1 ? st : 0;
+}
+
+/* ---------------------------------------------------------------------------------------------
+ * Rows */
+
+static void put(rg_bytes *b, const char *text, size_t n)
+{
+    memcpy(b->data + b->used, text, n);
+    b->used += n;
+}
+
+/* A recorded value's CSV cell; false when memory runs out. */
+static bool cell(rg_stretch *s, int r, size_t i)
+{
+    static const char hex[] = "0123456789abcdef";
+    rg_bytes *b = &s->text;
+    const char *data;
+    size_t size, j;
+    int kind = s->kind[r];
+    if (kind == K_F64 || kind == K_F32) {
+        if (!reserve(b, 32)) return false;
+        b->used += rg_format_double(b->data + b->used, real_of(kind, s->buffer[r], i));
+        return true;
+    }
+    if (!is_bytes(kind)) {
+        uint64_t v = integer_of(kind, s->buffer[r], i);
+        if (!reserve(b, 24)) return false;
+        if (kind == K_BOOL) put(b, v ? "True" : "False", v ? 4 : 5);
+        else if (kind == K_I64 || kind == K_I32 || kind == K_I16 || kind == K_I8)
+            b->used += (size_t)sprintf(b->data + b->used, "%lld", (long long)(int64_t)v);
+        else b->used += (size_t)sprintf(b->data + b->used, "%llu", (unsigned long long)v);
+        return true;
+    }
+    memcpy(&size, s->arena.data + s->copies[r][i], sizeof size);
+    data = s->arena.data + s->copies[r][i] + sizeof size;
+    if (!reserve(b, 2 * size + 2)) return false;
+    if (kind == K_BINARY) {
+        put(b, "0x", 2);
+        for (j = 0; j < size; j++) {
+            b->data[b->used++] = hex[(unsigned char)data[j] >> 4];
+            b->data[b->used++] = hex[(unsigned char)data[j] & 15];
+        }
+        return true;
+    }
+    b->data[b->used++] = '"';
+    for (j = 0; j < size; j++) {
+        if (data[j] == '"') b->data[b->used++] = '"';
+        b->data[b->used++] = data[j];
+    }
+    b->data[b->used++] = '"';
+    return true;
+}
+
+/* The CSV line of the point t: time, superdense 0, the recorded columns; false when memory runs
+ * out (part of the line may be written). */
+static bool full_text_row(rg_stretch *s, double t)
+{
+    int c;
+    if (!reserve(&s->text, 40)) return false;
+    s->text.used += rg_format_double(s->text.data + s->text.used, t);
+    put(&s->text, ",0", 2);
+    for (c = 0; c < s->n_columns; c++) {
+        int r = s->column_read[c];
+        if (!reserve(&s->text, 2)) return false;
+        put(&s->text, ",", 1);
+        if (r < 0) {
+            size_t n = strlen(s->column_text[c]);
+            if (!reserve(&s->text, n)) return false;
+            put(&s->text, s->column_text[c], n);
+        } else if (!cell(s, r, (size_t)s->column_index[c])) {
+            return false;
+        }
+    }
+    if (!reserve(&s->text, 1)) return false;
+    put(&s->text, "\n", 1);
+    return true;
+}
+
+/* The CSV line of the point t, or nothing when memory runs out. */
+static bool text_row(rg_stretch *s, double t)
+{
+    size_t start = s->text.used;
+    if (full_text_row(s, t)) return true;
+    s->text.used = start; /* no half line */
+    return false;
+}
+
+/* The recorded values as one row of slots. */
+static void slot_row(rg_stretch *s, uint64_t *row)
+{
+    int c, j = 0;
+    for (c = 0; c < s->n_columns; c++) {
+        int r = s->column_read[c], kind;
+        size_t i = (size_t)s->column_index[c];
+        double d;
+        if (r < 0) continue;
+        kind = s->kind[r];
+        if (kind == K_F64 || kind == K_F32) {
+            d = real_of(kind, s->buffer[r], i);
+            memcpy(row + j, &d, sizeof d);
+        } else {
+            row[j] = is_bytes(kind) ? s->copies[r][i] : integer_of(kind, s->buffer[r], i);
+        }
+        j++;
+    }
+}
+
+/* The exchange and the reads after a step, then its row. 0, or the failing call's status
+ * (*why and *who say which), or -1 when memory runs out. */
+static int exchange_and_record(rg_stretch *s, double t, uint64_t *row, int *why, int *who)
+{
+    int k, st;
+    bool no_memory = false;
+    if (s->mode == MODE_TEXT) s->arena.used = 0; /* the previous row's copies are written out */
+    for (k = 0; k < s->n_ops; k++) {
+        int op = s->op[k];
+        st = op >= 0 ? get_values(s, op, &no_memory) : forward(s, -1 - op);
+        if (st > 0) {
+            *why = op >= 0 ? WHY_GET_FAILED : WHY_SET_FAILED;
+            *who = op >= 0 ? op : -1 - op;
+            return st;
+        }
+        if (no_memory || st < 0) return -1;
+    }
+    if (s->mode == MODE_SLOTS) slot_row(s, row);
+    else if (s->mode == MODE_TEXT && !text_row(s, t)) return -1;
+    return 0;
 }
 
 static double wall_clock(void)
@@ -122,28 +603,23 @@ static double wall_clock(void)
     return (double)now.tv_sec + 1e-9 * (double)now.tv_nsec;
 }
 
-/* The recorded values after a step: one row of slots. 0, or the failing read's status (its
- * index in *who), or -1 when memory for the strings runs out. */
-static int read_row(rg_stretch *s, uint64_t *row, int *who)
+/* fmi3DoStep of every FMU from t to t_next; 0 or the failing status (*who the FMU). */
+static int step_all(rg_stretch *s, double t, double t_next, bool *event, bool *terminate, int *who)
 {
-    int col = 0, r;
-    for (r = 0; r < s->n_reads; r++) {
-        size_t i;
-        int st;
-        *s->note_call = s->read_note[r];
-        if (s->kind[r] == K_BINARY)
-            st = s->get_binary[r](s->read_instance[r], s->vrs[r], s->count[r], s->sizes[r],
-                                  (const uint8_t **)s->buffer[r], s->count[r]);
-        else
-            st = s->get[r](s->read_instance[r], s->vrs[r], s->count[r], s->buffer[r], s->count[r]);
+    int u, st;
+    *s->note_time = t;
+    for (u = 0; u < s->n_instances; u++) {
+        bool *f = s->flags + 4 * u;
+        *s->note_call = s->step_note[u];
+        st = s->do_step[u](s->instance[u], t, t_next - t, true, f, f + 1, f + 2, s->last_time + u);
         if (st > 1) {
-            *who = r;
+            *who = u;
             return st;
         }
-        for (i = 0; i < s->count[r]; i++) {
-            row[col] = slot(s, r, i);
-            if (row[col] == UINT64_MAX && (s->kind[r] == K_STRING || s->kind[r] == K_BINARY)) return -1;
-            col++;
+        if (f[0] && s->event_mode[u]) *event = true;
+        if (f[1] && !*terminate) {
+            *terminate = true;
+            *who = u;
         }
     }
     return 0;
@@ -153,9 +629,9 @@ static int read_row(rg_stretch *s, uint64_t *row, int *who)
  * or to terminate, a call fails, or it pauses (WHY_PAUSE) because `max_rows` rows are stored or
  * the monotonic clock passed `deadline` (seconds, CLOCK_MONOTONIC, as Python's time.monotonic)
  * after at least one row. Returns the number of steps taken;
- * rows stored = steps, or steps - 1 when the last step ended in an event or a failed read.
- * *why says why it stopped; *who is the FMU (or read) concerned, *status the failing status.
- * The arena is emptied first: the previous chunk's strings have been read. */
+ * rows stored = steps, or steps - 1 when the last step ended in an event or a failed exchange.
+ * *why says why it stopped; *who is the FMU (or read, or set group) concerned, *status the
+ * failing status. The arena and the text are emptied first: the previous chunk's are read. */
 RG_EXPORT long rg_run_stretch(rg_stretch *s, double start, double h, long *n, double *t, double limit, long max_rows,
                               double deadline, double *times, uint64_t *slots, int *why, int *who, int *status)
 {
@@ -163,33 +639,22 @@ RG_EXPORT long rg_run_stretch(rg_stretch *s, double start, double h, long *n, do
     *why = WHY_LIMIT;
     *who = -1;
     *status = 0;
-    s->arena_used = 0;
+    s->arena.used = s->text.used = 0;
     for (;;) {
         long k = *n + 1;
         double t_next = start + (double)k * h;
         bool event = false, terminate = false;
-        int u, st;
+        int st;
         if (t_next >= limit || t_next <= *t) return steps;
         if (rows >= max_rows || (rows > 0 && wall_clock() > deadline)) {
             *why = WHY_PAUSE;
             return steps;
         }
-        *s->note_time = *t;
-        for (u = 0; u < s->n_instances; u++) {
-            bool *f = s->flags + 4 * u;
-            *s->note_call = s->step_note[u];
-            st = s->do_step[u](s->instance[u], *t, t_next - *t, true, f, f + 1, f + 2, s->last_time + u);
-            if (st > 1) {
-                *why = WHY_STEP_FAILED;
-                *who = u;
-                *status = st;
-                return steps;
-            }
-            if (f[0] && s->event_mode[u]) event = true;
-            if (f[1] && !terminate) {
-                terminate = true;
-                *who = u;
-            }
+        st = step_all(s, *t, t_next, &event, &terminate, who);
+        if (st != 0) {
+            *why = WHY_STEP_FAILED;
+            *status = st;
+            return steps;
         }
         *n = k;
         *t = t_next;
@@ -199,9 +664,9 @@ RG_EXPORT long rg_run_stretch(rg_stretch *s, double start, double h, long *n, do
             return steps;
         }
         *s->note_time = t_next;
-        st = read_row(s, slots + (size_t)rows * (size_t)s->width, who);
+        st = exchange_and_record(s, t_next, slots + (size_t)rows * (size_t)s->width, why, who);
         if (st != 0) {
-            *why = st < 0 ? WHY_NO_MEMORY : WHY_GET_FAILED;
+            if (st < 0) *why = WHY_NO_MEMORY;
             *status = st;
             return steps;
         }
@@ -213,9 +678,27 @@ RG_EXPORT long rg_run_stretch(rg_stretch *s, double start, double h, long *n, do
     }
 }
 
+/* The value last set to a String or Binary input (Python's, before a stretch; or the loop's). */
+RG_EXPORT int rg_keep_last(rg_stretch *s, int link, const char *data, size_t size)
+{
+    char *copy = (char *)realloc(s->last_bytes[link], size + 1);
+    if (copy == NULL) return -1;
+    if (size) memcpy(copy, data, size);
+    copy[size] = '\0';
+    s->last_bytes[link] = copy;
+    s->last_size[link] = size;
+    return 0;
+}
+
 RG_EXPORT void rg_release(rg_stretch *s)
 {
-    free(s->arena);
-    s->arena = NULL;
-    s->arena_size = s->arena_used = 0;
+    int k;
+    for (k = 0; k < s->n_links; k++) {
+        free(s->last_bytes[k]);
+        s->last_bytes[k] = NULL;
+    }
+    free(s->arena.data);
+    free(s->text.data);
+    s->arena.data = s->text.data = NULL;
+    s->arena.size = s->arena.used = s->text.size = s->text.used = 0;
 }

@@ -130,7 +130,9 @@ class ValueExchange:
         self.links = value_links
         self.connected = any(value_links.values())
         self._links = {name: plain(links) for name, links in value_links.items()}
-        self._last_set: dict[tuple[str, int], object] = {}
+        #: the value each connected input was last set to, by (target instance, value reference); the
+        #: C stretch (robogen.cosim.stepper) takes it over for its run and hands it back
+        self.last_set: dict[tuple[str, int], object] = {}
 
     def forward(self, u: FmuInstance) -> set[str]:
         """Read u's observed outputs and set the changed connected inputs; the names of the targets set."""
@@ -142,8 +144,8 @@ class ValueExchange:
         for vr, target, variable in links:
             value = u.value(vr)
             key = (target.name, variable.value_reference)
-            if self._last_set.get(key, _UNSET) != value:
-                self._last_set[key] = value
+            if self.last_set.get(key, UNSET) != value:
+                self.last_set[key] = value
                 target.set_values(variable.type, [variable.value_reference], [value])
                 woken.add(target.name)
         return woken
@@ -157,7 +159,7 @@ class ValueExchange:
         return changed
 
 
-_UNSET = object()
+UNSET = object()  # an input not set yet
 
 
 def find_cycle(edges: dict[str, set[str]]) -> list[str]:

@@ -1,5 +1,7 @@
 """Values of model constants at generation time: a ``--set NAME=VALUE`` text, or the constant's
-initialiser evaluated over literals, enumeration literals and other constants."""
+initialiser evaluated over literals, enumeration literals and other constants, or, for a constant
+the model leaves without a value, the default value of its type (the start value of the FMU
+parameter it becomes, which an importer sets in Initialization Mode)."""
 
 from __future__ import annotations
 
@@ -33,6 +35,38 @@ def parse_setting(text: str, t: T.Type, span: Span | None, name: str) -> object:
     except (ValueError, ArithmeticError):
         pass
     raise RobogenError.at(f"--set {name}={text}: not a value of type {t.show()}", span)
+
+
+def default_value(t: T.Type, real_zero: object = Fraction(0)) -> object:
+    """The default value of type ``t``, which a constant without a value starts with (and the
+    interpreter's memory, with ``real_zero`` 0.0): 0, 0.0, false, the first enumeration literal,
+    and for records, vectors and matrices that of each part (a record is a dict, a vector or
+    matrix a row-major list)."""
+    if t == T.REAL:
+        return real_zero
+    if t == T.BOOLEAN:
+        return False
+    if isinstance(t, T.RecordT):
+        return {n: default_value(ft, real_zero) for n, ft in t.fields}
+    if isinstance(t, (T.VectorT, T.MatrixT)):
+        size = t.size if isinstance(t, T.VectorT) else (t.rows or 0) * (t.columns or 0)
+        return [default_value(t.element, real_zero) for _ in range(size or 0)]
+    if isinstance(t, (T.SetT, T.SeqT)):
+        return []  # the empty set or sequence
+    return 0  # nat, int, and the first literal of an enumeration
+
+
+def shown(value: object, t: T.Type) -> str:
+    """A start value as the model would write it (for messages)."""
+    if t == T.REAL:
+        return repr(float(value))  # type: ignore[arg-type]
+    if t == T.BOOLEAN:
+        return "true" if value else "false"
+    if isinstance(t, T.EnumT):
+        return f"{t.qname}::{t.literals[value]}" if t.literals else "?"  # type: ignore[index]
+    if isinstance(t, (T.RecordT, T.VectorT, T.MatrixT)):
+        return "zero"
+    return str(value)
 
 
 def constant_value(e: ast.Expr, t: T.Type, model: SemanticModel, known: dict[str, object]) -> object:
@@ -73,4 +107,4 @@ def _evaluate(e: ast.Expr, model: SemanticModel, known: dict[str, object]):
     raise KeyError(type(e).__name__)
 
 
-__all__ = ["parse_setting", "constant_value"]
+__all__ = ["parse_setting", "constant_value", "default_value", "shown"]

@@ -13,10 +13,11 @@ from typing import TYPE_CHECKING
 from robogen.diagnostics import Span, working_on
 from robogen.ir import model as ir
 from robogen.ir.region_tree import Graph
-from robogen.ir.supported import check_codegen_type, is_scalar, not_supported
+from robogen.ir.supported import TupleT, check_codegen_type, is_collection, is_scalar, not_supported, tuple_type
 from robogen.semantics import types as T
 from robogen.semantics.model import EnumLitSym, EventSym, FuncSym, VarSym
 from robogen.syntax import ast
+from robogen.syntax.printer import expr as expr_text
 
 if TYPE_CHECKING:  # the attributes MachineLowering provides
     from robogen.semantics.model import SemanticModel
@@ -25,10 +26,7 @@ _UNSUPPORTED = {
     ast.StringLit: "a string",
     ast.Binder: "a quantifier, lambda or definite description",
     ast.Let: "'let'",
-    ast.TupleLit: "a tuple",
-    ast.SeqLit: "a sequence",
-    ast.SetLit: "a set",
-    ast.SetRange: "a set",
+    ast.SetRange: "a set range",
     ast.SetComprehension: "a set comprehension",
     ast.Range: "a range",
     ast.MatrixOp: "inverse/transpose",
@@ -38,6 +36,31 @@ _BINARY = {
     "iff": "iff", "=>": "implies", "\\/": "or", "/\\": "and",
     "==": "eq", "!=": "ne", "<": "lt", "<=": "le", ">": "gt", ">=": "ge",
     "+": "add", "-": "sub", "*": "mul", "/": "div", "%": "mod",
+}
+
+
+# toolkit functions code generation implements: (name, the forms of the arguments) -> operation
+# of robogen.ir.collections (first, second and maplet are tuple operations)
+TOOLKIT: dict[str, dict[tuple[str, tuple[str, ...]], str]] = {
+    "set_toolkit": {
+        ("notin", ("value", "set")): "notin", ("notin", ("pair", "set")): "notin",
+        ("subseteq", ("set", "set")): "subseteq", ("subset", ("set", "set")): "subset",
+        ("union", ("set", "set")): "union", ("inter", ("set", "set")): "inter", ("diff", ("set", "set")): "diff",
+        ("symetric_diff", ("set", "set")): "symdiff",
+    },
+    "relation_toolkit": {
+        ("first", ("pair",)): "first", ("second", ("pair",)): "second",
+        **{("maplet", (a, b)): "maplet" for a in ("value", "pair") for b in ("value", "pair")},
+        ("dom", ("seq",)): "indices", ("ran", ("seq",)): "elems",
+    },
+    "sequence_toolkit": {
+        ("range", ("value", "value")): "range", ("size", ("set",)): "size", ("size", ("seq",)): "size",
+        ("hasMin", ("set",)): "nonempty", ("hasMax", ("set",)): "nonempty", ("min", ("set",)): "min",
+        ("max", ("set",)): "max", ("isNonEmpty", ("seq",)): "nonempty", ("concat", ("seq", "seq")): "cat",
+        ("reverse", ("seq",)): "reverse", ("head", ("seq",)): "head", ("last", ("seq",)): "last",
+        ("tail", ("seq",)): "tail", ("front", ("seq",)): "front", ("filter", ("seq", "set")): "filter",
+        ("prefix", ("seq", "seq")): "prefix", ("suffix", ("seq", "seq")): "suffix", ("infix", ("seq", "seq")): "infix",
+    },
 }
 
 
@@ -98,7 +121,19 @@ class ExpressionLowering:
             return ir.VectorLit(t, tuple(self.conv(x, t.element, span) for x in e.items))
         if isinstance(t, T.RecordT) and isinstance(e, ir.RecordLit):
             return ir.RecordLit(t, tuple((n, self.conv(v, t.field(n), span)) for n, v in e.values))
+        if is_collection(t) and type(t) is type(e.type):
+            return self._conv_collection(e, t, span)  # type: ignore[arg-type]
         return e
+
+    def _conv_collection(self, e: ir.Expr, t: T.SetT | T.SeqT, span: Span | None) -> ir.Expr:
+        """A set or sequence as one of another element type: an enumeration's elements are
+        converted (``{}`` takes the type it is used as); other values only where the
+        representation does not change."""
+        if isinstance(e, ir.Coll) and e.op in ("set", "seq"):
+            return ir.Coll(t, e.op, tuple(self.conv(x, t.element, span) for x in e.args), e.text, e.span)
+        if isinstance(e.type.element, T.UnknownT) or e.type.element == t.element:  # type: ignore[attr-defined]
+            return e
+        raise not_supported(f"using a {e.type.show()} as a {t.show()}", span)
 
     def since_type(self) -> T.Type:
         """The type of clock readings: nat when the period is whole, real otherwise."""
@@ -162,6 +197,8 @@ class ExpressionLowering:
         return ir.Un(t, "neg", self.conv(operand, t, e.span))
 
     def _e_Binary(self, e: ast.Binary, graph: Graph) -> ir.Expr:
+        if e.op in ("in", "^", "cat"):
+            return self._collection_binary(e, graph)
         op = _BINARY.get(e.op)
         if op is None:
             raise not_supported(f"the operator '{e.op}'", e.span)
@@ -175,13 +212,21 @@ class ExpressionLowering:
             raise not_supported(f"'{e.op}' on {t.show()}", e.span)
         return ir.Bin(t, op, self.conv(a, t, e.left.span), self.conv(b, t, e.right.span))
 
+    def _collection_binary(self, e: ast.Binary, graph: Graph) -> ir.Expr:
+        a, b = self.expr(e.left, graph), self.expr(e.right, graph)
+        if e.op == "in":
+            assert isinstance(b.type, (T.SetT, T.SeqT))
+            return self.coll(T.BOOLEAN, "in", (self.conv(a, b.type.element, e.left.span), b), e)
+        t = self._type(e)
+        return self.coll(t, "cat", (self.conv(a, t, e.left.span), self.conv(b, t, e.right.span)), e)
+
     def _comparison(self, e: ast.Binary, op: str, a: ir.Expr, b: ir.Expr) -> ir.Expr:
         if a.type in T.NUMERIC and b.type in T.NUMERIC:
             t = T.REAL if T.REAL in (a.type, b.type) else (T.NAT if a.type == b.type == T.NAT else T.INT)
             return ir.Bin(T.BOOLEAN, op, self.conv(a, t, e.left.span), self.conv(b, t, e.right.span))
         if op not in ("eq", "ne"):
             raise not_supported(f"'{e.op}' on {a.type.show()}", e.span)
-        if not (is_scalar(a.type) or isinstance(a.type, (T.RecordT, T.VectorT, T.MatrixT))):
+        if not (is_scalar(a.type) or isinstance(a.type, (T.RecordT, T.VectorT, T.MatrixT, T.SetT, T.SeqT))):
             raise not_supported(f"comparing values of type {a.type.show()}", e.span)
         if a.type != b.type:  # a literal takes the type of the other side: [| 0, 0 |] is vector(nat, 2)
             if self.conv(b, a.type, e.right.span).type == a.type:
@@ -223,6 +268,11 @@ class ExpressionLowering:
         return self._index(self.expr(e.obj, graph), e, graph)
 
     def _index(self, base: ir.Expr, e: ast.Index, graph: Graph) -> ir.Expr:
+        if isinstance(base.type, TupleT) and len(e.indices) == 1 and isinstance(e.indices[0], ast.IntLit):
+            name = f"_{e.indices[0].value}"
+            return ir.FieldOf(base.type.field(name), base, name)  # type: ignore[arg-type]
+        if isinstance(base.type, T.SeqT) and len(e.indices) == 1:
+            return ir.IndexOf(base.type.element, base, (self.conv(self.expr(e.indices[0], graph), T.INT, e.indices[0].span),))
         if isinstance(base.type, T.VectorT) and len(e.indices) == 1:
             return ir.IndexOf(base.type.element, base, (self.conv(self.expr(e.indices[0], graph), T.INT, e.indices[0].span),))
         if isinstance(base.type, T.MatrixT) and len(e.indices) == 2:
@@ -234,6 +284,28 @@ class ExpressionLowering:
         assert isinstance(t, T.RecordT)
         given = {fv.name: fv.value for fv in e.fields}
         return ir.RecordLit(t, tuple((n, self.conv(self.expr(given[n], graph), ft, given[n].span)) for n, ft in t.fields))
+
+    def _e_TupleLit(self, e: ast.TupleLit, graph: Graph) -> ir.Expr:
+        items = tuple(self.expr(x, graph) for x in e.items)
+        t = tuple_type(tuple(x.type for x in items))
+        return ir.RecordLit(t, tuple((n, x) for (n, _), x in zip(t.fields, items)))
+
+    def coll(self, t: T.Type, op: str, args, e: ast.Expr) -> ir.Coll:
+        """A collection operation, with the expression's text and place for its run-time errors."""
+        return ir.Coll(t, op, tuple(args), expr_text(e), e.span)
+
+    def _e_SetLit(self, e: ast.SetLit, graph: Graph) -> ir.Expr:
+        return self._enumeration(e, graph, "set")
+
+    def _e_SeqLit(self, e: ast.SeqLit, graph: Graph) -> ir.Expr:
+        return self._enumeration(e, graph, "seq")
+
+    def _enumeration(self, e: ast.SetLit | ast.SeqLit, graph: Graph, op: str) -> ir.Expr:
+        t = self._type(e)
+        assert isinstance(t, (T.SetT, T.SeqT))
+        if not isinstance(t.element, T.UnknownT):
+            check_codegen_type(t, e.span, f"this {op}")
+        return self.coll(t, op, (self.conv(self.expr(x, graph), t.element, x.span) for x in e.items), e)
 
     def _e_VectorLit(self, e: ast.VectorLit, graph: Graph) -> ir.Expr:
         t = self._type(e)
@@ -248,15 +320,49 @@ class ExpressionLowering:
         sym = self.model.symbol(e.func)
         if isinstance(sym, EnumLitSym):
             raise not_supported("an enumeration literal with arguments", e.span)
-        if isinstance(sym, FuncSym) and sym.builtin is not None and sym.name in ("min", "max", "abs"):
+        if isinstance(sym, FuncSym) and sym.builtin is not None and not hasattr(sym.builtin, "package") \
+                and sym.name in ("min", "max", "abs"):
             t = self._type(e)
             if t not in T.NUMERIC or any(self._type(a) not in T.NUMERIC for a in e.args):
                 raise not_supported(f"'{sym.name}' of a set or sequence", e.span)
             return ir.CallB(t, sym.name, tuple(self.conv(self.expr(a, graph), t, a.span) for a in e.args))
         if isinstance(sym, FuncSym) and sym.builtin is None and sym.decl is not None:
             return self._user_call(sym, e, graph)
+        if isinstance(sym, FuncSym) and getattr(sym.builtin, "package", None) in TOOLKIT:
+            return self._toolkit_call(sym, e, graph)
         name = sym.name if isinstance(sym, FuncSym) else "?"
         raise not_supported(f"a call of function '{name}' (robogen has no implementation of it)", e.span)
+
+    def _toolkit_call(self, sym: FuncSym, e: ast.Call, graph: Graph) -> ir.Expr:
+        """A call of a toolkit function that code generation implements on sets, sequences and
+        pairs (see :mod:`robogen.ir.collections`)."""
+        args = [self.expr(a, graph) for a in e.args]
+        t = self._type(e)
+        kinds = tuple("set" if isinstance(a.type, T.SetT) else "seq" if isinstance(a.type, T.SeqT) else "pair"
+                      if isinstance(a.type, TupleT) else "value" for a in args)
+        op = TOOLKIT[sym.builtin.package].get((sym.name, kinds))  # type: ignore[union-attr]
+        if op is None:
+            shown = ", ".join(a.type.show() for a in args)
+            raise not_supported(f"'{sym.name}' of {shown}", e.span)
+        if op in ("first", "second"):
+            name = "_1" if op == "first" else "_2"
+            return ir.FieldOf(args[0].type.field(name), args[0], name)  # type: ignore[union-attr, arg-type]
+        if op == "maplet":
+            pair = tuple_type((args[0].type, args[1].type))
+            return ir.RecordLit(pair, (("_1", args[0]), ("_2", args[1])))
+        if op == "range":
+            args = [self.conv(a, T.INT, x.span) for a, x in zip(args, e.args)]
+        elif is_collection(t) and op not in ("elems", "indices"):
+            # the collections the result is made from have its type ({} and <> take it)
+            args = [self.conv(a, t, x.span) if is_collection(a.type) else a for a, x in zip(args, e.args)]
+        elif len(args) == 2 and all(is_collection(a.type) for a in args):
+            common = args[1].type if isinstance(args[0].type.element, T.UnknownT) else args[0].type  # type: ignore[union-attr]
+            args = [self.conv(a, type(a.type)(common.element), x.span) for a, x in zip(args, e.args)]  # type: ignore[union-attr, call-arg]
+        elif op == "notin":
+            args[0] = self.conv(args[0], args[1].type.element, e.args[0].span)  # type: ignore[union-attr]
+        if isinstance(t, (T.SetT, T.SeqT)):
+            check_codegen_type(t, e.span, f"the result of '{sym.name}'")
+        return self.coll(t, op, args, e)
 
     def _user_call(self, sym: FuncSym, e: ast.Call, graph: Graph) -> ir.Expr:
         """A call of a function the model declares by its contract only: the code generator

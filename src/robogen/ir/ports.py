@@ -143,6 +143,8 @@ class Ports:
         for p in fmu.inputs:
             if p.name == name:
                 return p
+        if t is not None and _holds_collection(t):
+            raise not_supported(f"input event '{name}' carrying a set or sequence (an FMU input)", span)
         fields = tuple(_flatten(name + ".value" if not isinstance(t, T.RecordT) else name, t, (), span)) if t is not None else ()
         port = ir.Port(name, "input-event", t, fields, span=span, index=len(fmu.inputs))
         fmu.inputs.append(port)
@@ -160,10 +162,10 @@ class Ports:
         if kind == "operation":
             fields: list[ir.Field_] = []
             for pname, ptype in params:
-                fields += _flatten(f"{name}.{pname}", ptype, (pname,), span)
+                fields += _flatten(f"{name}.{pname}", ptype, (pname,), span, fmu.capacity)
             port = ir.Port(name, kind, None, tuple(fields), tuple(params), span=span, index=len(fmu.outputs))
         else:
-            fields = _flatten(name + ".value" if not isinstance(t, T.RecordT) else name, t, (), span) if t is not None else []
+            fields = _flatten(name + ".value" if not isinstance(t, T.RecordT) else name, t, (), span, fmu.capacity) if t is not None else []
             port = ir.Port(name, kind, t, tuple(fields), span=span, index=len(fmu.outputs))
         fmu.outputs.append(port)
         return port
@@ -202,15 +204,28 @@ def event_uses(scope: MachineScope) -> tuple[set[str], set[str]]:
     return ins, outs
 
 
-def _flatten(prefix: str, t: T.Type | None, path: tuple[str, ...], span: Span | None) -> list[ir.Field_]:
-    """The scalar FMI variables of a payload of type ``t`` named ``prefix``."""
+def _holds_collection(t: T.Type) -> bool:
+    if isinstance(t, T.RecordT):
+        return any(_holds_collection(ft) for _, ft in t.fields)
+    return isinstance(t, (T.SetT, T.SeqT))
+
+
+def _flatten(prefix: str, t: T.Type | None, path: tuple[str, ...], span: Span | None, capacity: int = 0) -> list[ir.Field_]:
+    """The scalar FMI variables of a payload of type ``t`` named ``prefix``. A set or sequence of
+    scalars is two: its elements (an array of the capacity, zeros after the last; path element
+    ``#elements``) and its size (``#size``)."""
     assert t is not None
     check_codegen_type(t, span, f"'{prefix}'")
     if isinstance(t, T.RecordT):
         out: list[ir.Field_] = []
         for n, ft in t.fields:
-            out += _flatten(f"{prefix}.{n}", ft, path + (n,), span)
+            out += _flatten(f"{prefix}.{n}", ft, path + (n,), span, capacity)
         return out
+    if isinstance(t, (T.SetT, T.SeqT)):
+        if isinstance(t.element, T.RecordT):
+            raise not_supported(f"'{prefix}': a {T.form(t)[2:]} of records as an FMU port", span)
+        return [ir.Field_(f"{prefix}.elements", T.VectorT(t.element, capacity), path + ("#elements",)),
+                ir.Field_(f"{prefix}.size", T.NAT, path + ("#size",))]
     if isinstance(t, T.MatrixT):
         raise not_supported(f"'{prefix}': a matrix as an FMU port", span)
     return [ir.Field_(prefix, t, path)]

@@ -37,6 +37,7 @@ from robogen.diagnostics import RobogenError, Span, did_you_mean
 from robogen.fmu.archive import write_fmu
 from robogen.fmu.headers import PLATFORM_TUPLE, include_dir
 from robogen.fmu.modeldesc_writer import write_model_description
+from robogen.outputs import output_file
 from robogen.pyfmu.description import model_description
 from robogen.pyfmu.model import DeclarationError, Model
 
@@ -350,6 +351,7 @@ def package(spec: str, output: str | os.PathLike, assignments: Iterable[str] = (
     output = Path(output)
     if output.suffix != ".fmu":
         raise RobogenError.at(f"the output '{output}' must end in .fmu", None)
+    output_file(output)
     cls = load_model_class(spec)
     values = parse_settings(cls, assignments)
     configured = cls.configured(values)

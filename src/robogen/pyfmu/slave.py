@@ -1,7 +1,7 @@
 """The FMI 3.0 Co-Simulation state machine of a Python-implemented FMU.
 
 :class:`Slave` owns one :class:`robogen.pyfmu.model.Model` instance and answers the importer's
-calls as the FMI 3.0 standard requires (../shared/docs/fmi3.md §1-§2): allowed calls per
+calls as the FMI 3.0 standard requires (its state machine of calling sequences): allowed calls per
 state, clocked variables only while one of their clocks is active, output clocks deactivated by
 ``update_discrete_states``, a periodic clock only at its ticks and at most once per Event Mode,
 Step Mode only once the event iteration is over, ``doStep`` only from ``lastSuccessfulTime``. A

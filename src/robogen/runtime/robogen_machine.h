@@ -32,7 +32,8 @@ enum {
     RG_FAULT_INDEX = 2,
     RG_FAULT_RUNAWAY = 3,
     RG_FAULT_STUCK = 4,
-    RG_FAULT_CONVERSION = 5
+    RG_FAULT_CONVERSION = 5,
+    RG_FAULT_COLLECTION = 6 /* a set or sequence: its message is model.c's rg_sites[fault_site] */
 };
 
 /* Blocks one run may execute before it is reported as a runaway: the bound for any loop. */
@@ -52,12 +53,19 @@ static const char *rg_fault_text(int32_t fault)
 
 /* A statement of machine `machine` set the fault code in block `block`; `node` is the node the
  * machine entered last. Logs it and ends the run. */
+static int rg_report_fault_text(rg_instance *inst, const char *machine, const char *text, const char *block,
+                                const char *node) RG_MAYBE_UNUSED;
+static int rg_report_fault_text(rg_instance *inst, const char *machine, const char *text, const char *block,
+                                const char *node)
+{
+    rg_log(inst, RG_LOG_ERROR, fmi3Error, "state machine %s: %s in %s (last node entered: %s)", machine, text, block, node);
+    return RG_RUN_FAULT;
+}
+
 static int rg_report_fault(rg_instance *inst, const char *machine, const char *block, const char *node) RG_MAYBE_UNUSED;
 static int rg_report_fault(rg_instance *inst, const char *machine, const char *block, const char *node)
 {
-    rg_log(inst, RG_LOG_ERROR, fmi3Error, "state machine %s: %s in %s (last node entered: %s)", machine,
-           rg_fault_text(inst->s.data.fault), block, node);
-    return RG_RUN_FAULT;
+    return rg_report_fault_text(inst, machine, rg_fault_text(inst->s.data.fault), block, node);
 }
 
 /* More than RG_MAX_TRANSITIONS transitions (or RG_MAX_STEPS blocks) in one run. */
