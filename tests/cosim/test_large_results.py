@@ -70,7 +70,7 @@ def _peak(write_system, tmp_path, stop: float) -> tuple[int, int]:
 
 
 def test_a_parquet_run_holds_one_batch_of_rows_at_most(write_system, tmp_path, monkeypatch):
-    monkeypatch.setattr(columnar, "BATCH_ROWS", 2_000)
+    monkeypatch.setattr(columnar, "BATCH_CELLS", 6_000)  # 3 columns (time, superdense, a.y): batches of 2,000 rows
     small, small_rows = _peak(write_system, tmp_path, 10.0)
     large, large_rows = _peak(write_system, tmp_path, 40.0)
     assert (small_rows, large_rows) == (10_002, 40_002)  # (0, 0), (0, 1) of the start's event iteration, then a row per step

@@ -9,8 +9,10 @@ empty. So each value reads back as the one the CSV holds: the same float (the CS
 shortest text that reads back as it), the same integer, Boolean and String; a Binary as its
 bytes where the CSV shows them in hexadecimal.
 
-Rows are kept in memory only until :data:`BATCH_ROWS` of them are there; each batch becomes one
-row group of the file, so a run of any length is written in memory bounded by one batch. The
+Rows are kept in memory only until a batch of :data:`BATCH_CELLS` values (rows times columns, at
+least :data:`MIN_BATCH_ROWS` rows) is there; each batch becomes one row group of the file, so a
+run of any length and width is written in memory bounded by one batch (about 10 MB of Python
+values). The
 file's footer is written when the recorder closes: a run that ends in any way the master handles
 (an error, a signal, an FMU's request) leaves a complete file; a process killed outright leaves
 none that Parquet readers open.
@@ -21,8 +23,10 @@ from __future__ import annotations
 from pathlib import Path
 from typing import Sequence
 
-#: Rows per row group (and the most rows held in memory before they are written).
-BATCH_ROWS = 65_536
+#: Values (rows times columns) per row group: the most held in memory before they are written.
+BATCH_CELLS = 262_144
+#: Rows per row group at least, however wide the rows.
+MIN_BATCH_ROWS = 256
 
 #: The Arrow type of each FMI type (by the name of its pyarrow factory).
 ARROW_TYPES = {
@@ -38,7 +42,8 @@ def is_parquet(path: str | Path) -> bool:
 
 
 class ParquetSink:
-    """Rows to a Parquet file at ``path``, one row group per :data:`BATCH_ROWS` rows."""
+    """Rows to a Parquet file at ``path``, one row group per batch (``batch_rows``, by default
+    :data:`BATCH_CELLS` values' worth of rows)."""
 
     def __init__(self, path: Path, columns: Sequence[str], types: Sequence[str], batch_rows: int | None = None):
         import pyarrow as pa  # only for Parquet output: the import takes a while
@@ -49,7 +54,7 @@ class ParquetSink:
         self.schema = pa.schema([pa.field(name, kind) for name, kind in zip(columns, arrow)])
         self._writer = pq.ParquetWriter(str(path), self.schema)
         self._rows: list[Sequence] = []
-        self.batch_rows = batch_rows or BATCH_ROWS
+        self.batch_rows = batch_rows or max(MIN_BATCH_ROWS, BATCH_CELLS // len(self.schema))
 
     def write(self, row: Sequence) -> None:
         self._rows.append(row)

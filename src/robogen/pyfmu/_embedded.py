@@ -155,24 +155,28 @@ class _Embedding:
     def text(self, value: Any) -> str:
         return self.ffi.string(value).decode("utf-8") if value != self.ffi.NULL else ""
 
-    def call(self, handle: int, function: str, method: Any, *args: Any) -> int:
-        """Run ``method(instance, *args)``; an exception becomes fmi3Error, its log message, and
-        the Terminated state FMI 3.0 leaves an instance in after an error."""
-        inst = self.instances.get(handle)
-        if inst is None:
-            return ERROR
-        try:
-            method(inst, *args)
-        except BaseException as exc:  # noqa: BLE001 - nothing may escape into the host
-            self.report(inst.c_instance, function, exc, inst.usage_error)
-            inst.slave.failed()
-            return ERROR
-        return 0
+    def failed(self, inst: _Instance, function: str, exc: BaseException) -> int:
+        """An exception from ``function`` becomes fmi3Error, its log message, and the Terminated
+        state FMI 3.0 leaves an instance in after an error."""
+        self.report(inst.c_instance, function, exc, inst.usage_error)
+        inst.slave.failed()
+        return ERROR
 
     def export(self, c_name: str, function: str, method: Any) -> None:
-        """Bind the bridge function ``c_name`` to ``method(instance, *C arguments)``."""
+        """Bind the bridge function ``c_name`` to ``method(instance, *C arguments)``: 0 (fmi3OK),
+        or fmi3Error for an unknown instance or any exception (:meth:`failed`). One Python
+        frame of its own per call: the entry is on every FMI call's path."""
+        instances, failed = self.instances, self.failed
+
         def entry(handle, *args):
-            return self.call(handle, function, method, *args)
+            inst = instances.get(handle)
+            if inst is None:
+                return ERROR
+            try:
+                method(inst, *args)
+            except BaseException as exc:  # noqa: BLE001 - nothing may escape into the host
+                return failed(inst, function, exc)
+            return 0
         self.ffi.def_extern(name=c_name, error=ERROR)(entry)
 
     # -- creation ---------------------------------------------------------------------------
