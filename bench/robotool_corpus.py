@@ -5,8 +5,11 @@ its model files are loaded together, as RoboTool's integration test loads a proj
 workspace the script runs robogen's check in-process (``robogen.semantics.check_paths``); with
 ``--package``, every workspace that checks with 0 errors is also packaged, one FMU per module (or,
 when it has no module, per state machine; when it has neither, once without a name, to record what
-robogen says) into a temporary folder and validated (``robogen.codegen.api.package_model``). A ``RobogenError`` is a located user error (its first
-message is recorded); any other exception is an internal error, i.e. a robogen bug.
+robogen says, and the workspace is counted apart as having nothing to package) into a temporary
+folder and validated (``robogen.codegen.api.package_model``). Where the only errors are functions
+the model declares without a body, the script gives them one (returning their type's zero) in a
+``--functions`` file, as a user would, retries, and counts those targets apart. A ``RobogenError`` is a located user
+error (its first message is recorded); any other exception is an internal error, i.e. a robogen bug.
 
 Each workspace runs in its own subprocess with a time limit, so a hang or a crash costs one row.
 
@@ -117,9 +120,41 @@ def _internal(exc: BaseException) -> str:
     return f"{type(exc).__name__}: {exc}{at}"
 
 
+_MUST_DEFINE = "the file must define: "
+
+
+def _package(workspace: str, tmp: Path, entry: dict, **target) -> None:
+    """package_model, and where the only errors are functions the model leaves without a body,
+    again with a --functions file that gives each one a body returning the zero of its type: the
+    user's part, as the issue's measure allows (``entry["functions"]`` names them)."""
+    from robogen.codegen.api import package_model
+    from robogen.codegen.generate import CodegenOptions
+    from robogen.diagnostics import RobogenError
+
+    try:
+        package_model([workspace], tmp / "out.fmu", **target)
+        return
+    except RobogenError as exc:
+        notes = [n.message for d in exc.diagnostics for n in d.notes if n.message.startswith(_MUST_DEFINE)]
+        if not notes or len(notes) != len(exc.diagnostics):
+            raise
+        prototypes = [n[len(_MUST_DEFINE):].removesuffix(" { ... }") for n in notes]
+    (tmp / "functions.c").write_text("".join(_zero_body(p) for p in prototypes), encoding="utf-8")
+    package_model([workspace], tmp / "out.fmu", codegen=CodegenOptions(functions=tmp / "functions.c"), **target)
+    entry["functions"] = [p.split("rg_user_", 1)[1].split("(", 1)[0] for p in prototypes]
+
+
+def _zero_body(prototype: str) -> str:
+    """``static T rg_user_f(A a, B b)`` with a body that uses its parameters and returns T's zero."""
+    result = prototype.removeprefix("static ").split(" rg_user_", 1)[0]
+    params = prototype.split("(", 1)[1].rstrip(")")
+    uses = "".join(f" (void){p.split()[-1]};" for p in params.split(", ") if p != "void")
+    return f"{prototype}\n{{{uses} static {result} zero; return zero; }}\n"
+
+
 def run_workspace(workspace: str, package: bool) -> dict:
     """Check (and package) one workspace; the path is relative to the current directory."""
-    from robogen.codegen.api import package_model
+    from robogen.ir.boundary import boundaries
     from robogen.diagnostics import RobogenError
     from robogen.semantics import check_paths
 
@@ -138,17 +173,20 @@ def run_workspace(workspace: str, package: bool) -> dict:
     result["check_seconds"] = round(time.perf_counter() - started, 3)
     if not package or model.errors:
         return result
-    targets = [("module", m.qname) for m in model.modules]
+    modules, machines = boundaries(model)  # each named by a label that selects it alone
+    targets = [("module", m.label) for m in modules]
     if not targets:
-        targets = [("machine", s.qname) for s in model.machines]
+        targets = [("machine", s.label) for s in machines]
     for kind, name in targets or [("default", None)]:  # nothing to name: let robogen say what it does
         entry = {"kind": kind, "name": name or "(no module or machine)", "status": "ok", "message": ""}
         with tempfile.TemporaryDirectory(prefix="robotool-corpus-") as tmp:
             try:
-                package_model([workspace], Path(tmp) / "out.fmu", **({kind: name} if name else {}))
+                _package(workspace, Path(tmp), entry, **({kind: name} if name else {}))
             except RobogenError as exc:
                 first = exc.diagnostics[0] if exc.diagnostics else None
-                entry.update(status="error", message=_located(first)["text"] if first else str(exc))
+                # a workspace without a module or a machine (only types, functions, operations)
+                # has nothing to package: counted apart, with robogen's message
+                entry.update(status="error" if name else "nothing", message=_located(first)["text"] if first else str(exc))
             except Exception as exc:  # noqa: BLE001
                 entry.update(status="internal", message=_internal(exc))
             entry["message"] = entry["message"].replace(tmp, "<tmp>")  # stable across runs
@@ -209,6 +247,8 @@ def report(rows: list[dict], package: bool, listed: bool) -> None:
             good = sum(p["status"] == "ok" for p in r["package"])
             bad = next((p for p in r["package"] if p["status"] != "ok"), None)
             pkg = f"{good}/{len(r['package'])}" + (f" {bad['status']}: {bad['name']}: {bad['message']}" if bad else "")
+            given = sorted({f for p in r["package"] for f in p.get("functions", ())})
+            pkg += f" (--functions: {', '.join(given)})" if given else ""
         print(f"{r['workspace']:46} {want:12} {clip(got.replace(here, ''), 100):100} {clip(pkg.replace(here, ''), 200)}".rstrip())
         for e in exp["errors"]:
             print(f"{'':46} {'':12} RoboTool: {e['file']} {e['element']}: {e['message']}")
@@ -229,12 +269,15 @@ def summarise(rows: list[dict], package: bool) -> dict:
         def packaged(r: dict) -> bool:
             return bool(r["package"]) and all(p["status"] == "ok" for p in r["package"])
 
+        nothing = [r for r in checked if r["package"] and all(p["status"] == "nothing" for p in r["package"])]
+        checked = [r for r in checked if r not in nothing]
         targets = [p for r in checked for p in r["package"]]
         accepted_fail = [r for r in fail if not r["errors"] and not r["internal"]]
         s.update(package_workspaces=len(checked), package_workspaces_ok=sum(map(packaged, checked)),
                  package_targets=len(targets), package_targets_ok=sum(p["status"] == "ok" for p in targets),
                  package_internal=sum(p["status"] == "internal" for r in rows for p in r["package"]),
-                 fail_accepted_and_packaged=sum(map(packaged, accepted_fail)))
+                 fail_accepted_and_packaged=sum(map(packaged, accepted_fail)), package_nothing=len(nothing),
+                 package_targets_with_functions=sum(p["status"] == "ok" and bool(p.get("functions")) for p in targets))
     print()
     print(f"valid workspaces that check with 0 errors: {s['valid_checked']}/{s['valid']}")
     print(f"failing projects rejected: {s['fail_rejected']}/{s['fail']}, with RoboTool's rule: {s['fail_right_rule']}/{s['fail']}")
@@ -243,6 +286,9 @@ def summarise(rows: list[dict], package: bool) -> dict:
         print(f"valid workspaces that check and whose every module packages and validates: "
               f"{s['package_workspaces_ok']}/{s['package_workspaces']} ({pct:.0f}%); "
               f"their modules/machines: {s['package_targets_ok']}/{s['package_targets']}")
+        print(f"valid workspaces that check and have nothing to package (no module, no state machine): {s['package_nothing']}")
+        print(f"modules/machines that package only with a --functions file for functions the model leaves without a body: "
+              f"{s['package_targets_with_functions']}")
         print(f"failing projects robogen accepts that also package: {s['fail_accepted_and_packaged']}; "
               f"internal errors while packaging: {s['package_internal']}")
     print(f"workspaces with an internal error (check, package or worker): {s['workspaces_with_internal_errors']}")

@@ -89,9 +89,13 @@ def write_variant_systems(system: Path, out: Path) -> dict[str, Path]:
 
 
 def _rebase(text: str, old: Path, new: Path) -> str:
-    """Rewrite the `fmu = "..."` paths (relative to ``old``) relative to ``new``."""
+    """Rewrite the `fmu = "..."` paths (relative to ``old``) relative to ``new``; an FMU that
+    build_all wrote into ``new`` (the system file names them in build/ur5e/) is the one there,
+    so a build into another folder runs its own FMUs."""
 
     def fix(m: re.Match) -> str:
+        if (new / Path(m.group(2)).name).is_file():
+            return f'{m.group(1)}"{Path(m.group(2)).name}"'
         target = (old / m.group(2)).resolve()
         try:
             rel = target.relative_to(new.resolve())

@@ -386,6 +386,18 @@ def interpret(fmu: ir.Fmu, scenario: list[Instant], desc: Description, max_k: in
     return trace
 
 
+def run_checked(built: "Built", scenario: Scenario, parameters: dict[str, object] | None = None) -> Trace:
+    """The FMU's trace of ``scenario`` (``parameters`` set in Initialization Mode), after checking
+    that the interpreter's is the same."""
+    runner = FmuRunner(built.folder)
+    try:
+        got = runner.run(scenario, parameters=parameters)
+    finally:
+        runner.close()
+    assert got.comparable() == interpret(built.fmu, scenario, runner.desc, parameters=parameters).comparable()
+    return got
+
+
 def _fmi_values(values: dict[str, object]) -> dict[str, object]:
     """Interpreter values as the FMU shows them (exact reals as floats)."""
     out = {}
@@ -431,4 +443,4 @@ def build(paths: list[Path], work: Path, *, module: str | None = None, machine: 
     return Built(compiled.fmu, archive, folder, dict(compiled.generated.files))
 
 
-__all__ = ["Tick", "Instant", "Scenario", "canonical", "Step", "Trace", "Description", "FmuRunner", "interpret", "random_scenario", "build", "Built"]
+__all__ = ["Tick", "Instant", "Scenario", "canonical", "Step", "Trace", "Description", "FmuRunner", "interpret", "run_checked", "random_scenario", "build", "Built"]

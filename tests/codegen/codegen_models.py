@@ -17,6 +17,7 @@ class ModelCase:
     name: str
     path: Path
     max_steps: int = 1000
+    capacity: int = 32  # of sets and sequences (--capacity)
     settings: dict[str, str] = field(default_factory=dict)  # constants without a value (--set)
     # payload choices for the random scenarios (FMI name -> values), to keep run-time errors rare
     choices: dict[str, list] = field(default_factory=dict)
@@ -43,9 +44,25 @@ TEST_MODELS = {
         ModelCase("beacon", MODELS / "beacon.rst", settings={"step": "0.25"}),
         ModelCase("timers", MODELS / "timers.rct"),
         ModelCase("inputs", MODELS / "inputs.rct"),
+        ModelCase("binding", MODELS / "binding.rct"),
         ModelCase("relay", MODELS / "relay.rct"),
         ModelCase("nested", MODELS / "nested.rct"),
+        ModelCase("functions", MODELS / "functions.rct", choices={
+            "set.value": [0, 1, 2, 3], "use.value": [0, 1, 2, 3, 4, 2**63],
+        }),
+        ModelCase("collections", MODELS / "collections.rct", capacity=5, choices={
+            "add.value": [-1, 0, 1, 2, 3, 4, 5],
+            "drop.value": [0, 1, 2, 3, 4, 5, -1, 9, 9, 9],
+            "pick.value": [0] + [1, 2, 3, 4, 5, 9] * 6,
+            "load.value.elements": [-1, 0, 1, 2, 3, 3, 3, 9],
+            "load.value.size": [0, 1, 2, 3, 5, 6, 2**64 - 1],
+        }),
         ModelCase("ur5e_rct", ROOT / "models" / "ur5e" / "ur5e.rct"),
+        ModelCase("gripper", MODELS / "gripper.rst"),
+        ModelCase("twins", MODELS / "twins.rct"),
+        ModelCase("clashes", MODELS / "clashes.rct"),
+        ModelCase("opconsts", MODELS / "opconsts.rct"),
+        ModelCase("linear", MODELS / "linear.rst", choices={"y.value": [-2.5, -1.0, 0.5, 1.5, 3.0, 1e300, 0.0]}),
     )
 }
 OWN_MODELS = [n for n in TEST_MODELS if n != "ur5e"]

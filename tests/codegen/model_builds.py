@@ -35,7 +35,7 @@ class Builds:
             if key not in self.futures:
                 model = TEST_MODELS[name]
                 options = LoweringOptions(semantics=semantics, trigger=trigger, max_steps=model.max_steps,
-                                  settings=dict(model.settings))
+                                          settings=dict(model.settings), capacity=model.capacity)
                 work = self.folder / f"{name}-{semantics}-{trigger}"
                 self.futures[key] = self.pool.submit(build, [model.path], work, options=options)
             return self.futures[key]

@@ -76,6 +76,10 @@ def test_on_input_trigger_and_a_tick_every_instant(builds, name, semantics):
 ERROR_PATHS = {
     "arith": ("division by zero", "runaway", "deadlock in state 'Stuck'", "out of range for"),
     "data": ("division by zero", "out of range"),
+    # the messages name the expression and its model line (capacity 5)
+    "collections": ("more than 5 elements (the capacity) in union(s, {v}) at collections.rct:45",
+                    "'head' of an empty collection in head(q) at collections.rct:50",
+                    "'front' of an empty collection in front(q) at collections.rct:58"),
 }
 
 
@@ -120,9 +124,11 @@ def cycle_ends(trace) -> tuple[dict[int, dict], int | None]:
 # relay.rct is left out: its two machines write one shared variable and one output clock in the
 # same instant, so the order in which stepwise interleaves their micro-steps shows (docs §7.6
 # asks the modes to agree only on deterministic models emitting each output once per cycle).
-@pytest.mark.parametrize("name", [n for n in TEST_MODELS if n != "relay"])
+# collections.rct is left out for the same reason: several of its transitions, each on its own
+# buffered event, may run in one instant and send on one output (items, members, count).
+@pytest.mark.parametrize("name", [n for n in TEST_MODELS if n not in ("relay", "collections")])
 def test_exhaustive_and_stepwise_agree_at_the_end_of_every_cycle(built, name):
-    """docs/robosim-robochart.md §7.6: both modes sample inputs once per cycle and latch late ones,
+    """The two semantics (README): both modes sample inputs once per cycle and latch late ones,
     so at the end of every instant they show the same states, variables and outputs."""
     exhaustive, stepwise = built(name, "exhaustive"), built(name, "stepwise")
     desc = Description(exhaustive.folder)

@@ -182,7 +182,9 @@ def test_line_comments_can_be_switched_off(tmp_path):
     assert not re.search(r"case \d+: /\*[^*]*ur5e\.rst:\d+", without)
 
 
-def test_a_model_name_that_clashes_with_an_fmi_variable_is_a_located_error(tmp_path):
+def test_a_model_name_that_clashes_with_an_fmi_variable_is_renamed_or_a_located_error(tmp_path):
+    """Events named like robogen's own FMI variables get renamed clocks (with a warning); a
+    machine variable named 'state' would be a second '<machine>.state': a located error."""
     model = tmp_path / "clash.rct"
     model.write_text(
         "package clash\n"
@@ -195,13 +197,19 @@ def test_a_model_name_that_clashes_with_an_fmi_variable_is_a_located_error(tmp_p
         "\ttransition t0 { from i to S }\n"
         "\ttransition t1 { from S to S trigger tock action n = n + 1 ; send cycles!n }\n"
         "}\n")
+    compiled = compile_model([str(model)], tmp_path / "out")
+    assert [p.name for p in compiled.fmu.inputs + compiled.fmu.outputs] == ["tock_event", "cycles_event"]
+    assert [(w.span.line, w.span.column, w.message) for w in compiled.fmu.warnings] == [
+        (2, 21, "input event 'tock' becomes the FMI clock 'tock_event': 'tock' is one of robogen's own FMI variables"),
+        (2, 32, "output event 'cycles' becomes the FMI clock 'cycles_event': 'cycles' is one of robogen's own FMI variables"),
+    ]
+    model.write_text(model.read_text().replace("var n: nat = 0", "var n: nat = 0, ^state: nat = 1"))
     with pytest.raises(RobogenError) as caught:
         compile_model([str(model)], tmp_path / "out")
     found = [(d.span.line, d.span.column, d.message, [n.message for n in d.notes]) for d in caught.value.diagnostics]
-    assert [f[:2] for f in found] == [(2, 21), (2, 32)]
-    assert found[0][2] == "the FMU would have two variables named 'tock' (input event tock); rename it in the model"
-    assert found[1][2] == "the FMU would have two variables named 'cycles' (output event cycles); rename it in the model"
-    assert all("robogen's own FMI variables" in f[3][0] for f in found)
+    assert [f[:3] for f in found] == [(5, 18, "the FMU would have two variables named 'M.state' (variable state of M); "
+                                               "rename it in the model")]
+    assert "robogen's own FMI variables" in found[0][3][0]
 
 
 def test_events_connected_to_nothing_compile(tmp_path):

@@ -20,7 +20,7 @@ COUNTERS = ["cycles", "dropped_events", "deadline_misses"]
 
 @pytest.mark.parametrize("name", ["ur5e", "timers", "pipeline"])
 def test_simulate_fmu_with_event_mode_records_the_unclocked_outputs(built, name):
-    """simulate_fmu never sets a clock (docs/fmi3.md §7): the periodic ticks pass unused (the
+    """simulate_fmu never sets a clock (fmpy's simulate_fmu has no clock support): the periodic ticks pass unused (the
     runtime warns), so the machines rest in their initial node and no cycle is counted; the run
     goes to the stop time through Event Mode and Step Mode without an error."""
     b = built(name, "stepwise")

@@ -1,5 +1,5 @@
 """The UR5e d-model (models/ur5e/ur5e.rst) against traces written by hand from the model and
-docs/robosim-robochart.md §4.1 and §7.3-7.5.
+RoboSim's cycle semantics and robogen's FMI mapping (README: How a model becomes an FMU).
 
 The story: the cycle clock ticks every second; the platform sends moveDiscreteCommand(0, 23, 1)
 at t=1, the feasibility verdict at t=2, moveCompleted at t=4 and robotStopped at t=5. The

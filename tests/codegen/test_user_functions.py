@@ -13,6 +13,7 @@ import pytest
 
 from codegen_driver import FmuRunner, build, interpret, random_scenario
 from robogen.codegen.api import compile_model
+from robogen.codegen.generate import CodegenOptions
 from robogen.diagnostics import RobogenError
 from robogen.ir.lower import LoweringOptions
 
@@ -80,3 +81,19 @@ def test_the_reference_robosim_movement_machine_compiles(tmp_path):
         assert trace.error is None and len(trace.steps) >= 40
     finally:
         runner.close()
+
+
+def test_every_function_the_file_lacks_is_reported(tmp_path):
+    """Without --functions both functions are named; with a file that defines only sat, even is,
+    located at its first call, instead of a C compiler error."""
+    with pytest.raises(RobogenError) as exc:
+        compile_model([MODEL], tmp_path / "a")
+    assert sorted(d.message.split("'")[1] for d in exc.value.diagnostics) == ["even", "sat"]
+    part = tmp_path / "part.c"
+    part.write_text("static double rg_user_sat(double x, double hi) { return x > hi ? hi : x; }\n")
+    with pytest.raises(RobogenError) as exc:
+        compile_model([MODEL], tmp_path / "b", codegen=CodegenOptions(functions=part))
+    (d,) = exc.value.diagnostics
+    assert d.message == f"function 'even' has no implementation: {part} does not define it"
+    assert (d.span.line, d.span.column) == (27, 45)
+    assert d.notes[0].message == "the file must define: static bool rg_user_even(int64_t n) { ... }"

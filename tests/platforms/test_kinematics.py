@@ -1,5 +1,5 @@
 """UR5e kinematics from the DH table and the case study's grid mapping, against values computed
-by hand (../shared/docs/ur5e-case-study.md §4-§6)."""
+by hand (the published UR5e DH table and the case study's grid)."""
 
 from __future__ import annotations
 

@@ -1,6 +1,6 @@
 """The compiled Python FMUs in real hosts: fmpy's FMU3Slave in this process, and the C host of
 host.c in a clean process that dlopen()s the binary with RTLD_LOCAL. Covers the traps of
-../shared/docs/fmi3.md §9: libpython's scope, sys.path, several instances and several FMUs in one
+libpython's scope, sys.path, several instances and several FMUs in one
 process, unloading, and Python exceptions turned into fmi3Error with the traceback logged."""
 
 from __future__ import annotations
@@ -165,6 +165,21 @@ def test_debug_logging_categories(fmus):
     with pytest.raises(FMICallException):
         fmu.slave.getFloat32([fmu.vr["position"]])
     assert [m for m in fmu.messages() if "getFloat32" in m.lower()] == []  # logging is off
+    fmu.close()
+
+
+def test_event_messages_are_made_only_while_their_category_is_logged(fmus):
+    fmu = started(fmus["counter"])
+    fmu.slave.setDebugLogging(True, ["logEvents"])
+    fmu.set_clocks("tick")
+    assert fmu.messages() == ["t=0: input clock tick active"]
+    fmu.slave.updateDiscreteStates()
+    fmu.slave.setDebugLogging(True, ["logStatusWarning"])  # the slave asks the C side before formatting
+    fmu.slave.enterStepMode()
+    fmu.slave.doStep(0.0, 0.5)
+    fmu.slave.enterEventMode()
+    fmu.set_clocks("tick")
+    assert fmu.messages() == ["t=0: input clock tick active"]
     fmu.close()
 
 

@@ -1,5 +1,5 @@
 """The FMI 3.0 state machine of a Python FMU (robogen.pyfmu.slave), without compiling: the call
-rules of ../shared/docs/fmi3.md §1-§2 and §10, each checked on the fixture models."""
+rules of the FMI 3.0 standard (calling sequences, clocks, Event Mode), each checked on the fixture models."""
 
 from __future__ import annotations
 
@@ -51,6 +51,27 @@ def test_output_clocks_read_active_repeatedly_then_inactive_after_the_instant_cl
     slave.do_step(0.0, 0.5)
     slave.enter_event_mode()
     assert slave.get_clock([VR["ticked"]]) == [False]  # not sticky across Event Modes either
+
+
+def test_a_repeated_get_is_checked_like_the_first():
+    # The slave keeps what it checked of a Get (types, value references); what depends on the
+    # moment (clock activity, the instant's outputs) is checked at every call.
+    slave = started()
+    slave.set_clock([VR["tick"]], [True])
+    both = [VR["ticked.count"], VR["total"]]
+    assert slave.get("fmi3GetInt64", "Int64", both) == [1, 1]
+    slave.update_discrete_states()
+    for _ in range(2):
+        with pytest.raises(FmiUsageError, match="clocked by 'ticked', which is not active"):
+            slave.get("fmi3GetInt64", "Int64", both)
+        with pytest.raises(FmiUsageError, match="unknown value reference 999"):
+            slave.get("fmi3GetInt64", "Int64", [VR["total"], 999])
+        with pytest.raises(FmiUsageError, match="is a Int64"):
+            slave.get("fmi3GetFloat64", "Float64", [VR["total"]])
+    assert slave.get("fmi3GetInt64", "Int64", [VR["total"]]) == [1]
+    slave.set_clock([VR["bump"]], [True])
+    slave.set("fmi3SetInt64", "Int64", [VR["bump.amount"]], [5])
+    assert slave.get("fmi3GetInt64", "Int64", [VR["total"]]) == [6]  # the instant's reaction ran first
 
 
 def test_clocked_variables_only_while_their_clock_is_active():

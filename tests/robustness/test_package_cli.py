@@ -11,6 +11,7 @@ from support.cli_cases import Case, run_case
 
 GOOD = "stm S {\n\tcycleDef cycle == 1\n\tvar x: nat\n\tinitial i\n\tstate A { }\n\ttransition t { from i to A action x = 1 }\n}\n"
 BROKEN = "stm S {\n\tcycleDef cycle == 1\n\tinitial i\n\tstate A { entry y = 1 }\n\ttransition t { from i to A }\n}\n"
+CONSTANTS = GOOD.replace("\tvar x: nat\n", "\tconst limit: nat = 3\n\tvar x: nat\n").replace("x = 1", "x = limit")
 REFUSED = "is also an input of this command; refusing to overwrite it"
 
 CASES = [
@@ -43,6 +44,15 @@ CASES = [
     Case("compile into a new folder", ["compile", "m.rst", "-o", "new/out"], 0, "err", "wrote new/out/", files={"m.rst": GOOD}),
     Case("compile into an empty folder", ["compile", "m.rst", "-o", "empty"], 0, "err", "wrote empty/",
          files={"m.rst": GOOD, "empty/": ""}),
+    Case("--set of a constant the model does not have", ["package", "c.rst", "--set", "limt=4", "-o", "c.fmu"], 1, "err",
+         "error: --set limt: the FMU has no constant named 'limt' (did you mean 'limit'?)", files={"c.rst": CONSTANTS}),
+    Case("--set for a model without constants", ["package", "m.rst", "--set", "limit=4", "-o", "m.fmu"], 1, "err",
+         "note: it has no constant a --set could give a value", files={"m.rst": GOOD}),
+    Case("--set by the constant's FMI name", ["package", "c.rst", "--set", "S.limit=4", "-o", "c.fmu"], 0, "err",
+         "wrote c.fmu (valid)", files={"c.rst": CONSTANTS}),
+    Case("--functions for a model without functions", ["package", "m.rst", "--functions", "f.c", "-o", "m.fmu"], 0, "err",
+         "warning: --functions f.c: the model calls no user function; the file is not used",
+         files={"m.rst": GOOD, "f.c": "/* nothing the model calls */\n"}),
     Case("package-py output is a folder", ["package-py", "robogen.platforms.controller:PlanController", "-o", "c.fmu"], 1, "err",
          "error: -o c.fmu is a folder; name a file", files={"c.fmu/": ""}),
 ]

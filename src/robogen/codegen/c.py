@@ -18,11 +18,14 @@ import re
 from dataclasses import dataclass
 
 from robogen.ir import model as ir
+from robogen.ir.supported import TupleT
+from robogen.ir.collections import CAN_OVERFLOW, EMPTY_FAULTS, empty_message, overflow_message
 from robogen.semantics import types as T
 
 
 def ctype(t: T.Type) -> str:
-    if t == T.INT or isinstance(t, T.EnumT):
+    # a function: the number of its value; a string: its number among the model's strings
+    if t == T.INT or t == T.STRING or isinstance(t, (T.EnumT, T.FunctionT)):
         return "int64_t"
     if t == T.NAT:
         return "uint64_t"
@@ -30,12 +33,16 @@ def ctype(t: T.Type) -> str:
         return "double"
     if t == T.BOOLEAN:
         return "bool"
+    if isinstance(t, TupleT):  # by its arity and components: a prefix code, one name per tuple type
+        return f"rg_tup{len(t.fields)}_" + "_".join(elem_tag(ft) for _, ft in t.fields)
     if isinstance(t, T.RecordT):
         return "rg_rec_" + mangle(t.qname)
     if isinstance(t, T.VectorT):
         return f"rg_vec_{tag(t.element)}_{t.size}"
     if isinstance(t, T.MatrixT):
         return f"rg_mat_{tag(t.element)}_{t.rows}_{t.columns}"
+    if isinstance(t, (T.SetT, T.SeqT)):
+        return f"rg_{'set' if isinstance(t, T.SetT) else 'seq'}_{elem_tag(t.element)}"
     raise TypeError(f"no C type for {t.show()}")
 
 
@@ -47,6 +54,11 @@ def tag(t: T.Type) -> str:
     if t == T.BOOLEAN:
         return "b"
     return "i"  # int and enumerations
+
+
+def elem_tag(t: T.Type) -> str:
+    """The part of a collection's C names that names its element type."""
+    return ctype(t)[3:] if isinstance(t, T.RecordT) else tag(t)
 
 
 def mangle(name: str) -> str:
@@ -182,6 +194,18 @@ def bare(text: str) -> str:
     return text
 
 
+def _fixed_offset(e: ir.IndexOf) -> int | None:
+    """The array offset of an element whose indices are literals in range (None otherwise)."""
+    if not all(isinstance(i, ir.Lit) and not isinstance(i.value, bool) for i in e.indices):
+        return None
+    ks = [int(i.value) - 1 for i in e.indices]  # type: ignore[attr-defined]
+    t = e.base.type
+    dims = [t.size] if isinstance(t, T.VectorT) else [t.rows, t.columns]  # type: ignore[attr-defined]
+    if len(ks) != len(dims) or not all(0 <= k < (n or 0) for k, n in zip(ks, dims)):
+        return None
+    return ks[0] if len(ks) == 1 else ks[0] * dims[1] + ks[1]
+
+
 class Emitter:
     """Translates the IR of machine ``machine`` into C text, inside its run function
     ``rg_run_<index>``: machine memory is ``m->``, model data ``d->``, the instance ``inst``."""
@@ -196,6 +220,9 @@ class Emitter:
         self.fallible = False  # the last expression may set the fault code
         self.equalities: set[str] = set()  # C types whose equality function is needed
         self.delivers_to: set[int] = set()  # machines this one sends events to (their event tables)
+        self.collections = None  # the CollectionCode of the FMU (robogen.codegen.collections)
+        self.sites: list[str] = []  # run-time messages of collection operations (model.c's rg_sites)
+        self.strings: list[str] = [""]  # the model's strings, numbered: a string is its number in C
 
     @property
     def fault_return(self) -> str:
@@ -209,6 +236,10 @@ class Emitter:
         return method(e)
 
     def _Lit(self, e: ir.Lit) -> str:
+        if e.type == T.STRING:  # strings are only literals (and equality): a string is its number
+            if e.value not in self.strings:
+                self.strings.append(e.value)  # type: ignore[arg-type]
+            return f"INT64_C({self.strings.index(e.value)}) /* {c_comment(c_string(e.value))} */"  # type: ignore[arg-type]
         return literal(e.value, e.type)
 
     def _Ref(self, e: ir.Ref) -> str:
@@ -221,11 +252,16 @@ class Emitter:
         return f"{self.expr(e.base)}.{e.name}"
 
     def _IndexOf(self, e: ir.IndexOf) -> str:
-        self.fallible = True
         t = e.base.type
         base = self.expr(e.base)
+        fixed = _fixed_offset(e)
+        if fixed is not None:  # literal indices in range (vector arithmetic): no run-time check
+            return f"{base}.a[{fixed}]"
+        self.fallible = True
         if isinstance(t, T.VectorT):
             return f"{base}.a[rg_index(d, {self.expr(e.indices[0])}, {t.size})]"
+        if isinstance(t, T.SeqT):
+            return f"{base}.a[rg_index(d, {self.expr(e.indices[0])}, (int64_t){base}.n)]"
         assert isinstance(t, T.MatrixT)
         r, c = (self.expr(i) for i in e.indices)
         return f"{base}.a[rg_index(d, {r}, {t.rows}) * {t.columns} + rg_index(d, {c}, {t.columns})]"
@@ -251,7 +287,7 @@ class Emitter:
             return f"(!{a} == !{b})"
         if op in ("eq", "ne"):
             t = e.left.type
-            if isinstance(t, (T.RecordT, T.VectorT, T.MatrixT)):
+            if isinstance(t, (T.RecordT, T.VectorT, T.MatrixT, T.SetT, T.SeqT)):
                 self.equalities.add(ctype(t))
                 test = f"rg_eq_{ctype(t)}({a}, {b})"
                 return test if op == "eq" else f"(!{test})"
@@ -260,9 +296,9 @@ class Emitter:
             return f"({a} {dict(lt='<', le='<=', gt='>', ge='>=')[op]} {b})"
         t = e.type
         if t == T.REAL:
-            if op == "div":
+            if op in ("div", "mod"):
                 self.fallible = True
-                return f"rg_r_div(d, {a}, {b})"
+                return f"rg_r_{op}(d, {a}, {b})"
             return f"({a} {dict(add='+', sub='-', mul='*')[op]} {b})"
         if op in ("div", "mod"):
             self.fallible = True
@@ -321,6 +357,21 @@ class Emitter:
 
     def _VectorLit(self, e: ir.VectorLit) -> str:
         return f"(({ctype(e.type)}){{ {{ {', '.join(self.expr(x) for x in e.items)} }} }})"
+
+    def _Coll(self, e: ir.Coll) -> str:
+        """A collection operation: a function of robogen.codegen.collections, with its site (the
+        index of its run-time messages in rg_sites) where it can fail."""
+        args = [self.expr(a) for a in e.args]
+        site = len(self.sites)
+        if self.collections.fallible(e.op):  # type: ignore[attr-defined]
+            self.fallible = True
+            where = self.fmu.place(e.span)
+            if e.op == "undefined":
+                self.sites += [f"{e.text} at {where}", ""]
+            else:
+                    self.sites += [overflow_message(e.text, where, self.fmu.capacity) if e.op in CAN_OVERFLOW else "",
+                               empty_message(e.op, e.text, where) if e.op in EMPTY_FAULTS else ""]
+        return self.collections.call(e, args, site)  # type: ignore[attr-defined]
 
     def _CallU(self, e: ir.CallU) -> str:
         return f"rg_user_{e.name}({', '.join(self.expr(a) for a in e.args)})"
@@ -397,7 +448,8 @@ class Emitter:
         handed to every route (a port's clocked outputs and clock, or another machine's register).
         An argument read once by the one port it goes to is assigned straight to its output."""
         values = [self.expr(a) for a in s.args]
-        if not self.fallible and len(s.routes) == 1 and s.routes[0][0] == "port":
+        collection = any(isinstance(a.type, (T.SetT, T.SeqT)) for a in s.args)  # copied from a temporary
+        if not self.fallible and len(s.routes) == 1 and s.routes[0][0] == "port" and not collection:
             port = s.routes[0][1]
             if [k for k, _ in self._port_reads(port)] == list(range(len(values))):
                 return self._to_port(port, values, indent)
@@ -408,10 +460,13 @@ class Emitter:
             lines.append(f"{inner}{self.fault_return}")
             self.fallible = False
         temporaries = [f"a{k}_" for k in range(len(values))]
+        read: set[int] = set()  # arguments some route reads: the others are evaluated for their faults only
         for route in s.routes:
             if route[0] == "port":
                 lines += self._to_port(route[1], temporaries, inner)
+                read |= {k for k, _ in self._port_reads(route[1])}
             else:
+                read.add(0)
                 _, mi, ei = route
                 self.delivers_to.add(mi)
                 target = self.names.machines[mi]
@@ -422,7 +477,7 @@ class Emitter:
                 lines.append(f"{inner}rg_deliver(d, &{target.event_table}[{target.events[ei]}], {value});")
         if not s.routes:
             lines.append(f"{inner}/* {c_comment(s.name)} is connected to nothing: evaluated, sent nowhere */")
-            lines += [f"{inner}(void){t};" for t in temporaries]
+        lines += [f"{inner}(void){t};" for k, t in enumerate(temporaries) if k not in read]
         lines.append(f"{indent}}}")
         return lines
 
@@ -439,8 +494,13 @@ class Emitter:
 
     def _to_port(self, index: int, values: list[str], indent: str) -> list[str]:
         """Write ``values`` (C expressions of the arguments) to output port ``index`` and activate its clock."""
-        lines = [f"{indent}d->{cname} = {values[k]}{access};"
-                 for (cname, _), (k, access) in zip(self.port_fields[index], self._port_reads(index))]
+        lines = []
+        for (cname, _), (k, access) in zip(self.port_fields[index], self._port_reads(index)):
+            if access.endswith(".#elements"):  # a collection's elements: an array, copied
+                source = f"{values[k]}{access[:-len('.#elements')]}.a"
+                lines.append(f"{indent}memcpy(d->{cname}.a, {source}, sizeof d->{cname}.a);")
+            else:
+                lines.append(f"{indent}d->{cname} = {values[k]}{access.replace('.#size', '.n')};")
         clock = self.names.clocks[self.fmu.outputs[index].name]
         return lines + [f"{indent}rg_activate_output_clock(inst, {clock});"]
 
@@ -491,4 +551,4 @@ class Emitter:
 
 
 __all__ = ["Emitter", "CNames", "MachineNames", "Identifiers", "ctype", "literal", "mangle", "var_identifiers",
-           "user_function_prototype", "c_string", "c_comment", "tag", "truth", "bare"]
+           "user_function_prototype", "c_string", "c_comment", "tag", "elem_tag", "truth", "bare"]

@@ -8,7 +8,7 @@ from pathlib import Path
 
 from robogen.codegen.api import compile_model, parse_time_unit
 from robogen.codegen.generate import CodegenOptions
-from robogen.diagnostics import RobogenError, error
+from robogen.diagnostics import RobogenError, SourceMap, error, render_all, warning
 from robogen.ir.dump import dump
 from robogen.ir.lower import LoweringOptions
 
@@ -25,10 +25,14 @@ def add_model_options(p: argparse.ArgumentParser) -> None:
     p.add_argument("--time-unit", metavar="SECONDS", default="1",
                    help="seconds per model time unit: the RoboSim period p becomes a clock interval of p x SECONDS; the RoboChart tock period (default 1)")
     p.add_argument("--set", metavar="NAME=VALUE", action="append", default=[],
-                   help="value of a model constant (repeatable); constants without a value in the model need one")
+                   help="value of a model constant (repeatable); a constant the model leaves without a value is otherwise an FMU "
+                        "parameter that starts at its type's default (0, 0.0, false, the first literal), set by the importer")
     p.add_argument("--given-type", choices=("int", "nat", "real"), default="int", help="the scalar type of given types (default int)")
     p.add_argument("--max-transitions", type=int, default=1000, metavar="N",
                    help="transitions per cycle before a runaway cycle is reported (default 1000)")
+    p.add_argument("--capacity", type=int, default=32, metavar="N",
+                   help="the most elements a set or sequence holds (default 32); a result with more is a run-time "
+                        "fmi3Error naming the expression and its model line (docs/collections.md)")
     p.add_argument("--functions", metavar="FILE.c",
                    help="C file implementing the model's user functions, each as static <type> rg_user_<name>(...)")
     p.add_argument("--no-line-comments", action="store_true", help="leave the model file:line out of the generated C comments")
@@ -43,6 +47,8 @@ def options_from(args: argparse.Namespace) -> LoweringOptions:
         settings[name.strip()] = value
     if args.max_transitions < 1:
         raise RobogenError(error("--max-transitions must be at least 1", None))
+    if not 1 <= args.capacity <= 1 << 20:
+        raise RobogenError(error("--capacity must be between 1 and 1048576", None))
     return LoweringOptions(
         semantics=args.semantics,
         trigger=args.trigger,
@@ -50,11 +56,22 @@ def options_from(args: argparse.Namespace) -> LoweringOptions:
         settings=settings,
         given=args.given_type,
         max_steps=args.max_transitions,
+        capacity=args.capacity,
     )
 
 
 def codegen_options_from(args: argparse.Namespace) -> CodegenOptions:
     return CodegenOptions(line_comments=not args.no_line_comments, functions=Path(args.functions) if args.functions else None)
+
+
+def print_warnings(fmu, args: argparse.Namespace) -> None:
+    """What lowering warned about, and a --functions file the model has no use for, on stderr
+    (the command goes on)."""
+    found = list(fmu.warnings)
+    if args.functions and not fmu.user_functions:
+        found.append(warning(f"--functions {args.functions}: the model calls no user function; the file is not used", None))
+    if found:
+        print(render_all(found, SourceMap()), file=sys.stderr)
 
 
 def configure(p: argparse.ArgumentParser) -> None:
@@ -67,6 +84,7 @@ def configure(p: argparse.ArgumentParser) -> None:
 def run(args: argparse.Namespace) -> int:
     compiled = compile_model(args.paths, args.output, module=args.module, machine=args.machine,
                              options=options_from(args), codegen=codegen_options_from(args))
+    print_warnings(compiled.fmu, args)
     if args.dump_ir:
         sys.stdout.write(dump(compiled.fmu))
     n = len(compiled.generated.variables)

@@ -6,6 +6,7 @@ the C tables and the XML; output is deterministic (no time stamps, declaration o
 
 from __future__ import annotations
 
+import re
 from dataclasses import dataclass, field
 from fractions import Fraction
 from pathlib import Path
@@ -24,6 +25,7 @@ from robogen.codegen.c import (
     mangle,
     user_function_prototype,
 )
+from robogen.codegen.collections import CollectionCode, typedef as collection_typedef
 from robogen.codegen.description import model_description
 from robogen.diagnostics import DiagnosticSink, Note, RobogenError, Span, error
 from robogen.fmu.modeldesc import Dimension, Variable, instantiation_token
@@ -167,7 +169,14 @@ def generate(fmu: ir.Fmu, options: CodegenOptions | None = None, *, diagrams: Se
     token = instantiation_token(ir_text)  # a hash of the path-free IR: changes with the model's meaning only
     gen = Generated(fmu, fmu.model_identifier, token, variables=layout.variables)
     env = _env()
-    machines = _machines_code(fmu, layout, names, line_comments)
+    collections = CollectionCode(fmu.capacity)
+    machines, sites = _machines_code(fmu, layout, names, line_comments, collections)
+    latch = {p.index: _latch(p, layout.port_fields_in.get(p.index, []), collections) for p in fmu.inputs}
+    for t in collections.types:
+        layout._type(t)
+    for u in fmu.user_functions:  # the C types a --functions file receives and returns
+        for t in (*(pt for _, pt in u.params), u.result):
+            layout._type(t)
     needed = {t for mc in machines for t in mc["equalities"]}
     equalities, bodies = _equalities(layout.types, needed)
     hooks = _hooks(fmu, machines)
@@ -175,7 +184,10 @@ def generate(fmu: ir.Fmu, options: CodegenOptions | None = None, *, diagrams: Se
         user_functions=[(u, user_function_prototype(u)) for u in fmu.user_functions],
         names=names,
         cname=names.vars,
-        typedefs=[_typedef(t) for t in layout.types],
+        typedefs=[_typedef(t, fmu.capacity) for t in layout.types],
+        sites=sites,
+        latch=latch,
+        collection_code=collections.text(),
         equality_bodies=bodies,
         param_starts={p.fmi_name: _param_starts(p) for p in fmu.params},
         diagrams={m.index: diagrams[m.index] if m.index < len(diagrams) else "stateDiagram-v2\n  %% (no diagram)" for m in fmu.machines},
@@ -219,19 +231,30 @@ def _functions_file(fmu: ir.Fmu, path: Path | None) -> str | None:
     if not fmu.user_functions:
         return None
     if path is None:
-        raise RobogenError([
-            error(f"function '{u.name}' has no implementation: give robogen a C file with --functions", u.first_call or u.span,
-                  Note(f"the file must define: {user_function_prototype(u)} {{ ... }}"))
-            for u in fmu.user_functions
-        ])
+        raise _unimplemented(fmu.user_functions, "give robogen a C file with --functions")
     path = Path(path)
     try:
-        return path.read_text(encoding="utf-8")
+        text = path.read_text(encoding="utf-8")
     except (OSError, UnicodeDecodeError) as exc:
         raise RobogenError.at(f"cannot read the functions file {path}: {exc}", Span.whole_file(str(path))) from None
+    missing = [u for u in fmu.user_functions if not re.search(rf"\brg_user_{re.escape(u.name)}\s*\(", text)]
+    if missing:  # every one, located at its first call, rather than the C compiler's first complaint
+        raise _unimplemented(missing, f"{path} does not define it")
+    return text
 
 
-def _typedef(t: T.Type) -> str:
+def _unimplemented(functions: Sequence[ir.UserFunction], why: str) -> RobogenError:
+    """One error per function, at its first call, spelling out the C definition to write."""
+    return RobogenError([
+        error(f"function '{u.name}' has no implementation: {why}", u.first_call or u.span,
+              Note(f"the file must define: {user_function_prototype(u)} {{ ... }}"))
+        for u in functions
+    ])
+
+
+def _typedef(t: T.Type, capacity: int) -> str:
+    if isinstance(t, (T.SetT, T.SeqT)):
+        return collection_typedef(t, capacity)
     if isinstance(t, T.RecordT):
         fields = "\n".join(f"    {ctype(ft)} {n};" for n, ft in t.fields)
         return f"/* datatype {t.qname} */\ntypedef struct {{\n{fields}\n}} {ctype(t)};"
@@ -254,7 +277,7 @@ def _equalities(types: list[T.Type], needed: set[str]) -> tuple[list[str], dict[
         t = by_name[name]
         inner = [ft for _, ft in t.fields] if isinstance(t, T.RecordT) else [t.element]  # type: ignore[union-attr]
         for ft in inner:
-            if isinstance(ft, (T.RecordT, T.VectorT, T.MatrixT)):
+            if isinstance(ft, STRUCTS):
                 add(ctype(ft))
 
     for name in needed:
@@ -265,20 +288,61 @@ def _equalities(types: list[T.Type], needed: set[str]) -> tuple[list[str], dict[
         t = by_name[name]
         if isinstance(t, T.RecordT):
             tests = [
-                f"rg_eq_{ctype(ft)}(a.{n}, b.{n})" if isinstance(ft, (T.RecordT, T.VectorT, T.MatrixT)) else f"a.{n} == b.{n}"
+                f"rg_eq_{ctype(ft)}(a.{n}, b.{n})" if isinstance(ft, STRUCTS) else f"a.{n} == b.{n}"
                 for n, ft in t.fields
             ]
             bodies[name] = "    return " + " && ".join(tests) + ";"
+        elif isinstance(t, (T.SetT, T.SeqT)):
+            same = f"rg_eq_{ctype(t.element)}(a.a[i], b.a[i])" if isinstance(t.element, STRUCTS) else "a.a[i] == b.a[i]"
+            bodies[name] = (f"    uint64_t i;\n    if (a.n != b.n) return false;\n    for (i = 0; i < a.n; i++)\n"
+                            f"        if (!({same})) return false;\n    return true;")
         else:
             size = t.size if isinstance(t, T.VectorT) else (t.rows or 0) * (t.columns or 0)  # type: ignore[union-attr]
             bodies[name] = (f"    int i;\n    for (i = 0; i < {size}; i++)\n        if (a.a[i] != b.a[i]) return false;\n    return true;")
     return order, bodies
 
 
+STRUCTS = (T.RecordT, T.VectorT, T.MatrixT, T.SetT, T.SeqT)  # C types compared by a function rg_eq_<type>
+
+
+def _latch(port: ir.Port, fields: list[tuple[str, ir.Field_]], collections: CollectionCode) -> list[str]:
+    """The statements of rg_model_latch that assemble the value ``v`` of input port ``port`` from
+    its clocked inputs. A set or sequence takes the array's first ``size`` elements (at most the
+    capacity), a set then in canonical order (robogen.ir.collections.received)."""
+    lines, made = [], []
+    for member, f in fields:
+        *inner, last = f.path or ("",)
+        if last in ("#elements", "#size"):
+            at = "v" + "".join("." + p for p in inner)
+            cap = collections.capacity
+            if last == "#elements":
+                lines.append(f"memcpy({at}.a, d->{member}.a, sizeof {at}.a);")
+            else:
+                lines.append(f"{at}.n = d->{member} > {cap} ? {cap} : d->{member};")
+                made.append((at, _type_at(port.type, tuple(inner))))
+        else:
+            lines.append("v" + "".join("." + p for p in f.path) + f" = d->{member};")
+    for at, t in made:
+        lines.append(f"{at} = {collections.need('canon', t)}(d, {at});")
+    return lines
+
+
+def _type_at(t, path: tuple[str, ...]) -> T.Type:
+    for p in path:
+        t = t.field(p)
+    return t
+
+
 def _param_starts(p: ir.Param) -> list[tuple[str, str]]:
-    if p.value is None:
+    """The start values rg_model_reset writes: (C access inside the parameter, value); each
+    element of a vector or matrix. None for records and for a value the model leaves out: the
+    instance's memory starts zeroed, which is their default value."""
+    t = p.var.type
+    if isinstance(t, (T.VectorT, T.MatrixT)) and isinstance(p.value, list):
+        return [(f".a[{k}]", literal(x, t.element)) for k, x in enumerate(p.value)]
+    if p.value is None or isinstance(t, (T.RecordT, T.VectorT, T.MatrixT)):
         return []
-    return [("", literal(p.value, p.var.type))]
+    return [("", literal(p.value, t))]
 
 
 # ---------------------------------------------------------------------------- layout
@@ -316,7 +380,7 @@ class _Layout:
         if isinstance(t, T.RecordT):
             for _, ft in t.fields:
                 self._type(ft)
-        elif isinstance(t, (T.VectorT, T.MatrixT)):
+        elif isinstance(t, (T.VectorT, T.MatrixT, T.SetT, T.SeqT)):
             self._type(t.element)
         else:
             if isinstance(t, T.EnumT):
@@ -334,6 +398,8 @@ class _Layout:
     def _start(self, t: T.Type, value: object = None) -> str:
         if isinstance(t, (T.VectorT, T.MatrixT)):
             element, dims = _shape(t)
+            if isinstance(value, list):
+                return " ".join(self._start(element, x) for x in value)
             return " ".join([self._start(element)] * (dims[0] * (dims[1] if len(dims) > 1 else 1)))
         if t == T.BOOLEAN:
             return "true" if value else "false"
@@ -345,9 +411,11 @@ class _Layout:
         """An event or operation port: its triggered clock, then one clocked variable per field."""
         inward = causality == "input"
         if inward:
-            what = f"input event {port.name}"
+            what = f"input event {port.source}"
         else:
-            what = ("call of platform operation " if port.kind == "operation" else "output event ") + port.name
+            what = ("call of platform operation " if port.kind == "operation" else "output event ") + port.source
+        if port.model_name:
+            what += f" (renamed: the FMU has another variable named {port.source})"
         c = FmiVar(port.name, self._next_vr(), "Clock", causality, "discrete", interval_variability="triggered",
                    description=what, span=port.span)
         self._add_clock(c, "RG_CLOCK_INPUT_TRIGGERED" if inward else "RG_CLOCK_OUTPUT_TRIGGERED")
@@ -357,11 +425,11 @@ class _Layout:
             self._data(f.type, member, f"clocked {causality} {f.fmi_name}")
             fmi_type, declared = self._scalar(_shape(f.type)[0])
             if inward:
-                description = f"value of input event {port.name}"
+                description = f"value of input event {port.source}"
             elif port.kind == "operation":
-                description = f"argument {f.path[0]} of platform operation {port.name}"
+                description = f"argument {f.path[0]} of platform operation {port.source}"
             else:
-                description = f"value of output event {port.name}"
+                description = f"value of output event {port.source}"
             self.variables.append(FmiVar(
                 f.fmi_name, self._next_vr(), fmi_type, causality, "discrete", member,
                 start=self._start(f.type) if inward else None, clock=c.vr, clock_index=self.clock_index[port.name],
@@ -381,7 +449,7 @@ class _Layout:
             self._port(port, "output")
         for p in fmu.params:
             member = f"m{p.machine}.v_{self.names[p.var]}"
-            for name, t, access in _flat(p.fmi_name, p.var.type, ""):
+            for name, t, access in _flat(p.fmi_name, p.var.type, "", fmu.capacity):
                 fmi_type, declared = self._scalar(_shape(t)[0])
                 value = p.value if not access else None
                 self.variables.append(FmiVar(
@@ -404,9 +472,9 @@ class _Layout:
         for m in fmu.machines:
             for v in m.vars:
                 self._type(v.type)
-                if v.kind != "var":
-                    continue
-                for name, t, access in _flat(f"{m.name}.{v.name}", v.type, ""):
+                if v.kind != "var" and not (v.kind == "const" and v.init is not None):
+                    continue  # constants are parameters, but those computed from an initialiser
+                for name, t, access in _flat(f"{m.name}.{v.name}", v.type, "", fmu.capacity):
                     fmi_type, declared = self._scalar(_shape(t)[0])
                     self.variables.append(FmiVar(
                         name, self._next_vr(), fmi_type, "local", "discrete", f"m{m.index}.v_{self.names[v]}{access}",
@@ -457,11 +525,19 @@ def _shape(t: T.Type) -> tuple[T.Type, tuple[int, ...]]:
     return t, ()
 
 
-def _flat(name: str, t: T.Type, access: str):
-    """(FMI name, scalar or array type, C member access) of each scalar part of a value."""
+def _flat(name: str, t: T.Type, access: str, capacity: int = 0):
+    """(FMI name, scalar or array type, C member access) of each scalar part of a value. A set or
+    sequence of scalars is two: its elements, an array of the capacity (zeros after the last),
+    and its size; one of records has none (its elements are not contiguous in memory)."""
     if isinstance(t, T.RecordT):
         for n, ft in t.fields:
-            yield from _flat(f"{name}.{n}", ft, f"{access}.{n}")
+            yield from _flat(f"{name}.{n}", ft, f"{access}.{n}", capacity)
+    elif isinstance(t, T.FunctionT) or t == T.STRING:
+        return  # the number of a function value (robogen.ir.functions) or string: not an FMI variable
+    elif isinstance(t, (T.SetT, T.SeqT)):
+        if not isinstance(t.element, T.RecordT):
+            yield f"{name}.elements", T.VectorT(t.element, capacity), f"{access}.a"
+            yield f"{name}.size", T.NAT, f"{access}.n"
     else:
         yield name, t, access
 
@@ -469,16 +545,21 @@ def _flat(name: str, t: T.Type, access: str):
 # ---------------------------------------------------------------------------- machines
 
 
-def _machines_code(fmu: ir.Fmu, layout: _Layout, names: CNames, line_comments: bool) -> list[dict]:
+def _machines_code(fmu: ir.Fmu, layout: _Layout, names: CNames, line_comments: bool,
+                   collections: CollectionCode) -> tuple[list[dict], list[str]]:
     """What the templates need of each machine: its run function's cases, initial values, block
     labels, and whether it has an event table (RoboChart machines join their buffers through it;
     any machine that events are delivered to is latched through it)."""
     emitters = [Emitter(fmu, m, layout.port_fields_out, names, line_comments) for m in fmu.machines]
+    sites: list[str] = []  # one list for the FMU: each emitter numbers its sites after the others'
+    strings = [""]  # one numbering of the strings for the FMU
+    for em in emitters:
+        em.collections, em.sites, em.strings = collections, sites, strings
     codes = [_machine_code(fmu, em, line_comments) for em in emitters]
     delivered = {mi for p in fmu.inputs for mi, _ in p.routes} | {mi for em in emitters for mi in em.delivers_to}
     for m, code in zip(fmu.machines, codes):
         code["event_table"] = bool(m.events) and (fmu.robochart or m.index in delivered)
-    return codes
+    return codes, sites
 
 
 def _machine_code(fmu: ir.Fmu, em: Emitter, line_comments: bool) -> dict:
@@ -496,7 +577,7 @@ def _machine_code(fmu: ir.Fmu, em: Emitter, line_comments: bool) -> dict:
         cases.append("\n".join(lines))
     inits = []
     for v in m.vars:
-        if v.kind == "var" and v.init is not None:
+        if v.kind in ("var", "const") and v.init is not None:
             em.fallible = False
             value = em.expr(v.init)
             inits.append((f"m->v_{em.names.vars[v]}", value, em.fallible, v.name))

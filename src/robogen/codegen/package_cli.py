@@ -8,7 +8,7 @@ import sys
 from pathlib import Path
 
 from robogen.codegen.api import build_fmu, package_model
-from robogen.codegen.cli import add_model_options, codegen_options_from, options_from
+from robogen.codegen.cli import add_model_options, codegen_options_from, options_from, print_warnings
 
 
 def configure(p: argparse.ArgumentParser) -> None:
@@ -27,8 +27,9 @@ def run(args: argparse.Namespace) -> int:
     if _is_source_dir(args.paths):
         target = build_fmu(args.paths[0], args.output, validate=not args.no_validate)
     else:
-        target, _ = package_model(args.paths, args.output, module=args.module, machine=args.machine,
+        target, compiled = package_model(args.paths, args.output, module=args.module, machine=args.machine,
                                   options=options_from(args), codegen=codegen_options_from(args),
                                   validate=not args.no_validate)
+        print_warnings(compiled.fmu, args)
     print(f"wrote {target}" + ("" if args.no_validate else " (valid)"), file=sys.stderr)
     return 0

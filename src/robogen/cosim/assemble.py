@@ -58,7 +58,8 @@ def build_master(path: Path, *, stop=None, step=None, output=None, events=None, 
             instances.append(FmuInstance(name, md, folder, binding, spec.span))
         by_name = {u.name: u for u in instances}
         record = [(by_name[n], v) for n, v in record_list(system, models)]
-        recorder = Recorder([f"{u.name}.{v.name}" for u, v in record], output, events, keep_rows, [v.type for _u, v in record])
+        recorder = Recorder([f"{u.name}.{v.name}" for u, v in record], output, events, keep_rows, [v.type for _u, v in record],
+                            every=system.record_every, start=options.start)
         return Master(system, instances, links, record, options, recorder, notes), cache
     except BaseException:
         cache.close()

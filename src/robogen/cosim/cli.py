@@ -1,4 +1,4 @@
-"""``robogen simulate SYSTEM.toml [--stop T] [--step H] [-o RESULTS.csv] [--events E.jsonl] [--realtime[=FACTOR]] [--isolate]``.
+"""``robogen simulate SYSTEM.toml [--stop T] [--step H] [-o RESULTS.csv|RESULTS.parquet] [--events E.jsonl] [--realtime[=FACTOR]] [--isolate]``.
 
 Exit status: 0 the run reached its stop time; 1 a problem in the input or an FMU that failed (or
 crashed in its worker process, with ``--isolate``); 4 an FMU asked to terminate before the stop
@@ -46,7 +46,8 @@ def configure(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--stop", type=_number, help="stop time (overrides [experiment] stop)")
     parser.add_argument("--step", type=_number, help="communication step (overrides [experiment] step)")
     parser.add_argument("-o", "--output", default=str(DEFAULT_OUTPUT),
-                        help=f"results CSV (default: {DEFAULT_OUTPUT}, under the working directory)")
+                        help=f"results file: CSV, or Parquet if it ends in .parquet (default: {DEFAULT_OUTPUT}, "
+                             "under the working directory)")
     parser.add_argument("--events", help="write the events log (JSON lines) here")
     parser.add_argument("--realtime", nargs="?", const=1.0, type=_factor, metavar="FACTOR",
                         help="pace the run against the wall clock (FACTOR x real time, default 1)")

@@ -292,6 +292,27 @@ class StepOutputs(NamedTuple):
 _tuple_new = tuple.__new__
 
 
+class LogMemory:
+    """What an instance logged that explains a failure: every message it logged at fmi3Error or
+    worse (a generated FMU logs the cause, e.g. a machine's deadlock, before the call that fails
+    says it failed), else its last message at fmi3Warning or worse, else its last message."""
+
+    __slots__ = ("last", "errors")
+
+    def __init__(self) -> None:
+        self.last = ""
+        self.errors: list[str] = []
+
+    def note(self, status: int, text: str) -> None:
+        if status >= WARNING or not self.last:
+            self.last = text
+        if status >= ERROR and text not in self.errors:
+            self.errors.append(text)
+
+    def message(self) -> str:
+        return "; ".join(self.errors) if self.errors else self.last
+
+
 class Binding:
     """One fmi3Instance. Methods are the FMI 3.0 functions; errors raise FMI3Error."""
 
@@ -300,7 +321,7 @@ class Binding:
         self.library, self.lib, self.name = library, library.lib, name
         self.trace, self.log = trace, log
         self.handle = ffi.NULL
-        self.last_message = ""
+        self.logged = LogMemory()
         self.notes = notes if notes is not None else CallNotes()
         self.note_base = self.notes.base(name)
         self._note = self.notes.call
@@ -328,12 +349,11 @@ class Binding:
 
     def error(self, function: str, status: int) -> FMI3Error:
         """The error for ``function`` having returned ``status``, with the FMU's last message."""
-        return FMI3Error(function, status, self.name, self.last_message)
+        return FMI3Error(function, status, self.name, self.logged.message())
 
     # -- plumbing ------------------------------------------------------------------------
     def _logged(self, status: int, text: str) -> None:
-        if status >= WARNING or not self.last_message:
-            self.last_message = text
+        self.logged.note(status, text)
         if self.log is not None:
             self.log(self.name, status, text)
 

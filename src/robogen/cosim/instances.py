@@ -7,6 +7,16 @@ general loop). Beside it: the schedule of its time-based input clocks (:mod:`rob
 the :class:`Reader` of each type of the outputs the master reads after a step (one cffi buffer and
 one Get call per type), the output clocks it watches and the set of its clocks active in the
 current super-dense instant.
+
+In Event Mode the master reads clocked values and sets inputs in batches: one Get or Set call per
+type for all the variables a clock carries (:meth:`FmuInstance.clocked_values`,
+:meth:`FmuInstance.set_values`), through buffers made once per set of value references. A
+clocked output or an output clock read in a super-dense instant is not read again in that
+instant unless a call since could have changed it. FMI 3.0 lets an output change in Event Mode only through
+fmi3UpdateDiscreteStates (which closes the instant) or a Set/SetClock of a known it depends on:
+its ``<Output dependencies>`` in the ModelStructure (none given: every known). So a Set or
+SetClock forgets the outputs that depend on what it set, and :meth:`FmuInstance.new_instant`
+(after fmi3UpdateDiscreteStates and fmi3EnterEventMode) forgets them all.
 """
 
 from __future__ import annotations
@@ -61,6 +71,45 @@ class Reader:
             self.values[:] = decode_strings(self.buffer, self.count)
 
 
+class Writer:
+    """One fmi3Set<Type> call of several variables of one instance, from a buffer made once
+    (numbers and Booleans); Strings and Binaries, and a binding without raw C access, go through
+    the binding's list API."""
+
+    def __init__(self, binding: Binding, fmi_type: str, vrs: list[int]):
+        self.binding, self.fmi_type, self.vrs = binding, fmi_type, vrs
+        self.count = len(vrs)
+        self.function = "fmi3Set" + ACCESSOR[fmi_type]
+        numeric = fmi_type not in ("String", "Binary")
+        self.c_function = binding.raw(self.function) if numeric else None
+        if self.c_function is not None:
+            self.c_vrs = vr_array(vrs)
+            self.buffer = value_array(fmi_type, self.count)
+            self.note_code = binding.note_code(self.function)
+
+    def write(self, values: list) -> None:
+        if self.c_function is None:
+            self.binding.set_values(self.fmi_type, self.vrs, values)
+            return
+        self.buffer[0:self.count] = values
+        self.binding.notes.call[0] = self.note_code
+        status = self.c_function(self.binding.handle, self.c_vrs, self.count, self.buffer, self.count)
+        if status > WARNING:
+            raise self.binding.error(self.function, status)
+
+
+class ClockSetter:
+    """One fmi3SetClock call activating several input clocks, from arrays made once."""
+
+    def __init__(self, binding: Binding, vrs: list[int]):
+        self.binding, self.count = binding, len(vrs)
+        self.c_vrs = vr_array(vrs)
+        self.on = ffi.new("bool[]", [True] * max(self.count, 1))
+
+    def write(self) -> None:
+        self.binding.fmi3SetClock(self.c_vrs, self.count, self.on)
+
+
 class FmuInstance:
     """One instance of an FMU in the system: what the master knows and keeps about it between calls."""
 
@@ -83,6 +132,11 @@ class FmuInstance:
         self.out_clocks: list[int] = []
         self.out_clock_buffer = None
         self.failed_status: int | None = None  # set when a call returned Error/Fatal
+        #: each output's ModelStructure dependencies (None: every known)
+        self.depends = {u.value_reference: None if u.dependencies is None else frozenset(u.dependencies)
+                        for u in md.unknowns if u.kind == "Output"}
+        self._fresh: dict[int, object] = {}  # clocked outputs read in this instant, unchanged since
+        self._batches: dict[tuple, Reader | Writer | ClockSetter] = {}  # by (kind, type, value references)
 
     # -- life cycle -------------------------------------------------------------------------
     def instantiate(self, start: float) -> None:
@@ -194,20 +248,73 @@ class FmuInstance:
         return r.values[i]
 
     def read_clocks(self) -> list[int]:
-        """Output clocks (of those watched) that read active now."""
+        """Output clocks (of those watched) that read active now: not read again in an instant
+        where nothing they depend on was set since (see the module docstring)."""
         n = len(self.out_clocks)
         if not n:
             return []
+        fresh = self._fresh
+        if all(vr in fresh for vr in self.out_clocks):
+            return [vr for vr in self.out_clocks if fresh[vr]]
         buf = self.out_clock_buffer
         self.binding.fmi3GetClock(self.out_clock_vrs, n, buf)
-        return [vr for i, vr in enumerate(self.out_clocks) if buf[i]]
+        active = []
+        for i, vr in enumerate(self.out_clocks):
+            fresh[vr] = on = bool(buf[i])
+            if on:
+                active.append(vr)
+        return active
 
     def get_one(self, var: Variable):
         return self.binding.get_values(var.type, [var.value_reference])[0]
 
+    def _batch(self, kind: type, fmi_type: str, vrs: tuple[int, ...]):
+        """The Reader, Writer or ClockSetter of these value references (made at first use)."""
+        key = (kind, fmi_type, vrs)
+        batch = self._batches.get(key)
+        if batch is None:
+            batch = self._batches[key] = (ClockSetter(self.binding, list(vrs)) if kind is ClockSetter
+                                          else kind(self.binding, fmi_type, list(vrs)))
+        return batch
+
+    def clocked_values(self, variables: list[Variable]) -> list:
+        """The values of clocked variables whose clock is active: outputs read already in this
+        instant and unchanged since (see the module docstring) from memory, the others with one
+        Get call per type."""
+        fresh = self._fresh
+        missing: dict[str, list[int]] = {}
+        for v in variables:
+            if v.value_reference not in fresh:
+                missing.setdefault(v.type, []).append(v.value_reference)
+        if not missing:
+            return [fresh[v.value_reference] for v in variables]
+        read = dict(fresh)
+        for fmi_type, vrs in missing.items():
+            reader = self._batch(Reader, fmi_type, tuple(vrs))
+            reader.read()
+            read.update(zip(vrs, reader.values))
+        for v in variables:
+            if v.causality == "output":
+                fresh[v.value_reference] = read[v.value_reference]
+        return [read[v.value_reference] for v in variables]
+
+    def new_instant(self) -> None:
+        """A new super-dense instant (or Event Mode): every output may have changed."""
+        self._fresh.clear()
+
+    def _inputs_changed(self, vrs) -> None:
+        """Forget the outputs read in this instant that depend on any of ``vrs``."""
+        if self._fresh:
+            depends = self.depends
+            for vr in [vr for vr in self._fresh if (d := depends.get(vr)) is None or not d.isdisjoint(vrs)]:
+                del self._fresh[vr]
+
     def set_values(self, fmi_type: str, vrs: list[int], values: list) -> None:
-        self.binding.set_values(fmi_type, vrs, values)
+        """One Set call of ``vrs`` (all of ``fmi_type``)."""
+        self._batch(Writer, fmi_type, tuple(vrs)).write(values)
+        self._inputs_changed(vrs)
 
     def set_clocks(self, vrs: list[int]) -> None:
-        self.binding.fmi3SetClock(vr_array(vrs), len(vrs), ffi.new("bool[]", [True] * len(vrs)))
+        self._batch(ClockSetter, "Clock", tuple(vrs)).write()
         self.active.update(vrs)
+        self._inputs_changed(vrs)

@@ -1,6 +1,6 @@
 """The co-simulation algorithm: FMI 3.0 Co-Simulation with Event Mode, clocks and early return.
 
-It follows docs/fmi3.md §1.5 (shared/docs) step by step:
+It follows the FMI 3.0 standard's Co-Simulation master algorithm with Event Mode step by step:
 
     setup       instantiate (eventModeUsed where hasEventMode, earlyReturnAllowed where the FMU
                 might return early), Initialization Mode in dependency order, exit
@@ -46,7 +46,7 @@ from robogen.cosim.recorder import Pacer, Progress, Recorder
 from robogen.cosim.stepper import CStretch
 from robogen.cosim.stretch import PythonStretch, Stretch, StretchPlan
 from robogen.cosim.system import Link, System
-from robogen.cosim.wiring import CLOCK, VALUE, ValueExchange, find_cycle, plain, wire
+from robogen.cosim.wiring import CLOCK, CLOCKED, VALUE, ValueExchange, find_cycle, plain, wire
 from robogen.diagnostics import Note, RobogenError
 from robogen.fmu.fmi import DISCARD, status_name, tolerance
 
@@ -96,11 +96,16 @@ class Master:
         self.wiring = wire(instances, links, record)
         self.values = ValueExchange(self.wiring.value_links)
         self._columns = plain(self.wiring.columns)
+        self._routes = _route_plans(self.wiring)
+        self._clocked_columns = _clocked_columns(self.wiring)
+        self._event_values = _event_values(instances)
+        self._events_logged = recorder.recording_events
         self._stop_limit = options.stop - tolerance(options.stop)
         self._next_event = math.inf
         self._stretch: Stretch | None = None  # None: every point goes through the general step
         self._pacer: Pacer | None = None
         self._timed: list[FmuInstance] = []  # the instances with time-based input clocks (known after setup)
+        self._aperiodic: list[FmuInstance] = []  # those with aperiodic ones
 
     # ------------------------------------------------------------------------------------
     # The run
@@ -117,7 +122,7 @@ class Master:
                 if self.event_instances:
                     self._event_iteration(t)
                 else:
-                    self._record(t, 0)
+                    self._record(t, 0, event=False)
                     self.recorder.flush()
                 # Pacing starts once the system is initialised: loading and instantiating the FMUs
                 # is not simulated time, and must not show as lag.
@@ -163,6 +168,7 @@ class Master:
             u.set_start_values(spec.start)
             u.schedule_clocks(opt.start, {name: timing for name, (timing, _span) in spec.clocks.items()})
         self._timed = [u for u in self.instances if u.periodic or u.aperiodic]
+        self._aperiodic = [u for u in self.instances if u.aperiodic]
         # values in dependency order (Initialization Mode allows Get outputs / Set inputs)
         self._propagate(opt.start, clocks=False, event_mode=False)
         for u in self.instances:
@@ -197,9 +203,16 @@ class Master:
     def _refresh_timing(self, t: float) -> None:
         """The earliest clock tick or nextEventTime after t, over all FMUs (after setup and each Event Mode)."""
         limit = t + tolerance(t)
-        ticks = [tick for u in self._timed if (tick := u.next_tick()) > limit]
-        events = [u.next_event_time for u in self.instances if u.next_event_time is not None and u.next_event_time > limit]
-        self._next_event = min(ticks + events, default=math.inf)
+        earliest = math.inf
+        for u in self._timed:
+            tick = u.next_tick()
+            if limit < tick < earliest:
+                earliest = tick
+        for u in self.event_instances:  # only those in Event Mode announce a next event time
+            event = u.next_event_time
+            if event is not None and limit < event < earliest:
+                earliest = event
+        self._next_event = earliest
 
     # -- Step Mode ------------------------------------------------------------------------------
     def _advance(self, t: float) -> tuple[float, bool]:
@@ -219,7 +232,7 @@ class Master:
         if event or self._next_event <= t + tolerance(t):
             return t, True
         self.values.exchange(self.instances)
-        self._record(t, 0)
+        self._record(t, 0, event=False)
         return t, False
 
     def _quiet_stretch(self, t: float) -> tuple[float, bool]:
@@ -286,6 +299,7 @@ class Master:
     def _event_mode(self, t: float) -> None:
         for u in self.event_instances:
             u.binding.fmi3EnterEventMode()
+            u.new_instant()
         self._event_iteration(t)
 
     def _event_iteration(self, t: float) -> None:
@@ -295,24 +309,25 @@ class Master:
         for u in self._timed:
             u.activate_due_clocks(t, limit)
         k = 0
-        ticked_all: dict[str, set[int]] = {u.name: set() for u in self.instances}
+        ticked_all: dict[str, set[int]] = {u.name: set() for u in self._aperiodic}  # for the changing clocks' intervals
+        last = self.system.max_event_iterations - 1
         while True:
             self.stats.instants += 1
             self._propagate(t, clocks=True, event_mode=True)
             self._record(t, k)
             self._log_events(t, k)
-            ticked = {u.name: set(u.active) for u in self.instances}
-            for name, vrs in ticked.items():
-                ticked_all[name] |= vrs
+            for u in self._aperiodic:
+                ticked_all[u.name] |= u.active
+            ticked = {u.name: set(u.active) for u in self.instances} if k >= last else None  # for the Zeno error
             needs = self._update_discrete_states(t)
             k += 1
-            changed = self.values.exchange(self.instances) if not needs else False
+            changed = self.values.exchange(self.instances) if not needs and self.values.connected else False
             if not needs and not changed:
                 break
             if k >= self.system.max_event_iterations:
                 self._zeno(t, k, needs, ticked)
         for u in self._timed:
-            u.read_intervals(t, ticked_all[u.name])
+            u.read_intervals(t, ticked_all.get(u.name, ()))
         self._record(t, k)
         self.recorder.flush()
         for u in self.event_instances:
@@ -325,6 +340,7 @@ class Master:
         for u in self.event_instances:
             states = u.binding.fmi3UpdateDiscreteStates()
             u.active.clear()
+            u.new_instant()
             u.next_event_time = states.next_event_time if states.next_event_time_defined else None
             if states.discrete_states_need_update:
                 needs.append(u)
@@ -333,8 +349,15 @@ class Master:
         return needs
 
     def _propagate(self, t: float, clocks: bool, event_mode: bool) -> None:
-        """Forward clocks and values in dependency order until nothing new happens at this instant."""
+        """Forward clocks and values in dependency order until nothing new happens at this instant
+        (without connections: read each instance's output clocks, nothing to forward)."""
         instances = self.event_instances if event_mode else self.instances
+        if not self._routes and not self.values.connected:
+            if clocks:
+                for u in instances:
+                    if u.out_clocks:
+                        u.active.update(u.read_clocks())
+            return
         heap = [(self.rank[u.name], u.name) for u in instances]
         heapq.heapify(heap)
         queued = {u.name for u in instances}
@@ -384,22 +407,23 @@ class Master:
 
     def _forward_clocks(self, u: FmuInstance, forwarded: set[tuple[str, int]]) -> set[str]:
         """Note u's active output clocks; set the clocks (and clocked values) they drive, once per
-        instant. The names of the instances set."""
+        instant: the values a clock carries read with one Get call per type, and set with one
+        Set call per type on each target. The names of the instances set."""
         woken = set()
         for vr in u.read_clocks():
             u.active.add(vr)
             if (u.name, vr) in forwarded:
                 continue
             forwarded.add((u.name, vr))
-            for route in self.wiring.clock_routes.get((u.name, vr), ()):
-                target = route.target
+            for target, target_clock, sources, batches in self._routes.get((u.name, vr), ()):
                 if not target.event_mode:
                     continue
-                if route.target_clock not in target.active:
-                    target.set_clocks([route.target_clock])
-                for source_var, target_var in route.values:
-                    value = u.get_one(source_var)
-                    target.set_values(target_var.type, [target_var.value_reference], [value])
+                if target_clock not in target.active:
+                    target.set_clocks([target_clock])
+                if sources:
+                    values = u.clocked_values(sources)
+                    for fmi_type, vrs, indices in batches:
+                        target.set_values(fmi_type, vrs, [values[i] for i in indices])
                 woken.add(target.name)
         return woken
 
@@ -426,7 +450,9 @@ class Master:
         return self._connections_around(find_cycle(drives), clocks=True)
 
     # -- recording ----------------------------------------------------------------------------
-    def _record(self, t: float, k: int) -> None:
+    def _record(self, t: float, k: int, event: bool = True) -> None:
+        """Record the row (t, k): of an event iteration, or a plain one (``event`` false, which
+        decimation may drop)."""
         # Instances with value connections were read while forwarding; read the others here.
         for u in self.wiring.record_reads:
             u.read_outputs()
@@ -436,21 +462,27 @@ class Master:
                 row.append(reader.values[index])
             elif kind == CLOCK:
                 row.append(1 if var.value_reference in u.active else 0)
-            elif any(c in u.active for c in var.clocks):
-                row.append(u.get_one(var))
             else:
-                row.append(None)
-        self.recorder.append_row(row)
+                row.append(None)  # a clocked value: filled below while its clock is active
+        for u, cells in self._clocked_columns:
+            if u.active:
+                live = [(position, var) for position, var, clocks in cells if not clocks.isdisjoint(u.active)]
+                if live:
+                    for (position, _), value in zip(live, u.clocked_values([var for _, var in live])):
+                        row[position] = value
+        if event:
+            self.recorder.append_event_row(row)
+        else:
+            self.recorder.append_row(row)
 
     def _log_events(self, t: float, k: int) -> None:
-        if not self.recorder.recording_events:
+        if not self._events_logged:
             return
         for u in self.instances:
             for vr in sorted(u.active):
-                clock = u.by_vr[vr]
-                values = {v.name: u.get_one(v) for v in u.md.variables
-                          if vr in v.clocks and not v.is_clock and v.causality in ("input", "output")}
-                self.recorder.event(t, k, u.name, clock.name, values)
+                variables = self._event_values[u.name].get(vr, [])
+                values = dict(zip((v.name for v in variables), u.clocked_values(variables)))
+                self.recorder.event(t, k, u.name, u.by_vr[vr].name, values)
 
     # -- errors and shutdown --------------------------------------------------------------------
     def _as_error(self, exc: FMI3Error) -> RobogenError:
@@ -469,3 +501,38 @@ class Master:
         """fmi3Terminate every healthy instance, free all but those that returned fmi3Fatal."""
         for u in self.instances:
             u.shut_down()
+
+
+def _route_plans(wiring) -> dict[tuple[str, int], list[tuple]]:
+    """Each clock route as (target, target clock, the source variables it carries, and per type
+    (type, target value references, indices into the sources)): what _forward_clocks calls."""
+    plans: dict[tuple[str, int], list[tuple]] = {}
+    for key, routes in wiring.clock_routes.items():
+        for route in routes:
+            sources = [value.source for value in route.values]
+            by_type: dict[str, tuple[list[int], list[int]]] = {}
+            for i, value in enumerate(route.values):
+                vrs, indices = by_type.setdefault(value.target.type, ([], []))
+                vrs.append(value.target.value_reference)
+                indices.append(i)
+            batches = [(fmi_type, vrs, indices) for fmi_type, (vrs, indices) in by_type.items()]
+            plans.setdefault(key, []).append((route.target, route.target_clock, sources, batches))
+    return plans
+
+
+def _clocked_columns(wiring) -> list[tuple[FmuInstance, list[tuple[int, object, frozenset[int]]]]]:
+    """The recorded clocked variables per instance: (row position, variable, its clocks)."""
+    by_instance: dict[str, tuple[FmuInstance, list]] = {}
+    for i, column in enumerate(wiring.columns):
+        if column.kind == CLOCKED:
+            cells = by_instance.setdefault(column.instance.name, (column.instance, []))[1]
+            cells.append((2 + i, column.variable, frozenset(column.variable.clocks)))
+    return list(by_instance.values())
+
+
+def _event_values(instances: list[FmuInstance]) -> dict[str, dict[int, list]]:
+    """Per instance and clock: the clocked inputs and outputs the events log shows with it."""
+    return {u.name: {c.value_reference: [v for v in u.md.variables if c.value_reference in v.clocks and not v.is_clock
+                                         and v.causality in ("input", "output")]
+                     for c in u.md.variables if c.is_clock}
+            for u in instances}

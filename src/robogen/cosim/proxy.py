@@ -30,8 +30,7 @@ from pathlib import Path
 from typing import Callable, Sequence
 
 import robogen
-from robogen.cosim.fmi3 import CallNotes, DiscreteStates, FMI3Error, FMUCrashed, LoadError, StepResult, ffi
-from robogen.fmu.fmi import WARNING
+from robogen.cosim.fmi3 import CallNotes, DiscreteStates, FMI3Error, FMUCrashed, LoadError, LogMemory, StepResult, ffi
 
 #: How long a worker may take to exit when asked (then it is killed).
 EXIT_SECONDS = 5.0
@@ -56,7 +55,7 @@ class ProxyBinding:
         self.name, self.trace, self.log = name, trace, log
         self.notes = notes if notes is not None else CallNotes()
         self.handle = None
-        self.last_message = ""
+        self.logged = LogMemory()
         self.dead = False  # the worker is gone (crashed, killed or stopped)
         self._busy = False  # a request was sent and its answer not read
         self._instantiated = False
@@ -75,7 +74,7 @@ class ProxyBinding:
         return None  # no C function in this process: the master's general loop calls through here
 
     def error(self, function: str, status: int) -> FMI3Error:
-        return FMI3Error(function, status, self.name, self.last_message)
+        return FMI3Error(function, status, self.name, self.logged.message())
 
     # -- the exchange ----------------------------------------------------------------------------
     def _exchange(self, method: str, args: tuple):
@@ -94,8 +93,7 @@ class ProxyBinding:
         """``method(*args)`` of the worker's binding; its log messages and trace lines here."""
         outcome, value, logged, traced = self._exchange(method, args)
         for status, text in logged:
-            if status >= WARNING or not self.last_message:
-                self.last_message = text
+            self.logged.note(status, text)
             if self.log is not None:
                 self.log(self.name, status, text)
         if self.trace is not None:

@@ -8,6 +8,20 @@ always in double quotes (a quote inside doubled, as RFC 4180 quotes), so the emp
 differs from an empty cell; a Binary as ``0x`` and two lowercase hexadecimal digits per byte
 (``0x`` alone when empty). The events log writes Binaries the same way, as JSON strings.
 
+A results path ending in ``.parquet`` gets the same columns and values as Apache Parquet,
+written in row groups of bounded size (:mod:`robogen.cosim.columnar`).
+
+Decimation (``[record] every = SECONDS``) cuts time into intervals [start + n * every,
+start + (n + 1) * every) (a point within the time tolerance of a bound counting as reached).
+Every row of an event iteration is kept; a plain row (a communication point without an event,
+however it was stepped) is kept when it is the first row of its interval, so a kept event row
+makes the plain rows after it in its interval redundant; and the last row of the run is kept
+whatever it is, so the results end where the run ended. Without ``every``, every row is kept.
+
+Rows arrive one at a time (:meth:`Recorder.append_row`, :meth:`Recorder.append_event_row`) or
+in batches of plain rows (:meth:`Recorder.append_rows`: a loop that stores rows and hands them
+over as lists, as the C stretch does); each goes to the results file and to ``rows``.
+
 Each file is written under a temporary name next to it and renamed over it when the recorder
 closes (:func:`robogen.outputs.replacing`): a run that recorded rows, however it ended, leaves
 them at the name asked for; a run that failed before its first row leaves the previous file
@@ -28,6 +42,8 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Callable, Sequence
 
+from robogen.cosim.clocks import grid_index
+from robogen.cosim.columnar import ParquetSink, is_parquet
 from robogen.outputs import replacing
 
 FLUSH_SECONDS = 0.2
@@ -72,7 +88,7 @@ class Recorder:
     """
 
     def __init__(self, columns: list[str], output: Path | None, events: Path | None, keep_rows: bool = True,
-                 types: Sequence[str] = ()):
+                 types: Sequence[str] = (), every: float | None = None, start: float = 0.0):
         self.columns = ["time", "superdense", *columns]
         self.rows: list[list] = []
         self.keep_rows = keep_rows
@@ -81,12 +97,19 @@ class Recorder:
         self.files: list[tuple[Path, Path]] = []
         self._file = self._events = None
         self._writer = None
+        self._table: ParquetSink | None = None
         self._outputs = contextlib.ExitStack()
         cells = [_CELLS.get(t, _plain_cell) for t in types]
         self._cells = [_plain_cell, _plain_cell, *cells] if any(c is not _plain_cell for c in cells) else None
         self._output = output
+        self.every, self.start = every, start
+        self._next_kept = 0  # decimation: the grid index of the next plain row to keep
+        self._held: list | None = None  # decimation: the last plain row dropped, kept if it ends the run
         try:
-            if output is not None:
+            if output is not None and is_parquet(output):
+                temporary = self._temporary(output)
+                self._table = self._outputs.enter_context(ParquetSink(temporary, self.columns, list(types)))
+            elif output is not None:
                 self._file = self._open(output, newline="")
                 self._writer = csv.writer(self._file, lineterminator="\n")
                 self._writer.writerow(self.columns)
@@ -98,13 +121,37 @@ class Recorder:
             raise
         self._flush_due = _time.monotonic() + FLUSH_SECONDS
 
-    def _open(self, path: Path, newline: str | None = None):
-        """A file written under a temporary name, renamed to ``path`` when closed with rows."""
+    def _temporary(self, path: Path) -> Path:
+        """A temporary name for ``path``, renamed to it when closed with rows."""
         temporary = self._outputs.enter_context(replacing(path))
         self.files.append((temporary, Path(path)))
-        return self._outputs.enter_context(open(temporary, "w", newline=newline, encoding="utf-8", buffering=1 << 16))
+        return temporary
+
+    def _open(self, path: Path, newline: str | None = None):
+        """A file written under a temporary name, renamed to ``path`` when closed with rows."""
+        return self._outputs.enter_context(open(self._temporary(path), "w", newline=newline, encoding="utf-8",
+                                                buffering=1 << 16))
+
+    def _decimated(self, t: float) -> bool:
+        """Whether the plain row at t is dropped (see the module docstring); notes the next one kept."""
+        n = grid_index(t - self.start, self.every)
+        if n < self._next_kept:
+            return True
+        self._next_kept = n + 1
+        return False
 
     def append_row(self, row: list) -> None:
+        """A plain row: a communication point without an event (dropped by decimation)."""
+        if self.every is not None and self._decimated(row[0]):
+            self._held = row
+            return
+        self.append_event_row(row)
+
+    def append_event_row(self, row: list) -> None:
+        """A row of an event iteration: always kept."""
+        self._held = None
+        if self.every is not None:  # a row in this decimation interval is kept: no plain one needed
+            self._next_kept = max(self._next_kept, grid_index(row[0] - self.start, self.every) + 1)
         self.recorded += 1
         if self.keep_rows:
             self.rows.append(row)
@@ -112,6 +159,8 @@ class Recorder:
             self._write(row)
             if _time.monotonic() > self._flush_due:
                 self.flush()
+        elif self._table is not None:
+            self._table.write(row)
 
     def _write_cells(self, row: list) -> None:
         """A row with String or Binary columns, each cell in its format."""
@@ -119,16 +168,22 @@ class Recorder:
 
     def row_sink(self) -> Callable[[list], None]:
         """append_row as the cheapest callable for where the rows go (the kept list's own append
-        when there is no file), for a loop that records a row at every step."""
-        if self._writer is not None:
+        when there is no file and no decimation), for a loop that records a row at every step."""
+        if self._writer is not None or self._table is not None or self.every is not None:
             return self.append_row
         return self.rows.append if self.keep_rows else _discard  # no file: nothing to keep or rename
 
     def append_rows(self, rows: list[list]) -> None:
-        """Several rows at once (the C stretch's chunks); the same as append_row on each."""
+        """Several plain rows at once (the C stretch's chunks); the same as append_row on each."""
+        if self.every is not None:
+            for row in rows:
+                self.append_row(row)
+            return
         self.recorded += len(rows)
         if self.keep_rows:
             self.rows.extend(rows)
+        if self._table is not None:
+            self._table.write_rows(rows)
         if self._writer is not None and rows:
             if self._cells is None:
                 self._writer.writerows(rows)
@@ -140,13 +195,14 @@ class Recorder:
 
     @property
     def takes_text(self) -> bool:
-        """Whether rows may come as CSV lines (:meth:`append_text`): they go to a CSV file only."""
-        return self._writer is not None and not self.keep_rows
+        """Whether rows may come as CSV lines (:meth:`append_text`): they go to a CSV file only,
+        every one of them (no decimation)."""
+        return self._writer is not None and not self.keep_rows and self.every is None
 
     @property
     def discards(self) -> bool:
-        """Whether rows go nowhere (no file, not kept)."""
-        return self._writer is None and not self.keep_rows
+        """Whether rows go nowhere (no CSV or Parquet file, not kept)."""
+        return self._writer is None and self._table is None and not self.keep_rows
 
     @property
     def flush_due(self) -> float:
@@ -168,6 +224,10 @@ class Recorder:
             self._events.write(json.dumps(record, default=_json_value) + "\n")
 
     def flush(self) -> None:
+        """Flush the CSV and events files (a Parquet file is written by row groups and completed
+        at close: flushing would only make its row groups small)."""
+        if self._file is None and self._events is None:
+            return  # nothing to flush (rows kept in memory, or a Parquet file)
         self._flush_due = _time.monotonic() + FLUSH_SECONDS
         for f in (self._file, self._events):
             if f is not None:
@@ -175,7 +235,9 @@ class Recorder:
 
     def close(self) -> None:
         """Close the files: renamed to their names if rows were recorded, else removed (the
-        previous files, if any, stay)."""
+        previous files, if any, stay). Under decimation the run's last row is written first."""
+        if self._held is not None:
+            self.append_event_row(self._held)
         if self.recorded:
             self._outputs.close()
             self.kept = self._output
@@ -250,8 +312,3 @@ class Progress:
 
 def _discard(row: list) -> None:
     """append_row where rows go nowhere (no file, rows not kept)."""
-
-
-def _discard(row: list) -> None:
-    """append_row where rows go nowhere (no file, rows not kept)."""
-

@@ -31,7 +31,7 @@ TOP_KEYS = ("experiment", "instances", "connections", "record")
 EXPERIMENT_KEYS = ("start", "stop", "step", "tolerance", "max_event_iterations", "order")
 INSTANCE_KEYS = ("fmu", "start", "clocks", "isolate")
 CLOCK_KEYS = ("interval", "shift")
-RECORD_KEYS = ("variables",)
+RECORD_KEYS = ("variables", "every")
 
 
 @dataclass(frozen=True)
@@ -76,6 +76,7 @@ class System:
     connections: list[Connection]
     record: list[tuple[str, Span]] | None
     spans: SpanIndex
+    record_every: float | None = None  # [record] every: plain rows at most this often (event rows all kept)
 
     def span(self, *path) -> Span:
         return self.spans.span(*path)
@@ -114,9 +115,9 @@ def load_system(path: str | Path) -> System:
             instances[name] = inst
     connections = _connections(data, check)
     order = _order(exp, raw_instances, check)
-    record = _record(data, check)
+    record, every = _record(data, check)
     check.sink.raise_if_errors()
-    return System(path, text, start, stop, step, tol, max_iter, order, instances, connections, record, check.idx)
+    return System(path, text, start, stop, step, tol, max_iter, order, instances, connections, record, check.idx, every)
 
 
 def _read_toml(path: Path) -> tuple[str, dict]:
@@ -273,19 +274,24 @@ def _order(exp: dict, raw_instances: dict, check: _SchemaCheck) -> list[str]:
     return order
 
 
-def _record(data: dict, check: _SchemaCheck) -> list[tuple[str, Span]] | None:
+def _record(data: dict, check: _SchemaCheck) -> tuple[list[tuple[str, Span]] | None, float | None]:
+    """The [record] table: the names to record (None: the default, every output and input clock)
+    and ``every``, the decimation interval (None: every row)."""
     rec = data.get("record")
     if rec is None:
-        return None
+        return None, None
     if not isinstance(rec, dict):
-        check.error("'record' must be a table with variables = [...]", "record")
-        return None
+        check.error("'record' must be a table with variables = [...] and/or every = SECONDS", "record")
+        return None, None
     check.unknown_keys(rec, RECORD_KEYS, "record")
-    names = rec.get("variables", [])
+    every = check.number(rec["every"], "record", "every", positive=True) if "every" in rec else None
+    if "variables" not in rec:
+        return None, every
+    names = rec["variables"]
     if not isinstance(names, list) or not all(isinstance(n, str) for n in names):
         check.error('\'variables\' must be a list of "instance.variable" (or "instance.*")', "record", "variables")
-        return None
-    return [(n, check.idx.span("record", "variables", i)) for i, n in enumerate(names)]
+        return None, every
+    return [(n, check.idx.span("record", "variables", i)) for i, n in enumerate(names)], every
 
 
 # ----------------------------------------------------------------------------------------

@@ -29,10 +29,13 @@ def dump(fmu: ir.Fmu) -> str:
     for p in fmu.outputs:
         out.append(f"  output {p.kind} {p.name}" + _fields(p))
     for p in fmu.params:
-        out.append(f"  parameter {p.fmi_name}: {p.var.type.show()} = {_value(p.value)}")
+        out.append(f"  parameter {p.fmi_name}: {p.var.type.show()} = {_value(p.value)}" + (" (no value in the model)" if p.free else ""))
     for m in fmu.machines:
         out.append(machine(m))
-    return "\n".join(out) + "\n"
+    text = "\n".join(out) + "\n"
+    if "Set(" in text or "Seq(" in text:  # the capacity of collections is part of the model's meaning
+        text = text.replace("\n", f"\n  capacity {fmu.capacity}\n", 1)
+    return text
 
 
 def _line(span: Span | None) -> str:
@@ -134,6 +137,8 @@ def expr(e: ir.Expr | None) -> str:
             return "true" if e.value else "false"
         if isinstance(e.value, Fraction):
             return repr(float(e.value))
+        if isinstance(e.value, str):
+            return '"' + e.value.replace("\\", "\\\\").replace('"', '\\"') + '"'
         return str(e.value)
     if isinstance(e, ir.Ref):
         return e.var.name
@@ -171,4 +176,6 @@ def expr(e: ir.Expr | None) -> str:
         return f"user {e.name}({', '.join(expr(a) for a in e.args)})"
     if isinstance(e, ir.CallB):
         return f"{e.name}({', '.join(expr(a) for a in e.args)})"
+    if isinstance(e, ir.Coll):
+        return f"{e.op}<{e.type.show()}>({', '.join(expr(a) for a in e.args)}) @{_line(e.span)}"
     return f"<{type(e).__name__}>"

@@ -11,24 +11,24 @@ from fractions import Fraction
 from typing import TYPE_CHECKING
 
 from robogen.diagnostics import Span, working_on
+from robogen.ir import linear
 from robogen.ir import model as ir
+from robogen.ir.collections import RELATION_OPS
+from robogen.ir.constants import default_expr
 from robogen.ir.region_tree import Graph
-from robogen.ir.supported import check_codegen_type, is_scalar, not_supported
+from robogen.ir.supported import TupleT, check_codegen_type, is_collection, is_scalar, not_supported, tuple_type
 from robogen.semantics import types as T
 from robogen.semantics.model import EnumLitSym, EventSym, FuncSym, VarSym
 from robogen.syntax import ast
+from robogen.syntax.printer import expr as expr_text
 
 if TYPE_CHECKING:  # the attributes MachineLowering provides
     from robogen.semantics.model import SemanticModel
 
 _UNSUPPORTED = {
-    ast.StringLit: "a string",
     ast.Binder: "a quantifier, lambda or definite description",
     ast.Let: "'let'",
-    ast.TupleLit: "a tuple",
-    ast.SeqLit: "a sequence",
-    ast.SetLit: "a set",
-    ast.SetRange: "a set",
+    ast.SetRange: "a set range",
     ast.SetComprehension: "a set comprehension",
     ast.Range: "a range",
     ast.MatrixOp: "inverse/transpose",
@@ -38,6 +38,36 @@ _BINARY = {
     "iff": "iff", "=>": "implies", "\\/": "or", "/\\": "and",
     "==": "eq", "!=": "ne", "<": "lt", "<=": "le", ">": "gt", ">=": "ge",
     "+": "add", "-": "sub", "*": "mul", "/": "div", "%": "mod",
+}
+
+
+# toolkit functions code generation implements: (name, the forms of the arguments) -> operation
+# of robogen.ir.collections (first, second and maplet are tuple operations)
+TOOLKIT: dict[str, dict[tuple[str, tuple[str, ...]], str]] = {
+    "set_toolkit": {
+        ("notin", ("value", "set")): "notin", ("notin", ("pair", "set")): "notin",
+        ("subseteq", ("set", "set")): "subseteq", ("subset", ("set", "set")): "subset",
+        ("union", ("set", "set")): "union", ("inter", ("set", "set")): "inter", ("diff", ("set", "set")): "diff",
+        ("symetric_diff", ("set", "set")): "symdiff",
+    },
+    "relation_toolkit": {
+        ("first", ("pair",)): "first", ("second", ("pair",)): "second",
+        **{("maplet", (a, b)): "maplet" for a in ("value", "pair") for b in ("value", "pair")},
+        ("dom", ("seq",)): "indices", ("ran", ("seq",)): "elems",
+        # relations: sets of pairs
+        ("dom", ("set",)): "dom", ("ran", ("set",)): "ran", ("rinv", ("set",)): "rinv",
+        ("dres", ("set", "set")): "dres", ("dsub", ("set", "set")): "dsub", ("rres", ("set", "set")): "rres",
+        ("rsub", ("set", "set")): "rsub", ("rimage", ("set", "set")): "rimage", ("override", ("set", "set")): "roverride",
+        ("relcomp", ("set", "set")): "relcomp",
+    },
+    "sequence_toolkit": {
+        ("range", ("value", "value")): "range", ("size", ("set",)): "size", ("size", ("seq",)): "size",
+        ("hasMin", ("set",)): "nonempty", ("hasMax", ("set",)): "nonempty", ("min", ("set",)): "min",
+        ("max", ("set",)): "max", ("isNonEmpty", ("seq",)): "nonempty", ("concat", ("seq", "seq")): "cat",
+        ("reverse", ("seq",)): "reverse", ("head", ("seq",)): "head", ("last", ("seq",)): "last",
+        ("tail", ("seq",)): "tail", ("front", ("seq",)): "front", ("filter", ("seq", "set")): "filter",
+        ("squash", ("set",)): "squash", ("prefix", ("seq", "seq")): "prefix", ("suffix", ("seq", "seq")): "suffix", ("infix", ("seq", "seq")): "infix",
+    },
 }
 
 
@@ -72,11 +102,14 @@ class ExpressionLowering:
         raise not_supported("this assignment target", e.span)
 
     def var_ref(self, graph: Graph, sym, span: Span | None) -> ir.Expr:
+        if isinstance(sym, VarSym) and sym.kind == "binder" and id(sym.decl) in self.bound:  # type: ignore[attr-defined]
+            return self.bound[id(sym.decl)]  # type: ignore[attr-defined]  # a lambda's parameter, applied
         if not isinstance(sym, VarSym):
             raise not_supported("this variable reference", span)
         var = graph.env.get(sym.name) or self.vars.get(sym.name)
-        if var is None and sym.shared and sym.kind == "var":
-            # a variable the controller provides, used by an operation the machine calls
+        if var is None and ((sym.shared and sym.kind == "var") or sym.kind == "const"):
+            # a variable the controller provides, or a constant an operation requires, used by
+            # an operation the machine calls: the machine's (a constant: an FMU parameter)
             var = self._declare_var(sym, sym.name)
         if var is None:
             raise not_supported(f"variable '{sym.name}' here", span)
@@ -98,7 +131,22 @@ class ExpressionLowering:
             return ir.VectorLit(t, tuple(self.conv(x, t.element, span) for x in e.items))
         if isinstance(t, T.RecordT) and isinstance(e, ir.RecordLit):
             return ir.RecordLit(t, tuple((n, self.conv(v, t.field(n), span)) for n, v in e.values))
+        if is_collection(t) and type(t) is type(e.type):
+            return self._conv_collection(e, t, span)  # type: ignore[arg-type]
         return e
+
+    def _conv_collection(self, e: ir.Expr, t: T.SetT | T.SeqT, span: Span | None) -> ir.Expr:
+        """A set or sequence as one of another element type: an enumeration's elements are
+        converted (``{}`` takes the type it is used as); other values only where the
+        representation does not change."""
+        if isinstance(e, ir.Coll) and e.op in ("set", "seq"):
+            return ir.Coll(t, e.op, tuple(self.conv(x, t.element, span) for x in e.args), e.text, e.span)
+        source = e.type.element  # type: ignore[attr-defined]
+        if isinstance(source, T.UnknownT) or source == t.element:
+            return e
+        if source in T.NUMERIC and t.element in T.NUMERIC:  # each element converted (a set re-ordered)
+            return ir.Coll(t, "conv", (e,), f"{e.type.show()} as {t.show()}", span)
+        raise not_supported(f"using a {e.type.show()} as a {t.show()}", span)
 
     def since_type(self) -> T.Type:
         """The type of clock readings: nat when the period is whole, real otherwise."""
@@ -119,6 +167,9 @@ class ExpressionLowering:
 
     def _e_RealLit(self, e: ast.RealLit, graph: Graph) -> ir.Expr:
         return ir.Lit(T.REAL, Fraction(e.text))
+
+    def _e_StringLit(self, e: ast.StringLit, graph: Graph) -> ir.Expr:
+        return ir.Lit(T.STRING, e.value)
 
     def _e_BoolLit(self, e: ast.BoolLit, graph: Graph) -> ir.Expr:
         return ir.Lit(T.BOOLEAN, e.value)
@@ -159,9 +210,13 @@ class ExpressionLowering:
         if e.op == "not":
             return ir.Un(T.BOOLEAN, "not", operand)
         t = self._type(e)
+        if isinstance(t, (T.VectorT, T.MatrixT)):
+            return linear.negate(operand, t, self.conv, e.span)
         return ir.Un(t, "neg", self.conv(operand, t, e.span))
 
     def _e_Binary(self, e: ast.Binary, graph: Graph) -> ir.Expr:
+        if e.op in ("in", "^", "cat"):
+            return self._collection_binary(e, graph)
         op = _BINARY.get(e.op)
         if op is None:
             raise not_supported(f"the operator '{e.op}'", e.span)
@@ -171,17 +226,30 @@ class ExpressionLowering:
         if op in ("eq", "ne", "lt", "le", "gt", "ge"):
             return self._comparison(e, op, a, b)
         t = self._type(e)
+        if op in ("add", "sub", "mul") and any(isinstance(x.type, (T.VectorT, T.MatrixT)) for x in (a, b)):
+            return linear.arithmetic(op, a, b, t, self.conv, e.span)
         if t not in T.NUMERIC:
             raise not_supported(f"'{e.op}' on {t.show()}", e.span)
         return ir.Bin(t, op, self.conv(a, t, e.left.span), self.conv(b, t, e.right.span))
 
+    def _collection_binary(self, e: ast.Binary, graph: Graph) -> ir.Expr:
+        a, b = self.expr(e.left, graph), self.expr(e.right, graph)
+        if e.op == "in":
+            assert isinstance(b.type, (T.SetT, T.SeqT))
+            return self.coll(T.BOOLEAN, "in", (self.conv(a, b.type.element, e.left.span), b), e)
+        t = self._type(e)
+        return self.coll(t, "cat", (self.conv(a, t, e.left.span), self.conv(b, t, e.right.span)), e)
+
     def _comparison(self, e: ast.Binary, op: str, a: ir.Expr, b: ir.Expr) -> ir.Expr:
+        known = self.model.constant_comparison(e)  # k >= 0 for a nat k: C compilers reject the test (-Wtype-limits)
+        if known is not None:
+            return ir.Lit(T.BOOLEAN, known)
         if a.type in T.NUMERIC and b.type in T.NUMERIC:
             t = T.REAL if T.REAL in (a.type, b.type) else (T.NAT if a.type == b.type == T.NAT else T.INT)
             return ir.Bin(T.BOOLEAN, op, self.conv(a, t, e.left.span), self.conv(b, t, e.right.span))
         if op not in ("eq", "ne"):
             raise not_supported(f"'{e.op}' on {a.type.show()}", e.span)
-        if not (is_scalar(a.type) or isinstance(a.type, (T.RecordT, T.VectorT, T.MatrixT))):
+        if not (is_scalar(a.type) or isinstance(a.type, (T.RecordT, T.VectorT, T.MatrixT, T.SetT, T.SeqT)) or a.type == T.STRING):
             raise not_supported(f"comparing values of type {a.type.show()}", e.span)
         if a.type != b.type:  # a literal takes the type of the other side: [| 0, 0 |] is vector(nat, 2)
             if self.conv(b, a.type, e.right.span).type == a.type:
@@ -223,6 +291,11 @@ class ExpressionLowering:
         return self._index(self.expr(e.obj, graph), e, graph)
 
     def _index(self, base: ir.Expr, e: ast.Index, graph: Graph) -> ir.Expr:
+        if isinstance(base.type, TupleT) and len(e.indices) == 1 and isinstance(e.indices[0], ast.IntLit):
+            name = f"_{e.indices[0].value}"
+            return ir.FieldOf(base.type.field(name), base, name)  # type: ignore[arg-type]
+        if isinstance(base.type, T.SeqT) and len(e.indices) == 1:
+            return ir.IndexOf(base.type.element, base, (self.conv(self.expr(e.indices[0], graph), T.INT, e.indices[0].span),))
         if isinstance(base.type, T.VectorT) and len(e.indices) == 1:
             return ir.IndexOf(base.type.element, base, (self.conv(self.expr(e.indices[0], graph), T.INT, e.indices[0].span),))
         if isinstance(base.type, T.MatrixT) and len(e.indices) == 2:
@@ -233,7 +306,31 @@ class ExpressionLowering:
         t = self._type(e)
         assert isinstance(t, T.RecordT)
         given = {fv.name: fv.value for fv in e.fields}
-        return ir.RecordLit(t, tuple((n, self.conv(self.expr(given[n], graph), ft, given[n].span)) for n, ft in t.fields))
+        # a field the literal leaves out (RoboTool warns) has the default value of its type
+        return ir.RecordLit(t, tuple((n, self.conv(self.expr(given[n], graph), ft, given[n].span) if n in given
+                                      else default_expr(ft, e.span)) for n, ft in t.fields))
+
+    def _e_TupleLit(self, e: ast.TupleLit, graph: Graph) -> ir.Expr:
+        items = tuple(self.expr(x, graph) for x in e.items)
+        t = tuple_type(tuple(x.type for x in items))
+        return ir.RecordLit(t, tuple((n, x) for (n, _), x in zip(t.fields, items)))
+
+    def coll(self, t: T.Type, op: str, args, e: ast.Expr) -> ir.Coll:
+        """A collection operation, with the expression's text and place for its run-time errors."""
+        return ir.Coll(t, op, tuple(args), expr_text(e), e.span)
+
+    def _e_SetLit(self, e: ast.SetLit, graph: Graph) -> ir.Expr:
+        return self._enumeration(e, graph, "set")
+
+    def _e_SeqLit(self, e: ast.SeqLit, graph: Graph) -> ir.Expr:
+        return self._enumeration(e, graph, "seq")
+
+    def _enumeration(self, e: ast.SetLit | ast.SeqLit, graph: Graph, op: str) -> ir.Expr:
+        t = self._type(e)
+        assert isinstance(t, (T.SetT, T.SeqT))
+        if not isinstance(t.element, T.UnknownT):
+            check_codegen_type(t, e.span, f"this {op}")
+        return self.coll(t, op, (self.conv(self.expr(x, graph), t.element, x.span) for x in e.items), e)
 
     def _e_VectorLit(self, e: ast.VectorLit, graph: Graph) -> ir.Expr:
         t = self._type(e)
@@ -248,27 +345,85 @@ class ExpressionLowering:
         sym = self.model.symbol(e.func)
         if isinstance(sym, EnumLitSym):
             raise not_supported("an enumeration literal with arguments", e.span)
-        if isinstance(sym, FuncSym) and sym.builtin is not None and sym.name in ("min", "max", "abs"):
+        if isinstance(sym, FuncSym) and sym.builtin is not None and not hasattr(sym.builtin, "package") \
+                and sym.name in ("min", "max", "abs"):
             t = self._type(e)
             if t not in T.NUMERIC or any(self._type(a) not in T.NUMERIC for a in e.args):
                 raise not_supported(f"'{sym.name}' of a set or sequence", e.span)
             return ir.CallB(t, sym.name, tuple(self.conv(self.expr(a, graph), t, a.span) for a in e.args))
         if isinstance(sym, FuncSym) and sym.builtin is None and sym.decl is not None:
             return self._user_call(sym, e, graph)
+        if isinstance(sym, FuncSym) and getattr(sym.builtin, "package", None) in TOOLKIT:
+            return self._toolkit_call(sym, e, graph)
+        if sym is None or isinstance(sym, VarSym):  # a function value: a lambda, override, a variable
+            return self.apply(e.func, [self.expr(a, graph) for a in e.args], e, graph)  # type: ignore[attr-defined]
         name = sym.name if isinstance(sym, FuncSym) else "?"
         raise not_supported(f"a call of function '{name}' (robogen has no implementation of it)", e.span)
+
+    def _toolkit_call(self, sym: FuncSym, e: ast.Call, graph: Graph) -> ir.Expr:
+        """A call of a toolkit function that code generation implements on sets, sequences and
+        pairs (see :mod:`robogen.ir.collections`)."""
+        args = [self.expr(a, graph) for a in e.args]
+        t = self._type(e)
+        kinds = tuple("set" if isinstance(a.type, T.SetT) else "seq" if isinstance(a.type, T.SeqT) else "pair"
+                      if isinstance(a.type, TupleT) else "value" for a in args)
+        op = TOOLKIT[sym.builtin.package].get((sym.name, kinds))  # type: ignore[union-attr]
+        if op is None:
+            shown = ", ".join(a.type.show() for a in args)
+            raise not_supported(f"'{sym.name}' of {shown}", e.span)
+        if op in RELATION_OPS:
+            return self._relation_call(sym, op, args, t, e)
+        if op in ("first", "second"):
+            name = "_1" if op == "first" else "_2"
+            return ir.FieldOf(args[0].type.field(name), args[0], name)  # type: ignore[union-attr, arg-type]
+        if op == "maplet":
+            pair = tuple_type((args[0].type, args[1].type))
+            return ir.RecordLit(pair, (("_1", args[0]), ("_2", args[1])))
+        if op == "range":
+            args = [self.conv(a, T.INT, x.span) for a, x in zip(args, e.args)]
+        elif is_collection(t) and op not in ("elems", "indices"):
+            # the collections the result is made from have its type ({} and <> take it)
+            args = [self.conv(a, t, x.span) if is_collection(a.type) else a for a, x in zip(args, e.args)]
+        elif len(args) == 2 and all(is_collection(a.type) for a in args):
+            common = args[1].type if isinstance(args[0].type.element, T.UnknownT) else args[0].type  # type: ignore[union-attr]
+            args = [self.conv(a, type(a.type)(common.element), x.span) for a, x in zip(args, e.args)]  # type: ignore[union-attr, call-arg]
+        elif op == "notin":
+            args[0] = self.conv(args[0], args[1].type.element, e.args[0].span)  # type: ignore[union-attr]
+        if isinstance(t, (T.SetT, T.SeqT)):
+            check_codegen_type(t, e.span, f"the result of '{sym.name}'")
+        return self.coll(t, op, args, e)
+
+    def _relation_call(self, sym: FuncSym, op: str, args: list[ir.Expr], t: T.Type, e: ast.Call) -> ir.Expr:
+        """A relation operation: every relation is a set of pairs (robogen.ir.collections)."""
+        at = 1 if op in ("dres", "dsub") else 0
+        pair = args[at].type.element  # type: ignore[attr-defined]
+        if not (isinstance(pair, TupleT) and len(pair.fields) == 2):
+            raise not_supported(f"'{sym.name}' of {args[at].type.show()} (a relation is a set of pairs)", e.span)
+        x, y = pair.field("_1"), pair.field("_2")
+        wanted = {"dres": (T.SetT(x), None), "dsub": (T.SetT(x), None), "rres": (None, T.SetT(y)),
+                  "rsub": (None, T.SetT(y)), "rimage": (None, T.SetT(x)), "roverride": (None, args[0].type)}.get(op, (None, None))
+        args = [self.conv(a, w, x_.span) if w is not None else a for a, w, x_ in zip(args, wanted, e.args)]
+        check_codegen_type(t, e.span, f"the result of '{sym.name}'")
+        return self.coll(t, op, args, e)
 
     def _user_call(self, sym: FuncSym, e: ast.Call, graph: Graph) -> ir.Expr:
         """A call of a function the model declares by its contract only: the code generator
         takes its implementation from the user (the reference interpreter from Python)."""
+        return self.user_call(sym, [self.expr(a, graph) for a in e.args], e)
+
+    def user_call(self, sym: FuncSym, args: list[ir.Expr], e: ast.Call) -> ir.Expr:
+        """The call of user function ``sym`` on the lowered ``args``. Its parameters and result
+        are numbers, booleans, enumerations, records, tuples, sets or sequences (the C file
+        receives and returns the C types of config.h)."""
         params = tuple((n, self._norm(t)) for n, t in sym.params)
         result = self._norm(sym.result)
         for n, t in params + (("result", result),):
             if not is_scalar(t):
-                raise not_supported(f"function '{sym.name}': {n} of type {t.show()}", e.span)
+                if isinstance(t, T.FunctionT) or "?" in t.show() or "string" in t.show():
+                    raise not_supported(f"function '{sym.name}': {n} of type {t.show()}", e.span)
+                check_codegen_type(t, e.span, f"function '{sym.name}': {n}")
         self.user_function(sym, e, params, result)
-        args = tuple(self.conv(self.expr(a, graph), pt, a.span) for a, (_, pt) in zip(e.args, params))
-        return ir.CallU(result, sym.name, args)
+        return ir.CallU(result, sym.name, tuple(self.conv(a, pt, e.span) for a, (_, pt) in zip(args, params)))
 
     # -- RoboSim inputs
 

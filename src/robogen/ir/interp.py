@@ -22,7 +22,7 @@ run in the following instants without a clock). Because every machine samples be
 what one machine sends another is seen in the next cycle, whatever their order. RoboChart: a tick
 of ``tock`` advances time (clocks, waits); events latched in the instant join the machine's
 buffer (one place per event; it keeps an event until a transition or an input statement consumes
-it, docs/robosim-robochart.md §7.7) and the machine runs to quiescence (exhaustive) or takes one
+it, as the README's FMI mapping says) and the machine runs to quiescence (exhaustive) or takes one
 transition (stepwise); events that arrive after the evaluation ask for another instant.
 """
 
@@ -32,7 +32,9 @@ import copy
 import math
 from dataclasses import dataclass, field
 
+from robogen.ir import collections as C
 from robogen.ir import model as ir
+from robogen.ir.constants import default_value
 from robogen.semantics import types as T
 
 MASK = (1 << 64) - 1
@@ -52,21 +54,13 @@ def wrap_nat(v: int) -> int:
 
 
 def _zero(t: T.Type):
-    if t == T.REAL:
-        return 0.0
-    if t == T.BOOLEAN:
-        return False
-    if isinstance(t, T.RecordT):
-        return {n: _zero(ft) for n, ft in t.fields}
-    if isinstance(t, T.VectorT):
-        return [_zero(t.element) for _ in range(t.size or 0)]
-    if isinstance(t, T.MatrixT):
-        return [_zero(t.element) for _ in range((t.rows or 0) * (t.columns or 0))]
-    return 0  # nat, int, enumerations
+    return default_value(t, 0.0)
 
 
 def python_value(v: object, t: T.Type):
     """A literal of the IR as the interpreter's value."""
+    if isinstance(t, (T.VectorT, T.MatrixT)) and isinstance(v, list):  # a parameter's start value
+        return [python_value(x, t.element) for x in v]
     if t == T.REAL:
         return float(v)  # type: ignore[arg-type]
     if t == T.BOOLEAN:
@@ -150,7 +144,7 @@ class Interpreter:
         """Initial values of variables (they may read parameters)."""
         for m, ms in zip(self.fmu.machines, self.machines):
             for v in m.vars:
-                if v.kind == "var" and v.init is not None:
+                if v.kind in ("var", "const") and v.init is not None:
                     ms.vars[v.name] = copy.deepcopy(self._eval(v.init, m, ms))
 
     # ------------------------------------------------------------------ instants
@@ -167,12 +161,28 @@ class Interpreter:
         if port.type is None:
             return None
         value = _zero(port.type)
+        collections: dict[tuple[str, ...], list] = {}  # path of a collection -> [elements, size]
         for f in port.fields:
+            if f.path and f.path[-1] in ("#elements", "#size"):
+                given = payload.get(f.fmi_name, _zero(f.type))
+                slot = collections.setdefault(f.path[:-1], [[], 0])
+                if f.path[-1] == "#size":
+                    slot[1] = int(given)  # type: ignore[call-overload]
+                else:
+                    slot[0] = [python_value(x, f.type.element) for x in given]  # type: ignore[union-attr, attr-defined]
+                continue
             v = python_value(payload.get(f.fmi_name, _zero(f.type)), f.type) if not isinstance(f.type, T.VectorT) else list(payload.get(f.fmi_name, _zero(f.type)))  # type: ignore[arg-type]
             if not f.path:
                 value = v
             else:
                 _set_path(value, f.path, v)
+        for path, (elements, size) in collections.items():
+            t = _type_at(port.type, path)
+            v = C.received(elements, size, t, self.fmu.capacity)  # type: ignore[arg-type]
+            if not path:
+                value = v
+            else:
+                _set_path(value, path, v)
         return value
 
     def _deliver(self, mi: int, ei: int, value) -> None:
@@ -274,7 +284,7 @@ class Interpreter:
         for m, ms in zip(self.fmu.machines, self.machines):
             for v in m.vars:
                 if v.kind in ("var", "const"):
-                    _flatten_value(f"{m.name}.{v.name}", v.type, ms.vars[v.name], out)
+                    _flatten_value(f"{m.name}.{v.name}", v.type, ms.vars[v.name], out, self.fmu.capacity)
         return out
 
     # ------------------------------------------------------------------ execution
@@ -359,8 +369,11 @@ class Interpreter:
                 value = _get_path(args[pi], f.path[1:])
             else:
                 value = _get_path(args[0], f.path)
+            if isinstance(f.type, T.VectorT) and f.path and f.path[-1] == "#elements":
+                value = list(value) + [_zero(f.type.element)] * ((f.type.size or 0) - len(value))
             out[f.fmi_name] = copy.deepcopy(value)
         return out
+
 
     def _store(self, target: ir.Expr, value, m: ir.Machine, ms: MachineState) -> None:
         if isinstance(target, ir.Ref):
@@ -375,7 +388,7 @@ class Interpreter:
             return self._location(target.base, m, ms), target.name
         if isinstance(target, ir.IndexOf):
             base = self._location(target.base, m, ms)
-            return base, self._offset(target, m, ms)
+            return base, self._offset(target, m, ms, base)
         raise RuntimeFault("bad assignment target")  # pragma: no cover
 
     def _memory(self, var: ir.Var, ms: MachineState) -> dict[str, object]:
@@ -389,9 +402,14 @@ class Interpreter:
         container, key = self._place(e, m, ms)
         return container[key]
 
-    def _offset(self, e: ir.IndexOf, m: ir.Machine, ms: MachineState) -> int:
+    def _offset(self, e: ir.IndexOf, m: ir.Machine, ms: MachineState, base) -> int:
         base_t = e.base.type
         idx = [self._eval(i, m, ms) for i in e.indices]
+        if isinstance(base_t, T.SeqT):
+            try:
+                return C.index(base, idx[0], "a sequence")
+            except C.CollectionFault as fault:
+                raise RuntimeFault(str(fault)) from None
         if isinstance(base_t, T.VectorT):
             i = idx[0]
             if not 1 <= i <= (base_t.size or 0):  # type: ignore[operator]
@@ -414,7 +432,7 @@ class Interpreter:
             return self._eval(e.base, m, ms)[e.name]
         if isinstance(e, ir.IndexOf):
             base = self._eval(e.base, m, ms)
-            return base[self._offset(e, m, ms)]
+            return base[self._offset(e, m, ms, base)]
         if isinstance(e, ir.Un):
             v = self._eval(e.operand, m, ms)
             if e.op == "not":
@@ -454,12 +472,30 @@ class Interpreter:
             if e.name == "min":
                 return args[0] if args[0] <= args[1] else args[1]
             return args[0] if args[0] >= args[1] else args[1]
+        if isinstance(e, ir.Coll):
+            return self._collection(e, m, ms)
         if isinstance(e, ir.CallU):
             f = self.functions.get(e.name)
             if f is None:
                 raise RuntimeFault(f"user function '{e.name}' has no implementation in the reference interpreter")
             return python_value(f(*(self._eval(a, m, ms) for a in e.args)), e.type)
         raise RuntimeFault(f"unknown expression {type(e).__name__}")  # pragma: no cover
+
+    def _collection(self, e: ir.Coll, m: ir.Machine, ms: MachineState):
+        args = [self._eval(a, m, ms) for a in e.args]
+        where = self.fmu.place(e.span)
+        if e.op == "undefined":
+            raise RuntimeFault(f"machine {m.name}: {e.text} at {where}")
+        if e.op == "conv":  # numbers converted one by one, as Conv converts them
+            source, target = e.args[0].type.element, e.type.element  # type: ignore[attr-defined]
+            items = [convert(x, source, target) for x in args[0]]
+            return C.received(items, len(items), e.type, self.fmu.capacity)
+        try:
+            return copy.deepcopy(C.apply(e.op, args, [a.type for a in e.args], self.fmu.capacity,
+                                         C.overflow_message(e.text, where, self.fmu.capacity),
+                                         C.empty_message(e.op, e.text, where), e.type))
+        except C.CollectionFault as fault:
+            raise RuntimeFault(f"machine {m.name}: {fault}") from None
 
     def _since(self, elapsed: int, t: T.Type):
         p = self.fmu.period
@@ -531,7 +567,7 @@ def arith(op: str, a, b, t: T.Type):
             if b == 0.0:
                 raise RuntimeFault("division by zero")
             return a / b
-        if op == "mod":  # pragma: no cover - the checker rejects % on reals
+        if op == "mod":  # RoboChart's % on reals: fmod, the sign of the dividend as on integers
             if b == 0.0:
                 raise RuntimeFault("division by zero")
             return math.fmod(a, b)
@@ -553,9 +589,21 @@ def arith(op: str, a, b, t: T.Type):
 
 
 def _get_path(value, path: tuple[str, ...]):
+    """The part of a value at ``path`` (record fields; ``#size``/``#elements`` of a collection,
+    its elements as the FMU's array of the capacity, zeros after the last)."""
     for p in path:
+        if p == "#size":
+            return len(value)
+        if p == "#elements":
+            return value  # padded by the caller, which knows the array's size
         value = value[p]
     return value
+
+
+def _type_at(t: T.Type, path: tuple[str, ...]) -> T.Type:
+    for p in path:
+        t = t.field(p)  # type: ignore[attr-defined, assignment]
+    return t
 
 
 def _set_path(value, path: tuple[str, ...], v) -> None:
@@ -564,10 +612,16 @@ def _set_path(value, path: tuple[str, ...], v) -> None:
     value[path[-1]] = v
 
 
-def _flatten_value(prefix: str, t: T.Type, v, out: dict[str, object]) -> None:
+def _flatten_value(prefix: str, t: T.Type, v, out: dict[str, object], capacity: int) -> None:
     if isinstance(t, T.RecordT):
         for n, ft in t.fields:
-            _flatten_value(f"{prefix}.{n}", ft, v[n], out)
+            _flatten_value(f"{prefix}.{n}", ft, v[n], out, capacity)
+    elif isinstance(t, T.FunctionT) or t == T.STRING:
+        pass  # the number of a function value or of a string: not an FMI variable
+    elif isinstance(t, (T.SetT, T.SeqT)):  # as the FMU shows it: elements padded with zeros, and size
+        if not isinstance(t.element, T.RecordT):
+            out[f"{prefix}.elements"] = copy.deepcopy(v) + [_zero(t.element)] * (capacity - len(v))
+            out[f"{prefix}.size"] = len(v)
     else:
         out[prefix] = copy.deepcopy(v)
 

@@ -34,6 +34,7 @@ class LoweringOptions:
     settings: dict[str, str] = field(default_factory=dict)  # constant name -> value text (--set)
     given: str = "int"  # the scalar type of given types
     max_steps: int = 1000
+    capacity: int = 32  # the most elements a set or sequence holds
 
 
 def lower(model: SemanticModel, boundary: Boundary, options: LoweringOptions | None = None) -> ir.Fmu:
@@ -45,16 +46,18 @@ def lower(model: SemanticModel, boundary: Boundary, options: LoweringOptions | N
     lowerings: list[MachineLowering] = []
     ports = Ports(fmu, boundary, lowerings, lambda t: normalise(t, options.given))  # type: ignore[arg-type]
     ctx = FmuContext(model, boundary, fmu, options.given, options.settings, ports)
-    for i, (used_name, scope, ctrl) in enumerate(boundary.machines):
+    for i, ((used_name, scope, ctrl), name) in enumerate(zip(boundary.machines, boundary.machine_names)):
         with working_on(scope.node.span):
-            ml = MachineLowering(ctx, scope, ctrl, i, used_name)
+            ml = MachineLowering(ctx, scope, ctrl, i, used_name, name)
             fmu.machines.append(ml.machine)
             lowerings.append(ml)
     ports.create()
     for ml in lowerings:
         with working_on(ml.scope.node.span):
             ml.build()
+    ctx.check_settings()
     ctx.sink.raise_if_errors()
+    fmu.warnings += ctx.sink.warnings
     return fmu
 
 
@@ -71,6 +74,7 @@ def _header(model: SemanticModel, b: Boundary, options: LoweringOptions) -> ir.F
         sources=tuple(sorted({f.path for f in model.files})),
         span=getattr(b.node, "name_span", None),
         max_steps=options.max_steps,
+        capacity=options.capacity,
         root=model.root,
     )
 

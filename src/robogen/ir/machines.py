@@ -13,15 +13,16 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 from fractions import Fraction
 
-from robogen.diagnostics import DiagnosticSink, Note, RobogenError, Span
+from robogen.diagnostics import DiagnosticSink, Note, RobogenError, Span, did_you_mean
 from robogen.ir import model as ir
 from robogen.ir.boundary import Boundary
-from robogen.ir.constants import constant_value, parse_setting
+from robogen.ir.constants import constant_value, default_value, parse_setting, shown
 from robogen.ir.expressions import ExpressionLowering
 from robogen.ir.region_tree import Graph, place_of, state_action
 from robogen.ir.ports import Ports
 from robogen.ir.statements import StatementLowering
-from robogen.ir.supported import check_codegen_type, normalise, not_supported
+from robogen.ir.functions import FunctionValues
+from robogen.ir.supported import check_codegen_type, is_scalar, normalise, not_supported
 from robogen.semantics import types as T
 from robogen.semantics.model import Controller, FuncSym, MachineScope, OpSym, Region, SemanticModel, VarSym
 from robogen.syntax import ast
@@ -40,14 +41,31 @@ class FmuContext:
     sink: DiagnosticSink = field(default_factory=DiagnosticSink)
     # variables a controller provides, shared by its machines: (id(controller), name) -> storage
     shared_vars: dict[tuple[int, str], ir.Var] = field(default_factory=dict)
+    # every constant lowered, by FMI name and by its own name -> whether --set may give its value
+    constants: dict[str, bool] = field(default_factory=dict)
+
+    def check_settings(self) -> None:
+        """Each --set must name a constant of the FMU that takes a value from the command line."""
+        for name in self.settings:
+            if name not in self.constants:
+                scalar = [n for n, settable in self.constants.items() if settable]
+                self.sink.error(f"--set {name}: the FMU has no constant named '{name}'{did_you_mean(name, scalar)}", None,
+                                *([Note("its constants: " + ", ".join(sorted(scalar)))] if scalar else
+                                  [Note("it has no constant a --set could give a value")]))
+            elif not self.constants[name]:
+                self.sink.error(f"--set {name}: only constants of scalar types take a value from --set; "
+                                "give this one its value in the model", None)
 
 
 _NODE_KINDS = {ast.State: "state", ast.Junction: "junction", ast.Final: "final", ast.Initial: "initial",
                ast.Probabilistic: "probabilistic"}
 
 
-class MachineLowering(StatementLowering, ExpressionLowering):
-    def __init__(self, ctx: FmuContext, scope: MachineScope, ctrl: Controller | None, index: int, used_name: str):
+class MachineLowering(StatementLowering, ExpressionLowering, FunctionValues):
+    def __init__(self, ctx: FmuContext, scope: MachineScope, ctrl: Controller | None, index: int, used_name: str,
+                 name: str | None = None):
+        """``name``: the machine's name in the FMU (its own, or its instance path where two
+        machines of the FMU have one name: :attr:`Boundary.machine_names`)."""
         self.ctx = ctx
         self.model = ctx.model
         self.boundary = ctx.boundary
@@ -57,7 +75,7 @@ class MachineLowering(StatementLowering, ExpressionLowering):
         self.ctrl = ctrl
         self.used_name = used_name
         self.robosim = scope.robosim
-        self.machine = ir.Machine(scope.name, scope.qname, scope.node.name_span, index=index)  # type: ignore[attr-defined]
+        self.machine = ir.Machine(name or scope.name, scope.qname, scope.node.name_span, index=index)  # type: ignore[attr-defined]
         self.vars: dict[str, ir.Var] = {}
         self.evals: dict[tuple[int, int], int] = {}  # (graph, leaf node) -> evaluation block
         self.completions: dict[tuple[int, int], int] = {}  # (transition, leaf node) -> completion block
@@ -65,6 +83,8 @@ class MachineLowering(StatementLowering, ExpressionLowering):
         self.site = 0
         self.node_now = 0
         self.deadline_flags: dict[tuple[int, int], ir.Var] = {}  # (graph, transition) -> missed flag
+        self.bound: dict[int, ir.Expr] = {}  # id(binder declaration) -> what it stands for (robogen.ir.functions)
+        self.fn_tables: dict[str, list[ast.Expr]] | None = None  # function variable -> the values it stores
         for name, v in scope.vars.items():
             self._declare_var(v, name)
         for name, e in scope.events.items():
@@ -97,30 +117,49 @@ class MachineLowering(StatementLowering, ExpressionLowering):
         if v.shared and v.kind == "var":
             shared[key] = var
         if v.kind == "const":
-            self._constant(var, v)
+            self._constant(var, v, f"{self.machine.name}.{name}")
         return var
 
-    def _constant(self, var: ir.Var, v: VarSym) -> None:
-        """A constant is an FMU parameter; its start value comes from --set or its initialiser."""
+    def operation_constant(self, op: MachineScope, v: VarSym) -> ir.Var:
+        """A constant an operation declares without a value: one FMU parameter of the machine,
+        ``<machine>.<operation>.<name>``, whichever call site reads it."""
+        name = f"{op.name}.{v.name}"
+        return self.vars.get(name) or self._declare_var(v, name)
+
+    def _constant(self, var: ir.Var, v: VarSym, fmi_name: str) -> None:
+        """A constant is an FMU parameter; its start value comes from --set, its initialiser, or
+        (a constant the model leaves without a value) the default value of its type, with a
+        warning: the importer sets it in Initialization Mode."""
         fmu = self.ctx.fmu
-        fmi_name = f"{self.scope.name}.{v.name}"
+        for name in (fmi_name, v.name):
+            self.ctx.constants[name] = self.ctx.constants.get(name, False) or is_scalar(var.type)
+        if not (is_scalar(var.type) or isinstance(var.type, (T.VectorT, T.MatrixT))):
+            # a set, sequence, tuple or record: its initialiser, computed once
+            if v.init is None:
+                self.ctx.sink.error(f"constant '{v.name}' of type {var.type.show()} has no value: give one in the model",
+                                    v.span, Note("only constants of scalar types are FMU parameters (--set)"))
+            return
         settings = self.ctx.settings
         text = settings.get(fmi_name, settings.get(v.name))
         value: object = None
         if text is not None:
             value = parse_setting(text, var.type, v.span, fmi_name)
         elif v.init is not None:
-            known = {p.var.name: p.value for p in fmu.params if p.machine == self.machine.index}
-            value = constant_value(v.init, var.type, self.model, known)
+            mine = [p for p in fmu.params if p.machine == self.machine.index]
+            value = constant_value(v.init, var.type, self.model, {p.var.name: p.value for p in mine if not p.free})
             if value is None:
-                self.ctx.sink.error(f"the value of constant '{v.name}' must be computable from literals and other constants", v.init.span)
+                free = [p.var.name for p in mine if p.free]
+                self.ctx.sink.error(f"the value of constant '{v.name}' must be computable from literals and other constants", v.init.span,
+                                    *([Note("constants without a value in the model (" + ", ".join(free) + ") are known only "
+                                            "when the importer sets them: give them with --set")] if free else []))
         else:
-            self.ctx.sink.error(
-                f"constant '{v.name}' has no value: give one in the model or with --set {v.name}=VALUE",
-                v.span,
-                Note("RoboChart constants without a value are model parameters; an FMU parameter needs a start value"),
-            )
-        fmu.params.append(ir.Param(fmi_name, var, self.machine.index, value))
+            value = default_value(var.type)
+            if not any(w.span == v.span for w in self.ctx.sink.warnings):  # one per constant, however many machines use it
+                self.ctx.sink.warning(
+                    f"constant '{v.name}' has no value: it becomes FMU parameter '{fmi_name}' with start "
+                    f"{shown(value, var.type)}; set it with --set {v.name}=... or in the importer",
+                    v.span)
+        fmu.params.append(ir.Param(fmi_name, var, self.machine.index, value, free=text is None and v.init is None))
 
     def clock(self, name: str) -> int:
         self.machine.clocks.append(name)
@@ -169,8 +208,11 @@ class MachineLowering(StatementLowering, ExpressionLowering):
         self.index_regions(graph, root, None)
         for name, v in self.scope.vars.items():
             var = self.vars[name]
-            if v.kind == "var" and v.init is not None:
-                var.init = self.conv(self.expr(v.init, graph), var.type, v.init.span)
+            if (v.kind == "var" or (v.kind == "const" and not is_scalar(var.type))) and v.init is not None:
+                if isinstance(var.type, T.FunctionT):
+                    var.init = self.function_value(ir.Ref(var.type, var), v.init, v.init.span)
+                else:
+                    var.init = self.conv(self.expr(v.init, graph), var.type, v.init.span)
         start = self.block(f"start {self.scope.name}", self.scope.node.name_span)  # type: ignore[attr-defined]
         start.step = True  # the initial transition is the first transition segment
         self.machine.start = start.id
@@ -337,11 +379,9 @@ class MachineLowering(StatementLowering, ExpressionLowering):
             if ev is None:
                 raise not_supported(f"a trigger on '{t.trigger.event}', which this boundary never receives", t.trigger.span)
             event_index = ev.index
-            if t.trigger.kind == "?":
-                var = self.model.bound_var(t.trigger)
-                guard = ir.BindIn(T.BOOLEAN, ev.index, self.var_ref(graph, var, t.trigger.var_span))
-            else:
-                guard = ir.Occurred(T.BOOLEAN, ev.index)
+            # e?x binds x when the transition is taken (see _completion), never while guards are
+            # only evaluated: the condition reads x as it was before the communication.
+            guard = ir.Occurred(T.BOOLEAN, ev.index)
         if t.condition is not None:
             cond = self.expr(t.condition, graph)
             guard = cond if guard is None else ir.Bin(T.BOOLEAN, "and", guard, cond)
@@ -358,6 +398,10 @@ class MachineLowering(StatementLowering, ExpressionLowering):
         self.node_now = graph.node_ids[id(leaf)]
         cur = b
         if consume is not None:
+            if t.trigger is not None and t.trigger.kind == "?":  # bound as the transition is taken
+                var = self.model.bound_var(t.trigger)
+                cur.stmts.append(ir.Assign(t.trigger.span, self.var_ref(graph, var, t.trigger.var_span),
+                                           ir.Payload(self.machine.event(t.trigger.event).type, consume)))
             cur.stmts.append(ir.Consume(t.span, consume))
         cur.stmts.append(ir.Trace(t.span, f"{t.name}: {src.name} -> {t.target}"))  # type: ignore[attr-defined]
         chain = self._chain(graph, leaf)

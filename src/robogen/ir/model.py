@@ -15,7 +15,7 @@ second ``step`` block it reaches, so every ``fmi3UpdateDiscreteStates`` takes ex
 transition, together with the evaluation of the guards that follow it: the run that enters a
 state also finds out whether the state's next transition is an ``exec`` (the cycle ends there,
 ``discreteStatesNeedUpdate = false``) or another transition (``true``), as
-docs/robosim-robochart.md §7.5 asks. In exhaustive semantics ``step`` only counts.
+robogen's stepwise semantics asks (README: The two semantics). In exhaustive semantics ``step`` only counts.
 
 That one mechanism expresses RoboSim's exec transitions (decide now, act next cycle), exec
 statements in the middle of actions, RoboChart's ``wait(n)`` and quiescence, entry and exit
@@ -67,13 +67,15 @@ class Var:
 
 @dataclass(eq=False)
 class Param:
-    """An FMI parameter: a model constant. ``value`` is the start value (a Python value); a
-    constant declared without a value has value None until configured."""
+    """An FMI parameter: a model constant. ``value`` is the start value (a Python value). A
+    constant the model declares without a value (and --set does not give one) is ``free``: its
+    start value is its type's default, and it only gets its real value from the importer."""
 
     fmi_name: str
     var: Var
     machine: int
     value: object
+    free: bool = False
 
 
 @dataclass(frozen=True)
@@ -99,6 +101,14 @@ class Port:
     # input ports: where the event goes inside the FMU, (machine index, event index)
     routes: list[tuple[int, int]] = field(default_factory=list)
     index: int = 0
+    # the event or operation of the model, when the FMI name differs from it (a name FMI or
+    # robogen already uses, or the name of another port: :class:`robogen.ir.ports.Ports`)
+    model_name: str = ""
+
+    @property
+    def source(self) -> str:
+        """The name of the event or operation in the model."""
+        return self.model_name or self.name
 
 
 @dataclass(eq=False)
@@ -256,6 +266,20 @@ class CallU(Expr):
 
 
 @dataclass(frozen=True)
+class Coll(Expr):
+    """An operation on sets and sequences (RoboChart's set enumeration ``{a, b}``, sequence
+    enumeration ``<a, b>``, ``in``, ``^`` and the toolkit functions; :mod:`robogen.ir.collections`
+    gives their meaning). Collections hold at most ``Fmu.capacity`` elements: an operation whose
+    result would hold more is a run-time error naming ``text`` (the expression as the model
+    writes it) and ``span``, as is ``head``/``last``/``min``/``max`` of an empty collection."""
+
+    op: str
+    args: tuple[Expr, ...]
+    text: str = ""
+    span: Span | None = None
+
+
+@dataclass(frozen=True)
 class UserFunction:
     """A function the model declares by its contract only; the code generator takes its body
     from the user (``--functions``), the reference interpreter a Python implementation."""
@@ -352,7 +376,7 @@ class StartWait(Stmt):
 @dataclass(frozen=True)
 class DeadlineMiss(Stmt):
     """A RoboChart deadline was missed: counted in the output ``deadline_misses`` and logged;
-    never enforced (docs/robosim-robochart.md §4.3)."""
+    never enforced (README: Known limits)."""
 
     text: Text
 
@@ -453,7 +477,11 @@ class Fmu:
     params: list[Param] = field(default_factory=list)
     user_functions: list[UserFunction] = field(default_factory=list)
     max_steps: int = 1000  # transitions per cycle before a runaway cycle is reported
+    capacity: int = 32  # the most elements a set or sequence holds (robogen compile --capacity)
     root: str = ""  # the workspace root (absolute), to which generated files name model files
+    # what lowering warns about (constants that become parameters without a value, renamed
+    # ports); the front end prints them. Not in the dump: they restate the model's meaning.
+    warnings: list = field(default_factory=list)
 
     def source_name(self, path: str) -> str:
         """A model file's name in generated files: relative to the workspace root, so the same

@@ -10,7 +10,7 @@ from __future__ import annotations
 
 from typing import Protocol
 
-from robogen.diagnostics import Note, RobogenError, Span
+from robogen.diagnostics import Span, warning
 from robogen.ir import model as ir
 from robogen.ir.boundary import Boundary
 from robogen.ir.supported import check_codegen_type, not_supported
@@ -102,12 +102,15 @@ class Ports:
                     routes.append((ml.machine.index, ev.index))
         return routes
 
-    def output_routes(self, ml: MachinePorts, name: str, kind: str, span: Span | None) -> tuple[tuple, ...]:
+    def output_routes(self, ml: MachinePorts, name: str, kind: str, span: Span | None,
+                      params: tuple[tuple[str, T.Type], ...] | None = None) -> tuple[tuple, ...]:
         """Where a machine's output event or platform operation call goes: ("port", index) or
-        ("machine", machine index, event index)."""
+        ("machine", machine index, event index). ``params``: the parameters of the operation
+        called (a call inside a software operation names an operation the machine itself may
+        not declare)."""
         if kind == "operation" or self.b.module is None:
             t = None if kind == "operation" else ml.event_type(name)
-            return (("port", self.output_port(name, kind, t, ml.op_params(name), span).index),)
+            return (("port", self.output_port(name, kind, t, ml.op_params(name) if params is None else params, span).index),)
         info = self.b.module
         ctrl = ml.ctrl
         if ctrl is None:
@@ -141,32 +144,61 @@ class Ports:
     def input_port(self, name: str, t: T.Type | None, span: Span | None) -> ir.Port:
         fmu = self.fmu
         for p in fmu.inputs:
-            if p.name == name:
+            if p.source == name:
                 return p
-        fields = tuple(_flatten(name + ".value" if not isinstance(t, T.RecordT) else name, t, (), span)) if t is not None else ()
-        port = ir.Port(name, "input-event", t, fields, span=span, index=len(fmu.inputs))
+        clock = self._clock_name(name, "input-event", span)
+        fields = tuple(_flatten(clock + ".value" if not isinstance(t, T.RecordT) else clock, t, (), span, fmu.capacity)) \
+            if t is not None else ()
+        port = ir.Port(clock, "input-event", t, fields, span=span, index=len(fmu.inputs), model_name=_renamed(name, clock))
         fmu.inputs.append(port)
         return port
 
     def output_port(self, name: str, kind: str, t: T.Type | None, params, span: Span | None) -> ir.Port:
         fmu = self.fmu
         for p in fmu.outputs:
-            if p.name == name:
-                if p.kind != kind:
-                    raise RobogenError.at(
-                        f"the FMU would have two output clocks named '{name}': an output event and a platform operation; "
-                        "rename one of them in the model", span, Note(f"the other '{name}' is declared here", p.span))
+            if p.source == name and p.kind == kind:
                 return p
+        clock = self._clock_name(name, kind, span)
         if kind == "operation":
             fields: list[ir.Field_] = []
             for pname, ptype in params:
-                fields += _flatten(f"{name}.{pname}", ptype, (pname,), span)
-            port = ir.Port(name, kind, None, tuple(fields), tuple(params), span=span, index=len(fmu.outputs))
+                fields += _flatten(f"{clock}.{pname}", ptype, (pname,), span, fmu.capacity)
+            port = ir.Port(clock, kind, None, tuple(fields), tuple(params), span=span, index=len(fmu.outputs),
+                           model_name=_renamed(name, clock))
         else:
-            fields = _flatten(name + ".value" if not isinstance(t, T.RecordT) else name, t, (), span) if t is not None else []
-            port = ir.Port(name, kind, t, tuple(fields), span=span, index=len(fmu.outputs))
+            fields = _flatten(clock + ".value" if not isinstance(t, T.RecordT) else clock, t, (), span, fmu.capacity) if t is not None else []
+            port = ir.Port(clock, kind, t, tuple(fields), span=span, index=len(fmu.outputs), model_name=_renamed(name, clock))
         fmu.outputs.append(port)
         return port
+
+    def _clock_name(self, name: str, kind: str, span: Span | None) -> str:
+        """The FMI name of the clock of event or operation ``name``: its own, unless FMI or
+        robogen already names a variable so (``time``, the periodic clock, the counters) or
+        another port has it (an input event and an output event of one name, an event and a
+        platform operation); then ``<name>_event`` or ``<name>_call`` (numbered if that is taken
+        too), with a warning. Ports are made in a fixed order (inputs, output events, operation
+        calls), so the renaming is the same every time."""
+        fmu = self.fmu
+        taken = {"time", fmu.clock_name, *RESERVED} | {p.name for p in fmu.inputs + fmu.outputs}
+        if name not in taken:
+            return name
+        base = f"{name}_call" if kind == "operation" else f"{name}_event"
+        clock, n = base, 2
+        while clock in taken:
+            clock, n = f"{base}{n}", n + 1
+        what = {"operation": "platform operation", "input-event": "input event", "output-event": "output event"}[kind]
+        why = "FMI's independent variable" if name == "time" else (
+            "one of robogen's own FMI variables" if name in RESERVED or name == fmu.clock_name else "the clock of another port")
+        fmu.warnings.append(warning(f"{what} '{name}' becomes the FMI clock '{clock}': '{name}' is {why}", span))
+        return clock
+
+
+#: FMI variables robogen adds to every FMU (besides ``time`` and the periodic clock)
+RESERVED = ("cycles", "dropped_events", "deadline_misses")
+
+
+def _renamed(name: str, clock: str) -> str:
+    return name if clock != name else ""
 
 
 def event_uses(scope: MachineScope) -> tuple[set[str], set[str]]:
@@ -202,15 +234,24 @@ def event_uses(scope: MachineScope) -> tuple[set[str], set[str]]:
     return ins, outs
 
 
-def _flatten(prefix: str, t: T.Type | None, path: tuple[str, ...], span: Span | None) -> list[ir.Field_]:
-    """The scalar FMI variables of a payload of type ``t`` named ``prefix``."""
+def _flatten(prefix: str, t: T.Type | None, path: tuple[str, ...], span: Span | None, capacity: int = 0) -> list[ir.Field_]:
+    """The scalar FMI variables of a payload of type ``t`` named ``prefix``. A set or sequence of
+    scalars is two: its elements (an array of the capacity, zeros after the last; path element
+    ``#elements``) and its size (``#size``)."""
     assert t is not None
     check_codegen_type(t, span, f"'{prefix}'")
     if isinstance(t, T.RecordT):
         out: list[ir.Field_] = []
         for n, ft in t.fields:
-            out += _flatten(f"{prefix}.{n}", ft, path + (n,), span)
+            out += _flatten(f"{prefix}.{n}", ft, path + (n,), span, capacity)
         return out
+    if t == T.STRING:
+        raise not_supported(f"'{prefix}': a string as an FMU port", span)
+    if isinstance(t, (T.SetT, T.SeqT)):
+        if isinstance(t.element, T.RecordT):
+            raise not_supported(f"'{prefix}': a {T.form(t)[2:]} of records as an FMU port", span)
+        return [ir.Field_(f"{prefix}.elements", T.VectorT(t.element, capacity), path + ("#elements",)),
+                ir.Field_(f"{prefix}.size", T.NAT, path + ("#size",))]
     if isinstance(t, T.MatrixT):
         raise not_supported(f"'{prefix}': a matrix as an FMU port", span)
     return [ir.Field_(prefix, t, path)]

@@ -118,6 +118,9 @@ class StatementLowering:
 
     def _s_Assign(self, s: ast.Assign, cur: ir.Block, graph: Graph) -> ir.Block:
         target = self.lvalue(s.target, graph)
+        if isinstance(target.type, T.FunctionT):  # a function variable stores the number of a function value
+            cur.stmts.append(ir.Assign(s.span, target, self.function_value(target, s.value, s.span)))  # type: ignore[attr-defined]
+            return cur
         cur.stmts.append(ir.Assign(s.span, target, self.conv(self.expr(s.value, graph), target.type, s.value.span)))
         return cur
 
@@ -178,7 +181,8 @@ class StatementLowering:
         values = tuple(self.conv(self.expr(a, graph), self._norm(pt), a.span) for a, (_, pt) in zip(args, op.params))
         definition = self.software_operation(op.name, graph.scope) if not op.platform else None
         if definition is None:
-            cur.stmts.append(ir.Emit(span, op.name, values, self.ports.output_routes(self, op.name, "operation", span)))  # type: ignore[arg-type]
+            params = tuple((p, self._norm(t)) for p, t in op.params)
+            cur.stmts.append(ir.Emit(span, op.name, values, self.ports.output_routes(self, op.name, "operation", span, params)))  # type: ignore[arg-type]
             return cur
         return self._inline(definition, values, cur, graph, span)
 
@@ -203,6 +207,9 @@ class StatementLowering:
         the block where the caller goes on when the operation reaches its final node."""
         if op.name in self.inline_stack:
             raise not_supported(f"the recursive call of operation '{op.name}'", span)
+        if op.region is None or not op.region.initials():
+            raise not_supported(f"a call of operation '{op.name}', whose definition has no initial node (an abstract "
+                                "operation: the model gives it no behaviour to generate)", span)
         self.site += 1
         site = self.site
         after = self.block(f"after {op.name}()", span)
@@ -239,6 +246,9 @@ class StatementLowering:
         env: dict[str, ir.Var] = {}
         for name, v in op.vars.items():
             if v.shared:
+                continue
+            if v.kind == "const" and v.init is None:  # a parameter of the FMU, not of the call
+                env[name] = self.operation_constant(op, v)
                 continue
             t = self._norm(v.type)
             check_codegen_type(t, v.span, f"variable '{name}' of operation '{op.name}'")

@@ -3,6 +3,8 @@ construct that has no code-generation meaning yet (reported, never silently drop
 
 from __future__ import annotations
 
+from dataclasses import dataclass
+
 from robogen.diagnostics import RobogenError, Span
 from robogen.semantics import types as T
 
@@ -11,10 +13,37 @@ def not_supported(what: str, span: Span | None) -> RobogenError:
     return RobogenError.at(f"{what} is not supported for code generation", span)
 
 
+@dataclass(frozen=True, slots=True)
+class TupleT(T.RecordT):
+    """A product ``A * B`` as code generation represents it: a record whose fields ``_1``,
+    ``_2``, ... are its components (``p[k]`` selects field ``_k``), so that tuples share the
+    records' C structs, equality, FMI variables and interpreter values."""
+
+    def show(self) -> str:
+        return " * ".join(f"({t.show()})" if isinstance(t, TupleT) else t.show() for _, t in self.fields)
+
+
+def tuple_type(items: tuple[T.Type, ...]) -> TupleT:
+    """The code-generation type of a product of ``items`` (already normalised)."""
+    return TupleT("tuple(" + ",".join(t.show() for t in items) + ")", tuple((f"_{i + 1}", t) for i, t in enumerate(items)))
+
+
 def normalise(t: T.Type, given: str = "int") -> T.Type:
-    """Replace given types by their concrete scalar type, recursively."""
+    """Replace given types by their concrete scalar type, and products by :class:`TupleT`,
+    recursively."""
+    t = T.single(t)
     if isinstance(t, T.Given):
         return T.PRIMITIVES[given]
+    if isinstance(t, T.ProductT):
+        return tuple_type(tuple(normalise(x, given) for x in t.items))
+    if isinstance(t, T.SetT):
+        return T.SetT(normalise(t.element, given))
+    if isinstance(t, T.SeqT):
+        return T.SeqT(normalise(t.element, given))
+    if isinstance(t, T.FunctionT) and t.relation:  # a relation is the set of its pairs
+        return T.SetT(tuple_type((normalise(t.domain, given), normalise(t.range, given))))
+    if isinstance(t, T.FunctionT):
+        return T.FunctionT(normalise(t.domain, given), normalise(t.range, given), t.relation)
     if isinstance(t, T.RecordT):
         return T.RecordT(t.qname, tuple((n, normalise(ft, given)) for n, ft in t.fields))
     if isinstance(t, T.VectorT):
@@ -34,7 +63,7 @@ def is_scalar(t: T.Type) -> bool:
 def check_codegen_type(t: T.Type, span: Span | None, what: str) -> None:
     """Raise the not-supported error unless values of ``t`` (already normalised) have a
     representation in generated code: scalars, records of them, sized vectors and matrices."""
-    if is_scalar(t):
+    if is_scalar(t) or t == T.STRING:  # a string: one of the model's string literals
         return
     if isinstance(t, T.RecordT):
         for n, ft in t.fields:
@@ -48,7 +77,22 @@ def check_codegen_type(t: T.Type, span: Span | None, what: str) -> None:
         if t.rows is None or t.columns is None:
             raise not_supported(f"{what}: a matrix whose size is not given by integer literals", span)
         return
+    if isinstance(t, T.FunctionT) and not t.relation:  # stored as the number of a function value
+        check_codegen_type(t.domain, span, f"the domain of {what}")
+        check_codegen_type(t.range, span, f"the range of {what}")
+        return
+    if isinstance(t, (T.SetT, T.SeqT)):
+        if not (is_scalar(t.element) or isinstance(t.element, T.RecordT)):
+            raise not_supported(f"{what}: a {T.form(t)[2:]} of {t.element.show()} (elements of collections are "
+                                "numbers, booleans, enumerations, records or tuples)", span)
+        check_codegen_type(t.element, span, f"the elements of {what}")
+        return
     raise not_supported(f"{what} of type {t.show()}", span)
 
 
-__all__ = ["not_supported", "normalise", "is_scalar", "check_codegen_type", "SCALARS"]
+def is_collection(t: T.Type) -> bool:
+    return isinstance(t, (T.SetT, T.SeqT))
+
+
+__all__ = ["not_supported", "normalise", "is_scalar", "is_collection", "check_codegen_type", "SCALARS", "TupleT",
+           "tuple_type"]

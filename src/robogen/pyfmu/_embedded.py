@@ -79,6 +79,23 @@ def bind(ffi: Any, lib: Any, config: dict) -> None:
     embedding.bind_steps()
 
 
+class _Log:
+    """The importer's logMessage callback for one C instance, as the slave and the model call it;
+    ``enabled`` tells whether a message would reach the importer (logging on for its category, or
+    an error), so that none is formatted in vain."""
+
+    __slots__ = ("lib", "c_instance")
+
+    def __init__(self, lib: Any, c_instance: Any) -> None:
+        self.lib, self.c_instance = lib, c_instance
+
+    def __call__(self, status: int, category: str, message: str) -> None:
+        self.lib.pyfmu_log(self.c_instance, status, category.encode("utf-8"), message.encode("utf-8", "replace"))
+
+    def enabled(self, status: int, category: str) -> bool:
+        return bool(self.lib.pyfmu_log_enabled(self.c_instance, status, category.encode("utf-8")))
+
+
 class _Instance:
     """One live FMU instance: its slave, the C instance it logs through, and the strings the
     last fmi3GetString returned (valid until the next call, as FMI 3.0 requires)."""
@@ -106,10 +123,8 @@ class _Embedding:
 
     # -- helpers ----------------------------------------------------------------------------
 
-    def logger(self, c_instance: Any):
-        def log(status: int, category: str, message: str) -> None:
-            self.lib.pyfmu_log(c_instance, status, category.encode("utf-8"), message.encode("utf-8", "replace"))
-        return log
+    def logger(self, c_instance: Any) -> "_Log":
+        return _Log(self.lib, c_instance)
 
     def report(self, c_instance: Any, function: str, exc: BaseException, usage_error: type | None) -> None:
         """Log an exception (always: the FMU returns fmi3Error): a usage error as its message, an
@@ -226,8 +241,7 @@ class _Embedding:
     def getter(self, function: str, type_name: str):
         def get(inst, vr, nvr, values, nvalues):
             self.check_counts(inst, function, nvr, nvalues)
-            for k, value in enumerate(inst.slave.get(function, type_name, self.ffi.unpack(vr, nvr))):
-                values[k] = value
+            values[0:nvr] = inst.slave.get(function, type_name, self.ffi.unpack(vr, nvr))
         return get
 
     def setter(self, function: str, type_name: str):
@@ -259,8 +273,7 @@ class _Embedding:
     # -- clocks -----------------------------------------------------------------------------
 
     def get_clock(self, inst, vr, nvr, values) -> None:
-        for k, active in enumerate(inst.slave.get_clock(self.ffi.unpack(vr, nvr))):
-            values[k] = active
+        values[0:nvr] = inst.slave.get_clock(self.ffi.unpack(vr, nvr))
 
     def set_clock(self, inst, vr, nvr, values) -> None:
         inst.slave.set_clock(self.ffi.unpack(vr, nvr), self.ffi.unpack(values, nvr))

@@ -50,6 +50,7 @@ int pyfmu_py_do_step(int handle, double current_communication_point, double comm
 
 /* BEGIN implemented in C */
 void pyfmu_log(void *c_instance, int status, const char *category, const char *message);
+int pyfmu_log_enabled(void *c_instance, int status, const char *category);
 /* END implemented in C */
 
 /* Not visible to Python: start_python.c starts the interpreter, then the cffi module (whose

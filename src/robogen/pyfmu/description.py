@@ -1,6 +1,6 @@
 """The model description of a Python-implemented FMU, built from the class's declarations.
 
-Rules followed (../shared/docs/fmi3.md §3): Co-Simulation only, ``hasEventMode`` whenever the
+Rules followed (FMI 3.0, the modelDescription schema and its clock rules): Co-Simulation only, ``hasEventMode`` whenever the
 model has clocks, one independent ``time``, constant clocks with ``intervalDecimal`` and an
 explicit ``shiftDecimal``, one clock per clocked variable, every output (output clocks
 included) under ``<Output>``, unclocked output clocks and calculated outputs as

@@ -520,6 +520,12 @@ class Model:
         if self._logger is not None:
             self._logger(status, category, message)
 
+    def logging(self, category: str = "logEvents", status: int = 0) -> bool:
+        """Whether :meth:`log` would pass a message of this category and status on to the
+        importer: test it before formatting a message at every step or event."""
+        enabled = getattr(self._logger, "enabled", None)
+        return self._logger is not None and (enabled is None or enabled(status, category))
+
     # -- hooks (documented on the class) ----------------------------------------------------------
 
     def setup(self) -> None:

@@ -71,12 +71,17 @@ static unsigned category_bit(const char *name)
 
 /* Errors are always reported (FMI 3.0: whatever loggingOn and the categories say); other
  * messages only while logging is on for their category. */
-static void log_text(const pyfmu_instance *inst, fmi3Status status, const char *category, const char *message)
+static bool log_enabled(const pyfmu_instance *inst, fmi3Status status, const char *category)
 {
     if (inst == NULL || inst->log_message == NULL) {
-        return;
+        return false;
     }
-    if (status >= fmi3Error || (inst->logging_on && (inst->categories & category_bit(category)))) {
+    return status >= fmi3Error || (inst->logging_on && (inst->categories & category_bit(category)));
+}
+
+static void log_text(const pyfmu_instance *inst, fmi3Status status, const char *category, const char *message)
+{
+    if (log_enabled(inst, status, category)) {
         inst->log_message(inst->environment, status, category, message);
     }
 }
@@ -95,6 +100,13 @@ static void log_format(const pyfmu_instance *inst, fmi3Status status, const char
 void pyfmu_log(void *c_instance, int status, const char *category, const char *message)
 {
     log_text((const pyfmu_instance *)c_instance, (fmi3Status)status, category, message);
+}
+
+/* Called from Python (bridge.h): whether a message would reach the host, so that the Python side
+ * formats none that would not. */
+int pyfmu_log_enabled(void *c_instance, int status, const char *category)
+{
+    return log_enabled((const pyfmu_instance *)c_instance, (fmi3Status)status, category) ? 1 : 0;
 }
 
 #define INSTANCE(function)                                                      \

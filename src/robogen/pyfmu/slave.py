@@ -1,7 +1,7 @@
 """The FMI 3.0 Co-Simulation state machine of a Python-implemented FMU.
 
 :class:`Slave` owns one :class:`robogen.pyfmu.model.Model` instance and answers the importer's
-calls as the FMI 3.0 standard requires (../shared/docs/fmi3.md §1-§2): allowed calls per
+calls as the FMI 3.0 standard requires (its state machine of calling sequences): allowed calls per
 state, clocked variables only while one of their clocks is active, output clocks deactivated by
 ``update_discrete_states``, a periodic clock only at its ticks and at most once per Event Mode,
 Step Mode only once the event iteration is over, ``doStep`` only from ``lastSuccessfulTime``. A
@@ -23,6 +23,8 @@ from typing import Any, Callable, Iterable, Sequence
 from robogen.fmu.fmi import INTERVAL_UNCHANGED, LOG_CATEGORIES, same_time
 from robogen.pyfmu.model import Clock, FmiUsageError, Model, Step, Update, Var
 
+#: How many different Get calls (function and value references) a slave keeps checked.
+MAX_GET_PLANS = 256
 
 
 class State(enum.Enum):
@@ -73,6 +75,7 @@ class Slave:
         self.logger = logger
         self._by_vr: dict[int, Var] = {v.vr: v for v in model_class.variables()}
         self._clocks = [v for v in model_class.variables() if isinstance(v, Clock)]
+        self._get_plans: dict[tuple, tuple[list[str], bool, list[Var]]] = {}
         if self._clocks and not event_mode_used:
             raise FmiUsageError(f"{model_class.__name__} has clocks: it must be instantiated with eventModeUsed = true")
         self._new_model()
@@ -181,13 +184,27 @@ class Slave:
             raise FmiUsageError(f"{function} is not allowed in {self.state.value}")
         if self.state is State.STEP and self._set_since_step:
             raise FmiUsageError(f"{function} after a Set in Step Mode needs an fmi3DoStep in between")
-        variables = [self._variable(function, vr, type_name) for vr in vrs]
-        if self.state is State.EVENT and any(v.causality in ("output", "local") for v in variables):
+        plan = self._get_plans.get((function, type_name, *vrs))
+        if plan is None:
+            plan = self._get_plan(function, type_name, vrs)
+        names, computed, clocked = plan
+        if computed and self.state is State.EVENT:
             self._react_if_needed()  # outputs (and their clocks) of this instant
-        for var in variables:
-            if var.clock is not None:
-                self._check_clocked_access(function, var)
-        return [self.model.get(var.name) for var in variables]
+        for var in clocked:
+            self._check_clocked_access(function, var)
+        get = self.model.get
+        return [get(name) for name in names]
+
+    def _get_plan(self, function: str, type_name: str, vrs: Sequence[int]) -> tuple[list[str], bool, list[Var]]:
+        """What a Get of these value references reads (checked once, kept for the next same
+        call): the names, whether any is computed (an output or local), the clocked ones."""
+        variables = [self._variable(function, vr, type_name) for vr in vrs]
+        plan = ([v.name for v in variables], any(v.causality in ("output", "local") for v in variables),
+                [v for v in variables if v.clock is not None])
+        if len(self._get_plans) >= MAX_GET_PLANS:  # an importer that reads ever new combinations
+            self._get_plans.clear()
+        self._get_plans[(function, type_name, *vrs)] = plan
+        return plan
 
     def set(self, function: str, type_name: str, vrs: Sequence[int], values: Sequence[Any]) -> None:
         if len(values) != len(vrs):
@@ -256,7 +273,8 @@ class Slave:
                 self._new_input_clocks.add(clock.name)
                 if clock.periodic:
                     self._periodic_ticked.add(clock.name)
-                self.model.log(f"t={self.model.time:.9g}: input clock {clock.name} active")
+                if self.model.logging():
+                    self.model.log(f"t={self.model.time:.9g}: input clock {clock.name} active")
 
     def _check_tick(self, clock: Clock) -> None:
         """A periodic clock ticks at t_k = start + shift + k * interval, once per Event Mode."""

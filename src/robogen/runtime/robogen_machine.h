@@ -14,6 +14,7 @@
 #ifndef ROBOGEN_MACHINE_H
 #define ROBOGEN_MACHINE_H
 
+#include <math.h>
 #include <string.h>
 
 /* ---- runs and faults ------------------------------------------------------------------------ */
@@ -32,7 +33,8 @@ enum {
     RG_FAULT_INDEX = 2,
     RG_FAULT_RUNAWAY = 3,
     RG_FAULT_STUCK = 4,
-    RG_FAULT_CONVERSION = 5
+    RG_FAULT_CONVERSION = 5,
+    RG_FAULT_COLLECTION = 6 /* a set or sequence: its message is model.c's rg_sites[fault_site] */
 };
 
 /* Blocks one run may execute before it is reported as a runaway: the bound for any loop. */
@@ -52,12 +54,19 @@ static const char *rg_fault_text(int32_t fault)
 
 /* A statement of machine `machine` set the fault code in block `block`; `node` is the node the
  * machine entered last. Logs it and ends the run. */
+static int rg_report_fault_text(rg_instance *inst, const char *machine, const char *text, const char *block,
+                                const char *node) RG_MAYBE_UNUSED;
+static int rg_report_fault_text(rg_instance *inst, const char *machine, const char *text, const char *block,
+                                const char *node)
+{
+    rg_log(inst, RG_LOG_ERROR, fmi3Error, "state machine %s: %s in %s (last node entered: %s)", machine, text, block, node);
+    return RG_RUN_FAULT;
+}
+
 static int rg_report_fault(rg_instance *inst, const char *machine, const char *block, const char *node) RG_MAYBE_UNUSED;
 static int rg_report_fault(rg_instance *inst, const char *machine, const char *block, const char *node)
 {
-    rg_log(inst, RG_LOG_ERROR, fmi3Error, "state machine %s: %s in %s (last node entered: %s)", machine,
-           rg_fault_text(inst->s.data.fault), block, node);
-    return RG_RUN_FAULT;
+    return rg_report_fault_text(inst, machine, rg_fault_text(inst->s.data.fault), block, node);
 }
 
 /* More than RG_MAX_TRANSITIONS transitions (or RG_MAX_STEPS blocks) in one run. */
@@ -239,6 +248,12 @@ static inline double rg_r_div(rg_model_data *d, double a, double b)
 {
     if (b == 0.0) { d->fault = RG_FAULT_DIVISION; return 0.0; }
     return a / b;
+}
+/* RoboChart's % on reals: the remainder with the sign of the dividend, as on integers (fmod). */
+static inline double rg_r_mod(rg_model_data *d, double a, double b)
+{
+    if (b == 0.0) { d->fault = RG_FAULT_DIVISION; return 0.0; }
+    return fmod(a, b);
 }
 static inline double rg_r_abs(double a) { return a < 0.0 ? -a : a; }
 static inline double rg_r_min(double a, double b) { return a <= b ? a : b; }

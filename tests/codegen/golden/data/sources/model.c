@@ -243,10 +243,8 @@ static int rg_run_0(rg_instance *inst)
             RG_ENTER(Calc_Node_Move);
             m->v_p = m->v_s.at;
             m->v_p.px = rg_i_add(m->v_p.px, INT64_C(1));
-            m->v_w.a[rg_index(d, INT64_C(1), 2)] = rg_i_mul(m->v_p.px, INT64_C(3));
-            if (d->fault) return rg_fault_0(inst);
-            m->v_w.a[rg_index(d, INT64_C(2), 2)] = rg_i_sub(m->v_w.a[rg_index(d, INT64_C(1), 2)], m->v_p.py);
-            if (d->fault) return rg_fault_0(inst);
+            m->v_w.a[0] = rg_i_mul(m->v_p.px, INT64_C(3));
+            m->v_w.a[1] = rg_i_sub(m->v_w.a[0], m->v_p.py);
             {
                 rg_rec_data_Point a0_ = m->v_p;
                 d->out_where_px = a0_.px;
@@ -254,10 +252,8 @@ static int rg_run_0(rg_instance *inst)
                 rg_activate_output_clock(inst, CLOCK_where);
             }
             m->v_same = (rg_eq_rg_rec_data_Point(m->v_p, m->v_s.at) || rg_eq_rg_vec_i_2(m->v_w, ((rg_vec_i_2){ { INT64_C(0), INT64_C(0) } })));
-            m->v_grid.a[rg_index(d, INT64_C(1), 2) * 2 + rg_index(d, INT64_C(2), 2)] = (m->v_grid.a[rg_index(d, INT64_C(2), 2) * 2 + rg_index(d, INT64_C(1), 2)] + ((double)m->v_p.px));
-            if (d->fault) return rg_fault_0(inst);
-            m->v_grid.a[rg_index(d, INT64_C(2), 2) * 2 + rg_index(d, INT64_C(1), 2)] = rg_r_max(m->v_grid.a[rg_index(d, INT64_C(1), 2) * 2 + rg_index(d, INT64_C(2), 2)], ((double)m->v_w.a[rg_index(d, INT64_C(2), 2)]));
-            if (d->fault) return rg_fault_0(inst);
+            m->v_grid.a[1] = (m->v_grid.a[2] + ((double)m->v_p.px));
+            m->v_grid.a[2] = rg_r_max(m->v_grid.a[1], ((double)m->v_w.a[1]));
             m->pc = 9; continue;
         case 9: /* b9: EVAL Move  data.rst:60 */
             /* t8: Move -> Wait  data.rst:83 */
@@ -316,8 +312,7 @@ static int rg_run_0(rg_instance *inst)
         case 17: /* b17: t11: Dispatch -> Wait  data.rst:80 */
             RG_BEGIN_TRANSITION(rg_runaway_0(inst));
             RG_TRACE(inst, "Calc: t11: Dispatch -> Wait");
-            m->v_w.a[rg_index(d, INT64_C(1), 2)] = rg_i_mul(m->v_w.a[rg_index(d, INT64_C(1), 2)], m->v_p.px);
-            if (d->fault) return rg_fault_0(inst);
+            m->v_w.a[0] = rg_i_mul(m->v_w.a[0], m->v_p.px);
             d->out_scaled_value = m->v_w;
             rg_activate_output_clock(inst, CLOCK_scaled);
             RG_ENTER(Calc_Node_Wait);

@@ -8,7 +8,7 @@
 #include <stdint.h>
 
 #define RG_MODEL_IDENTIFIER "RoverModule"
-#define RG_INSTANTIATION_TOKEN "{ba498037-f502-c8e9-568f-b646a2bcf3ad}"
+#define RG_INSTANTIATION_TOKEN "{692fca9d-c80b-9814-c275-f4afafe3757b}"
 #define RG_NUM_VARIABLES 27
 #define RG_NUM_CLOCKS 8
 #define RG_MIGHT_RETURN_EARLY 0

@@ -151,12 +151,13 @@ static int rg_run_0(rg_instance *inst)
             m->pc = 1; continue;
         case 1: /* b1: EVAL Parked  inputs.rct:32 */
             /* t1: Parked -> Driving go?o  inputs.rct:57 */
-            if (m->smp_present[Rover_Event_go] ? (m->v_o = m->smp_e_go, true) : false) { m->pc = 2; continue; }
+            if (m->smp_present[Rover_Event_go]) { m->pc = 2; continue; }
             /* t3: Parked -> Parked amount?a  inputs.rct:59 */
-            if (m->smp_present[Rover_Event_amount] ? (m->v_a = m->smp_e_amount, true) : false) { m->pc = 19; continue; }
+            if (m->smp_present[Rover_Event_amount]) { m->pc = 19; continue; }
             m->pc = 1; return RG_RUN_SUSPENDED;
         case 2: /* b2: t1: Parked -> Driving  inputs.rct:57 */
             RG_BEGIN_TRANSITION(rg_runaway_0(inst));
+            m->v_o = m->smp_e_go;
             m->smp_present[Rover_Event_go] = false;
             RG_TRACE(inst, "Rover: t1: Parked -> Driving");
             RG_ENTER(Rover_Node_Driving);
@@ -261,7 +262,7 @@ static int rg_run_0(rg_instance *inst)
             /* t4: Driving -> Parked [sinceEntry(Driving) >= 4 /\ total > 100]  inputs.rct:60 */
             if ((((m->ticks - m->entered[Rover_Node_Driving]) * UINT64_C(1)) >= UINT64_C(4)) && (m->v_total > INT64_C(100))) { m->pc = 17; continue; }
             /* d4: Moving -> Moving go?o [o.steps > 0]  inputs.rct:53 */
-            if ((m->smp_present[Rover_Event_go] ? (m->v_o = m->smp_e_go, true) : false) && (m->v_o.steps > INT64_C(0))) { m->pc = 18; continue; }
+            if (m->smp_present[Rover_Event_go] && (m->v_o.steps > INT64_C(0))) { m->pc = 18; continue; }
             m->pc = 15; return RG_RUN_SUSPENDED;
         case 16: /* b16: t2: Driving -> Parked  inputs.rct:58 */
             RG_BEGIN_TRANSITION(rg_runaway_0(inst));
@@ -288,6 +289,7 @@ static int rg_run_0(rg_instance *inst)
             m->pc = 1; continue;
         case 18: /* b18: d4: Moving -> Moving  inputs.rct:53 */
             RG_BEGIN_TRANSITION(rg_runaway_0(inst));
+            m->v_o = m->smp_e_go;
             m->smp_present[Rover_Event_go] = false;
             RG_TRACE(inst, "Rover: d4: Moving -> Moving");
             m->v_log = rg_i_add(rg_i_mul(m->v_log, INT64_C(10)), INT64_C(7));
@@ -299,6 +301,7 @@ static int rg_run_0(rg_instance *inst)
             m->pc = 15; continue;
         case 19: /* b19: t3: Parked -> Parked  inputs.rct:59 */
             RG_BEGIN_TRANSITION(rg_runaway_0(inst));
+            m->v_a = m->smp_e_amount;
             m->smp_present[Rover_Event_amount] = false;
             RG_TRACE(inst, "Rover: t3: Parked -> Parked");
             m->pc = 20; continue;

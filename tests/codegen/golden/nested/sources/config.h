@@ -8,7 +8,7 @@
 #include <stdint.h>
 
 #define RG_MODEL_IDENTIFIER "Mod"
-#define RG_INSTANTIATION_TOKEN "{e80ccc02-91ff-f7ab-dbf6-4ef8a394f39e}"
+#define RG_INSTANTIATION_TOKEN "{21ee8b66-c748-591a-21e6-dfee7b9532b7}"
 #define RG_NUM_VARIABLES 12
 #define RG_NUM_CLOCKS 4
 #define RG_MIGHT_RETURN_EARLY 0

@@ -166,10 +166,11 @@ static int rg_run_0(rg_instance *inst)
             m->pc = 3; continue;
         case 3: /* b3: EVAL A  nested.rct:30 */
             /* t1: A -> B a?v  nested.rct:45 */
-            if (m->smp_present[M_Event_a] ? (m->v_v = m->smp_e_a, true) : false) { m->pc = 4; continue; }
+            if (m->smp_present[M_Event_a]) { m->pc = 4; continue; }
             m->pc = 3; return RG_RUN_SUSPENDED;
         case 4: /* b4: t1: A -> B  nested.rct:45 */
             RG_BEGIN_TRANSITION(rg_runaway_0(inst));
+            m->v_v = m->smp_e_a;
             m->smp_present[M_Event_a] = false;
             RG_TRACE(inst, "M: t1: A -> B");
             {
@@ -232,7 +233,7 @@ static int rg_run_0(rg_instance *inst)
             /* t2: B -> A [since(C) > 5]  nested.rct:46 */
             if (((m->ticks - m->clock_reset[0]) * UINT64_C(1)) > UINT64_C(5)) { m->pc = 16; continue; }
             /* x1: B1 -> j a?v  nested.rct:40 */
-            if (m->smp_present[M_Event_a] ? (m->v_v = m->smp_e_a, true) : false) { m->pc = 19; continue; }
+            if (m->smp_present[M_Event_a]) { m->pc = 19; continue; }
             m->pc = 15; return RG_RUN_SUSPENDED;
         case 16: /* b16: t2: B -> A  nested.rct:46 */
             RG_BEGIN_TRANSITION(rg_runaway_0(inst));
@@ -250,6 +251,7 @@ static int rg_run_0(rg_instance *inst)
             m->pc = 3; continue;
         case 19: /* b19: x1: B1 -> j  nested.rct:40 */
             RG_BEGIN_TRANSITION(rg_runaway_0(inst));
+            m->v_v = m->smp_e_a;
             m->smp_present[M_Event_a] = false;
             RG_TRACE(inst, "M: x1: B1 -> j");
             RG_ENTER(M_Node_B_j);

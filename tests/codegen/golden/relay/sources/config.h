@@ -8,7 +8,7 @@
 #include <stdint.h>
 
 #define RG_MODEL_IDENTIFIER "RelayModule"
-#define RG_INSTANTIATION_TOKEN "{bf0a60c8-f1ca-835d-b064-e956b48e682c}"
+#define RG_INSTANTIATION_TOKEN "{807a429d-e9f8-b669-109b-a77384678149}"
 #define RG_NUM_VARIABLES 17
 #define RG_NUM_CLOCKS 5
 #define RG_MIGHT_RETURN_EARLY 0

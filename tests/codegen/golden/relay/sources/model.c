@@ -181,10 +181,11 @@ static int rg_run_0(rg_instance *inst)
             m->pc = 1; continue;
         case 1: /* b1: EVAL Ready  relay.rct:63 */
             /* t1: Ready -> Waiting request?r  relay.rct:66 */
-            if (m->smp_present[Front_Event_request] ? (m->v_r = m->smp_e_request, true) : false) { m->pc = 2; continue; }
+            if (m->smp_present[Front_Event_request]) { m->pc = 2; continue; }
             m->pc = 1; return RG_RUN_SUSPENDED;
         case 2: /* b2: t1: Ready -> Waiting  relay.rct:66 */
             RG_BEGIN_TRANSITION(rg_runaway_0(inst));
+            m->v_r = m->smp_e_request;
             m->smp_present[Front_Event_request] = false;
             RG_TRACE(inst, "Front: t1: Ready -> Waiting");
             {
@@ -195,12 +196,13 @@ static int rg_run_0(rg_instance *inst)
             m->pc = 3; continue;
         case 3: /* b3: EVAL Waiting  relay.rct:64 */
             /* t2: Waiting -> Ready done?back  relay.rct:67 */
-            if (m->smp_present[Front_Event_done] ? (m->v_back = m->smp_e_done, true) : false) { m->pc = 4; continue; }
+            if (m->smp_present[Front_Event_done]) { m->pc = 4; continue; }
             /* t3: Waiting -> Ready reset  relay.rct:68 */
             if (m->smp_present[Front_Event_reset]) { m->pc = 5; continue; }
             m->pc = 3; return RG_RUN_SUSPENDED;
         case 4: /* b4: t2: Waiting -> Ready  relay.rct:67 */
             RG_BEGIN_TRANSITION(rg_runaway_0(inst));
+            m->v_back = m->smp_e_done;
             m->smp_present[Front_Event_done] = false;
             RG_TRACE(inst, "Front: t2: Waiting -> Ready");
             RG_ENTER(Front_Node_Ready);
@@ -234,10 +236,11 @@ static int rg_run_1(rg_instance *inst)
             m->pc = 1; continue;
         case 1: /* b1: EVAL Idle  relay.rct:77 */
             /* t1: Idle -> Busy job?j  relay.rct:82 */
-            if (m->smp_present[Back_Event_job] ? (m->v_j = m->smp_e_job, true) : false) { m->pc = 2; continue; }
+            if (m->smp_present[Back_Event_job]) { m->pc = 2; continue; }
             m->pc = 1; return RG_RUN_SUSPENDED;
         case 2: /* b2: t1: Idle -> Busy  relay.rct:82 */
             RG_BEGIN_TRANSITION(rg_runaway_1(inst));
+            m->v_j = m->smp_e_job;
             m->smp_present[Back_Event_job] = false;
             RG_TRACE(inst, "Back: t1: Idle -> Busy");
             RG_ENTER(Back_Node_Busy);

@@ -8,7 +8,7 @@
 #include <stdint.h>
 
 #define RG_MODEL_IDENTIFIER "AlarmModule"
-#define RG_INSTANTIATION_TOKEN "{88b19b8b-dccf-3f7f-19ee-a6cd03140746}"
+#define RG_INSTANTIATION_TOKEN "{60d0dc8a-3dcc-b470-da02-e4989b1530eb}"
 #define RG_NUM_VARIABLES 17
 #define RG_NUM_CLOCKS 7
 #define RG_MIGHT_RETURN_EARLY 0

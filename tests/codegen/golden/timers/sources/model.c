@@ -135,8 +135,8 @@ static int rg_run_0(rg_instance *inst)
         case 1: /* b1: EVAL Off  timers.rct:27 */
             /* t1: Off -> Armed press [since(D) >= 1]  timers.rct:40 */
             if (m->smp_present[Alarm_Event_press] && (((m->ticks - m->clock_reset[1]) * UINT64_C(1)) >= UINT64_C(1))) { m->pc = 2; continue; }
-            /* t2: Off -> Off set?pending [pending > 0]  timers.rct:41 */
-            if ((m->smp_present[Alarm_Event_set] ? (m->v_pending = m->smp_e_set, true) : false) && (m->v_pending > UINT64_C(0))) { m->pc = 20; continue; }
+            /* t2: Off -> Off set?pending  timers.rct:41 */
+            if (m->smp_present[Alarm_Event_set]) { m->pc = 20; continue; }
             m->pc = 1; return RG_RUN_SUSPENDED;
         case 2: /* b2: t1: Off -> Armed  timers.rct:40 */
             RG_BEGIN_TRANSITION(rg_runaway_0(inst));
@@ -249,9 +249,12 @@ static int rg_run_0(rg_instance *inst)
             m->pc = 1; continue;
         case 20: /* b20: t2: Off -> Off  timers.rct:41 */
             RG_BEGIN_TRANSITION(rg_runaway_0(inst));
+            m->v_pending = m->smp_e_set;
             m->smp_present[Alarm_Event_set] = false;
             RG_TRACE(inst, "Alarm: t2: Off -> Off");
-            m->v_delay = m->v_pending;
+            if (m->v_pending > UINT64_C(0)) {
+                m->v_delay = m->v_pending;
+            }
             RG_ENTER(Alarm_Node_Off);
             m->clock_reset[1] = m->ticks;
             m->pc = 1; continue;

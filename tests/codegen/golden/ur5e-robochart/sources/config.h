@@ -8,7 +8,7 @@
 #include <stdint.h>
 
 #define RG_MODEL_IDENTIFIER "DiscreteGrippingArm"
-#define RG_INSTANTIATION_TOKEN "{191816a8-0d0a-55d6-0974-dfa54a6571fd}"
+#define RG_INSTANTIATION_TOKEN "{a887c4e1-a345-a54b-f5e8-4fbce5e51766}"
 #define RG_NUM_VARIABLES 39
 #define RG_NUM_CLOCKS 12
 #define RG_MIGHT_RETURN_EARLY 0

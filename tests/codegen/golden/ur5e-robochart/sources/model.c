@@ -162,7 +162,7 @@ static int rg_run_0(rg_instance *inst)
             m->pc = 1; continue;
         case 1: /* b1: EVAL Idle  ur5e.rct:79 */
             /* t2: Idle -> ArmMove moveDiscreteCommand?margs  ur5e.rct:86 */
-            if (m->smp_present[ArmMovement_Event_moveDiscreteCommand] ? (m->v_margs = m->smp_e_moveDiscreteCommand, true) : false) { m->pc = 2; continue; }
+            if (m->smp_present[ArmMovement_Event_moveDiscreteCommand]) { m->pc = 2; continue; }
             /* t_ignore_completed: Idle -> Idle moveCompleted  ur5e.rct:87 */
             if (m->smp_present[ArmMovement_Event_moveCompleted]) { m->pc = 14; continue; }
             /* t_ignore_stopped: Idle -> Idle robotStopped  ur5e.rct:88 */
@@ -172,6 +172,7 @@ static int rg_run_0(rg_instance *inst)
             m->pc = 1; return RG_RUN_SUSPENDED;
         case 2: /* b2: t2: Idle -> ArmMove  ur5e.rct:86 */
             RG_BEGIN_TRANSITION(rg_runaway_0(inst));
+            m->v_margs = m->smp_e_moveDiscreteCommand;
             m->smp_present[ArmMovement_Event_moveDiscreteCommand] = false;
             RG_TRACE(inst, "ArmMovement: t2: Idle -> ArmMove");
             RG_ENTER(ArmMovement_Node_ArmMove);

@@ -1,0 +1,252 @@
+"""RoboChart's data values through the FMU and the reference interpreter, with hand-calculated
+results: sets at a capacity of 2 (an overflow is an fmi3Error whose message names the expression
+and its model line, and never corrupts memory), function values, and strings."""
+
+from __future__ import annotations
+
+import pytest
+
+from codegen_driver import FmuRunner, Instant, Scenario, Tick, build, interpret
+from codegen_models import MODELS
+from robogen.diagnostics import RobogenError
+from robogen.ir.lower import LoweringOptions
+
+MODEL = """\
+import set_toolkit::*
+import sequence_toolkit::*
+stm Grow {
+	var s: Set(int) = {1}
+	var v: int
+	event add: int
+	event size_: nat
+	initial i
+	state Idle { }
+	transition t0 { from i to Idle }
+	transition t1 { from Idle to Idle trigger add?v action s = union(s, {v}) ; size_!size(s) }
+}
+"""
+
+
+def _run(tmp_path, name: str, text: str, scenario: Scenario, options: LoweringOptions | None = None,
+         c_functions: str | None = None, functions: dict | None = None):
+    path = tmp_path / f"{name}.rct"
+    path.write_text(text)
+    c_file = None
+    if c_functions is not None:
+        c_file = tmp_path / f"{name}.c"
+        c_file.write_text(c_functions)
+    built = build([path], tmp_path / name, options=options, functions=c_file)
+    runner = FmuRunner(built.folder)
+    try:
+        got = runner.run(scenario)
+    finally:
+        runner.close()
+    expected = interpret(built.fmu, scenario, runner.desc, functions=functions)
+    assert got.comparable() == expected.comparable()
+    return got, expected
+
+
+def test_a_capacity_of_2_overflows_at_the_third_member(tmp_path):
+    add = [Tick("add", {"add.value": v}) for v in (2, 2, -5)]
+    # {1} + 2 = {1, 2}; + 2 again changes nothing; + -5 would be {-5, 1, 2}: 3 > 2
+    scenario = Scenario([Instant(True, early=(t,)) for t in add], half=False)
+    got, expected = _run(tmp_path, "grow", MODEL, scenario, LoweringOptions(capacity=2))
+    message = "more than 2 elements (the capacity) in union(s, {v}) at grow.rct:11"
+    assert expected.error is not None and message in expected.error.where
+    assert got.error is not None and message in got.error.where, got.error.where
+    assert got.error.instant == 2
+    sizes = [s.outputs["size_"]["size_.value"] for s in got.steps if "size_" in s.outputs]
+    assert sizes == [2, 2]
+    last = got.steps[-1].variables
+    assert last["Grow.s.elements"] == [1, 2] and last["Grow.s.size"] == 2
+
+
+FUNCTION_VARIABLE = """\
+stm Late {
+	var f: nat -> nat
+	event go
+	event out: nat
+	initial i
+	state Idle { }
+	transition t0 { from i to Idle }
+	transition t1 { from Idle to Idle trigger go action out!f(1) ; f = lambda x: nat @ x + 1 }
+}
+"""
+
+
+
+
+def test_a_function_variable_applied_before_any_assignment_is_a_located_error(tmp_path):
+    scenario = Scenario([Instant(True, early=(Tick("go", {}),))], half=False)
+    got, expected = _run(tmp_path, "late", FUNCTION_VARIABLE, scenario)
+    message = "function variable 'f' applied before it has a value at late.rct:8"
+    assert expected.error is not None and message in expected.error.where
+    assert got.error is not None and message in got.error.where, got.error.where
+
+
+def test_function_values_give_the_hand_calculated_results(tmp_path):
+    """tests/codegen/models/functions.rct: f starts as x, then x * 10 - 5, then x + 1 overridden at
+    2 (100) and 3 (-3); the two-parameter lambda gives n * 2 - 1."""
+    ticks = [("use", 2), ("set", 1), ("use", 3), ("set", 2), ("use", 2), ("use", 3), ("use", 4), ("set", 0), ("use", 2)]
+    scenario = Scenario([Instant(True, early=(Tick(c, {f"{c}.value": v}),)) for c, v in ticks], half=False)
+    text = (MODELS / "functions.rct").read_text()
+    got, _ = _run(tmp_path, "functions", text, scenario)
+    applied = [(s.outputs["applied"]["applied.value"], s.outputs["product"]["product.value"])
+               for s in got.steps if "applied" in s.outputs]
+    assert applied == [(2, 3), (25, 5), (100, 3), (-3, 5), (5, 7), (3, 3)]
+
+
+STRINGS = """\
+stm Str {
+	const greeting: string = "hello"
+	var name: string = "world"
+	event flip
+	event eq: boolean
+	initial i
+	state Idle { }
+	transition t0 { from i to Idle }
+	transition t1 { from Idle to Idle trigger flip
+		action if name == "world" then name = "hello" else name = "world" end ; eq!(name == greeting) }
+}
+"""
+
+
+def test_strings_are_literals_compared_for_equality(tmp_path):
+    scenario = Scenario([Instant(True, early=(Tick("flip", {}),)) for _ in range(3)], half=False)
+    got, _ = _run(tmp_path, "strings", STRINGS, scenario)
+    assert [s.outputs["eq"]["eq.value"] for s in got.steps if "eq" in s.outputs] == [True, False, True]
+
+
+def test_a_string_event_is_not_supported_at_the_fmu_boundary(tmp_path):
+    path = tmp_path / "say.rct"
+    path.write_text('stm Say {\n\tevent said: string\n\tinitial i\n\tstate S { entry said!"hi" }\n'
+                    '\ttransition t0 { from i to S }\n}\n')
+    with pytest.raises(RobogenError) as info:
+        build([path], tmp_path / "say")
+    assert "a string as an FMU port is not supported for code generation" in str(info.value)
+    assert "say.rct:2:" in str(info.value)
+
+
+CONVERSIONS = """\
+import set_toolkit::*
+import sequence_toolkit::*
+stm Conv {
+	var a: Set(nat) = {3, 1}
+	var b: Set(int)
+	var q: Seq(nat) = <2, 1>
+	var r: Seq(real)
+	event go
+	event n: nat
+	event sum: real
+	initial i
+	state Idle { }
+	transition t0 { from i to Idle }
+	transition t1 { from Idle to Idle trigger go
+		action b = a ; b = union(b, {-1}) ; n!size(b) ; r = q ; sum!(r[1] + r[2] / 4.0) }
+}
+"""
+
+
+def test_a_set_of_nat_is_used_as_a_set_of_int(tmp_path):
+    scenario = Scenario([Instant(True, early=(Tick("go", {}),))], half=False)
+    got, _ = _run(tmp_path, "conv", CONVERSIONS, scenario)
+    step = next(s for s in got.steps if "n" in s.outputs)
+    assert step.outputs["n"]["n.value"] == 3  # {-1, 1, 3}
+    assert step.outputs["sum"]["sum.value"] == 2.25  # 2 + 1 / 4
+    assert step.variables["Conv.b.elements"][:3] == [-1, 1, 3] and step.variables["Conv.b.size"] == 3
+
+
+RELATIONS = """\
+import relation_toolkit::*
+import sequence_toolkit::*
+import set_toolkit::*
+stm Rel {
+	var r: nat <-> int = {(| 1, 10 |), (| 2, 20 |), (| 3, 30 |)}
+	var s: Set(nat * int)
+	var t: int <-> nat
+	var q: Seq(int)
+	event go
+	event n1: nat
+	event n2: nat
+	event n3: nat
+	initial i
+	state Idle { }
+	transition t0 { from i to Idle }
+	transition t1 { from Idle to Idle trigger go
+		action s = override(r, {(| 2, -2 |)}) ; n1!size(dres({1, 2}, s)) ; q = squash(s) ;
+			t = relcomp(rinv(s), {(| 1, 100 |), (| 3, 300 |)}) ; n2!size(rimage(t, {10, -2})) ; n3!size(ran(t)) }
+}
+"""
+
+
+def test_relations_are_sets_of_pairs(tmp_path):
+    """override(r, {(2, -2)}) = {(1, 10), (2, -2), (3, 30)}; its dres to {1, 2} has 2 pairs; squash
+    gives <10, -2, 30>; rinv then relcomp with {(1, 100), (3, 300)} gives {(10, 100), (30, 300)},
+    whose rimage of {10, -2} is {100} and whose ran is {100, 300}."""
+    scenario = Scenario([Instant(True, early=(Tick("go", {}),))], half=False)
+    got, _ = _run(tmp_path, "rel", RELATIONS, scenario)
+    step = next(s for s in got.steps if "n1" in s.outputs)
+    sizes = [step.outputs[n][f"{n}.value"] for n in ("n1", "n2", "n3")]
+    assert sizes == [2, 1, 2]
+    v = step.variables
+    assert v["Rel.q.elements"][:v["Rel.q.size"]] == [10, -2, 30]
+
+
+USER_FUNCTION = """\
+import sequence_toolkit::*
+function total(q: Seq(int), p: nat * int): int { }
+stm U {
+	var q: Seq(int) = <1, 2, 3>
+	event go
+	event out: int
+	initial i
+	state Idle { }
+	transition t0 { from i to Idle }
+	transition t1 { from Idle to Idle trigger go action out!total(q, (| 2, 5 |)) ; q = q ^ <4> }
+}
+"""
+
+TOTAL_C = """\
+static int64_t rg_user_total(rg_seq_i q, rg_tup2_u_i p)
+{
+    int64_t s = 0;
+    uint64_t i;
+    for (i = 0; i < q.n; i++) s += q.a[i];
+    return s * (int64_t)p._1 + p._2;
+}
+"""
+
+
+def test_a_user_function_takes_a_sequence_and_a_tuple(tmp_path):
+    """total(<1, 2, 3>, (2, 5)) = 6 * 2 + 5 = 17, then total(<1, 2, 3, 4>, (2, 5)) = 25."""
+    def total(q, p):
+        return sum(q) * p["_1"] + p["_2"]
+
+    scenario = Scenario([Instant(True, early=(Tick("go", {}),)) for _ in range(2)], half=False)
+    got, _ = _run(tmp_path, "user", USER_FUNCTION, scenario, c_functions=TOTAL_C, functions={"total": total})
+    assert [s.outputs["out"]["out.value"] for s in got.steps if "out" in s.outputs] == [17, 25]
+
+
+RECORD_DEFAULTS = """\
+datatype DT {
+	q: nat
+	p: nat
+	s: Set(int)
+}
+stm R {
+	var i: DT = DT(| p = 2 |)
+	event go
+	event out: nat
+	initial i0
+	state Idle { }
+	transition t0 { from i0 to Idle }
+	transition t1 { from Idle to Idle trigger go action out!(i.q + i.p + size(i.s)) ; i = DT(| q = 5, p = i.p |) }
+}
+"""
+
+
+def test_a_record_literal_that_leaves_out_fields_gives_them_their_default(tmp_path):
+    """RoboTool warns about DT(| p = 2 |); q is 0 and s empty: 0 + 2 + 0 = 2, then 5 + 2 + 0 = 7."""
+    scenario = Scenario([Instant(True, early=(Tick("go", {}),)) for _ in range(2)], half=False)
+    got, _ = _run(tmp_path, "defaults", "import sequence_toolkit::*\n" + RECORD_DEFAULTS, scenario)
+    assert [s.outputs["out"]["out.value"] for s in got.steps if "out" in s.outputs] == [2, 7]
