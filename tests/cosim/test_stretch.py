@@ -232,3 +232,19 @@ def test_a_chunk_waits_for_the_flush_of_a_results_file_only(tmp_path, monkeypatc
     assert written.flush_due == 101.0 + FLUSH_SECONDS and written.recorded == 1
     written.close()
     assert (tmp_path / "out.csv").read_text() == "time,superdense,a\n0.0,0,1.5\n"
+
+
+def test_an_input_is_set_only_when_its_value_changed_whichever_loop_set_it_last(loops, write_system):
+    # The ticker's `ticks` changes only in its event iterations (every 0.25 s); between them the
+    # quiet stretches read the same value after every step. Each loop hands the values it last set
+    # to the other (robogen.cosim.wiring.ValueExchange.last_set), so s sees one Set call per change:
+    # a loop that forgot what the other set would set it again at the start of each stretch.
+    path = write_system('connections = ["k.ticks -> s.u"]\n[experiment]\nstop = 3.0\nstep = 0.1\n'
+                        '[instances.k]\nfmu = "{ticker}"\n[instances.s]\nfmu = "{setcount}"\n'
+                        '[record]\nvariables = ["k.ticks", "s.y", "s.sets"]\n', name="sets.toml")
+    python, c = loops(path)
+    assert c.rows == python.rows
+    changes = len({row[2] for row in c.rows})  # every value `ticks` took, the first (0) set in Initialization Mode
+    last = dict(zip(c.columns, c.rows[-1]))
+    assert last["k.ticks"] == last["s.y"] == 13 and last["s.sets"] == changes == 14  # ticks at 0, 0.25, ..., 3.0
+    assert c.stats.steps == python.stats.steps > 20  # many steps in the C loop, without a Set

@@ -106,6 +106,12 @@ MODELS: dict[str, dict] = {
             var("y", 2, "Float64", "output", "continuous"),
             var("stop_at", 3, "Float64", "parameter", "fixed", start="0"),
         ]),
+    "setcount": dict(
+        vars=[
+            var("u", 1, "Int64", "input", "discrete", start="0"),
+            var("y", 2, "Int64", "output", "discrete"),
+            var("sets", 3, "Int64", "output", "discrete"),
+        ]),
     "alltypes": dict(
         vars=[
             clock("tick", 1, "input", "constant", interval="0.3"),
