@@ -1,3 +1,3 @@
 """Fixtures of the code generator's tests (see model_builds)."""
 
-from model_builds import builds, built  # noqa: F401 - fixtures
+from support.model_builds import builds, built  # noqa: F401 - fixtures

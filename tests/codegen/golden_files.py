@@ -19,12 +19,15 @@ import sys
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from codegen_models import ROOT as REPOSITORY  # beside this file, also when it runs as a script
-from codegen_models import TEST_MODELS
-from robogen.codegen.api import diagrams_of, front_end
+if __name__ == "__main__":  # run as a script: the tests' support package, as pytest's pythonpath gives it
+    sys.path.insert(0, str(Path(__file__).resolve().parent.parent))
+
+from robogen.codegen.api import diagrams_of, front_end  # noqa: E402
 from robogen.codegen.generate import CodegenOptions, generate
 from robogen.diagnostics import RobogenError
 from robogen.ir.lower import LoweringOptions, lower
+from support.codegen_models import ROOT as REPOSITORY  # noqa: E402
+from support.codegen_models import TEST_MODELS  # noqa: E402
 
 
 @dataclass(frozen=True)

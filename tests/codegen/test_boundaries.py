@@ -13,8 +13,8 @@ import re
 
 import pytest
 
-from codegen_driver import Instant, Scenario, Tick, run_checked
-from codegen_models import TEST_MODELS
+from support.codegen_driver import Instant, Scenario, Tick, run_checked
+from support.codegen_models import TEST_MODELS
 from robogen.cli import main
 from robogen.diagnostics import RobogenError
 from robogen.ir.boundary import select_boundary

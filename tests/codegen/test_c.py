@@ -8,7 +8,7 @@ import re
 
 import pytest
 
-from codegen_models import TEST_MODELS
+from support.codegen_models import TEST_MODELS
 from robogen.codegen.api import package_model
 from robogen.codegen.c import CNames, Identifiers, bare, c_comment
 from robogen.ir import model as ir

@@ -16,7 +16,7 @@ from __future__ import annotations
 
 import pytest
 
-from codegen_driver import FmuRunner, Instant, Scenario, Tick, interpret
+from support.codegen_driver import FmuRunner, Instant, Scenario, Tick, interpret
 from robogen.ir.interp import random_next
 
 VECTOR = [0xE220A8397B1DCDAF, 0x6E789E6AA1B965F4, 0x06C45D188009454F, 0xF88BB8A8724C81EC]

@@ -6,8 +6,8 @@ from __future__ import annotations
 
 import pytest
 
-from codegen_driver import FmuRunner, Instant, Scenario, Tick, build, interpret
-from codegen_models import MODELS
+from support.codegen_driver import FmuRunner, Instant, Scenario, Tick, build, interpret
+from support.codegen_models import MODELS
 from robogen.diagnostics import RobogenError
 from robogen.ir.lower import LoweringOptions
 

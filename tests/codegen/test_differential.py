@@ -19,8 +19,8 @@ import zlib
 
 import pytest
 
-from codegen_driver import Description, FmuRunner, canonical, interpret, random_scenario
-from codegen_models import OWN_MODELS, SEMANTICS, TEST_MODELS
+from support.codegen_driver import Description, FmuRunner, canonical, interpret, random_scenario
+from support.codegen_models import OWN_MODELS, SEMANTICS, TEST_MODELS
 
 SCENARIOS = 200
 INSTANTS = 30

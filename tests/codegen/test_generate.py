@@ -15,7 +15,7 @@ from pathlib import Path
 import pytest
 from fmpy.validation import validate_fmu as fmpy_validate
 
-from codegen_models import MODELS, ROOT, SEMANTICS, TEST_MODELS
+from support.codegen_models import MODELS, ROOT, SEMANTICS, TEST_MODELS
 from robogen.cli import main as robogen_main
 from robogen.codegen.api import compile_model, package_model
 from robogen.codegen.generate import CodegenOptions

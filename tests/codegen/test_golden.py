@@ -8,7 +8,7 @@ refreshed with `make golden` (python tests/codegen/golden_files.py) and the diff
 from __future__ import annotations
 
 import golden_files
-from codegen_models import MODELS, ROOT, TEST_MODELS
+from support.codegen_models import MODELS, ROOT, TEST_MODELS
 
 
 def test_golden_files_match_the_generator():

@@ -13,7 +13,7 @@ from pathlib import Path
 import fmpy
 import pytest
 
-from codegen_driver import FmuRunner, interpret, random_scenario
+from support.codegen_driver import FmuRunner, interpret, random_scenario
 
 COUNTERS = ["cycles", "dropped_events", "deadline_misses"]
 

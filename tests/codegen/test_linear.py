@@ -6,7 +6,7 @@ from __future__ import annotations
 
 import pytest
 
-from codegen_driver import Instant, Scenario, Tick, run_checked
+from support.codegen_driver import Instant, Scenario, Tick, run_checked
 
 
 def outputs(trace) -> dict[int, dict]:

@@ -16,7 +16,7 @@ from pathlib import Path
 
 import pytest
 
-from codegen_driver import Description
+from support.codegen_driver import Description
 from robogen import toolchain
 from robogen.codegen import binary
 from robogen.fmu.headers import include_dir

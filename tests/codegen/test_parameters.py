@@ -14,8 +14,8 @@ import re
 
 import pytest
 
-from codegen_driver import FmuRunner, Instant, Scenario, Tick, run_checked
-from codegen_models import TEST_MODELS
+from support.codegen_driver import FmuRunner, Instant, Scenario, Tick, run_checked
+from support.codegen_models import TEST_MODELS
 from robogen.codegen.api import lower_paths
 from robogen.cosim import fmi3
 

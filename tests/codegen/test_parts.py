@@ -8,8 +8,8 @@ from __future__ import annotations
 
 import pytest
 
-from codegen_driver import build
-from codegen_models import TEST_MODELS
+from support.codegen_driver import build
+from support.codegen_models import TEST_MODELS
 from robogen.codegen import generate as generate_module
 from robogen.ir.lower import LoweringOptions
 from test_differential import run_differential

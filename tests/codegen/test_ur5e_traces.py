@@ -16,7 +16,7 @@ from __future__ import annotations
 
 import pytest
 
-from codegen_driver import FmuRunner, Instant, Scenario, Tick, interpret
+from support.codegen_driver import FmuRunner, Instant, Scenario, Tick, interpret
 
 MOVE = {"movediscrete": {"movediscrete.target_X": 0, "movediscrete.target_Y": 23, "movediscrete.target_Z": 1}}
 STOP = {"stop": {}}

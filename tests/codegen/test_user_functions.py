@@ -11,7 +11,7 @@ from pathlib import Path
 
 import pytest
 
-from codegen_driver import FmuRunner, build, interpret, random_scenario
+from support.codegen_driver import FmuRunner, build, interpret, random_scenario
 from robogen.codegen.api import compile_model
 from robogen.codegen.generate import CodegenOptions
 from robogen.diagnostics import RobogenError

@@ -11,7 +11,7 @@ import re
 
 import pytest
 
-from codegen_driver import FmuRunner, Instant, Scenario, Tick, interpret, run_checked
+from support.codegen_driver import FmuRunner, Instant, Scenario, Tick, interpret, run_checked
 
 
 def scenario(*instants: Instant) -> Scenario:

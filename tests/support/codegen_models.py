@@ -6,7 +6,7 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 from pathlib import Path
 
-HERE = Path(__file__).resolve().parent
+HERE = Path(__file__).resolve().parent.parent / "codegen"  # the code generator's tests and their models
 ROOT = HERE.parent.parent
 MODELS = HERE / "models"
 UR5E = ROOT / "models" / "ur5e" / "ur5e.rst"

@@ -15,8 +15,8 @@ from pathlib import Path
 
 import pytest
 
-from codegen_driver import Built, build
-from codegen_models import SEMANTICS, TEST_MODELS
+from support.codegen_driver import Built, build
+from support.codegen_models import SEMANTICS, TEST_MODELS
 from robogen.ir.lower import LoweringOptions
 
 
