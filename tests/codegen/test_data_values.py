@@ -250,3 +250,28 @@ def test_a_record_literal_that_leaves_out_fields_gives_them_their_default(tmp_pa
     scenario = Scenario([Instant(True, early=(Tick("go", {}),)) for _ in range(2)], half=False)
     got, _ = _run(tmp_path, "defaults", "import sequence_toolkit::*\n" + RECORD_DEFAULTS, scenario)
     assert [s.outputs["out"]["out.value"] for s in got.steps if "out" in s.outputs] == [2, 7]
+
+
+OVERRIDDEN = """\
+import relation_toolkit::*
+function add(x: nat, y: nat): nat { }
+stm O {
+	event go: nat
+	event out: nat
+	var k: nat = 0
+	initial i
+	state Idle { }
+	transition t0 { from i to Idle }
+	transition t1 { from Idle to Idle trigger go?k action out!((override(add, { (| (| 0, k |), 7 |) }) as (nat * nat) -> nat)(0, 1)) }
+}
+"""
+
+ADD_C = "static uint64_t rg_user_add(uint64_t x, uint64_t y) { return x + y; }\n"
+
+
+def test_a_function_overridden_at_a_pair_compares_the_arguments_as_a_tuple(tmp_path):
+    """override(add, {(0, k) |-> 7}) applied to (0, 1): the pair (0, 1) is compared with the key
+    (0, k), a tuple type the model names nowhere else: k = 1 gives 7, k = 2 gives add(0, 1) = 1."""
+    scenario = Scenario([Instant(True, early=(Tick("go", {"go.value": k}),)) for k in (1, 2)], half=False)
+    got, _ = _run(tmp_path, "overridden", OVERRIDDEN, scenario, c_functions=ADD_C, functions={"add": lambda x, y: x + y})
+    assert [s.outputs["out"]["out.value"] for s in got.steps if "out" in s.outputs] == [7, 1]

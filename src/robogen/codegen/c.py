@@ -220,7 +220,7 @@ class Emitter:
         self.port_fields = port_fields  # output port index -> [(c field name, Field_)]
         self.line_comments = line_comments
         self.fallible = False  # the last expression may set the fault code
-        self.equalities: set[str] = set()  # C types whose equality function is needed
+        self.equalities: dict[str, T.Type] = {}  # C type -> the type, for each equality function needed
         self.delivers_to: set[int] = set()  # machines this one sends events to (their event tables)
         self.collections = None  # the CollectionCode of the FMU (robogen.codegen.collections)
         self.sites: list[str] = []  # run-time messages of collection operations (model.c's rg_sites)
@@ -297,7 +297,7 @@ class Emitter:
         if op in ("eq", "ne"):
             t = e.left.type
             if isinstance(t, (T.RecordT, T.VectorT, T.MatrixT, T.SetT, T.SeqT)):
-                self.equalities.add(ctype(t))
+                self.equalities[ctype(t)] = t
                 test = f"rg_eq_{ctype(t)}({a}, {b})"
                 return test if op == "eq" else f"(!{test})"
             return f"({a} {'==' if op == 'eq' else '!='} {b})"

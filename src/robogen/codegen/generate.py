@@ -177,8 +177,10 @@ def generate(fmu: ir.Fmu, options: CodegenOptions | None = None, *, diagrams: Se
     for u in fmu.user_functions:  # the C types a --functions file receives and returns
         for t in (*(pt for _, pt in u.params), u.result):
             layout._type(t)
-    needed = {t for mc in machines for t in mc["equalities"]}
-    equalities, bodies = _equalities(layout.types, needed)
+    needed = {name: t for mc in machines for name, t in mc["equalities"].items()}
+    for t in needed.values():  # a type compared only inside an expression (a tuple key) is declared too
+        layout._type(t)
+    equalities, bodies = _equalities(layout.types, set(needed))
     hooks = _hooks(fmu, machines)
     context = dict(
         user_functions=[(u, user_function_prototype(u)) for u in fmu.user_functions],
