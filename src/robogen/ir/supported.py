@@ -28,6 +28,36 @@ def tuple_type(items: tuple[T.Type, ...]) -> TupleT:
     return TupleT("tuple(" + ",".join(t.show() for t in items) + ")", tuple((f"_{i + 1}", t) for i, t in enumerate(items)))
 
 
+@dataclass(frozen=True, slots=True)
+class TaggedT(T.RecordT):
+    """An enumeration some of whose literals carry arguments (``EM2(real)``), as code generation
+    represents it: a record whose field ``tag`` is the literal (a plain enumeration of the same
+    literals, so an FMI Enumeration variable) and, per argument ``k`` of literal ``L``, a field
+    ``L_k``. A value sets the fields of its own literal's arguments and leaves the others at their
+    type's default, so the records' equality is the literals': same literal and equal arguments;
+    records give the C struct, FMI variables and interpreter values."""
+
+    def show(self) -> str:
+        return self.qname
+
+    @property
+    def tag(self) -> T.EnumT:
+        t = self.fields[0][1]
+        assert isinstance(t, T.EnumT)
+        return t
+
+    def arg_fields(self, literal: str) -> tuple[tuple[str, T.Type], ...]:
+        """The fields of the arguments of ``literal``, in order."""
+        return tuple((n, t) for n, t in self.fields[1:] if n.rsplit("_", 1)[0] == literal)
+
+
+def tagged_type(t: T.EnumT, given: str) -> TaggedT:
+    tag = T.EnumT(t.qname, t.literals)
+    fields = tuple((f"{lit}_{k + 1}", normalise(at, given))
+                   for lit, args in zip(t.literals, t.literal_args) for k, at in enumerate(args))
+    return TaggedT(t.qname, (("tag", tag),) + fields)
+
+
 def normalise(t: T.Type, given: str = "int") -> T.Type:
     """Replace given types by their concrete scalar type, and products by :class:`TupleT`,
     recursively."""
@@ -50,6 +80,10 @@ def normalise(t: T.Type, given: str = "int") -> T.Type:
         return T.VectorT(normalise(t.element, given), t.size)
     if isinstance(t, T.MatrixT):
         return T.MatrixT(normalise(t.element, given), t.rows, t.columns)
+    if isinstance(t, T.EnumT) and any(t.literal_args):
+        return tagged_type(t, given)
+    if isinstance(t, T.EnumT) and t.literal_args:
+        return T.EnumT(t.qname, t.literals)
     return t
 
 
