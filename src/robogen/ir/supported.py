@@ -51,6 +51,20 @@ class TaggedT(T.RecordT):
         return tuple((n, t) for n, t in self.fields[1:] if n.rsplit("_", 1)[0] == literal)
 
 
+def literal_conditions(t: T.Type, path: tuple[str, ...]) -> tuple[tuple[tuple[str, ...], int], ...]:
+    """When the part at ``path`` of a value of type ``t`` holds an argument of an enumeration
+    literal: (path of the tag, literal index) for each tagged record on the way. An input
+    assembled from FMI variables takes an argument only when its tag selects that literal, and
+    the argument's default otherwise, so that equal literals are equal records (only for a
+    scalar part)."""
+    found = []
+    for i, name in enumerate(path):
+        if isinstance(t, TaggedT) and name != "tag":
+            found.append((path[:i] + ("tag",), t.tag.literals.index(name.rsplit("_", 1)[0])))
+        t = t.field(name) if isinstance(t, T.RecordT) else T.UNKNOWN  # type: ignore[assignment]
+    return tuple(found) if is_scalar(t) else ()  # (an array argument is taken as it is)
+
+
 def tagged_type(t: T.EnumT, given: str) -> TaggedT:
     tag = T.EnumT(t.qname, t.literals)
     fields = tuple((f"{lit}_{k + 1}", normalise(at, given))

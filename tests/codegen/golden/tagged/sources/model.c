@@ -194,9 +194,9 @@ static void rg_model_latch(rg_instance *inst, int clock_index)
     case CLOCK_cmd: {
         rg_rec_tagged_Cmd v;
         v.tag = d->in_cmd_tag;
-        v.Move_1 = d->in_cmd_Move_1;
-        v.Turn_1 = d->in_cmd_Turn_1;
-        v.Turn_2 = d->in_cmd_Turn_2;
+        v.Move_1 = v.tag == 1 ? d->in_cmd_Move_1 : 0;
+        v.Turn_1 = v.tag == 2 ? d->in_cmd_Turn_1 : 0;
+        v.Turn_2 = v.tag == 2 ? d->in_cmd_Turn_2 : 0;
         rg_deliver(d, &rg_events_0[Driver_Event_cmd], &v);
         break;
     }

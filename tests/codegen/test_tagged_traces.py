@@ -1,0 +1,64 @@
+"""tests/codegen/models/tagged.rct against a trace written by hand: enumeration literals with
+arguments (``Move(real)``, ``Turn(nat, boolean)``) as values of variables, a constant and event
+payloads, built with ``Turn(2, true)`` and compared: equal when the same literal with equal
+arguments. At the FMU boundary a Cmd is the Enumeration variable ``.tag`` (Stop 0, Move 1,
+Turn 2) and one clocked variable per argument (``.Move_1``, ``.Turn_1``, ``.Turn_2``); an
+argument of a literal the tag does not select is its type's default (an input's is ignored).
+"""
+
+from __future__ import annotations
+
+import pytest
+
+from support.codegen_driver import FmuRunner, Instant, Scenario, Tick, interpret
+
+
+def cmd(tag: int, move: float = 0.0, turn: int = 0, left: bool = False) -> Tick:
+    return Tick("cmd", {"cmd.tag": tag, "cmd.Move_1": move, "cmd.Turn_1": turn, "cmd.Turn_2": left})
+
+
+def echo(tag: int, move: float = 0.0, turn: int = 0, left: bool = False) -> dict:
+    return {"echo.tag": tag, "echo.Move_1": move, "echo.Turn_1": turn, "echo.Turn_2": left}
+
+
+def run(built_fmu, inputs: dict[int, Tick], instants: int):
+    scenario = Scenario([Instant(True, (inputs[t],) if t in inputs else ()) for t in range(instants)], half=False)
+    runner = FmuRunner(built_fmu.folder)
+    try:
+        trace = runner.run(scenario)
+    finally:
+        runner.close()
+    assert trace.error is None, trace.error
+    assert trace.comparable() == interpret(built_fmu.fmu, scenario, runner.desc).comparable()
+    outputs: dict[int, dict] = {}
+    for s in trace.steps:
+        outputs.setdefault(s.instant, {}).update(s.outputs)
+    return outputs, trace
+
+
+@pytest.mark.parametrize("semantics", ["exhaustive", "stepwise"])
+def test_literals_with_arguments_are_built_compared_and_sent(builds, semantics):
+    inputs = {
+        1: cmd(2, move=9.0, turn=2, left=True),  # Turn(2, true); Move_1 is not Turn's: ignored
+        2: cmd(2, turn=2, left=True),  # the same again
+        3: cmd(2, turn=2, left=False),  # Turn(2, false): another argument
+        4: cmd(1, move=2.5),  # Move(2.5)
+        5: cmd(0, turn=4),  # Stop; t1's condition reads last = Move(2.5): not taken
+    }
+    outputs, trace = run(builds.get("tagged", semantics), inputs, 7)
+    # t=0: echo!c with c = Move(1.5); home = Turn(2, true) is not Turn(2, false)
+    # t=1: c = Turn(2, true) == home; differs from last = Stop; echo without the ignored 9.0
+    # t=2: equal to last; t=3: Turn(2, false) is neither home nor last; t=4: Move(2.5)
+    assert outputs == {
+        0: {"echo": echo(1, move=1.5), "same": {"same.value": False}},
+        1: {"echo": echo(2, turn=2, left=True), "same": {"same.value": True}, "differs": {"differs.value": True}},
+        2: {"echo": echo(2, turn=2, left=True), "same": {"same.value": True}, "differs": {"differs.value": False}},
+        3: {"echo": echo(2, turn=2), "same": {"same.value": False}, "differs": {"differs.value": True}},
+        4: {"echo": echo(1, move=2.5), "same": {"same.value": False}, "differs": {"differs.value": True}},
+        5: {},
+        6: {},
+    }
+    last = trace.steps[-1].variables
+    # Stop waits in the buffer: c is bound only when t1 is taken, so it is still Move(2.5)
+    assert (last["Driver.n"], last["Driver.c.tag"], last["Driver.c.Move_1"]) == (4, 1, 2.5)
+    assert (last["Driver.home.tag"], last["Driver.home.Turn_1"], last["Driver.home.Turn_2"]) == (2, 2, True)
