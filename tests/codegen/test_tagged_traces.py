@@ -10,7 +10,7 @@ from __future__ import annotations
 
 import pytest
 
-from support.codegen_driver import FmuRunner, Instant, Scenario, Tick, interpret
+from support.codegen_driver import FmuRunner, Instant, Scenario, Tick, build, interpret
 
 
 def cmd(tag: int, move: float = 0.0, turn: int = 0, left: bool = False) -> Tick:
@@ -21,7 +21,7 @@ def echo(tag: int, move: float = 0.0, turn: int = 0, left: bool = False) -> dict
     return {"echo.tag": tag, "echo.Move_1": move, "echo.Turn_1": turn, "echo.Turn_2": left}
 
 
-def run(built_fmu, inputs: dict[int, Tick], instants: int):
+def run(built_fmu, inputs: dict[int, Tick], instants: int, functions: dict | None = None):
     scenario = Scenario([Instant(True, (inputs[t],) if t in inputs else ()) for t in range(instants)], half=False)
     runner = FmuRunner(built_fmu.folder)
     try:
@@ -29,7 +29,7 @@ def run(built_fmu, inputs: dict[int, Tick], instants: int):
     finally:
         runner.close()
     assert trace.error is None, trace.error
-    assert trace.comparable() == interpret(built_fmu.fmu, scenario, runner.desc).comparable()
+    assert trace.comparable() == interpret(built_fmu.fmu, scenario, runner.desc, functions=functions).comparable()
     outputs: dict[int, dict] = {}
     for s in trace.steps:
         outputs.setdefault(s.instant, {}).update(s.outputs)
@@ -62,3 +62,36 @@ def test_literals_with_arguments_are_built_compared_and_sent(builds, semantics):
     # Stop waits in the buffer: c is bound only when t1 is taken, so it is still Move(2.5)
     assert (last["Driver.n"], last["Driver.c.tag"], last["Driver.c.Move_1"]) == (4, 1, 2.5)
     assert (last["Driver.home.tag"], last["Driver.home.Turn_1"], last["Driver.home.Turn_2"]) == (2, 2, True)
+
+
+REACH = """package reach
+enumeration Cmd { Stop Move(real) Turn(nat, boolean) }
+function reach(c: Cmd): real { }
+interface Io { event cmd: Cmd event out: real }
+stm Arm {
+	uses Io
+	var c: Cmd = Stop
+	initial i
+	state S { }
+	transition t0 { from i to S }
+	transition t1 { from S to S trigger cmd?c action out!reach(c) }
+}
+"""
+REACH_C = """static double rg_user_reach(rg_rec_reach_Cmd c)
+{
+    return c.tag == 1 ? c.Move_1 : c.tag == 2 && c.Turn_2 ? 10.0 * (double)c.Turn_1 : -1.0;
+}
+"""
+
+
+def test_a_user_function_takes_the_tagged_struct(tmp_path):
+    model, c_file = tmp_path / "reach.rct", tmp_path / "reach.c"
+    model.write_text(REACH)
+    c_file.write_text(REACH_C)
+    python = {"reach": lambda c: c["Move_1"] if c["tag"] == 1 else 10.0 * c["Turn_1"] if c["tag"] == 2 and c["Turn_2"] else -1.0}
+    built = build([model], tmp_path / "w", machine="Arm", functions=c_file)
+    inputs = {1: cmd(1, move=0.5), 2: cmd(2, turn=3, left=True), 3: cmd(2, turn=3), 4: cmd(0, move=7.0)}
+    outputs, _ = run(built, inputs, 5, functions=python)
+    values = {t: o["out"]["out.value"] for t, o in outputs.items() if o}
+    # Move(0.5): 0.5; Turn(3, true): 30; Turn(3, false): -1; Stop (its ignored 7.0): -1
+    assert values == {1: 0.5, 2: 30.0, 3: -1.0, 4: -1.0}
