@@ -11,6 +11,8 @@ from __future__ import annotations
 import pytest
 
 from support.codegen_driver import FmuRunner, Instant, Scenario, Tick, build, interpret
+from robogen.codegen.api import compile_model
+from robogen.diagnostics import RobogenError
 
 
 def cmd(tag: int, move: float = 0.0, turn: int = 0, left: bool = False) -> Tick:
@@ -95,3 +97,15 @@ def test_a_user_function_takes_the_tagged_struct(tmp_path):
     values = {t: o["out"]["out.value"] for t, o in outputs.items() if o}
     # Move(0.5): 0.5; Turn(3, true): 30; Turn(3, false): -1; Stop (its ignored 7.0): -1
     assert values == {1: 0.5, 2: 30.0, 3: -1.0, 4: -1.0}
+
+
+def test_a_recursive_enumeration_is_a_located_not_supported_error(tmp_path):
+    model = tmp_path / "rec.rct"
+    model.write_text("package rec\nenumeration E { a b(E) }\nstm M {\n\tvar x: E = b(a)\n\tinitial i\n\tstate S { }\n"
+                     "\ttransition t0 { from i to S }\n}\n")
+    with pytest.raises(RobogenError) as exc:
+        compile_model([str(model)], tmp_path / "out", machine="M")
+    (d,) = exc.value.diagnostics
+    assert d.message == ("variable 'x': enumeration rec::E whose literal's argument holds a rec::E (a recursive "
+                         "enumeration) is not supported for code generation")
+    assert (d.span.line, d.span.column) == (4, 6)

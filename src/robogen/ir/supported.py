@@ -101,6 +101,16 @@ def normalise(t: T.Type, given: str = "int") -> T.Type:
     return t
 
 
+def _holds_enum(t: T.Type, qname: str, skip_tag: bool = False) -> bool:
+    """Whether a value of ``t`` contains one of enumeration ``qname`` (not counting the tag)."""
+    if isinstance(t, T.EnumT):
+        return t.qname == qname
+    if isinstance(t, T.RecordT):
+        return any(_holds_enum(ft, qname) for _, ft in (t.fields[1:] if skip_tag else t.fields))
+    inner = getattr(t, "element", None)
+    return inner is not None and _holds_enum(inner, qname)
+
+
 SCALARS = (T.NAT, T.INT, T.REAL, T.BOOLEAN)
 
 
@@ -113,6 +123,9 @@ def check_codegen_type(t: T.Type, span: Span | None, what: str) -> None:
     representation in generated code: scalars, records of them, sized vectors and matrices."""
     if is_scalar(t) or t == T.STRING:  # a string: one of the model's string literals
         return
+    if isinstance(t, TaggedT) and _holds_enum(t, t.qname, skip_tag=True):
+        raise not_supported(f"{what}: enumeration {t.qname} whose literal's argument holds a {t.qname} "
+                            "(a recursive enumeration)", span)
     if isinstance(t, T.RecordT):
         for n, ft in t.fields:
             check_codegen_type(ft, span, f"field '{n}' of {what}")
