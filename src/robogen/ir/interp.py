@@ -643,12 +643,6 @@ def _type_at(t: T.Type, path: tuple[str, ...]) -> T.Type:
     return t
 
 
-def _get_path(value, path: tuple[str, ...]):
-    for p in path:
-        value = value[p]
-    return value
-
-
 def _set_path(value, path: tuple[str, ...], v) -> None:
     for p in path[:-1]:
         value = value[p]
