@@ -71,6 +71,26 @@ def test_let_names_are_seen_by_later_definitions_and_hide_outer_names(tmp_path):
     assert v["S.e"] == 25  # a let-bound lambda applied to a let name
 
 
+LET_OVERRIDE = "import relation_toolkit::*\n" + machine("""
+	var a: int = 0, b: int = 0, c: int = 0
+	initial i
+	state S0 {
+		entry a = let f == (lambda x: nat @ x + 1) @ (override(f, {(| 1, 0 |)}) as nat -> nat)(1) ;
+		      b = let f == (lambda x: nat @ x + 1) @ (override(f, {(| 1, 0 |)}) as nat -> nat)(4) ;
+		      c = let k == 10, f == (lambda x: nat @ x * k) @ let k == 1 @ (override(f, {(| 2, 7 |)}) as nat -> nat)(3 + k)
+	}
+	transition t0 { from i to S0 }
+""")
+
+
+def test_a_let_bound_lambda_is_a_function_value_override_takes(tmp_path):
+    it, _ = run(lower_text(tmp_path, LET_OVERRIDE), [None])
+    v = it.variables()
+    assert v["S.a"] == 0  # the pair (1, 0) overrides f at 1
+    assert v["S.b"] == 5  # elsewhere f: 4 + 1
+    assert v["S.c"] == 40  # f reads the k of where it was defined (10), applied to 3 + 1 (the inner k)
+
+
 FILTER = machine("""
 	var x: int = 0, n: nat = 0, m: nat = 0
 	initial i

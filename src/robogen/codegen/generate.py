@@ -32,6 +32,7 @@ from robogen.fmu.modeldesc import Dimension, Variable, instantiation_token
 from robogen.fmu.modeldesc_writer import write_model_description
 from robogen.ir import model as ir
 from robogen.ir.dump import dump
+from robogen.ir.supported import literal_conditions
 from robogen.semantics import types as T
 
 FMI_TYPE = {"int64_t": "Int64", "uint64_t": "UInt64", "double": "Float64", "bool": "Boolean"}
@@ -323,7 +324,10 @@ def _latch(port: ir.Port, fields: list[tuple[str, ir.Field_]], collections: Coll
                 lines.append(f"{at}.n = d->{member} > {cap} ? {cap} : d->{member};")
                 made.append((at, _type_at(port.type, tuple(inner))))
         else:
-            lines.append("v" + "".join("." + p for p in f.path) + f" = d->{member};")
+            # an argument of an enumeration literal only when the tag selects the literal
+            tests = [f"v{''.join('.' + p for p in at)} == {index}" for at, index in literal_conditions(port.type, f.path)]
+            value = f"{' && '.join(tests)} ? d->{member} : 0" if tests else f"d->{member}"
+            lines.append("v" + "".join("." + p for p in f.path) + f" = {value};")
     for at, t in made:
         lines.append(f"{at} = {collections.need('canon', t)}(d, {at});")
     return lines

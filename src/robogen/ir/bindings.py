@@ -9,6 +9,8 @@ expressions have no side effects, so a value computed at each use is the value c
   them and in the body, and hide outer names of the same spelling (as the checker resolves them).
 - ``(lambda x: T @ body)(a)`` and a ``let`` name bound to a lambda, applied to arguments:
   ``body`` with each parameter standing for its argument (converted to the parameter's type).
+  A let name bound to a lambda is also a function value that a toolkit function takes
+  (``override(f, {(| 1, 0 |)})``, see :mod:`robogen.ir.functions`).
 - A filter ``e[| p |]?x`` on a trigger or an input statement: the communication happens only
   with a value for which ``p`` holds, and ``p`` reads ``x`` as the value offered (the value the
   variable would receive); an event whose value fails ``p`` is neither taken nor bound, and
@@ -93,15 +95,21 @@ class BindingLowering:
             lam, scope = found
         if lam is None:
             return None
-        if lam.such_that is not None or len(lam.decls) != len(e.args):
-            raise not_supported("this application of a lambda", e.span)
         args = [self.expr(a, graph) for a in e.args]
+        return self.conv(self.lambda_applied(lam, scope, args, e.span, graph), self._norm(self.model.type_of(e)), e.span)
+
+    def lambda_applied(self, lam: ast.Binder, scope: dict | None, args: list[ir.Expr], span: Span | None,
+                       graph: Graph) -> ir.Expr:
+        """The body of ``lam`` with its parameters standing for the lowered ``args``, in ``scope``
+        (the names of where a let name's lambda was defined; None: here)."""
+        if lam.such_that is not None or len(lam.decls) != len(args):
+            raise not_supported("this application of a lambda", span)
         saved = self.bound
         if scope is not None:
             self.bound = dict(scope)  # the lambda's body sees the names of where it was defined
         try:
             with self.binding([(id(d), a) for d, a in zip(lam.decls, args)]):
-                return self.conv(self.expr(lam.body, graph), self._norm(self.model.type_of(e)), e.span)
+                return self.expr(lam.body, graph)
         finally:
             self.bound = saved
 

@@ -16,7 +16,7 @@ from robogen.ir import model as ir
 from robogen.ir.collections import RELATION_OPS
 from robogen.ir.constants import default_expr
 from robogen.ir.region_tree import Graph
-from robogen.ir.supported import TupleT, check_codegen_type, is_collection, is_scalar, not_supported, tuple_type
+from robogen.ir.supported import TaggedT, TupleT, check_codegen_type, is_collection, is_scalar, not_supported, tuple_type
 from robogen.semantics import types as T
 from robogen.semantics.model import EnumLitSym, EventSym, FuncSym, VarSym
 from robogen.syntax import ast
@@ -176,9 +176,7 @@ class ExpressionLowering:
     def _e_Name(self, e: ast.Name, graph: Graph) -> ir.Expr:
         sym = self.model.symbol(e)
         if isinstance(sym, EnumLitSym):
-            enum = self._norm(sym.enum)
-            assert isinstance(enum, T.EnumT)
-            return ir.Lit(enum, enum.literals.index(sym.literal))
+            return self._literal(sym, (), e.span)
         if isinstance(sym, VarSym):
             value = self.bound_value(sym, e.span)  # type: ignore[attr-defined]  # a let name, lambda parameter...
             if value is not None:
@@ -319,6 +317,19 @@ class ExpressionLowering:
         return ir.RecordLit(t, tuple((n, self.conv(self.expr(given[n], graph), ft, given[n].span) if n in given
                                       else default_expr(ft, e.span)) for n, ft in t.fields))
 
+    def _literal(self, sym: EnumLitSym, args: tuple[ir.Expr, ...], span) -> ir.Expr:
+        """An enumeration literal, given its arguments: its index, or, in an enumeration whose
+        literals carry arguments, the tagged record of its index and arguments (the arguments of
+        the other literals at their default)."""
+        enum = self._norm(sym.enum)
+        if isinstance(enum, TaggedT):
+            tag = ir.Lit(enum.tag, enum.tag.literals.index(sym.literal))
+            given = {n: self.conv(a, t, span) for (n, t), a in zip(enum.arg_fields(sym.literal), args)}
+            return ir.RecordLit(enum, (("tag", tag),) + tuple((n, given[n] if n in given else default_expr(t, span))
+                                                              for n, t in enum.fields[1:]))
+        assert isinstance(enum, T.EnumT)
+        return ir.Lit(enum, enum.literals.index(sym.literal))
+
     def _e_TupleLit(self, e: ast.TupleLit, graph: Graph) -> ir.Expr:
         items = tuple(self.expr(x, graph) for x in e.items)
         t = tuple_type(tuple(x.type for x in items))
@@ -356,7 +367,7 @@ class ExpressionLowering:
             return applied
         sym = self.model.symbol(e.func)
         if isinstance(sym, EnumLitSym):
-            raise not_supported("an enumeration literal with arguments", e.span)
+            return self._literal(sym, tuple(self.expr(a, graph) for a in e.args), e.span)
         if isinstance(sym, FuncSym) and sym.builtin is not None and not hasattr(sym.builtin, "package") \
                 and sym.name in ("min", "max", "abs"):
             t = self._type(e)

@@ -5,7 +5,8 @@ Code generation has no run-time representation of a function. A function value i
 the model known at generation time, and applying it inlines it:
 
 - ``(lambda x: T @ e)(a)``: ``e`` with ``x`` standing for ``a`` (expressions have no side
-  effects, so the argument may be read more than once);
+  effects, so the argument may be read more than once), also through a ``let`` name bound to
+  the lambda (``let f == lambda x: T @ e @ override(f, ...)``);
 - ``f(a)`` of a function the model declares: the call of the user function;
 - ``(override(f, {(| k1, v1 |), ...}) as X -> Y)(a)``: ``if a == k1 then v1 else ... else f(a)``
   (the first pair written whose key matches wins);
@@ -46,6 +47,8 @@ class FunctionValues:
                 bound = self.bound[id(sym.decl)]
                 if isinstance(bound, ast.Expr):  # a name standing for a function value
                     return self.apply(bound, args, e, graph)
+                if isinstance(bound, tuple):  # a let name bound to a lambda (with its scope)
+                    return self.lambda_applied(bound[0], bound[1], args, e.span, graph)
             if isinstance(sym, VarSym) and isinstance(T.single(sym.type), T.FunctionT):
                 return self._apply_variable(sym, f, args, e, graph)
             if isinstance(sym, FuncSym) and sym.builtin is None and sym.decl is not None:

@@ -35,6 +35,7 @@ from dataclasses import dataclass, field
 from robogen.ir import collections as C
 from robogen.ir import model as ir
 from robogen.ir.constants import default_value
+from robogen.ir.supported import literal_conditions
 from robogen.semantics import types as T
 
 MASK = (1 << 64) - 1
@@ -185,7 +186,7 @@ class Interpreter:
                 v = python_value(payload.get(f.fmi_name, _zero(f.type)), f.type)
             if not f.path:
                 value = v
-            else:
+            elif all(_get_path(value, at) == index for at, index in literal_conditions(port.type, f.path)):
                 _set_path(value, f.path, v)
         for path, (elements, size) in collections.items():
             t = _type_at(port.type, path)

@@ -28,6 +28,50 @@ def tuple_type(items: tuple[T.Type, ...]) -> TupleT:
     return TupleT("tuple(" + ",".join(t.show() for t in items) + ")", tuple((f"_{i + 1}", t) for i, t in enumerate(items)))
 
 
+@dataclass(frozen=True, slots=True)
+class TaggedT(T.RecordT):
+    """An enumeration some of whose literals carry arguments (``EM2(real)``), as code generation
+    represents it: a record whose field ``tag`` is the literal (a plain enumeration of the same
+    literals, so an FMI Enumeration variable) and, per argument ``k`` of literal ``L``, a field
+    ``L_k``. A value sets the fields of its own literal's arguments and leaves the others at their
+    type's default, so the records' equality is the literals': same literal and equal arguments;
+    records give the C struct, FMI variables and interpreter values."""
+
+    def show(self) -> str:
+        return self.qname
+
+    @property
+    def tag(self) -> T.EnumT:
+        t = self.fields[0][1]
+        assert isinstance(t, T.EnumT)
+        return t
+
+    def arg_fields(self, literal: str) -> tuple[tuple[str, T.Type], ...]:
+        """The fields of the arguments of ``literal``, in order."""
+        return tuple((n, t) for n, t in self.fields[1:] if n.rsplit("_", 1)[0] == literal)
+
+
+def literal_conditions(t: T.Type, path: tuple[str, ...]) -> tuple[tuple[tuple[str, ...], int], ...]:
+    """When the part at ``path`` of a value of type ``t`` holds an argument of an enumeration
+    literal: (path of the tag, literal index) for each tagged record on the way. An input
+    assembled from FMI variables takes an argument only when its tag selects that literal, and
+    the argument's default otherwise, so that equal literals are equal records (only for a
+    scalar part)."""
+    found = []
+    for i, name in enumerate(path):
+        if isinstance(t, TaggedT) and name != "tag":
+            found.append((path[:i] + ("tag",), t.tag.literals.index(name.rsplit("_", 1)[0])))
+        t = t.field(name) if isinstance(t, T.RecordT) else T.UNKNOWN  # type: ignore[assignment]
+    return tuple(found) if is_scalar(t) else ()  # (an array argument is taken as it is)
+
+
+def tagged_type(t: T.EnumT, given: str) -> TaggedT:
+    tag = T.EnumT(t.qname, t.literals)
+    fields = tuple((f"{lit}_{k + 1}", normalise(at, given))
+                   for lit, args in zip(t.literals, t.literal_args) for k, at in enumerate(args))
+    return TaggedT(t.qname, (("tag", tag),) + fields)
+
+
 def normalise(t: T.Type, given: str = "int") -> T.Type:
     """Replace given types by their concrete scalar type, and products by :class:`TupleT`,
     recursively."""
@@ -50,7 +94,21 @@ def normalise(t: T.Type, given: str = "int") -> T.Type:
         return T.VectorT(normalise(t.element, given), t.size)
     if isinstance(t, T.MatrixT):
         return T.MatrixT(normalise(t.element, given), t.rows, t.columns)
+    if isinstance(t, T.EnumT) and any(t.literal_args):
+        return tagged_type(t, given)
+    if isinstance(t, T.EnumT) and t.literal_args:
+        return T.EnumT(t.qname, t.literals)
     return t
+
+
+def _holds_enum(t: T.Type, qname: str, skip_tag: bool = False) -> bool:
+    """Whether a value of ``t`` contains one of enumeration ``qname`` (not counting the tag)."""
+    if isinstance(t, T.EnumT):
+        return t.qname == qname
+    if isinstance(t, T.RecordT):
+        return any(_holds_enum(ft, qname) for _, ft in (t.fields[1:] if skip_tag else t.fields))
+    inner = getattr(t, "element", None)
+    return inner is not None and _holds_enum(inner, qname)
 
 
 SCALARS = (T.NAT, T.INT, T.REAL, T.BOOLEAN)
@@ -65,6 +123,9 @@ def check_codegen_type(t: T.Type, span: Span | None, what: str) -> None:
     representation in generated code: scalars, records of them, sized vectors and matrices."""
     if is_scalar(t) or t == T.STRING:  # a string: one of the model's string literals
         return
+    if isinstance(t, TaggedT) and _holds_enum(t, t.qname, skip_tag=True):
+        raise not_supported(f"{what}: enumeration {t.qname} whose literal's argument holds a {t.qname} "
+                            "(a recursive enumeration)", span)
     if isinstance(t, T.RecordT):
         for n, ft in t.fields:
             check_codegen_type(ft, span, f"field '{n}' of {what}")

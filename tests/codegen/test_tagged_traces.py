@@ -1,0 +1,111 @@
+"""tests/codegen/models/tagged.rct against a trace written by hand: enumeration literals with
+arguments (``Move(real)``, ``Turn(nat, boolean)``) as values of variables, a constant and event
+payloads, built with ``Turn(2, true)`` and compared: equal when the same literal with equal
+arguments. At the FMU boundary a Cmd is the Enumeration variable ``.tag`` (Stop 0, Move 1,
+Turn 2) and one clocked variable per argument (``.Move_1``, ``.Turn_1``, ``.Turn_2``); an
+argument of a literal the tag does not select is its type's default (an input's is ignored).
+"""
+
+from __future__ import annotations
+
+import pytest
+
+from support.codegen_driver import FmuRunner, Instant, Scenario, Tick, build, interpret
+from robogen.codegen.api import compile_model
+from robogen.diagnostics import RobogenError
+
+
+def cmd(tag: int, move: float = 0.0, turn: int = 0, left: bool = False) -> Tick:
+    return Tick("cmd", {"cmd.tag": tag, "cmd.Move_1": move, "cmd.Turn_1": turn, "cmd.Turn_2": left})
+
+
+def echo(tag: int, move: float = 0.0, turn: int = 0, left: bool = False) -> dict:
+    return {"echo.tag": tag, "echo.Move_1": move, "echo.Turn_1": turn, "echo.Turn_2": left}
+
+
+def run(built_fmu, inputs: dict[int, Tick], instants: int, functions: dict | None = None):
+    scenario = Scenario([Instant(True, (inputs[t],) if t in inputs else ()) for t in range(instants)], half=False)
+    runner = FmuRunner(built_fmu.folder)
+    try:
+        trace = runner.run(scenario)
+    finally:
+        runner.close()
+    assert trace.error is None, trace.error
+    assert trace.comparable() == interpret(built_fmu.fmu, scenario, runner.desc, functions=functions).comparable()
+    outputs: dict[int, dict] = {}
+    for s in trace.steps:
+        outputs.setdefault(s.instant, {}).update(s.outputs)
+    return outputs, trace
+
+
+@pytest.mark.parametrize("semantics", ["exhaustive", "stepwise"])
+def test_literals_with_arguments_are_built_compared_and_sent(builds, semantics):
+    inputs = {
+        1: cmd(2, move=9.0, turn=2, left=True),  # Turn(2, true); Move_1 is not Turn's: ignored
+        2: cmd(2, turn=2, left=True),  # the same again
+        3: cmd(2, turn=2, left=False),  # Turn(2, false): another argument
+        4: cmd(1, move=2.5),  # Move(2.5)
+        5: cmd(0, turn=4),  # Stop; t1's condition reads last = Move(2.5): not taken
+    }
+    outputs, trace = run(builds.get("tagged", semantics), inputs, 7)
+    # t=0: echo!c with c = Move(1.5); home = Turn(2, true) is not Turn(2, false)
+    # t=1: c = Turn(2, true) == home; differs from last = Stop; echo without the ignored 9.0
+    # t=2: equal to last; t=3: Turn(2, false) is neither home nor last; t=4: Move(2.5)
+    assert outputs == {
+        0: {"echo": echo(1, move=1.5), "same": {"same.value": False}},
+        1: {"echo": echo(2, turn=2, left=True), "same": {"same.value": True}, "differs": {"differs.value": True}},
+        2: {"echo": echo(2, turn=2, left=True), "same": {"same.value": True}, "differs": {"differs.value": False}},
+        3: {"echo": echo(2, turn=2), "same": {"same.value": False}, "differs": {"differs.value": True}},
+        4: {"echo": echo(1, move=2.5), "same": {"same.value": False}, "differs": {"differs.value": True}},
+        5: {},
+        6: {},
+    }
+    last = trace.steps[-1].variables
+    # Stop waits in the buffer: c is bound only when t1 is taken, so it is still Move(2.5)
+    assert (last["Driver.n"], last["Driver.c.tag"], last["Driver.c.Move_1"]) == (4, 1, 2.5)
+    assert (last["Driver.home.tag"], last["Driver.home.Turn_1"], last["Driver.home.Turn_2"]) == (2, 2, True)
+
+
+REACH = """package reach
+enumeration Cmd { Stop Move(real) Turn(nat, boolean) }
+function reach(c: Cmd): real { }
+interface Io { event cmd: Cmd event out: real }
+stm Arm {
+	uses Io
+	var c: Cmd = Stop
+	initial i
+	state S { }
+	transition t0 { from i to S }
+	transition t1 { from S to S trigger cmd?c action out!reach(c) }
+}
+"""
+REACH_C = """static double rg_user_reach(rg_rec_reach_Cmd c)
+{
+    return c.tag == 1 ? c.Move_1 : c.tag == 2 && c.Turn_2 ? 10.0 * (double)c.Turn_1 : -1.0;
+}
+"""
+
+
+def test_a_user_function_takes_the_tagged_struct(tmp_path):
+    model, c_file = tmp_path / "reach.rct", tmp_path / "reach.c"
+    model.write_text(REACH)
+    c_file.write_text(REACH_C)
+    python = {"reach": lambda c: c["Move_1"] if c["tag"] == 1 else 10.0 * c["Turn_1"] if c["tag"] == 2 and c["Turn_2"] else -1.0}
+    built = build([model], tmp_path / "w", machine="Arm", functions=c_file)
+    inputs = {1: cmd(1, move=0.5), 2: cmd(2, turn=3, left=True), 3: cmd(2, turn=3), 4: cmd(0, move=7.0)}
+    outputs, _ = run(built, inputs, 5, functions=python)
+    values = {t: o["out"]["out.value"] for t, o in outputs.items() if o}
+    # Move(0.5): 0.5; Turn(3, true): 30; Turn(3, false): -1; Stop (its ignored 7.0): -1
+    assert values == {1: 0.5, 2: 30.0, 3: -1.0, 4: -1.0}
+
+
+def test_a_recursive_enumeration_is_a_located_not_supported_error(tmp_path):
+    model = tmp_path / "rec.rct"
+    model.write_text("package rec\nenumeration E { a b(E) }\nstm M {\n\tvar x: E = b(a)\n\tinitial i\n\tstate S { }\n"
+                     "\ttransition t0 { from i to S }\n}\n")
+    with pytest.raises(RobogenError) as exc:
+        compile_model([str(model)], tmp_path / "out", machine="M")
+    (d,) = exc.value.diagnostics
+    assert d.message == ("variable 'x': enumeration rec::E whose literal's argument holds a rec::E (a recursive "
+                         "enumeration) is not supported for code generation")
+    assert (d.span.line, d.span.column) == (4, 6)
