@@ -593,7 +593,7 @@ def _machine_code(fmu: ir.Fmu, em: Emitter, line_comments: bool) -> dict:
         cases.append("\n".join(lines))
     inits = []
     for v in m.vars:
-        if v.init is not None and (v.kind in ("var", "const") or v.name == ir.RANDOM_STATE_NAME):  # and the generator's state
+        if v.init is not None:  # variables, computed constants and the generator's state
             em.fallible = False
             value = em.expr(v.init)
             inits.append((f"m->v_{em.names.vars[v]}", value, em.fallible, v.name))

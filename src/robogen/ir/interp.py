@@ -153,7 +153,7 @@ class Interpreter:
         """Initial values of variables (they may read parameters)."""
         for m, ms in zip(self.fmu.machines, self.machines):
             for v in m.vars:
-                if (v.kind in ("var", "const") or v.name == ir.RANDOM_STATE_NAME) and v.init is not None:  # and the generator's state
+                if v.init is not None:  # variables, computed constants and the generator's state
                     ms.vars[v.name] = copy.deepcopy(self._eval(v.init, m, ms))
 
     # ------------------------------------------------------------------ instants

@@ -146,7 +146,7 @@ class Node:
 # low + x mod (high - low + 1) of the 64-bit output x; a real in [0, 1) is (x >> 11) * 2^-53.
 RANDOM_SEED = 0
 RANDOM_SEED_NAME = "random_seed"
-RANDOM_STATE_NAME = "random#state"  # the machine variable holding the generator's state
+RANDOM_STATE_NAME = "random#state"  # the machine variable holding the generator's state (its init reads the seed)
 
 
 @dataclass(frozen=True)
