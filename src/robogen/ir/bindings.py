@@ -7,10 +7,8 @@ expressions have no side effects, so a value computed at each use is the value c
 
 - ``let x == e1, y == e2 @ body``: the names of one ``let`` are visible in the definitions after
   them and in the body, and hide outer names of the same spelling (as the checker resolves them).
-- ``(lambda x: T @ body)(a)`` and a ``let`` name bound to a lambda, applied to arguments:
-  ``body`` with each parameter standing for its argument (converted to the parameter's type).
-  A let name bound to a lambda is also a function value that a toolkit function takes
-  (``override(f, {(| 1, 0 |)})``, see :mod:`robogen.ir.functions`).
+- the parameters of a lambda applied to arguments, and a ``let`` name bound to a lambda (kept
+  with the names of where it was defined): their application is in :mod:`robogen.ir.functions`.
 - A filter ``e[| p |]?x`` on a trigger or an input statement: the communication happens only
   with a value for which ``p`` holds, and ``p`` reads ``x`` as the value offered (the value the
   variable would receive); an event whose value fails ``p`` is neither taken nor bound, and
@@ -82,36 +80,6 @@ class BindingLowering:
             pairs.append((id(d), value))
         with self.binding(pairs):
             return self.expr(e.body, graph)
-
-    def applied_lambda(self, e: ast.Call, graph: Graph) -> ir.Expr | None:
-        """``e`` as the application of a lambda (written in place, or a let name bound to one);
-        None if its function is something else."""
-        lam, scope = _lambda(e.func), None
-        if lam is None and isinstance(e.func, ast.Name):
-            sym = self.model.symbol(e.func)
-            found = self.bound.get(_key(sym)) if isinstance(sym, VarSym) else None
-            if not isinstance(found, tuple):
-                return None
-            lam, scope = found
-        if lam is None:
-            return None
-        args = [self.expr(a, graph) for a in e.args]
-        return self.conv(self.lambda_applied(lam, scope, args, e.span, graph), self._norm(self.model.type_of(e)), e.span)
-
-    def lambda_applied(self, lam: ast.Binder, scope: dict | None, args: list[ir.Expr], span: Span | None,
-                       graph: Graph) -> ir.Expr:
-        """The body of ``lam`` with its parameters standing for the lowered ``args``, in ``scope``
-        (the names of where a let name's lambda was defined; None: here)."""
-        if lam.such_that is not None or len(lam.decls) != len(args):
-            raise not_supported("this application of a lambda", span)
-        saved = self.bound
-        if scope is not None:
-            self.bound = dict(scope)  # the lambda's body sees the names of where it was defined
-        try:
-            with self.binding([(id(d), a) for d, a in zip(lam.decls, args)]):
-                return self.expr(lam.body, graph)
-        finally:
-            self.bound = saved
 
     def filter_guard(self, c: ast.Communication, event: ir.Event, graph: Graph) -> ir.Expr | None:
         """The condition a communication's filter adds (None: no filter, or ``[||]``); ``x`` of

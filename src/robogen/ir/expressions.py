@@ -362,9 +362,6 @@ class ExpressionLowering:
     # -- calls
 
     def _e_Call(self, e: ast.Call, graph: Graph) -> ir.Expr:
-        applied = self.applied_lambda(e, graph)  # type: ignore[attr-defined]
-        if applied is not None:
-            return applied
         sym = self.model.symbol(e.func)
         if isinstance(sym, EnumLitSym):
             return self._literal(sym, tuple(self.expr(a, graph) for a in e.args), e.span)
@@ -379,7 +376,8 @@ class ExpressionLowering:
         if isinstance(sym, FuncSym) and getattr(sym.builtin, "package", None) in TOOLKIT:
             return self._toolkit_call(sym, e, graph)
         if sym is None or isinstance(sym, VarSym):  # a function value: a lambda, override, a variable
-            return self.apply(e.func, [self.expr(a, graph) for a in e.args], e, graph)  # type: ignore[attr-defined]
+            value = self.apply(e.func, [self.expr(a, graph) for a in e.args], e, graph)  # type: ignore[attr-defined]
+            return self.conv(value, self._type(e), e.span)
         name = sym.name if isinstance(sym, FuncSym) else "?"
         raise not_supported(f"a call of function '{name}' (robogen has no implementation of it)", e.span)
 

@@ -38,7 +38,7 @@ class FunctionValues:
         while isinstance(f, ast.Cast) and f.op == "as":
             f = f.expr
         if isinstance(f, ast.Binder) and f.kind == "lambda":
-            return self._apply_lambda(f, args, graph)
+            return self.lambda_applied(f, None, args, e.span, graph)
         if isinstance(f, ast.Call) and isinstance(f.func, ast.Name) and _toolkit(self.model.symbol(f.func)) == "override":
             return self._apply_override(f, args, e, graph)
         if isinstance(f, ast.Name):
@@ -55,14 +55,18 @@ class FunctionValues:
                 return self.user_call(sym, args, e)
         raise not_supported(f"applying {expr_text(f)}", e.span)
 
-    def _apply_lambda(self, f: ast.Binder, args: list[ir.Expr], graph: Graph) -> ir.Expr:
-        if len(args) != len(f.decls):
-            raise not_supported(f"applying {expr_text(f)} to {len(args)} arguments", f.span)
-        saved = dict(self.bound)
+    def lambda_applied(self, lam: ast.Binder, scope: dict | None, args: list[ir.Expr], span, graph: Graph) -> ir.Expr:
+        """The body of ``lam`` with each parameter standing for its argument, converted to the
+        parameter's type, in ``scope`` (the names of where a let name's lambda was defined;
+        None: here)."""
+        if lam.such_that is not None or len(lam.decls) != len(args):
+            raise not_supported(f"applying {expr_text(lam)} to {len(args)} arguments", span)
+        saved = self.bound
+        self.bound = dict(self.bound if scope is None else scope)
         try:
-            for d, a in zip(f.decls, args):
-                self.bound[id(d)] = self.conv(a, self._norm(self.model.type_of(d.type)), f.span)
-            return self.expr(f.body, graph)
+            for d, a in zip(lam.decls, args):
+                self.bound[id(d)] = self.conv(a, self._norm(self.model.type_of(d.type)), span)
+            return self.expr(lam.body, graph)
         finally:
             self.bound = saved
 
