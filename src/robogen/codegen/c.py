@@ -517,6 +517,14 @@ class Emitter:
             if access.endswith(".#elements"):  # a collection's elements: an array, copied
                 source = f"{values[k]}{access[:-len('.#elements')]}.a"
                 lines.append(f"{indent}memcpy(d->{cname}.a, {source}, sizeof d->{cname}.a);")
+            elif ".#elements." in access:  # one field of a collection's records, element by element
+                at, field = access.split(".#elements", 1)
+                source = f"{values[k]}{at}"
+                lines += [f"{indent}{{",
+                          f"{indent}    uint64_t i;",
+                          f"{indent}    for (i = 0; i < sizeof d->{cname}.a / sizeof d->{cname}.a[0]; i++)",
+                          f"{indent}        d->{cname}.a[i] = i < {source}.n ? {source}.a[i]{field} : 0;",
+                          f"{indent}}}"]
             else:
                 lines.append(f"{indent}d->{cname} = {values[k]}{access.replace('.#size', '.n')};")
         clock = self.names.clocks[self.fmu.outputs[index].name]

@@ -315,7 +315,12 @@ def _latch(port: ir.Port, fields: list[tuple[str, ir.Field_]], collections: Coll
     lines, made = [], []
     for member, f in fields:
         *inner, last = f.path or ("",)
-        if last in ("#elements", "#size"):
+        if "#elements" in f.path[:-1]:  # one field of a collection's records, element by element
+            k = f.path.index("#elements")
+            at = "v" + "".join("." + p for p in f.path[:k])
+            field = "".join("." + p for p in f.path[k + 1:])
+            lines.append(f"{{ uint64_t i; for (i = 0; i < {collections.capacity}; i++) {at}.a[i]{field} = d->{member}.a[i]; }}")
+        elif last in ("#elements", "#size"):
             at = "v" + "".join("." + p for p in inner)
             cap = collections.capacity
             if last == "#elements":

@@ -172,13 +172,20 @@ class Interpreter:
         value = _zero(port.type)
         collections: dict[tuple[str, ...], list] = {}  # path of a collection -> [elements, size]
         for f in port.fields:
-            if f.path and f.path[-1] in ("#elements", "#size"):
+            if f.path and (f.path[-1] == "#size" or "#elements" in f.path):
                 given = payload.get(f.fmi_name, _zero(f.type))
-                slot = collections.setdefault(f.path[:-1], [[], 0])
+                k = len(f.path) - 1 if f.path[-1] == "#size" else f.path.index("#elements")
+                slot = collections.setdefault(f.path[:k], [[], 0])
                 if f.path[-1] == "#size":
                     slot[1] = int(given)  # type: ignore[call-overload]
-                else:
+                elif k == len(f.path) - 1:
                     slot[0] = [python_value(x, f.type.element) for x in given]  # type: ignore[union-attr, attr-defined]
+                else:  # one field of the records: the array of its values, element by element
+                    column = [python_value(x, f.type.element) for x in given]  # type: ignore[union-attr, attr-defined]
+                    if not slot[0]:
+                        slot[0] = [_zero(_type_at(port.type, f.path[:k]).element) for _ in column]  # type: ignore[attr-defined]
+                    for record, x in zip(slot[0], column):
+                        _set_path(record, f.path[k + 1:], x)
                 continue
             if isinstance(f.type, (T.VectorT, T.MatrixT)):  # an FMI array (a matrix row by row)
                 v = [python_value(x, f.type.element) for x in payload.get(f.fmi_name, _zero(f.type))]  # type: ignore[union-attr]
@@ -382,7 +389,7 @@ class Interpreter:
                 value = _get_path(args[pi], f.path[1:])
             else:
                 value = _get_path(args[0], f.path)
-            if isinstance(f.type, T.VectorT) and f.path and f.path[-1] == "#elements":
+            if isinstance(f.type, T.VectorT) and "#elements" in f.path:
                 value = list(value) + [_zero(f.type.element)] * ((f.type.size or 0) - len(value))
             out[f.fmi_name] = copy.deepcopy(value)
         return out
@@ -627,12 +634,13 @@ def arith(op: str, a, b, t: T.Type):
 
 def _get_path(value, path: tuple[str, ...]):
     """The part of a value at ``path`` (record fields; ``#size``/``#elements`` of a collection,
-    its elements as the FMU's array of the capacity, zeros after the last)."""
-    for p in path:
+    its elements as the FMU's array of the capacity, zeros after the last; after ``#elements``,
+    the path of a field of its records: that field of each element)."""
+    for i, p in enumerate(path):
         if p == "#size":
             return len(value)
-        if p == "#elements":
-            return value  # padded by the caller, which knows the array's size
+        if p == "#elements":  # padded by the caller, which knows the array's size
+            return [_get_path(x, path[i + 1:]) for x in value] if path[i + 1:] else value
         value = value[p]
     return value
 

@@ -16,7 +16,7 @@ from typing import Protocol
 from robogen.diagnostics import Span, warning
 from robogen.ir import model as ir
 from robogen.ir.boundary import Boundary
-from robogen.ir.supported import check_codegen_type, not_supported
+from robogen.ir.supported import TaggedT, check_codegen_type, is_scalar, not_supported
 from robogen.semantics import types as T
 from robogen.semantics.model import Controller, MachineScope, Module, OpSym
 from robogen.syntax import ast
@@ -262,7 +262,8 @@ def event_uses(scope: MachineScope) -> tuple[set[str], set[str]]:
 def _flatten(prefix: str, t: T.Type | None, path: tuple[str, ...], span: Span | None, capacity: int = 0) -> list[ir.Field_]:
     """The scalar FMI variables of a payload of type ``t`` named ``prefix``. A set or sequence of
     scalars is two: its elements (an array of the capacity, zeros after the last; path element
-    ``#elements``) and its size (``#size``)."""
+    ``#elements``) and its size (``#size``). One of records has an array per scalar field of the
+    records instead of the elements (``prefix.elements.f``; path ``#elements``, then the field's)."""
     assert t is not None
     check_codegen_type(t, span, f"'{prefix}'")
     if isinstance(t, T.RecordT):
@@ -273,11 +274,27 @@ def _flatten(prefix: str, t: T.Type | None, path: tuple[str, ...], span: Span | 
     if t == T.STRING:
         raise not_supported(f"'{prefix}': a string as an FMU port", span)
     if isinstance(t, (T.SetT, T.SeqT)):
-        if isinstance(t.element, T.RecordT):
-            raise not_supported(f"'{prefix}': a {T.form(t)[2:]} of records as an FMU port", span)
-        return [ir.Field_(f"{prefix}.elements", T.VectorT(t.element, capacity), path + ("#elements",)),
-                ir.Field_(f"{prefix}.size", T.NAT, path + ("#size",))]
+        size = ir.Field_(f"{prefix}.size", T.NAT, path + ("#size",))
+        if not isinstance(t.element, T.RecordT):
+            return [ir.Field_(f"{prefix}.elements", T.VectorT(t.element, capacity), path + ("#elements",)), size]
+        return [ir.Field_(".".join((f"{prefix}.elements",) + at), T.VectorT(ft, capacity), path + ("#elements",) + at)
+                for at, ft in _element_leaves(t.element, (), prefix, t, span)] + [size]
     return [ir.Field_(prefix, t, path)]  # a scalar; a vector or matrix is one FMI array variable
+
+
+def _element_leaves(t: T.RecordT, at: tuple[str, ...], prefix: str, coll: T.Type, span: Span | None):
+    """(field path, type) of each scalar part of the records a set or sequence at the FMU boundary
+    holds: each is one FMI array of the capacity (the field of element 1, 2, ...)."""
+    if isinstance(t, TaggedT):
+        raise not_supported(f"'{prefix}': a {T.form(coll)[2:]} of enumerations with arguments as an FMU port", span)
+    for n, ft in t.fields:
+        if isinstance(ft, T.RecordT):
+            yield from _element_leaves(ft, at + (n,), prefix, coll, span)
+        elif is_scalar(ft):
+            yield at + (n,), ft
+        else:
+            raise not_supported(f"'{prefix}': a {T.form(coll)[2:]} of records with a field of type {ft.show()} "
+                                "as an FMU port (fields of its elements are numbers, booleans, enumerations or records)", span)
 
 
 __all__ = ["Ports", "MachinePorts", "Way", "directed", "event_uses"]
