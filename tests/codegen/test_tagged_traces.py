@@ -66,6 +66,25 @@ def test_literals_with_arguments_are_built_compared_and_sent(builds, semantics):
     assert (last["Driver.home.tag"], last["Driver.home.Turn_1"], last["Driver.home.Turn_2"]) == (2, 2, True)
 
 
+@pytest.mark.parametrize("semantics", ["exhaustive", "stepwise"])
+def test_a_robosim_machine_reads_and_writes_literals_with_arguments(builds, semantics):
+    inputs = {1: cmd(2, move=9.0, turn=2, left=True), 2: cmd(1, move=2.5), 3: cmd(0, turn=4), 4: cmd(2, turn=2)}
+    outputs, trace = run(builds.get("taggedsim", semantics), inputs, 6)
+    # a cycle with cmd decides t1 (an exec transition) and completes it, with its action, at the
+    # start of the next cycle: the outputs of the command of cycle t come at t + 1. home =
+    # Turn(2, true) and Stop are not counted, Move(2.5) and Turn(2, false) are; the arguments of
+    # literals the tag does not select (9.0 of Move at t=1, 4 of Turn at t=3) are not echoed.
+    assert outputs == {
+        0: {},
+        1: {},
+        2: {"echo": echo(2, turn=2, left=True), "atHome": {"atHome.value": True}, "count": {"count.value": 0}},
+        3: {"echo": echo(1, move=2.5), "atHome": {"atHome.value": False}, "count": {"count.value": 1}},
+        4: {"echo": echo(0), "atHome": {"atHome.value": False}, "count": {"count.value": 1}},
+        5: {"echo": echo(2, turn=2), "atHome": {"atHome.value": False}, "count": {"count.value": 2}},
+    }
+    assert trace.steps[-1].variables["Pilot.moves"] == 2
+
+
 REACH = """package reach
 enumeration Cmd { Stop Move(real) Turn(nat, boolean) }
 function reach(c: Cmd): real { }

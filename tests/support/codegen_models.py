@@ -65,6 +65,9 @@ TEST_MODELS = {
         ModelCase("linear", MODELS / "linear.rst", choices={"y.value": [-2.5, -1.0, 0.5, 1.5, 3.0, 1e300, 0.0]}),
         ModelCase("control", MODELS / "control.rct", choices={"value.value": [-5, 0, 2, 3, 4, 5, 7, 99, 100, 150]}),
         ModelCase("matrixport", MODELS / "matrixport.rst"),
+        ModelCase("taggedsim", MODELS / "taggedsim.rst", choices={
+            "cmd.tag": [0, 1, 2], "cmd.Move_1": [1.5, 2.5, 0.0], "cmd.Turn_1": [2, 0, 2], "cmd.Turn_2": [True, False],
+        }),
         ModelCase("records", MODELS / "records.rct", capacity=4, choices={
             "gas.value.size": [0, 1, 2, 3, 4, 5], "seen.value.size": [0, 1, 2, 3, 4, 9],
             "gas.value.elements.i": [0, 1, 2, 7], "seen.value.elements.i": [0, 1, 1, 2],
