@@ -478,6 +478,24 @@ static void put(rg_bytes *b, const char *text, size_t n)
     b->used += n;
 }
 
+/* The CSV cell of value i of a buffer of numbers or Booleans of this kind; false when memory
+ * runs out. */
+static bool number_cell(rg_bytes *b, int kind, const void *buffer, size_t i)
+{
+    if (kind == K_F64 || kind == K_F32) {
+        if (!reserve(b, 32)) return false;
+        b->used += rg_format_double(b->data + b->used, real_of(kind, buffer, i));
+    } else {
+        uint64_t v = integer_of(kind, buffer, i);
+        if (!reserve(b, 24)) return false;
+        if (kind == K_BOOL) put(b, v ? "True" : "False", v ? 4 : 5);
+        else if (kind == K_I64 || kind == K_I32 || kind == K_I16 || kind == K_I8)
+            b->used += (size_t)sprintf(b->data + b->used, "%lld", (long long)(int64_t)v);
+        else b->used += (size_t)sprintf(b->data + b->used, "%llu", (unsigned long long)v);
+    }
+    return true;
+}
+
 /* A recorded value's CSV cell; false when memory runs out. */
 static bool cell(rg_stretch *s, int r, size_t i)
 {
@@ -486,20 +504,7 @@ static bool cell(rg_stretch *s, int r, size_t i)
     const char *data;
     size_t size, j;
     int kind = s->kind[r];
-    if (kind == K_F64 || kind == K_F32) {
-        if (!reserve(b, 32)) return false;
-        b->used += rg_format_double(b->data + b->used, real_of(kind, s->buffer[r], i));
-        return true;
-    }
-    if (!is_bytes(kind)) {
-        uint64_t v = integer_of(kind, s->buffer[r], i);
-        if (!reserve(b, 24)) return false;
-        if (kind == K_BOOL) put(b, v ? "True" : "False", v ? 4 : 5);
-        else if (kind == K_I64 || kind == K_I32 || kind == K_I16 || kind == K_I8)
-            b->used += (size_t)sprintf(b->data + b->used, "%lld", (long long)(int64_t)v);
-        else b->used += (size_t)sprintf(b->data + b->used, "%llu", (unsigned long long)v);
-        return true;
-    }
+    if (!is_bytes(kind)) return number_cell(b, kind, s->buffer[r], i);
     memcpy(&size, s->arena.data + s->copies[r][i], sizeof size);
     data = s->arena.data + s->copies[r][i] + sizeof size;
     if (!reserve(b, 2 * size + 2)) return false;
@@ -574,9 +579,9 @@ static void slot_row(rg_stretch *s, uint64_t *row)
     }
 }
 
-/* The exchange and the reads after a step, then its row. 0, or the failing call's status
- * (*why and *who say which), or -1 when memory runs out. */
-static int exchange_and_record(rg_stretch *s, double t, uint64_t *row, int *why, int *who)
+/* The exchange and the reads after a step (or for an instant's row). 0, or the failing call's
+ * status (*why and *who say which), or -1 when memory runs out. */
+static int exchange_and_read(rg_stretch *s, int *why, int *who)
 {
     int k, st;
     bool no_memory = false;
@@ -591,6 +596,15 @@ static int exchange_and_record(rg_stretch *s, double t, uint64_t *row, int *why,
         }
         if (no_memory || st < 0) return -1;
     }
+    return 0;
+}
+
+/* The exchange and the reads after a step, then its row. 0, or the failing call's status
+ * (*why and *who say which), or -1 when memory runs out. */
+static int exchange_and_record(rg_stretch *s, double t, uint64_t *row, int *why, int *who)
+{
+    int st = exchange_and_read(s, why, who);
+    if (st != 0) return st;
     if (s->mode == MODE_SLOTS) slot_row(s, row);
     else if (s->mode == MODE_TEXT && !text_row(s, t)) return -1;
     return 0;

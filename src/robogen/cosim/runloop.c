@@ -1,0 +1,560 @@
+/* The master's whole run in C: quiet stretches, general steps and event iterations
+ * (robogen.cosim.runloop describes when it runs and drives it; robogen.cosim.master describes
+ * the algorithm). Compiled as one unit after stepper.c, whose stretch (the FMUs' steps, the
+ * exchange of connected values, the reads and the CSV cells) it uses.
+ *
+ * It does what the master's Python loop does, call for call where a call can change what an FMU
+ * does next, with the same arithmetic on times: the start's event iteration (or row), then up to
+ * the stop time: a quiet stretch up to the next time event (where no FMU can return early), one
+ * general step to the next point (the early returner first: the others go no further than where
+ * it stopped), and there either the exchange and a plain row, or Event Mode: every FMU in Event
+ * Mode enters it, the due periodic input clocks are set (one fmi3SetClock per FMU), and each
+ * super-dense instant reads the watched output clocks (one fmi3GetClock per FMU, not again in an
+ * instant), records its row (the recorded clocked values whose clock is active: one Get call per
+ * FMU and type, an output not read again in the instant), and closes with
+ * fmi3UpdateDiscreteStates; the last row after the instants, fmi3EnterStepMode, the next time
+ * event.
+ *
+ * It returns to Python when a chunk of rows is stored (or its wall-clock deadline passed), when
+ * the run ends, when a call fails (the master's call notes say which), when memory runs out, and
+ * for an event iteration that does not settle (Python reports it). Systems it does not cover
+ * (clock connections, connected values in Event Mode, aperiodic clocks, more than one FMU that
+ * may return early, the events log, pacing) run in the master's Python loop. */
+
+typedef int (*rg_mode_fn)(void *);
+typedef int (*rg_update_fn)(void *, bool *, bool *, bool *, bool *, bool *, double *);
+typedef int (*rg_get_clock_fn)(void *, const uint32_t *, size_t, bool *);
+typedef int (*rg_set_clock_fn)(void *, const uint32_t *, size_t, const bool *);
+
+enum { RUN_PAUSE = 0, RUN_DONE, RUN_FAILED, RUN_ZENO, RUN_NO_MEMORY };
+enum { COL_VALUE = 0, COL_CLOCK, COL_CLOCKED };
+enum { STAGE_ADVANCE = 0, STAGE_STRETCH, STAGE_STEP };
+enum { BY_DO_STEP = 0, BY_UPDATE };
+
+typedef struct {
+    rg_stretch *s;           /* the instances' steps, the exchange, the reads, the CSV text */
+    double start, step, stop, stop_limit;
+    int max_iterations;
+    bool early;              /* an FMU may return early: no quiet stretch, every step a general one */
+    int n_event;             /* the instances in Event Mode (indices, in instance order) */
+    const int *event_instance;
+    const int *step_order;   /* the early returner first */
+    const bool *may_return_early;
+    rg_mode_fn *enter_event, *enter_step;  /* per instance */
+    rg_update_fn *update;
+    rg_get_clock_fn *get_clock;
+    rg_set_clock_fn *set_clock;
+    const int32_t *enter_event_note, *enter_step_note, *update_note, *get_clock_note, *set_clock_note;
+    double *time;            /* per instance: the communication point of its last step */
+    bool *has_next;          /* per instance: nextEventTime of its last update */
+    double *next_event;
+    bool *needs;             /* per instance: asked for another instant in the last update */
+    const int *clock_first;  /* per instance and one more: its clocks (sorted, at most 64) from here */
+    const int *clock_count;
+    const uint32_t *clock_vr;
+    bool *active;            /* per clock: active in this instant */
+    bool *ticked;            /* per clock: active in the instant before the last allowed (Zeno) */
+    const int *out_first;    /* per instance: its watched output clocks, sorted: one fmi3GetClock */
+    const int *out_count;
+    const uint32_t *out_vr;
+    const int *out_clock;    /* each one's clock index */
+    bool *out_on;            /* what fmi3GetClock said in this instant */
+    bool *out_fresh;         /* per instance: its output clocks were read in this instant */
+    int n_periodic;          /* time-based periodic input clocks: tick k at start + shift + k interval */
+    const int *p_instance, *p_clock;
+    const double *p_start, *p_shift, *p_interval;
+    int64_t *p_k;
+    uint32_t *clock_scratch; /* one fmi3SetClock call's value references */
+    const bool *on;          /* and its values (all true) */
+    int n_columns;           /* the recorded columns (as the stretch's) */
+    const int *column_kind;
+    const int *column_ref;   /* COL_CLOCK: the clock's index (-1: never active); COL_CLOCKED: the cell */
+    int n_cells;             /* recorded clocked variables, grouped by instance */
+    const int *cell_instance;
+    const uint32_t *cell_vr;
+    const int *cell_kind;
+    const int *cell_type;    /* the FMI type (one Get call per type) */
+    rg_get_fn *cell_get;
+    const int32_t *cell_note;
+    const bool *cell_output; /* an output: not read again in an instant */
+    const uint64_t *cell_mask; /* the clocks (bits of the instance's clock indices) it belongs to */
+    uint64_t *cell_raw;      /* the value as its C type, at the start of 8 bytes */
+    bool *cell_fresh, *cell_live;
+    int n_groups;            /* the cells of one instance, in the order the columns meet them */
+    const int *group_first, *group_count;
+    uint32_t *get_vrs;       /* one Get call's value references, values and cells */
+    uint64_t *get_buffer;
+    int *get_cells;
+    /* where the run is, between calls */
+    int phase;               /* 0: the start's row or event iteration is due */
+    int stage;
+    double t, limit, next_time;
+    long n;
+    /* statistics, and the end */
+    long steps, event_iterations, instants, early_returns;
+    int term_who, term_by;
+    double term_t;
+    int zeno_k;
+    bool pause_at_events;    /* return after each event iteration: its rows are to be flushed */
+    bool event_ended;        /* an event iteration (or the start) ended since Python last looked */
+} rg_run;
+
+/* Where one call of rg_run_system stores its rows (Python reads them). */
+typedef struct {
+    long rows;
+    double *times;
+    int32_t *index;          /* the super-dense index */
+    uint8_t *event;          /* a row of an event iteration (decimation keeps it) */
+    uint64_t *slots;         /* MODE_SLOTS: n_columns per row */
+    uint8_t *present;        /* MODE_SLOTS: n_columns per row; 0 is an empty cell */
+} rg_rows;
+
+RG_EXPORT int rg_run_system(rg_run *r, long max_rows, double deadline, rg_rows *out, int *status);
+
+static double tol(double t)
+{
+    double a = fabs(t);
+    return 1e-9 * (a > 1.0 ? a : 1.0);
+}
+
+static long grid_index(double elapsed, double period) { return (long)floor(elapsed / period + 1e-9); }
+
+static void terminated(rg_run *r, int u, int by, double t)
+{
+    if (r->term_who >= 0) return;
+    r->term_who = u;
+    r->term_by = by;
+    r->term_t = t;
+}
+
+static bool finished(const rg_run *r) { return r->t >= r->stop_limit || r->term_who >= 0; }
+
+static void all_at(rg_run *r, double t)
+{
+    int u;
+    for (u = 0; u < r->s->n_instances; u++) r->time[u] = t;
+}
+
+/* ---------------------------------------------------------------------------------------------
+ * Rows */
+
+static int value_width(int kind)
+{
+    switch (kind) {
+    case K_F64: case K_I64: case K_U64: return 8;
+    case K_F32: case K_I32: case K_U32: return 4;
+    case K_I16: case K_U16: return 2;
+    case K_BOOL: return (int)sizeof(bool);
+    default: return 1;
+    }
+}
+
+static uint64_t slot_of(int kind, const void *buffer, size_t i)
+{
+    uint64_t slot;
+    double d;
+    if (kind != K_F64 && kind != K_F32) return integer_of(kind, buffer, i);
+    d = real_of(kind, buffer, i);
+    memcpy(&slot, &d, sizeof slot);
+    return slot;
+}
+
+/* The cells of instance group g's recorded clocked variables whose clock is active, read with
+ * one Get call per type of those not read already in this instant. 0 or the failing status. */
+static int clocked_values(rg_run *r, int g)
+{
+    int first = r->group_first[g], last = first + r->group_count[g], c, d, u = r->cell_instance[first], j;
+    uint64_t active = 0;
+    for (j = 0; j < r->clock_count[u]; j++)
+        if (r->active[r->clock_first[u] + j]) active |= (uint64_t)1 << j;
+    for (c = first; c < last; c++) r->cell_live[c] = (r->cell_mask[c] & active) != 0;
+    if (active == 0) return 0;
+    for (c = first; c < last; c++) {
+        int n = 0, st, type = r->cell_type[c], width = value_width(r->cell_kind[c]);
+        if (!r->cell_live[c] || r->cell_fresh[c]) continue;
+        for (d = c; d < last; d++) /* every live cell of this type not read yet: one call */
+            if (r->cell_live[d] && !r->cell_fresh[d] && r->cell_type[d] == type) {
+                r->get_vrs[n] = r->cell_vr[d];
+                r->get_cells[n++] = d;
+            }
+        *r->s->note_call = r->cell_note[c];
+        st = r->cell_get[c](r->s->instance[u], r->get_vrs, (size_t)n, r->get_buffer, (size_t)n);
+        if (st > 1) return st;
+        for (j = 0; j < n; j++) {
+            d = r->get_cells[j];
+            memcpy(&r->cell_raw[d], (const char *)r->get_buffer + (size_t)width * (size_t)j, (size_t)width);
+            r->cell_fresh[d] = true; /* inputs are forgotten once the row is written */
+        }
+    }
+    return 0;
+}
+
+static bool text_cell(rg_run *r, int c)
+{
+    rg_stretch *s = r->s;
+    int ref = r->column_ref[c];
+    if (r->column_kind[c] == COL_VALUE) return cell(s, s->column_read[c], (size_t)s->column_index[c]);
+    if (r->column_kind[c] == COL_CLOCK) {
+        if (!reserve(&s->text, 1)) return false;
+        put(&s->text, ref >= 0 && r->active[ref] ? "1" : "0", 1);
+        return true;
+    }
+    return !r->cell_live[ref] || number_cell(&s->text, r->cell_kind[ref], &r->cell_raw[ref], 0);
+}
+
+static bool text_line(rg_run *r, double t, int k)
+{
+    rg_stretch *s = r->s;
+    int c;
+    if (!reserve(&s->text, 48)) return false;
+    s->text.used += rg_format_double(s->text.data + s->text.used, t);
+    s->text.used += (size_t)sprintf(s->text.data + s->text.used, ",%d", k);
+    for (c = 0; c < r->n_columns; c++) {
+        if (!reserve(&s->text, 1)) return false;
+        put(&s->text, ",", 1);
+        if (!text_cell(r, c)) return false;
+    }
+    if (!reserve(&s->text, 1)) return false;
+    put(&s->text, "\n", 1);
+    return true;
+}
+
+static void slot_line(rg_run *r, uint64_t *slots, uint8_t *present)
+{
+    rg_stretch *s = r->s;
+    int c;
+    for (c = 0; c < r->n_columns; c++) {
+        int ref = r->column_ref[c], read = s->column_read[c];
+        present[c] = 1;
+        if (r->column_kind[c] == COL_VALUE) {
+            size_t i = (size_t)s->column_index[c];
+            slots[c] = is_bytes(s->kind[read]) ? s->copies[read][i] : slot_of(s->kind[read], s->buffer[read], i);
+        } else if (r->column_kind[c] == COL_CLOCK) {
+            slots[c] = ref >= 0 && r->active[ref];
+        } else if ((present[c] = r->cell_live[ref]) != 0) {
+            slots[c] = slot_of(r->cell_kind[ref], &r->cell_raw[ref], 0);
+        }
+    }
+}
+
+/* The row (t, k): the reads (after the exchange of a plain row), the clocked values, the row.
+ * 0, the failing status, or -1 when memory runs out. */
+static int record(rg_run *r, rg_rows *out, double t, int k, bool event)
+{
+    rg_stretch *s = r->s;
+    int why, who, st, g, c;
+    long row = out->rows;
+    st = exchange_and_read(s, &why, &who);
+    for (g = 0; st == 0 && g < r->n_groups; g++) st = clocked_values(r, g);
+    if (st != 0) return st;
+    if (s->mode == MODE_TEXT) {
+        size_t start = s->text.used;
+        if (!text_line(r, t, k)) {
+            s->text.used = start;
+            return -1;
+        }
+    } else if (s->mode == MODE_SLOTS) {
+        slot_line(r, out->slots + (size_t)row * (size_t)r->n_columns, out->present + (size_t)row * (size_t)r->n_columns);
+    }
+    for (c = 0; c < r->n_cells; c++)
+        if (!r->cell_output[c]) r->cell_fresh[c] = false;
+    out->times[row] = t;
+    out->index[row] = k;
+    out->event[row] = event;
+    out->rows = row + 1;
+    return 0;
+}
+
+/* ---------------------------------------------------------------------------------------------
+ * Event Mode */
+
+static void new_instant(rg_run *r, int u)
+{
+    int c;
+    r->out_fresh[u] = false;
+    for (c = 0; c < r->n_cells; c++)
+        if (r->cell_instance[c] == u) r->cell_fresh[c] = false;
+}
+
+static double next_tick(const rg_run *r, int p)
+{
+    return r->p_start[p] + r->p_shift[p] + (double)r->p_k[p] * r->p_interval[p];
+}
+
+/* Every periodic input clock due by `limit` (the first instant at t): one fmi3SetClock per FMU,
+ * the clocks sorted; each moves past t. 0 or the failing status. */
+static int activate_due_clocks(rg_run *r, double t, double limit)
+{
+    int u, p, n, i, st;
+    for (u = 0; u < r->s->n_instances; u++) {
+        for (n = 0, p = 0; p < r->n_periodic; p++) {
+            if (r->p_instance[p] != u || next_tick(r, p) > limit) continue;
+            for (i = n++; i > 0 && r->clock_scratch[i - 1] > r->clock_vr[r->p_clock[p]]; i--)
+                r->clock_scratch[i] = r->clock_scratch[i - 1];
+            r->clock_scratch[i] = r->clock_vr[r->p_clock[p]];
+        }
+        if (n == 0) continue;
+        *r->s->note_call = r->set_clock_note[u];
+        st = r->set_clock[u](r->s->instance[u], r->clock_scratch, (size_t)n, r->on);
+        if (st > 1) return st;
+        new_instant(r, u); /* nothing read yet in this instant: nothing to forget but this */
+        for (p = 0; p < r->n_periodic; p++) {
+            int64_t k;
+            if (r->p_instance[p] != u || next_tick(r, p) > limit) continue;
+            r->active[r->p_clock[p]] = true;
+            k = grid_index(t - r->p_start[p] - r->p_shift[p], r->p_interval[p]) + 1;
+            r->p_k[p] = r->p_k[p] + 1 > k ? r->p_k[p] + 1 : k;
+        }
+    }
+    return 0;
+}
+
+/* The watched output clocks of every FMU in Event Mode (one fmi3GetClock each, once per instant). */
+static int read_clocks(rg_run *r)
+{
+    int e, j, st;
+    for (e = 0; e < r->n_event; e++) {
+        int u = r->event_instance[e], first = r->out_first[u], n = r->out_count[u];
+        if (n == 0) continue;
+        if (!r->out_fresh[u]) {
+            *r->s->note_call = r->get_clock_note[u];
+            st = r->get_clock[u](r->s->instance[u], r->out_vr + first, (size_t)n, r->out_on + first);
+            if (st > 1) return st;
+            r->out_fresh[u] = true;
+        }
+        for (j = first; j < first + n; j++)
+            if (r->out_on[j]) r->active[r->out_clock[j]] = true;
+    }
+    return 0;
+}
+
+/* fmi3UpdateDiscreteStates on every FMU in Event Mode; *needs if one asks for another instant. */
+static int update_all(rg_run *r, double t, bool *needs)
+{
+    int e, c, st;
+    for (e = 0; e < r->n_event; e++) {
+        int u = r->event_instance[e];
+        bool b[5] = {false, false, false, false, false};
+        double next = 0.0;
+        *r->s->note_call = r->update_note[u];
+        st = r->update[u](r->s->instance[u], b, b + 1, b + 2, b + 3, b + 4, &next);
+        if (st > 1) return st;
+        for (c = r->clock_first[u]; c < r->clock_first[u] + r->clock_count[u]; c++) r->active[c] = false;
+        new_instant(r, u);
+        r->has_next[u] = b[4];
+        r->next_event[u] = next;
+        r->needs[u] = b[0];
+        if (b[0]) *needs = true;
+        if (b[1]) terminated(r, u, BY_UPDATE, t);
+    }
+    return 0;
+}
+
+/* The earliest clock tick or nextEventTime after t. */
+static void refresh_timing(rg_run *r, double t)
+{
+    double limit = t + tol(t), earliest = INFINITY;
+    int u, p, e;
+    for (u = 0; u < r->s->n_instances; u++) {
+        double tick = INFINITY;
+        for (p = 0; p < r->n_periodic; p++)
+            if (r->p_instance[p] == u && next_tick(r, p) < tick) tick = next_tick(r, p);
+        if (limit < tick && tick < earliest) earliest = tick;
+    }
+    for (e = 0; e < r->n_event; e++) {
+        int u = r->event_instance[e];
+        if (r->has_next[u] && limit < r->next_event[u] && r->next_event[u] < earliest) earliest = r->next_event[u];
+    }
+    r->next_time = earliest;
+}
+
+/* The instants at t, up to the last row; then Step Mode. 0, a failing status, -1 (no memory) or
+ * -2 (it did not settle: r->zeno_k instants). */
+static int event_iteration(rg_run *r, rg_rows *out, double t)
+{
+    int k = 0, st, e, c;
+    bool needs;
+    r->event_iterations++;
+    *r->s->note_time = t;
+    if ((st = activate_due_clocks(r, t, t + tol(t))) != 0) return st;
+    do {
+        needs = false;
+        r->instants++;
+        if ((st = read_clocks(r)) != 0 || (st = record(r, out, t, k, true)) != 0) return st;
+        if (k >= r->max_iterations - 1)
+            for (c = 0; c < r->clock_first[r->s->n_instances]; c++) r->ticked[c] = r->active[c];
+        if ((st = update_all(r, t, &needs)) != 0) return st;
+        k++;
+        if (needs && k >= r->max_iterations) {
+            r->zeno_k = k;
+            return -2;
+        }
+    } while (needs);
+    if ((st = record(r, out, t, k, true)) != 0) return st;
+    for (e = 0; e < r->n_event; e++) {
+        int u = r->event_instance[e];
+        *r->s->note_call = r->enter_step_note[u];
+        if ((st = r->enter_step[u](r->s->instance[u])) > 1) return st;
+    }
+    refresh_timing(r, t);
+    r->event_ended = true;
+    return 0;
+}
+
+static int event_mode(rg_run *r, rg_rows *out, double t)
+{
+    int e, st;
+    for (e = 0; e < r->n_event; e++) {
+        int u = r->event_instance[e];
+        *r->s->note_call = r->enter_event_note[u];
+        if ((st = r->enter_event[u](r->s->instance[u])) > 1) return st;
+        new_instant(r, u);
+    }
+    return event_iteration(r, out, t);
+}
+
+/* ---------------------------------------------------------------------------------------------
+ * Step Mode */
+
+/* The next grid point, clock tick or nextEventTime after t (the stop time within its tolerance). */
+static double next_point(const rg_run *r, double t)
+{
+    long n = grid_index(t - r->start, r->step);
+    double grid = r->start + (double)(n + 1) * r->step, point;
+    if (grid <= t + tol(t)) grid = r->start + (double)(n + 2) * r->step;
+    point = r->stop < grid ? r->stop : grid;
+    if (r->next_time < point) point = r->next_time;
+    return point >= r->stop_limit ? r->stop : point;
+}
+
+/* Every FMU towards `end`, the early returner first: the others go no further than where it
+ * stopped. 0 or the failing status; *end the time all reached. */
+static int step_with_early_return(rg_run *r, double *end, bool *event)
+{
+    rg_stretch *s = r->s;
+    double reached = *end - tol(*end);
+    int i, u, st;
+    for (u = 0; u < s->n_instances; u++) s->flags[4 * u + 3] = false; /* the fourth flag: stepped */
+    for (i = 0; i < s->n_instances; i++) {
+        bool *f;
+        u = r->step_order[i];
+        f = s->flags + 4 * u;
+        if (r->time[u] >= reached) continue;
+        *s->note_call = s->step_note[u];
+        st = s->do_step[u](s->instance[u], r->time[u], *end - r->time[u], true, f, f + 1, f + 2, s->last_time + u);
+        if (st > 1) return st;
+        f[3] = true;
+        r->time[u] = f[2] ? s->last_time[u] : *end;
+        if (r->time[u] < reached) {
+            *end = r->time[u];
+            reached = *end - tol(*end);
+            r->early_returns++;
+        }
+    }
+    for (u = 0; u < s->n_instances; u++) {
+        bool *f = s->flags + 4 * u;
+        if (!f[3]) continue;
+        if (f[1]) terminated(r, u, BY_DO_STEP, r->time[u]);
+        if (f[0] && s->event_mode[u]) *event = true;
+    }
+    return 0;
+}
+
+/* One general step from r->t to the next point; there Event Mode or the exchange and a row. */
+static int general_step(rg_run *r, rg_rows *out)
+{
+    double t_next = next_point(r, r->t);
+    bool event = false, terminate = false;
+    int st, who = -1, u;
+    *r->s->note_time = r->t;
+    if (r->early) {
+        st = step_with_early_return(r, &t_next, &event);
+    } else {
+        st = step_all(r->s, r->t, t_next, &event, &terminate, &who);
+        if (st > 1) return st;
+        for (u = 0; u < r->s->n_instances; u++) r->time[u] = t_next;
+        if (terminate) terminated(r, who, BY_DO_STEP, t_next);
+    }
+    if (st != 0) return st;
+    r->t = t_next;
+    r->steps++;
+    if (event || r->next_time <= r->t + tol(r->t)) return event_mode(r, out, r->t);
+    *r->s->note_time = r->t;
+    return record(r, out, r->t, 0, false);
+}
+
+/* One step of a quiet stretch (or its end: the general step is next). */
+static int stretch_step(rg_run *r, rg_rows *out)
+{
+    long k = r->n + 1;
+    double t_next = r->start + (double)k * r->step;
+    bool event = false, terminate = false;
+    int st, who = -1;
+    if (t_next >= r->limit || t_next <= r->t) {
+        r->stage = finished(r) ? STAGE_ADVANCE : STAGE_STEP;
+        return 0;
+    }
+    st = step_all(r->s, r->t, t_next, &event, &terminate, &who);
+    if (st != 0) return st;
+    r->n = k;
+    r->t = t_next;
+    r->steps++;
+    all_at(r, t_next);
+    if (terminate) terminated(r, who, BY_DO_STEP, t_next);
+    if (event) {
+        r->stage = STAGE_ADVANCE;
+        return event_mode(r, out, t_next);
+    }
+    *r->s->note_time = t_next;
+    if ((st = record(r, out, t_next, 0, false)) != 0) return st;
+    if (terminate) r->stage = STAGE_ADVANCE;
+    return 0;
+}
+
+static int advance(rg_run *r, rg_rows *out)
+{
+    double horizon;
+    switch (r->stage) {
+    case STAGE_STRETCH:
+        return stretch_step(r, out);
+    case STAGE_STEP:
+        r->stage = STAGE_ADVANCE;
+        return general_step(r, out);
+    default:
+        if (r->early) {
+            r->stage = STAGE_STEP;
+            return 0;
+        }
+        horizon = r->next_time < r->stop ? r->next_time : r->stop;
+        r->limit = horizon - tol(horizon);
+        r->n = grid_index(r->t - r->start, r->step);
+        r->stage = STAGE_STRETCH;
+        return 0;
+    }
+}
+
+/* Runs from where the last call stopped until `max_rows` rows are stored (or the monotonic clock
+ * passed `deadline` after at least one, or an event iteration ended where its rows are to be
+ * flushed at once), the run ends, a call fails (*status; the call notes say
+ * which), memory runs out or an event iteration does not settle (RUN_ZENO). The rows go to
+ * `out`, which has room for max_rows + max_iterations + 1. */
+RG_EXPORT int rg_run_system(rg_run *r, long max_rows, double deadline, rg_rows *out, int *status)
+{
+    int st = 0;
+    out->rows = 0;
+    r->s->arena.used = r->s->text.used = 0;
+    *status = 0;
+    if (r->phase == 0) {
+        r->phase = 1;
+        all_at(r, r->start);
+        st = r->n_event > 0 ? event_iteration(r, out, r->start) : record(r, out, r->start, 0, false);
+        r->event_ended = true; /* the start's rows are flushed as an event iteration's */
+    }
+    while (st == 0 && !finished(r)) {
+        if (r->event_ended && r->pause_at_events) return RUN_PAUSE;
+        if (out->rows >= max_rows || (out->rows > 0 && wall_clock() > deadline)) return RUN_PAUSE;
+        st = advance(r, out);
+    }
+    *status = st;
+    return st == 0 ? RUN_DONE : st == -1 ? RUN_NO_MEMORY : st == -2 ? RUN_ZENO : RUN_FAILED;
+}

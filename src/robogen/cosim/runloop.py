@@ -1,0 +1,375 @@
+"""The whole run in C (runloop.c): :class:`CRun`, the master's loop after setup, event iterations
+included, for the systems it covers; the master's Python loop computes the same results.
+
+It covers a system whose instances the C stretch (:mod:`robogen.cosim.stepper`) can step and read
+(FMUs in this process, no trace, recorded types it reads), run without pacing and without an
+events log, where at most one FMU may return early (no rollback), no clock is connected, no value
+is connected into an FMU in Event Mode, and the time-based input clocks are periodic ones of FMUs
+in Event Mode; each FMU has at most 64 clocks, and recorded clocked variables are numbers or
+Booleans. Anything else runs in the master's Python loop (``ROBOGEN_NO_C_STEPPER`` switches the C
+loops off). :meth:`CRun.for_master` says which.
+
+Python is entered once per chunk of rows (at most :data:`~robogen.cosim.stepper.CHUNK`, or the
+recorder's next flush, :data:`~robogen.cosim.recorder.FLUSH_SECONDS` of wall time away): the rows go
+to the recorder, the progress bar moves. Where the rows go to a CSV file, also after every event
+iteration, whose rows are flushed to the file at once, as the Python loop does.
+The run also returns when it ends (the first instance that asked to terminate is reported), when an
+FMI call fails (the master's call notes name the instance and the function), and when an event
+iteration does not settle (the master reports it, with the clocks active in its last instant).
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from enum import IntEnum
+from itertools import repeat
+
+from robogen.cosim import stepper
+from robogen.cosim.fmi3 import ACCESSOR, FUNCTIONS
+from robogen.cosim.recorder import FLUSH_SECONDS
+from robogen.cosim.stepper import CHUNK, CStretch, Mode, _FORMAT, kind
+from robogen.cosim.stretch import StretchPlan
+from robogen.cosim.wiring import CLOCK, CLOCKED, VALUE
+
+ffi = stepper.ffi
+ffi.cdef(
+    """
+    typedef int (*rg_mode_fn)(void *);
+    typedef int (*rg_update_fn)(void *, bool *, bool *, bool *, bool *, bool *, double *);
+    typedef int (*rg_get_clock_fn)(void *, const uint32_t *, size_t, bool *);
+    typedef int (*rg_set_clock_fn)(void *, const uint32_t *, size_t, const bool *);
+    typedef struct {
+        rg_stretch *s;
+        double start, step, stop, stop_limit;
+        int max_iterations;
+        bool early;
+        int n_event;
+        const int *event_instance;
+        const int *step_order;
+        const bool *may_return_early;
+        rg_mode_fn *enter_event, *enter_step;
+        rg_update_fn *update;
+        rg_get_clock_fn *get_clock;
+        rg_set_clock_fn *set_clock;
+        const int32_t *enter_event_note, *enter_step_note, *update_note, *get_clock_note, *set_clock_note;
+        double *time;
+        bool *has_next;
+        double *next_event;
+        bool *needs;
+        const int *clock_first;
+        const int *clock_count;
+        const uint32_t *clock_vr;
+        bool *active, *ticked;
+        const int *out_first;
+        const int *out_count;
+        const uint32_t *out_vr;
+        const int *out_clock;
+        bool *out_on;
+        bool *out_fresh;
+        int n_periodic;
+        const int *p_instance, *p_clock;
+        const double *p_start, *p_shift, *p_interval;
+        int64_t *p_k;
+        uint32_t *clock_scratch;
+        const bool *on;
+        int n_columns;
+        const int *column_kind;
+        const int *column_ref;
+        int n_cells;
+        const int *cell_instance;
+        const uint32_t *cell_vr;
+        const int *cell_kind;
+        const int *cell_type;
+        rg_get_fn *cell_get;
+        const int32_t *cell_note;
+        const bool *cell_output;
+        const uint64_t *cell_mask;
+        uint64_t *cell_raw;
+        bool *cell_fresh, *cell_live;
+        int n_groups;
+        const int *group_first, *group_count;
+        uint32_t *get_vrs;
+        uint64_t *get_buffer;
+        int *get_cells;
+        int phase;
+        int stage;
+        double t, limit, next_time;
+        long n;
+        long steps, event_iterations, instants, early_returns;
+        int term_who, term_by;
+        double term_t;
+        int zeno_k;
+        bool pause_at_events;
+        bool event_ended;
+    } rg_run;
+    typedef struct {
+        long rows;
+        double *times;
+        int32_t *index;
+        uint8_t *event;
+        uint64_t *slots;
+        uint8_t *present;
+    } rg_rows;
+    int rg_run_system(rg_run *r, long max_rows, double deadline, rg_rows *out, int *status);
+    """
+)
+
+#: The most super-dense instants the C loop takes (a chunk has room for one event iteration).
+MAX_ITERATIONS = 100_000
+_COLUMN_KINDS = {VALUE: 0, CLOCK: 1, CLOCKED: 2}
+_MODE_FUNCTIONS = ("fmi3DoStep", "fmi3EnterEventMode", "fmi3EnterStepMode", "fmi3UpdateDiscreteStates",
+                   "fmi3GetClock", "fmi3SetClock")
+
+
+class End(IntEnum):
+    """Why rg_run_system returned (runloop.c's RUN_*)."""
+
+    PAUSE = 0
+    DONE = 1
+    FAILED = 2
+    ZENO = 3
+    NO_MEMORY = 4
+
+
+def _clocks(u) -> list[int]:
+    return sorted(v.value_reference for v in u.md.variables if v.is_clock)
+
+
+def _covered(master) -> bool:
+    """Whether the C loop covers this run (see the module's docstring)."""
+    if master.options.realtime or master._events_logged or master._routes or master.values.connected:
+        return False
+    if sum(u.early for u in master.instances) > 1 or master._aperiodic or master.system.max_event_iterations > MAX_ITERATIONS:
+        return False
+    if any(not u.event_mode for u in master._timed) or any(len(_clocks(u)) > 64 for u in master.instances):
+        return False
+    if any(u.binding.raw(f) is None for u in master.instances for f in _MODE_FUNCTIONS):
+        return False
+    for _u, cells in master._clocked_columns:
+        for _position, var, _clocks_of in cells:
+            if kind(var.type) is None or var.type in ("String", "Binary") or _u.binding.raw("fmi3Get" + ACCESSOR[var.type]) is None:
+                return False
+    return True
+
+
+class CRun:
+    """The master's loop after setup, in C, bound to one run."""
+
+    name = "C"
+
+    @classmethod
+    def for_master(cls, master, plan: StretchPlan) -> CRun | None:
+        """The C loop for this run, or None where it does not cover it."""
+        if not _covered(master):
+            return None
+        stretch = CStretch.for_plan(plan)
+        return cls(master, stretch) if stretch is not None else None
+
+    def __init__(self, master, stretch: CStretch):
+        self.master, self.stretch = master, stretch
+        self._keep: list = []
+        self.r = self._struct(master, stretch)
+        self.width = len(master.wiring.columns)
+        capacity = CHUNK + master.system.max_event_iterations + 2
+        self.out = ffi.new("rg_rows *")
+        self.times = self.out.times = ffi.new("double[]", capacity)
+        self.index = self.out.index = ffi.new("int32_t[]", capacity)
+        self.event = self.out.event = ffi.new("uint8_t[]", capacity)
+        slots = capacity * self.width if stretch.mode == Mode.SLOTS else 1
+        self.slots = self.out.slots = ffi.new("uint64_t[]", max(1, slots))
+        self.present = self.out.present = ffi.new("uint8_t[]", max(1, slots))
+        self._status = ffi.new("int *")
+        self.columns = [(c.kind, kind(c.variable.type) if c.kind != CLOCK else None) for c in master.wiring.columns]
+
+    def _array(self, ctype: str, values):
+        a = ffi.new(ctype, values)
+        self._keep.append(a)
+        return a
+
+    def _functions(self, ctype: str, name: str):
+        return self.stretch._pointers(ctype, [u.binding.raw(name) for u in self.master.instances])
+
+    def _notes(self, name: str):
+        return self._array("int32_t[]", [u.binding.note_code(name) for u in self.master.instances] or [0])
+
+    def _struct(self, m, stretch: CStretch):
+        r = self._array("rg_run *", None)
+        instances = m.instances
+        index = {u.name: i for i, u in enumerate(instances)}
+        n = len(instances)
+        r.s = stretch.s
+        opt = m.options
+        r.start, r.step, r.stop, r.stop_limit = opt.start, opt.step, opt.stop, m._stop_limit
+        r.max_iterations = m.system.max_event_iterations
+        r.early = m.any_early
+        r.n_event = len(m.event_instances)
+        r.event_instance = self._array("int[]", [index[u.name] for u in m.event_instances] or [0])
+        r.step_order = self._array("int[]", [index[u.name] for u in m.step_order] or [0])
+        r.enter_event = self._functions("rg_mode_fn[]", "fmi3EnterEventMode")
+        r.enter_step = self._functions("rg_mode_fn[]", "fmi3EnterStepMode")
+        r.update = self._functions("rg_update_fn[]", "fmi3UpdateDiscreteStates")
+        r.get_clock = self._functions("rg_get_clock_fn[]", "fmi3GetClock")
+        r.set_clock = self._functions("rg_set_clock_fn[]", "fmi3SetClock")
+        r.enter_event_note, r.enter_step_note = self._notes("fmi3EnterEventMode"), self._notes("fmi3EnterStepMode")
+        r.update_note, r.get_clock_note = self._notes("fmi3UpdateDiscreteStates"), self._notes("fmi3GetClock")
+        r.set_clock_note = self._notes("fmi3SetClock")
+        r.time = self._array("double[]", [u.time for u in instances] or [0.0])
+        r.has_next = self._array("bool[]", max(1, n))
+        r.next_event = self._array("double[]", max(1, n))
+        r.needs = self._array("bool[]", max(1, n))
+        self._clock_arrays(r, instances)
+        self._cells(r, m, index)
+        r.term_who = -1
+        r.next_time = m._next_event
+        r.pause_at_events = m.recorder.flush_due != math.inf  # a file: flushed after every event iteration
+        return r
+
+    def _clock_arrays(self, r, instances) -> None:
+        clocks = [_clocks(u) for u in instances]
+        first = [sum(len(c) for c in clocks[:i]) for i in range(len(instances) + 1)]
+        self.clock_index = {(u.name, vr): first[i] + j for i, u in enumerate(instances) for j, vr in enumerate(clocks[i])}
+        total = first[-1]
+        r.clock_first = self._array("int[]", first)
+        r.clock_count = self._array("int[]", [len(c) for c in clocks] or [0])
+        r.clock_vr = self._array("uint32_t[]", [vr for c in clocks for vr in c] or [0])
+        r.active, r.ticked = self._array("bool[]", max(1, total)), self._array("bool[]", max(1, total))
+        outs = [u.out_clocks for u in instances]
+        r.out_first = self._array("int[]", [sum(len(o) for o in outs[:i]) for i in range(len(instances))] or [0])
+        r.out_count = self._array("int[]", [len(o) for o in outs] or [0])
+        r.out_vr = self._array("uint32_t[]", [vr for o in outs for vr in o] or [0])
+        r.out_clock = self._array("int[]", [self.clock_index[u.name, vr] for u in instances for vr in u.out_clocks] or [0])
+        r.out_on = self._array("bool[]", max(1, sum(map(len, outs))))
+        r.out_fresh = self._array("bool[]", max(1, len(instances)))
+        periodic = [(i, p) for i, u in enumerate(instances) for p in u.periodic]
+        r.n_periodic = len(periodic)
+        r.p_instance = self._array("int[]", [i for i, _p in periodic] or [0])
+        r.p_clock = self._array("int[]", [self.clock_index[instances[i].name, p.var.value_reference] for i, p in periodic] or [0])
+        r.p_start = self._array("double[]", [p.start for _i, p in periodic] or [0.0])
+        r.p_shift = self._array("double[]", [p.shift for _i, p in periodic] or [0.0])
+        r.p_interval = self._array("double[]", [p.interval for _i, p in periodic] or [0.0])
+        r.p_k = self._array("int64_t[]", [p.k for _i, p in periodic] or [0])
+        self._periodic = [p for _i, p in periodic]
+        r.clock_scratch = self._array("uint32_t[]", max(1, total))
+        r.on = self._array("bool[]", [True] * max(1, total))
+
+    def _cells(self, r, m, index) -> None:
+        """The recorded columns, and the recorded clocked variables (cells) grouped by instance."""
+        cells, groups, cell_of = [], [], {}
+        for u, of_u in m._clocked_columns:
+            groups.append((len(cells), len(of_u)))
+            for position, var, _clocks_of in of_u:
+                cell_of[position - 2] = len(cells)
+                cells.append((u, var))
+        types: dict[str, int] = {}
+        r.n_columns = len(m.wiring.columns)
+        r.column_kind = self._array("int[]", [_COLUMN_KINDS[c.kind] for c in m.wiring.columns] or [0])
+        r.column_ref = self._array("int[]", [self.clock_index.get((c.instance.name, c.variable.value_reference), -1)
+                                             if c.kind == CLOCK else cell_of.get(i, 0)
+                                             for i, c in enumerate(m.wiring.columns)] or [0])
+        getters = ["fmi3Get" + ACCESSOR[var.type] for _u, var in cells]
+        r.n_cells = len(cells)
+        r.cell_instance = self._array("int[]", [index[u.name] for u, _v in cells] or [0])
+        r.cell_vr = self._array("uint32_t[]", [var.value_reference for _u, var in cells] or [0])
+        r.cell_kind = self._array("int[]", [kind(var.type) for _u, var in cells] or [0])
+        r.cell_type = self._array("int[]", [types.setdefault(var.type, len(types)) for _u, var in cells] or [0])
+        r.cell_get = self.stretch._pointers("rg_get_fn[]", [u.binding.raw(g) for (u, _v), g in zip(cells, getters)])
+        r.cell_note = self._array("int32_t[]", [u.binding.note_code(g) for (u, _v), g in zip(cells, getters)] or [0])
+        r.cell_output = self._array("bool[]", [var.causality == "output" for _u, var in cells] or [False])
+        masks = [sum(1 << _clocks(u).index(c) for c in set(var.clocks) if c in _clocks(u)) for u, var in cells]
+        r.cell_mask = self._array("uint64_t[]", masks or [0])
+        size = max(1, len(cells))
+        r.cell_raw, r.get_buffer = self._array("uint64_t[]", size), self._array("uint64_t[]", size)
+        r.cell_fresh, r.cell_live = self._array("bool[]", size), self._array("bool[]", size)
+        r.get_vrs, r.get_cells = self._array("uint32_t[]", size), self._array("int[]", size)
+        r.n_groups = len(groups)
+        r.group_first = self._array("int[]", [f for f, _n in groups] or [0])
+        r.group_count = self._array("int[]", [n for _f, n in groups] or [0])
+
+    # -- the run ---------------------------------------------------------------------------------
+    def run(self, progress) -> float:
+        """The run from the end of setup to its end; the time reached."""
+        m, r = self.master, self.r
+        recorder = m.recorder
+        while True:
+            deadline = min(time.monotonic() + FLUSH_SECONDS, recorder.flush_due)
+            end = End(self.stretch.lib.rg_run_system(r, CHUNK, deadline, self.out, self._status))
+            self._record(self.out.rows)
+            self._sync()
+            if r.event_ended:
+                r.event_ended = False
+                recorder.flush()
+            if end == End.PAUSE:
+                if progress.enabled:
+                    progress.update(r.t)
+                continue
+            if end == End.FAILED:
+                code = m.notes.call[0]
+                u = m.by_name[m.notes.instances[code >> 8]]
+                raise u.binding.error(FUNCTIONS[code & 255], self._status[0])
+            if end == End.ZENO:
+                self._zeno()
+            if end == End.NO_MEMORY:
+                raise MemoryError("no memory left for the recorded Strings and Binaries")
+            if r.term_who >= 0:
+                by = "fmi3DoStep" if r.term_by == 0 else "fmi3UpdateDiscreteStates"
+                m._terminated(m.instances[r.term_who], by, r.term_t)
+            return r.t
+
+    def _sync(self) -> None:
+        """The statistics, the instances' times and their clocks' schedules, as the Python loop keeps them."""
+        m, r = self.master, self.r
+        stats = m.stats
+        stats.steps, stats.event_iterations, stats.instants = r.steps, r.event_iterations, r.instants
+        stats.early_returns = r.early_returns
+        for i, u in enumerate(m.instances):
+            u.time = r.time[i]
+        for p, k in zip(self._periodic, ffi.unpack(r.p_k, len(self._periodic))):
+            p.k = k
+
+    def _zeno(self) -> None:
+        m, r = self.master, self.r
+        index = {u.name: i for i, u in enumerate(m.instances)}
+        needs = [u for u in m.event_instances if r.needs[index[u.name]]]
+        ticked = {u.name: {vr for vr in _clocks(u) if r.ticked[self.clock_index[u.name, vr]]} for u in m.instances}
+        m._zeno(r.t, r.zeno_k, needs, ticked)
+
+    def _record(self, count: int) -> None:
+        """The chunk's rows to the recorder, as the mode stored them."""
+        recorder, mode = self.master.recorder, self.stretch.mode
+        if count <= 0 or mode == Mode.NONE:
+            return
+        if mode == Mode.TEXT:
+            s = self.stretch.s
+            recorder.append_text(ffi.buffer(s.text.data, s.text.used)[:].decode("utf-8", "replace"), count)
+            return
+        rows = self._rows(count)
+        if recorder.every is None:
+            recorder.append_rows(rows)
+            return
+        for row, event in zip(rows, ffi.unpack(self.event, count)):
+            if event:
+                recorder.append_event_row(row)
+            else:
+                recorder.append_row(row)
+
+    def _rows(self, count: int) -> list[list]:
+        """The first ``count`` stored rows as result rows: [t, k, values...]."""
+        width = self.width
+        raw = memoryview(ffi.buffer(self.slots, count * width * 8))
+        views = {f: raw.cast(f) for f in ("d", "q", "Q")}
+        present = ffi.buffer(self.present, count * width)[:]
+        columns = [ffi.unpack(self.times, count), ffi.unpack(self.index, count)]
+        for c, (column_kind, slot_kind) in enumerate(self.columns):
+            if column_kind == CLOCK:
+                columns.append(views["Q"][c:count * width:width].tolist())
+                continue
+            values = views[_FORMAT[slot_kind]][c:count * width:width].tolist()
+            if slot_kind == stepper._BOOL:
+                values = list(map(bool, values))
+            elif slot_kind in (stepper._STRING, stepper._BINARY):
+                values = self.stretch._copies(values, slot_kind == stepper._STRING)
+            if column_kind == CLOCKED:
+                values = [v if p else None for v, p in zip(values, present[c::width])]
+            columns.append(values)
+        return list(map(list, zip(*columns))) if columns else [list(r) for r in repeat([], count)]
