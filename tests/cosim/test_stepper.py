@@ -1,0 +1,145 @@
+"""The whole run in C (robogen.cosim.runloop) does what the master's Python loop does
+(ROBOGEN_NO_C_STEPPER=1): the same rows byte for byte, kept, written by Python or written as CSV
+lines by C, the same statistics, the same located errors and kept rows, on systems with events:
+periodic clocks, nextEventTime, early return, termination, Zeno behaviour, a failing FMU."""
+
+from __future__ import annotations
+
+import pytest
+
+from robogen.cosim import runloop, simulate_system
+from robogen.diagnostics import RobogenError
+
+STATS = ("steps", "event_iterations", "instants", "early_returns", "rollbacks", "end_time", "terminated_by")
+
+SYSTEMS = {
+    # a time event announced by nextEventTime every 0.25 s, half of them between the 0.1 s grid
+    # points: the master steps to them (the stair, which may return early, first)
+    "stair": '[experiment]\nstop = 3.0\nstep = 0.1\n[instances.s]\nfmu = "{stair}"\nstart = { period = 0.25 }\n'
+             '[instances.t]\nfmu = "{trivial}"\n',
+    # the events fall on grid points: one event iteration at every step
+    "stair-every-step": '[experiment]\nstop = 2.0\nstep = 0.1\n[instances.s]\nfmu = "{stair}"\nstart = { period = 0.1 }\n',
+    # a terminate request from fmi3UpdateDiscreteStates (the 4th event, t = 1.0)
+    "stair-terminate": '[experiment]\nstop = 3.0\nstep = 0.1\n[instances.s]\nfmu = "{stair}"\n'
+                       'start = { period = 0.25, last = 4 }\n',
+    # a periodic input clock every 0.25 s, its output clock and clocked count recorded, quiet
+    # stretches in between with a second FMU
+    "ticker": '[experiment]\nstop = 3.0\nstep = 0.1\n[instances.k]\nfmu = "{ticker}"\n[instances.t]\nfmu = "{trivial}"\n'
+              '[record]\nvariables = ["k.tick", "k.out", "k.count", "k.ticks", "k.phase", "t.y"]\n',
+    # a terminate request from fmi3DoStep in a quiet stretch between ticks
+    "ticker-terminate": '[experiment]\nstop = 3.0\nstep = 0.01\n[instances.k]\nfmu = "{ticker}"\n'
+                        '[instances.t]\nfmu = "{trivial}"\nstart = { stop_at = 1.105 }\n',
+    # early returns at each bounce
+    "ball": '[experiment]\nstop = 3.0\nstep = 0.1\n[instances.b]\nfmu = "{ball}"\n',
+    # decimation: the plain rows thinned, every event row kept
+    "ticker-every": '[experiment]\nstop = 3.0\nstep = 0.01\n[instances.k]\nfmu = "{ticker}"\n'
+                    '[record]\nvariables = ["k.tick", "k.count", "k.phase"]\nevery = 0.3\n',
+}
+
+
+@pytest.fixture
+def whole_runs(monkeypatch):
+    """The number of runs made by the C loop since the test started."""
+    runs = []
+    original = runloop.CRun.run
+    monkeypatch.setattr(runloop.CRun, "run", lambda self, progress: runs.append(1) or original(self, progress))
+    return runs
+
+
+def simulate(loop: str, monkeypatch, path, **kwargs):
+    if loop == "Python":
+        monkeypatch.setenv("ROBOGEN_NO_C_STEPPER", "1")
+    else:
+        monkeypatch.delenv("ROBOGEN_NO_C_STEPPER", raising=False)
+    return simulate_system(path, **kwargs)
+
+
+def outcome(loop: str, monkeypatch, path, tmp_path, **kwargs):
+    """(rows, CSV bytes, statistics or the error's message) of one run."""
+    csv = tmp_path / f"{path.stem}-{loop}-{len(kwargs)}.csv"
+    try:
+        result = simulate(loop, monkeypatch, path, output=csv, **kwargs)
+    except RobogenError as exc:
+        return None, csv.read_bytes() if csv.exists() else None, exc.diagnostics[0].message
+    return result.rows, csv.read_bytes(), tuple(getattr(result.stats, f) for f in STATS)
+
+
+@pytest.mark.parametrize("name", sorted(SYSTEMS))
+def test_the_c_run_gives_the_python_loops_results(monkeypatch, write_system, tmp_path, whole_runs, name):
+    path = write_system(SYSTEMS[name], name=f"{name}.toml")
+    python = outcome("Python", monkeypatch, path, tmp_path)
+    assert not whole_runs
+    c = outcome("C", monkeypatch, path, tmp_path)
+    text = outcome("C", monkeypatch, path, tmp_path, keep_rows=False)  # C writes the CSV lines
+    quiet = simulate("C", monkeypatch, path, keep_rows=False)  # the rows go nowhere
+    assert len(whole_runs) == 3
+    assert c == python
+    assert text[1:] == python[1:]
+    assert tuple(getattr(quiet.stats, f) for f in STATS) == python[2]
+    assert python[2][1] > 0  # event iterations happened
+    stats = dict(zip(STATS, python[2]))
+    if name == "stair":  # the stair's events at 0.25 k: six extra points between grid points (0.25, 0.75, ..., 2.75)
+        assert (stats["steps"], stats["event_iterations"], stats["early_returns"]) == (30 + 6, 1 + 12, 0)
+        assert [r[0] for r in c[0] if r[1] == 1] == [0.0] + [0.25 * k for k in range(1, 13)]
+    if name == "ball":  # the bounces fall between grid points: the ball returns early at each
+        assert stats["early_returns"] > 0 and stats["steps"] == 30 + stats["early_returns"]
+    if name == "stair-every-step":  # one instant, two rows per event iteration; 20 steps
+        assert (stats["steps"], stats["event_iterations"], stats["instants"]) == (20, 21, 21)
+        assert len(c[0]) == 2 * 21
+    if name == "stair-terminate":
+        assert stats["terminated_by"] == "instance 's' asked to terminate in fmi3UpdateDiscreteStates at t=1"
+        assert c[0][-1][:3] == [1.0, 1, 4]
+    if name == "ticker-terminate":
+        assert stats["terminated_by"] == "instance 't' asked to terminate in fmi3DoStep at t=1.11"
+    if name == "ticker":  # count ticks at 0, 0.25, ...: recorded (1 then empty) only while its clock is active
+        rows = [r for r in c[0] if r[2] == 1]
+        assert [(r[0], r[1], r[4]) for r in rows] == [(0.25 * k, 0, k + 1) for k in range(13)]
+        assert all(r[4] is None for r in c[0] if r[2] == 0)
+
+
+def test_zeno_behaviour_is_the_same_located_error_with_the_same_rows(monkeypatch, write_system, tmp_path, whole_runs):
+    path = write_system('[experiment]\nstop = 3.0\nstep = 0.1\nmax_event_iterations = 50\n[instances.z]\nfmu = "{zeno}"\n',
+                        name="zeno.toml")
+    python = outcome("Python", monkeypatch, path, tmp_path)
+    c = outcome("C", monkeypatch, path, tmp_path)
+    text = outcome("C", monkeypatch, path, tmp_path, keep_rows=False)
+    assert len(whole_runs) == 2
+    assert c == text == python
+    assert python[2].startswith("event iteration at t=0.5 did not settle after 50 super-dense instants")
+    lines = python[1].decode().splitlines()
+    assert lines[-1].startswith("0.5,49,")  # the instants recorded before the error are kept
+
+
+def test_zeno_notes_name_the_clocks_active_in_the_last_instant(monkeypatch, write_system):
+    path = write_system('[experiment]\nstop = 3.0\nstep = 0.1\n[instances.z]\nfmu = "{zeno}"\n', name="zeno.toml")
+    notes = []
+    for loop in ("Python", "C"):
+        with pytest.raises(RobogenError) as exc:
+            simulate(loop, monkeypatch, path)
+        notes.append([(n.message, n.span) for n in exc.value.diagnostics[0].notes])
+    assert notes[0] == notes[1]
+    assert ("clocks active in the last instant: z.z", None) in notes[1]
+
+
+def test_a_failing_fmu_stops_the_c_run_with_the_same_error_and_rows(monkeypatch, write_system, tmp_path, whole_runs):
+    path = write_system('[experiment]\nstop = 2.0\nstep = 0.1\n[instances.k]\nfmu = "{ticker}"\n'
+                        '[instances.f]\nfmu = "{failer}"\n', name="fail.toml")
+    python = outcome("Python", monkeypatch, path, tmp_path)
+    c = outcome("C", monkeypatch, path, tmp_path)
+    text = outcome("C", monkeypatch, path, tmp_path, keep_rows=False)
+    assert len(whole_runs) == 2
+    assert c == text == python
+    assert python[2] == "instance 'f': fmi3DoStep returned fmi3Error at t=0.5; the results recorded so far are kept"
+    assert python[1].decode().splitlines()[-1].startswith("0.5,1,")  # the event iteration at 0.5 (a tick) is kept
+
+
+def test_a_failing_fmu_exits_non_zero_with_its_rows_on_disk(write_system, robogen_process, tmp_path):
+    path = write_system('[experiment]\nstop = 2.0\nstep = 0.1\n[instances.k]\nfmu = "{ticker}"\n'
+                        '[instances.f]\nfmu = "{failer}"\n', name="fail.toml")
+    runs = {}
+    for loop in ("Python", "C"):
+        env = {"ROBOGEN_NO_C_STEPPER": "1"} if loop == "Python" else {}
+        runs[loop] = robogen_process("simulate", path, "-o", f"{loop}.csv", env=env)
+    assert runs["C"].returncode == runs["Python"].returncode == 1
+    assert runs["C"].stderr == runs["Python"].stderr.replace("Python.csv", "C.csv")
+    assert (tmp_path / "C.csv").read_bytes() == (tmp_path / "Python.csv").read_bytes()
