@@ -12,6 +12,12 @@ from robogen.diagnostics import RobogenError
 
 STATS = ("steps", "event_iterations", "instants", "early_returns", "rollbacks", "end_time", "terminated_by")
 
+#: a ticker's output clock and count through three relays (r3 records what r2 sent)
+RELAYS = ('connections = ["k.out -> r1.u", "k.count -> r1.x_in", "r1.y -> r2.u", "r1.x_out -> r2.x_in", '
+          '"r2.y -> r3.u", "r2.x_out -> r3.x_in"]\n[experiment]\nstop = 2.0\nstep = 0.1\n[instances.k]\nfmu = "{{ticker}}"\n'
+          + "".join(f'[instances.r{i}]\nfmu = "{{{{relay}}}}"\nstart = {{{{ stepwise = {{stepwise}} }}}}\n' for i in (1, 2, 3))
+          + '[record]\nvariables = ["k.out", "k.count", "r1.y", "r2.y", "r3.y", "r3.x_out", "r3.n", "r3.x_in"]\n')
+
 SYSTEMS = {
     # a time event announced by nextEventTime every 0.25 s, half of them between the 0.1 s grid
     # points: the master steps to them (the stair, which may return early, first)
@@ -31,6 +37,15 @@ SYSTEMS = {
                         '[instances.t]\nfmu = "{trivial}"\nstart = { stop_at = 1.105 }\n',
     # early returns at each bounce
     "ball": '[experiment]\nstop = 3.0\nstep = 0.1\n[instances.b]\nfmu = "{ball}"\n',
+    # clocks and clocked values forwarded along a chain of relays in one instant ...
+    "relay-chain": RELAYS.format(stepwise="false"),
+    # ... and each relay answering in the instant after it was activated (after an update)
+    "relay-chain-stepwise": RELAYS.format(stepwise="true"),
+    # connected values in Event Mode: the ticker's tick count into a chain of set counters (each
+    # y follows its u at once), set only when it changed; and the quiet stretches in between
+    "ticker-setcount": 'connections = ["k.ticks -> a.u", "a.y -> b.u", "b.y -> c.u"]\n'
+                       '[experiment]\nstop = 2.0\nstep = 0.1\n[instances.k]\nfmu = "{ticker}"\n'
+                       + "".join(f'[instances.{n}]\nfmu = "{{setcount}}"\n' for n in "abc"),
     # decimation: the plain rows thinned, every event row kept
     "ticker-every": '[experiment]\nstop = 3.0\nstep = 0.01\n[instances.k]\nfmu = "{ticker}"\n'
                     '[record]\nvariables = ["k.tick", "k.count", "k.phase"]\nevery = 0.3\n',
@@ -91,6 +106,14 @@ def test_the_c_run_gives_the_python_loops_results(monkeypatch, write_system, tmp
         assert c[0][-1][:3] == [1.0, 1, 4]
     if name == "ticker-terminate":
         assert stats["terminated_by"] == "instance 't' asked to terminate in fmi3DoStep at t=1.11"
+    if name.startswith("relay-chain"):  # each tick reaches r3, its count + 1 per relay: in one instant, or one per relay
+        fired = [(r[0], r[1], r[7]) for r in c[0] if r[6] == 1]
+        later = 0 if name == "relay-chain" else 3
+        assert fired == [(0.25 * k, later, k + 1 + 3) for k in range(9)]
+        assert c[0][-1][8] == 9  # r3.n: nine activations
+    if name == "ticker-setcount":  # ticks counts up in each tick's update; a, b, c follow it in the next instant
+        assert c[0][-1] == [2.0, 2, 0, 0, None, 9, 2.0, 9, 10, 9, 10, 9, 10]  # 10 sets: the start's, and 9 changes
+        assert [r[1] for r in c[0] if r[0] == 0.25] == [0, 1, 2]
     if name == "ticker":  # count ticks at 0, 0.25, ...: recorded (1 then empty) only while its clock is active
         rows = [r for r in c[0] if r[2] == 1]
         assert [(r[0], r[1], r[4]) for r in rows] == [(0.25 * k, 0, k + 1) for k in range(13)]
@@ -143,3 +166,4 @@ def test_a_failing_fmu_exits_non_zero_with_its_rows_on_disk(write_system, roboge
     assert runs["C"].returncode == runs["Python"].returncode == 1
     assert runs["C"].stderr == runs["Python"].stderr.replace("Python.csv", "C.csv")
     assert (tmp_path / "C.csv").read_bytes() == (tmp_path / "Python.csv").read_bytes()
+

@@ -26,7 +26,7 @@ typedef int (*rg_update_fn)(void *, bool *, bool *, bool *, bool *, bool *, doub
 typedef int (*rg_get_clock_fn)(void *, const uint32_t *, size_t, bool *);
 typedef int (*rg_set_clock_fn)(void *, const uint32_t *, size_t, const bool *);
 
-enum { RUN_PAUSE = 0, RUN_DONE, RUN_FAILED, RUN_ZENO, RUN_NO_MEMORY };
+enum { RUN_PAUSE = 0, RUN_DONE, RUN_FAILED, RUN_ZENO, RUN_NO_MEMORY, RUN_LOOP };
 enum { COL_VALUE = 0, COL_CLOCK, COL_CLOCKED };
 enum { STAGE_ADVANCE = 0, STAGE_STRETCH, STAGE_STEP };
 enum { BY_DO_STEP = 0, BY_UPDATE };
@@ -59,7 +59,8 @@ typedef struct {
     const uint32_t *out_vr;
     const int *out_clock;    /* each one's clock index */
     bool *out_on;            /* what fmi3GetClock said in this instant */
-    bool *out_fresh;         /* per instance: its output clocks were read in this instant */
+    bool *out_fresh;         /* per watched output clock: read in this instant, unchanged since */
+    const int *out_dep_first, *out_dep_count; /* its dependencies in dep_vr (count -1: every input) */
     int n_periodic;          /* time-based periodic input clocks: tick k at start + shift + k interval */
     const int *p_instance, *p_clock;
     const double *p_start, *p_shift, *p_interval;
@@ -69,7 +70,7 @@ typedef struct {
     int n_columns;           /* the recorded columns (as the stretch's) */
     const int *column_kind;
     const int *column_ref;   /* COL_CLOCK: the clock's index (-1: never active); COL_CLOCKED: the cell */
-    int n_cells;             /* recorded clocked variables, grouped by instance */
+    int n_cells;             /* clocked variables read: recorded, or carried by a clock connection */
     const int *cell_instance;
     const uint32_t *cell_vr;
     const int *cell_kind;
@@ -79,12 +80,35 @@ typedef struct {
     const bool *cell_output; /* an output: not read again in an instant */
     const uint64_t *cell_mask; /* the clocks (bits of the instance's clock indices) it belongs to */
     uint64_t *cell_raw;      /* the value as its C type, at the start of 8 bytes */
-    bool *cell_fresh, *cell_live;
-    int n_groups;            /* the cells of one instance, in the order the columns meet them */
-    const int *group_first, *group_count;
+    bool *cell_fresh, *cell_live, *cell_need;
+    const int *cell_dep_first, *cell_dep_count;
+    const uint32_t *dep_vr;
+    int n_groups;            /* the recorded cells of one instance, in the order the columns meet them */
+    const int *group_first, *group_count, *group_cell;
     uint32_t *get_vrs;       /* one Get call's value references, values and cells */
     uint64_t *get_buffer;
     int *get_cells;
+    /* connections: value links (the stretch's operations) and clock routes */
+    bool connected;
+    int n_exchange_ops;      /* s->op[0..n_exchange_ops): the connected instances' reads and Set groups */
+    const int *op_first, *op_count; /* per instance: its own */
+    const int *set_target, *set_edge; /* per Set group: the target instance, the connection's edge */
+    const int *route_first, *route_count; /* per watched output clock: its routes */
+    const int *route_target, *route_clock, *route_edge;
+    const int *route_source_first, *route_source_count, *route_source; /* the cells it carries */
+    const int *route_batch_first, *route_batch_count; /* one Set call per target type */
+    rg_set_fn *batch_set;
+    const int32_t *batch_note;
+    const int *batch_kind, *batch_first, *batch_count;
+    const int *batch_cell;   /* per value of a batch: the source cell, the target's value reference */
+    const uint32_t *batch_vr;
+    uint64_t *set_scratch;
+    bool *forwarded;         /* per watched output clock: forwarded in this instant */
+    bool *queued, *woken;    /* per instance: the worklist of an instant, the targets of one instance */
+    int *woken_edge;
+    int *route_scratch;      /* one clocked_values call's cells */
+    long *woke;              /* per edge: how often its source set its target's inputs (algebraic loops) */
+    int n_edges;
     /* where the run is, between calls */
     int phase;               /* 0: the start's row or event iteration is due */
     int stage;
@@ -159,34 +183,49 @@ static uint64_t slot_of(int kind, const void *buffer, size_t i)
     return slot;
 }
 
-/* The cells of instance group g's recorded clocked variables whose clock is active, read with
- * one Get call per type of those not read already in this instant. 0 or the failing status. */
-static int clocked_values(rg_run *r, int g)
+/* The values of these cells of instance u: those not read in this instant (or inputs) with one
+ * Get call per type, in the order the cells meet the types. 0 or the failing status. */
+static int clocked_values(rg_run *r, int u, const int *cells, int n_cells)
 {
-    int first = r->group_first[g], last = first + r->group_count[g], c, d, u = r->cell_instance[first], j;
-    uint64_t active = 0;
-    for (j = 0; j < r->clock_count[u]; j++)
-        if (r->active[r->clock_first[u] + j]) active |= (uint64_t)1 << j;
-    for (c = first; c < last; c++) r->cell_live[c] = (r->cell_mask[c] & active) != 0;
-    if (active == 0) return 0;
-    for (c = first; c < last; c++) {
-        int n = 0, st, type = r->cell_type[c], width = value_width(r->cell_kind[c]);
-        if (!r->cell_live[c] || r->cell_fresh[c]) continue;
-        for (d = c; d < last; d++) /* every live cell of this type not read yet: one call */
-            if (r->cell_live[d] && !r->cell_fresh[d] && r->cell_type[d] == type) {
-                r->get_vrs[n] = r->cell_vr[d];
-                r->get_cells[n++] = d;
+    int i, j, st;
+    for (i = 0; i < n_cells; i++) r->cell_need[cells[i]] = !r->cell_fresh[cells[i]];
+    for (i = 0; i < n_cells; i++) {
+        int c = cells[i], n = 0, type = r->cell_type[c], width = value_width(r->cell_kind[c]);
+        if (!r->cell_need[c]) continue;
+        for (j = i; j < n_cells; j++) /* every cell of this type still needed: one call */
+            if (r->cell_need[cells[j]] && r->cell_type[cells[j]] == type) {
+                r->get_vrs[n] = r->cell_vr[cells[j]];
+                r->get_cells[n++] = cells[j];
             }
         *r->s->note_call = r->cell_note[c];
         st = r->cell_get[c](r->s->instance[u], r->get_vrs, (size_t)n, r->get_buffer, (size_t)n);
         if (st > 1) return st;
         for (j = 0; j < n; j++) {
-            d = r->get_cells[j];
+            int d = r->get_cells[j];
             memcpy(&r->cell_raw[d], (const char *)r->get_buffer + (size_t)width * (size_t)j, (size_t)width);
-            r->cell_fresh[d] = true; /* inputs are forgotten once the row is written */
+            r->cell_need[d] = false;
+            if (r->cell_output[d]) r->cell_fresh[d] = true;
         }
     }
     return 0;
+}
+
+/* The recorded clocked cells of group g whose clock is active, read (see clocked_values). */
+static int recorded_values(rg_run *r, int g)
+{
+    int first = r->group_first[g], count = r->group_count[g], i, j, live = 0;
+    int u = r->cell_instance[r->group_cell[first]];
+    uint64_t active = 0;
+    for (j = 0; j < r->clock_count[u]; j++)
+        if (r->active[r->clock_first[u] + j]) active |= (uint64_t)1 << j;
+    for (i = first; i < first + count; i++) {
+        int c = r->group_cell[i];
+        r->cell_live[c] = (r->cell_mask[c] & active) != 0;
+        if (r->cell_live[c]) r->get_cells[live++] = c;
+    }
+    if (live == 0) return 0;
+    memcpy(r->route_scratch, r->get_cells, (size_t)live * sizeof(int));
+    return clocked_values(r, u, r->route_scratch, live);
 }
 
 static bool text_cell(rg_run *r, int c)
@@ -242,10 +281,11 @@ static void slot_line(rg_run *r, uint64_t *slots, uint8_t *present)
 static int record(rg_run *r, rg_rows *out, double t, int k, bool event)
 {
     rg_stretch *s = r->s;
-    int why, who, st, g, c;
+    int why, who, st, g;
     long row = out->rows;
-    st = exchange_and_read(s, &why, &who);
-    for (g = 0; st == 0 && g < r->n_groups; g++) st = clocked_values(r, g);
+    /* an instant's row: the connected instances were read while forwarding */
+    st = event ? run_ops(s, r->n_exchange_ops, s->n_ops, &why, &who) : exchange_and_read(s, &why, &who);
+    for (g = 0; st == 0 && g < r->n_groups; g++) st = recorded_values(r, g);
     if (st != 0) return st;
     if (s->mode == MODE_TEXT) {
         size_t start = s->text.used;
@@ -256,8 +296,6 @@ static int record(rg_run *r, rg_rows *out, double t, int k, bool event)
     } else if (s->mode == MODE_SLOTS) {
         slot_line(r, out->slots + (size_t)row * (size_t)r->n_columns, out->present + (size_t)row * (size_t)r->n_columns);
     }
-    for (c = 0; c < r->n_cells; c++)
-        if (!r->cell_output[c]) r->cell_fresh[c] = false;
     out->times[row] = t;
     out->index[row] = k;
     out->event[row] = event;
@@ -271,7 +309,7 @@ static int record(rg_run *r, rg_rows *out, double t, int k, bool event)
 static void new_instant(rg_run *r, int u)
 {
     int c;
-    r->out_fresh[u] = false;
+    for (c = r->out_first[u]; c < r->out_first[u] + r->out_count[u]; c++) r->out_fresh[c] = false;
     for (c = 0; c < r->n_cells; c++)
         if (r->cell_instance[c] == u) r->cell_fresh[c] = false;
 }
@@ -309,22 +347,164 @@ static int activate_due_clocks(rg_run *r, double t, double limit)
     return 0;
 }
 
-/* The watched output clocks of every FMU in Event Mode (one fmi3GetClock each, once per instant). */
-static int read_clocks(rg_run *r)
+/* Instance u's watched output clocks, active noted: one fmi3GetClock, unless every one was read
+ * in this instant and nothing it depends on was set since. 0 or the failing status. */
+static int read_clocks(rg_run *r, int u)
 {
-    int e, j, st;
-    for (e = 0; e < r->n_event; e++) {
-        int u = r->event_instance[e], first = r->out_first[u], n = r->out_count[u];
-        if (n == 0) continue;
-        if (!r->out_fresh[u]) {
-            *r->s->note_call = r->get_clock_note[u];
-            st = r->get_clock[u](r->s->instance[u], r->out_vr + first, (size_t)n, r->out_on + first);
-            if (st > 1) return st;
-            r->out_fresh[u] = true;
-        }
-        for (j = first; j < first + n; j++)
-            if (r->out_on[j]) r->active[r->out_clock[j]] = true;
+    int first = r->out_first[u], n = r->out_count[u], j, st;
+    bool fresh = true;
+    for (j = first; j < first + n; j++) fresh = fresh && r->out_fresh[j];
+    if (!fresh) {
+        *r->s->note_call = r->get_clock_note[u];
+        st = r->get_clock[u](r->s->instance[u], r->out_vr + first, (size_t)n, r->out_on + first);
+        if (st > 1) return st;
+        for (j = first; j < first + n; j++) r->out_fresh[j] = true;
     }
+    for (j = first; j < first + n; j++)
+        if (r->out_on[j]) r->active[r->out_clock[j]] = true;
+    return 0;
+}
+
+/* Whether an output with these dependencies may have changed by a Set of vrs. */
+static bool depends(const rg_run *r, int first, int count, const uint32_t *vrs, int n)
+{
+    int i, j;
+    if (count < 0) return true;
+    for (i = first; i < first + count; i++)
+        for (j = 0; j < n; j++)
+            if (r->dep_vr[i] == vrs[j]) return true;
+    return false;
+}
+
+/* A Set (or SetClock) of vrs on instance w: what it read in this instant that depends on them is
+ * read again. */
+static void inputs_changed(rg_run *r, int w, const uint32_t *vrs, int n)
+{
+    int j, c;
+    for (j = r->out_first[w]; j < r->out_first[w] + r->out_count[w]; j++)
+        if (r->out_fresh[j] && depends(r, r->out_dep_first[j], r->out_dep_count[j], vrs, n)) r->out_fresh[j] = false;
+    for (c = 0; c < r->n_cells; c++)
+        if (r->cell_instance[c] == w && r->cell_fresh[c] && depends(r, r->cell_dep_first[c], r->cell_dep_count[c], vrs, n))
+            r->cell_fresh[c] = false;
+}
+
+static void wake(rg_run *r, int w, int edge)
+{
+    r->woken[w] = true;
+    r->woken_edge[w] = edge;
+}
+
+/* Route q of an active output clock: its target clock (unless active already), then the clocked
+ * values it carries, one Set call per type. */
+static int forward_route(rg_run *r, int u, int q)
+{
+    int w = r->route_target[q], b, i, st;
+    uint32_t vr;
+    if (!r->s->event_mode[w]) return 0;
+    if (!r->active[r->route_clock[q]]) {
+        vr = r->clock_vr[r->route_clock[q]];
+        *r->s->note_call = r->set_clock_note[w];
+        if ((st = r->set_clock[w](r->s->instance[w], &vr, 1, r->on)) > 1) return st;
+        r->active[r->route_clock[q]] = true;
+        inputs_changed(r, w, &vr, 1);
+    }
+    if (r->route_source_count[q] > 0) {
+        st = clocked_values(r, u, r->route_source + r->route_source_first[q], r->route_source_count[q]);
+        if (st != 0) return st;
+    }
+    for (b = r->route_batch_first[q]; b < r->route_batch_first[q] + r->route_batch_count[q]; b++) {
+        int n = r->batch_count[b], width = value_width(r->batch_kind[b]);
+        for (i = 0; i < n; i++)
+            memcpy((char *)r->set_scratch + (size_t)width * (size_t)i, &r->cell_raw[r->batch_cell[r->batch_first[b] + i]],
+                   (size_t)width);
+        *r->s->note_call = r->batch_note[b];
+        st = r->batch_set[b](r->s->instance[w], r->batch_vr + r->batch_first[b], (size_t)n, r->set_scratch, (size_t)n);
+        if (st > 1) return st;
+        inputs_changed(r, w, r->batch_vr + r->batch_first[b], n);
+    }
+    wake(r, w, r->route_edge[q]);
+    return 0;
+}
+
+/* u's active output clocks, each forwarded once per instant along its routes. */
+static int forward_clocks(rg_run *r, int u)
+{
+    int j, q, st;
+    if ((st = read_clocks(r, u)) != 0) return st;
+    for (j = r->out_first[u]; j < r->out_first[u] + r->out_count[u]; j++) {
+        if (!r->out_on[j] || r->forwarded[j]) continue;
+        r->forwarded[j] = true;
+        for (q = r->route_first[j]; q < r->route_first[j] + r->route_count[j]; q++)
+            if ((st = forward_route(r, u, q)) != 0) return st;
+    }
+    return 0;
+}
+
+/* u's connected values: its reads, then each Set group whose inputs changed (*changed). */
+static int forward_values(rg_run *r, int u, bool *changed)
+{
+    rg_stretch *s = r->s;
+    int k, st, count;
+    bool no_memory = false;
+    for (k = r->op_first[u]; k < r->op_first[u] + r->op_count[u]; k++) {
+        int op = s->op[k], g = -1 - op;
+        if (op >= 0) {
+            st = get_values(s, op, &no_memory);
+            if (st != 0 || no_memory) return no_memory ? -1 : st;
+            continue;
+        }
+        count = 0;
+        if ((st = forward(s, g, &count)) != 0) return st;
+        if (count == 0) continue;
+        *changed = true;
+        inputs_changed(r, r->set_target[g], s->set_vrs, count);
+        wake(r, r->set_target[g], r->set_edge[g]);
+    }
+    return 0;
+}
+
+/* An instant's clocks and values, forwarded through a worklist in dependency order until nothing
+ * new happens (without connections: each FMU's output clocks read). 0, the failing status, or -3
+ * when the values do not settle (an algebraic loop: r->woke says where). */
+static int propagate(rg_run *r)
+{
+    int e, u, w, low = 0, st, n = r->s->n_instances;
+    long budget = 50L * (long)(n + 1) * (long)(n + 1);
+    bool changed = false;
+    if (!r->connected) {
+        for (e = 0; e < r->n_event; e++)
+            if ((st = read_clocks(r, r->event_instance[e])) != 0) return st;
+        return 0;
+    }
+    for (w = 0; w < r->out_first[n]; w++) r->forwarded[w] = false;
+    for (e = 0; e < r->n_edges; e++) r->woke[e] = 0;
+    for (e = 0; e < r->n_event; e++) r->queued[r->event_instance[e]] = true;
+    for (;;) {
+        for (u = low; u < n && !r->queued[u]; u++) continue;
+        if (u >= n) return 0;
+        if (--budget < 0) return -3;
+        r->queued[u] = false;
+        low = u + 1;
+        if ((st = forward_clocks(r, u)) != 0 || (st = forward_values(r, u, &changed)) != 0) return st;
+        for (w = 0; w < n; w++) {
+            if (!r->woken[w]) continue;
+            r->woken[w] = false;
+            r->woke[r->woken_edge[w]]++;
+            if (!r->queued[w] && r->s->event_mode[w]) {
+                r->queued[w] = true;
+                if (w < low) low = w;
+            }
+        }
+    }
+}
+
+/* After an instant's update: every connected value forwarded; *changed if an input changed. */
+static int exchange(rg_run *r, bool *changed)
+{
+    int u, w, st;
+    for (u = 0; u < r->s->n_instances; u++)
+        if ((st = forward_values(r, u, changed)) != 0) return st;
+    for (w = 0; w < r->s->n_instances; w++) r->woken[w] = false;
     return 0;
 }
 
@@ -368,28 +548,30 @@ static void refresh_timing(rg_run *r, double t)
     r->next_time = earliest;
 }
 
-/* The instants at t, up to the last row; then Step Mode. 0, a failing status, -1 (no memory) or
- * -2 (it did not settle: r->zeno_k instants). */
+/* The instants at t, up to the last row; then Step Mode. 0, a failing status, -1 (no memory), -2
+ * (it did not settle: r->zeno_k instants) or -3 (values that do not settle in an instant). */
 static int event_iteration(rg_run *r, rg_rows *out, double t)
 {
     int k = 0, st, e, c;
-    bool needs;
+    bool needs, changed;
     r->event_iterations++;
     *r->s->note_time = t;
     if ((st = activate_due_clocks(r, t, t + tol(t))) != 0) return st;
     do {
-        needs = false;
+        needs = changed = false;
         r->instants++;
-        if ((st = read_clocks(r)) != 0 || (st = record(r, out, t, k, true)) != 0) return st;
+        if (r->s->mode == MODE_TEXT) r->s->arena.used = 0; /* the previous instant's copies are written out */
+        if ((st = propagate(r)) != 0 || (st = record(r, out, t, k, true)) != 0) return st;
         if (k >= r->max_iterations - 1)
             for (c = 0; c < r->clock_first[r->s->n_instances]; c++) r->ticked[c] = r->active[c];
         if ((st = update_all(r, t, &needs)) != 0) return st;
         k++;
-        if (needs && k >= r->max_iterations) {
+        if (!needs && r->connected && (st = exchange(r, &changed)) != 0) return st;
+        if ((needs || changed) && k >= r->max_iterations) {
             r->zeno_k = k;
             return -2;
         }
-    } while (needs);
+    } while (needs || changed);
     if ((st = record(r, out, t, k, true)) != 0) return st;
     for (e = 0; e < r->n_event; e++) {
         int u = r->event_instance[e];
@@ -556,5 +738,5 @@ RG_EXPORT int rg_run_system(rg_run *r, long max_rows, double deadline, rg_rows *
         st = advance(r, out);
     }
     *status = st;
-    return st == 0 ? RUN_DONE : st == -1 ? RUN_NO_MEMORY : st == -2 ? RUN_ZENO : RUN_FAILED;
+    return st == 0 ? RUN_DONE : st == -1 ? RUN_NO_MEMORY : st == -2 ? RUN_ZENO : st == -3 ? RUN_LOOP : RUN_FAILED;
 }

@@ -67,6 +67,7 @@ ffi.cdef(
         const int *out_clock;
         bool *out_on;
         bool *out_fresh;
+        const int *out_dep_first, *out_dep_count;
         int n_periodic;
         const int *p_instance, *p_clock;
         const double *p_start, *p_shift, *p_interval;
@@ -86,12 +87,34 @@ ffi.cdef(
         const bool *cell_output;
         const uint64_t *cell_mask;
         uint64_t *cell_raw;
-        bool *cell_fresh, *cell_live;
+        bool *cell_fresh, *cell_live, *cell_need;
+        const int *cell_dep_first, *cell_dep_count;
+        const uint32_t *dep_vr;
         int n_groups;
-        const int *group_first, *group_count;
+        const int *group_first, *group_count, *group_cell;
         uint32_t *get_vrs;
         uint64_t *get_buffer;
         int *get_cells;
+        bool connected;
+        int n_exchange_ops;
+        const int *op_first, *op_count;
+        const int *set_target, *set_edge;
+        const int *route_first, *route_count;
+        const int *route_target, *route_clock, *route_edge;
+        const int *route_source_first, *route_source_count, *route_source;
+        const int *route_batch_first, *route_batch_count;
+        rg_set_fn *batch_set;
+        const int32_t *batch_note;
+        const int *batch_kind, *batch_first, *batch_count;
+        const int *batch_cell;
+        const uint32_t *batch_vr;
+        uint64_t *set_scratch;
+        bool *forwarded;
+        bool *queued, *woken;
+        int *woken_edge;
+        int *route_scratch;
+        long *woke;
+        int n_edges;
         int phase;
         int stage;
         double t, limit, next_time;
@@ -130,15 +153,30 @@ class End(IntEnum):
     FAILED = 2
     ZENO = 3
     NO_MEMORY = 4
+    LOOP = 5  # connected values that do not settle in an instant
 
 
 def _clocks(u) -> list[int]:
     return sorted(v.value_reference for v in u.md.variables if v.is_clock)
 
 
+def _batch_types(master):
+    """The FMI types of the clocked variables the C loop reads (recorded, or carried by a clock
+    connection) and sets (their targets), with the instance of each."""
+    for u, cells in master._clocked_columns:
+        for _position, var, _clocks_of in cells:
+            yield u, var.type, "fmi3Get"
+    for (source, _vr), routes in master._routes.items():
+        for target, _clock, sources, batches in routes:
+            for var in sources:
+                yield master.by_name[source], var.type, "fmi3Get"
+            for fmi_type, _vrs, _indices in batches:
+                yield target, fmi_type, "fmi3Set"
+
+
 def _covered(master) -> bool:
     """Whether the C loop covers this run (see the module's docstring)."""
-    if master.options.realtime or master._events_logged or master._routes or master.values.connected:
+    if master.options.realtime or master._events_logged:
         return False
     if sum(u.early for u in master.instances) > 1 or master._aperiodic or master.system.max_event_iterations > MAX_ITERATIONS:
         return False
@@ -146,10 +184,12 @@ def _covered(master) -> bool:
         return False
     if any(u.binding.raw(f) is None for u in master.instances for f in _MODE_FUNCTIONS):
         return False
-    for _u, cells in master._clocked_columns:
-        for _position, var, _clocks_of in cells:
-            if kind(var.type) is None or var.type in ("String", "Binary") or _u.binding.raw("fmi3Get" + ACCESSOR[var.type]) is None:
-                return False
+    for u, fmi_type, function in _batch_types(master):
+        if kind(fmi_type) is None or fmi_type in ("String", "Binary") or u.binding.raw(function + ACCESSOR[fmi_type]) is None:
+            return False
+    for link in master.links:  # a clocked value is set as it was read
+        if link.src.is_clocked and not link.src.is_clock and kind(link.src.type) != kind(link.dst.type):
+            return False
     return True
 
 
@@ -196,7 +236,7 @@ class CRun:
     def _struct(self, m, stretch: CStretch):
         r = self._array("rg_run *", None)
         instances = m.instances
-        index = {u.name: i for i, u in enumerate(instances)}
+        self.number = index = {u.name: i for i, u in enumerate(instances)}
         n = len(instances)
         r.s = stretch.s
         opt = m.options
@@ -218,12 +258,25 @@ class CRun:
         r.has_next = self._array("bool[]", max(1, n))
         r.next_event = self._array("double[]", max(1, n))
         r.needs = self._array("bool[]", max(1, n))
+        self.deps: list[int] = []
         self._clock_arrays(r, instances)
         self._cells(r, m, index)
+        self._connections(r, m, stretch, index)
+        r.dep_vr = self._array("uint32_t[]", self.deps or [0])
         r.term_who = -1
         r.next_time = m._next_event
         r.pause_at_events = m.recorder.flush_due != math.inf  # a file: flushed after every event iteration
         return r
+
+    def _dependencies(self, u, vrs: list[int]) -> tuple[list[int], list[int]]:
+        """(first, count) in dep_vr of each output's dependencies (count -1: every input)."""
+        first, count = [], []
+        for vr in vrs:
+            d = u.depends.get(vr)
+            first.append(len(self.deps))
+            count.append(-1 if d is None else len(d))
+            self.deps += sorted(d or ())
+        return first, count
 
     def _clock_arrays(self, r, instances) -> None:
         clocks = [_clocks(u) for u in instances]
@@ -235,12 +288,19 @@ class CRun:
         r.clock_vr = self._array("uint32_t[]", [vr for c in clocks for vr in c] or [0])
         r.active, r.ticked = self._array("bool[]", max(1, total)), self._array("bool[]", max(1, total))
         outs = [u.out_clocks for u in instances]
-        r.out_first = self._array("int[]", [sum(len(o) for o in outs[:i]) for i in range(len(instances))] or [0])
+        self.out_first = [sum(len(o) for o in outs[:i]) for i in range(len(instances) + 1)]
+        r.out_first = self._array("int[]", self.out_first)
         r.out_count = self._array("int[]", [len(o) for o in outs] or [0])
         r.out_vr = self._array("uint32_t[]", [vr for o in outs for vr in o] or [0])
         r.out_clock = self._array("int[]", [self.clock_index[u.name, vr] for u in instances for vr in u.out_clocks] or [0])
-        r.out_on = self._array("bool[]", max(1, sum(map(len, outs))))
-        r.out_fresh = self._array("bool[]", max(1, len(instances)))
+        r.out_on = self._array("bool[]", max(1, self.out_first[-1]))
+        r.out_fresh = self._array("bool[]", max(1, self.out_first[-1]))
+        dep_first, dep_count = [], []
+        for u in instances:
+            f, c = self._dependencies(u, u.out_clocks)
+            dep_first += f
+            dep_count += c
+        r.out_dep_first, r.out_dep_count = self._array("int[]", dep_first or [0]), self._array("int[]", dep_count or [0])
         periodic = [(i, p) for i, u in enumerate(instances) for p in u.periodic]
         r.n_periodic = len(periodic)
         r.p_instance = self._array("int[]", [i for i, _p in periodic] or [0])
@@ -253,19 +313,32 @@ class CRun:
         r.clock_scratch = self._array("uint32_t[]", max(1, total))
         r.on = self._array("bool[]", [True] * max(1, total))
 
+    def _cell(self, u, var) -> int:
+        """The cell of a clocked variable (one per variable: what was read of it is shared)."""
+        key = (u.name, var.value_reference)
+        if key not in self.cell_of:
+            self.cell_of[key] = len(self.cells)
+            self.cells.append((u, var))
+        return self.cell_of[key]
+
     def _cells(self, r, m, index) -> None:
-        """The recorded columns, and the recorded clocked variables (cells) grouped by instance."""
-        cells, groups, cell_of = [], [], {}
+        """The recorded columns, the clocked variables read (cells) and the recorded ones grouped by instance."""
+        self.cells, self.cell_of = [], {}
+        groups, column_cell = [], {}
         for u, of_u in m._clocked_columns:
-            groups.append((len(cells), len(of_u)))
+            groups.append([self._cell(u, var) for _position, var, _clocks_of in of_u])
             for position, var, _clocks_of in of_u:
-                cell_of[position - 2] = len(cells)
-                cells.append((u, var))
+                column_cell[position - 2] = self._cell(u, var)
+        for (source, _vr), routes in m._routes.items():
+            for _target, _clock, sources, _batches in routes:
+                for var in sources:
+                    self._cell(m.by_name[source], var)
+        cells = self.cells
         types: dict[str, int] = {}
         r.n_columns = len(m.wiring.columns)
         r.column_kind = self._array("int[]", [_COLUMN_KINDS[c.kind] for c in m.wiring.columns] or [0])
         r.column_ref = self._array("int[]", [self.clock_index.get((c.instance.name, c.variable.value_reference), -1)
-                                             if c.kind == CLOCK else cell_of.get(i, 0)
+                                             if c.kind == CLOCK else column_cell.get(i, 0)
                                              for i, c in enumerate(m.wiring.columns)] or [0])
         getters = ["fmi3Get" + ACCESSOR[var.type] for _u, var in cells]
         r.n_cells = len(cells)
@@ -278,17 +351,81 @@ class CRun:
         r.cell_output = self._array("bool[]", [var.causality == "output" for _u, var in cells] or [False])
         masks = [sum(1 << _clocks(u).index(c) for c in set(var.clocks) if c in _clocks(u)) for u, var in cells]
         r.cell_mask = self._array("uint64_t[]", masks or [0])
+        dep_first, dep_count = [], []
+        for u, var in cells:
+            f, c = self._dependencies(u, [var.value_reference])
+            dep_first += f
+            dep_count += c
+        r.cell_dep_first, r.cell_dep_count = self._array("int[]", dep_first or [0]), self._array("int[]", dep_count or [0])
         size = max(1, len(cells))
         r.cell_raw, r.get_buffer = self._array("uint64_t[]", size), self._array("uint64_t[]", size)
-        r.cell_fresh, r.cell_live = self._array("bool[]", size), self._array("bool[]", size)
-        r.get_vrs, r.get_cells = self._array("uint32_t[]", size), self._array("int[]", size)
+        r.cell_fresh, r.cell_live, r.cell_need = (self._array("bool[]", size) for _ in range(3))
+        r.get_vrs, r.get_cells, r.route_scratch = (self._array("uint32_t[]", size), self._array("int[]", size),
+                                                   self._array("int[]", size))
         r.n_groups = len(groups)
-        r.group_first = self._array("int[]", [f for f, _n in groups] or [0])
-        r.group_count = self._array("int[]", [n for _f, n in groups] or [0])
+        r.group_first = self._array("int[]", [sum(map(len, groups[:i])) for i in range(len(groups))] or [0])
+        r.group_count = self._array("int[]", [len(g) for g in groups] or [0])
+        r.group_cell = self._array("int[]", [c for g in groups for c in g] or [0])
+
+    def _edge(self, source: int, target: int) -> int:
+        return self.edges.setdefault((source, target), len(self.edges))
+
+    def _connections(self, r, m, stretch: CStretch, index) -> None:
+        """The value links (the stretch's operations, by instance) and the clock routes."""
+        self.edges: dict[tuple[int, int], int] = {}
+        layout, instances = stretch.layout, m.instances
+        r.connected = bool(m._routes) or m.values.connected
+        owner_of_read = [index[next(u.name for u in instances if u.binding is rd.binding)] for rd in layout.reads]
+        r.n_exchange_ops = n_exchange = len(layout.ops) - len(stretch.plan.reads)
+        owners = [owner_of_read[op] if op >= 0 else owner_of_read[layout.groups[-1 - op].links[0][0]]
+                  for op in layout.ops[:n_exchange]]
+        r.op_first = self._array("int[]", [owners.index(i) if i in owners else 0 for i in range(len(instances))] or [0])
+        r.op_count = self._array("int[]", [owners.count(i) for i in range(len(instances))] or [0])
+        group_owner = {-1 - op: owner for op, owner in zip(layout.ops, owners) if op < 0}
+        r.set_target = self._array("int[]", [index[g.target.name] for g in layout.groups] or [0])
+        r.set_edge = self._array("int[]", [self._edge(group_owner[i], index[g.target.name])
+                                           for i, g in enumerate(layout.groups)] or [0])
+        routes = [(index[u.name], route) for u in instances for vr in u.out_clocks for route in m._routes.get((u.name, vr), ())]
+        counts = [len(m._routes.get((u.name, vr), ())) for u in instances for vr in u.out_clocks]
+        r.route_first = self._array("int[]", [sum(counts[:j]) for j in range(len(counts))] or [0])
+        r.route_count = self._array("int[]", counts or [0])
+        r.route_target = self._array("int[]", [index[t.name] for _u, (t, _c, _s, _b) in routes] or [0])
+        r.route_clock = self._array("int[]", [self.clock_index[t.name, c] for _u, (t, c, _s, _b) in routes] or [0])
+        r.route_edge = self._array("int[]", [self._edge(u, index[t.name]) for u, (t, _c, _s, _b) in routes] or [0])
+        sources = [[self.cell_of[instances[u].name, v.value_reference] for v in s] for u, (_t, _c, s, _b) in routes]
+        r.route_source_first = self._array("int[]", [sum(map(len, sources[:q])) for q in range(len(sources))] or [0])
+        r.route_source_count = self._array("int[]", [len(x) for x in sources] or [0])
+        r.route_source = self._array("int[]", [c for x in sources for c in x] or [0])
+        batches = [(t, b, cells) for (_u, (t, _c, _s, bs)), cells in zip(routes, sources) for b in bs]
+        per_route = [len(bs) for _u, (_t, _c, _s, bs) in routes]
+        r.route_batch_first = self._array("int[]", [sum(per_route[:q]) for q in range(len(per_route))] or [0])
+        r.route_batch_count = self._array("int[]", per_route or [0])
+        setters = ["fmi3Set" + ACCESSOR[fmi_type] for _t, (fmi_type, _v, _i), _c in batches]
+        r.batch_set = stretch._pointers("rg_set_fn[]", [t.binding.raw(f) for (t, _b, _c), f in zip(batches, setters)])
+        r.batch_note = self._array("int32_t[]", [t.binding.note_code(f) for (t, _b, _c), f in zip(batches, setters)] or [0])
+        r.batch_kind = self._array("int[]", [kind(fmi_type) for _t, (fmi_type, _v, _i), _c in batches] or [0])
+        sizes = [len(vrs) for _t, (_f, vrs, _i), _c in batches]
+        r.batch_first = self._array("int[]", [sum(sizes[:b]) for b in range(len(sizes))] or [0])
+        r.batch_count = self._array("int[]", sizes or [0])
+        r.batch_cell = self._array("int[]", [cells[i] for _t, (_f, _v, indices), cells in batches for i in indices] or [0])
+        r.batch_vr = self._array("uint32_t[]", [vr for _t, (_f, vrs, _i), _c in batches for vr in vrs] or [0])
+        r.set_scratch = self._array("uint64_t[]", max([1, *sizes]))
+        r.forwarded = self._array("bool[]", max(1, self.out_first[-1]))
+        n = max(1, len(instances))
+        r.queued, r.woken, r.woken_edge = self._array("bool[]", n), self._array("bool[]", n), self._array("int[]", n)
+        r.n_edges = len(self.edges)
+        r.woke = self._array("long[]", max(1, len(self.edges)))
 
     # -- the run ---------------------------------------------------------------------------------
     def run(self, progress) -> float:
         """The run from the end of setup to its end; the time reached."""
+        self.stretch._lend_inputs()
+        try:
+            return self._run(progress)
+        finally:
+            self.stretch._take_inputs_back()
+
+    def _run(self, progress) -> float:
         m, r = self.master, self.r
         recorder = m.recorder
         while True:
@@ -311,6 +448,10 @@ class CRun:
                 self._zeno()
             if end == End.NO_MEMORY:
                 raise MemoryError("no memory left for the recorded Strings and Binaries")
+            if end == End.LOOP:
+                names = [u.name for u in m.instances]
+                woke = {(names[a], names[b]): r.woke[e] for (a, b), e in self.edges.items() if r.woke[e] > 0}
+                raise m._algebraic_loop(r.t, woke)
             if r.term_who >= 0:
                 by = "fmi3DoStep" if r.term_by == 0 else "fmi3UpdateDiscreteStates"
                 m._terminated(m.instances[r.term_who], by, r.term_t)

@@ -447,9 +447,9 @@ static bool changed(rg_stretch *s, int g, int link, int j, bool *no_memory)
     return true;
 }
 
-/* Group g: the connected inputs whose value changed, in one fmi3Set<Type> call; 0, the failing
- * status, or -1 when memory runs out. */
-static int forward(rg_stretch *s, int g)
+/* Group g: the connected inputs whose value changed, in one fmi3Set<Type> call (*count of them,
+ * their value references in s->set_vrs); 0, the failing status, or -1 when memory runs out. */
+static int forward(rg_stretch *s, int g, int *count)
 {
     int k, n = 0, st;
     bool no_memory = false;
@@ -458,6 +458,7 @@ static int forward(rg_stretch *s, int g)
         if (changed(s, g, link, n, &no_memory)) s->set_vrs[n++] = s->link_vr[link];
         if (no_memory) return -1;
     }
+    *count = n;
     if (n == 0) return 0;
     *s->note_call = s->set_note[g];
     if (s->set_kind[g] == K_BINARY)
@@ -579,16 +580,15 @@ static void slot_row(rg_stretch *s, uint64_t *row)
     }
 }
 
-/* The exchange and the reads after a step (or for an instant's row). 0, or the failing call's
- * status (*why and *who say which), or -1 when memory runs out. */
-static int exchange_and_read(rg_stretch *s, int *why, int *who)
+/* The operations first..last-1 (reads, Set groups); 0, or the failing call's status (*why and
+ * *who say which), or -1 when memory runs out. */
+static int run_ops(rg_stretch *s, int first, int last, int *why, int *who)
 {
-    int k, st;
+    int k, st, count;
     bool no_memory = false;
-    if (s->mode == MODE_TEXT) s->arena.used = 0; /* the previous row's copies are written out */
-    for (k = 0; k < s->n_ops; k++) {
+    for (k = first; k < last; k++) {
         int op = s->op[k];
-        st = op >= 0 ? get_values(s, op, &no_memory) : forward(s, -1 - op);
+        st = op >= 0 ? get_values(s, op, &no_memory) : forward(s, -1 - op, &count);
         if (st > 0) {
             *why = op >= 0 ? WHY_GET_FAILED : WHY_SET_FAILED;
             *who = op >= 0 ? op : -1 - op;
@@ -597,6 +597,14 @@ static int exchange_and_read(rg_stretch *s, int *why, int *who)
         if (no_memory || st < 0) return -1;
     }
     return 0;
+}
+
+/* The exchange and the reads after a step (or for an instant's row). 0, or the failing call's
+ * status (*why and *who say which), or -1 when memory runs out. */
+static int exchange_and_read(rg_stretch *s, int *why, int *who)
+{
+    if (s->mode == MODE_TEXT) s->arena.used = 0; /* the previous row's copies are written out */
+    return run_ops(s, 0, s->n_ops, why, who);
 }
 
 /* The exchange and the reads after a step, then its row. 0, or the failing call's status
