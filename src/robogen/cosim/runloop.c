@@ -9,17 +9,20 @@
  * general step to the next point (the early returner first: the others go no further than where
  * it stopped), and there either the exchange and a plain row, or Event Mode: every FMU in Event
  * Mode enters it, the due periodic input clocks are set (one fmi3SetClock per FMU), and each
- * super-dense instant reads the watched output clocks (one fmi3GetClock per FMU, not again in an
- * instant), records its row (the recorded clocked values whose clock is active: one Get call per
- * FMU and type, an output not read again in the instant), and closes with
- * fmi3UpdateDiscreteStates; the last row after the instants, fmi3EnterStepMode, the next time
- * event.
+ * super-dense instant forwards clocks and values through a worklist in dependency order (an FMU's
+ * watched output clocks read with one fmi3GetClock, each active one forwarded once along its
+ * connections: the target clock set, the clocked values it carries read with one Get call per
+ * type and set with one Set call per target and type; the connected values read and set as in
+ * the stretch; an output read in the instant is not read again unless a Set it depends on came
+ * since), records its row (the recorded clocked values whose clock is active), and closes with
+ * fmi3UpdateDiscreteStates, then forwards the connected values; another instant follows while an
+ * FMU asks for one or an input changed. The last row after the instants, fmi3EnterStepMode, the
+ * next time event.
  *
  * It returns to Python when a chunk of rows is stored (or its wall-clock deadline passed), when
  * the run ends, when a call fails (the master's call notes say which), when memory runs out, and
- * for an event iteration that does not settle (Python reports it). Systems it does not cover
- * (clock connections, connected values in Event Mode, aperiodic clocks, more than one FMU that
- * may return early, the events log, pacing) run in the master's Python loop. */
+ * for an event iteration or an instant that does not settle (Python reports it). Systems it does
+ * not cover (robogen.cosim.runloop says which) run in the master's Python loop. */
 
 typedef int (*rg_mode_fn)(void *);
 typedef int (*rg_update_fn)(void *, bool *, bool *, bool *, bool *, bool *, double *);

@@ -3,11 +3,11 @@ included, for the systems it covers; the master's Python loop computes the same 
 
 It covers a system whose instances the C stretch (:mod:`robogen.cosim.stepper`) can step and read
 (FMUs in this process, no trace, recorded types it reads), run without pacing and without an
-events log, where at most one FMU may return early (no rollback), no clock is connected, no value
-is connected into an FMU in Event Mode, and the time-based input clocks are periodic ones of FMUs
-in Event Mode; each FMU has at most 64 clocks, and recorded clocked variables are numbers or
-Booleans. Anything else runs in the master's Python loop (``ROBOGEN_NO_C_STEPPER`` switches the C
-loops off). :meth:`CRun.for_master` says which.
+events log, where at most one FMU may return early (no rollback), and the time-based input clocks
+are periodic ones of FMUs in Event Mode; each FMU has at most 64 clocks, and the clocked variables
+recorded or carried by clock connections are numbers or Booleans (set as the type they were read
+as). Anything else runs in the master's Python loop (``ROBOGEN_NO_C_STEPPER`` switches the C loops
+off). :meth:`CRun.for_master` says which.
 
 Python is entered once per chunk of rows (at most :data:`~robogen.cosim.stepper.CHUNK`, or the
 recorder's next flush, :data:`~robogen.cosim.recorder.FLUSH_SECONDS` of wall time away): the rows go
@@ -15,7 +15,9 @@ to the recorder, the progress bar moves. Where the rows go to a CSV file, also a
 iteration, whose rows are flushed to the file at once, as the Python loop does.
 The run also returns when it ends (the first instance that asked to terminate is reported), when an
 FMI call fails (the master's call notes name the instance and the function), and when an event
-iteration does not settle (the master reports it, with the clocks active in its last instant).
+iteration does not settle (the master reports it, with the clocks active in its last instant) or
+the connected values of an instant do not (an algebraic loop, named by how often each connection
+set its target's inputs).
 """
 
 from __future__ import annotations
