@@ -29,7 +29,7 @@ typedef int (*rg_update_fn)(void *, bool *, bool *, bool *, bool *, bool *, doub
 typedef int (*rg_get_clock_fn)(void *, const uint32_t *, size_t, bool *);
 typedef int (*rg_set_clock_fn)(void *, const uint32_t *, size_t, const bool *);
 
-enum { RUN_PAUSE = 0, RUN_DONE, RUN_FAILED, RUN_ZENO, RUN_NO_MEMORY, RUN_LOOP };
+enum { RUN_PAUSE = 0, RUN_DONE, RUN_FAILED, RUN_ZENO, RUN_NO_MEMORY, RUN_LOOP, RUN_WRITE };
 enum { COL_VALUE = 0, COL_CLOCK, COL_CLOCKED };
 enum { STAGE_ADVANCE = 0, STAGE_STRETCH, STAGE_STEP };
 enum { BY_DO_STEP = 0, BY_UPDATE };
@@ -124,6 +124,9 @@ typedef struct {
     int zeno_k;
     bool pause_at_events;    /* return after each event iteration: its rows are to be flushed */
     bool event_ended;        /* an event iteration (or the start) ended since Python last looked */
+    int fd;                  /* MODE_TEXT: the CSV file, written at the end of each event iteration (or -1) */
+    long text_rows;          /* the rows in s->text */
+    long written;            /* the rows this call wrote to fd */
 } rg_run;
 
 /* Where one call of rg_run_system stores its rows (Python reads them). */
@@ -296,6 +299,7 @@ static int record(rg_run *r, rg_rows *out, double t, int k, bool event)
             s->text.used = start;
             return -1;
         }
+        r->text_rows++;
     } else if (s->mode == MODE_SLOTS) {
         slot_line(r, out->slots + (size_t)row * (size_t)r->n_columns, out->present + (size_t)row * (size_t)r->n_columns);
     }
@@ -551,6 +555,25 @@ static void refresh_timing(rg_run *r, double t)
     r->next_time = earliest;
 }
 
+/* The CSV lines so far to the results file (its Python buffer was flushed before this call):
+ * they are on disk as an event iteration ends, as the Python loop's flush puts them. 0, or -4
+ * when the file cannot be written. */
+static int write_text(rg_run *r)
+{
+    rg_bytes *text = &r->s->text;
+    size_t done = 0;
+    while (done < text->used) {
+        ssize_t n = write(r->fd, text->data + done, text->used - done);
+        if (n < 0 && errno == EINTR) continue;
+        if (n <= 0) return -4;
+        done += (size_t)n;
+    }
+    text->used = 0;
+    r->written += r->text_rows;
+    r->text_rows = 0;
+    return 0;
+}
+
 /* The instants at t, up to the last row; then Step Mode. 0, a failing status, -1 (no memory), -2
  * (it did not settle: r->zeno_k instants) or -3 (values that do not settle in an instant). */
 static int event_iteration(rg_run *r, rg_rows *out, double t)
@@ -583,7 +606,7 @@ static int event_iteration(rg_run *r, rg_rows *out, double t)
     }
     refresh_timing(r, t);
     r->event_ended = true;
-    return 0;
+    return r->fd >= 0 ? write_text(r) : 0;
 }
 
 static int event_mode(rg_run *r, rg_rows *out, double t)
@@ -726,7 +749,7 @@ static int advance(rg_run *r, rg_rows *out)
 RG_EXPORT int rg_run_system(rg_run *r, long max_rows, double deadline, rg_rows *out, int *status)
 {
     int st = 0;
-    out->rows = 0;
+    out->rows = r->text_rows = r->written = 0;
     r->s->arena.used = r->s->text.used = 0;
     *status = 0;
     if (r->phase == 0) {
@@ -734,6 +757,7 @@ RG_EXPORT int rg_run_system(rg_run *r, long max_rows, double deadline, rg_rows *
         all_at(r, r->start);
         st = r->n_event > 0 ? event_iteration(r, out, r->start) : record(r, out, r->start, 0, false);
         r->event_ended = true; /* the start's rows are flushed as an event iteration's */
+        if (st == 0 && r->n_event == 0 && r->fd >= 0) st = write_text(r);
     }
     while (st == 0 && !finished(r)) {
         if (r->event_ended && r->pause_at_events) return RUN_PAUSE;
@@ -741,5 +765,6 @@ RG_EXPORT int rg_run_system(rg_run *r, long max_rows, double deadline, rg_rows *
         st = advance(r, out);
     }
     *status = st;
-    return st == 0 ? RUN_DONE : st == -1 ? RUN_NO_MEMORY : st == -2 ? RUN_ZENO : st == -3 ? RUN_LOOP : RUN_FAILED;
+    return st == 0 ? RUN_DONE : st == -1 ? RUN_NO_MEMORY : st == -2 ? RUN_ZENO : st == -3 ? RUN_LOOP
+         : st == -4 ? RUN_WRITE : RUN_FAILED;
 }

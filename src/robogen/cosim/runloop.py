@@ -11,8 +11,10 @@ off). :meth:`CRun.for_master` says which.
 
 Python is entered once per chunk of rows (at most :data:`~robogen.cosim.stepper.CHUNK`, or the
 recorder's next flush, :data:`~robogen.cosim.recorder.FLUSH_SECONDS` of wall time away): the rows go
-to the recorder, the progress bar moves. Where the rows go to a CSV file, also after every event
-iteration, whose rows are flushed to the file at once, as the Python loop does.
+to the recorder, the progress bar moves. An event iteration's rows are on disk when it ends, as the
+Python loop's flush puts them: where the rows only go to a CSV file, the loop writes its CSV lines
+to the file itself (:meth:`~robogen.cosim.recorder.Recorder.text_file`); where they are also kept,
+it returns after every event iteration and Python flushes them.
 The run also returns when it ends (the first instance that asked to terminate is reported), when an
 FMI call fails (the master's call notes name the instance and the function), and when an event
 iteration does not settle (the master reports it, with the clocks active in its last instant) or
@@ -23,6 +25,7 @@ set its target's inputs).
 from __future__ import annotations
 
 import math
+import os
 import time
 from enum import IntEnum
 from itertools import repeat
@@ -127,6 +130,9 @@ ffi.cdef(
         int zeno_k;
         bool pause_at_events;
         bool event_ended;
+        int fd;
+        long text_rows;
+        long written;
     } rg_run;
     typedef struct {
         long rows;
@@ -156,6 +162,7 @@ class End(IntEnum):
     ZENO = 3
     NO_MEMORY = 4
     LOOP = 5  # connected values that do not settle in an instant
+    WRITE = 6  # the results file cannot be written
 
 
 def _clocks(u) -> list[int]:
@@ -267,7 +274,9 @@ class CRun:
         r.dep_vr = self._array("uint32_t[]", self.deps or [0])
         r.term_who = -1
         r.next_time = m._next_event
-        r.pause_at_events = m.recorder.flush_due != math.inf  # a file: flushed after every event iteration
+        # a CSV file: on disk after every event iteration (written by the loop, or flushed by Python)
+        r.fd = m.recorder.text_file() if stretch.mode == Mode.TEXT else -1
+        r.pause_at_events = r.fd < 0 and m.recorder.flush_due != math.inf
         return r
 
     def _dependencies(self, u, vrs: list[int]) -> tuple[list[int], list[int]]:
@@ -431,9 +440,12 @@ class CRun:
         m, r = self.master, self.r
         recorder = m.recorder
         while True:
+            if r.fd >= 0:
+                recorder.flush()  # the lines Python wrote first
             deadline = min(time.monotonic() + FLUSH_SECONDS, recorder.flush_due)
             end = End(self.stretch.lib.rg_run_system(r, CHUNK, deadline, self.out, self._status))
-            self._record(self.out.rows)
+            recorder.wrote_rows(r.written)
+            self._record(self.out.rows - r.written)
             self._sync()
             if r.event_ended:
                 r.event_ended = False
@@ -450,6 +462,8 @@ class CRun:
                 self._zeno()
             if end == End.NO_MEMORY:
                 raise MemoryError("no memory left for the recorded Strings and Binaries")
+            if end == End.WRITE:
+                raise OSError(f"cannot write the results file: {os.strerror(ffi.errno)}")
             if end == End.LOOP:
                 names = [u.name for u in m.instances]
                 woke = {(names[a], names[b]): r.woke[e] for (a, b), e in self.edges.items() if r.woke[e] > 0}

@@ -25,6 +25,7 @@
  * and time. A chunk also ends at a wall-clock deadline, so the rows reach the results file at
  * least that often however slow the FMUs are. */
 #define _POSIX_C_SOURCE 199309L
+#include <errno.h>
 #include <float.h>
 #include <math.h>
 #include <stdbool.h>
@@ -34,6 +35,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include <time.h>
+#include <unistd.h>
 
 typedef int (*rg_do_step_fn)(void *, double, double, bool, bool *, bool *, bool *, double *);
 typedef int (*rg_get_fn)(void *, const uint32_t *, size_t, void *, size_t);
