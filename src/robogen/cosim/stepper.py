@@ -168,7 +168,7 @@ def _cache_dir() -> Path:
 
 #: The C files of the library, compiled as one unit in this order (the run loop uses the stretch's
 #: functions).
-SOURCES = ("stepper.c", "runloop.c")
+SOURCES = ("stepper.c", "runloop.c", "instants.c")
 
 
 def source() -> bytes:
