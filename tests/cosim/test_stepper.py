@@ -1,6 +1,7 @@
 """The whole run in C (robogen.cosim.runloop) does what the master's Python loop does
 (ROBOGEN_NO_C_STEPPER=1): the same rows byte for byte, kept, written by Python or written as CSV
-lines by C, the same statistics, the same located errors and kept rows, on systems with events:
+lines by C, the same events log, the same statistics, the same located errors and kept rows, on
+systems with events:
 periodic clocks, nextEventTime, early return, termination, Zeno behaviour, a failing FMU."""
 
 from __future__ import annotations
@@ -69,14 +70,16 @@ def simulate(loop: str, monkeypatch, path, **kwargs):
     return simulate_system(path, **kwargs)
 
 
-def outcome(loop: str, monkeypatch, path, tmp_path, **kwargs):
-    """(rows, CSV bytes, statistics or the error's message) of one run."""
-    csv = tmp_path / f"{path.stem}-{loop}-{len(kwargs)}.csv"
+def outcome(loop: str, monkeypatch, path, tmp_path, csv: bool = True, **kwargs):
+    """(rows, CSV bytes, statistics or the error's message, events log bytes) of one run."""
+    output = tmp_path / f"{path.stem}-{loop}-{csv}-{len(kwargs)}.csv"
+    events = output.with_suffix(".jsonl")
+    read = lambda f: f.read_bytes() if f.exists() else None  # noqa: E731
     try:
-        result = simulate(loop, monkeypatch, path, output=csv, **kwargs)
+        result = simulate(loop, monkeypatch, path, output=output if csv else None, events=events, **kwargs)
     except RobogenError as exc:
-        return None, csv.read_bytes() if csv.exists() else None, exc.diagnostics[0].message
-    return result.rows, csv.read_bytes(), tuple(getattr(result.stats, f) for f in STATS)
+        return None, read(output), exc.diagnostics[0].message, read(events)
+    return result.rows, read(output), tuple(getattr(result.stats, f) for f in STATS), read(events)
 
 
 @pytest.mark.parametrize("name", sorted(SYSTEMS))
@@ -86,11 +89,13 @@ def test_the_c_run_gives_the_python_loops_results(monkeypatch, write_system, tmp
     assert not whole_runs
     c = outcome("C", monkeypatch, path, tmp_path)
     text = outcome("C", monkeypatch, path, tmp_path, keep_rows=False)  # C writes the CSV lines
-    quiet = simulate("C", monkeypatch, path, keep_rows=False)  # the rows go nowhere
+    quiet = outcome("C", monkeypatch, path, tmp_path, csv=False, keep_rows=False)  # the rows go nowhere
     assert len(whole_runs) == 3
     assert c == python
     assert text[1:] == python[1:]
-    assert tuple(getattr(quiet.stats, f) for f in STATS) == python[2]
+    assert quiet[2:] == python[2:]
+    if name not in ("stair", "stair-every-step", "stair-terminate", "ball"):  # they have no clocks
+        assert python[3].count(b"\n") >= 10 and b'"clock": ' in python[3]
     assert python[2][1] > 0  # event iterations happened
     stats = dict(zip(STATS, python[2]))
     if name == "stair":  # the stair's events at 0.25 k: six extra points between grid points (0.25, 0.75, ..., 2.75)
@@ -127,8 +132,9 @@ def test_zeno_behaviour_is_the_same_located_error_with_the_same_rows(monkeypatch
     c = outcome("C", monkeypatch, path, tmp_path)
     text = outcome("C", monkeypatch, path, tmp_path, keep_rows=False)
     assert len(whole_runs) == 2
-    assert c == text == python
+    assert c == python and text[1:] == python[1:]
     assert python[2].startswith("event iteration at t=0.5 did not settle after 50 super-dense instants")
+    assert python[3].splitlines()[-1] == b'{"time": 0.5, "index": 49, "fmu": "z", "clock": "z", "values": {}}'
     lines = python[1].decode().splitlines()
     assert lines[-1].startswith("0.5,49,")  # the instants recorded before the error are kept
 
@@ -151,7 +157,7 @@ def test_a_failing_fmu_stops_the_c_run_with_the_same_error_and_rows(monkeypatch,
     c = outcome("C", monkeypatch, path, tmp_path)
     text = outcome("C", monkeypatch, path, tmp_path, keep_rows=False)
     assert len(whole_runs) == 2
-    assert c == text == python
+    assert c == python and text[1:] == python[1:]
     assert python[2] == "instance 'f': fmi3DoStep returned fmi3Error at t=0.5; the results recorded so far are kept"
     assert python[1].decode().splitlines()[-1].startswith("0.5,1,")  # the event iteration at 0.5 (a tick) is kept
 

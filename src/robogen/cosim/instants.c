@@ -250,6 +250,63 @@ static void refresh_timing(rg_run *r, double t)
     r->next_time = earliest;
 }
 
+/* A number as JSON writes it (Python's json: repr, NaN, Infinity); false when memory runs out. */
+static bool json_number(rg_bytes *b, int kind, const void *value)
+{
+    double d;
+    if (kind != K_F64 && kind != K_F32) {
+        if (kind != K_BOOL) return number_cell(b, kind, value, 0);
+        if (!reserve(b, 5)) return false;
+        if (integer_of(kind, value, 0)) put(b, "true", 4);
+        else put(b, "false", 5);
+        return true;
+    }
+    d = real_of(kind, value, 0);
+    if (!reserve(b, 32)) return false;
+    if (isnan(d)) put(b, "NaN", 3);
+    else if (isinf(d)) put(b, d < 0 ? "-Infinity" : "Infinity", d < 0 ? 9 : 8);
+    else b->used += rg_format_double(b->data + b->used, d);
+    return true;
+}
+
+static bool put_text(rg_bytes *b, const char *text)
+{
+    size_t n = strlen(text);
+    if (!reserve(b, n)) return false;
+    put(b, text, n);
+    return true;
+}
+
+/* One event of clock c (of instance u) at (t, k): its line of the events log, the clocked
+ * variables it shows read as the Python loop reads them. 0, the failing status, or -1. */
+static int log_event(rg_run *r, int u, int c, double t, int k)
+{
+    rg_bytes *b = &r->events;
+    int i, first = r->event_first[c], st;
+    if ((st = clocked_values(r, u, r->event_cell + first, r->event_count[c])) != 0) return st;
+    if (!reserve(b, 64)) return -1;
+    put(b, "{\"time\": ", 9);
+    if (!json_number(b, K_F64, &t) || !reserve(b, 32)) return -1;
+    b->used += (size_t)sprintf(b->data + b->used, ", \"index\": %d", k);
+    if (!put_text(b, r->event_head[c])) return -1;
+    for (i = first; i < first + r->event_count[c]; i++) {
+        int cell = r->event_cell[i];
+        if ((i > first && !put_text(b, ", ")) || !put_text(b, r->event_key[i])) return -1;
+        if (!json_number(b, r->cell_kind[cell], &r->cell_raw[cell])) return -1;
+    }
+    return put_text(b, "}}\n") ? 0 : -1;
+}
+
+/* The events of the instant (t, k): every active clock's, by instance and value reference. */
+static int log_events(rg_run *r, double t, int k)
+{
+    int u, c, st;
+    for (u = 0; u < r->s->n_instances; u++)
+        for (c = r->clock_first[u]; c < r->clock_first[u] + r->clock_count[u]; c++)
+            if (r->active[c] && (st = log_event(r, u, c, t, k)) != 0) return st;
+    return 0;
+}
+
 /* The instants at t, up to the last row; then Step Mode. 0, a failing status, -1 (no memory), -2
  * (it did not settle: r->zeno_k instants) or -3 (values that do not settle in an instant). */
 static int event_iteration(rg_run *r, rg_rows *out, double t)
@@ -264,6 +321,7 @@ static int event_iteration(rg_run *r, rg_rows *out, double t)
         r->instants++;
         if (r->s->mode == MODE_TEXT) r->s->arena.used = 0; /* the previous instant's copies are written out */
         if ((st = propagate(r)) != 0 || (st = record(r, out, t, k, true)) != 0) return st;
+        if (r->events_fd >= 0 && (st = log_events(r, t, k)) != 0) return st;
         if (k >= r->max_iterations - 1)
             for (c = 0; c < r->clock_first[r->s->n_instances]; c++) r->ticked[c] = r->active[c];
         if ((st = update_all(r, t, &needs)) != 0) return st;
@@ -282,6 +340,7 @@ static int event_iteration(rg_run *r, rg_rows *out, double t)
     }
     refresh_timing(r, t);
     r->event_ended = true;
+    if (write_events(r) != 0) return -4;
     return r->fd >= 0 ? write_text(r) : 0;
 }
 

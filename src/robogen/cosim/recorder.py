@@ -226,8 +226,17 @@ class Recorder:
         self.flush()
         return self._file.fileno()
 
+    def events_file(self) -> int:
+        """The events log's descriptor, its buffer flushed, for a loop that writes events to it
+        itself (as :meth:`event` writes them); -1 without an events log."""
+        if self._events is None:
+            return -1
+        self._events.flush()
+        return self._events.fileno()
+
     def wrote_rows(self, rows: int) -> None:
-        """``rows`` rows written to the CSV file through :meth:`text_file`, flushed."""
+        """``rows`` rows recorded without this recorder: written to the CSV file through
+        :meth:`text_file` (flushed), or going nowhere (:attr:`discards`)."""
         self.recorded += rows
 
     def event(self, t: float, k: int, fmu: str, clock: str, values: dict) -> None:

@@ -127,6 +127,12 @@ typedef struct {
     int fd;                  /* MODE_TEXT: the CSV file, written at the end of each event iteration (or -1) */
     long text_rows;          /* the rows in s->text */
     long written;            /* the rows this call wrote to fd */
+    int events_fd;           /* the events log, written at the end of each event iteration (or -1) */
+    rg_bytes events;         /* its JSON lines not written yet */
+    const int *event_first, *event_count; /* per clock: the clocked variables its events show (cells) */
+    const int *event_cell;
+    const char *const *event_head; /* per clock: its event's fmu, clock and the opening of its values */
+    const char *const *event_key;  /* per variable shown: its name and a colon, in JSON */
 } rg_run;
 
 /* Where one call of rg_run_system stores its rows (Python reads them). */
@@ -140,6 +146,7 @@ typedef struct {
 } rg_rows;
 
 RG_EXPORT int rg_run_system(rg_run *r, long max_rows, double deadline, rg_rows *out, int *status);
+RG_EXPORT void rg_run_release(rg_run *r);
 static int event_iteration(rg_run *r, rg_rows *out, double t); /* instants.c */
 static int event_mode(rg_run *r, rg_rows *out, double t);
 
@@ -315,21 +322,29 @@ static int record(rg_run *r, rg_rows *out, double t, int k, bool event)
 /* The CSV lines so far to the results file (its Python buffer was flushed before this call):
  * they are on disk as an event iteration ends, as the Python loop's flush puts them. 0, or -4
  * when the file cannot be written. */
-static int write_text(rg_run *r)
+static int write_all(int fd, rg_bytes *b)
 {
-    rg_bytes *text = &r->s->text;
     size_t done = 0;
-    while (done < text->used) {
-        ssize_t n = write(r->fd, text->data + done, text->used - done);
+    while (done < b->used) {
+        ssize_t n = write(fd, b->data + done, b->used - done);
         if (n < 0 && errno == EINTR) continue;
         if (n <= 0) return -4;
         done += (size_t)n;
     }
-    text->used = 0;
+    b->used = 0;
+    return 0;
+}
+
+static int write_text(rg_run *r)
+{
+    if (write_all(r->fd, &r->s->text) != 0) return -4;
     r->written += r->text_rows;
     r->text_rows = 0;
     return 0;
 }
+
+/* The events logged so far to the events log (its Python buffer was flushed before this call). */
+static int write_events(rg_run *r) { return r->events_fd >= 0 ? write_all(r->events_fd, &r->events) : 0; }
 
 /* ---------------------------------------------------------------------------------------------
  * Step Mode */
@@ -470,11 +485,19 @@ RG_EXPORT int rg_run_system(rg_run *r, long max_rows, double deadline, rg_rows *
         if (st == 0 && r->n_event == 0 && r->fd >= 0) st = write_text(r);
     }
     while (st == 0 && !finished(r)) {
-        if (r->event_ended && r->pause_at_events) return RUN_PAUSE;
+        if (r->event_ended && r->pause_at_events) return write_events(r) == 0 ? RUN_PAUSE : RUN_WRITE;
         if (out->rows >= max_rows || (out->rows > 0 && wall_clock() > deadline)) return RUN_PAUSE;
         st = advance(r, out);
     }
     *status = st;
+    if (write_events(r) != 0 && st == 0) st = -4; /* what an event iteration that failed logged */
     return st == 0 ? RUN_DONE : st == -1 ? RUN_NO_MEMORY : st == -2 ? RUN_ZENO : st == -3 ? RUN_LOOP
          : st == -4 ? RUN_WRITE : RUN_FAILED;
+}
+
+RG_EXPORT void rg_run_release(rg_run *r)
+{
+    free(r->events.data);
+    r->events.data = NULL;
+    r->events.size = r->events.used = 0;
 }

@@ -24,6 +24,7 @@ set its target's inputs).
 
 from __future__ import annotations
 
+import json
 import math
 import os
 import time
@@ -133,6 +134,12 @@ ffi.cdef(
         int fd;
         long text_rows;
         long written;
+        int events_fd;
+        rg_bytes events;
+        const int *event_first, *event_count;
+        const int *event_cell;
+        const char *const *event_head;
+        const char *const *event_key;
     } rg_run;
     typedef struct {
         long rows;
@@ -143,6 +150,7 @@ ffi.cdef(
         uint8_t *present;
     } rg_rows;
     int rg_run_system(rg_run *r, long max_rows, double deadline, rg_rows *out, int *status);
+    void rg_run_release(rg_run *r);
     """
 )
 
@@ -181,11 +189,16 @@ def _batch_types(master):
                 yield master.by_name[source], var.type, "fmi3Get"
             for fmi_type, _vrs, _indices in batches:
                 yield target, fmi_type, "fmi3Set"
+    if master._events_logged:
+        for u in master.instances:
+            for variables in master._event_values[u.name].values():
+                for var in variables:
+                    yield u, var.type, "fmi3Get"
 
 
 def _covered(master) -> bool:
     """Whether the C loop covers this run (see the module's docstring)."""
-    if master.options.realtime or master._events_logged:
+    if master.options.realtime:
         return False
     if sum(u.early for u in master.instances) > 1 or master._aperiodic or master.system.max_event_iterations > MAX_ITERATIONS:
         return False
@@ -272,12 +285,14 @@ class CRun:
         self._cells(r, m, index)
         self._connections(r, m, stretch, index)
         r.dep_vr = self._array("uint32_t[]", self.deps or [0])
+        self._events(r, m)
         r.term_who = -1
         r.next_time = m._next_event
         # a CSV file: on disk after every event iteration (written by the loop, or flushed by Python)
         r.fd = m.recorder.text_file() if stretch.mode == Mode.TEXT else -1
         r.pause_at_events = r.fd < 0 and m.recorder.flush_due != math.inf
-        return r
+        r.events_fd = m.recorder.events_file()
+        return ffi.gc(r, lambda pointer, _keep=self._keep, _lib=stretch.lib: _lib.rg_run_release(pointer))
 
     def _dependencies(self, u, vrs: list[int]) -> tuple[list[int], list[int]]:
         """(first, count) in dep_vr of each output's dependencies (count -1: every input)."""
@@ -344,6 +359,10 @@ class CRun:
             for _target, _clock, sources, _batches in routes:
                 for var in sources:
                     self._cell(m.by_name[source], var)
+        for u in m.instances if m._events_logged else ():
+            for variables in m._event_values[u.name].values():
+                for var in variables:
+                    self._cell(u, var)
         cells = self.cells
         types: dict[str, int] = {}
         r.n_columns = len(m.wiring.columns)
@@ -377,6 +396,23 @@ class CRun:
         r.group_first = self._array("int[]", [sum(map(len, groups[:i])) for i in range(len(groups))] or [0])
         r.group_count = self._array("int[]", [len(g) for g in groups] or [0])
         r.group_cell = self._array("int[]", [c for g in groups for c in g] or [0])
+
+    def _events(self, r, m) -> None:
+        """Per clock, what its events in the events log show: the JSON of its instance and name,
+        and the cells and names of its clocked variables."""
+        heads, first, count, cells, keys = [], [], [], [], []
+        for u in m.instances:
+            for vr in _clocks(u):
+                variables = m._event_values[u.name].get(vr, []) if m._events_logged else []
+                heads.append(f', "fmu": {json.dumps(u.name)}, "clock": {json.dumps(u.by_vr[vr].name)}, "values": {{')
+                first.append(len(cells))
+                count.append(len(variables))
+                cells += [self.cell_of[u.name, var.value_reference] for var in variables]
+                keys += [f"{json.dumps(var.name)}: " for var in variables]
+        r.event_first, r.event_count = self._array("int[]", first or [0]), self._array("int[]", count or [0])
+        r.event_cell = self._array("int[]", cells or [0])
+        r.event_head = self._array("char *[]", [self._array("char[]", h.encode()) for h in heads] or [ffi.NULL])
+        r.event_key = self._array("char *[]", [self._array("char[]", k.encode()) for k in keys] or [ffi.NULL])
 
     def _edge(self, source: int, target: int) -> int:
         return self.edges.setdefault((source, target), len(self.edges))
@@ -494,7 +530,10 @@ class CRun:
     def _record(self, count: int) -> None:
         """The chunk's rows to the recorder, as the mode stored them."""
         recorder, mode = self.master.recorder, self.stretch.mode
-        if count <= 0 or mode == Mode.NONE:
+        if count <= 0:
+            return
+        if mode == Mode.NONE:  # counted: an events log with rows recorded is kept
+            recorder.wrote_rows(count)
             return
         if mode == Mode.TEXT:
             s = self.stretch.s
