@@ -70,11 +70,11 @@ def simulate(loop: str, monkeypatch, path, **kwargs):
     return simulate_system(path, **kwargs)
 
 
-def outcome(loop: str, monkeypatch, path, tmp_path, csv: bool = True, **kwargs):
+def outcome(loop: str, monkeypatch, path, tmp_path, csv: bool = True, events: bool | None = True, **kwargs):
     """(rows, CSV bytes, statistics or the error's message, events log bytes) of one run."""
     output = tmp_path / f"{path.stem}-{loop}-{csv}-{len(kwargs)}.csv"
-    events = output.with_suffix(".jsonl")
-    read = lambda f: f.read_bytes() if f.exists() else None  # noqa: E731
+    events = output.with_suffix(".jsonl") if events else None
+    read = lambda f: f.read_bytes() if f is not None and f.exists() else None  # noqa: E731
     try:
         result = simulate(loop, monkeypatch, path, output=output if csv else None, events=events, **kwargs)
     except RobogenError as exc:
@@ -173,3 +173,30 @@ def test_a_failing_fmu_exits_non_zero_with_its_rows_on_disk(write_system, roboge
     assert runs["C"].stderr == runs["Python"].stderr.replace("Python.csv", "C.csv")
     assert (tmp_path / "C.csv").read_bytes() == (tmp_path / "Python.csv").read_bytes()
 
+
+
+SUFFIXES = ("f32", "f64", "i8", "u8", "i16", "u16", "i32", "u32", "i64", "u64", "b", "s", "bin", "e")
+
+
+def test_every_fmi_type_travels_through_clock_and_value_connections_alike(monkeypatch, write_system, tmp_path,
+                                                                          whole_runs):
+    # a's output clock (it ticks with a's periodic tick, every 0.3 s) drives b's input clock, and
+    # carries a value of every type; every unclocked output of a feeds the same input of b
+    links = ['"a.out -> b.tin"'] + [f'"a.c_{x} -> b.ci_{x}"' for x in SUFFIXES] + [f'"a.y_{x} -> b.u_{x}"' for x in SUFFIXES]
+    path = write_system("connections = [" + ", ".join(links) + "]\n[experiment]\nstop = 1.2\nstep = 0.1\n"
+                        '[instances.a]\nfmu = "{alltypes}"\n[instances.b]\nfmu = "{alltypes}"\n[record]\nvariables = ['
+                        + ", ".join(['"a.out"', '"b.tin"', *(f'"a.c_{x}", "b.ci_{x}", "b.y_{x}"' for x in SUFFIXES)]) + "]\n",
+                        name="types.toml")
+    python = outcome("Python", monkeypatch, path, tmp_path, events=None)
+    c = outcome("C", monkeypatch, path, tmp_path, events=None)
+    text = outcome("C", monkeypatch, path, tmp_path, events=None, keep_rows=False)
+    assert len(whole_runs) == 2  # the C runs (the CSV lines with Strings are Python's to write)
+    assert c == python and text[1:] == python[1:]
+    result = simulate("C", monkeypatch, path)
+    rows = [dict(zip(result.columns, r)) for r in result.rows]
+    ticks = [r for r in rows if r["a.out"] == 1]
+    assert [r["time"] for r in ticks] == [0.0, 0.3, 0.6, 0.8999999999999999, 1.2]  # 3 * 0.3 is 0.8999999999999999
+    for r in ticks:  # b received every clocked value in the instant a's clock ticked
+        assert r["b.tin"] == 1 and all(r[f"b.ci_{x}"] == r[f"a.c_{x}"] for x in SUFFIXES)
+    # the 5th tick, after 12 steps: c = derive(derive(u, 12), 5), each derive appending ',"m"' or the byte m
+    assert ticks[-1]["b.ci_s"] == 'a b,"12","5"' and ticks[-1]["b.ci_bin"] == b"\x0c\x05"

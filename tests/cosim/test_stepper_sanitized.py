@@ -16,7 +16,7 @@ import pytest
 from robogen import toolchain
 from robogen.cosim import stepper
 
-from test_stepper import RELAYS, SYSTEMS
+from test_stepper import RELAYS, SUFFIXES, SYSTEMS
 
 DRIVER = textwrap.dedent("""
     import os, sys
@@ -60,7 +60,10 @@ def test_the_c_loops_run_clean_under_the_sanitizers(tmp_path, write_system):
     source.write_bytes(stepper.source())
     library = toolchain.compile_shared([source], tmp_path / "stepper_sanitized.so", sanitize=True,
                                        what="the master's C loops under the sanitizers")
+    links = ", ".join(['"a.out -> b.tin"'] + [f'"a.c_{x} -> b.ci_{x}", "a.y_{x} -> b.u_{x}"' for x in SUFFIXES])
     systems = {**{name: SYSTEMS[name] for name in ("stair", "ticker", "ball", "relay-chain-stepwise", "ticker-setcount")},
+               "types": f"connections = [{links}]\n[experiment]\nstop = 1.2\nstep = 0.1\n"
+                        '[instances.a]\nfmu = "{alltypes}"\n[instances.b]\nfmu = "{alltypes}"\n',
                "relay-chain": RELAYS.format(stepwise="false"),
                "fail": '[experiment]\nstop = 2.0\nstep = 0.1\n[instances.k]\nfmu = "{ticker}"\n[instances.f]\nfmu = "{failer}"\n',
                "zeno": '[experiment]\nstop = 3.0\nstep = 0.1\nmax_event_iterations = 20\n[instances.z]\nfmu = "{zeno}"\n'}

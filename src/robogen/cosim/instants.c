@@ -115,12 +115,23 @@ static int forward_route(rg_run *r, int u, int q)
         if (st != 0) return st;
     }
     for (b = r->route_batch_first[q]; b < r->route_batch_first[q] + r->route_batch_count[q]; b++) {
-        int n = r->batch_count[b], width = value_width(r->batch_kind[b]);
-        for (i = 0; i < n; i++)
-            memcpy((char *)r->set_scratch + (size_t)width * (size_t)i, &r->cell_raw[r->batch_cell[r->batch_first[b] + i]],
-                   (size_t)width);
+        int n = r->batch_count[b], kind = r->batch_kind[b], width = value_width(kind);
+        const uint32_t *vrs = r->batch_vr + r->batch_first[b];
+        for (i = 0; i < n; i++) {
+            uint64_t raw = r->cell_raw[r->batch_cell[r->batch_first[b] + i]];
+            if (is_bytes(kind)) { /* the copy's bytes (a C string) and size */
+                ((const char **)r->set_scratch)[i] = r->s->arena.data + raw + sizeof(size_t);
+                memcpy(&r->get_sizes[i], r->s->arena.data + raw, sizeof(size_t));
+            } else {
+                memcpy((char *)r->set_scratch + (size_t)width * (size_t)i, &raw, (size_t)width);
+            }
+        }
         *r->s->note_call = r->batch_note[b];
-        st = r->batch_set[b](r->s->instance[w], r->batch_vr + r->batch_first[b], (size_t)n, r->set_scratch, (size_t)n);
+        if (kind == K_BINARY)
+            st = r->batch_set_binary[b](r->s->instance[w], vrs, (size_t)n, r->get_sizes,
+                                        (const uint8_t *const *)r->set_scratch, (size_t)n);
+        else
+            st = r->batch_set[b](r->s->instance[w], vrs, (size_t)n, r->set_scratch, (size_t)n);
         if (st > 1) return st;
         inputs_changed(r, w, r->batch_vr + r->batch_first[b], n);
     }

@@ -79,10 +79,12 @@ typedef struct {
     const int *cell_kind;
     const int *cell_type;    /* the FMI type (one Get call per type) */
     rg_get_fn *cell_get;
+    rg_get_binary_fn *cell_get_binary; /* K_BINARY cells */
     const int32_t *cell_note;
     const bool *cell_output; /* an output: not read again in an instant */
     const uint64_t *cell_mask; /* the clocks (bits of the instance's clock indices) it belongs to */
-    uint64_t *cell_raw;      /* the value as its C type, at the start of 8 bytes */
+    uint64_t *cell_raw;      /* the value as its C type, at the start of 8 bytes (Strings and
+                              * Binaries: the offset of a copy in the stretch's arena) */
     bool *cell_fresh, *cell_live, *cell_need;
     const int *cell_dep_first, *cell_dep_count;
     const uint32_t *dep_vr;
@@ -90,6 +92,7 @@ typedef struct {
     const int *group_first, *group_count, *group_cell;
     uint32_t *get_vrs;       /* one Get call's value references, values and cells */
     uint64_t *get_buffer;
+    size_t *get_sizes;       /* fmi3GetBinary's, and fmi3SetBinary's */
     int *get_cells;
     /* connections: value links (the stretch's operations) and clock routes */
     bool connected;
@@ -105,6 +108,7 @@ typedef struct {
     const int *batch_kind, *batch_first, *batch_count;
     const int *batch_cell;   /* per value of a batch: the source cell, the target's value reference */
     const uint32_t *batch_vr;
+    rg_set_binary_fn *batch_set_binary;
     uint64_t *set_scratch;
     bool *forwarded;         /* per watched output clock: forwarded in this instant */
     bool *queued, *woken;    /* per instance: the worklist of an instant, the targets of one instance */
@@ -213,11 +217,21 @@ static int clocked_values(rg_run *r, int u, const int *cells, int n_cells)
                 r->get_cells[n++] = cells[j];
             }
         *r->s->note_call = r->cell_note[c];
-        st = r->cell_get[c](r->s->instance[u], r->get_vrs, (size_t)n, r->get_buffer, (size_t)n);
+        if (r->cell_kind[c] == K_BINARY)
+            st = r->cell_get_binary[c](r->s->instance[u], r->get_vrs, (size_t)n, r->get_sizes,
+                                       (const uint8_t **)r->get_buffer, (size_t)n);
+        else
+            st = r->cell_get[c](r->s->instance[u], r->get_vrs, (size_t)n, r->get_buffer, (size_t)n);
         if (st > 1) return st;
         for (j = 0; j < n; j++) {
             int d = r->get_cells[j];
-            memcpy(&r->cell_raw[d], (const char *)r->get_buffer + (size_t)width * (size_t)j, (size_t)width);
+            if (is_bytes(r->cell_kind[d])) { /* copied at once: a later call may free what it points to */
+                const char *data = ((const char *const *)r->get_buffer)[j];
+                size_t size = data == NULL ? 0 : r->cell_kind[d] == K_STRING ? strlen(data) : r->get_sizes[j];
+                if ((r->cell_raw[d] = keep_bytes(&r->s->arena, data == NULL ? "" : data, size)) == UINT64_MAX) return -1;
+            } else {
+                memcpy(&r->cell_raw[d], (const char *)r->get_buffer + (size_t)width * (size_t)j, (size_t)width);
+            }
             r->cell_need[d] = false;
             if (r->cell_output[d]) r->cell_fresh[d] = true;
         }
@@ -253,7 +267,9 @@ static bool text_cell(rg_run *r, int c)
         put(&s->text, ref >= 0 && r->active[ref] ? "1" : "0", 1);
         return true;
     }
-    return !r->cell_live[ref] || number_cell(&s->text, r->cell_kind[ref], &r->cell_raw[ref], 0);
+    if (!r->cell_live[ref]) return true;
+    if (is_bytes(r->cell_kind[ref])) return bytes_cell(&s->text, r->cell_kind[ref], &s->arena, r->cell_raw[ref]);
+    return number_cell(&s->text, r->cell_kind[ref], &r->cell_raw[ref], 0);
 }
 
 static bool text_line(rg_run *r, double t, int k)
@@ -286,7 +302,7 @@ static void slot_line(rg_run *r, uint64_t *slots, uint8_t *present)
         } else if (r->column_kind[c] == COL_CLOCK) {
             slots[c] = ref >= 0 && r->active[ref];
         } else if ((present[c] = r->cell_live[ref]) != 0) {
-            slots[c] = slot_of(r->cell_kind[ref], &r->cell_raw[ref], 0);
+            slots[c] = is_bytes(r->cell_kind[ref]) ? r->cell_raw[ref] : slot_of(r->cell_kind[ref], &r->cell_raw[ref], 0);
         }
     }
 }

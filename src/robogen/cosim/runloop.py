@@ -2,11 +2,11 @@
 included, for the systems it covers; the master's Python loop computes the same results.
 
 It covers a system whose instances the C stretch (:mod:`robogen.cosim.stepper`) can step and read
-(FMUs in this process, no trace, recorded types it reads), run without pacing and without an
-events log, where at most one FMU may return early (no rollback), and the time-based input clocks
-are periodic ones of FMUs in Event Mode; each FMU has at most 64 clocks, and the clocked variables
-recorded or carried by clock connections are numbers or Booleans (set as the type they were read
-as). Anything else runs in the master's Python loop (``ROBOGEN_NO_C_STEPPER`` switches the C loops
+(FMUs in this process, no trace, recorded types it reads), run without pacing, where at most one
+FMU may return early (no rollback) and the time-based input clocks are periodic ones of FMUs in
+Event Mode; each FMU has at most 64 clocks; the clocked variables carried by clock connections are
+set as the type they were read as, and those the events log shows are numbers or Booleans.
+Anything else runs in the master's Python loop (``ROBOGEN_NO_C_STEPPER`` switches the C loops
 off). :meth:`CRun.for_master` says which.
 
 Python is entered once per chunk of rows (at most :data:`~robogen.cosim.stepper.CHUNK`, or the
@@ -89,6 +89,7 @@ ffi.cdef(
         const int *cell_kind;
         const int *cell_type;
         rg_get_fn *cell_get;
+        rg_get_binary_fn *cell_get_binary;
         const int32_t *cell_note;
         const bool *cell_output;
         const uint64_t *cell_mask;
@@ -100,6 +101,7 @@ ffi.cdef(
         const int *group_first, *group_count, *group_cell;
         uint32_t *get_vrs;
         uint64_t *get_buffer;
+        size_t *get_sizes;
         int *get_cells;
         bool connected;
         int n_exchange_ops;
@@ -114,6 +116,7 @@ ffi.cdef(
         const int *batch_kind, *batch_first, *batch_count;
         const int *batch_cell;
         const uint32_t *batch_vr;
+        rg_set_binary_fn *batch_set_binary;
         uint64_t *set_scratch;
         bool *forwarded;
         bool *queued, *woken;
@@ -178,22 +181,23 @@ def _clocks(u) -> list[int]:
 
 
 def _batch_types(master):
-    """The FMI types of the clocked variables the C loop reads (recorded, or carried by a clock
-    connection) and sets (their targets), with the instance of each."""
+    """The FMI types of the clocked variables the C loop reads (recorded, carried by a clock
+    connection, shown in the events log) and sets (their targets), with the instance of each, and
+    whether it may be a String or a Binary (not in the events log)."""
     for u, cells in master._clocked_columns:
         for _position, var, _clocks_of in cells:
-            yield u, var.type, "fmi3Get"
+            yield u, var.type, "fmi3Get", True
     for (source, _vr), routes in master._routes.items():
         for target, _clock, sources, batches in routes:
             for var in sources:
-                yield master.by_name[source], var.type, "fmi3Get"
+                yield master.by_name[source], var.type, "fmi3Get", True
             for fmi_type, _vrs, _indices in batches:
-                yield target, fmi_type, "fmi3Set"
+                yield target, fmi_type, "fmi3Set", True
     if master._events_logged:
         for u in master.instances:
             for variables in master._event_values[u.name].values():
                 for var in variables:
-                    yield u, var.type, "fmi3Get"
+                    yield u, var.type, "fmi3Get", False
 
 
 def _covered(master) -> bool:
@@ -206,8 +210,10 @@ def _covered(master) -> bool:
         return False
     if any(u.binding.raw(f) is None for u in master.instances for f in _MODE_FUNCTIONS):
         return False
-    for u, fmi_type, function in _batch_types(master):
-        if kind(fmi_type) is None or fmi_type in ("String", "Binary") or u.binding.raw(function + ACCESSOR[fmi_type]) is None:
+    for u, fmi_type, function, bytes_too in _batch_types(master):
+        if kind(fmi_type) is None or u.binding.raw(function + ACCESSOR[fmi_type]) is None:
+            return False
+        if fmi_type in ("String", "Binary") and not bytes_too:
             return False
     for link in master.links:  # a clocked value is set as it was read
         if link.src.is_clocked and not link.src.is_clock and kind(link.src.type) != kind(link.dst.type):
@@ -289,7 +295,9 @@ class CRun:
         r.term_who = -1
         r.next_time = m._next_event
         # a CSV file: on disk after every event iteration (written by the loop, or flushed by Python)
-        r.fd = m.recorder.text_file() if stretch.mode == Mode.TEXT else -1
+        # (not with String columns: Python writes them, as UTF-8 decoded with replacement characters)
+        strings = any(c.variable.type == "String" for c in m.wiring.columns)
+        r.fd = m.recorder.text_file() if stretch.mode == Mode.TEXT and not strings else -1
         r.pause_at_events = r.fd < 0 and m.recorder.flush_due != math.inf
         r.events_fd = m.recorder.events_file()
         return ffi.gc(r, lambda pointer, _keep=self._keep, _lib=stretch.lib: _lib.rg_run_release(pointer))
@@ -376,7 +384,11 @@ class CRun:
         r.cell_vr = self._array("uint32_t[]", [var.value_reference for _u, var in cells] or [0])
         r.cell_kind = self._array("int[]", [kind(var.type) for _u, var in cells] or [0])
         r.cell_type = self._array("int[]", [types.setdefault(var.type, len(types)) for _u, var in cells] or [0])
-        r.cell_get = self.stretch._pointers("rg_get_fn[]", [u.binding.raw(g) for (u, _v), g in zip(cells, getters)])
+        binary = [var.type == "Binary" for _u, var in cells]
+        raw = [u.binding.raw(g) for (u, _v), g in zip(cells, getters)]
+        r.cell_get = self.stretch._pointers("rg_get_fn[]", [ffi.NULL if b else f for f, b in zip(raw, binary)])
+        r.cell_get_binary = self.stretch._pointers("rg_get_binary_fn[]", [f if b else ffi.NULL for f, b in zip(raw, binary)])
+        r.get_sizes = self._array("size_t[]", max(1, len(cells)))
         r.cell_note = self._array("int32_t[]", [u.binding.note_code(g) for (u, _v), g in zip(cells, getters)] or [0])
         r.cell_output = self._array("bool[]", [var.causality == "output" for _u, var in cells] or [False])
         masks = [sum(1 << _clocks(u).index(c) for c in set(var.clocks) if c in _clocks(u)) for u, var in cells]
@@ -448,7 +460,10 @@ class CRun:
         r.route_batch_first = self._array("int[]", [sum(per_route[:q]) for q in range(len(per_route))] or [0])
         r.route_batch_count = self._array("int[]", per_route or [0])
         setters = ["fmi3Set" + ACCESSOR[fmi_type] for _t, (fmi_type, _v, _i), _c in batches]
-        r.batch_set = stretch._pointers("rg_set_fn[]", [t.binding.raw(f) for (t, _b, _c), f in zip(batches, setters)])
+        raw = [t.binding.raw(f) for (t, _b, _c), f in zip(batches, setters)]
+        binary = [fmi_type == "Binary" for _t, (fmi_type, _v, _i), _c in batches]
+        r.batch_set = stretch._pointers("rg_set_fn[]", [ffi.NULL if b else f for f, b in zip(raw, binary)])
+        r.batch_set_binary = stretch._pointers("rg_set_binary_fn[]", [f if b else ffi.NULL for f, b in zip(raw, binary)])
         r.batch_note = self._array("int32_t[]", [t.binding.note_code(f) for (t, _b, _c), f in zip(batches, setters)] or [0])
         r.batch_kind = self._array("int[]", [kind(fmi_type) for _t, (fmi_type, _v, _i), _c in batches] or [0])
         sizes = [len(vrs) for _t, (_f, vrs, _i), _c in batches]
@@ -561,11 +576,13 @@ class CRun:
                 columns.append(views["Q"][c:count * width:width].tolist())
                 continue
             values = views[_FORMAT[slot_kind]][c:count * width:width].tolist()
-            if slot_kind == stepper._BOOL:
-                values = list(map(bool, values))
-            elif slot_kind in (stepper._STRING, stepper._BINARY):
-                values = self.stretch._copies(values, slot_kind == stepper._STRING)
-            if column_kind == CLOCKED:
+            if column_kind == CLOCKED:  # an empty cell's slot holds nothing
                 values = [v if p else None for v, p in zip(values, present[c::width])]
+            if slot_kind == stepper._BOOL:
+                values = [v if v is None else bool(v) for v in values]
+            elif slot_kind in (stepper._STRING, stepper._BINARY):
+                shown = [v for v in values if v is not None]
+                copies = iter(self.stretch._copies(shown, slot_kind == stepper._STRING))
+                values = [v if v is None else next(copies) for v in values]
             columns.append(values)
         return list(map(list, zip(*columns))) if columns else [list(r) for r in repeat([], count)]

@@ -148,10 +148,11 @@ static bool reserve(rg_bytes *b, size_t more)
 static uint64_t keep_bytes(rg_bytes *arena, const void *data, size_t size)
 {
     uint64_t offset = arena->used;
-    if (!reserve(arena, sizeof(size_t) + size)) return UINT64_MAX;
+    if (!reserve(arena, sizeof(size_t) + size + 1)) return UINT64_MAX;
     memcpy(arena->data + arena->used, &size, sizeof(size_t));
     if (size) memcpy(arena->data + arena->used + sizeof(size_t), data, size);
-    arena->used += sizeof(size_t) + size;
+    arena->data[arena->used + sizeof(size_t) + size] = '\0'; /* a String's copy is a C string */
+    arena->used += sizeof(size_t) + size + 1;
     return offset;
 }
 
@@ -499,17 +500,14 @@ static bool number_cell(rg_bytes *b, int kind, const void *buffer, size_t i)
     return true;
 }
 
-/* A recorded value's CSV cell; false when memory runs out. */
-static bool cell(rg_stretch *s, int r, size_t i)
+/* The CSV cell of a String or Binary copied to the arena at `offset`; false when memory runs out. */
+static bool bytes_cell(rg_bytes *b, int kind, const rg_bytes *arena, uint64_t offset)
 {
     static const char hex[] = "0123456789abcdef";
-    rg_bytes *b = &s->text;
     const char *data;
     size_t size, j;
-    int kind = s->kind[r];
-    if (!is_bytes(kind)) return number_cell(b, kind, s->buffer[r], i);
-    memcpy(&size, s->arena.data + s->copies[r][i], sizeof size);
-    data = s->arena.data + s->copies[r][i] + sizeof size;
+    memcpy(&size, arena->data + offset, sizeof size);
+    data = arena->data + offset + sizeof size;
     if (!reserve(b, 2 * size + 2)) return false;
     if (kind == K_BINARY) {
         put(b, "0x", 2);
@@ -526,6 +524,14 @@ static bool cell(rg_stretch *s, int r, size_t i)
     }
     b->data[b->used++] = '"';
     return true;
+}
+
+/* A recorded value's CSV cell; false when memory runs out. */
+static bool cell(rg_stretch *s, int r, size_t i)
+{
+    int kind = s->kind[r];
+    if (!is_bytes(kind)) return number_cell(&s->text, kind, s->buffer[r], i);
+    return bytes_cell(&s->text, kind, &s->arena, s->copies[r][i]);
 }
 
 /* The CSV line of the point t: time, superdense 0, the recorded columns; false when memory runs
