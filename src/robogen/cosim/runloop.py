@@ -29,7 +29,7 @@ import math
 import os
 import time
 from enum import IntEnum
-from itertools import repeat
+from itertools import accumulate
 
 from robogen.cosim import stepper
 from robogen.cosim.fmi3 import ACCESSOR, FUNCTIONS
@@ -176,6 +176,11 @@ class End(IntEnum):
     WRITE = 6  # the results file cannot be written
 
 
+def _starts(counts: list[int]) -> list[int]:
+    """Where each of consecutive runs of these lengths starts, and where the last ends."""
+    return [0, *accumulate(counts)]
+
+
 def _clocks(u) -> list[int]:
     return sorted(v.value_reference for v in u.md.variables if v.is_clock)
 
@@ -314,7 +319,7 @@ class CRun:
 
     def _clock_arrays(self, r, instances) -> None:
         clocks = [_clocks(u) for u in instances]
-        first = [sum(len(c) for c in clocks[:i]) for i in range(len(instances) + 1)]
+        first = _starts([len(c) for c in clocks])
         self.clock_index = {(u.name, vr): first[i] + j for i, u in enumerate(instances) for j, vr in enumerate(clocks[i])}
         total = first[-1]
         r.clock_first = self._array("int[]", first)
@@ -322,7 +327,7 @@ class CRun:
         r.clock_vr = self._array("uint32_t[]", [vr for c in clocks for vr in c] or [0])
         r.active, r.ticked = self._array("bool[]", max(1, total)), self._array("bool[]", max(1, total))
         outs = [u.out_clocks for u in instances]
-        self.out_first = [sum(len(o) for o in outs[:i]) for i in range(len(instances) + 1)]
+        self.out_first = _starts([len(o) for o in outs])
         r.out_first = self._array("int[]", self.out_first)
         r.out_count = self._array("int[]", [len(o) for o in outs] or [0])
         r.out_vr = self._array("uint32_t[]", [vr for o in outs for vr in o] or [0])
@@ -405,7 +410,7 @@ class CRun:
         r.get_vrs, r.get_cells, r.route_scratch = (self._array("uint32_t[]", size), self._array("int[]", size),
                                                    self._array("int[]", size))
         r.n_groups = len(groups)
-        r.group_first = self._array("int[]", [sum(map(len, groups[:i])) for i in range(len(groups))] or [0])
+        r.group_first = self._array("int[]", _starts([len(g) for g in groups])[:-1] or [0])
         r.group_count = self._array("int[]", [len(g) for g in groups] or [0])
         r.group_cell = self._array("int[]", [c for g in groups for c in g] or [0])
 
@@ -434,30 +439,34 @@ class CRun:
         self.edges: dict[tuple[int, int], int] = {}
         layout, instances = stretch.layout, m.instances
         r.connected = bool(m._routes) or m.values.connected
-        owner_of_read = [index[next(u.name for u in instances if u.binding is rd.binding)] for rd in layout.reads]
+        by_binding = {id(u.binding): i for i, u in enumerate(instances)}
+        owner_of_read = [by_binding[id(rd.binding)] for rd in layout.reads]
         r.n_exchange_ops = n_exchange = len(layout.ops) - len(stretch.plan.reads)
         owners = [owner_of_read[op] if op >= 0 else owner_of_read[layout.groups[-1 - op].links[0][0]]
                   for op in layout.ops[:n_exchange]]
-        r.op_first = self._array("int[]", [owners.index(i) if i in owners else 0 for i in range(len(instances))] or [0])
-        r.op_count = self._array("int[]", [owners.count(i) for i in range(len(instances))] or [0])
+        op_first, op_count = [0] * len(instances), [0] * len(instances)
+        for k, owner in reversed(list(enumerate(owners))):  # an instance's operations are consecutive
+            op_first[owner] = k
+            op_count[owner] += 1
+        r.op_first, r.op_count = self._array("int[]", op_first or [0]), self._array("int[]", op_count or [0])
         group_owner = {-1 - op: owner for op, owner in zip(layout.ops, owners) if op < 0}
         r.set_target = self._array("int[]", [index[g.target.name] for g in layout.groups] or [0])
         r.set_edge = self._array("int[]", [self._edge(group_owner[i], index[g.target.name])
                                            for i, g in enumerate(layout.groups)] or [0])
         routes = [(index[u.name], route) for u in instances for vr in u.out_clocks for route in m._routes.get((u.name, vr), ())]
         counts = [len(m._routes.get((u.name, vr), ())) for u in instances for vr in u.out_clocks]
-        r.route_first = self._array("int[]", [sum(counts[:j]) for j in range(len(counts))] or [0])
+        r.route_first = self._array("int[]", _starts(counts)[:-1] or [0])
         r.route_count = self._array("int[]", counts or [0])
         r.route_target = self._array("int[]", [index[t.name] for _u, (t, _c, _s, _b) in routes] or [0])
         r.route_clock = self._array("int[]", [self.clock_index[t.name, c] for _u, (t, c, _s, _b) in routes] or [0])
         r.route_edge = self._array("int[]", [self._edge(u, index[t.name]) for u, (t, _c, _s, _b) in routes] or [0])
         sources = [[self.cell_of[instances[u].name, v.value_reference] for v in s] for u, (_t, _c, s, _b) in routes]
-        r.route_source_first = self._array("int[]", [sum(map(len, sources[:q])) for q in range(len(sources))] or [0])
+        r.route_source_first = self._array("int[]", _starts([len(x) for x in sources])[:-1] or [0])
         r.route_source_count = self._array("int[]", [len(x) for x in sources] or [0])
         r.route_source = self._array("int[]", [c for x in sources for c in x] or [0])
         batches = [(t, b, cells) for (_u, (t, _c, _s, bs)), cells in zip(routes, sources) for b in bs]
         per_route = [len(bs) for _u, (_t, _c, _s, bs) in routes]
-        r.route_batch_first = self._array("int[]", [sum(per_route[:q]) for q in range(len(per_route))] or [0])
+        r.route_batch_first = self._array("int[]", _starts(per_route)[:-1] or [0])
         r.route_batch_count = self._array("int[]", per_route or [0])
         setters = ["fmi3Set" + ACCESSOR[fmi_type] for _t, (fmi_type, _v, _i), _c in batches]
         raw = [t.binding.raw(f) for (t, _b, _c), f in zip(batches, setters)]
@@ -467,7 +476,7 @@ class CRun:
         r.batch_note = self._array("int32_t[]", [t.binding.note_code(f) for (t, _b, _c), f in zip(batches, setters)] or [0])
         r.batch_kind = self._array("int[]", [kind(fmi_type) for _t, (fmi_type, _v, _i), _c in batches] or [0])
         sizes = [len(vrs) for _t, (_f, vrs, _i), _c in batches]
-        r.batch_first = self._array("int[]", [sum(sizes[:b]) for b in range(len(sizes))] or [0])
+        r.batch_first = self._array("int[]", _starts(sizes)[:-1] or [0])
         r.batch_count = self._array("int[]", sizes or [0])
         r.batch_cell = self._array("int[]", [cells[i] for _t, (_f, _v, indices), cells in batches for i in indices] or [0])
         r.batch_vr = self._array("uint32_t[]", [vr for _t, (_f, vrs, _i), _c in batches for vr in vrs] or [0])
@@ -585,4 +594,4 @@ class CRun:
                 copies = iter(self.stretch._copies(shown, slot_kind == stepper._STRING))
                 values = [v if v is None else next(copies) for v in values]
             columns.append(values)
-        return list(map(list, zip(*columns))) if columns else [list(r) for r in repeat([], count)]
+        return list(map(list, zip(*columns)))
