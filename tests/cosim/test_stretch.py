@@ -11,7 +11,7 @@ import struct
 
 import pytest
 
-from robogen.cosim import simulate_system, stepper
+from robogen.cosim import runloop, simulate_system, stepper
 from robogen.cosim.recorder import FLUSH_SECONDS, Recorder
 from robogen.diagnostics import RobogenError
 
@@ -107,9 +107,10 @@ def test_c_stepper_stops_at_a_failing_fmu_with_the_same_error_and_rows(monkeypat
     other = '[instances.t]\nfmu = "{trivial}"\n' if connected else ""
     path = write_system(links + '[experiment]\nstop = 2.0\nstep = 0.1\n[instances.f]\nfmu = "{failer}"\n' + other,
                         name="fail.toml")
-    c_runs = []  # the C stretch's runs (the failure leaves no statistics to tell)
-    original = stepper.CStretch.run
+    c_runs = []  # the C loops' runs (the failure leaves no statistics to tell): the stretch's, or the whole run's
+    original, whole = stepper.CStretch.run, runloop.CRun.run
     monkeypatch.setattr(stepper.CStretch, "run", lambda self, t, horizon: c_runs.append(t) or original(self, t, horizon))
+    monkeypatch.setattr(runloop.CRun, "run", lambda self, progress: c_runs.append(0) or whole(self, progress))
     messages = []
     for loop, keep_rows in (("Python", True), ("C", True), ("C", False)):
         with pytest.raises(RobogenError) as exc:

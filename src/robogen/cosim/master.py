@@ -43,6 +43,7 @@ from robogen.cosim.clocks import grid_index
 from robogen.cosim.fmi3 import CallNotes, FMI3Error, FMUCrashed, StepResult
 from robogen.cosim.instances import FmuInstance
 from robogen.cosim.recorder import Pacer, Progress, Recorder
+from robogen.cosim.runloop import CRun
 from robogen.cosim.stepper import CStretch
 from robogen.cosim.stretch import PythonStretch, Stretch, StretchPlan
 from robogen.cosim.system import Link, System
@@ -118,21 +119,12 @@ class Master:
         with signals.interruptible([SIGINT], only_if_default=True):
             try:
                 self._setup()
-                t = opt.start
-                if self.event_instances:
-                    self._event_iteration(t)
+                whole = None if opt.realtime else CRun.for_master(self, self._plan(progress))
+                if whole is not None:  # the whole run in C
+                    self.stats.stretch = whole.name
+                    t = whole.run(progress)
                 else:
-                    self._record(t, 0, event=False)
-                    self.recorder.flush()
-                # Pacing starts once the system is initialised: loading and instantiating the FMUs
-                # is not simulated time, and must not show as lag.
-                self._pacer = Pacer(opt.realtime, opt.start) if opt.realtime else None
-                self._choose_stretch(progress)
-                while not self._finished(t):
-                    t, event = self._advance(t)
-                    if event:
-                        self._event_mode(t)
-                    progress.update(t)
+                    t = self._run_in_python(progress)
                 self.stats.end_time = t
             except FMI3Error as exc:
                 if signals.caught() is not None:  # the FMU failed because the signal interrupted it
@@ -146,6 +138,26 @@ class Master:
                     if self._pacer is not None:
                         self.stats.realtime = self._pacer.summary()
         return self.stats
+
+    def _run_in_python(self, progress: Progress) -> float:
+        """The run after setup, point after point; the time reached."""
+        opt = self.options
+        t = opt.start
+        if self.event_instances:
+            self._event_iteration(t)
+        else:
+            self._record(t, 0, event=False)
+            self.recorder.flush()
+        # Pacing starts once the system is initialised: loading and instantiating the FMUs
+        # is not simulated time, and must not show as lag.
+        self._pacer = Pacer(opt.realtime, opt.start) if opt.realtime else None
+        self._choose_stretch(progress)
+        while not self._finished(t):
+            t, event = self._advance(t)
+            if event:
+                self._event_mode(t)
+            progress.update(t)
+        return t
 
     def _finished(self, t: float) -> bool:
         return t >= self._stop_limit or self.stats.terminated_by is not None
@@ -179,14 +191,17 @@ class Master:
         C loop where it can run, else the Python one; none where the system has no quiet stretch (an
         FMU that may return early, or an instance without raw C access: a trace, or a binding outside
         this process), and every point goes through the general step."""
-        opt = self.options
-        reads = [r for u in self.wiring.record_reads for r in u.readers]
-        plan = StretchPlan(opt.start, opt.step, self.instances, self.values, reads, self.wiring.columns,
-                           self.recorder, progress, self._pacer, self.notes)
+        plan = self._plan(progress)
         self._stretch = None
         if not any(u.early or u.binding.raw("fmi3DoStep") is None for u in plan.instances):
             self._stretch = CStretch.for_plan(plan) or PythonStretch(plan)
         self.stats.stretch = self._stretch.name if self._stretch is not None else None
+
+    def _plan(self, progress: Progress) -> StretchPlan:
+        opt = self.options
+        reads = [r for u in self.wiring.record_reads for r in u.readers]
+        return StretchPlan(opt.start, opt.step, self.instances, self.values, reads, self.wiring.columns,
+                           self.recorder, progress, self._pacer, self.notes)
 
     # -- time ---------------------------------------------------------------------------------
     def _next_point(self, t: float) -> float:

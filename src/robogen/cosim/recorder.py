@@ -218,6 +218,27 @@ class Recorder:
         if _time.monotonic() > self._flush_due:
             self.flush()
 
+    def text_file(self) -> int:
+        """Where :attr:`takes_text`: the CSV file's descriptor, for a loop that writes lines to it
+        itself, its buffer flushed first (then :meth:`wrote_rows`); else -1."""
+        if not self.takes_text:
+            return -1
+        self.flush()
+        return self._file.fileno()
+
+    def events_file(self) -> int:
+        """The events log's descriptor, its buffer flushed, for a loop that writes events to it
+        itself (as :meth:`event` writes them); -1 without an events log."""
+        if self._events is None:
+            return -1
+        self._events.flush()
+        return self._events.fileno()
+
+    def wrote_rows(self, rows: int) -> None:
+        """``rows`` rows recorded without this recorder: written to the CSV file through
+        :meth:`text_file` (flushed), or going nowhere (:attr:`discards`)."""
+        self.recorded += rows
+
     def event(self, t: float, k: int, fmu: str, clock: str, values: dict) -> None:
         if self._events is not None:
             record = {"time": t, "index": k, "fmu": fmu, "clock": clock, "values": values}

@@ -25,6 +25,7 @@
  * and time. A chunk also ends at a wall-clock deadline, so the rows reach the results file at
  * least that often however slow the FMUs are. */
 #define _POSIX_C_SOURCE 199309L
+#include <errno.h>
 #include <float.h>
 #include <math.h>
 #include <stdbool.h>
@@ -34,6 +35,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include <time.h>
+#include <unistd.h>
 
 typedef int (*rg_do_step_fn)(void *, double, double, bool, bool *, bool *, bool *, double *);
 typedef int (*rg_get_fn)(void *, const uint32_t *, size_t, void *, size_t);
@@ -146,10 +148,11 @@ static bool reserve(rg_bytes *b, size_t more)
 static uint64_t keep_bytes(rg_bytes *arena, const void *data, size_t size)
 {
     uint64_t offset = arena->used;
-    if (!reserve(arena, sizeof(size_t) + size)) return UINT64_MAX;
+    if (!reserve(arena, sizeof(size_t) + size + 1)) return UINT64_MAX;
     memcpy(arena->data + arena->used, &size, sizeof(size_t));
     if (size) memcpy(arena->data + arena->used + sizeof(size_t), data, size);
-    arena->used += sizeof(size_t) + size;
+    arena->data[arena->used + sizeof(size_t) + size] = '\0'; /* a String's copy is a C string */
+    arena->used += sizeof(size_t) + size + 1;
     return offset;
 }
 
@@ -447,9 +450,9 @@ static bool changed(rg_stretch *s, int g, int link, int j, bool *no_memory)
     return true;
 }
 
-/* Group g: the connected inputs whose value changed, in one fmi3Set<Type> call; 0, the failing
- * status, or -1 when memory runs out. */
-static int forward(rg_stretch *s, int g)
+/* Group g: the connected inputs whose value changed, in one fmi3Set<Type> call (*count of them,
+ * their value references in s->set_vrs); 0, the failing status, or -1 when memory runs out. */
+static int forward(rg_stretch *s, int g, int *count)
 {
     int k, n = 0, st;
     bool no_memory = false;
@@ -458,6 +461,7 @@ static int forward(rg_stretch *s, int g)
         if (changed(s, g, link, n, &no_memory)) s->set_vrs[n++] = s->link_vr[link];
         if (no_memory) return -1;
     }
+    *count = n;
     if (n == 0) return 0;
     *s->note_call = s->set_note[g];
     if (s->set_kind[g] == K_BINARY)
@@ -478,30 +482,32 @@ static void put(rg_bytes *b, const char *text, size_t n)
     b->used += n;
 }
 
-/* A recorded value's CSV cell; false when memory runs out. */
-static bool cell(rg_stretch *s, int r, size_t i)
+/* The CSV cell of value i of a buffer of numbers or Booleans of this kind; false when memory
+ * runs out. */
+static bool number_cell(rg_bytes *b, int kind, const void *buffer, size_t i)
 {
-    static const char hex[] = "0123456789abcdef";
-    rg_bytes *b = &s->text;
-    const char *data;
-    size_t size, j;
-    int kind = s->kind[r];
     if (kind == K_F64 || kind == K_F32) {
         if (!reserve(b, 32)) return false;
-        b->used += rg_format_double(b->data + b->used, real_of(kind, s->buffer[r], i));
-        return true;
-    }
-    if (!is_bytes(kind)) {
-        uint64_t v = integer_of(kind, s->buffer[r], i);
+        b->used += rg_format_double(b->data + b->used, real_of(kind, buffer, i));
+    } else {
+        uint64_t v = integer_of(kind, buffer, i);
         if (!reserve(b, 24)) return false;
         if (kind == K_BOOL) put(b, v ? "True" : "False", v ? 4 : 5);
         else if (kind == K_I64 || kind == K_I32 || kind == K_I16 || kind == K_I8)
             b->used += (size_t)sprintf(b->data + b->used, "%lld", (long long)(int64_t)v);
         else b->used += (size_t)sprintf(b->data + b->used, "%llu", (unsigned long long)v);
-        return true;
     }
-    memcpy(&size, s->arena.data + s->copies[r][i], sizeof size);
-    data = s->arena.data + s->copies[r][i] + sizeof size;
+    return true;
+}
+
+/* The CSV cell of a String or Binary copied to the arena at `offset`; false when memory runs out. */
+static bool bytes_cell(rg_bytes *b, int kind, const rg_bytes *arena, uint64_t offset)
+{
+    static const char hex[] = "0123456789abcdef";
+    const char *data;
+    size_t size, j;
+    memcpy(&size, arena->data + offset, sizeof size);
+    data = arena->data + offset + sizeof size;
     if (!reserve(b, 2 * size + 2)) return false;
     if (kind == K_BINARY) {
         put(b, "0x", 2);
@@ -518,6 +524,14 @@ static bool cell(rg_stretch *s, int r, size_t i)
     }
     b->data[b->used++] = '"';
     return true;
+}
+
+/* A recorded value's CSV cell; false when memory runs out. */
+static bool cell(rg_stretch *s, int r, size_t i)
+{
+    int kind = s->kind[r];
+    if (!is_bytes(kind)) return number_cell(&s->text, kind, s->buffer[r], i);
+    return bytes_cell(&s->text, kind, &s->arena, s->copies[r][i]);
 }
 
 /* The CSV line of the point t: time, superdense 0, the recorded columns; false when memory runs
@@ -574,16 +588,15 @@ static void slot_row(rg_stretch *s, uint64_t *row)
     }
 }
 
-/* The exchange and the reads after a step, then its row. 0, or the failing call's status
- * (*why and *who say which), or -1 when memory runs out. */
-static int exchange_and_record(rg_stretch *s, double t, uint64_t *row, int *why, int *who)
+/* The operations first..last-1 (reads, Set groups); 0, or the failing call's status (*why and
+ * *who say which), or -1 when memory runs out. */
+static int run_ops(rg_stretch *s, int first, int last, int *why, int *who)
 {
-    int k, st;
+    int k, st, count;
     bool no_memory = false;
-    if (s->mode == MODE_TEXT) s->arena.used = 0; /* the previous row's copies are written out */
-    for (k = 0; k < s->n_ops; k++) {
+    for (k = first; k < last; k++) {
         int op = s->op[k];
-        st = op >= 0 ? get_values(s, op, &no_memory) : forward(s, -1 - op);
+        st = op >= 0 ? get_values(s, op, &no_memory) : forward(s, -1 - op, &count);
         if (st > 0) {
             *why = op >= 0 ? WHY_GET_FAILED : WHY_SET_FAILED;
             *who = op >= 0 ? op : -1 - op;
@@ -591,6 +604,23 @@ static int exchange_and_record(rg_stretch *s, double t, uint64_t *row, int *why,
         }
         if (no_memory || st < 0) return -1;
     }
+    return 0;
+}
+
+/* The exchange and the reads after a step (or for an instant's row). 0, or the failing call's
+ * status (*why and *who say which), or -1 when memory runs out. */
+static int exchange_and_read(rg_stretch *s, int *why, int *who)
+{
+    if (s->mode == MODE_TEXT) s->arena.used = 0; /* the previous row's copies are written out */
+    return run_ops(s, 0, s->n_ops, why, who);
+}
+
+/* The exchange and the reads after a step, then its row. 0, or the failing call's status
+ * (*why and *who say which), or -1 when memory runs out. */
+static int exchange_and_record(rg_stretch *s, double t, uint64_t *row, int *why, int *who)
+{
+    int st = exchange_and_read(s, why, who);
+    if (st != 0) return st;
     if (s->mode == MODE_SLOTS) slot_row(s, row);
     else if (s->mode == MODE_TEXT && !text_row(s, t)) return -1;
     return 0;

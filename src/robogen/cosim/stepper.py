@@ -166,14 +166,25 @@ def _cache_dir() -> Path:
     return Path(base) / "robogen"
 
 
+#: The C files of the library, compiled as one unit in this order (the run loop uses the stretch's
+#: functions).
+SOURCES = ("stepper.c", "runloop.c", "instants.c")
+
+
+def source() -> bytes:
+    """The library's C source: its files, each from its own line 1 for the compiler's messages."""
+    folder = importlib.resources.files("robogen.cosim")
+    return b"".join(b'#line 1 "%s"\n' % name.encode() + (folder / name).read_bytes() for name in SOURCES)
+
+
 @functools.cache
 def _library():
-    source = (importlib.resources.files("robogen.cosim") / "stepper.c").read_bytes()
-    name = f"stepper-{hashlib.sha256(source).hexdigest()[:16]}.so"
+    source_ = source()
+    name = f"stepper-{hashlib.sha256(source_).hexdigest()[:16]}.so"
     fallback = Path(tempfile.gettempdir()) / f"robogen-{os.getuid() if hasattr(os, 'getuid') else 'user'}"
     for folder in (_cache_dir(), fallback):  # a read-only home still gets the fast loop
         try:
-            return ffi.dlopen(str(_build(source, folder / name)))
+            return ffi.dlopen(str(_build(source_, folder / name)))
         except Exception:  # no compiler, folder not writable, ...: the Python loop does the same work
             continue
     return None
