@@ -53,15 +53,17 @@ import pybullet
 
 from robogen.platforms.kinematics import (
     HOME, IK_SEED, JOINT_LIMIT, MAX_JOINT_SPEED, forward, grid_in_table, grid_pose, inverse, nearest_equivalent,
-    rotation_from_vector, rotation_vector,
+    rotation_from_vector, rotation_vector, rotation_vector_of_rows,
 )
-from robogen.platforms.scene import ArmScene, CollisionProbe, speed_ok
+from robogen.platforms.scene import ArmScene, speed_ok
 from robogen.platforms.urdf import ur5e_urdf
 from robogen.pyfmu import Clock, Float64, FmiUsageError, Int64, Model, Setting, Step
 
 COMPLETION_TOLERANCE = 0.005  # rad, every joint
 STOPPED_SPEED = 0.1  # rad/s, every joint
 EVENTS = ("moveCompleted", "robotStopped", "collision")
+_Q, _DQ = tuple(f"q{i}" for i in range(6)), tuple(f"dq{i}" for i in range(6))
+_NONE: frozenset[str] = frozenset()
 
 
 def _joint_param(i: int) -> Float64:
@@ -164,7 +166,6 @@ class UR5ePlatform(Model):
 
     def setup(self) -> None:
         self._scene: ArmScene | None = None
-        self._probe: CollisionProbe | None = None
         self._scratch: Path | None = None
         self._dirty = True
         self._motions = 0
@@ -198,16 +199,14 @@ class UR5ePlatform(Model):
             if not abs(q) <= limit:
                 raise FmiUsageError(f"initial_q{i} = {q!r} rad is outside the joint's range +-{limit:.6g} rad")
         self._scene = ArmScene(self._urdf(), dt, q0, speed)
-        self._probe = CollisionProbe(self._urdf())
         q, dq = self._scene.joint_states()
         self._evaluate(q, dq, self._scene.in_collision())
         self._dirty = True
 
     def free(self) -> None:
-        for resource in (self._scene, self._probe):
-            if resource is not None:
-                resource.close()
-        self._scene = self._probe = None
+        if self._scene is not None:
+            self._scene.close()
+        self._scene = None
         if self._scratch is not None:
             shutil.rmtree(self._scratch, ignore_errors=True)
             self._scratch = None
@@ -224,17 +223,17 @@ class UR5ePlatform(Model):
         if self._scene is None:  # before the physics exists: the start pose at rest
             q, dq = self._initial_q(), (0.0,) * 6
             flange = forward(q)
-            position, rotation = flange[:3, 3], flange[:3, :3]
+            position, rotation = flange[:3, 3], rotation_vector(flange[:3, :3])
             steps = 0
         else:
             q, dq = self._scene.joint_states()
             position, matrix = self._scene.flange()
-            rotation = np.array(matrix).reshape(3, 3)
+            rotation = rotation_vector_of_rows(matrix)
             steps = self._scene.steps
         for i in range(6):
-            values[f"q{i}"], values[f"dq{i}"] = float(q[i]), float(dq[i])
+            values[_Q[i]], values[_DQ[i]] = float(q[i]), float(dq[i])
         values["ee_x"], values["ee_y"], values["ee_z"] = (float(v) for v in position)
-        values["ee_rx"], values["ee_ry"], values["ee_rz"] = (float(v) for v in rotation_vector(rotation))
+        values["ee_rx"], values["ee_ry"], values["ee_rz"] = (float(v) for v in rotation)
         values["physics_steps"] = steps
         values["motions"] = self._motions
         self._dirty = self._scene is None
@@ -249,6 +248,8 @@ class UR5ePlatform(Model):
             self._pending = False
         stopped = not self._pending and all(abs(v) < STOPPED_SPEED for v in dq)
         now = {"moveCompleted": completed, "robotStopped": stopped, "collision": colliding}
+        if now == self._holds:
+            return _NONE
         rising = {name for name, holds in now.items() if holds and not self._holds[name]}
         self._holds = now
         return rising
@@ -304,7 +305,7 @@ class UR5ePlatform(Model):
                ) -> tuple[tuple[float, ...] | None, str]:
         """A collision-free joint solution for a flange pose, or None and why not. Grid cells
         keep their IK solution (the grid is fixed; the scenario revisits its cells)."""
-        assert self._scene is not None and self._probe is not None
+        assert self._scene is not None
         q_now, _ = self._scene.joint_states()
         solution = self._ik.get(cell) if cell is not None else None
         if solution is None:
@@ -316,7 +317,7 @@ class UR5ePlatform(Model):
             if cell is not None:
                 self._ik[cell] = solution
         q = nearest_equivalent(solution, q_now)
-        if self._probe.collides(q):
+        if self._scene.collides(q):
             return None, "the arm would collide in the target pose"
         return q, ""
 
@@ -391,15 +392,20 @@ class UR5ePlatform(Model):
         early = self.early_return_allowed
         step, client = pybullet.stepSimulation, scene.client  # the hot loop: no method lookups
         while scene.steps < last:
+            if not self._watching():
+                # Only a command makes a condition rise again: the rest of the step unobserved.
+                for _ in range(last - scene.steps):
+                    step(physicsClientId=client)
+                scene.steps = last
+                break
             step(physicsClientId=client)
             scene.steps += 1
-            if self._watching():
-                q, dq = scene.joint_states()
-                rising = self._evaluate(q, dq, scene.in_collision())
-                if rising:
-                    self._edges |= rising
-                    if early:
-                        self._dirty = True
-                        return Step(self.start_time + scene.steps * dt, event=True)
+            q, dq = scene.joint_states()
+            rising = self._evaluate(q, dq, scene.in_collision())
+            if rising:
+                self._edges |= rising
+                if early:
+                    self._dirty = True
+                    return Step(self.start_time + scene.steps * dt, event=True)
         self._dirty = True
         return Step(t + h, event=True) if self._edges else None
