@@ -155,9 +155,6 @@ class UR5ePlatform(Model):
     physics_steps = Int64(causality="output", depends_on=(), description="physics steps simulated so far")
     motions = Int64(causality="output", depends_on=(), description="motions started so far (a repeated identical command is not a new motion)")
 
-    _LIVE = frozenset([*(f"q{i}" for i in range(6)), *(f"dq{i}" for i in range(6)),
-                       "ee_x", "ee_y", "ee_z", "ee_rx", "ee_ry", "ee_rz", "physics_steps", "motions"])
-
     @classmethod
     def package_resources(cls) -> dict[str, bytes]:
         return {"ur5e.urdf": ur5e_urdf().encode("utf-8")}
@@ -167,7 +164,7 @@ class UR5ePlatform(Model):
     def setup(self) -> None:
         self._scene: ArmScene | None = None
         self._scratch: Path | None = None
-        self._dirty = True
+        self.outputs_stale = True
         self._motions = 0
         self._commanded: tuple[float, ...] | None = None  # target of the last motion command
         self._pending = False                             # that motion is under way
@@ -201,7 +198,7 @@ class UR5ePlatform(Model):
         self._scene = ArmScene(self._urdf(), dt, q0, speed)
         q, dq = self._scene.joint_states()
         self._evaluate(q, dq, self._scene.in_collision())
-        self._dirty = True
+        self.outputs_stale = True
 
     def free(self) -> None:
         if self._scene is not None:
@@ -213,12 +210,7 @@ class UR5ePlatform(Model):
 
     # -- outputs --------------------------------------------------------------------------------
 
-    def get(self, name: str):
-        if self._dirty and name in self._LIVE:
-            self._refresh_outputs()
-        return super().get(name)
-
-    def _refresh_outputs(self) -> None:
+    def update_outputs(self) -> None:
         values = self._values
         if self._scene is None:  # before the physics exists: the start pose at rest
             q, dq = self._initial_q(), (0.0,) * 6
@@ -236,7 +228,7 @@ class UR5ePlatform(Model):
         values["ee_rx"], values["ee_ry"], values["ee_rz"] = (float(v) for v in rotation)
         values["physics_steps"] = steps
         values["motions"] = self._motions
-        self._dirty = self._scene is None
+        self.outputs_stale = self._scene is None
 
     # -- events ---------------------------------------------------------------------------------
 
@@ -299,7 +291,7 @@ class UR5ePlatform(Model):
         self._motions += 1
         self._pending = True
         self._scene.apply_targets(self._commanded)
-        self._dirty = True
+        self.outputs_stale = True
 
     def _solve(self, position, rotation, cell: tuple[int, int, int] | None = None
                ) -> tuple[tuple[float, ...] | None, str]:
@@ -405,7 +397,7 @@ class UR5ePlatform(Model):
             if rising:
                 self._edges |= rising
                 if early:
-                    self._dirty = True
+                    self.outputs_stale = True
                     return Step(self.start_time + scene.steps * dt, event=True)
-        self._dirty = True
+        self.outputs_stale = True
         return Step(t + h, event=True) if self._edges else None
