@@ -39,9 +39,12 @@ def _run(query_at: int | None) -> tuple:
         for k in range(60):
             if k == query_at:
                 moving = scene.joint_states()
+                states = pybullet.getJointStates(scene.robot, range(6), physicsClientId=scene.client)
                 assert scene.collides(INTO_PLANE)
                 assert scene.joint_states() == moving  # positions and velocities put back bit for bit
+                assert pybullet.getJointStates(scene.robot, range(6), physicsClientId=scene.client) == states
             pybullet.stepSimulation(physicsClientId=scene.client)
+            scene.steps += 1
         return scene.joint_states()
     finally:
         scene.close()

@@ -73,6 +73,8 @@ class ArmScene:
         self.apply_targets(self.target)
         self.steps = 0  # physics steps done; the owner steps the client (a hot loop) and counts
         self._queried: tuple[int, bool] | None = None  # (steps, in_collision) when collides() last ran
+        self._states_at = -1  # the steps count of self._states, the last joint_states()
+        self._states: tuple[tuple[float, ...], tuple[float, ...]] = ((), ())
 
     # -- motors ---------------------------------------------------------------------------------
 
@@ -90,8 +92,12 @@ class ArmScene:
     # -- reading ------------------------------------------------------------------------------
 
     def joint_states(self) -> tuple[tuple[float, ...], tuple[float, ...]]:
-        states = pybullet.getJointStates(self.robot, JOINTS, physicsClientId=self.client)
-        return tuple(map(_POSITION, states)), tuple(map(_VELOCITY, states))
+        """Joint positions and velocities after the last physics step (read once per step)."""
+        if self._states_at != self.steps:
+            states = pybullet.getJointStates(self.robot, JOINTS, physicsClientId=self.client)
+            self._states = tuple(map(_POSITION, states)), tuple(map(_VELOCITY, states))
+            self._states_at = self.steps
+        return self._states
 
     def in_collision(self) -> bool:
         """Whether the last physics step found the arm touching the plane or itself."""
