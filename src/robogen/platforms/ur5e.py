@@ -44,6 +44,7 @@ are read from the simulation when the importer asks for them.
 from __future__ import annotations
 
 import math
+import operator
 import shutil
 import tempfile
 from pathlib import Path
@@ -64,6 +65,12 @@ STOPPED_SPEED = 0.1  # rad/s, every joint
 EVENTS = ("moveCompleted", "robotStopped", "collision")
 _Q, _DQ = tuple(f"q{i}" for i in range(6)), tuple(f"dq{i}" for i in range(6))
 _NONE: frozenset[str] = frozenset()
+_CLOSE, _SLOW = COMPLETION_TOLERANCE.__gt__, STOPPED_SPEED.__gt__  # x < tolerance (false for NaN)
+
+
+def _within(q, target) -> bool:
+    """Every |q_i - target_i| < COMPLETION_TOLERANCE (evaluated after every watched physics step)."""
+    return all(map(_CLOSE, map(abs, map(operator.sub, q, target))))
 
 
 def _joint_param(i: int) -> Float64:
@@ -235,10 +242,10 @@ class UR5ePlatform(Model):
     def _evaluate(self, q, dq, colliding: bool) -> set[str]:
         """Update the three conditions from the current state; return those that became true."""
         target = self._commanded
-        completed = target is not None and all(abs(a - b) < COMPLETION_TOLERANCE for a, b in zip(q, target))
+        completed = target is not None and _within(q, target)
         if completed:
             self._pending = False
-        stopped = not self._pending and all(abs(v) < STOPPED_SPEED for v in dq)
+        stopped = not self._pending and all(map(_SLOW, map(abs, dq)))
         now = {"moveCompleted": completed, "robotStopped": stopped, "collision": colliding}
         if now == self._holds:
             return _NONE
@@ -360,7 +367,7 @@ class UR5ePlatform(Model):
         assert scene is not None
         q, _ = scene.joint_states()
         target = self._commanded
-        done = target is not None and all(abs(a - b) < COMPLETION_TOLERANCE for a, b in zip(q, target))
+        done = target is not None and _within(q, target)
         scene.apply_targets(target if done else q)
         self._pending = False
         self._discrete = None
