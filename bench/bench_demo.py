@@ -8,20 +8,28 @@ the same physics, measured in the same run (interleaved, medians). Prints, never
   the same 16 joint-space targets applied at the command times, joint states read every 0.5 s;
   the wall time includes connecting and loading the URDF.
 
-Targets: co-simulation / bare <= 1.5, and >= 100x faster than real time.
+Each run's wall time and CPU time of this process (``time.process_time``: the figure that other
+processes on a loaded machine disturb least) are measured; the ratios are of the medians.
+
+Then the cost of the Python FMUs' shim per FMI call: fmi3GetFloat64 of one value and an empty
+fmi3DoStep through the same ctypes functions, on the platform FMU vs robogen's C test FMU
+'ticker' (bench_platform.py's measurement, fewer calls).
+
+Targets (issue 12): co-simulation / bare <= 1.2, and >= 100x faster than real time.
 
     python bench/bench_demo.py [--quick]
 """
 
 from __future__ import annotations
 
+import os
 import statistics
 import sys
 import tempfile
 import time
 from pathlib import Path
 
-from bench_platform import joint_targets, run_bare  # the same bare loop as the platform benchmark
+from bench_platform import joint_targets, per_call_figures, run_bare  # the same bare loop and per-call measurement
 
 from robogen.cosim import simulate_system
 from robogen.platforms.plan import load_plan
@@ -48,19 +56,26 @@ def main() -> int:
         urdf.write_text(ur5e_urdf())
         commands = [(c.time, c.target) for c in load_plan(ROOT / "models" / "ur5e" / "plan.toml").events(until=STOP)]
         targets = joint_targets(commands)
-        cosim, peer = [], []
+        cosim, peer, cosim_cpu, peer_cpu = [], [], [], []
         for i in range(REPEAT):
-            t0 = time.perf_counter()
+            t0, c0 = time.perf_counter(), time.process_time()
             result = simulate_system(system, output=folder / f"results-{i}.csv", keep_rows=False)
             cosim.append(time.perf_counter() - t0)
+            cosim_cpu.append(time.process_time() - c0)
+            c0 = time.process_time()
             wall, steps = run_bare(urdf, targets, include_setup=True)
             peer.append(wall)
+            peer_cpu.append(time.process_time() - c0)
         c, b = statistics.median(cosim), statistics.median(peer)
+        c_cpu, b_cpu = statistics.median(cosim_cpu), statistics.median(peer_cpu)
         s = result.stats
         print(f"  co-simulation (3 FMUs, {s.steps} steps, {s.event_iterations} event iterations, {s.early_returns} early returns):"
-              f" median {c:.3f} s of {REPEAT}  -> {STOP / c:.0f}x faster than real time")
-        print(f"  bare PyBullet loop ({steps} physics steps):  median {b:.3f} s of {REPEAT}")
-        print(f"  ratio co-simulation / bare: {c / b:.2f}  (target <= 1.5)")
+              f" median {c:.3f} s wall, {c_cpu:.3f} s CPU of {REPEAT}  -> {STOP / c:.0f}x faster than real time")
+        print(f"  bare PyBullet loop ({steps} physics steps):  median {b:.3f} s wall, {b_cpu:.3f} s CPU of {REPEAT}")
+        print(f"  ratio co-simulation / bare: {c / b:.2f} wall, {c_cpu / b_cpu:.2f} CPU  (target <= 1.2)")
+        print(f"  load average: {', '.join(f'{x:.2f}' for x in os.getloadavg())}")
+        print("== the Python FMUs' shim per FMI call: platform FMU vs a C FMU (same ctypes calls, same run)")
+        per_call_figures(built.folder / "platform.fmu", folder / "calls", 20_000)
     return 0
 
 

@@ -249,8 +249,8 @@ def per_call(path: Path, directory: str, output: str, h: float, n: int) -> tuple
     return get_time, step_time, batch_time, m
 
 
-def bench_calls(platform: Path, folder: Path) -> None:
-    n = 20_000 if QUICK else 100_000
+def per_call_figures(platform: Path, folder: Path, n: int) -> None:
+    """Print the per-call costs of the platform FMU against the C test FMU (medians of REPEAT runs of n calls)."""
     ticker = load_c_fmus(folder / "c-fmus")
     py_dir = fmpy.extract(str(platform), str(folder / "calls-py"))
     c_dir = fmpy.extract(str(ticker), str(folder / "calls-c"))
@@ -274,7 +274,7 @@ def main() -> int:
         print("2. 100 s of UR5e motion: platform FMU vs bare PyBullet (same run)")
         bench_motion(built["platform"], folder)
         print("3. per-call overhead: Python FMU vs C FMU (same ctypes calls, same run)")
-        bench_calls(built["platform"], folder)
+        per_call_figures(built["platform"], folder, 20_000 if QUICK else 100_000)
     return 0
 
 

@@ -66,7 +66,10 @@ def build_all(out: Path, models: Path = MODELS) -> Built:
     package_py("robogen.platforms.ur5e:UR5ePlatform", out / "platform.fmu", [f"sample_period={float(TIME_UNIT)}"])
     built.timings["package platform.fmu"] = time.perf_counter() - t0
     t0 = time.perf_counter()
-    package_py("robogen.platforms.controller:PlanController", out / "controller.fmu", [f"plan={models / 'plan.toml'}"])
+    # robogen's master honours nextEventTime: the controller need not return early, so that the system has
+    # one early returner (the platform) and the master runs it wholly in C
+    package_py("robogen.platforms.controller:PlanController", out / "controller.fmu",
+               [f"plan={models / 'plan.toml'}", "early_return=false"])
     built.timings["package controller.fmu"] = time.perf_counter() - t0
     built.systems = write_variant_systems(models / "system.toml", out)
     return built

@@ -5,6 +5,7 @@ from __future__ import annotations
 
 
 import pytest
+from fmpy import read_model_description
 from fmpy.validation import validate_fmu as fmpy_validate
 
 from support import pyfmu as testing
@@ -104,3 +105,19 @@ def test_the_plan_has_no_default_and_packaging_without_one_says_so(tmp_path):
     with pytest.raises(RobogenError, match=r"PlanController needs --set plan=VALUE: the setting 'plan' has no default"):
         package("robogen.platforms.controller:PlanController", tmp_path / "c.fmu")
     assert not (tmp_path / "c.fmu").exists()
+
+
+def test_packaged_with_early_return_false_it_declares_none_and_still_keeps_the_planned_times(tmp_path):
+    path = package("robogen.platforms.controller:PlanController", tmp_path / "c.fmu",
+                   [f"plan={PLAN}", "early_return=false"]).path
+    md = read_model_description(str(path))
+    assert md.coSimulation.mightReturnEarlyFromDoStep is False
+    fmu = started(path, early_return=False)
+    *_, defined, next_time = fmu.slave.updateDiscreteStates()
+    assert (defined, next_time) == (True, 5.0)  # the first command's time
+    fmu.slave.enterStepMode()
+    assert fmu.slave.doStep(0.0, next_time) == (True, False, False, 5.0)  # a master honouring nextEventTime
+    fmu.slave.enterEventMode()
+    assert fmu.active("moveDiscreteCommand") == {"moveDiscreteCommand"} and fmu.i64(*TARGETS) == [0, 23, 1]
+    assert not fmu.messages(1)  # on time: no warning
+    fmu.close()

@@ -12,7 +12,7 @@ from hypothesis import strategies as st
 
 from robogen.platforms.kinematics import (
     GRID_ORIENTATION, HOME, IK_SEED, forward, grid_in_table, grid_pose, grid_position, inverse, jacobian,
-    nearest_equivalent, rotation_from_vector, rotation_vector, wrap,
+    nearest_equivalent, rotation_from_vector, rotation_vector, rotation_vector_of_rows, wrap,
 )
 
 SCENARIO = [(0, 23, 1), (3, 20, 2), (8, 10, 0), (1, 13, 0)]
@@ -109,3 +109,14 @@ def test_wrap_and_whole_turns():
     # joint 1 may go to -2 pi; the elbow (joint 3) stays within +-pi
     assert nearest_equivalent([3.0, 0, 3.0, 0, 0, 0], [-3.0, 0, -3.0, 0, 0, 0]) == pytest.approx(
         [3.0 - 2 * math.pi, 0, 3.0, 0, 0, 0])
+
+
+def test_rotation_vector_of_rows_is_rotation_vector_bit_for_bit():
+    rng = np.random.default_rng(7)
+    cases = [rng.normal(size=3) * s for s in (1e-3, 1.0, 2.0)] + [np.array([0.0, math.pi - 1e-3, 0.0]), np.zeros(3)]
+    for _ in range(200):
+        cases.append(rng.normal(size=3))
+    for v in cases:
+        matrix = rotation_from_vector(v)
+        expected = tuple(float(x) for x in rotation_vector(matrix))
+        assert rotation_vector_of_rows(tuple(matrix.ravel())) == expected

@@ -6,7 +6,7 @@ from __future__ import annotations
 import pytest
 
 from pyfmu_fixture_models import Counter, TwoInstants
-from robogen.pyfmu.model import FmiUsageError
+from robogen.pyfmu.model import Float64, FmiUsageError, Model
 from robogen.pyfmu.slave import Slave, State
 
 VR = {v.name: v.vr for v in Counter.variables()}
@@ -259,3 +259,37 @@ def test_terminate_then_reset_gives_a_fresh_instance():
     assert slave.state is State.INSTANTIATED
     slave.enter_initialization_mode(None, 0.0, None)
     assert get(slave, "total") == 0
+
+
+class _Lazy(Model):
+    """Outputs computed on demand through update_outputs: ``square`` of the input ``x``."""
+
+    x = Float64(2.0, causality="input")
+    gain = Float64(1.0, causality="parameter", variability="tunable")
+    square = Float64(causality="output", depends_on=("x",))
+    doubled = Float64(causality="output", depends_on=("x",))
+
+    def setup(self) -> None:
+        self.updates = 0
+        self.outputs_stale = True
+
+    def set(self, name, value) -> None:
+        super().set(name, value)
+        self.outputs_stale = True
+
+    def update_outputs(self) -> None:
+        self.updates += 1
+        self.square, self.doubled = self.x * self.x, 2 * self.x
+        self.outputs_stale = False
+
+
+def test_update_outputs_runs_once_before_outputs_are_read_and_only_while_stale():
+    slave = Slave(_Lazy, event_mode_used=False)
+    slave.enter_initialization_mode(None, 0.0, None)
+    vr = {v.name: v.vr for v in _Lazy.variables()}
+    read = lambda *names: slave.get("fmi3GetFloat64", "Float64", [vr[n] for n in names])  # noqa: E731
+    assert read("x", "gain") == [2.0, 1.0] and slave.model.updates == 0  # no output read: no update
+    assert read("square", "doubled") == [4.0, 4.0] and slave.model.updates == 1
+    assert read("doubled") == [4.0] and slave.model.updates == 1  # not stale: served as computed
+    slave.set("fmi3SetFloat64", "Float64", [vr["x"]], [3.0])
+    assert read("doubled", "square", "x") == [6.0, 9.0, 3.0] and slave.model.updates == 2

@@ -10,6 +10,9 @@ outputs ``moveDiscreteCommand.target_X/Y/Z`` at its exact time: ``fmi3UpdateDisc
 announces it as ``nextEventTime`` and the command is raised in the first Event Mode at or after
 that time. A master that steps past it anyway is stopped by an early return at the command time
 (when allowed; otherwise the command is raised late, at the end of the step, with a warning).
+``--set early_return=false`` declares ``mightReturnEarlyFromDoStep="false"`` instead: for masters
+that honour ``nextEventTime`` (robogen's does), which then need no early-return handling for this
+FMU (robogen's master runs a system with at most one FMU that may return early wholly in C).
 Two commands at the same time take two event instants (``discreteStatesNeedUpdate``).
 
 The platform's events can be connected to the controller's triggered input clocks of the same
@@ -47,6 +50,12 @@ class PlanController(Model):
     default_experiment = {"startTime": 0.0, "stopTime": 100.0, "stepSize": 0.5}
 
     plan = Setting(str, "the plan file (TOML), copied into the FMU")
+    early_return = Setting(True, "declare mightReturnEarlyFromDoStep: stop a master that steps past a command at "
+                                 "its time (false: for a master that honours nextEventTime)")
+
+    def __init_subclass__(cls, **kwargs) -> None:
+        super().__init_subclass__(**kwargs)
+        cls.might_return_early = bool(cls.early_return)  # the packaged setting (Model.configured's subclass)
 
     moveDiscreteCommand = Clock(kind="triggered", causality="output", depends_on=(),
                                 description="a planned move command (raised by time)")

@@ -14,11 +14,18 @@ Joints are position controlled (PyBullet's constraint motor) with the UR5e torqu
 common speed limit. Contacts count as a collision when two bodies (or two links of the arm that
 are not neighbours) touch or penetrate: contact distance <= 0. The base and the shoulder link
 rest on the plane by construction, so those two pairs are filtered out.
+
+Whether a joint configuration would collide is asked of the same client (:meth:`ArmScene.collides`):
+the arm is posed there, contacts detected, and its joint positions and velocities put back
+exactly (a fixed-base arm's whole dynamic state), so the physics that follows is the one it
+would have been. No second client: connecting one and building its plane costs about as much
+CPU as a whole second of simulated motion.
 """
 
 from __future__ import annotations
 
 import math
+from operator import itemgetter
 from pathlib import Path
 from typing import Sequence
 
@@ -34,6 +41,7 @@ GRAVITY = 9.81
 # far below the 0.005 rad completion tolerance.
 POSITION_GAIN = 0.3
 VELOCITY_GAIN = 1.0
+_POSITION, _VELOCITY = itemgetter(0), itemgetter(1)  # of a getJointStates entry
 
 
 SELF_COLLISION = pybullet.URDF_USE_SELF_COLLISION | pybullet.URDF_USE_SELF_COLLISION_EXCLUDE_PARENT
@@ -64,6 +72,9 @@ class ArmScene:
         self.target = tuple(float(q) for q in q_initial)
         self.apply_targets(self.target)
         self.steps = 0  # physics steps done; the owner steps the client (a hot loop) and counts
+        self._queried: tuple[int, bool] | None = None  # (steps, in_collision) when collides() last ran
+        self._states_at = -1  # the steps count of self._states, the last joint_states()
+        self._states: tuple[tuple[float, ...], tuple[float, ...]] = ((), ())
 
     # -- motors ---------------------------------------------------------------------------------
 
@@ -81,41 +92,46 @@ class ArmScene:
     # -- reading ------------------------------------------------------------------------------
 
     def joint_states(self) -> tuple[tuple[float, ...], tuple[float, ...]]:
-        states = pybullet.getJointStates(self.robot, JOINTS, physicsClientId=self.client)
-        return tuple(s[0] for s in states), tuple(s[1] for s in states)
+        """Joint positions and velocities after the last physics step (read once per step)."""
+        if self._states_at != self.steps:
+            states = pybullet.getJointStates(self.robot, JOINTS, physicsClientId=self.client)
+            self._states = tuple(map(_POSITION, states)), tuple(map(_VELOCITY, states))
+            self._states_at = self.steps
+        return self._states
 
     def in_collision(self) -> bool:
+        """Whether the last physics step found the arm touching the plane or itself."""
+        if self._queried is not None and self._queried[0] == self.steps:
+            return self._queried[1]  # a query since that step replaced the contacts PyBullet holds
+        return self._contact()
+
+    def _contact(self) -> bool:
         for contact in pybullet.getContactPoints(bodyA=self.robot, physicsClientId=self.client):
             if contact[8] <= 0.0:
                 return True
         return False
+
+    def collides(self, q: Sequence[float]) -> bool:
+        """Whether the arm posed at ``q`` touches the plane or itself (contact distance <= 0); the
+        arm's joint positions and velocities are restored bit for bit afterwards, and
+        :meth:`in_collision` answers for the arm's own pose until the next step."""
+        cid, robot = self.client, self.robot
+        if self._queried is None or self._queried[0] != self.steps:
+            self._queried = (self.steps, self._contact())
+        states = pybullet.getJointStates(robot, JOINTS, physicsClientId=cid)
+        for j, value in zip(JOINTS, q):
+            pybullet.resetJointState(robot, j, value, 0.0, physicsClientId=cid)
+        pybullet.performCollisionDetection(physicsClientId=cid)
+        hit = any(c[8] <= 0.0 for c in pybullet.getContactPoints(bodyA=robot, physicsClientId=cid))
+        for j, state in zip(JOINTS, states):
+            pybullet.resetJointState(robot, j, state[0], state[1], physicsClientId=cid)
+        return hit
 
     def flange(self) -> tuple[tuple[float, float, float], tuple[float, ...]]:
         """Position and rotation matrix (row-major 9-tuple) of tool0 in the base frame."""
         state = pybullet.getLinkState(self.robot, TOOL_LINK, computeForwardKinematics=True,
                                       physicsClientId=self.client)
         return state[4], pybullet.getMatrixFromQuaternion(state[5], physicsClientId=self.client)
-
-    def close(self) -> None:
-        if self.client >= 0:
-            pybullet.disconnect(physicsClientId=self.client)
-            self.client = -1
-
-
-class CollisionProbe:
-    """A second, never stepped client holding a copy of the arm and the plane, to ask whether
-    a joint configuration collides without touching the running simulation."""
-
-    def __init__(self, urdf: Path) -> None:
-        self.client = pybullet.connect(pybullet.DIRECT)
-        self.robot, self.plane = _load_arm(self.client, urdf, SELF_COLLISION)
-
-    def collides(self, q: Sequence[float]) -> bool:
-        cid = self.client
-        for j, value in zip(JOINTS, q):
-            pybullet.resetJointState(self.robot, j, value, 0.0, physicsClientId=cid)
-        pybullet.performCollisionDetection(physicsClientId=cid)
-        return any(c[8] <= 0.0 for c in pybullet.getContactPoints(bodyA=self.robot, physicsClientId=cid))
 
     def close(self) -> None:
         if self.client >= 0:

@@ -44,6 +44,7 @@ are read from the simulation when the importer asks for them.
 from __future__ import annotations
 
 import math
+import operator
 import shutil
 import tempfile
 from pathlib import Path
@@ -53,15 +54,23 @@ import pybullet
 
 from robogen.platforms.kinematics import (
     HOME, IK_SEED, JOINT_LIMIT, MAX_JOINT_SPEED, forward, grid_in_table, grid_pose, inverse, nearest_equivalent,
-    rotation_from_vector, rotation_vector,
+    rotation_from_vector, rotation_vector, rotation_vector_of_rows,
 )
-from robogen.platforms.scene import ArmScene, CollisionProbe, speed_ok
+from robogen.platforms.scene import ArmScene, speed_ok
 from robogen.platforms.urdf import ur5e_urdf
 from robogen.pyfmu import Clock, Float64, FmiUsageError, Int64, Model, Setting, Step
 
 COMPLETION_TOLERANCE = 0.005  # rad, every joint
 STOPPED_SPEED = 0.1  # rad/s, every joint
 EVENTS = ("moveCompleted", "robotStopped", "collision")
+_Q, _DQ = tuple(f"q{i}" for i in range(6)), tuple(f"dq{i}" for i in range(6))
+_NONE: frozenset[str] = frozenset()
+_CLOSE, _SLOW = COMPLETION_TOLERANCE.__gt__, STOPPED_SPEED.__gt__  # x < tolerance (false for NaN)
+
+
+def _within(q, target) -> bool:
+    """Every |q_i - target_i| < COMPLETION_TOLERANCE (evaluated after every watched physics step)."""
+    return all(map(_CLOSE, map(abs, map(operator.sub, q, target))))
 
 
 def _joint_param(i: int) -> Float64:
@@ -153,9 +162,6 @@ class UR5ePlatform(Model):
     physics_steps = Int64(causality="output", depends_on=(), description="physics steps simulated so far")
     motions = Int64(causality="output", depends_on=(), description="motions started so far (a repeated identical command is not a new motion)")
 
-    _LIVE = frozenset([*(f"q{i}" for i in range(6)), *(f"dq{i}" for i in range(6)),
-                       "ee_x", "ee_y", "ee_z", "ee_rx", "ee_ry", "ee_rz", "physics_steps", "motions"])
-
     @classmethod
     def package_resources(cls) -> dict[str, bytes]:
         return {"ur5e.urdf": ur5e_urdf().encode("utf-8")}
@@ -164,9 +170,8 @@ class UR5ePlatform(Model):
 
     def setup(self) -> None:
         self._scene: ArmScene | None = None
-        self._probe: CollisionProbe | None = None
         self._scratch: Path | None = None
-        self._dirty = True
+        self.outputs_stale = True
         self._motions = 0
         self._commanded: tuple[float, ...] | None = None  # target of the last motion command
         self._pending = False                             # that motion is under way
@@ -198,57 +203,52 @@ class UR5ePlatform(Model):
             if not abs(q) <= limit:
                 raise FmiUsageError(f"initial_q{i} = {q!r} rad is outside the joint's range +-{limit:.6g} rad")
         self._scene = ArmScene(self._urdf(), dt, q0, speed)
-        self._probe = CollisionProbe(self._urdf())
         q, dq = self._scene.joint_states()
         self._evaluate(q, dq, self._scene.in_collision())
-        self._dirty = True
+        self.outputs_stale = True
 
     def free(self) -> None:
-        for resource in (self._scene, self._probe):
-            if resource is not None:
-                resource.close()
-        self._scene = self._probe = None
+        if self._scene is not None:
+            self._scene.close()
+        self._scene = None
         if self._scratch is not None:
             shutil.rmtree(self._scratch, ignore_errors=True)
             self._scratch = None
 
     # -- outputs --------------------------------------------------------------------------------
 
-    def get(self, name: str):
-        if self._dirty and name in self._LIVE:
-            self._refresh_outputs()
-        return super().get(name)
-
-    def _refresh_outputs(self) -> None:
+    def update_outputs(self) -> None:
         values = self._values
         if self._scene is None:  # before the physics exists: the start pose at rest
             q, dq = self._initial_q(), (0.0,) * 6
             flange = forward(q)
-            position, rotation = flange[:3, 3], flange[:3, :3]
+            position, rotation = flange[:3, 3], rotation_vector(flange[:3, :3])
             steps = 0
         else:
             q, dq = self._scene.joint_states()
             position, matrix = self._scene.flange()
-            rotation = np.array(matrix).reshape(3, 3)
+            rotation = rotation_vector_of_rows(matrix)
             steps = self._scene.steps
         for i in range(6):
-            values[f"q{i}"], values[f"dq{i}"] = float(q[i]), float(dq[i])
+            values[_Q[i]], values[_DQ[i]] = float(q[i]), float(dq[i])
         values["ee_x"], values["ee_y"], values["ee_z"] = (float(v) for v in position)
-        values["ee_rx"], values["ee_ry"], values["ee_rz"] = (float(v) for v in rotation_vector(rotation))
+        values["ee_rx"], values["ee_ry"], values["ee_rz"] = (float(v) for v in rotation)
         values["physics_steps"] = steps
         values["motions"] = self._motions
-        self._dirty = self._scene is None
+        self.outputs_stale = self._scene is None
 
     # -- events ---------------------------------------------------------------------------------
 
     def _evaluate(self, q, dq, colliding: bool) -> set[str]:
         """Update the three conditions from the current state; return those that became true."""
         target = self._commanded
-        completed = target is not None and all(abs(a - b) < COMPLETION_TOLERANCE for a, b in zip(q, target))
+        completed = target is not None and _within(q, target)
         if completed:
             self._pending = False
-        stopped = not self._pending and all(abs(v) < STOPPED_SPEED for v in dq)
+        stopped = not self._pending and all(map(_SLOW, map(abs, dq)))
         now = {"moveCompleted": completed, "robotStopped": stopped, "collision": colliding}
+        if now == self._holds:
+            return _NONE
         rising = {name for name, holds in now.items() if holds and not self._holds[name]}
         self._holds = now
         return rising
@@ -298,13 +298,13 @@ class UR5ePlatform(Model):
         self._motions += 1
         self._pending = True
         self._scene.apply_targets(self._commanded)
-        self._dirty = True
+        self.outputs_stale = True
 
     def _solve(self, position, rotation, cell: tuple[int, int, int] | None = None
                ) -> tuple[tuple[float, ...] | None, str]:
         """A collision-free joint solution for a flange pose, or None and why not. Grid cells
         keep their IK solution (the grid is fixed; the scenario revisits its cells)."""
-        assert self._scene is not None and self._probe is not None
+        assert self._scene is not None
         q_now, _ = self._scene.joint_states()
         solution = self._ik.get(cell) if cell is not None else None
         if solution is None:
@@ -316,7 +316,7 @@ class UR5ePlatform(Model):
             if cell is not None:
                 self._ik[cell] = solution
         q = nearest_equivalent(solution, q_now)
-        if self._probe.collides(q):
+        if self._scene.collides(q):
             return None, "the arm would collide in the target pose"
         return q, ""
 
@@ -367,7 +367,7 @@ class UR5ePlatform(Model):
         assert scene is not None
         q, _ = scene.joint_states()
         target = self._commanded
-        done = target is not None and all(abs(a - b) < COMPLETION_TOLERANCE for a, b in zip(q, target))
+        done = target is not None and _within(q, target)
         scene.apply_targets(target if done else q)
         self._pending = False
         self._discrete = None
@@ -391,15 +391,20 @@ class UR5ePlatform(Model):
         early = self.early_return_allowed
         step, client = pybullet.stepSimulation, scene.client  # the hot loop: no method lookups
         while scene.steps < last:
+            if not self._watching():
+                # Only a command makes a condition rise again: the rest of the step unobserved.
+                for _ in range(last - scene.steps):
+                    step(physicsClientId=client)
+                scene.steps = last
+                break
             step(physicsClientId=client)
             scene.steps += 1
-            if self._watching():
-                q, dq = scene.joint_states()
-                rising = self._evaluate(q, dq, scene.in_collision())
-                if rising:
-                    self._edges |= rising
-                    if early:
-                        self._dirty = True
-                        return Step(self.start_time + scene.steps * dt, event=True)
-        self._dirty = True
+            q, dq = scene.joint_states()
+            rising = self._evaluate(q, dq, scene.in_collision())
+            if rising:
+                self._edges |= rising
+                if early:
+                    self.outputs_stale = True
+                    return Step(self.start_time + scene.steps * dt, event=True)
+        self.outputs_stale = True
         return Step(t + h, event=True) if self._edges else None

@@ -243,9 +243,12 @@ class _Embedding:
                                    "the FMU has no arrays")
 
     def getter(self, function: str, type_name: str):
+        unpack, check_counts = self.ffi.unpack, self.check_counts
+
         def get(inst, vr, nvr, values, nvalues):
-            self.check_counts(inst, function, nvr, nvalues)
-            values[0:nvr] = inst.slave.get(function, type_name, self.ffi.unpack(vr, nvr))
+            if nvalues != nvr:
+                check_counts(inst, function, nvr, nvalues)
+            values[0:nvr] = inst.slave.get(function, type_name, unpack(vr, nvr))
         return get
 
     def setter(self, function: str, type_name: str):

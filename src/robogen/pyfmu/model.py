@@ -371,8 +371,12 @@ class Model:
     - ``update_discrete_states() -> Update | None``: close the instant. The runtime then
       deactivates every clock.
     - ``do_step(t, h) -> Step | None``: advance from ``t`` to ``t + h`` (None means reached).
+    - ``update_outputs()``: compute outputs on demand: the runtime calls it before the
+      importer reads an output or local while ``self.outputs_stale`` is true (set it where the
+      outputs change, clear it here). Cheaper than overriding ``get``: a Get call is then served
+      from the values in one lookup.
     - ``get(name)`` / ``set(name, value)``: value access by FMI name; override to compute
-      outputs on demand or to react to a parameter.
+      outputs on demand per variable or to react to a parameter.
     - ``terminate()``, ``free()``: release resources (``free`` also runs before a reset).
     """
 
@@ -499,6 +503,9 @@ class Model:
         self._values: dict[str, Any] = {v.name: v.initial_value() for v in self._variables if not isinstance(v, Clock)}
         self._active_clocks: set[str] = set()
 
+    #: Whether :meth:`update_outputs` must run before the importer reads outputs (see the class).
+    outputs_stale: bool = False
+
     def get(self, name: str) -> Any:
         return self._values[name]
 
@@ -545,6 +552,9 @@ class Model:
 
     def do_step(self, t: float, h: float) -> Step | None:
         return None
+
+    def update_outputs(self) -> None:
+        self.outputs_stale = False
 
     def terminate(self) -> None:
         pass

@@ -16,6 +16,7 @@ from __future__ import annotations
 
 import enum
 import math
+import operator
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any, Callable, Iterable, Sequence
@@ -75,7 +76,8 @@ class Slave:
         self.logger = logger
         self._by_vr: dict[int, Var] = {v.vr: v for v in model_class.variables()}
         self._clocks = [v for v in model_class.variables() if isinstance(v, Clock)]
-        self._get_plans: dict[tuple, tuple[list[str], bool, list[Var]]] = {}
+        self._get_plans: dict[tuple, tuple[Callable[[Model], list[Any]], bool, list[Var]]] = {}
+        self._plain_get = model_class.get is Model.get  # values read from the model's dict directly
         if self._clocks and not event_mode_used:
             raise FmiUsageError(f"{model_class.__name__} has clocks: it must be instantiated with eventModeUsed = true")
         self._new_model()
@@ -180,30 +182,38 @@ class Slave:
     # -- values ---------------------------------------------------------------------------------
 
     def get(self, function: str, type_name: str, vrs: Sequence[int]) -> list[Any]:
-        if self.state is State.INSTANTIATED:
-            raise FmiUsageError(f"{function} is not allowed in {self.state.value}")
-        if self.state is State.STEP and self._set_since_step:
+        state = self.state
+        if state is State.INSTANTIATED:
+            raise FmiUsageError(f"{function} is not allowed in {state.value}")
+        if state is State.STEP and self._set_since_step:
             raise FmiUsageError(f"{function} after a Set in Step Mode needs an fmi3DoStep in between")
-        plan = self._get_plans.get((function, type_name, *vrs))
+        plan = self._get_plans.get((function, *vrs))
         if plan is None:
             plan = self._get_plan(function, type_name, vrs)
-        names, computed, clocked = plan
-        if computed and self.state is State.EVENT:
-            self._react_if_needed()  # outputs (and their clocks) of this instant
+        read, computed, clocked = plan
+        model = self.model
+        if computed:
+            if state is State.EVENT:
+                self._react_if_needed()  # outputs (and their clocks) of this instant
+            if model.outputs_stale:
+                model.update_outputs()
         for var in clocked:
             self._check_clocked_access(function, var)
-        get = self.model.get
-        return [get(name) for name in names]
+        return read(model)
 
-    def _get_plan(self, function: str, type_name: str, vrs: Sequence[int]) -> tuple[list[str], bool, list[Var]]:
+    def _get_plan(self, function: str, type_name: str, vrs: Sequence[int]) -> tuple[Callable[[Model], list[Any]],
+                                                                                   bool, list[Var]]:
         """What a Get of these value references reads (checked once, kept for the next same
-        call): the names, whether any is computed (an output or local), the clocked ones."""
+        call): a function of the model giving the values, whether any is computed (an output or
+        local), the clocked ones. A model that keeps the default ``get`` is read straight from
+        its values, in one C-level lookup of all the names."""
         variables = [self._variable(function, vr, type_name) for vr in vrs]
-        plan = ([v.name for v in variables], any(v.causality in ("output", "local") for v in variables),
+        names = [v.name for v in variables]
+        plan = (_reader(names, self._plain_get), any(v.causality in ("output", "local") for v in variables),
                 [v for v in variables if v.clock is not None])
         if len(self._get_plans) >= MAX_GET_PLANS:  # an importer that reads ever new combinations
             self._get_plans.clear()
-        self._get_plans[(function, type_name, *vrs)] = plan
+        self._get_plans[(function, *vrs)] = plan
         return plan
 
     def set(self, function: str, type_name: str, vrs: Sequence[int], values: Sequence[Any]) -> None:
@@ -378,6 +388,18 @@ class Slave:
     def log(self, status: int, category: str, message: str) -> None:
         if self.logger is not None:
             self.logger(status, category, message)
+
+
+def _reader(names: list[str], plain: bool) -> Callable[[Model], list[Any]]:
+    """The values of ``names`` of a model: through its own ``get``, or (``plain``: it keeps the
+    default) from its values dict."""
+    if not plain:
+        return lambda model: [model.get(name) for name in names]
+    if len(names) == 1:
+        name = names[0]
+        return lambda model: [model._values[name]]
+    several = operator.itemgetter(*names)
+    return lambda model: list(several(model._values))
 
 
 def log_categories(requested: Iterable[str]) -> set[str]:
