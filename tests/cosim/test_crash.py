@@ -104,10 +104,13 @@ def test_a_run_killed_from_outside_is_reported_as_killed(write_system, misbehavi
     proc = subprocess.Popen([sys.executable, "-m", "robogen", "simulate", str(path), "-o", "r.csv"], cwd=tmp_path,
                             text=True, stderr=subprocess.PIPE, env={**os.environ, "TMPDIR": str(tmp_path / "tmp")})
     deadline = time.monotonic() + 60
-    while not list(tmp_path.glob(".r.csv.*.tmp")):
-        assert proc.poll() is None and time.monotonic() < deadline, "the run did not start"
+    def stepping() -> bool:  # a row after the header: the run is in its steps (each 10 ms in fmi3DoStep)
+        return any(f.read_text().count("\n") >= 2 for f in tmp_path.glob(".r.csv.*.tmp"))
+
+    while not stepping():
+        assert proc.poll() is None and time.monotonic() < deadline, "the run did not start stepping"
         time.sleep(0.05)
-    time.sleep(0.5)
+    time.sleep(0.2)
     proc.send_signal(signal.SIGKILL)
     _, err = proc.communicate(timeout=60)
     assert proc.returncode == -signal.SIGKILL
