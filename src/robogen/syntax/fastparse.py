@@ -1,0 +1,233 @@
+"""A faster driver for the LALR parse, over Lark's own compiled tables.
+
+Lark stays the home of the grammar: this module reads everything from a loaded ``Lark`` object
+(the root lexer's compiled regular expression and keyword table, the contextual lexer of each
+parser state, the LALR parse table and the rule callbacks that build the AST) and duplicates
+nothing. It only drives them with less overhead:
+
+- one scan of the text with the root lexer's regular expression (the same terminals in the
+  same order), keywords retyped from names by a dictionary, positions counted as it goes;
+- one loop with the parse table in locals; a reduction by a ``?rule`` with one child, which
+  keeps its child unchanged, only replaces the state; other reductions call Lark's callbacks
+  (or the transformer method inside them, with the children Lark's child filter would keep),
+  and Lark ``Token`` objects are made only for the terminals some rule keeps.
+
+Why the tokens are Lark's: Lark's contextual lexer matches, in each parser state, the
+alternation of the terminals that state accepts, in the root lexer's order. When the token the
+whole-text scan finds is accepted in the current state, every terminal before it in the state's
+alternation is also before it in the root alternation and did not match, so the contextual
+lexer finds the same token (keywords included: both retype a name to the keyword only where
+the keyword is a terminal of the lexer). When the token is not accepted there, the state's own
+contextual lexer (Lark's) lexes at that position instead, and the scan resumes after it.
+
+Anything else (a character no terminal matches, a token no state accepts, a grammar feature
+this driver does not handle) returns :data:`FALLBACK`, and the caller parses with Lark itself,
+so syntax errors are Lark's, unchanged.
+"""
+
+from __future__ import annotations
+
+from itertools import chain
+
+from lark import Lark, Token
+from lark.exceptions import LexError, UnexpectedInput
+from lark.grammar import Rule
+from lark.lexer import ContextualLexer, LexerState, LineCounter, UnlessCallback
+from lark.parse_tree_builder import ChildFilterLALR_NoPlaceholders, ExpandSingleChild
+from lark.parsers.lalr_analysis import Shift
+from lark.utils import TextSlice
+
+__all__ = ["FALLBACK", "FastLALR"]
+
+FALLBACK = object()
+"""What :meth:`FastLALR.parse` returns when Lark must parse the text itself."""
+
+_END = "$END"
+_AT_END = (None,)
+
+
+def _plan(rule: Rule, callback) -> tuple:
+    """How to reduce by ``rule``: (size, origin, passthrough, select, expand1, function).
+
+    ``passthrough``: a ``?rule`` with one kept child and no alias: the value stays as it is.
+    Otherwise ``function`` is called with the children, or with those at the indices ``select``
+    (Lark's child filter without expansions), or the single child is returned when ``expand1``
+    (Lark's ExpandSingleChild) and only one is left. Any other wrapping: the whole callback."""
+    size = len(rule.expansion)
+    f, select, expand1 = callback, None, False
+    if type(f) is ChildFilterLALR_NoPlaceholders and not any(expand for _, expand in f.to_include):
+        select = tuple(i for i, _ in f.to_include)
+        f = f.node_builder
+    if type(f) is ExpandSingleChild:
+        expand1 = True
+        f = f.node_builder
+    if isinstance(f, (ChildFilterLALR_NoPlaceholders, ExpandSingleChild)) or not callable(f):
+        f, select, expand1 = callback, None, False  # nested wrappers: Lark's callback as it is
+    passthrough = expand1 and size == 1 and select is None
+    return (size, rule.origin.name, passthrough, select, expand1, f)
+
+
+def _kept(rule: Rule, plan: tuple) -> set[str]:
+    """The terminals of ``rule`` that reach a callback (their tokens must be real Tokens)."""
+    select = plan[3]
+    indices = range(len(rule.expansion)) if select is None else select
+    return {rule.expansion[i].name for i in indices if rule.expansion[i].is_term}
+
+
+class _Everything:
+    def __contains__(self, item) -> bool:
+        return True
+
+
+class FastLALR:
+    """The fast driver for one loaded Lark parser (LALR, contextual lexer, inline transformer)."""
+
+    def __init__(self, lark: Lark):
+        self.usable = False
+        frontend = lark.parser
+        lexer = frontend.lexer
+        if lark.options.postlex is not None or not isinstance(lexer, ContextualLexer) or len(lark.options.start) != 1:
+            return
+        root = lexer.root_lexer
+        scanner = root.scanner
+        if len(scanner._mres) != 1 or not all(type(cb) is UnlessCallback for cb in root.callback.values()):
+            return
+        parser = frontend.parser.parser
+        table = parser.parse_table
+        callbacks = parser.callbacks
+        if not all(isinstance(key, Rule) for key in callbacks):
+            return  # terminal callbacks: not handled here
+        start = lark.options.start[0]
+        self._lexer = lexer
+        self._regex = scanner._mres[0]
+        # name type -> {keyword text: keyword type}, as the root lexer's UnlessCallback retypes
+        self._keywords = {
+            kind: {t.pattern.value: t.name for t in cb.scanner.terminals} for kind, cb in root.callback.items()
+        }
+        self._ignore = root.ignore_types
+        self._newline = root.newline_types
+        plans = {rule: _plan(rule, cb) for rule, cb in callbacks.items()}
+        self._kept = set().union(*(_kept(rule, plan) for rule, plan in plans.items()))
+        self._states = [None] * (max(table.states) + 1)
+        for state, actions in table.states.items():
+            self._states[state] = {
+                kind: (arg if action is Shift else plans[arg]) for kind, (action, arg) in actions.items()
+            }
+        self._start = table.start_states[start]
+        self._end = table.end_states[start]
+        self.usable = True
+
+    def parse(self, text: str, trace: list | None = None):
+        """The value of the start rule's callback, or FALLBACK. With a ``trace`` list, every
+        token the parser shifts is appended to it (as a Lark Token; for tests)."""
+        if not self.usable:
+            return FALLBACK
+        states = self._states
+        finditer = self._regex.finditer
+        keywords = self._keywords
+        ignore = self._ignore
+        newline = self._newline
+        kept = self._kept if trace is None else _Everything()
+        new_str = str.__new__
+        count = text.count
+        stack = [self._start]
+        values: list = []
+        end_state = self._end
+        line = 1
+        pos = line_start = 0
+        relexed = True
+        while relexed:
+            relexed = False
+            for m in chain(finditer(text, pos), _AT_END):
+                if m is None:  # the end of the text
+                    if pos != len(text):
+                        return FALLBACK  # a character no terminal matches: Lark reports it
+                    kind = _END
+                    token = None
+                    action = states[stack[-1]].get(kind)
+                else:
+                    start = m.start()
+                    if start != pos:
+                        return FALLBACK  # a character no terminal matches: Lark reports it
+                    kind = m.lastgroup
+                    end = m.end()
+                    if kind in ignore:
+                        if kind in newline and (k := count("\n", start, end)):
+                            line += k
+                            line_start = text.rindex("\n", start, end) + 1
+                        pos = end
+                        continue
+                    value = m.group()
+                    retype = keywords.get(kind)
+                    if retype is not None:
+                        kind = retype.get(value, kind)
+                    action = states[stack[-1]].get(kind)
+                    if action is None:  # not accepted here: the state's own lexer decides
+                        token = self._relex(stack[-1], text, pos, line, line_start)
+                        if token is None:
+                            return FALLBACK
+                        kind = token.type
+                        action = states[stack[-1]].get(kind)
+                        pos, line, line_start = token.end_pos, token.end_line, token.end_pos - token.end_column + 1
+                        if kind not in kept:
+                            token = None
+                        relexed = True
+                    else:
+                        token = None
+                        if kind in kept:
+                            token = new_str(Token, value)
+                            token.type = kind
+                            token.value = value
+                            token.start_pos = start
+                            token.line = line
+                            token.column = start - line_start + 1
+                        if kind in newline and (k := count("\n", start, end)):
+                            line += k
+                            line_start = text.rindex("\n", start, end) + 1
+                        if token is not None:
+                            token.end_line = line
+                            token.end_column = end - line_start + 1
+                            token.end_pos = end
+                        pos = end
+                while type(action) is not int:  # reductions before the shift
+                    if action is None:  # a syntax error (Lark reports it), or the end
+                        return values[-1] if kind is _END and stack[-1] == end_state else FALLBACK
+                    size, origin, passthrough, select, expand1, f = action
+                    if passthrough:
+                        state = states[stack[-2]][origin]
+                        stack[-1] = state
+                    else:
+                        if size:
+                            kids = values[-size:]
+                            del values[-size:]
+                            del stack[-size:]
+                        else:
+                            kids = []
+                        if select is not None:
+                            kids = [kids[i] for i in select]
+                        value = kids[0] if expand1 and len(kids) == 1 else f(kids)
+                        state = states[stack[-1]][origin]
+                        stack.append(state)
+                        values.append(value)
+                    action = states[state].get(kind)
+                if kind is _END:
+                    return FALLBACK  # Lark never shifts the end
+                stack.append(action)
+                values.append(token)
+                if trace is not None:
+                    trace.append(token)
+                if relexed:
+                    break  # scan again from after the token the state's own lexer found
+        return FALLBACK
+
+    def _relex(self, state: int, text: str, pos: int, line: int, line_start: int) -> Token | None:
+        """The token Lark's contextual lexer finds at ``pos`` in parser state ``state``."""
+        counter = LineCounter("\n")
+        counter.char_pos = pos
+        counter.line = line
+        counter.line_start_pos = line_start
+        counter.column = pos - line_start + 1
+        try:
+            return self._lexer.lexers[state].next_token(LexerState(TextSlice(text, 0, len(text)), counter))
+        except (UnexpectedInput, LexError, EOFError):
+            return None
