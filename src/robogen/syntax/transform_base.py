@@ -4,8 +4,8 @@ values that rule callbacks pass to each other before they become AST nodes."""
 
 from __future__ import annotations
 
-import bisect
 import re
+from bisect import bisect_right
 from typing import Callable
 
 from lark import Token, Transformer
@@ -69,6 +69,24 @@ class Body(Positioned):
         self.pos = node_pos(expr)
 
 
+_new = object.__new__
+_set = object.__setattr__
+
+
+def make_span(path: str, line: int, column: int, end_line: int, end_column: int, offset: int, end_offset: int) -> Span:
+    """``Span(path, line, column, end_line, end_column, offset, end_offset)``, the same object
+    made without the frozen dataclass's seven ``__setattr__`` calls (the parser makes one for
+    nearly every token)."""
+    span = _new(Span)
+    _set(span, "__dict__", {"path": path, "line": line, "column": column, "end_line": end_line,
+                            "end_column": end_column, "offset": offset, "end_offset": end_offset})  # fmt: skip
+    return span
+
+
+if "__slots__" in Span.__dict__:  # pragma: no cover - a Span without __dict__ is made the plain way
+    make_span = Span  # noqa: F811
+
+
 def node_pos(x) -> tuple[int, int] | None:
     return span_pos(getattr(x, "span", None))
 
@@ -84,7 +102,8 @@ def pos(x) -> tuple[int, int] | None:
     if isinstance(x, Token):
         return (x.start_pos, x.end_pos) if x.start_pos is not None else None
     if isinstance(x, ast.Node):
-        return node_pos(x)
+        span = x.span
+        return (span.offset, span.end_offset) if span is not None and span.offset >= 0 else None
     if isinstance(x, Positioned):
         return x.pos
     if isinstance(x, (tuple, list)) and x:
@@ -181,27 +200,37 @@ class SpanBuilder(Transformer):
         return self._record(node, d_left if d_left > d_right else d_right, (left, right))
 
     def _line_col(self, offset: int) -> tuple[int, int]:
-        line = bisect.bisect_right(self._line_starts, offset)
+        line = bisect_right(self._line_starts, offset)
         return line, offset - self._line_starts[line - 1] + 1
 
     def _make(self, start: int, end: int) -> Span:
-        line, col = self._line_col(start)
-        end_line, end_col = self._line_col(end)
-        return Span(self.path, line, col, end_line, end_col, start, end)
+        line_starts = self._line_starts
+        line = bisect_right(line_starts, start)
+        end_line = bisect_right(line_starts, end)
+        return make_span(self.path, line, start - line_starts[line - 1] + 1, end_line, end - line_starts[end_line - 1] + 1, start, end)
 
     def _span(self, children, left: tuple[str, ...] = (), right: tuple[str, ...] = ()) -> Span | None:
-        first = last = None
-        for c in children:
-            first = pos(c)
-            if first:
+        start = end = None
+        for c in children:  # tokens inline: most children are
+            if type(c) is Token:
+                start = c.start_pos
+            else:
+                p = pos(c)
+                start = p[0] if p else None
+            if start is not None:
                 break
-        for c in reversed(children):
-            last = pos(c)
-            if last:
-                break
-        if first is None or last is None:
+        else:
             return None
-        start, end = first[0], last[1]
+        for c in reversed(children):
+            if type(c) is Token and c.start_pos is not None:
+                end = c.end_pos
+                break
+            p = pos(c)
+            if p:
+                end = p[1]
+                break
+        if not left and not right:
+            return self._make(start, end)
         text = self.text
         for word in reversed(left):
             p = start
@@ -223,14 +252,14 @@ class SpanBuilder(Transformer):
         return self._make(start, end)
 
     def _tspan(self, token: Token) -> Span:
-        return Span(
+        return make_span(
             self.path, token.line or 1, token.column or 1, token.end_line or token.line or 1,
             token.end_column or (token.column or 1) + len(token), token.start_pos if token.start_pos is not None else -1,
             token.end_pos if token.end_pos is not None else -1,
         )
 
     def _name(self, token: Token) -> str:
-        text = str(token)
+        text = token.value if type(token) is Token else str(token)
         if text.startswith("^"):
             return text[1:]
         if text in self.keywords:
