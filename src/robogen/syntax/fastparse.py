@@ -113,6 +113,7 @@ class FastLALR:
             self._states[state] = {
                 kind: (arg if action is Shift else plans[arg]) for kind, (action, arg) in actions.items()
             }
+        self._units: dict[tuple[int, int, str], tuple[int, object]] = {}  # memo of _unit_chain
         self._start = table.start_states[start]
         self._end = table.end_states[start]
         self.usable = True
@@ -123,6 +124,7 @@ class FastLALR:
         if not self.usable:
             return FALLBACK
         states = self._states
+        units = self._units
         finditer = self._regex.finditer
         keywords = self._keywords
         ignore = self._ignore
@@ -144,30 +146,26 @@ class FastLALR:
                         return FALLBACK  # a character no terminal matches: Lark reports it
                     kind = _END
                     token = None
-                    action = states[stack[-1]].get(kind)
                 else:
-                    start = m.start()
+                    start, end = m.span()
                     if start != pos:
                         return FALLBACK  # a character no terminal matches: Lark reports it
                     kind = m.lastgroup
-                    end = m.end()
                     if kind in ignore:
                         if kind in newline and (k := count("\n", start, end)):
                             line += k
                             line_start = text.rindex("\n", start, end) + 1
                         pos = end
                         continue
-                    value = m.group()
+                    value = text[start:end]
                     retype = keywords.get(kind)
                     if retype is not None:
                         kind = retype.get(value, kind)
-                    action = states[stack[-1]].get(kind)
-                    if action is None:  # not accepted here: the state's own lexer decides
+                    if kind not in states[stack[-1]]:  # not accepted here: the state's own lexer decides
                         token = self._relex(stack[-1], text, pos, line, line_start)
                         if token is None:
                             return FALLBACK
                         kind = token.type
-                        action = states[stack[-1]].get(kind)
                         pos, line, line_start = token.end_pos, token.end_line, token.end_pos - token.end_column + 1
                         if kind not in kept:
                             token = None
@@ -189,14 +187,20 @@ class FastLALR:
                             token.end_column = end - line_start + 1
                             token.end_pos = end
                         pos = end
-                while type(action) is not int:  # reductions before the shift
-                    if action is None:  # a syntax error (Lark reports it), or the end
-                        return values[-1] if kind is _END and stack[-1] == end_state else FALLBACK
-                    size, origin, passthrough, select, expand1, f = action
-                    if passthrough:
-                        state = states[stack[-2]][origin]
-                        stack[-1] = state
-                    else:
+                try:
+                    action = states[stack[-1]][kind]
+                    while type(action) is not int:  # reductions before the shift
+                        size, origin, passthrough, select, expand1, f = action
+                        if passthrough:  # a chain of unit reductions: only the state changes
+                            key = (stack[-2], stack[-1], kind)
+                            try:
+                                state, action = units[key]
+                            except KeyError:
+                                state, action = units[key] = self._unit_chain(stack[-2], stack[-1], kind)
+                            stack[-1] = state
+                            if action is None:
+                                raise KeyError(kind)  # at the end state: accepted below
+                            continue
                         if size:
                             kids = values[-size:]
                             del values[-size:]
@@ -209,7 +213,9 @@ class FastLALR:
                         state = states[stack[-1]][origin]
                         stack.append(state)
                         values.append(value)
-                    action = states[state].get(kind)
+                        action = states[state][kind]
+                except KeyError:  # a syntax error (Lark reports it), or the end of the parse
+                    return values[-1] if kind is _END and stack[-1] == end_state else FALLBACK
                 if kind is _END:
                     return FALLBACK  # Lark never shifts the end
                 stack.append(action)
@@ -219,6 +225,19 @@ class FastLALR:
                 if relexed:
                     break  # scan again from after the token the state's own lexer found
         return FALLBACK
+
+    def _unit_chain(self, below: int, state: int, kind: str) -> tuple[int, object]:
+        """The state after the unit reductions from ``state`` (above ``below``) on ``kind``, and
+        the action there (None at the end state, where the parse is over); a missing action
+        raises KeyError (a syntax error)."""
+        states = self._states
+        action = states[state][kind]
+        while type(action) is not int and action[2]:
+            state = states[below][action[1]]
+            if state == self._end:
+                return state, None
+            action = states[state][kind]
+        return state, action
 
     def _relex(self, state: int, text: str, pos: int, line: int, line_start: int) -> Token | None:
         """The token Lark's contextual lexer finds at ``pos`` in parser state ``state``."""

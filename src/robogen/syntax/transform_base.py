@@ -210,27 +210,42 @@ class SpanBuilder(Transformer):
         return make_span(self.path, line, start - line_starts[line - 1] + 1, end_line, end - line_starts[end_line - 1] + 1, start, end)
 
     def _span(self, children, left: tuple[str, ...] = (), right: tuple[str, ...] = ()) -> Span | None:
-        start = end = None
-        for c in children:  # tokens inline: most children are
+        # Tokens and nodes know their lines and columns: only a span grown over a keyword or a
+        # bracket, or starting at a helper value, looks them up from the offsets.
+        line = end_line = column = end_column = 0
+        for c in children:
             if type(c) is Token:
                 start = c.start_pos
+                if start is not None:
+                    line, column = c.line, c.column
+                    break
+            elif isinstance(c, ast.Node):
+                span = c.span
+                if span is not None and span.offset >= 0:
+                    start, line, column = span.offset, span.line, span.column
+                    break
             else:
                 p = pos(c)
-                start = p[0] if p else None
-            if start is not None:
-                break
+                if p:
+                    start = p[0]
+                    break
         else:
             return None
         for c in reversed(children):
-            if type(c) is Token and c.start_pos is not None:
-                end = c.end_pos
-                break
-            p = pos(c)
-            if p:
-                end = p[1]
-                break
-        if not left and not right:
-            return self._make(start, end)
+            if type(c) is Token:
+                if c.start_pos is not None:
+                    end, end_line, end_column = c.end_pos, c.end_line, c.end_column
+                    break
+            elif isinstance(c, ast.Node):
+                span = c.span
+                if span is not None and span.offset >= 0:
+                    end, end_line, end_column = span.end_offset, span.end_line, span.end_column
+                    break
+            else:
+                p = pos(c)
+                if p:
+                    end = p[1]
+                    break
         text = self.text
         for word in reversed(left):
             p = start
@@ -238,6 +253,7 @@ class SpanBuilder(Transformer):
                 p -= 1
             if p >= len(word) and text.startswith(word, p - len(word)):
                 start = p - len(word)
+                line = 0
             else:
                 break
         for word in right:
@@ -247,9 +263,17 @@ class SpanBuilder(Transformer):
                 p += 1
             if text.startswith(word, p):
                 end = p + len(word)
+                end_line = 0
             else:
                 break
-        return self._make(start, end)
+        line_starts = self._line_starts
+        if not line:
+            line = bisect_right(line_starts, start)
+            column = start - line_starts[line - 1] + 1
+        if not end_line:
+            end_line = bisect_right(line_starts, end)
+            end_column = end - line_starts[end_line - 1] + 1
+        return make_span(self.path, line, column, end_line, end_column, start, end)
 
     def _tspan(self, token: Token) -> Span:
         return make_span(
