@@ -113,6 +113,24 @@ def pos(x) -> tuple[int, int] | None:
     return None
 
 
+def _edge(x, at_end: bool) -> tuple[int, int, int] | None:
+    """(offset, line, column) where callback child ``x`` starts (or ends), if it has a position;
+    line and column are 0 where only the offset is known."""
+    if type(x) is Token:
+        if x.start_pos is None:
+            return None
+        return (x.end_pos, x.end_line, x.end_column) if at_end else (x.start_pos, x.line, x.column)
+    if isinstance(x, ast.Node):
+        span = x.span
+        if span is None or span.offset < 0:
+            return None
+        return (span.end_offset, span.end_line, span.end_column) if at_end else (span.offset, span.line, span.column)
+    p = pos(x)
+    if not p:
+        return None
+    return (p[1] if at_end else p[0], 0, 0)
+
+
 class SpanBuilder(Transformer):
     """Builds AST nodes bottom-up, with spans computed from the children's positions.
 
@@ -211,41 +229,19 @@ class SpanBuilder(Transformer):
 
     def _span(self, children, left: tuple[str, ...] = (), right: tuple[str, ...] = ()) -> Span | None:
         # Tokens and nodes know their lines and columns: only a span grown over a keyword or a
-        # bracket, or starting at a helper value, looks them up from the offsets.
-        line = end_line = column = end_column = 0
+        # bracket, or ending at a helper value, looks them up from the offsets.
         for c in children:
-            if type(c) is Token:
-                start = c.start_pos
-                if start is not None:
-                    line, column = c.line, c.column
-                    break
-            elif isinstance(c, ast.Node):
-                span = c.span
-                if span is not None and span.offset >= 0:
-                    start, line, column = span.offset, span.line, span.column
-                    break
-            else:
-                p = pos(c)
-                if p:
-                    start = p[0]
-                    break
+            first = _edge(c, False)
+            if first:
+                break
         else:
             return None
         for c in reversed(children):
-            if type(c) is Token:
-                if c.start_pos is not None:
-                    end, end_line, end_column = c.end_pos, c.end_line, c.end_column
-                    break
-            elif isinstance(c, ast.Node):
-                span = c.span
-                if span is not None and span.offset >= 0:
-                    end, end_line, end_column = span.end_offset, span.end_line, span.end_column
-                    break
-            else:
-                p = pos(c)
-                if p:
-                    end = p[1]
-                    break
+            last = _edge(c, True)
+            if last:
+                break
+        start, line, column = first
+        end, end_line, end_column = last
         text = self.text
         for word in reversed(left):
             p = start
