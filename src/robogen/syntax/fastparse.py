@@ -28,6 +28,7 @@ so syntax errors are Lark's, unchanged.
 from __future__ import annotations
 
 from itertools import chain
+from operator import itemgetter
 
 from lark import Lark, Token
 from lark.exceptions import LexError, UnexpectedInput
@@ -46,31 +47,38 @@ _END = "$END"
 _AT_END = (None,)
 
 
-def _plan(rule: Rule, callback) -> tuple:
-    """How to reduce by ``rule``: (size, origin, passthrough, select, expand1, function).
+def _plan(rule: Rule, callback) -> tuple[tuple, tuple[int, ...]]:
+    """How to reduce by ``rule``: (size, origin, passthrough, select, expand1, function), and
+    the indices of the children that reach a callback.
 
     ``passthrough``: a ``?rule`` with one kept child and no alias: the value stays as it is.
-    Otherwise ``function`` is called with the children, or with those at the indices ``select``
-    (Lark's child filter without expansions), or the single child is returned when ``expand1``
-    (Lark's ExpandSingleChild) and only one is left. Any other wrapping: the whole callback."""
+    Otherwise ``function`` is called with the children, or with those ``select`` picks (Lark's
+    child filter without expansions: an index, or an itemgetter of several), or the single child
+    is returned when ``expand1`` (Lark's ExpandSingleChild) and only one is left. Any other
+    wrapping: the whole callback, with every child."""
     size = len(rule.expansion)
-    f, select, expand1 = callback, None, False
+    f, indices, expand1 = callback, tuple(range(size)), False
     if type(f) is ChildFilterLALR_NoPlaceholders and not any(expand for _, expand in f.to_include):
-        select = tuple(i for i, _ in f.to_include)
+        indices = tuple(i for i, _ in f.to_include)
         f = f.node_builder
     if type(f) is ExpandSingleChild:
         expand1 = True
         f = f.node_builder
     if isinstance(f, (ChildFilterLALR_NoPlaceholders, ExpandSingleChild)) or not callable(f):
-        f, select, expand1 = callback, None, False  # nested wrappers: Lark's callback as it is
+        f, indices, expand1 = callback, tuple(range(size)), False  # nested wrappers: Lark's callback as it is
+    select = None
+    if len(indices) != size:
+        select = indices[0] if len(indices) == 1 else itemgetter(*indices) if indices else _nothing
     passthrough = expand1 and size == 1 and select is None
-    return (size, rule.origin.name, passthrough, select, expand1, f)
+    return (size, rule.origin.name, passthrough, select, expand1, f), indices
 
 
-def _kept(rule: Rule, plan: tuple) -> set[str]:
+def _nothing(kids: list) -> tuple:
+    return ()
+
+
+def _kept(rule: Rule, indices: tuple[int, ...]) -> set[str]:
     """The terminals of ``rule`` that reach a callback (their tokens must be real Tokens)."""
-    select = plan[3]
-    indices = range(len(rule.expansion)) if select is None else select
     return {rule.expansion[i].name for i in indices if rule.expansion[i].is_term}
 
 
@@ -106,8 +114,9 @@ class FastLALR:
         }
         self._ignore = root.ignore_types
         self._newline = root.newline_types
-        plans = {rule: _plan(rule, cb) for rule, cb in callbacks.items()}
-        self._kept = set().union(*(_kept(rule, plan) for rule, plan in plans.items()))
+        planned = {rule: _plan(rule, cb) for rule, cb in callbacks.items()}
+        plans = {rule: plan for rule, (plan, _) in planned.items()}
+        self._kept = set().union(*(_kept(rule, indices) for rule, (_, indices) in planned.items()))
         self._states = [None] * (max(table.states) + 1)
         for state, actions in table.states.items():
             self._states[state] = {
@@ -190,8 +199,7 @@ class FastLALR:
                 try:
                     action = states[stack[-1]][kind]
                     while type(action) is not int:  # reductions before the shift
-                        size, origin, passthrough, select, expand1, f = action
-                        if passthrough:  # a chain of unit reductions: only the state changes
+                        if action[2]:  # a chain of unit reductions: only the state changes
                             key = (stack[-2], stack[-1], kind)
                             try:
                                 state, action = units[key]
@@ -201,6 +209,7 @@ class FastLALR:
                             if action is None:
                                 raise KeyError(kind)  # at the end state: accepted below
                             continue
+                        size, origin, _, select, expand1, f = action
                         if size:
                             kids = values[-size:]
                             del values[-size:]
@@ -208,7 +217,7 @@ class FastLALR:
                         else:
                             kids = []
                         if select is not None:
-                            kids = [kids[i] for i in select]
+                            kids = [kids[select]] if type(select) is int else list(select(kids))
                         value = kids[0] if expand1 and len(kids) == 1 else f(kids)
                         state = states[stack[-1]][origin]
                         stack.append(state)
