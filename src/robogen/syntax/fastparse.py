@@ -7,10 +7,12 @@ nothing. It only drives them with less overhead:
 
 - one scan of the text with the root lexer's regular expression (the same terminals in the
   same order), keywords retyped from names by a dictionary, positions counted as it goes;
-- one loop with the parse table in locals; a reduction by a ``?rule`` with one child, which
-  keeps its child unchanged, only replaces the state; other reductions call Lark's callbacks
-  (or the transformer method inside them, with the children Lark's child filter would keep),
-  and Lark ``Token`` objects are made only for the terminals some rule keeps.
+- one loop with the parse table in locals; a chain of reductions by ``?rules`` with one child,
+  which keep their child unchanged, only replaces the state (memoised per state below, state
+  and token); other reductions call the transformer method inside Lark's callback with the
+  children Lark's child filter would give it (the helper rules Lark names ``_...`` and splices
+  into their parent are plain lists, not Trees), and Lark ``Token`` objects are made only for
+  the terminals some rule keeps.
 
 Why the tokens are Lark's: Lark's contextual lexer matches, in each parser state, the
 alternation of the terminals that state accepts, in the root lexer's order. When the token the
@@ -47,34 +49,59 @@ _END = "$END"
 _AT_END = (None,)
 
 
-def _plan(rule: Rule, callback) -> tuple[tuple, tuple[int, ...]]:
+def _plan(rule: Rule, callback, transformer) -> tuple[tuple, tuple[int, ...]] | None:
     """How to reduce by ``rule``: (size, origin, passthrough, select, expand1, function), and
-    the indices of the children that reach a callback.
+    the indices of the children that reach a callback; None if Lark's callback must be called
+    as it is.
 
     ``passthrough``: a ``?rule`` with one kept child and no alias: the value stays as it is.
-    Otherwise ``function`` is called with the children, or with those ``select`` picks (Lark's
-    child filter without expansions: an index, or an itemgetter of several), or the single child
-    is returned when ``expand1`` (Lark's ExpandSingleChild) and only one is left. Any other
-    wrapping: the whole callback, with every child."""
+    Otherwise ``function`` is called with the children ``select`` picks as Lark's child filter
+    does (None: all; an index; an itemgetter of several; pairs (index, expand) where children
+    of ``_rules`` are spliced in), or the single child is returned when ``expand1`` (Lark's
+    ExpandSingleChild) and only one is left. The value of a ``_rule`` that the transformer does
+    not handle is the list of its children (Lark makes a Tree, which only its parent reads)."""
     size = len(rule.expansion)
-    f, indices, expand1 = callback, tuple(range(size)), False
-    if type(f) is ChildFilterLALR_NoPlaceholders and not any(expand for _, expand in f.to_include):
-        indices = tuple(i for i, _ in f.to_include)
+    f, include, expand1 = callback, None, False
+    if type(f) is ChildFilterLALR_NoPlaceholders:
+        include = tuple(f.to_include)
         f = f.node_builder
     if type(f) is ExpandSingleChild:
         expand1 = True
         f = f.node_builder
     if isinstance(f, (ChildFilterLALR_NoPlaceholders, ExpandSingleChild)) or not callable(f):
-        f, indices, expand1 = callback, tuple(range(size)), False  # nested wrappers: Lark's callback as it is
+        return None  # nested wrappers
+    name = rule.origin.name
+    if name.startswith("_") and not rule.alias and not expand1 and getattr(transformer, name, None) is None:
+        f = _as_list
+    indices = tuple(range(size)) if include is None else tuple(i for i, _ in include)
     select = None
-    if len(indices) != size:
+    if include is not None and any(expand for _, expand in include):
+        select = include
+    elif len(indices) != size:
         select = indices[0] if len(indices) == 1 else itemgetter(*indices) if indices else _nothing
     passthrough = expand1 and size == 1 and select is None
-    return (size, rule.origin.name, passthrough, select, expand1, f), indices
+    return (size, name, passthrough, select, expand1, f), indices
+
+
+def _as_list(kids: list) -> list:
+    return kids
 
 
 def _nothing(kids: list) -> tuple:
     return ()
+
+
+def _splice(kids: list, include: tuple[tuple[int, bool], ...]) -> list:
+    """Lark's child filter where ``_rules`` are expanded (their values are lists here)."""
+    filtered: list = []
+    for i, expand in include:
+        if not expand:
+            filtered.append(kids[i])
+        elif filtered:
+            filtered += kids[i]
+        else:  # reused, as Lark does for left recursion
+            filtered = kids[i]
+    return filtered
 
 
 def _kept(rule: Rule, indices: tuple[int, ...]) -> set[str]:
@@ -114,7 +141,9 @@ class FastLALR:
         }
         self._ignore = root.ignore_types
         self._newline = root.newline_types
-        planned = {rule: _plan(rule, cb) for rule, cb in callbacks.items()}
+        planned = {rule: _plan(rule, cb, lark.options.transformer) for rule, cb in callbacks.items()}
+        if None in planned.values():
+            return  # a callback wrapped in a way this driver does not know
         plans = {rule: plan for rule, (plan, _) in planned.items()}
         self._kept = set().union(*(_kept(rule, indices) for rule, (_, indices) in planned.items()))
         self._states = [None] * (max(table.states) + 1)
@@ -217,7 +246,8 @@ class FastLALR:
                         else:
                             kids = []
                         if select is not None:
-                            kids = [kids[select]] if type(select) is int else list(select(kids))
+                            kind_of = type(select)
+                            kids = [kids[select]] if kind_of is int else _splice(kids, select) if kind_of is tuple else list(select(kids))
                         value = kids[0] if expand1 and len(kids) == 1 else f(kids)
                         state = states[stack[-1]][origin]
                         stack.append(state)

@@ -282,7 +282,7 @@ class SpanBuilder(Transformer):
         text = token.value if type(token) is Token else str(token)
         if text.startswith("^"):
             return text[1:]
-        if text in self.keywords:
+        if text in (self._keywords or self.keywords):
             self.problems.append(
                 error(f"'{text}' is a reserved word and cannot be used as a name (write ^{text} to escape it)", self._tspan(token))
             )
