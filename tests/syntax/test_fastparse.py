@@ -147,3 +147,19 @@ def test_a_syntax_error_hands_the_parse_back_to_lark(text):
     assert lark_parse(text, ROBOCHART)[1] is None
     with pytest.raises(RobogenError):
         parse_text(text, "m.rct")
+
+
+def test_the_fast_driver_calls_the_transformer_parse_text_prepares():
+    """Threads that use the parser first may build two (Lark, transformer) pairs, and the cache
+    keep either: parse_text prepares the transformer whose callbacks the fast driver calls."""
+    fast = _fast_parser(ROBOCHART)
+    _ast_parser.cache_clear()  # another pair from now on, as a second thread may have built
+    try:
+        assert _ast_parser(ROBOCHART)[1] is not fast.lark.options.transformer
+        first = parse_text("stm A { var a: nat }", "a.rct")
+        second = parse_text("stm Bee { var b: nat = 1 }", "b.rct")
+    finally:
+        _ast_parser.cache_clear()
+        _fast_parser.cache_clear()
+    assert (first.path, first.items[0].name, first.items[0].span.end_offset) == ("a.rct", "A", 20)
+    assert (second.path, second.items[0].name, second.items[0].span.end_offset) == ("b.rct", "Bee", 26)

@@ -119,6 +119,7 @@ class FastLALR:
 
     def __init__(self, lark: Lark):
         self.usable = False
+        self.lark = lark
         frontend = lark.parser
         lexer = frontend.lexer
         if lark.options.postlex is not None or not isinstance(lexer, ContextualLexer) or len(lark.options.start) != 1:

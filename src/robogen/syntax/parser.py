@@ -148,8 +148,9 @@ def parse_text(text: str, path: str = "<string>", language: str | None = None) -
         line = text.count("\n", 0, nul) + 1
         column = nul - (text.rfind("\n", 0, nul) + 1) + 1
         raise RobogenError(error("file contains NUL bytes; is it a binary file, not a model?", Span.point(path, line, column)))
-    parser, transformer = _ast_parser(language)
+    # the parser whose callbacks the fast driver calls (threads may have built two on first use)
     fast = _fast_parser(language)
+    parser, transformer = fast.lark, fast.lark.options.transformer
     with _lock, without_gc():  # the transformer holds the state of the file being parsed
         transformer.begin(path, text)
         try:
