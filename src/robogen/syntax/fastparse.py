@@ -29,7 +29,6 @@ so syntax errors are Lark's, unchanged.
 
 from __future__ import annotations
 
-from itertools import chain
 from operator import itemgetter
 
 from lark import Lark, Token
@@ -46,13 +45,12 @@ FALLBACK = object()
 """What :meth:`FastLALR.parse` returns when Lark must parse the text itself."""
 
 _END = "$END"
-_AT_END = (None,)
 
 
 def _plan(rule: Rule, callback, transformer) -> tuple[tuple, tuple[int, ...]] | None:
     """How to reduce by ``rule``: (size, origin, passthrough, select, expand1, function), and
-    the indices of the children that reach a callback; None if Lark's callback must be called
-    as it is.
+    the indices of the children that reach a callback; None if the callback is wrapped in a way
+    this driver does not know (then it is not used).
 
     ``passthrough``: a ``?rule`` with one kept child and no alias: the value stays as it is.
     Otherwise ``function`` is called with the children ``select`` picks as Lark's child filter
@@ -164,107 +162,105 @@ class FastLALR:
             return FALLBACK
         states = self._states
         units = self._units
-        finditer = self._regex.finditer
-        keywords = self._keywords
-        ignore = self._ignore
-        newline = self._newline
-        kept = self._kept if trace is None else _Everything()
-        new_str = str.__new__
-        count = text.count
+        end_state = self._end
         stack = [self._start]
         values: list = []
-        end_state = self._end
+        for kind, token in self._tokens(text, stack, self._kept if trace is None else _Everything()):
+            if kind is None:
+                return FALLBACK  # the scan cannot go on: Lark reports why
+            try:
+                action = states[stack[-1]][kind]
+                while type(action) is not int:  # reductions before the shift
+                    if action[2]:  # a chain of unit reductions: only the state changes
+                        key = (stack[-2], stack[-1], kind)
+                        try:
+                            state, action = units[key]
+                        except KeyError:
+                            state, action = units[key] = self._unit_chain(stack[-2], stack[-1], kind)
+                        stack[-1] = state
+                        if action is None:
+                            raise KeyError(kind)  # at the end state: accepted below
+                        continue
+                    size, origin, _, select, expand1, f = action
+                    if size:
+                        kids = values[-size:]
+                        del values[-size:]
+                        del stack[-size:]
+                    else:
+                        kids = []
+                    if select is not None:
+                        kind_of = type(select)
+                        kids = [kids[select]] if kind_of is int else _splice(kids, select) if kind_of is tuple else list(select(kids))
+                    value = kids[0] if expand1 and len(kids) == 1 else f(kids)
+                    state = states[stack[-1]][origin]
+                    stack.append(state)
+                    values.append(value)
+                    action = states[state][kind]
+            except KeyError:  # a syntax error (Lark reports it), or the end of the parse
+                return values[-1] if kind is _END and stack[-1] == end_state else FALLBACK
+            if kind is _END:
+                return FALLBACK  # Lark never shifts the end
+            stack.append(action)
+            values.append(token)
+            if trace is not None:
+                trace.append(token)
+        return FALLBACK
+
+    def _tokens(self, text: str, stack: list, kept):
+        """(type, Token or None) of each token the contextual lexer would give the parser, whose
+        state is on top of ``stack`` when the next token is asked for; then (END, None). A
+        Token is made only for the types in ``kept``. (None, None) if the scan cannot go on."""
+        states, keywords, ignore, newline = self._states, self._keywords, self._ignore, self._newline
+        finditer = self._regex.finditer
+        new_str = str.__new__
+        count = text.count
         line = 1
         pos = line_start = 0
-        relexed = True
-        while relexed:
-            relexed = False
-            for m in chain(finditer(text, pos), _AT_END):
-                if m is None:  # the end of the text
-                    if pos != len(text):
-                        return FALLBACK  # a character no terminal matches: Lark reports it
-                    kind = _END
-                    token = None
-                else:
-                    start, end = m.span()
-                    if start != pos:
-                        return FALLBACK  # a character no terminal matches: Lark reports it
-                    kind = m.lastgroup
-                    if kind in ignore:
-                        if kind in newline and (k := count("\n", start, end)):
-                            line += k
-                            line_start = text.rindex("\n", start, end) + 1
-                        pos = end
-                        continue
-                    value = text[start:end]
-                    retype = keywords.get(kind)
-                    if retype is not None:
-                        kind = retype.get(value, kind)
-                    if kind not in states[stack[-1]]:  # not accepted here: the state's own lexer decides
-                        token = self._relex(stack[-1], text, pos, line, line_start)
-                        if token is None:
-                            return FALLBACK
-                        kind = token.type
-                        pos, line, line_start = token.end_pos, token.end_line, token.end_pos - token.end_column + 1
-                        if kind not in kept:
-                            token = None
-                        relexed = True
-                    else:
-                        token = None
-                        if kind in kept:
-                            token = new_str(Token, value)
-                            token.type = kind
-                            token.value = value
-                            token.start_pos = start
-                            token.line = line
-                            token.column = start - line_start + 1
-                        if kind in newline and (k := count("\n", start, end)):
-                            line += k
-                            line_start = text.rindex("\n", start, end) + 1
-                        if token is not None:
-                            token.end_line = line
-                            token.end_column = end - line_start + 1
-                            token.end_pos = end
-                        pos = end
-                try:
-                    action = states[stack[-1]][kind]
-                    while type(action) is not int:  # reductions before the shift
-                        if action[2]:  # a chain of unit reductions: only the state changes
-                            key = (stack[-2], stack[-1], kind)
-                            try:
-                                state, action = units[key]
-                            except KeyError:
-                                state, action = units[key] = self._unit_chain(stack[-2], stack[-1], kind)
-                            stack[-1] = state
-                            if action is None:
-                                raise KeyError(kind)  # at the end state: accepted below
-                            continue
-                        size, origin, _, select, expand1, f = action
-                        if size:
-                            kids = values[-size:]
-                            del values[-size:]
-                            del stack[-size:]
-                        else:
-                            kids = []
-                        if select is not None:
-                            kind_of = type(select)
-                            kids = [kids[select]] if kind_of is int else _splice(kids, select) if kind_of is tuple else list(select(kids))
-                        value = kids[0] if expand1 and len(kids) == 1 else f(kids)
-                        state = states[stack[-1]][origin]
-                        stack.append(state)
-                        values.append(value)
-                        action = states[state][kind]
-                except KeyError:  # a syntax error (Lark reports it), or the end of the parse
-                    return values[-1] if kind is _END and stack[-1] == end_state else FALLBACK
-                if kind is _END:
-                    return FALLBACK  # Lark never shifts the end
-                stack.append(action)
-                values.append(token)
-                if trace is not None:
-                    trace.append(token)
-                if relexed:
-                    break  # scan again from after the token the state's own lexer found
-        return FALLBACK
+        while True:
+            for m in finditer(text, pos):
+                start, end = m.span()
+                if start != pos:
+                    yield None, None  # a character no terminal matches
+                    return
+                kind = m.lastgroup
+                if kind in ignore:
+                    if kind in newline and (k := count("\n", start, end)):
+                        line += k
+                        line_start = text.rindex("\n", start, end) + 1
+                    pos = end
+                    continue
+                value = text[start:end]
+                retype = keywords.get(kind)
+                if retype is not None:
+                    kind = retype.get(value, kind)
+                if kind not in states[stack[-1]]:  # not accepted here: the state's own lexer decides
+                    token = self._relex(stack[-1], text, pos, line, line_start)
+                    if token is None:
+                        yield None, None
+                        return
+                    pos, line, line_start = token.end_pos, token.end_line, token.end_pos - token.end_column + 1
+                    yield token.type, (token if token.type in kept else None)
+                    break  # scan again from after it
+                token = None
+                if kind in kept:
+                    token = new_str(Token, value)
+                    token.type = kind
+                    token.value = value
+                    token.start_pos = start
+                    token.line = line
+                    token.column = start - line_start + 1
+                if kind in newline and (k := count("\n", start, end)):
+                    line += k
+                    line_start = text.rindex("\n", start, end) + 1
+                if token is not None:
+                    token.end_line = line
+                    token.end_column = end - line_start + 1
+                    token.end_pos = end
+                pos = end
+                yield kind, token
+            else:  # the end of the text, or a character no terminal matches
+                yield (_END, None) if pos == len(text) else (None, None)
+                return
 
     def _unit_chain(self, below: int, state: int, kind: str) -> tuple[int, object]:
         """The state after the unit reductions from ``state`` (above ``below``) on ``kind``, and
