@@ -36,7 +36,7 @@ from robogen.semantics import check_texts
 from robogen.semantics.checker import check
 from robogen.semantics.workspace import Workspace
 from robogen.syntax.fastparse import FALLBACK
-from robogen.syntax.parser import ROBOSIM, _ast_parser, _fast_parser, _parser, parse_text, without_gc
+from robogen.syntax.parser import ROBOSIM, _fast_parser, _parser, parse_text, without_gc
 
 PATH = "bench_model.rst"
 
@@ -313,10 +313,11 @@ def main() -> int:
             print(d.render(), file=sys.stderr)
         print(f"the generated model has {len(model.errors)} errors", file=sys.stderr)
         return 1
-    lark, transformer = _ast_parser(ROBOSIM)  # tables loaded before timing
+    fast = _fast_parser(ROBOSIM)  # tables loaded before timing
+    lark, transformer = fast.lark, fast.lark.options.transformer
     bare = _parser(ROBOSIM)
     transformer.begin(PATH, text)
-    fast_used = _fast_parser(ROBOSIM).parse(text) is not FALLBACK
+    fast_used = fast.parse(text) is not FALLBACK
     transformer.end()
 
     def lark_ast():
