@@ -9,6 +9,7 @@ from robogen.diagnostics import DiagnosticSink
 from robogen.semantics.checker import check
 from robogen.semantics.model import SemanticModel
 from robogen.semantics.workspace import Workspace, from_texts, load
+from robogen.syntax.parser import without_gc
 
 
 def check_paths(paths: Sequence[str | os.PathLike]) -> SemanticModel:
@@ -16,12 +17,14 @@ def check_paths(paths: Sequence[str | os.PathLike]) -> SemanticModel:
     (syntax errors included) are in ``result.diagnostics``; nothing is raised for bad models,
     except a RobogenError when a path itself is missing or holds no model."""
     sink = DiagnosticSink()
-    return check(load(paths, sink))
+    with without_gc():  # one pause over parse and check: the collector would scan the ASTs between them
+        return check(load(paths, sink))
 
 
 def check_texts(texts: dict[str, str]) -> SemanticModel:
     """The same for in-memory files (path -> text)."""
-    return check(from_texts(texts, DiagnosticSink()))
+    with without_gc():
+        return check(from_texts(texts, DiagnosticSink()))
 
 
 __all__ = ["SemanticModel", "Workspace", "check", "check_paths", "check_texts", "load"]

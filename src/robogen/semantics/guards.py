@@ -297,9 +297,10 @@ class Guards:
         """An assignment under which both guards hold, or None (also when undecided)."""
         guards = [g for g in (g1, g2) if g is not None]
         evaluators = [self.evaluator(g) for g in guards]
+        first, second = (evaluators + [_true, _true])[:2]
         try:
             for env in self._assignments(guards, MAX_ASSIGNMENTS):
-                if all(f(env) is True for f in evaluators):
+                if first(env) is True and second(env) is True:
                     return env
         except Unknown:
             return None
@@ -314,7 +315,10 @@ class Guards:
             return False
         f = self.evaluator(g)
         try:
-            return not any(f(env) is True for env in self._assignments([g], EXACT_LIMIT))
+            for env in self._assignments([g], EXACT_LIMIT):
+                if f(env) is True:
+                    return False
+            return True
         except Unknown:
             return False
 
@@ -391,6 +395,10 @@ _STEPS: dict[str, Callable[[object, Callable, dict], object]] = {
     "-": _numeric(lambda x, y: x - y),
     "*": _numeric(lambda x, y: x * y),
 }
+
+
+def _true(env: dict) -> object:
+    return True
 
 
 def _constant(value: object) -> Callable[[dict], object]:
@@ -484,6 +492,8 @@ def abstractly_satisfiable(g: ast.Expr) -> bool:
         else:
             atoms[norm(e)[0]] = None
 
+    normed: dict[int, tuple] = {}  # id(atom) -> norm(atom), computed once per atom
+
     def holds(e: ast.Expr, env: dict) -> bool:
         if isinstance(e, ast.BoolLit):
             return e.value
@@ -494,9 +504,13 @@ def abstractly_satisfiable(g: ast.Expr) -> bool:
             a = holds(first, env)
             for link in links:
                 b = holds(link.right, env)
-                a = {"/\\": a and b, "\\/": a or b, "=>": (not a) or b, "iff": a == b}[link.op]
+                op = link.op
+                a = (a and b) if op == "/\\" else (a or b) if op == "\\/" else ((not a) or b) if op == "=>" else a == b
             return a
-        key, negated = norm(e)
+        known = normed.get(id(e))
+        if known is None:
+            known = normed[id(e)] = norm(e)
+        key, negated = known
         return env[key] != negated
 
     collect(g)

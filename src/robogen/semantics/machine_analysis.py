@@ -35,8 +35,9 @@ def analyse_machine(scope: MachineScope, tables: Tables, sink: DiagnosticSink) -
     _unreachable(scope, never, sink)
     _nondeterminism(scope, guards, never, sink)
     if scope.robosim:
-        _exec_reachability(scope, never, sink)
-        _exec_free_cycles(scope, never, sink)
+        graph = _flat_graph(scope, never)
+        _exec_reachability(graph, scope.is_operation, sink)
+        _exec_free_cycles(graph, sink)
 
 
 # ---------------------------------------------------------------------------- structure helpers
@@ -202,8 +203,8 @@ def _flat_graph(scope: MachineScope, never: set[int]):
     return nodes, succ
 
 
-def _exec_reachability(scope: MachineScope, never: set[int], sink: DiagnosticSink) -> None:
-    nodes, succ = _flat_graph(scope, never)
+def _exec_reachability(graph, is_operation: bool, sink: DiagnosticSink) -> None:
+    nodes, succ = graph
     good: set[int] = set()
     for nid, (region, node) in nodes.items():
         if _runs_exec(node):
@@ -211,7 +212,7 @@ def _exec_reachability(scope: MachineScope, never: set[int], sink: DiagnosticSin
         for t, _ in succ[nid]:
             if t is not None and (t.exec or has_exec(t.action)):
                 good.add(nid)
-    if scope.is_operation:
+    if is_operation:
         for nid, (region, node) in nodes.items():
             if isinstance(node, ast.Final):
                 good.add(nid)  # an operation may end without exec: its caller goes on
@@ -235,8 +236,8 @@ def _exec_reachability(scope: MachineScope, never: set[int], sink: DiagnosticSin
             )
 
 
-def _exec_free_cycles(scope: MachineScope, never: set[int], sink: DiagnosticSink) -> None:
-    nodes, succ = _flat_graph(scope, never)
+def _exec_free_cycles(graph, sink: DiagnosticSink) -> None:
+    nodes, succ = graph
     runs_exec = {nid for nid, (_, node) in nodes.items() if _runs_exec(node)}
     edges: dict[int, list[tuple[ast.Transition | None, int]]] = {
         nid: [(t, d) for t, d in succ[nid] if (t is None or not (t.exec or has_exec(t.action))) and d not in runs_exec]

@@ -26,6 +26,7 @@ from lark.exceptions import UnexpectedCharacters, UnexpectedEOF, UnexpectedInput
 
 from robogen.diagnostics import Diagnostic, RobogenError, Span, error
 from robogen.syntax import ast
+from robogen.syntax.fastparse import FALLBACK, FastLALR
 from robogen.syntax.transform import MAX_NESTING, ToAst
 
 __all__ = ["EXTENSIONS", "MAX_NESTING", "ROBOCHART", "ROBOSIM", "decode", "keywords", "language_of", "parse_file",
@@ -79,6 +80,12 @@ def _ast_parser(language: str) -> tuple[Lark, ToAst]:
         cache=True,
     )
     return parser, transformer
+
+
+@functools.lru_cache(maxsize=None)
+def _fast_parser(language: str) -> FastLALR:
+    """The fast driver over the AST parser's tables (see :mod:`robogen.syntax.fastparse`)."""
+    return FastLALR(_ast_parser(language)[0])
 
 
 _lock = threading.Lock()
@@ -141,11 +148,16 @@ def parse_text(text: str, path: str = "<string>", language: str | None = None) -
         line = text.count("\n", 0, nul) + 1
         column = nul - (text.rfind("\n", 0, nul) + 1) + 1
         raise RobogenError(error("file contains NUL bytes; is it a binary file, not a model?", Span.point(path, line, column)))
-    parser, transformer = _ast_parser(language)
+    # the parser whose callbacks the fast driver calls (threads may have built two on first use)
+    fast = _fast_parser(language)
+    parser, transformer = fast.lark, fast.lark.options.transformer
     with _lock, without_gc():  # the transformer holds the state of the file being parsed
         transformer.begin(path, text)
         try:
-            result = parser.parse(text)
+            result = fast.parse(text)
+            if result is FALLBACK:  # Lark parses it again, and reports any syntax error
+                transformer.begin(path, text)
+                result = parser.parse(text)
         except UnexpectedInput as exc:
             raise RobogenError(_syntax_error(exc, text, path, language)) from None
         finally:

@@ -4,8 +4,8 @@ values that rule callbacks pass to each other before they become AST nodes."""
 
 from __future__ import annotations
 
-import bisect
 import re
+from bisect import bisect_right
 from typing import Callable
 
 from lark import Token, Transformer
@@ -69,6 +69,24 @@ class Body(Positioned):
         self.pos = node_pos(expr)
 
 
+_new = object.__new__
+_set = object.__setattr__
+
+
+def make_span(path: str, line: int, column: int, end_line: int, end_column: int, offset: int, end_offset: int) -> Span:
+    """``Span(path, line, column, end_line, end_column, offset, end_offset)``, the same object
+    made without the frozen dataclass's seven ``__setattr__`` calls (the parser makes one for
+    nearly every token)."""
+    span = _new(Span)
+    _set(span, "__dict__", {"path": path, "line": line, "column": column, "end_line": end_line,
+                            "end_column": end_column, "offset": offset, "end_offset": end_offset})  # fmt: skip
+    return span
+
+
+if "__slots__" in Span.__dict__:  # pragma: no cover - a Span without __dict__ is made the plain way
+    make_span = Span  # noqa: F811
+
+
 def node_pos(x) -> tuple[int, int] | None:
     return span_pos(getattr(x, "span", None))
 
@@ -84,7 +102,8 @@ def pos(x) -> tuple[int, int] | None:
     if isinstance(x, Token):
         return (x.start_pos, x.end_pos) if x.start_pos is not None else None
     if isinstance(x, ast.Node):
-        return node_pos(x)
+        span = x.span
+        return (span.offset, span.end_offset) if span is not None and span.offset >= 0 else None
     if isinstance(x, Positioned):
         return x.pos
     if isinstance(x, (tuple, list)) and x:
@@ -92,6 +111,24 @@ def pos(x) -> tuple[int, int] | None:
         if a and b:
             return (a[0], b[1])
     return None
+
+
+def _edge(x, at_end: bool) -> tuple[int, int, int] | None:
+    """(offset, line, column) where callback child ``x`` starts (or ends), if it has a position;
+    line and column are 0 where only the offset is known."""
+    if type(x) is Token:
+        if x.start_pos is None:
+            return None
+        return (x.end_pos, x.end_line, x.end_column) if at_end else (x.start_pos, x.line, x.column)
+    if isinstance(x, ast.Node):
+        span = x.span
+        if span is None or span.offset < 0:
+            return None
+        return (span.end_offset, span.end_line, span.end_column) if at_end else (span.offset, span.line, span.column)
+    p = pos(x)
+    if not p:
+        return None
+    return (p[1] if at_end else p[0], 0, 0)
 
 
 class SpanBuilder(Transformer):
@@ -181,27 +218,30 @@ class SpanBuilder(Transformer):
         return self._record(node, d_left if d_left > d_right else d_right, (left, right))
 
     def _line_col(self, offset: int) -> tuple[int, int]:
-        line = bisect.bisect_right(self._line_starts, offset)
+        line = bisect_right(self._line_starts, offset)
         return line, offset - self._line_starts[line - 1] + 1
 
     def _make(self, start: int, end: int) -> Span:
-        line, col = self._line_col(start)
-        end_line, end_col = self._line_col(end)
-        return Span(self.path, line, col, end_line, end_col, start, end)
+        line_starts = self._line_starts
+        line = bisect_right(line_starts, start)
+        end_line = bisect_right(line_starts, end)
+        return make_span(self.path, line, start - line_starts[line - 1] + 1, end_line, end - line_starts[end_line - 1] + 1, start, end)
 
     def _span(self, children, left: tuple[str, ...] = (), right: tuple[str, ...] = ()) -> Span | None:
-        first = last = None
+        # Tokens and nodes know their lines and columns: only a span grown over a keyword or a
+        # bracket, or ending at a helper value, looks them up from the offsets.
         for c in children:
-            first = pos(c)
+            first = _edge(c, False)
             if first:
                 break
+        else:
+            return None
         for c in reversed(children):
-            last = pos(c)
+            last = _edge(c, True)
             if last:
                 break
-        if first is None or last is None:
-            return None
-        start, end = first[0], last[1]
+        start, line, column = first
+        end, end_line, end_column = last
         text = self.text
         for word in reversed(left):
             p = start
@@ -209,6 +249,7 @@ class SpanBuilder(Transformer):
                 p -= 1
             if p >= len(word) and text.startswith(word, p - len(word)):
                 start = p - len(word)
+                line = 0
             else:
                 break
         for word in right:
@@ -218,22 +259,30 @@ class SpanBuilder(Transformer):
                 p += 1
             if text.startswith(word, p):
                 end = p + len(word)
+                end_line = 0
             else:
                 break
-        return self._make(start, end)
+        line_starts = self._line_starts
+        if not line:
+            line = bisect_right(line_starts, start)
+            column = start - line_starts[line - 1] + 1
+        if not end_line:
+            end_line = bisect_right(line_starts, end)
+            end_column = end - line_starts[end_line - 1] + 1
+        return make_span(self.path, line, column, end_line, end_column, start, end)
 
     def _tspan(self, token: Token) -> Span:
-        return Span(
+        return make_span(
             self.path, token.line or 1, token.column or 1, token.end_line or token.line or 1,
             token.end_column or (token.column or 1) + len(token), token.start_pos if token.start_pos is not None else -1,
             token.end_pos if token.end_pos is not None else -1,
         )
 
     def _name(self, token: Token) -> str:
-        text = str(token)
+        text = token.value if type(token) is Token else str(token)
         if text.startswith("^"):
             return text[1:]
-        if text in self.keywords:
+        if text in (self._keywords or self.keywords):
             self.problems.append(
                 error(f"'{text}' is a reserved word and cannot be used as a name (write ^{text} to escape it)", self._tspan(token))
             )

@@ -36,6 +36,9 @@ class Declarations:
         return ast.Diagram(self._name(c[0]), span=self._span(c, left=("diagram",)), name_span=self._tspan(c[0]))
 
     def qname(self, c):
+        if len(c) == 1:  # most names: one token, its span
+            token = c[0]
+            return ast.Name((self._name(token),), span=self._tspan(token))
         return ast.Name(tuple(self._name(t) for t in c), span=self._span(c))
 
     def given_type(self, c):

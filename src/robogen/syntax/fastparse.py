@@ -1,0 +1,288 @@
+"""A faster driver for the LALR parse, over Lark's own compiled tables.
+
+Lark stays the home of the grammar: this module reads everything from a loaded ``Lark`` object
+(the root lexer's compiled regular expression and keyword table, the contextual lexer of each
+parser state, the LALR parse table and the rule callbacks that build the AST) and duplicates
+nothing. It only drives them with less overhead:
+
+- one scan of the text with the root lexer's regular expression (the same terminals in the
+  same order), keywords retyped from names by a dictionary, positions counted as it goes;
+- one loop with the parse table in locals; a chain of reductions by ``?rules`` with one child,
+  which keep their child unchanged, only replaces the state (memoised per state below, state
+  and token); other reductions call the transformer method inside Lark's callback with the
+  children Lark's child filter would give it (the helper rules Lark names ``_...`` and splices
+  into their parent are plain lists, not Trees), and Lark ``Token`` objects are made only for
+  the terminals some rule keeps.
+
+Why the tokens are Lark's: Lark's contextual lexer matches, in each parser state, the
+alternation of the terminals that state accepts, in the root lexer's order. When the token the
+whole-text scan finds is accepted in the current state, every terminal before it in the state's
+alternation is also before it in the root alternation and did not match, so the contextual
+lexer finds the same token (keywords included: both retype a name to the keyword only where
+the keyword is a terminal of the lexer). When the token is not accepted there, the state's own
+contextual lexer (Lark's) lexes at that position instead, and the scan resumes after it.
+
+Anything else (a character no terminal matches, a token no state accepts, a grammar feature
+this driver does not handle) returns :data:`FALLBACK`, and the caller parses with Lark itself,
+so syntax errors are Lark's, unchanged.
+"""
+
+from __future__ import annotations
+
+from operator import itemgetter
+
+from lark import Lark, Token
+from lark.exceptions import LexError, UnexpectedInput
+from lark.grammar import Rule
+from lark.lexer import ContextualLexer, LexerState, LineCounter, UnlessCallback
+from lark.parse_tree_builder import ChildFilterLALR_NoPlaceholders, ExpandSingleChild
+from lark.parsers.lalr_analysis import Shift
+from lark.utils import TextSlice
+
+__all__ = ["FALLBACK", "FastLALR"]
+
+FALLBACK = object()
+"""What :meth:`FastLALR.parse` returns when Lark must parse the text itself."""
+
+_END = "$END"
+
+
+def _plan(rule: Rule, callback, transformer) -> tuple[tuple, tuple[int, ...]] | None:
+    """How to reduce by ``rule``: (size, origin, passthrough, select, expand1, function), and
+    the indices of the children that reach a callback; None if the callback is wrapped in a way
+    this driver does not know (then it is not used).
+
+    ``passthrough``: a ``?rule`` with one kept child and no alias: the value stays as it is.
+    Otherwise ``function`` is called with the children ``select`` picks as Lark's child filter
+    does (None: all; an index; an itemgetter of several; pairs (index, expand) where children
+    of ``_rules`` are spliced in), or the single child is returned when ``expand1`` (Lark's
+    ExpandSingleChild) and only one is left. The value of a ``_rule`` that the transformer does
+    not handle is the list of its children (Lark makes a Tree, which only its parent reads)."""
+    size = len(rule.expansion)
+    f, include, expand1 = callback, None, False
+    if type(f) is ChildFilterLALR_NoPlaceholders:
+        include = tuple(f.to_include)
+        f = f.node_builder
+    if type(f) is ExpandSingleChild:
+        expand1 = True
+        f = f.node_builder
+    if isinstance(f, (ChildFilterLALR_NoPlaceholders, ExpandSingleChild)) or not callable(f):
+        return None  # nested wrappers
+    name = rule.origin.name
+    if name.startswith("_") and not rule.alias and not expand1 and getattr(transformer, name, None) is None:
+        f = _as_list
+    indices = tuple(range(size)) if include is None else tuple(i for i, _ in include)
+    select = None
+    if include is not None and any(expand for _, expand in include):
+        select = include
+    elif len(indices) != size:
+        select = indices[0] if len(indices) == 1 else itemgetter(*indices) if indices else _nothing
+    passthrough = expand1 and size == 1 and select is None
+    return (size, name, passthrough, select, expand1, f), indices
+
+
+def _as_list(kids: list) -> list:
+    return kids
+
+
+def _nothing(kids: list) -> tuple:
+    return ()
+
+
+def _splice(kids: list, include: tuple[tuple[int, bool], ...]) -> list:
+    """Lark's child filter where ``_rules`` are expanded (their values are lists here)."""
+    filtered: list = []
+    for i, expand in include:
+        if not expand:
+            filtered.append(kids[i])
+        elif filtered:
+            filtered += kids[i]
+        else:  # reused, as Lark does for left recursion
+            filtered = kids[i]
+    return filtered
+
+
+def _kept(rule: Rule, indices: tuple[int, ...]) -> set[str]:
+    """The terminals of ``rule`` that reach a callback (their tokens must be real Tokens)."""
+    return {rule.expansion[i].name for i in indices if rule.expansion[i].is_term}
+
+
+class _Everything:
+    def __contains__(self, item) -> bool:
+        return True
+
+
+class FastLALR:
+    """The fast driver for one loaded Lark parser (LALR, contextual lexer, inline transformer)."""
+
+    def __init__(self, lark: Lark):
+        self.usable = False
+        self.lark = lark
+        frontend = lark.parser
+        lexer = frontend.lexer
+        if lark.options.postlex is not None or not isinstance(lexer, ContextualLexer) or len(lark.options.start) != 1:
+            return
+        root = lexer.root_lexer
+        scanner = root.scanner
+        if len(scanner._mres) != 1 or not all(type(cb) is UnlessCallback for cb in root.callback.values()):
+            return
+        parser = frontend.parser.parser
+        table = parser.parse_table
+        callbacks = parser.callbacks
+        if not all(isinstance(key, Rule) for key in callbacks):
+            return  # terminal callbacks: not handled here
+        start = lark.options.start[0]
+        self._lexer = lexer
+        self._regex = scanner._mres[0]
+        # name type -> {keyword text: keyword type}, as the root lexer's UnlessCallback retypes
+        self._keywords = {
+            kind: {t.pattern.value: t.name for t in cb.scanner.terminals} for kind, cb in root.callback.items()
+        }
+        self._ignore = root.ignore_types
+        self._newline = root.newline_types
+        planned = {rule: _plan(rule, cb, lark.options.transformer) for rule, cb in callbacks.items()}
+        if None in planned.values():
+            return  # a callback wrapped in a way this driver does not know
+        plans = {rule: plan for rule, (plan, _) in planned.items()}
+        self._kept = set().union(*(_kept(rule, indices) for rule, (_, indices) in planned.items()))
+        self._states = [None] * (max(table.states) + 1)
+        for state, actions in table.states.items():
+            self._states[state] = {
+                kind: (arg if action is Shift else plans[arg]) for kind, (action, arg) in actions.items()
+            }
+        self._units: dict[tuple[int, int, str], tuple[int, object]] = {}  # memo of _unit_chain
+        self._start = table.start_states[start]
+        self._end = table.end_states[start]
+        self.usable = True
+
+    def parse(self, text: str, trace: list | None = None):
+        """The value of the start rule's callback, or FALLBACK. With a ``trace`` list, every
+        token the parser shifts is appended to it (as a Lark Token; for tests)."""
+        if not self.usable:
+            return FALLBACK
+        states = self._states
+        units = self._units
+        end_state = self._end
+        stack = [self._start]
+        values: list = []
+        for kind, token in self._tokens(text, stack, self._kept if trace is None else _Everything()):
+            if kind is None:
+                return FALLBACK  # the scan cannot go on: Lark reports why
+            try:
+                action = states[stack[-1]][kind]
+                while type(action) is not int:  # reductions before the shift
+                    if action[2]:  # a chain of unit reductions: only the state changes
+                        key = (stack[-2], stack[-1], kind)
+                        try:
+                            state, action = units[key]
+                        except KeyError:
+                            state, action = units[key] = self._unit_chain(stack[-2], stack[-1], kind)
+                        stack[-1] = state
+                        if action is None:
+                            raise KeyError(kind)  # at the end state: accepted below
+                        continue
+                    size, origin, _, select, expand1, f = action
+                    if size:
+                        kids = values[-size:]
+                        del values[-size:]
+                        del stack[-size:]
+                    else:
+                        kids = []
+                    if select is not None:
+                        kind_of = type(select)
+                        kids = [kids[select]] if kind_of is int else _splice(kids, select) if kind_of is tuple else list(select(kids))
+                    value = kids[0] if expand1 and len(kids) == 1 else f(kids)
+                    state = states[stack[-1]][origin]
+                    stack.append(state)
+                    values.append(value)
+                    action = states[state][kind]
+            except KeyError:  # a syntax error (Lark reports it), or the end of the parse
+                return values[-1] if kind is _END and stack[-1] == end_state else FALLBACK
+            if kind is _END:
+                return FALLBACK  # Lark never shifts the end
+            stack.append(action)
+            values.append(token)
+            if trace is not None:
+                trace.append(token)
+        return FALLBACK
+
+    def _tokens(self, text: str, stack: list, kept):
+        """(type, Token or None) of each token the contextual lexer would give the parser, whose
+        state is on top of ``stack`` when the next token is asked for; then (END, None). A
+        Token is made only for the types in ``kept``. (None, None) if the scan cannot go on."""
+        states, keywords, ignore, newline = self._states, self._keywords, self._ignore, self._newline
+        finditer = self._regex.finditer
+        new_str = str.__new__
+        count = text.count
+        line = 1
+        pos = line_start = 0
+        while True:
+            for m in finditer(text, pos):
+                start, end = m.span()
+                if start != pos:
+                    yield None, None  # a character no terminal matches
+                    return
+                kind = m.lastgroup
+                if kind in ignore:
+                    if kind in newline and (k := count("\n", start, end)):
+                        line += k
+                        line_start = text.rindex("\n", start, end) + 1
+                    pos = end
+                    continue
+                value = text[start:end]
+                retype = keywords.get(kind)
+                if retype is not None:
+                    kind = retype.get(value, kind)
+                if kind not in states[stack[-1]]:  # not accepted here: the state's own lexer decides
+                    token = self._relex(stack[-1], text, pos, line, line_start)
+                    if token is None:
+                        yield None, None
+                        return
+                    pos, line, line_start = token.end_pos, token.end_line, token.end_pos - token.end_column + 1
+                    yield token.type, (token if token.type in kept else None)
+                    break  # scan again from after it
+                token = None
+                if kind in kept:
+                    token = new_str(Token, value)
+                    token.type = kind
+                    token.value = value
+                    token.start_pos = start
+                    token.line = line
+                    token.column = start - line_start + 1
+                if kind in newline and (k := count("\n", start, end)):
+                    line += k
+                    line_start = text.rindex("\n", start, end) + 1
+                if token is not None:
+                    token.end_line = line
+                    token.end_column = end - line_start + 1
+                    token.end_pos = end
+                pos = end
+                yield kind, token
+            else:  # the end of the text, or a character no terminal matches
+                yield (_END, None) if pos == len(text) else (None, None)
+                return
+
+    def _unit_chain(self, below: int, state: int, kind: str) -> tuple[int, object]:
+        """The state after the unit reductions from ``state`` (above ``below``) on ``kind``, and
+        the action there (None at the end state, where the parse is over); a missing action
+        raises KeyError (a syntax error)."""
+        states = self._states
+        action = states[state][kind]
+        while type(action) is not int and action[2]:
+            state = states[below][action[1]]
+            if state == self._end:
+                return state, None
+            action = states[state][kind]
+        return state, action
+
+    def _relex(self, state: int, text: str, pos: int, line: int, line_start: int) -> Token | None:
+        """The token Lark's contextual lexer finds at ``pos`` in parser state ``state``."""
+        counter = LineCounter("\n")
+        counter.char_pos = pos
+        counter.line = line
+        counter.line_start_pos = line_start
+        counter.column = pos - line_start + 1
+        try:
+            return self._lexer.lexers[state].next_token(LexerState(TextSlice(text, 0, len(text)), counter))
+        except (UnexpectedInput, LexError, EOFError):
+            return None
