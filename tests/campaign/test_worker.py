@@ -43,12 +43,13 @@ def test_the_zygote_is_warmed_only_after_a_run_succeeded(campaign_dir, campaign_
     row = execute(crash_1)
     assert (row["status"], row["error"]) == ("failed", "crashed: the run's process was killed by SIGSEGV (Segmentation fault)")
     zygote = state.zygote.process.pid
-    assert state.rehearsed == set()  # a crashed run is never repeated in the zygote
+    assert not state.proven and not state.rehearsed  # a crashed run is never repeated in the zygote
     row = execute(ok_1)
     assert (row["status"], row["end_time"], row["metrics"]) == ("ok", 2.0, {"y": 2.0})
-    assert len(state.rehearsed) == 1
-    row = execute(crash_2)  # the warmed zygote still isolates a crash
+    assert list(state.proven.values()) == [ok_1.spec] and not state.rehearsed  # warmed when another run comes
+    row = execute(crash_2)  # warmed with ok_1 first; the warmed zygote still isolates a crash
     assert row["error"].startswith("crashed: the run's process was killed by SIGSEGV")
+    assert not state.proven and len(state.rehearsed) == 1
     row = execute(ok_2)
     assert (row["status"], row["metrics"]) == ("ok", {"y": 4.0})
     assert state.zygote.process.pid == zygote and state.zygote.process.poll() is None

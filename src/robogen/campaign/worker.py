@@ -48,6 +48,7 @@ class _WorkerState:
         self.zygote = Zygote(owned=self.folder)
         self.fmus: dict[str, Path] = {}
         self.rehearsed: set[tuple] = set()  # (system, FMUs) combinations the zygote has simulated
+        self.proven: dict[tuple, RunSpec] = {}  # combination -> a run of it that succeeded, not yet rehearsed
         atexit.register(self.close)
 
     def fmu(self, digest: str, data: bytes) -> Path:
@@ -124,12 +125,17 @@ def execute_run(context: Context, spec: RunSpec, fmus: dict[str, bytes]) -> dict
     """The Dask task of one run: its row (status, error, end_time, metrics, wall_time, worker;
     ``series`` with keep = "results"). Never raises for a failing run.
 
-    The first run of a combination of FMUs on this worker starts cold; once one has succeeded,
-    its first step is rehearsed in the zygote (:meth:`_WorkerState.rehearse`), so that the later
-    runs start warm. Warming only after a success keeps a crash or a hang out of the zygote
-    without a simulation of its own to prove the FMUs first."""
+    The first run of a combination of FMUs on this worker starts cold. When a second run of it
+    arrives and one has succeeded, the first step of that one is rehearsed in the zygote first
+    (:meth:`_WorkerState.rehearse`), so that this run and the later ones start warm. Warming
+    only after a success keeps a crash or a hang out of the zygote without a simulation of its
+    own to prove the FMUs first; warming at the second run spares a worker that gets one run."""
     state = _here()
     paths = {instance: state.fmu(digest, fmus[digest]) for instance, digest in spec.fmus.items()}
+    combination = (context.system_text, tuple(sorted(spec.fmus.items())))
+    if combination in state.proven:
+        state.rehearse(context, state.proven.pop(combination), paths)
+        state.rehearsed.add(combination)
     folder = Path(tempfile.mkdtemp(prefix="run-", dir=state.folder))
     started = time.perf_counter()
     try:
@@ -139,8 +145,6 @@ def execute_run(context: Context, spec: RunSpec, fmus: dict[str, bytes]) -> dict
     row = outcome.result if outcome.failure is None else failed(outcome.failure)
     row["wall_time"] = time.perf_counter() - started
     row["worker"] = _worker_name()
-    combination = (context.system_text, tuple(sorted(spec.fmus.items())))
     if row["status"] != "failed" and combination not in state.rehearsed:
-        state.rehearse(context, spec, paths)
-        state.rehearsed.add(combination)
+        state.proven.setdefault(combination, spec)
     return row
