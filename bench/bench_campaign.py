@@ -76,16 +76,56 @@ settle_time = {{ first_tick = "platform.moveCompleted", since = "controller.move
 
 
 def campaign_run(campaign: Path, out: Path, workers: int):
-    from robogen.campaign import run_campaign
-
-    t0 = time.perf_counter()
-    result = run_campaign(campaign, out, workers=workers, progress=False, echo=lambda line: None)
-    total = time.perf_counter() - t0
+    """The campaign on a local cluster of ``workers``: (result, seconds end to end, runs table,
+    when each run's result reached the client, in seconds from the execution's start)."""
     import pyarrow.parquet as pq
 
+    from robogen.campaign import engine, run_campaign
+
+    arrived: dict[str, float] = {}
+    original = engine.execute
+
+    def timed(plan, todo, client, *, retries, record, progress):
+        def stamped(run, row):
+            arrived[run.id] = time.monotonic()
+            record(run, row)
+
+        try:
+            return original(plan, todo, client, retries=retries, record=stamped, progress=progress)
+        finally:
+            for key in arrived:
+                arrived[key] -= progress.started
+
+    engine.execute = timed
+    try:
+        t0 = time.perf_counter()
+        result = run_campaign(campaign, out, workers=workers, progress=False, echo=lambda line: None)
+        total = time.perf_counter() - t0
+    finally:
+        engine.execute = original
     table = pq.read_table(out / "runs.parquet")
     assert result.counts == {"ok": 32}, result.counts
-    return result, total, table
+    return result, total, table, arrived
+
+
+def breakdown(result, table, arrived: dict[str, float]) -> list[str]:
+    """Where each worker's share of the execution went: its runs (their wall_time: fork to the
+    result back in the worker), the wait for its first result beyond that run's own time
+    (scatter, dispatch), the warming of its zygote before its second run (with one dispatch),
+    the dispatch between its later runs, and its idle tail after its last result."""
+    lines = []
+    rows = sorted(zip(table.column("worker").to_pylist(), table.column("id").to_pylist(),
+                      table.column("wall_time").to_pylist()), key=lambda r: arrived[r[1]])
+    for n, worker in enumerate(sorted({r[0] for r in rows}), 1):
+        times = [(arrived[i], wall) for w, i, wall in rows if w == worker]
+        gaps = [t - before - wall for (before, _), (t, wall) in zip(times, times[1:])]
+        later = gaps[1:]
+        lines.append(f"   worker {n}: {len(times)} runs {sum(w for _, w in times):5.2f} s; first result "
+                     f"+{times[0][0] - times[0][1]:.2f} s; warming before the second {gaps[0] if gaps else 0:.2f} s; "
+                     f"dispatch between the others {sum(later):.2f} s "
+                     f"({1000 * statistics.median(later) if later else 0:.0f} ms median); "
+                     f"tail {result.execution - times[-1][0]:.2f} s")
+    return lines
 
 
 def peer_systems(campaign: Path, folder: Path) -> dict[str, Path]:
@@ -141,13 +181,14 @@ def main() -> int:
         folder = Path(tmp)
         t0 = time.perf_counter()
         campaign = build(folder)
-        print(f"built 3 FMUs and the 32-run campaign in {time.perf_counter() - t0:.1f} s")
+        print(f"built 3 FMUs and the 32-run campaign in {time.perf_counter() - t0:.1f} s; load average "
+              f"{os.getloadavg()[0]:.1f} on {os.cpu_count()} cores")
         ones, twos = [], []
         for i in range(REPEATS):  # alternated, so that a change of the machine's load hits both alike
             ones.append(campaign_run(campaign, folder / f"one-{i}", 1))
             twos.append(campaign_run(campaign, folder / f"two-{i}", 2))
-        one, one_total, table1 = sorted(ones, key=lambda r: r[0].execution)[len(ones) // 2]
-        two, two_total, table2 = sorted(twos, key=lambda r: r[0].execution)[len(twos) // 2]
+        one, one_total, table1, arrived1 = sorted(ones, key=lambda r: r[0].execution)[len(ones) // 2]
+        two, two_total, table2, arrived2 = sorted(twos, key=lambda r: r[0].execution)[len(twos) // 2]
         same = table1.drop_columns(["wall_time", "worker"]).equals(table2.drop_columns(["wall_time", "worker"]))
         print(f"1. throughput, 32 runs, median of {REPEATS} (workers ready -> last result; end to end with cluster "
               "start in brackets)")
@@ -158,6 +199,8 @@ def main() -> int:
         slower = statistics.median(table2.column("wall_time").to_pylist()) / statistics.median(table1.column("wall_time").to_pylist())
         print(f"   a run takes {slower:.2f}x as long on a worker when two run at once (load average now "
               f"{os.getloadavg()[0]:.1f} on {os.cpu_count()} cores)")
+        print("   where the execution went (the median campaigns):")
+        print("\n".join(["   1 worker:"] + breakdown(one, table1, arrived1) + ["   2 workers:"] + breakdown(two, table2, arrived2)))
         systems = peer_systems(campaign, folder / "peers")
         walls = dict(zip(table1.column("id").to_pylist(), table1.column("wall_time").to_pylist()))
         per_run = statistics.median(walls[i] for i in systems)

@@ -101,13 +101,15 @@ def test_signals_from_the_terminal_do_not_reach_the_zygote():
         zygote.close()
 
 
-def test_a_rehearsal_repeats_a_successful_call_in_the_zygote_only(tmp_path):
+def test_a_warming_call_runs_in_the_zygote_and_later_children_start_from_it(tmp_path):
     zygote = Zygote()
     try:
         start = zygote.run((), 30, os.getcwd, ()).result
-        assert zygote.run((), 30, os.chdir, (str(tmp_path / "missing"),), rehearse=True).failure is not None
-        assert zygote.run((), 30, os.getcwd, ()).result == start  # a failed call is not made again
-        assert zygote.run((), 30, os.chdir, (str(tmp_path),), rehearse=True).failure is None
+        assert zygote.run((), 30, os.chdir, (str(tmp_path),)).failure is None
+        assert zygote.run((), 30, os.getcwd, ()).result == start  # a child's chdir stays in the child
+        assert zygote.warm((), os.chdir, (str(tmp_path),)).failure is None
         assert zygote.run((), 30, os.getcwd, ()).result == str(tmp_path)  # later children start from it
+        assert zygote.warm((), os.chdir, (str(tmp_path / "missing"),)).failure is None  # its exception is ignored
+        assert zygote.run((), 30, os.getcwd, ()).result == str(tmp_path)
     finally:
         zygote.close()

@@ -87,8 +87,9 @@ def simulate(context: Context, spec: RunSpec, fmus: dict[str, Path], folder: Pat
 
 def rehearsal(context: Context, spec: RunSpec, fmus: dict[str, Path], folder: Path, cache: Path) -> dict:
     """The run's first communication step, without metrics (their modules loaded): what a zygote
-    does once per combination of FMUs to warm itself (:func:`robogen.campaign.isolate.serve`); a
-    step, so that the master's stepping loop has been through its first use too."""
+    does in itself once per combination of FMUs, after a run of them succeeded in a child, to
+    warm itself (:func:`robogen.campaign.isolate.serve`); a step, so that the master's stepping
+    loop has been through its first use too."""
     experiment = tomllib.loads(context.system_text).get("experiment", {})
     step = context.step or experiment.get("step") or 0.0
     stop = experiment.get("start", 0.0) + step

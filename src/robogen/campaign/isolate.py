@@ -206,12 +206,12 @@ def warm_up(preload: tuple[str, ...] = ()) -> None:
 
 
 def serve(requests: int, replies: int) -> None:
-    """The zygote's loop: one request at a time, ``(preload, timeout, function, args, rehearse)``
+    """The zygote's loop: one request at a time, ``(preload, timeout, function, args, here)``
     -> :class:`Outcome` of ``function(*args)`` in a forked child (``function`` is pickled by
-    name; None only imports the ``preload`` modules). With ``rehearse``, a call that succeeded in
-    its child is made once more in the zygote itself, so that what a first simulation sets up
-    and keeps (C declarations parsed on first use, type caches, the embedded FMUs' modules) is
-    there for every later child; a call that failed is never repeated here."""
+    name; None only imports the ``preload`` modules). With ``here``, the call is made in the
+    zygote itself, to warm it: what a first simulation sets up and keeps (C declarations parsed
+    on first use, type caches, the embedded FMUs' modules) is then there for every later child.
+    Only :meth:`Zygote.warm` asks for that, with a call that already succeeded in a child."""
     signal.signal(signal.SIGINT, signal.SIG_IGN)
     warm_up()
     loaded: set[str] = set()
@@ -219,7 +219,7 @@ def serve(requests: int, replies: int) -> None:
         message = receive(requests)
         if message is None:
             return
-        preload, timeout, function, args, rehearse = message
+        preload, timeout, function, args, here = message
         try:
             for module in preload:
                 if module not in loaded:
@@ -231,12 +231,14 @@ def serve(requests: int, replies: int) -> None:
         if function is None:  # only warm up
             send(replies, Outcome())
             continue
+        if here:
+            _rehearse(function, args)
+            send(replies, Outcome())
+            continue
         try:
             outcome = run_forked(function, args, timeout, abort_fd=requests)
         except Abandoned:
             return
-        if rehearse and outcome.failure is None:
-            _rehearse(function, args)
         send(replies, outcome)
 
 
@@ -244,7 +246,7 @@ def _rehearse(function: Callable, args: tuple) -> None:
     saved = tempfile.tempdir
     try:
         function(*args)
-    except Exception:  # it succeeded in its child; here it only warms caches
+    except Exception:  # it succeeded in a child; here it only warms caches
         pass
     finally:
         tempfile.tempdir = saved
@@ -265,16 +267,23 @@ class Zygote:
         return subprocess.Popen([sys.executable, "-m", "robogen.campaign.isolate", *owned], stdin=subprocess.PIPE,
                                 stdout=subprocess.PIPE, env=env, start_new_session=True)
 
-    def run(self, preload: tuple[str, ...], timeout: float, function: Callable | None, args: tuple,
-            rehearse: bool = False) -> Outcome:
+    def run(self, preload: tuple[str, ...], timeout: float, function: Callable | None, args: tuple) -> Outcome:
         """``function(*args)`` in a child of the zygote (started now if it is not running);
-        ``function`` None starts the zygote and imports ``preload`` only; ``rehearse``: see
-        :func:`serve`."""
+        ``function`` None starts the zygote and imports ``preload`` only."""
+        return self._request((preload, timeout, function, args, False))
+
+    def warm(self, preload: tuple[str, ...], function: Callable, args: tuple) -> Outcome:
+        """``function(*args)`` in the zygote itself, so that every later child starts warm (see
+        :func:`serve`). Only for a call whose run just succeeded in a child: a call that could
+        crash or hang would take the zygote with it."""
+        return self._request((preload, 0.0, function, args, True))
+
+    def _request(self, message: tuple) -> Outcome:
         with self.lock:
             if self.process is None or self.process.poll() is not None:
                 self.process = self._start()
             try:
-                send(self.process.stdin.fileno(), (preload, timeout, function, args, rehearse))
+                send(self.process.stdin.fileno(), message)
                 outcome = receive(self.process.stdout.fileno())
             except (BrokenPipeError, OSError):
                 outcome = None

@@ -48,6 +48,7 @@ class _WorkerState:
         self.zygote = Zygote(owned=self.folder)
         self.fmus: dict[str, Path] = {}
         self.rehearsed: set[tuple] = set()  # (system, FMUs) combinations the zygote has simulated
+        self.proven: dict[tuple, RunSpec] = {}  # combination -> a run of it that succeeded, not yet rehearsed
         atexit.register(self.close)
 
     def fmu(self, digest: str, data: bytes) -> Path:
@@ -61,12 +62,11 @@ class _WorkerState:
         return self.fmus[digest]
 
     def rehearse(self, context: Context, spec: RunSpec, paths: dict[str, Path]) -> None:
-        """A zero-length simulation of these FMUs, forked and then in the zygote: warms it for
-        every later run of them (see :func:`robogen.campaign.isolate.serve`)."""
+        """The first communication step of a run that just succeeded, in the zygote itself: warms
+        it for every later run of these FMUs (see :func:`robogen.campaign.isolate.serve`)."""
         folder = Path(tempfile.mkdtemp(prefix="rehearsal-", dir=self.folder))
         try:
-            self.zygote.run(context.preload, context.timeout, rehearsal, (context, spec, paths, folder, self.folder),
-                            rehearse=True)
+            self.zygote.warm(context.preload, rehearsal, (context, spec, paths, folder, self.folder))
         finally:
             shutil.rmtree(folder, ignore_errors=True)
 
@@ -123,12 +123,18 @@ def prepare(preload: tuple[str, ...]) -> None:
 
 def execute_run(context: Context, spec: RunSpec, fmus: dict[str, bytes]) -> dict:
     """The Dask task of one run: its row (status, error, end_time, metrics, wall_time, worker;
-    ``series`` with keep = "results"). Never raises for a failing run."""
+    ``series`` with keep = "results"). Never raises for a failing run.
+
+    The first run of a combination of FMUs on this worker starts cold. When a second run of it
+    arrives and one has succeeded, the first step of that one is rehearsed in the zygote first
+    (:meth:`_WorkerState.rehearse`), so that this run and the later ones start warm. Warming
+    only after a success keeps a crash or a hang out of the zygote without a simulation of its
+    own to prove the FMUs first; warming at the second run spares a worker that gets one run."""
     state = _here()
     paths = {instance: state.fmu(digest, fmus[digest]) for instance, digest in spec.fmus.items()}
     combination = (context.system_text, tuple(sorted(spec.fmus.items())))
-    if combination not in state.rehearsed:
-        state.rehearse(context, spec, paths)
+    if combination in state.proven:
+        state.rehearse(context, state.proven.pop(combination), paths)
         state.rehearsed.add(combination)
     folder = Path(tempfile.mkdtemp(prefix="run-", dir=state.folder))
     started = time.perf_counter()
@@ -139,4 +145,6 @@ def execute_run(context: Context, spec: RunSpec, fmus: dict[str, bytes]) -> dict
     row = outcome.result if outcome.failure is None else failed(outcome.failure)
     row["wall_time"] = time.perf_counter() - started
     row["worker"] = _worker_name()
+    if row["status"] != "failed" and combination not in state.rehearsed:
+        state.proven.setdefault(combination, spec)
     return row
