@@ -23,6 +23,7 @@ import functools
 import hashlib
 import importlib.resources
 import os
+import re
 import struct
 import tempfile
 import time
@@ -40,68 +41,19 @@ from robogen.cosim.stretch import StretchEnd, StretchPlan
 from robogen.cosim.instances import FmuInstance, Reader
 from robogen.cosim.wiring import CLOCK, UNSET, VALUE
 
+_INCLUDE = re.compile(r'#include "(\w+\.h)"')
+
+
+def package_file(name: str) -> str:
+    """A file of the library: a C file, or a header of the C types shared with Python (read into
+    cffi's declarations as well as compiled)."""
+    return (importlib.resources.files("robogen.cosim") / name).read_text(encoding="utf-8")
+
+
 ffi = cffi.FFI()
 ffi.cdef(
-    """
-    typedef int (*rg_do_step_fn)(void *, double, double, bool, bool *, bool *, bool *, double *);
-    typedef int (*rg_get_fn)(void *, const uint32_t *, size_t, void *, size_t);
-    typedef int (*rg_get_binary_fn)(void *, const uint32_t *, size_t, size_t *, const uint8_t **, size_t);
-    typedef int (*rg_set_fn)(void *, const uint32_t *, size_t, const void *, size_t);
-    typedef int (*rg_set_binary_fn)(void *, const uint32_t *, size_t, const size_t *, const uint8_t *const *, size_t);
-    typedef union { double d; int64_t i; uint64_t u; } rg_value;
-    typedef struct { char *data; size_t size, used; } rg_bytes;
-    typedef struct {
-        int n_instances;
-        rg_do_step_fn *do_step;
-        void **instance;
-        const bool *event_mode;
-        bool *flags;
-        double *last_time;
-        const int32_t *step_note;
-        int n_reads;
-        rg_get_fn *get;
-        rg_get_binary_fn *get_binary;
-        void **read_instance;
-        const uint32_t **vrs;
-        const size_t *count;
-        const int *kind;
-        void **buffer;
-        size_t **sizes;
-        const int32_t *read_note;
-        uint64_t **copies;
-        int n_ops;
-        const int *op;
-        int n_sets;
-        rg_set_fn *set;
-        rg_set_binary_fn *set_binary;
-        void **set_instance;
-        const int *set_kind;
-        const int32_t *set_note;
-        const int *set_first;
-        const int *set_count;
-        int n_links;
-        const int *link_read;
-        const int *link_index;
-        const uint32_t *link_vr;
-        rg_value *last;
-        bool *last_valid;
-        char **last_bytes;
-        size_t *last_size;
-        uint32_t *set_vrs;
-        rg_value *set_values;
-        const uint8_t **set_pointers;
-        size_t *set_sizes;
-        int n_columns;
-        const int *column_read;
-        const int *column_index;
-        const char *const *column_text;
-        int mode;
-        int width;
-        int32_t *note_call;
-        double *note_time;
-        rg_bytes arena;
-        rg_bytes text;
-    } rg_stretch;
+    package_file("stepper.h")
+    + """
     long rg_run_stretch(rg_stretch *s, double start, double h, long *n, double *t, double limit, long max_rows,
                         double deadline, double *times, uint64_t *slots, int *why, int *who, int *status);
     int rg_keep_last(rg_stretch *s, int link, const char *data, size_t size);
@@ -172,9 +124,18 @@ SOURCES = ("stepper.c", "runloop.c", "instants.c")
 
 
 def source() -> bytes:
-    """The library's C source: its files, each from its own line 1 for the compiler's messages."""
-    folder = importlib.resources.files("robogen.cosim")
-    return b"".join(b'#line 1 "%s"\n' % name.encode() + (folder / name).read_bytes() for name in SOURCES)
+    """The library's C source: its files, each from its own line 1 for the compiler's messages,
+    with the headers they include (the types cffi reads too) in place of their #include lines."""
+    parts = []
+    for name in SOURCES:
+        parts.append(f'#line 1 "{name}"\n')
+        for number, line in enumerate(package_file(name).splitlines(keepends=True), 1):
+            included = _INCLUDE.fullmatch(line.strip())
+            if included:
+                parts += [f'#line 1 "{included[1]}"\n', package_file(included[1]), f'#line {number + 1} "{name}"\n']
+            else:
+                parts.append(line)
+    return "".join(parts).encode()
 
 
 @functools.cache
