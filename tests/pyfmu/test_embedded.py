@@ -306,3 +306,34 @@ def test_a_host_running_another_python_is_refused(fmus, tmp_path):
                             capture_output=True, text=True, env={"PATH": "/usr/bin:/bin"}, timeout=60)
     assert "instance None" in result.stdout
     assert re.search(r"log 3 this FMU was built for Python 3\.\d+; the host runs Python 3\.\d+\.\d+\n", result.stdout)
+
+
+def test_an_interruption_outside_the_bound_functions_try_is_the_calls_failure_not_a_traceback(fmus, capfd):
+    # A host's signal handler can raise at any bytecode of the FMU's Python, also where no try
+    # of the bound function covers it: here while the failure of do_step is being reported.
+    import gc
+
+    fmu = Fmu(fmus["counter"])
+    fmu.set_f64(fail_after=0.2)
+    fmu.slave.enterInitializationMode(startTime=0.0)
+    fmu.slave.exitInitializationMode()
+    fmu.slave.updateDiscreteStates()
+    fmu.slave.enterStepMode()
+    [inst] = [o for o in gc.get_objects() if type(o).__name__ == "_Instance" and hasattr(o, "slave")
+              and getattr(o.slave, "instance_name", None) == "instance"]
+    raised = []
+
+    def interrupted_while_failing():
+        if not raised:
+            raised.append(True)
+            raise KeyboardInterrupt("SIGINT")
+
+    inst.slave.failed = interrupted_while_failing
+    with pytest.raises(FMICallException) as failure:
+        fmu.slave.doStep(0.0, 0.5)
+    assert failure.value.status == ERROR and raised
+    assert "Traceback" not in capfd.readouterr().err
+    messages = fmu.messages(ERROR)
+    assert messages[0].startswith("fmi3DoStep: Python exception in the FMU")
+    assert messages[-1] == "fmi3DoStep: interrupted (SIGINT)"
+    fmu.slave.freeInstance()

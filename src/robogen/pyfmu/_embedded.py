@@ -10,8 +10,11 @@ Every bound function catches every exception: an FMI usage error is logged as it
 other exception as its type, message and place in the model's code with the model's frames of
 its traceback, a KeyboardInterrupt (a signal the host turned into one while the model ran) as an
 interruption; the call returns fmi3Error (instantiation: NULL). Errors are logged whether
-logging is on or not (shim.c). The ``error=`` values below are cffi's last resort should that
-handling itself fail.
+logging is on or not (shim.c). An exception can still escape a bound function outside its
+``try``: a signal the host's Python handler turns into one at the function's first bytecode, or
+while a failure is reported. cffi then calls the ``onerror`` given here, which handles it the
+same way, where it would otherwise print a traceback on the host's stderr; the ``error=`` values
+are the last resort should that fail too.
 """
 
 from __future__ import annotations
@@ -177,7 +180,19 @@ class _Embedding:
             except BaseException as exc:  # noqa: BLE001 - nothing may escape into the host
                 return failed(inst, function, exc)
             return 0
-        self.ffi.def_extern(name=c_name, error=ERROR)(entry)
+
+        def escaped(_type, exc, tb):
+            """An exception outside ``entry``'s ``try``: a signal the host handles at entry's
+            first bytecode, or while the failure is reported. It is the call's failure all the
+            same (cffi would print its traceback to the host's stderr)."""
+            inst = instances.get(tb.tb_frame.f_locals.get("handle")) if tb is not None else None
+            if inst is not None:
+                try:
+                    return failed(inst, function, exc)
+                except BaseException:  # noqa: BLE001 - a second signal: the host knows already
+                    pass
+            return ERROR
+        self.ffi.def_extern(name=c_name, error=ERROR, onerror=escaped)(entry)
 
     # -- creation ---------------------------------------------------------------------------
 
@@ -217,8 +232,28 @@ class _Embedding:
                 self.report(inst.c_instance, "fmi3FreeInstance", exc, inst.usage_error)
 
     def bind_creation(self) -> None:
-        self.ffi.def_extern(name="pyfmu_py_instantiate", error=0)(self.instantiate)
-        self.ffi.def_extern(name="pyfmu_py_free_instance")(self.free_instance)
+        self.ffi.def_extern(name="pyfmu_py_instantiate", error=0, onerror=self.escaped_instantiation)(self.instantiate)
+        self.ffi.def_extern(name="pyfmu_py_free_instance", onerror=self.escaped_free)(self.free_instance)
+
+    def escaped_instantiation(self, _type, exc, tb) -> int:
+        """As ``escaped`` in :meth:`export`, for an exception outside instantiate's ``try``: no
+        instance (NULL), and the reason logged."""
+        c_instance = tb.tb_frame.f_locals.get("c_instance") if tb is not None else None
+        if c_instance is not None:
+            try:
+                self.report(c_instance, "fmi3InstantiateCoSimulation", exc, None)
+            except BaseException:  # noqa: BLE001
+                pass
+        return 0
+
+    def escaped_free(self, _type, _exc, tb) -> None:
+        """As ``escaped`` in :meth:`export`, for fmi3FreeInstance: the instance is freed all the same."""
+        inst = self.instances.pop(tb.tb_frame.f_locals.get("handle"), None) if tb is not None else None
+        if inst is not None:
+            try:
+                inst.slave.free()
+            except BaseException:  # noqa: BLE001
+                pass
 
     # -- life cycle -------------------------------------------------------------------------
 
