@@ -117,14 +117,15 @@ def test_strings_are_literals_compared_for_equality(tmp_path):
     assert [s.outputs["eq"]["eq.value"] for s in got.steps if "eq" in s.outputs] == [True, False, True]
 
 
-def test_a_string_event_is_not_supported_at_the_fmu_boundary(tmp_path):
+def test_a_sequence_of_strings_is_not_supported_at_the_fmu_boundary(tmp_path):
+    # a string event is an FMI String (test_string_ports.py); collections hold no strings
     path = tmp_path / "say.rct"
-    path.write_text('stm Say {\n\tevent said: string\n\tinitial i\n\tstate S { entry said!"hi" }\n'
-                    '\ttransition t0 { from i to S }\n}\n')
+    path.write_text('import sequence_toolkit::*\nstm Say {\n\tevent said: Seq(string)\n\tinitial i\n'
+                    '\tstate S { entry said!<"hi"> }\n\ttransition t0 { from i to S }\n}\n')
     with pytest.raises(RobogenError) as info:
         build([path], tmp_path / "say")
-    assert "a string as an FMU port is not supported for code generation" in str(info.value)
-    assert "say.rct:2:" in str(info.value)
+    assert "event 'said': a sequence of string (elements of collections are numbers" in str(info.value)
+    assert "say.rct:3:" in str(info.value)
 
 
 CONVERSIONS = """\

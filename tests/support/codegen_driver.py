@@ -165,6 +165,7 @@ NAT_VALUES = [0, 0, 1, 1, 2, 3, 4, 7]
 NAT_EXTREMES = [2**64 - 1, 2**63]
 REAL_VALUES = [-2.5, -1.0, -0.5, 0.0, 0.0, 0.25, 0.5, 1.0, 1.5, 3.0]
 REAL_EXTREMES = [1e300, -1e300, 1e-300]
+STRING_VALUES = ["", "a", "hello", "bye", "\u00e9t\u00e9", "x" * 100]  # with UTF-8 beyond ASCII
 
 
 def random_value(rng: random.Random, var: Var, choices: dict[str, list] | None = None):
@@ -176,6 +177,8 @@ def random_value(rng: random.Random, var: Var, choices: dict[str, list] | None =
             return rng.random() < 0.5
         if var.type == "Enumeration":
             return rng.randrange(max(var.items, 1))
+        if var.type == "String":
+            return rng.choice(STRING_VALUES)
         extreme = rng.random() < 0.05
         if var.type == "Int64":
             return rng.choice(INT_EXTREMES if extreme else INT_VALUES)
@@ -249,15 +252,15 @@ class FmuRunner:
         for name, value in tick.payload.items():
             var = d.by_name[name]
             values = value if isinstance(value, list) else [value]
-            buf = fmi3.value_array(var.type, len(values))
-            for i, x in enumerate(values):
-                buf[i] = x
+            buf, _, _keep = fmi3.encode(var.type, values)
             self.inst._call("fmi3Set" + fmi3.ACCESSOR[var.type], fmi3.vr_array([var.vr]), 1, buf, len(values))
 
     def _read(self, group) -> dict[str, object]:
         out: dict[str, object] = {}
         for fmi_type, (vars_, vrs, n_values, buf) in group.items():
             self.inst._call("fmi3Get" + fmi3.ACCESSOR[fmi_type], vrs, len(vars_), buf, n_values)
+            if fmi_type == "String":
+                buf = fmi3.decode_strings(buf, n_values)
             pos = 0
             for v in vars_:
                 values = [_py(buf[pos + j], fmi_type) for j in range(v.size)]
@@ -343,6 +346,8 @@ def _group(vars_: list[Var]) -> dict[str, tuple]:
 
 
 def _py(value, fmi_type: str):
+    if fmi_type == "String":
+        return value
     if fmi_type == "Boolean":
         return bool(value)
     if fmi_type == "Float64":

@@ -36,7 +36,11 @@ from robogen.ir.supported import literal_conditions
 from robogen.semantics import types as T
 
 FMI_TYPE = {"int64_t": "Int64", "uint64_t": "UInt64", "double": "Float64", "bool": "Boolean"}
-RG_TYPE = {"Int64": "RG_INT64", "UInt64": "RG_UINT64", "Float64": "RG_FLOAT64", "Boolean": "RG_BOOLEAN", "Enumeration": "RG_INT64", "Clock": "RG_CLOCK"}
+RG_TYPE = {"Int64": "RG_INT64", "UInt64": "RG_UINT64", "Float64": "RG_FLOAT64", "Boolean": "RG_BOOLEAN", "Enumeration": "RG_INT64",
+           "String": "RG_STRING", "Clock": "RG_CLOCK"}
+# A String variable holds the number of its string among the model's literals (robogen_runtime_values.c);
+# an importer's other strings are kept by the instance, this many at most, each below RG_STRING_BYTES.
+STRING_BYTES = 256
 
 
 @dataclass(frozen=True)
@@ -51,7 +55,7 @@ class CodegenOptions:
 class FmiVar:
     name: str
     vr: int
-    fmi_type: str  # Float64 Int64 UInt64 Boolean Enumeration Clock
+    fmi_type: str  # Float64 Int64 UInt64 Boolean Enumeration String Clock
     causality: str
     variability: str
     field: str = ""  # C member of rg_model_data ("" for clocks)
@@ -171,7 +175,7 @@ def generate(fmu: ir.Fmu, options: CodegenOptions | None = None, *, diagrams: Se
     gen = Generated(fmu, fmu.model_identifier, token, variables=layout.variables)
     env = _env()
     collections = CollectionCode(fmu.capacity)
-    machines, sites = _machines_code(fmu, layout, names, line_comments, collections)
+    machines, sites, strings = _machines_code(fmu, layout, names, line_comments, collections)
     latch = {p.index: _latch(p, layout.port_fields_in.get(p.index, []), collections) for p in fmu.inputs}
     for t in collections.types:
         layout._type(t)
@@ -189,6 +193,8 @@ def generate(fmu: ir.Fmu, options: CodegenOptions | None = None, *, diagrams: Se
         cname=names.vars,
         typedefs=[_typedef(t, fmu.capacity) for t in layout.types],
         sites=sites,
+        strings=strings if any(v.fmi_type == "String" for v in layout.variables) else None,
+        string_bytes=STRING_BYTES,
         latch=latch,
         collection_code=collections.text(),
         equality_bodies=bodies,
@@ -404,6 +410,8 @@ class _Layout:
         """(FMI type, declaredType) of a scalar or array element type."""
         if isinstance(t, T.EnumT):
             return "Enumeration", self._enum(t)
+        if t == T.STRING:
+            return "String", None
         return FMI_TYPE[ctype(t)], None
 
     def _start(self, t: T.Type, value: object = None) -> str:
@@ -416,6 +424,8 @@ class _Layout:
             return "true" if value else "false"
         if t == T.REAL:
             return repr(float(value or 0))
+        if t == T.STRING:
+            return str(value or "")
         return str(int(value or 0))
 
     def _port(self, port, causality: str) -> None:
@@ -560,7 +570,7 @@ def _flat(name: str, t: T.Type, access: str, capacity: int = 0):
 
 
 def _machines_code(fmu: ir.Fmu, layout: _Layout, names: CNames, line_comments: bool,
-                   collections: CollectionCode) -> tuple[list[dict], list[str]]:
+                   collections: CollectionCode) -> tuple[list[dict], list[str], list[str]]:
     """What the templates need of each machine: its run function's cases, initial values, block
     labels, and whether it has an event table (RoboChart machines join their buffers through it;
     any machine that events are delivered to is latched through it)."""
@@ -573,7 +583,7 @@ def _machines_code(fmu: ir.Fmu, layout: _Layout, names: CNames, line_comments: b
     delivered = {mi for p in fmu.inputs for mi, _ in p.routes} | {mi for em in emitters for mi in em.delivers_to}
     for m, code in zip(fmu.machines, codes):
         code["event_table"] = bool(m.events) and (fmu.robochart or m.index in delivered)
-    return codes, sites
+    return codes, sites, strings
 
 
 # A machine of more blocks than this runs as one C function per this many blocks (and a dispatcher

@@ -271,8 +271,6 @@ def _flatten(prefix: str, t: T.Type | None, path: tuple[str, ...], span: Span | 
         for n, ft in t.fields:
             out += _flatten(f"{prefix}.{n}", ft, path + (n,), span, capacity)
         return out
-    if t == T.STRING:
-        raise not_supported(f"'{prefix}': a string as an FMU port", span)
     if isinstance(t, (T.SetT, T.SeqT)):
         size = ir.Field_(f"{prefix}.size", T.NAT, path + ("#size",))
         if not isinstance(t.element, T.RecordT):

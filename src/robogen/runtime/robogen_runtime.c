@@ -152,6 +152,7 @@ static const char *rg_type_name(rg_type type)
     case RG_INT16: return "Int16";
     case RG_UINT16: return "UInt16";
     case RG_UINT32: return "UInt32";
+    case RG_STRING: return "String";
     }
     return "unknown";
 }
@@ -172,6 +173,7 @@ static size_t rg_type_size(rg_type type)
     case RG_INT16: return sizeof(fmi3Int16);
     case RG_UINT16: return sizeof(fmi3UInt16);
     case RG_UINT32: return sizeof(fmi3UInt32);
+    case RG_STRING: return sizeof(int64_t); /* its number, not the text */
     }
     return 0;
 }

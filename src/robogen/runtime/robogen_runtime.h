@@ -77,9 +77,10 @@ static inline bool rg_time_equal(double a, double b)
 /* ---- variables -------------------------------------------------------------------------- */
 
 /* The storage type of a variable; it selects the fmi3Get/Set function that may access it.
- * Enumerations are RG_INT64 (FMI 3.0 accesses them with fmi3Get/SetInt64). There are no String
- * or Binary variables (rg_model_data holds no pointers); fmi3Get/SetString and Binary reject
- * every value reference. Values are explicit and never reordered. */
+ * Enumerations are RG_INT64 (FMI 3.0 accesses them with fmi3Get/SetInt64). A String is stored as
+ * an int64_t, its number among the model's strings (robogen_runtime_values.c; rg_model_data holds
+ * no pointers). There are no Binary variables: fmi3Get/SetBinary reject every value reference.
+ * Values are explicit and never reordered. */
 typedef enum {
     RG_FLOAT64 = 0,
     RG_INT32 = 1,
@@ -92,7 +93,8 @@ typedef enum {
     RG_UINT8 = 8,
     RG_INT16 = 9,
     RG_UINT16 = 10,
-    RG_UINT32 = 11
+    RG_UINT32 = 11,
+    RG_STRING = 12   /* stored as int64_t: the number of the string (see above) */
 } rg_type;
 
 typedef enum {

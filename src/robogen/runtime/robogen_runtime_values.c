@@ -117,27 +117,43 @@ static bool rg_may_set(rg_instance *inst, const char *fn, const rg_variable *v)
     return false;
 }
 
+/* The checks of fmi3Get{Type} before anything is read: NULL on failure (the reason logged), else the instance
+ * with the instant prepared; *status the status of that preparation. */
+static rg_instance *rg_begin_get(fmi3Instance instance, const char *fn, rg_type type, const fmi3ValueReference vrs[],
+                                 size_t nvr, const void *values, size_t nValues, fmi3Status *status)
+{
+    rg_instance *inst = rg_enter(instance, fn, RG_ALLOWED_GET);
+    size_t i;
+    *status = fmi3OK;
+    if (inst == NULL) return NULL;
+    if (!rg_check_value_arguments(inst, fn, type, vrs, nvr, values, nValues)) return NULL;
+    if (inst->s.mode == RG_STEP_MODE && inst->s.inputs_set_in_step_mode) {
+        rg_fail(inst, fn, "a variable was set in Step Mode since the last fmi3DoStep; FMI 3.0 forbids "
+                "fmi3Get* after fmi3Set* without an fmi3DoStep in between");
+        return NULL;
+    }
+    if (inst->s.mode == RG_EVENT_MODE) {
+        *status = rg_prepare_instant(inst, fn);
+        if (*status > fmi3Warning) return NULL;
+    }
+    for (i = 0; i < nvr; ++i) {
+        if (!rg_may_get(inst, fn, rg_find_variable(vrs[i]))) {
+            *status = fmi3Error;
+            return NULL;
+        }
+    }
+    return inst;
+}
+
 static fmi3Status rg_get_values(fmi3Instance instance, const char *fn, rg_type type,
                                 const fmi3ValueReference vrs[], size_t nvr, void *values, size_t nValues)
 {
-    rg_instance *inst = rg_enter(instance, fn, RG_ALLOWED_GET);
-    fmi3Status status = fmi3OK;
+    fmi3Status status;
+    rg_instance *inst = rg_begin_get(instance, fn, type, vrs, nvr, values, nValues, &status);
     size_t element_size = rg_type_size(type);
     size_t position = 0;
     size_t i;
-    if (inst == NULL) return fmi3Error;
-    if (!rg_check_value_arguments(inst, fn, type, vrs, nvr, values, nValues)) return fmi3Error;
-    if (inst->s.mode == RG_STEP_MODE && inst->s.inputs_set_in_step_mode) {
-        return rg_fail(inst, fn, "a variable was set in Step Mode since the last fmi3DoStep; FMI 3.0 forbids "
-                       "fmi3Get* after fmi3Set* without an fmi3DoStep in between");
-    }
-    if (inst->s.mode == RG_EVENT_MODE) {
-        status = rg_prepare_instant(inst, fn);
-        if (status > fmi3Warning) return status;
-    }
-    for (i = 0; i < nvr; ++i) {
-        if (!rg_may_get(inst, fn, rg_find_variable(vrs[i]))) return fmi3Error;
-    }
+    if (inst == NULL) return status > fmi3Warning ? status : fmi3Error;
     for (i = 0; i < nvr; ++i) {
         const rg_variable *v = rg_find_variable(vrs[i]);
         size_t bytes = v->count * element_size;
@@ -147,18 +163,28 @@ static fmi3Status rg_get_values(fmi3Instance instance, const char *fn, rg_type t
     return status;
 }
 
+/* The checks of fmi3Set{Type} before anything is written: the instance, or NULL (the reason logged). */
+static rg_instance *rg_begin_set(fmi3Instance instance, const char *fn, rg_type type, const fmi3ValueReference vrs[],
+                                 size_t nvr, const void *values, size_t nValues)
+{
+    rg_instance *inst = rg_enter(instance, fn, RG_ALLOWED_SET);
+    size_t i;
+    if (inst == NULL) return NULL;
+    if (!rg_check_value_arguments(inst, fn, type, vrs, nvr, values, nValues)) return NULL;
+    for (i = 0; i < nvr; ++i) { /* check everything before writing anything */
+        if (!rg_may_set(inst, fn, rg_find_variable(vrs[i]))) return NULL;
+    }
+    return inst;
+}
+
 static fmi3Status rg_set_values(fmi3Instance instance, const char *fn, rg_type type,
                                 const fmi3ValueReference vrs[], size_t nvr, const void *values, size_t nValues)
 {
-    rg_instance *inst = rg_enter(instance, fn, RG_ALLOWED_SET);
+    rg_instance *inst = rg_begin_set(instance, fn, type, vrs, nvr, values, nValues);
     size_t element_size = rg_type_size(type);
     size_t position = 0;
     size_t i, j;
     if (inst == NULL) return fmi3Error;
-    if (!rg_check_value_arguments(inst, fn, type, vrs, nvr, values, nValues)) return fmi3Error;
-    for (i = 0; i < nvr; ++i) { /* check everything before writing anything */
-        if (!rg_may_set(inst, fn, rg_find_variable(vrs[i]))) return fmi3Error;
-    }
     for (i = 0; i < nvr; ++i) {
         const rg_variable *v = rg_find_variable(vrs[i]);
         char *target = (char *)&inst->s.data + v->offset;
@@ -176,7 +202,7 @@ static fmi3Status rg_set_values(fmi3Instance instance, const char *fn, rg_type t
     return fmi3OK;
 }
 
-/* fmi3Get/SetString and Binary: robogen FMUs have no such variables; explain what vr is. */
+/* fmi3Get/SetBinary, and String where the model has no string variables: explain what vr is. */
 static fmi3Status rg_reject_type(fmi3Instance instance, const char *fn, unsigned allowed, const char *type_name,
                                  const fmi3ValueReference vrs[], size_t nvr, const void *values, size_t nValues)
 {
@@ -219,6 +245,91 @@ RG_DEFINE_GET_SET(Int64, fmi3Int64, RG_INT64)
 RG_DEFINE_GET_SET(UInt64, fmi3UInt64, RG_UINT64)
 RG_DEFINE_GET_SET(Boolean, fmi3Boolean, RG_BOOLEAN)
 
+#ifdef RG_STRING_VARIABLES
+/* String variables. RoboChart builds no strings: every string of the model is one of its literals,
+ * and the model holds a string as its number among them (rg_strings, in model.c). An importer may
+ * set a text that is none of them: the instance keeps it in rg_model_data.foreign (so an FMU state
+ * holds it too) under the next number after the literals, the same text always under the same
+ * number, so that equality stays the equality of numbers. At most RG_FOREIGN_STRINGS of them,
+ * each shorter than RG_STRING_BYTES bytes. */
+
+static const char *rg_string_text(const rg_instance *inst, int64_t number)
+{
+    if (number >= 0 && number < RG_NUM_STRINGS) return rg_strings[number];
+    number -= RG_NUM_STRINGS;
+    if (number >= 0 && (uint64_t)number < inst->s.data.n_foreign) return inst->s.data.foreign[number];
+    return ""; /* unreachable: every stored number comes from a literal or from rg_string_number */
+}
+
+/* The number of text as a string of the model, or -1 after logging why there is none. */
+static int64_t rg_string_number(rg_instance *inst, const char *fn, const rg_variable *v, const char *text)
+{
+    rg_model_data *d = &inst->s.data;
+    size_t length;
+    uint64_t i;
+    int64_t n;
+    if (text == NULL) {
+        rg_fail(inst, fn, "'%s': the value is NULL, not a string", v->name);
+        return -1;
+    }
+    for (n = 0; n < RG_NUM_STRINGS; ++n) {
+        if (strcmp(rg_strings[n], text) == 0) return n;
+    }
+    for (i = 0; i < d->n_foreign; ++i) {
+        if (strcmp(d->foreign[i], text) == 0) return RG_NUM_STRINGS + (int64_t)i;
+    }
+    length = strlen(text);
+    if (length >= RG_STRING_BYTES) {
+        rg_fail(inst, fn, "'%s': a string of %zu bytes, longer than the %d bytes this FMU holds", v->name, length,
+                RG_STRING_BYTES - 1);
+        return -1;
+    }
+    if (d->n_foreign >= RG_FOREIGN_STRINGS) {
+        rg_fail(inst, fn, "'%s': \"%.40s\" would be the %d-th string that is none of the model's literals; this FMU "
+                "holds %d (the capacity, robogen package --capacity)", v->name, text, RG_FOREIGN_STRINGS + 1,
+                RG_FOREIGN_STRINGS);
+        return -1;
+    }
+    memcpy(d->foreign[d->n_foreign], text, length + 1);
+    return RG_NUM_STRINGS + (int64_t)d->n_foreign++;
+}
+
+fmi3Status fmi3GetString(fmi3Instance instance, const fmi3ValueReference valueReferences[], size_t nValueReferences,
+                         fmi3String values[], size_t nValues)
+{
+    fmi3Status status;
+    rg_instance *inst = rg_begin_get(instance, "fmi3GetString", RG_STRING, valueReferences, nValueReferences, values,
+                                     nValues, &status);
+    size_t i, j, position = 0;
+    if (inst == NULL) return status > fmi3Warning ? status : fmi3Error;
+    for (i = 0; i < nValueReferences; ++i) {
+        const rg_variable *v = rg_find_variable(valueReferences[i]);
+        const int64_t *numbers = (const int64_t *)(const void *)((const char *)&inst->s.data + v->offset);
+        for (j = 0; j < v->count; ++j) values[position++] = rg_string_text(inst, numbers[j]);
+    }
+    return status;
+}
+
+fmi3Status fmi3SetString(fmi3Instance instance, const fmi3ValueReference valueReferences[], size_t nValueReferences,
+                         const fmi3String values[], size_t nValues)
+{
+    rg_instance *inst = rg_begin_set(instance, "fmi3SetString", RG_STRING, valueReferences, nValueReferences, values,
+                                     nValues);
+    size_t i, j, position = 0;
+    if (inst == NULL) return fmi3Error;
+    for (i = 0; i < nValueReferences; ++i) {
+        const rg_variable *v = rg_find_variable(valueReferences[i]);
+        int64_t *numbers = (int64_t *)(void *)((char *)&inst->s.data + v->offset);
+        for (j = 0; j < v->count; ++j) {
+            int64_t n = rg_string_number(inst, "fmi3SetString", v, values[position++]);
+            if (n < 0) return fmi3Error;
+            numbers[j] = n;
+        }
+    }
+    if (inst->s.mode == RG_STEP_MODE && nValueReferences > 0) inst->s.inputs_set_in_step_mode = true;
+    return fmi3OK;
+}
+#else
 fmi3Status fmi3GetString(fmi3Instance instance, const fmi3ValueReference valueReferences[], size_t nValueReferences,
                          fmi3String values[], size_t nValues)
 {
@@ -232,6 +343,7 @@ fmi3Status fmi3SetString(fmi3Instance instance, const fmi3ValueReference valueRe
     return rg_reject_type(instance, "fmi3SetString", RG_ALLOWED_SET, "String", valueReferences, nValueReferences,
                           values, nValues);
 }
+#endif
 
 fmi3Status fmi3GetBinary(fmi3Instance instance, const fmi3ValueReference valueReferences[], size_t nValueReferences,
                          size_t valueSizes[], fmi3Binary values[], size_t nValues)
