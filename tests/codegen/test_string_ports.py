@@ -11,6 +11,7 @@ import pytest
 
 from support.codegen_driver import FmuRunner, Instant, Scenario, Tick, build, interpret
 from support.codegen_models import MODELS
+from robogen.codegen.api import lower_paths
 from robogen.cosim import fmi3
 from robogen.ir.lower import LoweringOptions
 
@@ -19,15 +20,15 @@ def name(text: str) -> Tick:
     return Tick("name", {"name.value": text})
 
 
-def run(built_fmu, inputs: dict[int, Tick], instants: int):
+def run(built_fmu, inputs: dict[int, Tick], instants: int, parameters: dict | None = None):
     scenario = Scenario([Instant(True, (inputs[t],) if t in inputs else ()) for t in range(instants)], half=False)
     runner = FmuRunner(built_fmu.folder)
     try:
-        trace = runner.run(scenario)
+        trace = runner.run(scenario, parameters=parameters)
     finally:
         runner.close()
     assert trace.error is None, trace.error
-    assert trace.comparable() == interpret(built_fmu.fmu, scenario, runner.desc).comparable()
+    assert trace.comparable() == interpret(built_fmu.fmu, scenario, runner.desc, parameters=parameters).comparable()
     outputs: dict[int, dict] = {}
     for s in trace.steps:
         outputs.setdefault(s.instant, {}).update(s.outputs)
@@ -54,7 +55,33 @@ def test_strings_cross_the_fmu_boundary_as_their_texts(builds, semantics):
         6: answer("élan", False),
         7: {},
     }
-    assert trace.steps[-1].variables["Greeter.n"] == 6
+    last = trace.steps[-1].variables
+    assert (last["Greeter.n"], last["Greeter.last"], last["Greeter.greeting"]) == (6, "élan", "hello")
+
+
+@pytest.mark.parametrize("semantics", ["exhaustive", "stepwise"])
+def test_a_string_constant_is_a_string_parameter(builds, semantics):
+    # greeting is the FMU parameter Greeter.greeting (start "hello"); the importer sets "bob" in
+    # Initialization Mode: now bob is greeted, and hello is just a name
+    inputs = {1: name("bob"), 2: name("hello"), 3: name("bye")}
+    outputs, trace = run(builds.get("strings", semantics), inputs, 4, parameters={"Greeter.greeting": "bob"})
+    assert outputs == {0: {"reply": {"reply.value": "ready"}}, 1: answer("hi", True), 2: answer("hello", False),
+                       3: answer("bye", True)}
+    assert trace.steps[-1].variables["Greeter.greeting"] == "bob"
+
+
+def test_a_string_constant_without_a_value_starts_empty_with_a_warning(tmp_path):
+    path = tmp_path / "say.rct"
+    path.write_text('stm Say {\n\tconst who: string\n\tevent said: string\n\tinitial i\n'
+                    '\tstate S { entry said!who }\n\ttransition t0 { from i to S }\n}\n')
+    fmu, _ = lower_paths([path])
+    [warning] = fmu.warnings
+    assert warning.message == ("constant 'who' has no value: it becomes FMU parameter 'Say.who' with start \"\"; "
+                               "set it with --set who=... or in the importer")
+    assert (warning.span.line, warning.span.column) == (2, 8)
+    assert [(p.fmi_name, p.value) for p in fmu.params] == [("Say.who", "")]
+    given, _ = lower_paths([path], options=LoweringOptions(settings={"who": '"Ann"'}))
+    assert [(p.fmi_name, p.value) for p in given.params] == [("Say.who", "Ann")]
 
 
 def test_the_importers_strings_are_bounded_by_the_capacity_and_the_length(tmp_path):

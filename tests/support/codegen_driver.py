@@ -297,8 +297,7 @@ class FmuRunner:
             inst.fmi3EnterInitializationMode(None, 0.0, None)
             for name, value in (parameters or {}).items():
                 var = d.by_name[name]
-                buf = fmi3.value_array(var.type, 1)
-                buf[0] = value
+                buf, _, _keep = fmi3.encode(var.type, [value])
                 inst._call("fmi3Set" + fmi3.ACCESSOR[var.type], fmi3.vr_array([var.vr]), 1, buf, 1)
             inst.fmi3ExitInitializationMode()
             for instant, step in enumerate(scenario):

@@ -155,6 +155,14 @@ def c_string(text: str) -> str:
     return '"' + "".join(out) + '"'
 
 
+def string_literal(strings: list[str], text: str) -> str:
+    """A string in C: its number among the FMU's strings (``strings``, where it is added if new),
+    the text quoted beside."""
+    if text not in strings:
+        strings.append(text)
+    return f"INT64_C({strings.index(text)}) /* {c_comment(c_string(text))} */"
+
+
 def c_comment(text: str) -> str:
     return text.replace("*/", "* /").replace("/*", "/ *")
 
@@ -239,9 +247,7 @@ class Emitter:
 
     def _Lit(self, e: ir.Lit) -> str:
         if e.type == T.STRING:  # strings are only literals (and equality): a string is its number
-            if e.value not in self.strings:
-                self.strings.append(e.value)  # type: ignore[arg-type]
-            return f"INT64_C({self.strings.index(e.value)}) /* {c_comment(c_string(e.value))} */"  # type: ignore[arg-type]
+            return string_literal(self.strings, e.value)  # type: ignore[arg-type]
         return literal(e.value, e.type)
 
     def _Ref(self, e: ir.Ref) -> str:

@@ -23,6 +23,7 @@ from robogen.codegen.c import (
     ctype,
     literal,
     mangle,
+    string_literal,
     user_function_prototype,
 )
 from robogen.codegen.collections import CollectionCode, typedef as collection_typedef
@@ -186,6 +187,7 @@ def generate(fmu: ir.Fmu, options: CodegenOptions | None = None, *, diagrams: Se
     for t in needed.values():  # a type compared only inside an expression (a tuple key) is declared too
         layout._type(t)
     equalities, bodies = _equalities(layout.types, set(needed))
+    param_starts = {p.fmi_name: _param_starts(p, strings) for p in fmu.params}  # before the strings are written
     hooks = _hooks(fmu, machines)
     context = dict(
         user_functions=[(u, user_function_prototype(u)) for u in fmu.user_functions],
@@ -198,7 +200,7 @@ def generate(fmu: ir.Fmu, options: CodegenOptions | None = None, *, diagrams: Se
         latch=latch,
         collection_code=collections.text(),
         equality_bodies=bodies,
-        param_starts={p.fmi_name: _param_starts(p) for p in fmu.params},
+        param_starts=param_starts,
         diagrams={m.index: diagrams[m.index] if m.index < len(diagrams) else "stateDiagram-v2\n  %% (no diagram)" for m in fmu.machines},
         fmu=fmu,
         version=__version__,
@@ -350,11 +352,14 @@ def _type_at(t, path: tuple[str, ...]) -> T.Type:
     return t
 
 
-def _param_starts(p: ir.Param) -> list[tuple[str, str]]:
+def _param_starts(p: ir.Param, strings: list[str]) -> list[tuple[str, str]]:
     """The start values rg_model_reset writes: (C access inside the parameter, value); each
     element of a vector or matrix. None for records and for a value the model leaves out: the
-    instance's memory starts zeroed, which is their default value."""
+    instance's memory starts zeroed, which is their default value. A string is its number in
+    ``strings``, the model's strings (added there if the model does not write it)."""
     t = p.var.type
+    if t == T.STRING and p.value is not None:
+        return [("", string_literal(strings, p.value))]  # type: ignore[arg-type]
     if isinstance(t, (T.VectorT, T.MatrixT)) and isinstance(p.value, list):
         return [(f".a[{k}]", literal(x, t.element)) for k, x in enumerate(p.value)]
     if p.value is None or isinstance(t, (T.RecordT, T.VectorT, T.MatrixT)):
@@ -556,8 +561,8 @@ def _flat(name: str, t: T.Type, access: str, capacity: int = 0):
     if isinstance(t, T.RecordT):
         for n, ft in t.fields:
             yield from _flat(f"{name}.{n}", ft, f"{access}.{n}", capacity)
-    elif isinstance(t, T.FunctionT) or t == T.STRING:
-        return  # the number of a function value (robogen.ir.functions) or string: not an FMI variable
+    elif isinstance(t, T.FunctionT):
+        return  # the number of a function value (robogen.ir.functions): not an FMI variable
     elif isinstance(t, (T.SetT, T.SeqT)):
         if not isinstance(t.element, T.RecordT):
             yield f"{name}.elements", T.VectorT(t.element, capacity), f"{access}.a"

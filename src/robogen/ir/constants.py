@@ -18,6 +18,8 @@ from robogen.syntax import ast
 def parse_setting(text: str, t: T.Type, span: Span | None, name: str) -> object:
     """The value of ``--set name=text`` for a constant of type ``t`` (a located error if the text
     is not a value of that type)."""
+    if t == T.STRING:  # the text as it is, or written as a RoboChart literal "..."
+        return text[1:-1] if len(text) >= 2 and text[0] == text[-1] == '"' else text
     text = text.strip()
     try:
         if t == T.BOOLEAN:
@@ -86,6 +88,8 @@ def shown(value: object, t: T.Type) -> str:
         return f"{t.qname}::{t.literals[value]}" if t.literals else "?"  # type: ignore[index]
     if isinstance(t, (T.RecordT, T.VectorT, T.MatrixT)):
         return "zero"
+    if t == T.STRING:
+        return '""' if not value else f'"{value}"'
     return str(value)
 
 
@@ -116,7 +120,7 @@ def _evaluate(e: ast.Expr, model: SemanticModel, known: dict[str, object]):
         return e.value
     if isinstance(e, ast.RealLit):
         return Fraction(e.text)
-    if isinstance(e, ast.BoolLit):
+    if isinstance(e, (ast.BoolLit, ast.StringLit)):
         return e.value
     if isinstance(e, ast.Name):
         sym = model.symbol(e)

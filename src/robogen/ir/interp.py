@@ -661,8 +661,8 @@ def _flatten_value(prefix: str, t: T.Type, v, out: dict[str, object], capacity: 
     if isinstance(t, T.RecordT):
         for n, ft in t.fields:
             _flatten_value(f"{prefix}.{n}", ft, v[n], out, capacity)
-    elif isinstance(t, T.FunctionT) or t == T.STRING:
-        pass  # the number of a function value or of a string: not an FMI variable
+    elif isinstance(t, T.FunctionT):
+        pass  # the number of a function value: not an FMI variable
     elif isinstance(t, (T.SetT, T.SeqT)):  # as the FMU shows it: elements padded with zeros, and size
         if not isinstance(t.element, T.RecordT):
             out[f"{prefix}.elements"] = copy.deepcopy(v) + [_zero(t.element)] * (capacity - len(v))

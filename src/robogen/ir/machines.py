@@ -56,7 +56,7 @@ class FmuContext:
                                 *([Note("its constants: " + ", ".join(sorted(scalar)))] if scalar else
                                   [Note("it has no constant a --set could give a value")]))
             elif not self.constants[name]:
-                self.sink.error(f"--set {name}: only constants of scalar types take a value from --set; "
+                self.sink.error(f"--set {name}: only constants of scalar types and strings take a value from --set; "
                                 "give this one its value in the model", None)
 
 
@@ -159,13 +159,14 @@ class MachineLowering(StatementLowering, BindingLowering, ExpressionLowering, Fu
         (a constant the model leaves without a value) the default value of its type, with a
         warning: the importer sets it in Initialization Mode."""
         fmu = self.ctx.fmu
+        settable = is_scalar(var.type) or var.type == T.STRING
         for name in (fmi_name, v.name):
-            self.ctx.constants[name] = self.ctx.constants.get(name, False) or is_scalar(var.type)
-        if not (is_scalar(var.type) or isinstance(var.type, (T.VectorT, T.MatrixT))):
+            self.ctx.constants[name] = self.ctx.constants.get(name, False) or settable
+        if not (settable or isinstance(var.type, (T.VectorT, T.MatrixT))):
             # a set, sequence, tuple or record: its initialiser, computed once
             if v.init is None:
                 self.ctx.sink.error(f"constant '{v.name}' of type {var.type.show()} has no value: give one in the model",
-                                    v.span, Note("only constants of scalar types are FMU parameters (--set)"))
+                                    v.span, Note("only constants of scalar types and strings are FMU parameters (--set)"))
             return
         settings = self.ctx.settings
         text = settings.get(fmi_name, settings.get(v.name))
@@ -249,9 +250,10 @@ class MachineLowering(StatementLowering, BindingLowering, ExpressionLowering, Fu
         root = self.scope.region
         assert root is not None
         self.index_regions(graph, root, None)
+        parameters = {id(p.var) for p in self.ctx.fmu.params}  # their start values are the FMU's
         for name, v in self.scope.vars.items():
             var = self.vars[name]
-            if (v.kind == "var" or (v.kind == "const" and not is_scalar(var.type))) and v.init is not None:
+            if (v.kind == "var" or (v.kind == "const" and id(var) not in parameters)) and v.init is not None:
                 if isinstance(var.type, T.FunctionT):
                     var.init = self.function_value(ir.Ref(var.type, var), v.init, v.init.span)
                 else:

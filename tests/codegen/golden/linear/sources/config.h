@@ -8,7 +8,7 @@
 #include <stdint.h>
 
 #define RG_MODEL_IDENTIFIER "Lin"
-#define RG_INSTANTIATION_TOKEN "{8b8efe6a-a947-6c22-88fb-c089c906fec1}"
+#define RG_INSTANTIATION_TOKEN "{ff1c8dc6-f889-80f8-9ed8-53f02fefc72c}"
 #define RG_NUM_VARIABLES 46
 #define RG_NUM_CLOCKS 15
 #define RG_MIGHT_RETURN_EARLY 0

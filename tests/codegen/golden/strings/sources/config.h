@@ -8,8 +8,8 @@
 #include <stdint.h>
 
 #define RG_MODEL_IDENTIFIER "Strings"
-#define RG_INSTANTIATION_TOKEN "{9b0ecd5b-ace5-bf55-8d92-add538438891}"
-#define RG_NUM_VARIABLES 12
+#define RG_INSTANTIATION_TOKEN "{003611d6-1f08-5fd0-8f26-06ac7d105ed9}"
+#define RG_NUM_VARIABLES 14
 #define RG_NUM_CLOCKS 4
 #define RG_MIGHT_RETURN_EARLY 0
 #define RG_STEPWISE 0  /* 1: stepwise semantics, one transition per fmi3UpdateDiscreteStates */

@@ -46,11 +46,13 @@ static const rg_variable rg_variables[RG_NUM_VARIABLES] = {
     { 5, "reply.value", RG_STRING, RG_OUTPUT, RG_DISCRETE, 2, offsetof(rg_model_data, out_reply_value), 1, false },
     { 6, "known", RG_CLOCK, RG_OUTPUT, RG_DISCRETE, -1, 0, 1, false },
     { 7, "known.value", RG_BOOLEAN, RG_OUTPUT, RG_DISCRETE, 3, offsetof(rg_model_data, out_known_value), 1, false },
-    { 8, "Greeter.state", RG_INT64, RG_OUTPUT, RG_DISCRETE, -1, offsetof(rg_model_data, m0.node), 1, false },
-    { 9, "cycles", RG_UINT64, RG_OUTPUT, RG_DISCRETE, -1, offsetof(rg_model_data, cycles), 1, false },
-    { 10, "dropped_events", RG_UINT64, RG_OUTPUT, RG_DISCRETE, -1, offsetof(rg_model_data, dropped_events), 1, false },
-    { 11, "deadline_misses", RG_UINT64, RG_OUTPUT, RG_DISCRETE, -1, offsetof(rg_model_data, deadline_misses), 1, false },
-    { 12, "Greeter.n", RG_UINT64, RG_LOCAL, RG_DISCRETE, -1, offsetof(rg_model_data, m0.v_n), 1, false },
+    { 8, "Greeter.greeting", RG_STRING, RG_PARAMETER, RG_FIXED, -1, offsetof(rg_model_data, m0.v_greeting), 1, true },
+    { 9, "Greeter.state", RG_INT64, RG_OUTPUT, RG_DISCRETE, -1, offsetof(rg_model_data, m0.node), 1, false },
+    { 10, "cycles", RG_UINT64, RG_OUTPUT, RG_DISCRETE, -1, offsetof(rg_model_data, cycles), 1, false },
+    { 11, "dropped_events", RG_UINT64, RG_OUTPUT, RG_DISCRETE, -1, offsetof(rg_model_data, dropped_events), 1, false },
+    { 12, "deadline_misses", RG_UINT64, RG_OUTPUT, RG_DISCRETE, -1, offsetof(rg_model_data, deadline_misses), 1, false },
+    { 13, "Greeter.last", RG_STRING, RG_LOCAL, RG_DISCRETE, -1, offsetof(rg_model_data, m0.v_last), 1, false },
+    { 14, "Greeter.n", RG_UINT64, RG_LOCAL, RG_DISCRETE, -1, offsetof(rg_model_data, m0.v_n), 1, false },
 };
 
 /* ======== state machine strings::Greeter (strings.rct:13) ======== */
@@ -142,6 +144,7 @@ static void rg_model_reset(rg_instance *inst)
     rg_model_data *d = &inst->s.data;
     d->m0.pc = 0;
     d->m0.node = Greeter_Node_i;
+    d->m0.v_greeting = INT64_C(4) /* "hello" */;  /* Greeter.greeting */
 }
 
 static fmi3Status rg_model_exit_initialization(rg_instance *inst)
@@ -149,7 +152,6 @@ static fmi3Status rg_model_exit_initialization(rg_instance *inst)
     rg_model_data *d = &inst->s.data;
     {
         rg_machine_0 *m = &d->m0;
-        m->v_greeting = INT64_C(4) /* "hello" */;  /* initial value of greeting */
         m->v_last = INT64_C(0) /* "" */;  /* initial value of last */
         m->v_n = UINT64_C(0);  /* initial value of n */
     }
