@@ -32,6 +32,17 @@ def test_vector_and_matrix_arithmetic(built, semantics):
 
 
 @pytest.mark.parametrize("semantics", ["exhaustive", "stepwise"])
+def test_the_importers_values_of_vector_and_matrix_constants_hold(built, semantics):
+    """m and shift are FMU parameters: set in Initialization Mode to the identity and (10, 20),
+    mm = I and rotated = w + u + shift = (1, 2) + (3, -4) + (10, 20) = (14, 18) (their
+    initialisers do not overwrite the importer's values when Initialization Mode ends)."""
+    b = built("linear", semantics)
+    scenario = Scenario([Instant(True, (Tick("v", {"v.value": [1, 2]}),)), Instant(True)], half=False)
+    got = outputs(run_checked(b, scenario, parameters={"Lin.m": [1, 0, 0, 1], "Lin.shift": [10, 20]}))
+    assert got[1]["rotated"] == {"rotated.value": [14, 18]}
+
+
+@pytest.mark.parametrize("semantics", ["exhaustive", "stepwise"])
 def test_real_remainder_and_a_record_with_a_field_left_out(built, semantics):
     """7.0 % 2.5 = 2.0 and -7.5 % 2.0 = -1.5 (the sign of the dividend, as on integers); Reading
     without count gets count = 0; -7.5 % 0.0 is a division by zero: a run-time error."""

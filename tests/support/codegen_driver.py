@@ -297,8 +297,9 @@ class FmuRunner:
             inst.fmi3EnterInitializationMode(None, 0.0, None)
             for name, value in (parameters or {}).items():
                 var = d.by_name[name]
-                buf, _, _keep = fmi3.encode(var.type, [value])
-                inst._call("fmi3Set" + fmi3.ACCESSOR[var.type], fmi3.vr_array([var.vr]), 1, buf, 1)
+                values = value if isinstance(value, list) else [value]  # an array parameter: its elements
+                buf, _, _keep = fmi3.encode(var.type, values)
+                inst._call("fmi3Set" + fmi3.ACCESSOR[var.type], fmi3.vr_array([var.vr]), 1, buf, len(values))
             inst.fmi3ExitInitializationMode()
             for instant, step in enumerate(scenario):
                 k = 0
