@@ -5,6 +5,8 @@ AddressSanitizer + UndefinedBehaviorSanitizer (+ LeakSanitizer) together with th
 which calls them wrongly in more than 30 ways, reaches every run-time error of arith.rst, and
 runs 1,000 instantiate/drive/free cycles. Any finding of a sanitizer fails the test. The value
 references and tokens come from the FMUs' modelDescription.xml, through a generated header.
+strings.rct's String variables have a program of their own (misuse_strings.c): the importer's
+texts up to the capacity and beyond, in FMU states and serialised, and called wrongly.
 """
 
 from __future__ import annotations
@@ -108,3 +110,26 @@ def test_misuse_of_generated_fmus(built, tmp_path, sanitize):
     cases = check_suite(run(program, *libraries, sanitize=sanitize))
     assert any("model error: division by zero" in c for c in cases)
     assert any("1000 instantiate/free cycles" in c for c in cases)
+
+
+@pytest.mark.parametrize("sanitize", [False, pytest.param(True, marks=pytest.mark.slow)], ids=["plain", "sanitized"])
+def test_string_variables_called_rightly_and_wrongly(built, tmp_path, sanitize):
+    strings = built("strings", "exhaustive")
+    ident = strings.fmu.model_identifier
+    library = binary.compile_fmu_binary(strings.folder / "sources", ident, tmp_path / f"{ident}.so", sanitize=sanitize)
+    desc = strings.desc
+    defines = {"STRINGS_TOKEN": f'"{desc.token}"', "STRINGS_CAPACITY": strings.fmu.capacity,
+               **{f"STRINGS_VR_{key}": desc.by_name[name].vr for key, name in (
+                   ("NAME", "name.value"), ("GREETING", "Greeter.greeting"), ("REPLY", "reply.value"),
+                   ("STATE", "Greeter.state"))}}
+    header_file = tmp_path / "strings_fmu.h"
+    header_file.write_text("".join(f"#define {k} {v}\n" for k, v in defines.items()))
+    program = build_program(HERE / "misuse_strings.c", header_file, tmp_path / "misuse_strings", sanitize=sanitize)
+    result = run(program, library, sanitize=sanitize)
+    lines = result.stdout.splitlines()
+    failed = [line for line in lines if line.startswith("not ok")]
+    assert result.returncode == 0 and not failed, "\n".join(failed + lines[-3:] + result.stderr.splitlines()[-40:])
+    cases = [line for line in lines if line.startswith("ok ")]
+    assert len(cases) == 16 and lines[-1] == "# cases 16 misuse 7 failures 0"
+    for finding in ("AddressSanitizer", "LeakSanitizer", "runtime error:"):
+        assert finding not in result.stderr
