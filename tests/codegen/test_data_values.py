@@ -128,6 +128,30 @@ def test_a_sequence_of_strings_is_not_supported_at_the_fmu_boundary(tmp_path):
     assert "say.rct:3:" in str(info.value)
 
 
+EXTRACT = """\
+import sequence_toolkit::*
+stm Ex {
+	var q: Seq(nat) = <10, 20, 30, 40>
+	event go
+	event picked: Seq(nat)
+	initial i
+	state Idle { }
+	transition t0 { from i to Idle }
+	transition t1 { from Idle to Idle trigger go action picked!extract({4, 1, 9, 2}, q) ; q = extract({2, 3}, q) }
+}
+"""
+
+
+def test_extract_keeps_the_elements_at_the_positions_in_the_set_in_order(tmp_path):
+    # <10, 20, 30, 40> at {1, 2, 4, 9}: <10, 20, 40> (position 9 is none); q becomes <20, 30>,
+    # then <30>, then <> (it has no position 2 or 3)
+    scenario = Scenario([Instant(True, early=(Tick("go", {}),)) for _ in range(3)], half=False)
+    got, _ = _run(tmp_path, "ex", EXTRACT, scenario, LoweringOptions(capacity=4))
+    picked = [s.outputs["picked"] for s in got.steps if "picked" in s.outputs]
+    assert [p["picked.value.elements"][:p["picked.value.size"]] for p in picked] == [[10, 20, 40], [20, 30], [30]]
+    assert got.steps[-1].variables["Ex.q.size"] == 0
+
+
 CONVERSIONS = """\
 import set_toolkit::*
 import sequence_toolkit::*

@@ -172,6 +172,8 @@ def _DEPENDS(op: str, t: T.SetT | T.SeqT) -> list[tuple[str, T.SetT | T.SeqT]]:
         return [("insert", s)]
     if op == "filter":
         return [("has", s)]
+    if op == "extract":
+        return [("has", T.SetT(T.INT))]
     return []
 
 
@@ -320,6 +322,12 @@ def _filter(t, cap: int) -> str:
     return _building(c, function("filter", t), f"{c} q, {s} s", loop)
 
 
+def _extract(t, cap: int) -> str:
+    c, s = collection_ctype(t), collection_ctype(T.SetT(T.INT))
+    loop = f"for (i = 0; i < q.n; i++) if ({function('has', T.SetT(T.INT))}(s, (int64_t)(i + 1))) r.a[r.n++] = q.a[i];"
+    return _building(c, function("extract", t), f"{c} q, {s} s", loop)
+
+
 def _range(t, cap: int) -> str:
     c = collection_ctype(t)
     body = (f"    {c} r;\n    memset(&r, 0, sizeof r);\n    if (high >= low && (uint64_t)high - (uint64_t)low >= {cap}) "
@@ -343,7 +351,7 @@ def _fix(op: str):
 
 _BODIES = {
     "make": _make, "canon": _canon, "insert": _insert, "has": _has, "cat": _cat, "elems": _elems, "indices": _indices,
-    "filter": _filter, "range": _range, "reverse": _shrink("reverse"), "tail": _shrink("tail"),
+    "filter": _filter, "extract": _extract, "range": _range, "reverse": _shrink("reverse"), "tail": _shrink("tail"),
     "front": _shrink("front"), **{op: _binary_set(op) for op in SET_OPS},
     **{op: _subset(op) for op in ("subseteq", "subset")},
     **{op: _end(op) for op in ("head", "last", "min", "max")},

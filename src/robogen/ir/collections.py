@@ -18,7 +18,9 @@ The operations, by the name lowering gives them (``s``, ``t`` sets, ``q``, ``r``
 - ``union``, ``inter``, ``diff``, ``symdiff`` of two sets; ``subseteq``, ``subset`` (tests);
 - ``cat(q, r)`` (``^``, ``concat``), ``head``, ``last``, ``tail``, ``front``, ``reverse``;
 - ``elems(q)`` (``ran`` of a sequence: the set of its elements), ``indices(q)`` (its ``dom``);
-- ``filter(q, s)``: the elements of q in s, in order; ``range(x, y)``: the integers x..y;
+- ``filter(q, s)``: the elements of q in s, in order; ``extract(q, a)``: the elements of q at
+  the positions (from 1) in the set of integers a, in order (the toolkit's ``extract(a, q)``);
+  ``range(x, y)``: the integers x..y;
 - ``min(s)``, ``max(s)`` of a set of integers; ``nonempty(s)`` (``isNonEmpty``, ``hasMin``,
   ``hasMax``); ``prefix(q, r)``, ``suffix(q, r)``, ``infix(q, r)``.
 """
@@ -30,7 +32,7 @@ from robogen.semantics import types as T
 # the operations whose result is a set / a sequence / something else (and which element type
 # their result has is the code generator's business)
 SET_RESULTS = ("set", "union", "inter", "diff", "symdiff", "elems", "indices")
-SEQ_RESULTS = ("seq", "cat", "tail", "front", "reverse", "filter", "range")
+SEQ_RESULTS = ("seq", "cat", "tail", "front", "reverse", "filter", "extract", "range")
 EMPTY_FAULTS = ("head", "last", "tail", "front", "min", "max")
 CAN_OVERFLOW = ("set", "seq", "union", "symdiff", "cat", "elems", "range", "dom", "ran", "rinv", "rimage", "roverride",
                 "relcomp")
@@ -149,6 +151,11 @@ def apply(op: str, args: list, arg_types: list[T.Type], capacity: int, overflow:
     if op == "filter":
         for x in s:
             if member(x, args[1], elem):
+                out.append(x)
+        return out.items
+    if op == "extract":
+        for i, x in enumerate(s, 1):
+            if member(i, args[1], T.INT):
                 out.append(x)
         return out.items
     if op == "range":

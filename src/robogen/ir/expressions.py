@@ -65,6 +65,7 @@ TOOLKIT: dict[str, dict[tuple[str, tuple[str, ...]], str]] = {
         ("max", ("set",)): "max", ("isNonEmpty", ("seq",)): "nonempty", ("concat", ("seq", "seq")): "cat",
         ("reverse", ("seq",)): "reverse", ("head", ("seq",)): "head", ("last", ("seq",)): "last",
         ("tail", ("seq",)): "tail", ("front", ("seq",)): "front", ("filter", ("seq", "set")): "filter",
+        ("extract", ("set", "seq")): "extract",
         ("squash", ("set",)): "squash", ("prefix", ("seq", "seq")): "prefix", ("suffix", ("seq", "seq")): "suffix", ("infix", ("seq", "seq")): "infix",
     },
 }
@@ -402,6 +403,8 @@ class ExpressionLowering:
             return ir.RecordLit(pair, (("_1", args[0]), ("_2", args[1])))
         if op == "range":
             args = [self.conv(a, T.INT, x.span) for a, x in zip(args, e.args)]
+        elif op == "extract":  # extract(a, q): the sequence first in the IR, as for filter(q, a)
+            args = [self.conv(args[1], t, e.args[1].span), self.conv(args[0], T.SetT(T.INT), e.args[0].span)]
         elif is_collection(t) and op not in ("elems", "indices"):
             # the collections the result is made from have its type ({} and <> take it)
             args = [self.conv(a, t, x.span) if is_collection(a.type) else a for a, x in zip(args, e.args)]
