@@ -143,3 +143,53 @@ def test_constants_that_operations_need_are_parameters_of_the_machine(built):
     assert [s.outputs for s in got.steps] == [{"report": {"report.value": 105}, "scaled": {"scaled.value": 27}},
                                              {"report": {"report.value": 103}, "scaled": {"scaled.value": 9}}]
     assert [s.outputs["report"] for s in run_checked(b, scenario).steps] == [{"report.value": 0}] * 2
+
+
+RECORDS = """\
+datatype Pose {
+	x: real
+	y: real
+	label: string
+}
+enumeration Cmd {
+	Stop
+	Move(real)
+}
+stm Arm {
+	const home: Pose
+	const first: Cmd
+	event go
+	event at: real
+	event moving: boolean
+	event named: string
+	initial i
+	state Idle { }
+	transition t0 { from i to Idle }
+	transition t1 { from Idle to Idle trigger go action at!(home.x + home.y) ; moving!(first != Stop) ; named!home.label }
+}
+"""
+
+
+def test_a_record_constant_without_a_value_is_a_parameter_per_field(tmp_path):
+    from support.codegen_driver import build
+
+    path = tmp_path / "arm.rct"
+    path.write_text(RECORDS)
+    b = build([path], tmp_path / "arm")
+    assert [(w.span.line, w.message) for w in b.fmu.warnings] == [
+        (11, "constant 'home' has no value: it becomes FMU parameter 'Arm.home' with start zero; "
+             "set its fields in the importer ('Arm.home.<field>')"),
+        (12, "constant 'first' has no value: it becomes FMU parameter 'Arm.first' with start zero; "
+             "set its fields in the importer ('Arm.first.<field>')")]
+    xml = b.sources["modelDescription.xml"]
+    for declared in ('<Float64 name="Arm.home.x" valueReference="', '<String name="Arm.home.label" valueReference="',
+                     '<Enumeration name="Arm.first.tag" valueReference="', '<Float64 name="Arm.first.Move_1" valueReference="'):
+        assert declared in xml
+    go = Scenario([Instant(True, (Tick("go", {}),))], half=False)
+    # the defaults: home = (0.0, 0.0, ""), first = Stop
+    outputs = run_checked(b, go).steps[0].outputs
+    assert (outputs["at"]["at.value"], outputs["moving"]["moving.value"], outputs["named"]["named.value"]) == (0.0, False, "")
+    # the importer's values, field by field: home.x + home.y = 3.5, first = Move(0.5) is not Stop
+    given = {"Arm.home.x": 1.5, "Arm.home.y": 2.0, "Arm.home.label": "dock", "Arm.first.tag": 1, "Arm.first.Move_1": 0.5}
+    outputs = run_checked(b, go, parameters=given).steps[0].outputs
+    assert (outputs["at"]["at.value"], outputs["moving"]["moving.value"], outputs["named"]["named.value"]) == (3.5, True, "dock")

@@ -116,6 +116,13 @@ class Interpreter:
         self.parameters = {p.fmi_name: p.value for p in fmu.params}
         if parameters:
             self.parameters.update(parameters)
+            for p in fmu.params:  # a record's fields are parameters of their own: "<name>.<field>..."
+                if isinstance(p.var.type, T.RecordT):
+                    value = copy.deepcopy(self.parameters[p.fmi_name])
+                    for name, v in parameters.items():
+                        if name.startswith(p.fmi_name + "."):
+                            _set_path(value, name[len(p.fmi_name) + 1:].split("."), v)
+                    self.parameters[p.fmi_name] = value
         self.cycles = 0
         self.dropped = 0
         self.deadline_misses = 0

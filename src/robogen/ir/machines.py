@@ -60,6 +60,14 @@ class FmuContext:
                                 "give this one its value in the model", None)
 
 
+
+def _parameter_record(t: T.Type) -> bool:
+    """Can a constant of record type ``t`` without a value be FMU parameters, one per field (an
+    enumeration whose literals carry arguments is such a record: its tag and arguments)? Its
+    fields are scalars, strings or such records, and start at their type's default."""
+    return isinstance(t, T.RecordT) and all(
+        is_scalar(ft) or ft == T.STRING or _parameter_record(ft) for _, ft in t.fields)
+
 _NODE_KINDS = {ast.State: "state", ast.Junction: "junction", ast.Final: "final", ast.Initial: "initial",
                ast.Probabilistic: "probabilistic"}
 
@@ -162,11 +170,12 @@ class MachineLowering(StatementLowering, BindingLowering, ExpressionLowering, Fu
         settable = is_scalar(var.type) or var.type == T.STRING
         for name in (fmi_name, v.name):
             self.ctx.constants[name] = self.ctx.constants.get(name, False) or settable
-        if not (settable or isinstance(var.type, (T.VectorT, T.MatrixT))):
+        whole_record = v.init is None and _parameter_record(var.type)  # one FMU parameter per field
+        if not (settable or whole_record or isinstance(var.type, (T.VectorT, T.MatrixT))):
             # a set, sequence, tuple or record: its initialiser, computed once
             if v.init is None:
                 self.ctx.sink.error(f"constant '{v.name}' of type {var.type.show()} has no value: give one in the model",
-                                    v.span, Note("only constants of scalar types and strings are FMU parameters (--set)"))
+                                    v.span, Note("constants of scalar types, strings, vectors, matrices and records of these are FMU parameters"))
             return
         settings = self.ctx.settings
         text = settings.get(fmi_name, settings.get(v.name))
@@ -184,10 +193,10 @@ class MachineLowering(StatementLowering, BindingLowering, ExpressionLowering, Fu
         else:
             value = default_value(var.type)
             if not any(w.span == v.span for w in self.ctx.sink.warnings):  # one per constant, however many machines use it
-                self.ctx.sink.warning(
-                    f"constant '{v.name}' has no value: it becomes FMU parameter '{fmi_name}' with start "
-                    f"{shown(value, var.type)}; set it with --set {v.name}=... or in the importer",
-                    v.span)
+                how = (f"set its fields in the importer ('{fmi_name}.<field>')" if whole_record else
+                       f"set it with --set {v.name}=... or in the importer")
+                self.ctx.sink.warning(f"constant '{v.name}' has no value: it becomes FMU parameter '{fmi_name}' with start "
+                                      f"{shown(value, var.type)}; {how}", v.span)
         fmu.params.append(ir.Param(fmi_name, var, self.machine.index, value, free=text is None and v.init is None))
 
     def random_state(self) -> ir.Var:
