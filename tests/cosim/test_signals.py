@@ -84,3 +84,31 @@ def test_ctrl_c_in_a_python_fmus_step_interrupts_simulate_system(write_system, m
         timer.cancel()
     assert stopped.value.signum == signal.SIGINT and stopped.value.results == tmp_path / "r.csv"
     assert (tmp_path / "r.csv").read_text().count("\n") > 2
+
+
+def test_a_signal_inside_a_callback_of_the_master_is_delivered_once_back_in_python():
+    # cffi prints and drops an exception that escapes a callback: a signal handled inside the
+    # FMUs' logger would be lost, and the run would go on. It comes again after the callback.
+    import cffi
+
+    from robogen.cosim.signals import Interrupted, callback, interruptible
+
+    ffi = cffi.FFI()
+    calls = []
+
+    @ffi.callback("void(int)")
+    @callback
+    def logger(n):
+        calls.append(n)
+        if n == 1:
+            signal.raise_signal(signal.SIGTERM)  # the handler runs here, inside the callback
+        calls.append(-n)  # the callback finishes
+
+    with pytest.raises(Interrupted) as stopped:
+        with interruptible([signal.SIGTERM]):
+            logger(1)  # through C, as an FMU calls it
+            calls.append("after")
+            for _ in range(100):  # the master goes on, and the signal comes again in a moment
+                time.sleep(0.05)
+                calls.append("still running")
+    assert calls[:3] == [1, -1, "after"] and len(calls) < 10 and stopped.value.name == "SIGTERM"

@@ -32,6 +32,7 @@ from typing import Callable, NamedTuple, Sequence
 
 import cffi
 
+from robogen.cosim import signals
 from robogen.fmu.fmi import ERROR, FATAL, WARNING, status_name
 
 ffi = cffi.FFI()
@@ -251,6 +252,7 @@ class Library:
 
 
 @ffi.callback("void(fmi3InstanceEnvironment, fmi3Status, const char*, const char*)")
+@signals.callback
 def _log_message(env, status, category, message):
     try:
         inst = ffi.from_handle(env)

@@ -9,7 +9,8 @@ then exits with 128 + the signal's number (130, 143, 129).
 A signal that arrives while a Python FMU runs its own code (its ``do_step``, say) raises inside
 that code, in the same interpreter; the FMU turns every exception into ``fmi3Error``. The master
 therefore asks :func:`caught` when a call fails: if a signal came in, the failure is the
-interruption, not the FMU's error.
+interruption, not the FMU's error. One that arrives in a callback of the master's own (an FMU's
+log message) is delivered again once the callback has returned (:func:`callback`).
 
 Handlers are Python's: they run in the main thread only, between two bytecodes, so a call into
 C (an FMU's step, the C stretch) finishes first (the C stretch hands control back at least
@@ -19,10 +20,13 @@ the clean-up is done, so the rows are always flushed and the folders always remo
 
 from __future__ import annotations
 
+import _thread
 import signal
 import threading
 from contextlib import contextmanager
-from typing import Iterable, Iterator
+from typing import Callable, Iterable, Iterator, TypeVar
+
+F = TypeVar("F", bound=Callable)
 
 
 class Interrupted(KeyboardInterrupt):
@@ -43,6 +47,9 @@ class Interrupted(KeyboardInterrupt):
 _caught: int | None = None
 _deferring = 0  # depth of deferred() blocks: a signal then waits for the clean-up to finish
 _pending = False  # a signal came in a deferred() block and is yet to be raised
+_again = False  # a signal came in a callback (see callback()): the handler is to run again
+_callbacks: set = set()  # the code of the master's C callbacks
+_AGAIN_AFTER = 0.02  # s: a callback (a log message) is far shorter
 
 
 def caught() -> int | None:
@@ -51,14 +58,38 @@ def caught() -> int | None:
 
 
 def _handler(signum: int, frame) -> None:
-    global _caught, _pending
-    if _caught is not None:
+    global _caught, _pending, _again
+    if _caught is not None and not _again:
         return  # already winding down
-    _caught = signum
+    _caught, _again = signum, False
+    if _in_callback(frame):  # not here: again in a moment, once the callback has returned
+        _again = True
+        timer = threading.Timer(_AGAIN_AFTER, _thread.interrupt_main, (signum,))
+        timer.daemon = True
+        timer.start()
+        return
     if _deferring:
         _pending = True
         return
     raise Interrupted(signum)
+
+
+def callback(function: F) -> F:
+    """Mark ``function`` as one of the master's C callbacks (cffi's, such as the FMUs' logger).
+    The handler runs wherever Python runs, so also inside such a callback, where an exception
+    would be printed and dropped by cffi while the FMU's call went on. Inside one, the handler
+    raises nothing: the signal is delivered again a moment later (and again while control is
+    still in a callback), so that the run stops all the same, from the master's own code."""
+    _callbacks.add(function.__code__)
+    return function
+
+
+def _in_callback(frame) -> bool:
+    while frame is not None:
+        if frame.f_code in _callbacks:
+            return True
+        frame = frame.f_back
+    return False
 
 
 @contextmanager
@@ -82,7 +113,7 @@ def interruptible(signums: Iterable[int], *, only_if_default: bool = False) -> I
     back afterwards. ``only_if_default``: leave a signal alone whose handler someone else chose
     (a host application, or an outer :func:`interruptible`). Outside the main thread (where
     Python cannot handle signals) it does nothing."""
-    global _caught, _pending
+    global _caught, _pending, _again
     if threading.current_thread() is not threading.main_thread():
         yield
         return
@@ -90,7 +121,7 @@ def interruptible(signums: Iterable[int], *, only_if_default: bool = False) -> I
     previous = {s: signal.getsignal(s) for s in signums}
     mine = [s for s, h in previous.items() if not only_if_default or h in defaults]
     if mine:
-        _caught, _pending = None, False
+        _caught, _pending, _again = None, False, False
     for s in mine:
         signal.signal(s, _handler)
     try:
@@ -99,7 +130,7 @@ def interruptible(signums: Iterable[int], *, only_if_default: bool = False) -> I
         for s in mine:
             signal.signal(s, previous[s])
         if mine:
-            _caught, _pending = None, False
+            _caught, _pending, _again = None, False, False
 
 
-__all__ = ["Interrupted", "caught", "deferred", "interruptible"]
+__all__ = ["Interrupted", "callback", "caught", "deferred", "interruptible"]
