@@ -133,56 +133,58 @@ class Guards:
             return cached
         order: dict[int, None] = {}
         literals: set[Number] = set()
-        tables = self.tables
-
-        def visit(e: ast.Expr) -> None:
-            if isinstance(e, ast.IntLit):
-                literals.add(e.value)
-            elif isinstance(e, ast.RealLit):
-                literals.add(real_value(e.text))
-            elif isinstance(e, (ast.BoolLit, ast.StringLit)):
-                pass
-            elif isinstance(e, ast.Unary) and e.op in ("not", "-"):
-                visit(e.operand)
-            elif isinstance(e, ast.Binary) and e.op in _VISITED:
-                first, links = ast.chain(e, _VISITED)
-                visit(first)
-                for link in links:
-                    visit(link.right)
-            elif isinstance(e, ast.DollarInput):
-                order[self._leaf("ev", e.event, [False, True])] = None
-                if e.predicate is not None:
-                    order[self._leaf("opaque", e.predicate, [False, True])] = None
-            elif isinstance(e, ast.Name) and isinstance(tables.ref(e), EnumLitSym):
-                pass
-            elif isinstance(e, ast.Name) and const_value(e, tables) is not None:
-                value = const_value(e, tables)
-                if type(value) in _NUMBERS:
-                    literals.add(value)  # type: ignore[arg-type]
-            elif isinstance(e, ast.Keyword) and e.word == "cycle":
-                if self.period is not None:
-                    literals.add(self.period)
-            elif isinstance(e, ast.Dollar) and isinstance(tables.ref(e), EventSym):
-                order[self._leaf("ev", e.name, [False, True])] = None
-            else:
-                t = tables.type_of(e)
-                if t == T.BOOLEAN:
-                    n = self._leaf("leaf", e, [False, True])
-                elif isinstance(t, T.EnumT):
-                    n = self._leaf("leaf", e, list(t.literals))
-                elif isinstance(t, T.Given):
-                    n = self._leaf("leaf", e, [f"{t.simple}#1", f"{t.simple}#2", f"{t.simple}#3"])
-                elif t in T.NUMERIC:
-                    n = self._leaf("leaf", e, numeric=t)
-                else:
-                    n = self._leaf("leaf", e, [False, True])  # opaque
-                order[n] = None
-
-        visit(g)
+        self._visit(g, order, literals)
         result = (tuple(order), frozenset(literals))
         self._facts[id(g)] = result
         self._keep.append(g)
         return result
+
+    def _visit(self, e: ast.Expr, order: dict[int, None], literals: set[Number]) -> None:
+        """Record the leaves of ``e`` in ``order`` and its number literals in ``literals`` (a
+        method, not a closure of facts(): a recursive closure is a reference cycle, and it would
+        keep the whole machine's guards alive until the cyclic collector runs)."""
+        tables = self.tables
+        if isinstance(e, ast.IntLit):
+            literals.add(e.value)
+        elif isinstance(e, ast.RealLit):
+            literals.add(real_value(e.text))
+        elif isinstance(e, (ast.BoolLit, ast.StringLit)):
+            pass
+        elif isinstance(e, ast.Unary) and e.op in ("not", "-"):
+            self._visit(e.operand, order, literals)
+        elif isinstance(e, ast.Binary) and e.op in _VISITED:
+            first, links = ast.chain(e, _VISITED)
+            self._visit(first, order, literals)
+            for link in links:
+                self._visit(link.right, order, literals)
+        elif isinstance(e, ast.DollarInput):
+            order[self._leaf("ev", e.event, [False, True])] = None
+            if e.predicate is not None:
+                order[self._leaf("opaque", e.predicate, [False, True])] = None
+        elif isinstance(e, ast.Name) and isinstance(tables.ref(e), EnumLitSym):
+            pass
+        elif isinstance(e, ast.Name) and const_value(e, tables) is not None:
+            value = const_value(e, tables)
+            if type(value) in _NUMBERS:
+                literals.add(value)  # type: ignore[arg-type]
+        elif isinstance(e, ast.Keyword) and e.word == "cycle":
+            if self.period is not None:
+                literals.add(self.period)
+        elif isinstance(e, ast.Dollar) and isinstance(tables.ref(e), EventSym):
+            order[self._leaf("ev", e.name, [False, True])] = None
+        else:
+            t = tables.type_of(e)
+            if t == T.BOOLEAN:
+                n = self._leaf("leaf", e, [False, True])
+            elif isinstance(t, T.EnumT):
+                n = self._leaf("leaf", e, list(t.literals))
+            elif isinstance(t, T.Given):
+                n = self._leaf("leaf", e, [f"{t.simple}#1", f"{t.simple}#2", f"{t.simple}#3"])
+            elif t in T.NUMERIC:
+                n = self._leaf("leaf", e, numeric=t)
+            else:
+                n = self._leaf("leaf", e, [False, True])  # opaque
+            order[n] = None
 
     def _domains(self, ids: tuple[int, ...], literals: frozenset) -> list[list]:
         domains: list[list] = []
@@ -442,82 +444,86 @@ def rebinds(g: ast.Expr) -> bool:
     analyses that give each leaf one value do not apply."""
     bound: set[str] = set()
     names: list[str] = []
-
-    def visit(e: ast.Expr) -> None:
-        if isinstance(e, ast.DollarInput):
-            bound.add(e.var)
-            if e.predicate is not None:
-                visit(e.predicate)
-        elif isinstance(e, ast.Name):
-            names.append(e.last)
-        elif isinstance(e, ast.Unary):
-            visit(e.operand)
-        elif isinstance(e, ast.Binary):
-            first, links = ast.chain(e)
-            visit(first)
-            for link in links:
-                visit(link.right)
-
-    visit(g)
+    _bindings(g, bound, names)
     return bool(bound) and any(n in bound for n in names)
+
+
+def _bindings(e: ast.Expr, bound: set[str], names: list[str]) -> None:
+    """The variables ``e`` binds with `$e?x` into ``bound``, the names it reads into ``names``."""
+    if isinstance(e, ast.DollarInput):
+        bound.add(e.var)
+        if e.predicate is not None:
+            _bindings(e.predicate, bound, names)
+    elif isinstance(e, ast.Name):
+        names.append(e.last)
+    elif isinstance(e, ast.Unary):
+        _bindings(e.operand, bound, names)
+    elif isinstance(e, ast.Binary):
+        first, links = ast.chain(e)
+        _bindings(first, bound, names)
+        for link in links:
+            _bindings(link.right, bound, names)
 
 
 def abstractly_satisfiable(g: ast.Expr) -> bool:
     """Is ``g`` satisfiable when every comparison or other atom is a free proposition? (An
     over-approximation: a 'no' is sound.)"""
     atoms: dict[object, None] = {}
-
-    def norm(e: ast.Expr):
-        """A key for an atom and whether it is negated: a > b is not (a <= b)."""
-        if isinstance(e, ast.Binary) and e.op in (">", ">="):
-            return ("cmp", "<=" if e.op == ">" else "<", _key(e.left), _key(e.right)), True
-        if isinstance(e, ast.Binary) and e.op == "!=":
-            return ("cmp", "==", _key(e.left), _key(e.right)), True
-        if isinstance(e, ast.Binary) and e.op in ("<", "<=", "=="):
-            return ("cmp", e.op, _key(e.left), _key(e.right)), False
-        if isinstance(e, ast.DollarInput):
-            return ("ev", e.event, None if e.predicate is None else _key(e.predicate)), False
-        return ("atom", _key(e)), False
-
-    def collect(e: ast.Expr) -> None:
-        if isinstance(e, ast.BoolLit):
-            return
-        if isinstance(e, ast.Unary) and e.op == "not":
-            collect(e.operand)
-        elif isinstance(e, ast.Binary) and e.op in _LOGIC:
-            first, links = ast.chain(e, _LOGIC)
-            collect(first)
-            for link in links:
-                collect(link.right)
-        else:
-            atoms[norm(e)[0]] = None
-
-    normed: dict[int, tuple] = {}  # id(atom) -> norm(atom), computed once per atom
-
-    def holds(e: ast.Expr, env: dict) -> bool:
-        if isinstance(e, ast.BoolLit):
-            return e.value
-        if isinstance(e, ast.Unary) and e.op == "not":
-            return not holds(e.operand, env)
-        if isinstance(e, ast.Binary) and e.op in _LOGIC:
-            first, links = ast.chain(e, _LOGIC)
-            a = holds(first, env)
-            for link in links:
-                b = holds(link.right, env)
-                op = link.op
-                a = (a and b) if op == "/\\" else (a or b) if op == "\\/" else ((not a) or b) if op == "=>" else a == b
-            return a
-        known = normed.get(id(e))
-        if known is None:
-            known = normed[id(e)] = norm(e)
-        key, negated = known
-        return env[key] != negated
-
-    collect(g)
+    _atoms(g, atoms)
     keys = list(atoms)
     if len(keys) > 12 or rebinds(g):
         return True
-    return any(holds(g, dict(zip(keys, values))) for values in itertools.product((False, True), repeat=len(keys)))
+    normed: dict[int, tuple] = {}  # id(atom) -> _norm(atom), computed once per atom
+    return any(_holds(g, dict(zip(keys, values)), normed) for values in itertools.product((False, True), repeat=len(keys)))
+
+
+def _norm(e: ast.Expr) -> tuple[tuple, bool]:
+    """A key for an atom and whether it is negated: a > b is not (a <= b)."""
+    if isinstance(e, ast.Binary) and e.op in (">", ">="):
+        return ("cmp", "<=" if e.op == ">" else "<", _key(e.left), _key(e.right)), True
+    if isinstance(e, ast.Binary) and e.op == "!=":
+        return ("cmp", "==", _key(e.left), _key(e.right)), True
+    if isinstance(e, ast.Binary) and e.op in ("<", "<=", "=="):
+        return ("cmp", e.op, _key(e.left), _key(e.right)), False
+    if isinstance(e, ast.DollarInput):
+        return ("ev", e.event, None if e.predicate is None else _key(e.predicate)), False
+    return ("atom", _key(e)), False
+
+
+def _atoms(e: ast.Expr, atoms: dict[object, None]) -> None:
+    """The atoms of ``e`` (by their _norm keys) into ``atoms``, in the order first met."""
+    if isinstance(e, ast.BoolLit):
+        return
+    if isinstance(e, ast.Unary) and e.op == "not":
+        _atoms(e.operand, atoms)
+    elif isinstance(e, ast.Binary) and e.op in _LOGIC:
+        first, links = ast.chain(e, _LOGIC)
+        _atoms(first, atoms)
+        for link in links:
+            _atoms(link.right, atoms)
+    else:
+        atoms[_norm(e)[0]] = None
+
+
+def _holds(e: ast.Expr, env: dict, normed: dict[int, tuple]) -> bool:
+    """The value of ``e`` when each atom has the value ``env`` gives its key."""
+    if isinstance(e, ast.BoolLit):
+        return e.value
+    if isinstance(e, ast.Unary) and e.op == "not":
+        return not _holds(e.operand, env, normed)
+    if isinstance(e, ast.Binary) and e.op in _LOGIC:
+        first, links = ast.chain(e, _LOGIC)
+        a = _holds(first, env, normed)
+        for link in links:
+            b = _holds(link.right, env, normed)
+            op = link.op
+            a = (a and b) if op == "/\\" else (a or b) if op == "\\/" else ((not a) or b) if op == "=>" else a == b
+        return a
+    known = normed.get(id(e))
+    if known is None:
+        known = normed[id(e)] = _norm(e)
+    key, negated = known
+    return env[key] != negated
 
 
 __all__ = ["Guards", "Unknown", "abstractly_satisfiable", "const_value", "number", "rebinds"]

@@ -110,32 +110,34 @@ def _unreachable(scope: MachineScope, never: set[int], sink: DiagnosticSink) -> 
     assert scope.region is not None
     reached: set[int] = set()
     todo: list[tuple[Region, str]] = []
-
-    def enter(region: Region, name: str) -> None:
-        node = region.nodes.get(name)
-        if node is None or id(node) in reached:
-            return
-        reached.add(id(node))
-        todo.append((region, name))
-        child = region.children.get(name)
-        if child is not None:
-            for i in child.initials():
-                enter(child, i.name)
-
     for i in scope.region.initials():
-        enter(scope.region, i.name)
+        _enter(scope.region, i.name, reached, todo)
     outgoing = {id(region): _by_source(region) for region in _regions(scope)}
     while todo:
         region, name = todo.pop()
         for t in outgoing[id(region)].get(name, ()):
             if id(t) not in never:
-                enter(region, t.target)
+                _enter(region, t.target, reached, todo)
     for region in _regions(scope):
         if region.nested and id(region.owner) not in reached:
             continue  # inside an unreachable composite state: reported once, for the composite
         for name, node in region.nodes.items():
             if isinstance(node, ast.State) and id(node) not in reached:
                 sink.warning(f"state '{name}' is unreachable: no path from the initial node enters it", node.name_span)
+
+
+def _enter(region: Region, name: str, reached: set[int], todo: list[tuple[Region, str]]) -> None:
+    """Mark node ``name`` of ``region`` reached (and, for a composite state, the initial nodes
+    inside it), queueing each newly reached node in ``todo``."""
+    node = region.nodes.get(name)
+    if node is None or id(node) in reached:
+        return
+    reached.add(id(node))
+    todo.append((region, name))
+    child = region.children.get(name)
+    if child is not None:
+        for i in child.initials():
+            _enter(child, i.name, reached, todo)
 
 
 def _nondeterminism(scope: MachineScope, guards: Guards, never: set[int], sink: DiagnosticSink) -> None:
