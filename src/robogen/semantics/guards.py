@@ -82,12 +82,35 @@ _SHALLOW = (ast.Name, ast.IntLit, ast.RealLit, ast.BoolLit, ast.StringLit, ast.K
 
 def _key(e: ast.Expr) -> object:
     """A key equal for equal sub-expressions: a name, a literal or a field of one is its own key;
-    another sub-expression is keyed by its text (hashing a node follows its operands recursively,
-    and a flat chain of operators may be thousands deep; the text is printed in a loop)."""
-    x = e
-    while isinstance(x, ast.Field):
-        x = x.obj
-    return e if isinstance(x, _SHALLOW) else _printed(e)
+    an operator expression is keyed by its operators and shallow operands in prefix order, built
+    in a loop (hashing a node follows its operands recursively, and a flat chain of operators may
+    be thousands deep); any other sub-expression by its text."""
+    return e if _shallow(e) else _shape(e)
+
+
+def _shallow(e: ast.Expr) -> bool:
+    while isinstance(e, ast.Field):
+        e = e.obj
+    return isinstance(e, _SHALLOW)
+
+
+def _shape(e: ast.Expr) -> tuple:
+    """The prefix (Polish) form of the unary and binary operators of ``e``, with every other
+    operand as its _key: each operator's arity is fixed, so equal forms are equal expressions."""
+    out: list[object] = []
+    todo = [e]
+    while todo:
+        x = todo.pop()
+        if isinstance(x, ast.Binary):
+            out.append(("binary", x.op))
+            todo.append(x.right)
+            todo.append(x.left)
+        elif isinstance(x, ast.Unary):
+            out.append(("unary", x.op))
+            todo.append(x.operand)
+        else:
+            out.append(x if _shallow(x) else ("text", _printed(x)))
+    return tuple(out)
 
 
 class _Leaf:
@@ -111,6 +134,8 @@ class Guards:
         self._facts: dict[int, tuple[tuple[int, ...], frozenset]] = {}  # id(guard) -> (leaf ids in order, literals)
         self._compiled: dict[int, Callable[[dict], object]] = {}
         self._keep: list[ast.Expr] = []  # the guards cached by id stay alive
+        self._keys: dict[int, object] = {}  # id(guard) -> _key(guard)
+        self._answers: dict[tuple, object] = {}  # (question, guard keys) -> answer
 
     # ------------------------------------------------------------------ leaves
 
@@ -209,6 +234,13 @@ class Guards:
 
     def _assignments(self, guards: list[ast.Expr], limit: int) -> Iterator[dict[int, object]]:
         """Every assignment of the leaves of ``guards`` (raises Unknown beyond ``limit``)."""
+        order, domains = self._space(guards, limit)
+        for values in itertools.product(*domains):
+            yield dict(zip(order, values))
+
+    def _space(self, guards: list[ast.Expr], limit: int) -> tuple[tuple[int, ...], list[list]]:
+        """The leaves of ``guards`` (those of the first guard first, in its order) and their
+        domains; raises Unknown when they have more than ``limit`` assignments."""
         ids: dict[int, None] = {}
         literals: frozenset = frozenset()
         for g in guards:
@@ -222,8 +254,7 @@ class Guards:
             total *= max(1, len(d))
             if total > limit:
                 raise Unknown
-        for values in itertools.product(*domains):
-            yield dict(zip(order, values))
+        return order, domains
 
     # ------------------------------------------------------------------ evaluation
 
@@ -295,15 +326,57 @@ class Guards:
 
     # ------------------------------------------------------------------ questions
 
+    # The answers are remembered by the guards' keys (_key): within one machine, equal guards have the
+    # same leaves (leaves are told apart by _key too) and so the same answers; a machine's states
+    # often repeat a guard (`not $e`, `x > k`), and this is where the analyses spend their time.
+
+    def key(self, g: ast.Expr | None) -> object:
+        """The key (_key) of a guard, computed once per guard."""
+        if g is None:
+            return None
+        k = self._keys.get(id(g), _MISSING)
+        if k is _MISSING:
+            k = self._keys[id(g)] = _key(g)
+            self._keep.append(g)
+        return k
+
+    def never_true(self, g: ast.Expr) -> bool:
+        """Is ``g`` false whatever its leaves are? Claimed only when its propositional abstraction
+        is unsatisfiable (see abstractly_satisfiable) or when unsatisfiable() says so."""
+        question = ("never", self.key(g))
+        answer = self._answers.get(question)
+        if answer is None:
+            answer = self._answers[question] = not abstractly_satisfiable(g) or self.unsatisfiable(g)
+        return answer  # type: ignore[return-value]
+
+    def common_witness(self, g1: ast.Expr | None, g2: ast.Expr | None) -> dict[int, object] | None:
+        """witness(), remembered: the first assignment in which both guards hold, or None."""
+        question = ("witness", self.key(g1), self.key(g2))
+        answer = self._answers.get(question, _MISSING)
+        if answer is _MISSING:
+            answer = self._answers[question] = self.witness(g1, g2)
+        return answer  # type: ignore[return-value]
+
     def witness(self, g1: ast.Expr | None, g2: ast.Expr | None) -> dict[int, object] | None:
         """An assignment under which both guards hold, or None (also when undecided)."""
         guards = [g for g in (g1, g2) if g is not None]
         evaluators = [self.evaluator(g) for g in guards]
         first, second = (evaluators + [_true, _true])[:2]
         try:
-            for env in self._assignments(guards, MAX_ASSIGNMENTS):
-                if first(env) is True and second(env) is True:
-                    return env
+            order, domains = self._space(guards, MAX_ASSIGNMENTS)
+            # The assignments in product order, the first guard's leaves first: its value is
+            # known from them alone, so when it does not hold, the assignments that differ only
+            # in the other leaves are skipped (the first witness found is the same).
+            split = len(self.facts(guards[0])[0]) if guards else 0
+            own, rest = order[:split], order[split:]
+            for head in itertools.product(*domains[:split]):
+                if first(dict(zip(own, head))) is not True:
+                    continue
+                for tail in itertools.product(*domains[split:]):
+                    env = dict(zip(own, head))
+                    env.update(zip(rest, tail))
+                    if second(env) is True:
+                        return env
         except Unknown:
             return None
         return None
@@ -397,6 +470,9 @@ _STEPS: dict[str, Callable[[object, Callable, dict], object]] = {
     "-": _numeric(lambda x, y: x - y),
     "*": _numeric(lambda x, y: x * y),
 }
+
+
+_MISSING = object()
 
 
 def _true(env: dict) -> object:

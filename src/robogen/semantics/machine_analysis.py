@@ -19,7 +19,7 @@ import itertools
 from typing import Iterator
 
 from robogen.diagnostics import DiagnosticSink, Note
-from robogen.semantics.guards import Guards, abstractly_satisfiable, number
+from robogen.semantics.guards import Guards, number
 from robogen.semantics.model import MachineScope, Region, Tables, state_action, statements
 from robogen.syntax import ast
 
@@ -94,7 +94,7 @@ def _never_firing(scope: MachineScope, guards: Guards, sink: DiagnosticSink) -> 
                     )
                     never.add(id(t))
                     continue
-                if t.condition is not None and (not abstractly_satisfiable(t.condition) or guards.unsatisfiable(t.condition)):
+                if t.condition is not None and guards.never_true(t.condition):
                     sink.warning(f"transition '{t.name}' can never fire: its condition is always false", t.condition.span)
                     never.add(id(t))
                     continue
@@ -152,7 +152,7 @@ def _nondeterminism(scope: MachineScope, guards: Guards, never: set[int], sink: 
                     eb = b.trigger.event if b.trigger else None
                     if ea != eb:
                         continue
-                env = guards.witness(a.condition, b.condition)
+                env = guards.common_witness(a.condition, b.condition)
                 if env is None:
                     continue
                 sink.warning(
