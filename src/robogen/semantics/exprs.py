@@ -58,6 +58,8 @@ class ExprChecker(Calls, DollarForms):
         self.robosim = scope.robosim
         # events used as outputs / inputs, and operations called, for later checks
         self.outputs_used: list[tuple[str, ast.Node]] = []
+        # (id(file), parts) -> the literal a qualified name denotes, found without reporting anything
+        self._qualified_literals: dict[tuple[int, tuple[str, ...]], EnumLitSym | None] = {}
 
     # ------------------------------------------------------------------ helpers
 
@@ -180,6 +182,21 @@ class ExprChecker(Calls, DollarForms):
         return lit.enum
 
     def enum_literal(self, e: ast.Name, report: bool) -> EnumLitSym | None:
+        """The literal ``E::lit`` (or ``Pkg::E::lit``) denotes. Without ``report``, remembered per
+        file and text when finding it reported nothing (a warning, such as an enumeration used
+        without its import, is given at each occurrence, so such a name is looked up each time)."""
+        if report:
+            return self._enum_literal(e, report)
+        key = (id(self.scope.file), e.parts)
+        if key in self._qualified_literals:
+            return self._qualified_literals[key]
+        before = len(self.sink.items)
+        found = self._enum_literal(e, report)
+        if len(self.sink.items) == before:
+            self._qualified_literals[key] = found
+        return found
+
+    def _enum_literal(self, e: ast.Name, report: bool) -> EnumLitSym | None:
         enum_name = ast.Name(e.parts[:-1], span=e.span)
         decl = self.lookup_global(enum_name, self.scope.file, (ast.Enumeration,), "enumeration", report)
         if decl is None:

@@ -167,8 +167,9 @@ def _nondeterminism(scope: MachineScope, guards: Guards, never: set[int], sink: 
 
 
 def _flat_graph(scope: MachineScope, never: set[int]):
-    """Nodes by identity with their successor edges (transition, target node) and whether being
-    in the node runs exec by itself (entry/during action with exec)."""
+    """Nodes by identity with their successor edges (transition, target node), the nodes where
+    being runs exec by itself (entry/during action with exec) and the transitions that run exec
+    (exec transitions, actions with exec), each found once."""
     succ: dict[int, list[tuple[ast.Transition, int]]] = {}
     nodes: dict[int, tuple[Region, ast.NodeDecl]] = {}
     for region in _regions(scope):
@@ -202,17 +203,17 @@ def _flat_graph(scope: MachineScope, never: set[int]):
             node = region.nodes[name]
             for i in child.initials():
                 succ[id(node)].append((None, id(i)))  # type: ignore[arg-type]
-    return nodes, succ
+    runs_exec = {nid for nid, (_, node) in nodes.items() if _runs_exec(node)}
+    exec_transitions = {id(t) for region in _regions(scope) for t in region.transitions if t.exec or has_exec(t.action)}
+    return nodes, succ, runs_exec, exec_transitions
 
 
 def _exec_reachability(graph, is_operation: bool, sink: DiagnosticSink) -> None:
-    nodes, succ = graph
-    good: set[int] = set()
-    for nid, (region, node) in nodes.items():
-        if _runs_exec(node):
-            good.add(nid)
+    nodes, succ, runs_exec, exec_transitions = graph
+    good: set[int] = set(runs_exec)
+    for nid in nodes:
         for t, _ in succ[nid]:
-            if t is not None and (t.exec or has_exec(t.action)):
+            if t is not None and id(t) in exec_transitions:
                 good.add(nid)
     if is_operation:
         for nid, (region, node) in nodes.items():
@@ -239,10 +240,9 @@ def _exec_reachability(graph, is_operation: bool, sink: DiagnosticSink) -> None:
 
 
 def _exec_free_cycles(graph, sink: DiagnosticSink) -> None:
-    nodes, succ = graph
-    runs_exec = {nid for nid, (_, node) in nodes.items() if _runs_exec(node)}
+    nodes, succ, runs_exec, exec_transitions = graph
     edges: dict[int, list[tuple[ast.Transition | None, int]]] = {
-        nid: [(t, d) for t, d in succ[nid] if (t is None or not (t.exec or has_exec(t.action))) and d not in runs_exec]
+        nid: [(t, d) for t, d in succ[nid] if (t is None or id(t) not in exec_transitions) and d not in runs_exec]
         for nid in nodes
     }
     for comp in _strongly_connected(nodes, edges):
