@@ -71,3 +71,24 @@ def test_a_machine_answers_each_guard_and_each_pair_of_guards_once(monkeypatch):
         for s in states
     ]
     assert calls == {"witness": 1, "unsatisfiable": 2}
+
+
+def test_the_operands_keyed_by_one_field_have_exactly_that_field_compared():
+    """_shape keys a name or literal by its class and one field: that must be the only field
+    that tells two of them apart (their equality), or two different operands would share a key."""
+    import dataclasses
+
+    for cls, name in guards._ATOM_FIELD.items():
+        assert [f.name for f in dataclasses.fields(cls) if f.compare] == [name], cls
+    assert guards._key(ast.Unary(op="-", operand=ast.IntLit(value=1))) != guards._key(ast.Unary(op="-", operand=ast.BoolLit(value=True)))
+    inputs = [f.name for f in dataclasses.fields(ast.DollarInput) if f.compare]
+    assert sorted(inputs) == ["event", "predicate", "qualifier", "var", "var_qualifier"]  # all in _shape's marker
+
+
+def test_inputs_with_and_without_a_predicate_have_different_keys():
+    bare = ast.DollarInput(event="e", var="x", predicate=None)
+    checked = ast.DollarInput(event="e", var="x", predicate=ast.BoolLit(value=True))
+    both = ast.Binary(op="/\\", left=bare, right=ast.BoolLit(value=True))
+    keys = {guards._key(bare), guards._key(checked), guards._key(both)}
+    assert len(keys) == 3
+    assert guards._key(ast.DollarInput(event="e", var="x", predicate=None)) == guards._key(bare)

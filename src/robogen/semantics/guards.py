@@ -94,20 +94,34 @@ def _shallow(e: ast.Expr) -> bool:
     return isinstance(e, _SHALLOW)
 
 
+# Operands keyed in _shape by their class and their one compared field (hashed in C, where a
+# node's own hash and equality are Python functions).
+_ATOM_FIELD = {ast.Name: "parts", ast.IntLit: "value", ast.RealLit: "text", ast.BoolLit: "value",
+               ast.StringLit: "value", ast.Keyword: "word", ast.Since: "clock"}  # fmt: skip
+
+
 def _shape(e: ast.Expr) -> tuple:
-    """The prefix (Polish) form of the unary and binary operators of ``e``, with every other
-    operand as its _key: each operator's arity is fixed, so equal forms are equal expressions."""
+    """The prefix (Polish) form of the unary and binary operators and the inputs of ``e``, with
+    every other operand as its _key: each operator's arity is fixed (an input says whether a
+    predicate follows), so equal forms are equal expressions."""
     out: list[object] = []
     todo = [e]
     while todo:
         x = todo.pop()
-        if isinstance(x, ast.Binary):
-            out.append(("binary", x.op))
-            todo.append(x.right)
-            todo.append(x.left)
-        elif isinstance(x, ast.Unary):
-            out.append(("unary", x.op))
-            todo.append(x.operand)
+        kind = type(x)
+        if kind is ast.Binary:
+            out.append(("binary", x.op))  # type: ignore[attr-defined]
+            todo.append(x.right)  # type: ignore[attr-defined]
+            todo.append(x.left)  # type: ignore[attr-defined]
+        elif kind is ast.Unary:
+            out.append(("unary", x.op))  # type: ignore[attr-defined]
+            todo.append(x.operand)  # type: ignore[attr-defined]
+        elif kind is ast.DollarInput:  # `$e?x` or `$e?x | predicate`: the predicate follows if there is one
+            out.append(("input", x.event, x.var, x.qualifier, x.var_qualifier, x.predicate is not None))  # type: ignore[attr-defined]
+            if x.predicate is not None:  # type: ignore[attr-defined]
+                todo.append(x.predicate)  # type: ignore[attr-defined]
+        elif kind in _ATOM_FIELD:
+            out.append((kind, getattr(x, _ATOM_FIELD[kind])))
         else:
             out.append(x if _shallow(x) else ("text", _printed(x)))
     return tuple(out)
