@@ -145,8 +145,9 @@ class Guards:
         self.period = period
         self._ids: dict[tuple, int] = {}
         self._leaves: list[_Leaf] = []
-        self._facts: dict[int, tuple[tuple[int, ...], frozenset]] = {}  # id(guard) -> (leaf ids in order, literals)
-        self._compiled: dict[int, Callable[[dict], object]] = {}
+        # by the guard's key (equal guards have the same leaves, see key()):
+        self._facts: dict[object, tuple[tuple[int, ...], frozenset]] = {}  # -> (leaf ids in order, literals)
+        self._compiled: dict[object, Callable[[dict], object]] = {}  # -> evaluator
         self._keep: list[ast.Expr] = []  # the guards cached by id stay alive
         self._keys: dict[int, object] = {}  # id(guard) -> _key(guard)
         self._answers: dict[tuple, object] = {}  # (question, guard keys) -> answer
@@ -167,15 +168,14 @@ class Guards:
 
     def facts(self, g: ast.Expr) -> tuple[tuple[int, ...], frozenset]:
         """The leaves of ``g`` in the order first met, and the number literals it mentions."""
-        cached = self._facts.get(id(g))
+        key = self.key(g)
+        cached = self._facts.get(key)
         if cached is not None:
             return cached
         order: dict[int, None] = {}
         literals: set[Number] = set()
         self._visit(g, order, literals)
-        result = (tuple(order), frozenset(literals))
-        self._facts[id(g)] = result
-        self._keep.append(g)
+        result = self._facts[key] = (tuple(order), frozenset(literals))
         return result
 
     def _visit(self, e: ast.Expr, order: dict[int, None], literals: set[Number]) -> None:
@@ -273,10 +273,11 @@ class Guards:
     # ------------------------------------------------------------------ evaluation
 
     def evaluator(self, g: ast.Expr) -> Callable[[dict], object]:
-        f = self._compiled.get(id(g))
+        key = self.key(g)
+        f = self._compiled.get(key)
         if f is None:
             self.facts(g)  # registers the leaves the closures look up
-            f = self._compiled[id(g)] = self._compile(g)
+            f = self._compiled[key] = self._compile(g)
         return f
 
     def _compile(self, e: ast.Expr) -> Callable[[dict], object]:
