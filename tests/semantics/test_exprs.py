@@ -281,3 +281,40 @@ def test_robosim_time_is_compared_with_any_number():
         path="m.rst",
     )
     assert diagnostics(text, "m.rst") == []
+
+
+def test_a_qualified_literal_whose_enumeration_is_not_imported_is_reported_at_each_use(monkeypatch):
+    """A qualified literal is looked up once per file and text when that reports nothing; one
+    whose lookup warns (the enumeration is not imported) warns at each of its uses."""
+    from robogen.semantics.exprs import ExprChecker
+
+    calls = []
+    find = ExprChecker._enum_literal
+
+    def counted(self, e, report):
+        calls.append(e.text)
+        return find(self, e, report)
+
+    monkeypatch.setattr(ExprChecker, "_enum_literal", counted)
+    shared = "package p1\nenumeration E { a b }\n"
+    uses = "\n".join([
+        "package p2",
+        "enumeration F { c d }",
+        "stm S {",
+        "\tvar x: p1::E",
+        "\tvar f: F",
+        "\tvar y: boolean",
+        "\tinitial i",
+        "\tstate A { entry x = E::a ; f = F::c }",
+        "\ttransition t0 { from i to A action y = x == E::b }",
+        "\ttransition t1 { from A to A condition x == E::a /\\ f == F::c }",
+        "}",
+    ])  # fmt: skip
+    result = check_texts({"a.rct": shared, "b.rct": uses})
+    message = "'E' is not imported here; using 'p1::E'"
+    assert [(d.span.path, d.span.line, d.span.column, d.message) for d in result.diagnostics] == [
+        ("b.rct", *at(uses, "E::a ;"), message),
+        ("b.rct", *at(uses, "E::b"), message),
+        ("b.rct", *at(uses, "E::a /\\"), message),
+    ]
+    assert sorted(calls) == ["E::a", "E::a", "E::b", "F::c"]  # F::c, which reports nothing, once

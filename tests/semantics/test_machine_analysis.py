@@ -336,3 +336,42 @@ def test_a_chain_of_ten_thousand_states_is_checked_without_recursion():
     assert model.diagnostics == ()
     assert dot.count(" -> ") == mermaid.count(" --> ") == n + 1
     assert printed.count("\texec\n") == n
+
+
+def test_the_analyses_leave_no_reference_cycles(monkeypatch):
+    """A machine's guards, compiled evaluators and witnesses are freed as soon as its analysis
+    ends, by reference counting: a reference cycle (a recursive closure) would keep them for the
+    cyclic collector, which then scans every one of them (check runs with that collector paused)."""
+    import gc
+    import weakref
+
+    from robogen.semantics import guards, machine_analysis
+
+    made: list[weakref.ref] = []
+
+    class Recorded(guards.Guards):
+        def __init__(self, *args, **kwargs):
+            super().__init__(*args, **kwargs)
+            made.append(weakref.ref(self))
+
+    monkeypatch.setattr(machine_analysis, "Guards", Recorded)
+    text = lines(
+        "stm Cycles {",
+        "\tvar level: nat",
+        "\tvar ready: boolean",
+        "\tinitial i",
+        "\tstate Idle { }",
+        "\tfinal F",
+        "\ttransition start { from i to Idle }",
+        "\ttransition up { from Idle to F condition level > 1 /\\ (ready \\/ not ready) }",
+        "\ttransition high { from Idle to F condition level >= 2 }",
+        "\ttransition below { from Idle to F condition level < 0 }",
+        "}",
+    )
+    gc.disable()
+    try:
+        result = check_texts({"m.rct": text})
+        assert [d.message for d in result.diagnostics if "can be enabled together" in d.message]  # the witness search ran
+        assert made and all(ref() is None for ref in made)
+    finally:
+        gc.enable()

@@ -54,3 +54,22 @@ def test_unification_binds_type_variables_consistently():
     # a sequence is a set of (index, element) pairs
     bindings = {}
     assert T.unify(T.FunctionT(X, Y, relation=True), T.SeqT(T.REAL), bindings) and bindings == {"X": T.NAT, "Y": T.REAL}
+
+
+def test_every_type_is_assignable_to_an_equal_copy_of_itself():
+    """assignable() answers True at once for a type and itself; the general rules agree, as an
+    equal but distinct copy (which takes them) shows for every form of type."""
+    import copy
+
+    enum = T.EnumT("p::E", ("a", "b"), ((), (T.NAT,)))
+    record = T.RecordT("p::R", (("x", T.REAL), ("e", enum)))
+    samples = [
+        T.NAT, T.INT, T.REAL, T.BOOLEAN, T.STRING, T.UNKNOWN, T.Given("p::G"), enum, record,
+        T.SetT(T.NAT), T.SeqT(record), T.ProductT((T.NAT, T.BOOLEAN)), T.ProductT(()),
+        T.FunctionT(T.NAT, T.SetT(T.INT)), T.FunctionT(T.INT, T.NAT, relation=True),
+        T.VectorT(T.REAL, 3), T.VectorT(T.INT, None), T.MatrixT(T.REAL, 2, None), T.TypeVarT("X"),
+    ]  # fmt: skip
+    for t in samples:
+        twin = copy.deepcopy(t)
+        assert twin == t and (twin is not t or t in (T.UNKNOWN,))
+        assert T.assignable(t, t) and T.assignable(twin, t) and T.assignable(t, twin), t

@@ -58,6 +58,10 @@ class ExprChecker(Calls, DollarForms):
         self.robosim = scope.robosim
         # events used as outputs / inputs, and operations called, for later checks
         self.outputs_used: list[tuple[str, ast.Node]] = []
+        self._expr_rules: dict[type, Callable | None] = {}  # node class -> _e_<class>, see rule()
+        self._stmt_rules: dict[type, Callable | None] = {}  # node class -> _s_<class>
+        # (id(file), parts) -> the literal a qualified name denotes, found without reporting anything
+        self._qualified_literals: dict[tuple[int, tuple[str, ...]], EnumLitSym | None] = {}
 
     # ------------------------------------------------------------------ helpers
 
@@ -108,10 +112,17 @@ class ExprChecker(Calls, DollarForms):
     # ------------------------------------------------------------------ expressions
 
     def expr(self, e: ast.Expr) -> T.Type:
-        method = getattr(self, "_e_" + type(e).__name__, None)
-        if method is None:  # pragma: no cover - every node class has a method
+        rule = self._expr_rules.get(type(e)) or self.rule(self._expr_rules, "_e_", type(e))
+        if rule is None:  # pragma: no cover - every node class has a method
             return self._err(f"internal: no type rule for {type(e).__name__}", e)
-        return self._set(e, method(e))
+        t = self.tables.types[id(e)] = rule(self, e)
+        return t
+
+    def rule(self, rules: dict[type, Callable | None], prefix: str, node: type) -> Callable | None:
+        """The method ``<prefix><node class>`` of this checker's class, as a function, remembered
+        in ``rules`` (functions, not bound methods: those would make a reference cycle)."""
+        found = rules[node] = getattr(type(self), prefix + node.__name__, None)
+        return found
 
     def _e_IntLit(self, e: ast.IntLit) -> T.Type:
         return T.NAT
@@ -180,6 +191,21 @@ class ExprChecker(Calls, DollarForms):
         return lit.enum
 
     def enum_literal(self, e: ast.Name, report: bool) -> EnumLitSym | None:
+        """The literal ``E::lit`` (or ``Pkg::E::lit``) denotes. Without ``report``, remembered per
+        file and text when finding it reported nothing (a warning, such as an enumeration used
+        without its import, is given at each occurrence, so such a name is looked up each time)."""
+        if report:
+            return self._enum_literal(e, report)
+        key = (id(self.scope.file), e.parts)
+        if key in self._qualified_literals:
+            return self._qualified_literals[key]
+        before = len(self.sink.items)
+        found = self._enum_literal(e, report)
+        if len(self.sink.items) == before:
+            self._qualified_literals[key] = found
+        return found
+
+    def _enum_literal(self, e: ast.Name, report: bool) -> EnumLitSym | None:
         enum_name = ast.Name(e.parts[:-1], span=e.span)
         decl = self.lookup_global(enum_name, self.scope.file, (ast.Enumeration,), "enumeration", report)
         if decl is None:

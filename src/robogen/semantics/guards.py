@@ -82,12 +82,49 @@ _SHALLOW = (ast.Name, ast.IntLit, ast.RealLit, ast.BoolLit, ast.StringLit, ast.K
 
 def _key(e: ast.Expr) -> object:
     """A key equal for equal sub-expressions: a name, a literal or a field of one is its own key;
-    another sub-expression is keyed by its text (hashing a node follows its operands recursively,
-    and a flat chain of operators may be thousands deep; the text is printed in a loop)."""
-    x = e
-    while isinstance(x, ast.Field):
-        x = x.obj
-    return e if isinstance(x, _SHALLOW) else _printed(e)
+    an operator expression is keyed by its operators and shallow operands in prefix order, built
+    in a loop (hashing a node follows its operands recursively, and a flat chain of operators may
+    be thousands deep); any other sub-expression by its text."""
+    return e if _shallow(e) else _shape(e)
+
+
+def _shallow(e: ast.Expr) -> bool:
+    while isinstance(e, ast.Field):
+        e = e.obj
+    return isinstance(e, _SHALLOW)
+
+
+# Operands keyed in _shape by their class and their one compared field (hashed in C, where a
+# node's own hash and equality are Python functions).
+_ATOM_FIELD = {ast.Name: "parts", ast.IntLit: "value", ast.RealLit: "text", ast.BoolLit: "value",
+               ast.StringLit: "value", ast.Keyword: "word", ast.Since: "clock"}  # fmt: skip
+
+
+def _shape(e: ast.Expr) -> tuple:
+    """The prefix (Polish) form of the unary and binary operators and the inputs of ``e``, with
+    every other operand as its _key: each operator's arity is fixed (an input says whether a
+    predicate follows), so equal forms are equal expressions."""
+    out: list[object] = []
+    todo = [e]
+    while todo:
+        x = todo.pop()
+        kind = type(x)
+        if kind is ast.Binary:
+            out.append(("binary", x.op))  # type: ignore[attr-defined]
+            todo.append(x.right)  # type: ignore[attr-defined]
+            todo.append(x.left)  # type: ignore[attr-defined]
+        elif kind is ast.Unary:
+            out.append(("unary", x.op))  # type: ignore[attr-defined]
+            todo.append(x.operand)  # type: ignore[attr-defined]
+        elif kind is ast.DollarInput:  # `$e?x` or `$e?x | predicate`: the predicate follows if there is one
+            out.append(("input", x.event, x.var, x.qualifier, x.var_qualifier, x.predicate is not None))  # type: ignore[attr-defined]
+            if x.predicate is not None:  # type: ignore[attr-defined]
+                todo.append(x.predicate)  # type: ignore[attr-defined]
+        elif kind in _ATOM_FIELD:
+            out.append((kind, getattr(x, _ATOM_FIELD[kind])))
+        else:
+            out.append(x if _shallow(x) else ("text", _printed(x)))
+    return tuple(out)
 
 
 class _Leaf:
@@ -108,9 +145,12 @@ class Guards:
         self.period = period
         self._ids: dict[tuple, int] = {}
         self._leaves: list[_Leaf] = []
-        self._facts: dict[int, tuple[tuple[int, ...], frozenset]] = {}  # id(guard) -> (leaf ids in order, literals)
-        self._compiled: dict[int, Callable[[dict], object]] = {}
+        # by the guard's key (equal guards have the same leaves, see key()):
+        self._facts: dict[object, tuple[tuple[int, ...], frozenset]] = {}  # -> (leaf ids in order, literals)
+        self._compiled: dict[object, Callable[[dict], object]] = {}  # -> evaluator
         self._keep: list[ast.Expr] = []  # the guards cached by id stay alive
+        self._keys: dict[int, object] = {}  # id(guard) -> _key(guard)
+        self._answers: dict[tuple, object] = {}  # (question, guard keys) -> answer
 
     # ------------------------------------------------------------------ leaves
 
@@ -128,61 +168,62 @@ class Guards:
 
     def facts(self, g: ast.Expr) -> tuple[tuple[int, ...], frozenset]:
         """The leaves of ``g`` in the order first met, and the number literals it mentions."""
-        cached = self._facts.get(id(g))
+        key = self.key(g)
+        cached = self._facts.get(key)
         if cached is not None:
             return cached
         order: dict[int, None] = {}
         literals: set[Number] = set()
-        tables = self.tables
-
-        def visit(e: ast.Expr) -> None:
-            if isinstance(e, ast.IntLit):
-                literals.add(e.value)
-            elif isinstance(e, ast.RealLit):
-                literals.add(real_value(e.text))
-            elif isinstance(e, (ast.BoolLit, ast.StringLit)):
-                pass
-            elif isinstance(e, ast.Unary) and e.op in ("not", "-"):
-                visit(e.operand)
-            elif isinstance(e, ast.Binary) and e.op in _VISITED:
-                first, links = ast.chain(e, _VISITED)
-                visit(first)
-                for link in links:
-                    visit(link.right)
-            elif isinstance(e, ast.DollarInput):
-                order[self._leaf("ev", e.event, [False, True])] = None
-                if e.predicate is not None:
-                    order[self._leaf("opaque", e.predicate, [False, True])] = None
-            elif isinstance(e, ast.Name) and isinstance(tables.ref(e), EnumLitSym):
-                pass
-            elif isinstance(e, ast.Name) and const_value(e, tables) is not None:
-                value = const_value(e, tables)
-                if type(value) in _NUMBERS:
-                    literals.add(value)  # type: ignore[arg-type]
-            elif isinstance(e, ast.Keyword) and e.word == "cycle":
-                if self.period is not None:
-                    literals.add(self.period)
-            elif isinstance(e, ast.Dollar) and isinstance(tables.ref(e), EventSym):
-                order[self._leaf("ev", e.name, [False, True])] = None
-            else:
-                t = tables.type_of(e)
-                if t == T.BOOLEAN:
-                    n = self._leaf("leaf", e, [False, True])
-                elif isinstance(t, T.EnumT):
-                    n = self._leaf("leaf", e, list(t.literals))
-                elif isinstance(t, T.Given):
-                    n = self._leaf("leaf", e, [f"{t.simple}#1", f"{t.simple}#2", f"{t.simple}#3"])
-                elif t in T.NUMERIC:
-                    n = self._leaf("leaf", e, numeric=t)
-                else:
-                    n = self._leaf("leaf", e, [False, True])  # opaque
-                order[n] = None
-
-        visit(g)
-        result = (tuple(order), frozenset(literals))
-        self._facts[id(g)] = result
-        self._keep.append(g)
+        self._visit(g, order, literals)
+        result = self._facts[key] = (tuple(order), frozenset(literals))
         return result
+
+    def _visit(self, e: ast.Expr, order: dict[int, None], literals: set[Number]) -> None:
+        """Record the leaves of ``e`` in ``order`` and its number literals in ``literals`` (a
+        method, not a closure of facts(): a recursive closure is a reference cycle, and it would
+        keep the whole machine's guards alive until the cyclic collector runs)."""
+        tables = self.tables
+        if isinstance(e, ast.IntLit):
+            literals.add(e.value)
+        elif isinstance(e, ast.RealLit):
+            literals.add(real_value(e.text))
+        elif isinstance(e, (ast.BoolLit, ast.StringLit)):
+            pass
+        elif isinstance(e, ast.Unary) and e.op in ("not", "-"):
+            self._visit(e.operand, order, literals)
+        elif isinstance(e, ast.Binary) and e.op in _VISITED:
+            first, links = ast.chain(e, _VISITED)
+            self._visit(first, order, literals)
+            for link in links:
+                self._visit(link.right, order, literals)
+        elif isinstance(e, ast.DollarInput):
+            order[self._leaf("ev", e.event, [False, True])] = None
+            if e.predicate is not None:
+                order[self._leaf("opaque", e.predicate, [False, True])] = None
+        elif isinstance(e, ast.Name) and isinstance(tables.ref(e), EnumLitSym):
+            pass
+        elif isinstance(e, ast.Name) and const_value(e, tables) is not None:
+            value = const_value(e, tables)
+            if type(value) in _NUMBERS:
+                literals.add(value)  # type: ignore[arg-type]
+        elif isinstance(e, ast.Keyword) and e.word == "cycle":
+            if self.period is not None:
+                literals.add(self.period)
+        elif isinstance(e, ast.Dollar) and isinstance(tables.ref(e), EventSym):
+            order[self._leaf("ev", e.name, [False, True])] = None
+        else:
+            t = tables.type_of(e)
+            if t == T.BOOLEAN:
+                n = self._leaf("leaf", e, [False, True])
+            elif isinstance(t, T.EnumT):
+                n = self._leaf("leaf", e, list(t.literals))
+            elif isinstance(t, T.Given):
+                n = self._leaf("leaf", e, [f"{t.simple}#1", f"{t.simple}#2", f"{t.simple}#3"])
+            elif t in T.NUMERIC:
+                n = self._leaf("leaf", e, numeric=t)
+            else:
+                n = self._leaf("leaf", e, [False, True])  # opaque
+            order[n] = None
 
     def _domains(self, ids: tuple[int, ...], literals: frozenset) -> list[list]:
         domains: list[list] = []
@@ -207,6 +248,13 @@ class Guards:
 
     def _assignments(self, guards: list[ast.Expr], limit: int) -> Iterator[dict[int, object]]:
         """Every assignment of the leaves of ``guards`` (raises Unknown beyond ``limit``)."""
+        order, domains = self._space(guards, limit)
+        for values in itertools.product(*domains):
+            yield dict(zip(order, values))
+
+    def _space(self, guards: list[ast.Expr], limit: int) -> tuple[tuple[int, ...], list[list]]:
+        """The leaves of ``guards`` (those of the first guard first, in its order) and their
+        domains; raises Unknown when they have more than ``limit`` assignments."""
         ids: dict[int, None] = {}
         literals: frozenset = frozenset()
         for g in guards:
@@ -220,16 +268,16 @@ class Guards:
             total *= max(1, len(d))
             if total > limit:
                 raise Unknown
-        for values in itertools.product(*domains):
-            yield dict(zip(order, values))
+        return order, domains
 
     # ------------------------------------------------------------------ evaluation
 
     def evaluator(self, g: ast.Expr) -> Callable[[dict], object]:
-        f = self._compiled.get(id(g))
+        key = self.key(g)
+        f = self._compiled.get(key)
         if f is None:
             self.facts(g)  # registers the leaves the closures look up
-            f = self._compiled[id(g)] = self._compile(g)
+            f = self._compiled[key] = self._compile(g)
         return f
 
     def _compile(self, e: ast.Expr) -> Callable[[dict], object]:
@@ -293,15 +341,57 @@ class Guards:
 
     # ------------------------------------------------------------------ questions
 
+    # The answers are remembered by the guards' keys (_key): within one machine, equal guards have the
+    # same leaves (leaves are told apart by _key too) and so the same answers; a machine's states
+    # often repeat a guard (`not $e`, `x > k`), and this is where the analyses spend their time.
+
+    def key(self, g: ast.Expr | None) -> object:
+        """The key (_key) of a guard, computed once per guard."""
+        if g is None:
+            return None
+        k = self._keys.get(id(g), _MISSING)
+        if k is _MISSING:
+            k = self._keys[id(g)] = _key(g)
+            self._keep.append(g)
+        return k
+
+    def never_true(self, g: ast.Expr) -> bool:
+        """Is ``g`` false whatever its leaves are? Claimed only when its propositional abstraction
+        is unsatisfiable (see abstractly_satisfiable) or when unsatisfiable() says so."""
+        question = ("never", self.key(g))
+        answer = self._answers.get(question)
+        if answer is None:
+            answer = self._answers[question] = not abstractly_satisfiable(g) or self.unsatisfiable(g)
+        return answer  # type: ignore[return-value]
+
+    def common_witness(self, g1: ast.Expr | None, g2: ast.Expr | None) -> dict[int, object] | None:
+        """witness(), remembered: the first assignment in which both guards hold, or None."""
+        question = ("witness", self.key(g1), self.key(g2))
+        answer = self._answers.get(question, _MISSING)
+        if answer is _MISSING:
+            answer = self._answers[question] = self.witness(g1, g2)
+        return answer  # type: ignore[return-value]
+
     def witness(self, g1: ast.Expr | None, g2: ast.Expr | None) -> dict[int, object] | None:
         """An assignment under which both guards hold, or None (also when undecided)."""
         guards = [g for g in (g1, g2) if g is not None]
         evaluators = [self.evaluator(g) for g in guards]
         first, second = (evaluators + [_true, _true])[:2]
         try:
-            for env in self._assignments(guards, MAX_ASSIGNMENTS):
-                if first(env) is True and second(env) is True:
-                    return env
+            order, domains = self._space(guards, MAX_ASSIGNMENTS)
+            # The assignments in product order, the first guard's leaves first: its value is
+            # known from them alone, so when it does not hold, the assignments that differ only
+            # in the other leaves are skipped (the first witness found is the same).
+            split = len(self.facts(guards[0])[0]) if guards else 0
+            own, rest = order[:split], order[split:]
+            for head in itertools.product(*domains[:split]):
+                if first(dict(zip(own, head))) is not True:
+                    continue
+                for tail in itertools.product(*domains[split:]):
+                    env = dict(zip(own, head))
+                    env.update(zip(rest, tail))
+                    if second(env) is True:
+                        return env
         except Unknown:
             return None
         return None
@@ -397,6 +487,9 @@ _STEPS: dict[str, Callable[[object, Callable, dict], object]] = {
 }
 
 
+_MISSING = object()
+
+
 def _true(env: dict) -> object:
     return True
 
@@ -442,82 +535,86 @@ def rebinds(g: ast.Expr) -> bool:
     analyses that give each leaf one value do not apply."""
     bound: set[str] = set()
     names: list[str] = []
-
-    def visit(e: ast.Expr) -> None:
-        if isinstance(e, ast.DollarInput):
-            bound.add(e.var)
-            if e.predicate is not None:
-                visit(e.predicate)
-        elif isinstance(e, ast.Name):
-            names.append(e.last)
-        elif isinstance(e, ast.Unary):
-            visit(e.operand)
-        elif isinstance(e, ast.Binary):
-            first, links = ast.chain(e)
-            visit(first)
-            for link in links:
-                visit(link.right)
-
-    visit(g)
+    _bindings(g, bound, names)
     return bool(bound) and any(n in bound for n in names)
+
+
+def _bindings(e: ast.Expr, bound: set[str], names: list[str]) -> None:
+    """The variables ``e`` binds with `$e?x` into ``bound``, the names it reads into ``names``."""
+    if isinstance(e, ast.DollarInput):
+        bound.add(e.var)
+        if e.predicate is not None:
+            _bindings(e.predicate, bound, names)
+    elif isinstance(e, ast.Name):
+        names.append(e.last)
+    elif isinstance(e, ast.Unary):
+        _bindings(e.operand, bound, names)
+    elif isinstance(e, ast.Binary):
+        first, links = ast.chain(e)
+        _bindings(first, bound, names)
+        for link in links:
+            _bindings(link.right, bound, names)
 
 
 def abstractly_satisfiable(g: ast.Expr) -> bool:
     """Is ``g`` satisfiable when every comparison or other atom is a free proposition? (An
     over-approximation: a 'no' is sound.)"""
     atoms: dict[object, None] = {}
-
-    def norm(e: ast.Expr):
-        """A key for an atom and whether it is negated: a > b is not (a <= b)."""
-        if isinstance(e, ast.Binary) and e.op in (">", ">="):
-            return ("cmp", "<=" if e.op == ">" else "<", _key(e.left), _key(e.right)), True
-        if isinstance(e, ast.Binary) and e.op == "!=":
-            return ("cmp", "==", _key(e.left), _key(e.right)), True
-        if isinstance(e, ast.Binary) and e.op in ("<", "<=", "=="):
-            return ("cmp", e.op, _key(e.left), _key(e.right)), False
-        if isinstance(e, ast.DollarInput):
-            return ("ev", e.event, None if e.predicate is None else _key(e.predicate)), False
-        return ("atom", _key(e)), False
-
-    def collect(e: ast.Expr) -> None:
-        if isinstance(e, ast.BoolLit):
-            return
-        if isinstance(e, ast.Unary) and e.op == "not":
-            collect(e.operand)
-        elif isinstance(e, ast.Binary) and e.op in _LOGIC:
-            first, links = ast.chain(e, _LOGIC)
-            collect(first)
-            for link in links:
-                collect(link.right)
-        else:
-            atoms[norm(e)[0]] = None
-
-    normed: dict[int, tuple] = {}  # id(atom) -> norm(atom), computed once per atom
-
-    def holds(e: ast.Expr, env: dict) -> bool:
-        if isinstance(e, ast.BoolLit):
-            return e.value
-        if isinstance(e, ast.Unary) and e.op == "not":
-            return not holds(e.operand, env)
-        if isinstance(e, ast.Binary) and e.op in _LOGIC:
-            first, links = ast.chain(e, _LOGIC)
-            a = holds(first, env)
-            for link in links:
-                b = holds(link.right, env)
-                op = link.op
-                a = (a and b) if op == "/\\" else (a or b) if op == "\\/" else ((not a) or b) if op == "=>" else a == b
-            return a
-        known = normed.get(id(e))
-        if known is None:
-            known = normed[id(e)] = norm(e)
-        key, negated = known
-        return env[key] != negated
-
-    collect(g)
+    _atoms(g, atoms)
     keys = list(atoms)
     if len(keys) > 12 or rebinds(g):
         return True
-    return any(holds(g, dict(zip(keys, values))) for values in itertools.product((False, True), repeat=len(keys)))
+    normed: dict[int, tuple] = {}  # id(atom) -> _norm(atom), computed once per atom
+    return any(_holds(g, dict(zip(keys, values)), normed) for values in itertools.product((False, True), repeat=len(keys)))
+
+
+def _norm(e: ast.Expr) -> tuple[tuple, bool]:
+    """A key for an atom and whether it is negated: a > b is not (a <= b)."""
+    if isinstance(e, ast.Binary) and e.op in (">", ">="):
+        return ("cmp", "<=" if e.op == ">" else "<", _key(e.left), _key(e.right)), True
+    if isinstance(e, ast.Binary) and e.op == "!=":
+        return ("cmp", "==", _key(e.left), _key(e.right)), True
+    if isinstance(e, ast.Binary) and e.op in ("<", "<=", "=="):
+        return ("cmp", e.op, _key(e.left), _key(e.right)), False
+    if isinstance(e, ast.DollarInput):
+        return ("ev", e.event, None if e.predicate is None else _key(e.predicate)), False
+    return ("atom", _key(e)), False
+
+
+def _atoms(e: ast.Expr, atoms: dict[object, None]) -> None:
+    """The atoms of ``e`` (by their _norm keys) into ``atoms``, in the order first met."""
+    if isinstance(e, ast.BoolLit):
+        return
+    if isinstance(e, ast.Unary) and e.op == "not":
+        _atoms(e.operand, atoms)
+    elif isinstance(e, ast.Binary) and e.op in _LOGIC:
+        first, links = ast.chain(e, _LOGIC)
+        _atoms(first, atoms)
+        for link in links:
+            _atoms(link.right, atoms)
+    else:
+        atoms[_norm(e)[0]] = None
+
+
+def _holds(e: ast.Expr, env: dict, normed: dict[int, tuple]) -> bool:
+    """The value of ``e`` when each atom has the value ``env`` gives its key."""
+    if isinstance(e, ast.BoolLit):
+        return e.value
+    if isinstance(e, ast.Unary) and e.op == "not":
+        return not _holds(e.operand, env, normed)
+    if isinstance(e, ast.Binary) and e.op in _LOGIC:
+        first, links = ast.chain(e, _LOGIC)
+        a = _holds(first, env, normed)
+        for link in links:
+            b = _holds(link.right, env, normed)
+            op = link.op
+            a = (a and b) if op == "/\\" else (a or b) if op == "\\/" else ((not a) or b) if op == "=>" else a == b
+        return a
+    known = normed.get(id(e))
+    if known is None:
+        known = normed[id(e)] = _norm(e)
+    key, negated = known
+    return env[key] != negated
 
 
 __all__ = ["Guards", "Unknown", "abstractly_satisfiable", "const_value", "number", "rebinds"]

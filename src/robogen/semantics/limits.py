@@ -20,13 +20,14 @@ from fractions import Fraction
 from robogen.semantics import types as T
 from robogen.syntax import ast
 
-def _literal(e: ast.Expr) -> Fraction | None:
-    """The value of a number literal, possibly negated (``-1``, ``-(0.5)``)."""
+def _literal(e: ast.Expr) -> int | Fraction | None:
+    """The value of a number literal, possibly negated (``-1``, ``-(0.5)``): exact, an int for an
+    integer literal (no Fraction made for the common ``x > 3``)."""
     sign = 1
     while isinstance(e, ast.Unary) and e.op == "-":
         sign, e = -sign, e.operand
     if isinstance(e, ast.IntLit):
-        return Fraction(sign * e.value)
+        return sign * e.value
     if isinstance(e, ast.RealLit):
         return sign * Fraction(e.text)
     return None
@@ -36,7 +37,7 @@ def _literal(e: ast.Expr) -> Fraction | None:
 _MIRROR = {"<": ">", "<=": ">=", ">": "<", ">=": "<=", "==": "==", "!=": "!="}
 
 
-def _nat_against(op: str, c: Fraction) -> bool | None:
+def _nat_against(op: str, c: int | Fraction) -> bool | None:
     """The value of ``n op c`` for every nat ``n`` (n >= 0), if one value holds for all."""
     if op == ">=" and c <= 0 or op == ">" and c < 0 or op == "!=" and c < 0:
         return True
@@ -50,12 +51,14 @@ def constant_comparison(e: ast.Binary, left: T.Type, right: T.Type) -> bool | No
     are their types), else None."""
     if e.op not in _MIRROR:
         return None
-    c = _literal(e.right)
-    if c is not None and left == T.NAT and _literal(e.left) is None:
-        return _nat_against(e.op, c)
-    c = _literal(e.left)
-    if c is not None and right == T.NAT and _literal(e.right) is None:
-        return _nat_against(_MIRROR[e.op], c)
+    if left == T.NAT:
+        c = _literal(e.right)
+        if c is not None and _literal(e.left) is None:
+            return _nat_against(e.op, c)
+    if right == T.NAT:
+        c = _literal(e.left)
+        if c is not None and _literal(e.right) is None:
+            return _nat_against(_MIRROR[e.op], c)
     return None
 
 

@@ -19,7 +19,7 @@ import itertools
 from typing import Iterator
 
 from robogen.diagnostics import DiagnosticSink, Note
-from robogen.semantics.guards import Guards, abstractly_satisfiable, number
+from robogen.semantics.guards import Guards, number
 from robogen.semantics.model import MachineScope, Region, Tables, state_action, statements
 from robogen.syntax import ast
 
@@ -94,7 +94,7 @@ def _never_firing(scope: MachineScope, guards: Guards, sink: DiagnosticSink) -> 
                     )
                     never.add(id(t))
                     continue
-                if t.condition is not None and (not abstractly_satisfiable(t.condition) or guards.unsatisfiable(t.condition)):
+                if t.condition is not None and guards.never_true(t.condition):
                     sink.warning(f"transition '{t.name}' can never fire: its condition is always false", t.condition.span)
                     never.add(id(t))
                     continue
@@ -110,32 +110,34 @@ def _unreachable(scope: MachineScope, never: set[int], sink: DiagnosticSink) -> 
     assert scope.region is not None
     reached: set[int] = set()
     todo: list[tuple[Region, str]] = []
-
-    def enter(region: Region, name: str) -> None:
-        node = region.nodes.get(name)
-        if node is None or id(node) in reached:
-            return
-        reached.add(id(node))
-        todo.append((region, name))
-        child = region.children.get(name)
-        if child is not None:
-            for i in child.initials():
-                enter(child, i.name)
-
     for i in scope.region.initials():
-        enter(scope.region, i.name)
+        _enter(scope.region, i.name, reached, todo)
     outgoing = {id(region): _by_source(region) for region in _regions(scope)}
     while todo:
         region, name = todo.pop()
         for t in outgoing[id(region)].get(name, ()):
             if id(t) not in never:
-                enter(region, t.target)
+                _enter(region, t.target, reached, todo)
     for region in _regions(scope):
         if region.nested and id(region.owner) not in reached:
             continue  # inside an unreachable composite state: reported once, for the composite
         for name, node in region.nodes.items():
             if isinstance(node, ast.State) and id(node) not in reached:
                 sink.warning(f"state '{name}' is unreachable: no path from the initial node enters it", node.name_span)
+
+
+def _enter(region: Region, name: str, reached: set[int], todo: list[tuple[Region, str]]) -> None:
+    """Mark node ``name`` of ``region`` reached (and, for a composite state, the initial nodes
+    inside it), queueing each newly reached node in ``todo``."""
+    node = region.nodes.get(name)
+    if node is None or id(node) in reached:
+        return
+    reached.add(id(node))
+    todo.append((region, name))
+    child = region.children.get(name)
+    if child is not None:
+        for i in child.initials():
+            _enter(child, i.name, reached, todo)
 
 
 def _nondeterminism(scope: MachineScope, guards: Guards, never: set[int], sink: DiagnosticSink) -> None:
@@ -150,7 +152,7 @@ def _nondeterminism(scope: MachineScope, guards: Guards, never: set[int], sink: 
                     eb = b.trigger.event if b.trigger else None
                     if ea != eb:
                         continue
-                env = guards.witness(a.condition, b.condition)
+                env = guards.common_witness(a.condition, b.condition)
                 if env is None:
                     continue
                 sink.warning(
@@ -165,8 +167,9 @@ def _nondeterminism(scope: MachineScope, guards: Guards, never: set[int], sink: 
 
 
 def _flat_graph(scope: MachineScope, never: set[int]):
-    """Nodes by identity with their successor edges (transition, target node) and whether being
-    in the node runs exec by itself (entry/during action with exec)."""
+    """Nodes by identity with their successor edges (transition, target node), the nodes where
+    being runs exec by itself (entry/during action with exec) and the transitions that run exec
+    (exec transitions, actions with exec), each found once."""
     succ: dict[int, list[tuple[ast.Transition, int]]] = {}
     nodes: dict[int, tuple[Region, ast.NodeDecl]] = {}
     for region in _regions(scope):
@@ -200,17 +203,17 @@ def _flat_graph(scope: MachineScope, never: set[int]):
             node = region.nodes[name]
             for i in child.initials():
                 succ[id(node)].append((None, id(i)))  # type: ignore[arg-type]
-    return nodes, succ
+    runs_exec = {nid for nid, (_, node) in nodes.items() if _runs_exec(node)}
+    exec_transitions = {id(t) for region in _regions(scope) for t in region.transitions if t.exec or has_exec(t.action)}
+    return nodes, succ, runs_exec, exec_transitions
 
 
 def _exec_reachability(graph, is_operation: bool, sink: DiagnosticSink) -> None:
-    nodes, succ = graph
-    good: set[int] = set()
-    for nid, (region, node) in nodes.items():
-        if _runs_exec(node):
-            good.add(nid)
+    nodes, succ, runs_exec, exec_transitions = graph
+    good: set[int] = set(runs_exec)
+    for nid in nodes:
         for t, _ in succ[nid]:
-            if t is not None and (t.exec or has_exec(t.action)):
+            if t is not None and id(t) in exec_transitions:
                 good.add(nid)
     if is_operation:
         for nid, (region, node) in nodes.items():
@@ -237,10 +240,9 @@ def _exec_reachability(graph, is_operation: bool, sink: DiagnosticSink) -> None:
 
 
 def _exec_free_cycles(graph, sink: DiagnosticSink) -> None:
-    nodes, succ = graph
-    runs_exec = {nid for nid, (_, node) in nodes.items() if _runs_exec(node)}
+    nodes, succ, runs_exec, exec_transitions = graph
     edges: dict[int, list[tuple[ast.Transition | None, int]]] = {
-        nid: [(t, d) for t, d in succ[nid] if (t is None or not (t.exec or has_exec(t.action))) and d not in runs_exec]
+        nid: [(t, d) for t, d in succ[nid] if (t is None or id(t) not in exec_transitions) and d not in runs_exec]
         for nid in nodes
     }
     for comp in _strongly_connected(nodes, edges):

@@ -23,7 +23,10 @@ class StmtChecker(ExprChecker):
             self.where = saved
 
     def _stmt(self, s: ast.Stmt) -> None:
-        getattr(self, "_s_" + type(s).__name__)(s)
+        rule = self._stmt_rules.get(type(s)) or self.rule(self._stmt_rules, "_s_", type(s))
+        if rule is None:  # pragma: no cover - every statement class has a method
+            raise AttributeError(f"{type(self).__name__} has no rule _s_{type(s).__name__}")
+        rule(self, s)
 
     def _s_Skip(self, s: ast.Skip) -> None:
         pass

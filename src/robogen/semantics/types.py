@@ -218,6 +218,8 @@ def assignable(value: Type, target: Type) -> bool:
     Types of different forms are compared through their general forms.
     """
     value, target = single(value), single(target)
+    if value is target:  # every rule below holds for a type and itself (the common case: one symbol's type)
+        return True
     if value in NUMERIC and target in NUMERIC:
         return not (value == REAL and target != REAL)
     if isinstance(value, VectorT) and isinstance(target, VectorT):
