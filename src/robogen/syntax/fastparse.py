@@ -29,6 +29,8 @@ so syntax errors are Lark's, unchanged.
 
 from __future__ import annotations
 
+import re
+from bisect import bisect_right
 from operator import itemgetter
 
 from lark import Lark, Token
@@ -39,12 +41,15 @@ from lark.parse_tree_builder import ChildFilterLALR_NoPlaceholders, ExpandSingle
 from lark.parsers.lalr_analysis import Shift
 from lark.utils import TextSlice
 
+from robogen.syntax.fastscan import END, ERROR, whole_text_scanner
+
 __all__ = ["FALLBACK", "FastLALR"]
 
 FALLBACK = object()
 """What :meth:`FastLALR.parse` returns when Lark must parse the text itself."""
 
 _END = "$END"
+_NEWLINES = re.compile("\n")  # lines are counted at "\n" only, as Lark's lexer counts them
 
 
 def _plan(rule: Rule, callback, transformer) -> tuple[tuple, tuple[int, ...]] | None:
@@ -133,12 +138,15 @@ class FastLALR:
             return  # terminal callbacks: not handled here
         start = lark.options.start[0]
         self._lexer = lexer
-        self._regex = scanner._mres[0]
+        regex = scanner._mres[0]
+        patterns = {t.name: t.pattern.to_regexp() for t in root.terminals if t.name in regex.groupindex}
+        self._scanner = whole_text_scanner(regex, patterns, root.ignore_types)
+        if self._scanner is None:
+            return
         # name type -> {keyword text: keyword type}, as the root lexer's UnlessCallback retypes
         self._keywords = {
             kind: {t.pattern.value: t.name for t in cb.scanner.terminals} for kind, cb in root.callback.items()
         }
-        self._ignore = root.ignore_types
         self._newline = root.newline_types
         planned = {rule: _plan(rule, cb, lark.options.transformer) for rule, cb in callbacks.items()}
         if None in planned.values():
@@ -160,107 +168,94 @@ class FastLALR:
         token the parser shifts is appended to it (as a Lark Token; for tests)."""
         if not self.usable:
             return FALLBACK
-        states = self._states
-        units = self._units
-        end_state = self._end
+        states, units, end_state, keywords = self._states, self._units, self._end, self._keywords
+        kept = self._kept if trace is None else _Everything()
+        newline = self._newline
+        finditer = self._scanner.finditer
+        new_str = str.__new__
+        line_starts = [0]
+        line_starts += [m.end() for m in _NEWLINES.finditer(text)]
         stack = [self._start]
         values: list = []
-        for kind, token in self._tokens(text, stack, self._kept if trace is None else _Everything()):
-            if kind is None:
-                return FALLBACK  # the scan cannot go on: Lark reports why
-            try:
-                action = states[stack[-1]][kind]
-                while type(action) is not int:  # reductions before the shift
-                    if action[2]:  # a chain of unit reductions: only the state changes
-                        key = (stack[-2], stack[-1], kind)
-                        try:
-                            state, action = units[key]
-                        except KeyError:
-                            state, action = units[key] = self._unit_chain(stack[-2], stack[-1], kind)
-                        stack[-1] = state
-                        if action is None:
-                            raise KeyError(kind)  # at the end state: accepted below
-                        continue
-                    size, origin, _, select, expand1, f = action
-                    if size:
-                        kids = values[-size:]
-                        del values[-size:]
-                        del stack[-size:]
-                    else:
-                        kids = []
-                    if select is not None:
-                        kind_of = type(select)
-                        kids = [kids[select]] if kind_of is int else _splice(kids, select) if kind_of is tuple else list(select(kids))
-                    value = kids[0] if expand1 and len(kids) == 1 else f(kids)
-                    state = states[stack[-1]][origin]
-                    stack.append(state)
-                    values.append(value)
-                    action = states[state][kind]
-            except KeyError:  # a syntax error (Lark reports it), or the end of the parse
-                return values[-1] if kind is _END and stack[-1] == end_state else FALLBACK
-            if kind is _END:
-                return FALLBACK  # Lark never shifts the end
-            stack.append(action)
-            values.append(token)
-            if trace is not None:
-                trace.append(token)
-        return FALLBACK
-
-    def _tokens(self, text: str, stack: list, kept):
-        """(type, Token or None) of each token the contextual lexer would give the parser, whose
-        state is on top of ``stack`` when the next token is asked for; then (END, None). A
-        Token is made only for the types in ``kept``. (None, None) if the scan cannot go on."""
-        states, keywords, ignore, newline = self._states, self._keywords, self._ignore, self._newline
-        finditer = self._regex.finditer
-        new_str = str.__new__
-        count = text.count
-        line = 1
-        pos = line_start = 0
-        while True:
+        pos = 0
+        while True:  # one scan, resumed after a token the state's own lexer gives
             for m in finditer(text, pos):
-                start, end = m.span()
-                if start != pos:
-                    yield None, None  # a character no terminal matches
-                    return
                 kind = m.lastgroup
-                if kind in ignore:
-                    if kind in newline and (k := count("\n", start, end)):
-                        line += k
-                        line_start = text.rindex("\n", start, end) + 1
-                    pos = end
-                    continue
-                value = text[start:end]
+                start, end = m.span(kind)
                 retype = keywords.get(kind)
                 if retype is not None:
-                    kind = retype.get(value, kind)
-                if kind not in states[stack[-1]]:  # not accepted here: the state's own lexer decides
-                    token = self._relex(stack[-1], text, pos, line, line_start)
-                    if token is None:
-                        yield None, None
-                        return
-                    pos, line, line_start = token.end_pos, token.end_line, token.end_pos - token.end_column + 1
-                    yield token.type, (token if token.type in kept else None)
-                    break  # scan again from after it
+                    kind = retype.get(text[start:end], kind)
+                relexed = None
+                action = states[stack[-1]].get(kind)
+                if action is None:  # not accepted here: the state's own lexer decides
+                    if kind == END:
+                        kind = _END
+                        action = states[stack[-1]].get(_END)
+                    elif kind != ERROR:
+                        relexed = self._relex(stack[-1], text, start, line_starts)
+                        if relexed is not None:
+                            kind, end = relexed.type, relexed.end_pos
+                            action = states[stack[-1]].get(kind)
+                    if action is None:
+                        return FALLBACK  # a syntax error: Lark reports it
+                try:
+                    while type(action) is not int:  # reductions before the shift
+                        if action[2]:  # a chain of unit reductions: only the state changes
+                            key = (stack[-2], stack[-1], kind)
+                            try:
+                                state, action = units[key]
+                            except KeyError:
+                                state, action = units[key] = self._unit_chain(stack[-2], stack[-1], kind)
+                            stack[-1] = state
+                            if action is None:
+                                raise KeyError(kind)  # at the end state: accepted below
+                            continue
+                        size, origin, _, select, expand1, f = action
+                        if size:
+                            kids = values[-size:]
+                            del values[-size:]
+                            del stack[-size:]
+                        else:
+                            kids = []
+                        if select is not None:
+                            kind_of = type(select)
+                            kids = [kids[select]] if kind_of is int else _splice(kids, select) if kind_of is tuple else list(select(kids))
+                        value = kids[0] if expand1 and len(kids) == 1 else f(kids)
+                        state = states[stack[-1]][origin]
+                        stack.append(state)
+                        values.append(value)
+                        action = states[state][kind]
+                except KeyError:  # a syntax error (Lark reports it), or the end of the parse
+                    return values[-1] if kind is _END and stack[-1] == end_state else FALLBACK
+                if kind is _END:
+                    return FALLBACK  # Lark never shifts the end
                 token = None
-                if kind in kept:
+                if relexed is not None:
+                    token = relexed if kind in kept else None
+                elif kind in kept:  # Lark's Token, its line and column from the table of line starts
+                    line = bisect_right(line_starts, start)
+                    line_start = line_starts[line - 1]
+                    value = text[start:end]
                     token = new_str(Token, value)
                     token.type = kind
                     token.value = value
                     token.start_pos = start
                     token.line = line
                     token.column = start - line_start + 1
-                if kind in newline and (k := count("\n", start, end)):
-                    line += k
-                    line_start = text.rindex("\n", start, end) + 1
-                if token is not None:
+                    if kind in newline and (end_line := bisect_right(line_starts, end)) != line:
+                        line, line_start = end_line, line_starts[end_line - 1]
                     token.end_line = line
                     token.end_column = end - line_start + 1
                     token.end_pos = end
-                pos = end
-                yield kind, token
-            else:  # the end of the text, or a character no terminal matches
-                yield (_END, None) if pos == len(text) else (None, None)
-                return
+                stack.append(action)
+                values.append(token)
+                if trace is not None:
+                    trace.append(token)
+                if relexed is not None:
+                    pos = end
+                    break  # scan again from after it
+            else:
+                return FALLBACK  # not reached: the scan ends with END or ERROR
 
     def _unit_chain(self, below: int, state: int, kind: str) -> tuple[int, object]:
         """The state after the unit reductions from ``state`` (above ``below``) on ``kind``, and
@@ -275,13 +270,14 @@ class FastLALR:
             action = states[state][kind]
         return state, action
 
-    def _relex(self, state: int, text: str, pos: int, line: int, line_start: int) -> Token | None:
+    def _relex(self, state: int, text: str, pos: int, line_starts: list[int]) -> Token | None:
         """The token Lark's contextual lexer finds at ``pos`` in parser state ``state``."""
+        line = bisect_right(line_starts, pos)
         counter = LineCounter("\n")
         counter.char_pos = pos
         counter.line = line
-        counter.line_start_pos = line_start
-        counter.column = pos - line_start + 1
+        counter.line_start_pos = line_starts[line - 1]
+        counter.column = pos - counter.line_start_pos + 1
         try:
             return self._lexer.lexers[state].next_token(LexerState(TextSlice(text, 0, len(text)), counter))
         except (UnexpectedInput, LexError, EOFError):
