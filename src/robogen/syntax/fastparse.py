@@ -57,7 +57,8 @@ def _plan(rule: Rule, callback, transformer) -> tuple[tuple, tuple[int, ...]] | 
     the indices of the children that reach a callback; None if the callback is wrapped in a way
     this driver does not know (then it is not used).
 
-    ``passthrough``: a ``?rule`` with one kept child and no alias: the value stays as it is.
+    ``passthrough``: a ``?rule`` with one kept child and no alias, or a rule of one child whose
+    callback is marked ``first_child`` (it returns the child): the value stays as it is.
     Otherwise ``function`` is called with the children ``select`` picks as Lark's child filter
     does (None: all; an index; an itemgetter of several; pairs (index, expand) where children
     of ``_rules`` are spliced in), or the single child is returned when ``expand1`` (Lark's
@@ -82,7 +83,7 @@ def _plan(rule: Rule, callback, transformer) -> tuple[tuple, tuple[int, ...]] | 
         select = include
     elif len(indices) != size:
         select = indices[0] if len(indices) == 1 else itemgetter(*indices) if indices else _nothing
-    passthrough = expand1 and size == 1 and select is None
+    passthrough = (expand1 or getattr(f, "first_child", False)) and size == 1 and select is None
     return (size, name, passthrough, select, expand1, f), indices
 
 

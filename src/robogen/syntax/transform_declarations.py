@@ -6,7 +6,7 @@ and function definitions."""
 from __future__ import annotations
 
 from robogen.syntax import ast
-from robogen.syntax.transform_base import Flag, Package, pos, span_pos
+from robogen.syntax.transform_base import Flag, Package, first_child, pos, span_pos
 
 
 class Declarations:
@@ -104,6 +104,7 @@ class Declarations:
             name_span=self._tspan(rest[0]),
         )
 
+    @first_child
     def var_kind(self, c):
         return c[0]
 
@@ -138,6 +139,7 @@ class Declarations:
     def param(self, c):
         return ast.Param(self._name(c[0]), c[1], span=self._span(c), name_span=self._tspan(c[0]))
 
+    @first_child
     def iface_kind(self, c):
         return c[0]
 
@@ -163,6 +165,7 @@ class Declarations:
     def stm(self, c):
         return self._container(ast.StateMachine, c, ("stm",))
 
+    @first_child
     def ref_kind(self, c):
         return c[0]
 

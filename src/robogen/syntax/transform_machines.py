@@ -4,7 +4,7 @@ clauses, and the communications of triggers."""
 from __future__ import annotations
 
 from robogen.syntax import ast
-from robogen.syntax.transform_base import Clause, pos, span_pos
+from robogen.syntax.transform_base import Clause, first_child, pos, span_pos
 
 
 class Machines:
@@ -28,6 +28,7 @@ class Machines:
     def state(self, c):
         return self._container(ast.State, c, ("state",))
 
+    @first_child
     def action_kind(self, c):
         return c[0]
 
