@@ -160,6 +160,7 @@ class FastLALR:
                 kind: (arg if action is Shift else plans[arg]) for kind, (action, arg) in actions.items()
             }
         self._units: dict[tuple[int, int, str], tuple[int, object]] = {}  # memo of _unit_chain
+        self._gotos: dict[tuple[int, str, str], tuple[int, object]] = {}  # memo of _goto
         self._start = table.start_states[start]
         self._end = table.end_states[start]
         self.usable = True
@@ -169,7 +170,7 @@ class FastLALR:
         token the parser shifts is appended to it (as a Lark Token; for tests)."""
         if not self.usable:
             return FALLBACK
-        states, units, end_state, keywords = self._states, self._units, self._end, self._keywords
+        states, units, gotos, end_state, keywords = self._states, self._units, self._gotos, self._end, self._keywords
         kept = self._kept if trace is None else _Everything()
         newline = self._newline
         finditer = self._scanner.finditer
@@ -222,10 +223,15 @@ class FastLALR:
                             kind_of = type(select)
                             kids = [kids[select]] if kind_of is int else _splice(kids, select) if kind_of is tuple else list(select(kids))
                         value = kids[0] if expand1 and len(kids) == 1 else f(kids)
-                        state = states[stack[-1]][origin]
+                        key = (stack[-1], origin, kind)  # the goto and the unit reductions after it
+                        try:
+                            state, action = gotos[key]
+                        except KeyError:
+                            state, action = gotos[key] = self._goto(stack[-1], origin, kind)
                         stack.append(state)
                         values.append(value)
-                        action = states[state][kind]
+                        if action is None:
+                            raise KeyError(kind)  # at the end state: accepted below
                 except KeyError:  # a syntax error (Lark reports it), or the end of the parse
                     return values[-1] if kind is _END and stack[-1] == end_state else FALLBACK
                 if kind is _END:
@@ -257,6 +263,14 @@ class FastLALR:
                     break  # scan again from after it
             else:
                 return FALLBACK  # not reached: the scan ends with END or ERROR
+
+    def _goto(self, below: int, origin: str, kind: str) -> tuple[int, object]:
+        """The state after a reduction to ``origin`` above ``below`` and the unit reductions
+        there on ``kind``, and the action then (as :meth:`_unit_chain`)."""
+        state = self._states[below][origin]
+        if state == self._end:
+            return state, None
+        return self._unit_chain(below, state, kind)
 
     def _unit_chain(self, below: int, state: int, kind: str) -> tuple[int, object]:
         """The state after the unit reductions from ``state`` (above ``below``) on ``kind``, and

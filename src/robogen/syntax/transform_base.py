@@ -197,7 +197,11 @@ class SpanBuilder(Transformer):
             else:
                 v = depth.get(id(x), 0)
                 d = v if v > d else d
-        return self._record(node, d + 1, c)
+        if d >= MAX_NESTING:
+            return self._record(node, d + 1, c)
+        depth[id(node)] = d + 1  # _record, inline
+        self._alive.append(node)
+        return node
 
     def _record(self, node, d: int, c):
         """Keep ``node``'s depth ``d``; the first node deeper than MAX_NESTING is reported."""
@@ -222,7 +226,12 @@ class SpanBuilder(Transformer):
         d_left = depth.get(id(left), 0) + (0 if id(left) in self._chains else 1)
         d_right = depth.get(id(right), 0) + 1
         self._chains.add(id(node))
-        return self._record(node, d_left if d_left > d_right else d_right, (left, right))
+        d = d_left if d_left > d_right else d_right
+        if d > MAX_NESTING:
+            return self._record(node, d, (left, right))
+        depth[id(node)] = d  # _record, inline
+        self._alive.append(node)
+        return node
 
     def _line_col(self, offset: int) -> tuple[int, int]:
         line = bisect_right(self._line_starts, offset)

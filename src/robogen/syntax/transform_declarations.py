@@ -5,8 +5,12 @@ and function definitions."""
 
 from __future__ import annotations
 
+from lark import Token
+
 from robogen.syntax import ast
-from robogen.syntax.transform_base import Flag, Package, first_child, pos, span_pos
+from robogen.syntax.transform_base import Flag, Package, first_child, make_span, pos, span_pos
+
+_Name = ast.Name
 
 
 class Declarations:
@@ -36,8 +40,12 @@ class Declarations:
         return ast.Diagram(self._name(c[0]), span=self._span(c, left=("diagram",)), name_span=self._tspan(c[0]))
 
     def qname(self, c):
-        if len(c) == 1:  # most names: one token, its span
+        if len(c) == 1:  # most names: one token, its span (_name and _tspan inline)
             token = c[0]
+            text = token.value
+            if type(token) is Token and text[:1] != "^" and text not in (self._keywords or self.keywords) and token.end_column:
+                return _Name((text,), span=make_span(self.path, token.line, token.column, token.end_line, token.end_column,
+                                                     token.start_pos, token.end_pos))  # fmt: skip
             return ast.Name((self._name(token),), span=self._tspan(token))
         return ast.Name(tuple(self._name(t) for t in c), span=self._span(c))
 
