@@ -270,6 +270,8 @@ class SpanBuilder(Transformer):
             if last:
                 end, end_line, end_column = last
                 break
+        if line and end_line and not left and not right:  # most spans: from the first child to the last
+            return make_span(self.path, line, column, end_line, end_column, start, end)
         text = self.text
         for word in reversed(left):
             p = start
