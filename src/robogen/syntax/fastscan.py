@@ -5,6 +5,8 @@ each, in Lark's order), with two changes that let one match give the driver one 
 
 - a possessive prefix skips what the root lexer would skip (whitespace and comments, its
   ``ignore`` terminals) before the token, so no match is ever an ignored token;
+- the alternation holds the other terminals, reordered where that changes no match (see
+  :func:`_reordered`) so that frequent short tokens are tried early;
 - two last alternatives end every scan: ``END`` (the end of the text) and ``ERROR`` (one
   character no terminal matches), so the matches of ``finditer`` are contiguous and the driver
   needs no check of its own that nothing was skipped.
@@ -19,6 +21,7 @@ analysis does not know is assumed to overlap, which only costs a lookahead).
 
 from __future__ import annotations
 
+import heapq
 import re
 import re._constants as sre
 import re._parser as sre_parse
@@ -51,10 +54,49 @@ def whole_text_scanner(regex: re.Pattern, patterns: dict[str, str], ignore: froz
         guard = f"(?!{'|'.join(f'(?:{g})' for g in guards)})" if guards else ""
         skips.append(f"{guard}(?:{patterns[name]})")
     prefix = f"(?:{'|'.join(skips)})*+" if skips else ""
+    tokens = _reordered([name for name in order if name not in ignore], patterns)
+    alternation = "|".join(f"(?P<{name}>{patterns[name]})" for name in tokens)
     try:
-        return re.compile(f"{prefix}(?:{regex.pattern}|(?P<{ERROR}>(?s:.))|(?P<{END}>\\Z))", regex.flags)
+        return re.compile(f"{prefix}(?:{alternation}|(?P<{ERROR}>(?s:.))|(?P<{END}>\\Z))", regex.flags)
     except (re.error, RecursionError, OverflowError):
         return None
+
+
+def _reordered(order: list[str], patterns: dict[str, str]) -> list[str]:
+    """The terminals of ``order`` (an alternation, first match wins) in an order that gives
+    the same match everywhere and tries short fixed tokens early: a terminal moves ahead of
+    another only if no text can start with both (their first characters are disjoint), so at
+    any position at most one of the two can match. Among the terminals free to go next: those
+    of variable length (names, numbers) first, then fixed ones, shortest first (punctuation,
+    which the root order tries last)."""
+    firsts = [_first(patterns[name]) for name in order]
+    after: list[list[int]] = [[] for _ in order]  # i -> the later terminals that must stay after i
+    blockers = [0] * len(order)
+    for j in range(len(order)):
+        for i in range(j):
+            if _may_overlap(firsts[i], firsts[j]):
+                after[i].append(j)
+                blockers[j] += 1
+    ready = [(_rank(patterns[name]), i) for i, name in enumerate(order) if not blockers[i]]
+    heapq.heapify(ready)
+    result = []
+    while ready:
+        _, i = heapq.heappop(ready)
+        result.append(order[i])
+        for j in after[i]:
+            blockers[j] -= 1
+            if not blockers[j]:
+                heapq.heappush(ready, (_rank(patterns[order[j]]), j))
+    return result
+
+
+def _rank(pattern: str) -> int:
+    """0 for a terminal of variable length, else its length (as the scanner prefers them)."""
+    try:
+        low, high = sre_parse.parse(pattern).getwidth()
+    except (re.error, RecursionError, TypeError, ValueError):
+        return 0
+    return 0 if low != high else low
 
 
 def _may_overlap(a: frozenset[str] | None, b: frozenset[str] | None) -> bool:
