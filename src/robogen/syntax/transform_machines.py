@@ -37,29 +37,23 @@ class Machines:
 
     def transition(self, c):
         name, source, target = c[0], c[1], c[2]
-        fields: dict = {}
+        clauses: dict = {}  # keyed by the Transition field each clause sets
         resets = []
         for x in c[3:]:
-            if isinstance(x, Clause):
-                fields[x.key] = x.value
+            if type(x) is Clause:
+                clauses[x.key] = x.value
             elif isinstance(x, ast.ClockReset):
                 resets.append(x)
         return ast.Transition(
             self._name(name),
             self._name(source),
             self._name(target),
-            trigger=fields.get("trigger"),
-            exec=fields.get("exec", False),
-            probability=fields.get("probability"),
             resets=tuple(resets),
-            deadline=fields.get("deadline"),
-            condition=fields.get("condition"),
-            condition_else=fields.get("condition_else", False),
-            action=fields.get("action"),
             span=self._span(c, left=("transition",), right=("}",)),
             name_span=self._tspan(name),
             source_span=self._tspan(source),
             target_span=self._tspan(target),
+            **clauses,
         )
 
     def trigger(self, c):
