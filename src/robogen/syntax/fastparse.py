@@ -53,7 +53,7 @@ _NEWLINES = re.compile("\n")  # lines are counted at "\n" only, as Lark's lexer 
 
 
 def _plan(rule: Rule, callback, transformer) -> tuple[tuple, tuple[int, ...]] | None:
-    """How to reduce by ``rule``: (size, origin, passthrough, select, expand1, function), and
+    """How to reduce by ``rule``: (size, origin, passthrough, select, mode, function), and
     the indices of the children that reach a callback; None if the callback is wrapped in a way
     this driver does not know (then it is not used).
 
@@ -61,9 +61,10 @@ def _plan(rule: Rule, callback, transformer) -> tuple[tuple, tuple[int, ...]] | 
     callback is marked ``first_child`` (it returns the child): the value stays as it is.
     Otherwise ``function`` is called with the children ``select`` picks as Lark's child filter
     does (None: all; an index; an itemgetter of several; pairs (index, expand) where children
-    of ``_rules`` are spliced in), or the single child is returned when ``expand1`` (Lark's
-    ExpandSingleChild) and only one is left. The value of a ``_rule`` that the transformer does
-    not handle is the list of its children (Lark makes a Tree, which only its parent reads)."""
+    of ``_rules`` are spliced in), when ``mode`` is 0; when it is 1 (Lark's ExpandSingleChild),
+    the single child is the value if only one is left; when it is 2, the value is the list of
+    the children: that of a ``_rule`` that the transformer does not handle (Lark makes a Tree,
+    which only its parent reads)."""
     size = len(rule.expansion)
     f, include, expand1 = callback, None, False
     if type(f) is ChildFilterLALR_NoPlaceholders:
@@ -75,8 +76,9 @@ def _plan(rule: Rule, callback, transformer) -> tuple[tuple, tuple[int, ...]] | 
     if isinstance(f, (ChildFilterLALR_NoPlaceholders, ExpandSingleChild)) or not callable(f):
         return None  # nested wrappers
     name = rule.origin.name
+    mode = 1 if expand1 else 0
     if name.startswith("_") and not rule.alias and not expand1 and getattr(transformer, name, None) is None:
-        f = _as_list
+        mode, f = 2, _as_list
     indices = tuple(range(size)) if include is None else tuple(i for i, _ in include)
     select = None
     if include is not None and any(expand for _, expand in include):
@@ -84,7 +86,7 @@ def _plan(rule: Rule, callback, transformer) -> tuple[tuple, tuple[int, ...]] | 
     elif len(indices) != size:
         select = indices[0] if len(indices) == 1 else itemgetter(*indices) if indices else _nothing
     passthrough = (expand1 or getattr(f, "first_child", False)) and size == 1 and select is None
-    return (size, name, passthrough, select, expand1, f), indices
+    return (size, name, passthrough, select, mode, f), indices
 
 
 def _as_list(kids: list) -> list:
@@ -212,7 +214,7 @@ class FastLALR:
                             if action is None:
                                 raise KeyError(kind)  # at the end state: accepted below
                             continue
-                        size, origin, _, select, expand1, f = action
+                        size, origin, _, select, mode, f = action
                         if size:
                             kids = values[-size:]
                             del values[-size:]
@@ -222,7 +224,7 @@ class FastLALR:
                         if select is not None:
                             kind_of = type(select)
                             kids = [kids[select]] if kind_of is int else _splice(kids, select) if kind_of is tuple else list(select(kids))
-                        value = kids[0] if expand1 and len(kids) == 1 else f(kids)
+                        value = f(kids) if not mode else kids if mode == 2 else kids[0] if len(kids) == 1 else f(kids)
                         key = (stack[-1], origin, kind)  # the goto and the unit reductions after it
                         try:
                             state, action = gotos[key]
