@@ -41,7 +41,7 @@ from lark.parse_tree_builder import ChildFilterLALR_NoPlaceholders, ExpandSingle
 from lark.parsers.lalr_analysis import Shift
 from lark.utils import TextSlice
 
-from robogen.syntax.fastscan import END, ERROR, whole_text_scanner
+from robogen.syntax.fastscan import END, ERROR, START, whole_text_scanner
 
 __all__ = ["FALLBACK", "FastLALR"]
 
@@ -176,6 +176,7 @@ class FastLALR:
         kept = self._kept if trace is None else _Everything()
         newline = self._newline
         finditer = self._scanner.finditer
+        at = self._scanner.groupindex[START]
         new_str = str.__new__
         line_starts = [0]
         line_starts += [m.end() for m in _NEWLINES.finditer(text)]
@@ -185,7 +186,8 @@ class FastLALR:
         while True:  # one scan, resumed after a token the state's own lexer gives
             for m in finditer(text, pos):
                 kind = m.lastgroup
-                start, end = m.span(kind)
+                start = m.start(at)
+                end = m.end()
                 retype = keywords.get(kind)
                 if retype is not None:
                     kind = retype.get(text[start:end], kind)

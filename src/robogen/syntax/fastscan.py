@@ -1,12 +1,16 @@
 """The whole-text scanner of the fast LALR driver (:mod:`robogen.syntax.fastparse`).
 
 It is Lark's root lexer regular expression (the alternation of the terminals, one named group
-each, in Lark's order), with two changes that let one match give the driver one token:
+each, in Lark's order), with changes that let one match give the driver one token cheaply:
 
 - a possessive prefix skips what the root lexer would skip (whitespace and comments, its
   ``ignore`` terminals) before the token, so no match is ever an ignored token;
 - the alternation holds the other terminals, reordered where that changes no match (see
-  :func:`_reordered`) so that frequent short tokens are tried early;
+  :func:`_reordered`) so that frequent short tokens are tried early; each terminal's group is
+  empty and after its pattern (``;(?P<SEMICOLON>)``), so that the alternative starts with its
+  first character, which the regular expression engine checks before it tries the rest, and
+  still names the terminal (``lastgroup``); the empty group ``START`` before the alternation
+  marks where the token starts, and the match ends where it ends;
 - two last alternatives end every scan: ``END`` (the end of the text) and ``ERROR`` (one
   character no terminal matches), so the matches of ``finditer`` are contiguous and the driver
   needs no check of its own that nothing was skipped.
@@ -26,10 +30,11 @@ import re
 import re._constants as sre
 import re._parser as sre_parse
 
-__all__ = ["END", "ERROR", "whole_text_scanner"]
+__all__ = ["END", "ERROR", "START", "whole_text_scanner"]
 
 END = "fastscan_end"
 ERROR = "fastscan_error"
+START = "fastscan_start"
 
 _LARGE = 4096  # a character class with more members than this is "any character" to the analysis
 
@@ -38,7 +43,7 @@ def whole_text_scanner(regex: re.Pattern, patterns: dict[str, str], ignore: froz
     """The scanner over Lark's root ``regex``, whose terminals' regular expressions are
     ``patterns`` (by name) and of which ``ignore`` are skipped; None if it cannot be built."""
     order = list(regex.groupindex)
-    if sorted(order) != sorted(patterns) or END in order or ERROR in order:
+    if sorted(order) != sorted(patterns) or {END, ERROR, START} & set(order):
         return None
     if regex.pattern != "|".join(f"(?P<{name}>{patterns[name]})" for name in order):
         return None  # not the plain alternation this module knows
@@ -55,9 +60,9 @@ def whole_text_scanner(regex: re.Pattern, patterns: dict[str, str], ignore: froz
         skips.append(f"{guard}(?:{patterns[name]})")
     prefix = f"(?:{'|'.join(skips)})*+" if skips else ""
     tokens = _reordered([name for name in order if name not in ignore], patterns)
-    alternation = "|".join(f"(?P<{name}>{patterns[name]})" for name in tokens)
+    alternation = "|".join(f"(?:{patterns[name]})(?P<{name}>)" for name in tokens)
     try:
-        return re.compile(f"{prefix}(?:{alternation}|(?P<{ERROR}>(?s:.))|(?P<{END}>\\Z))", regex.flags)
+        return re.compile(f"{prefix}(?P<{START}>)(?:{alternation}|(?s:.)(?P<{ERROR}>)|\\Z(?P<{END}>))", regex.flags)
     except (re.error, RecursionError, OverflowError):
         return None
 
