@@ -5,14 +5,18 @@ Lark stays the home of the grammar: this module reads everything from a loaded `
 parser state, the LALR parse table and the rule callbacks that build the AST) and duplicates
 nothing. It only drives them with less overhead:
 
-- one scan of the text with the root lexer's regular expression (the same terminals in the
-  same order), keywords retyped from names by a dictionary, positions counted as it goes;
-- one loop with the parse table in locals; a chain of reductions by ``?rules`` with one child,
-  which keep their child unchanged, only replaces the state (memoised per state below, state
-  and token); other reductions call the transformer method inside Lark's callback with the
-  children Lark's child filter would give it (the helper rules Lark names ``_...`` and splices
-  into their parent are plain lists, not Trees), and Lark ``Token`` objects are made only for
-  the terminals some rule keeps.
+- one scan of the text with the root lexer's regular expression, rewritten so that each match
+  is one token (see :mod:`robogen.syntax.fastscan`: what the root lexer ignores is skipped
+  inside the match), keywords retyped from names by a dictionary;
+- the scan inlined in one loop with the parse table in locals; a chain of reductions by
+  ``?rules`` with one child, or by rules whose callback is marked ``first_child``, which keep
+  their child unchanged, only replaces the state (memoised per state below, state and token);
+  other reductions call the transformer method inside Lark's callback with the children
+  Lark's child filter would give it (the helper rules Lark names ``_...`` and splices into
+  their parent are plain lists, not Trees), then the goto and the unit reductions after it
+  are one memoised step; Lark ``Token`` objects are made only for the terminals some rule
+  keeps, their lines and columns looked up in a table of line starts (lines counted at
+  ``"\\n"``, as Lark counts them).
 
 Why the tokens are Lark's: Lark's contextual lexer matches, in each parser state, the
 alternation of the terminals that state accepts, in the root lexer's order. When the token the
@@ -168,70 +172,51 @@ class FastLALR:
         self.usable = True
 
     def parse(self, text: str, trace: list | None = None):
-        """The value of the start rule's callback, or FALLBACK. With a ``trace`` list, every
-        token the parser shifts is appended to it (as a Lark Token; for tests)."""
+        """The value of the start rule's callback, or FALLBACK; with a ``trace`` list, each token
+        the parser shifts is appended to it (a Lark Token; for tests)."""
         if not self.usable:
             return FALLBACK
         states, units, gotos, end_state, keywords = self._states, self._units, self._gotos, self._end, self._keywords
-        kept = self._kept if trace is None else _Everything()
-        newline = self._newline
-        finditer = self._scanner.finditer
-        at = self._scanner.groupindex[START]
-        new_str = str.__new__
+        kept, newline, new_str = self._kept if trace is None else _Everything(), self._newline, str.__new__
+        finditer, at = self._scanner.finditer, self._scanner.groupindex[START]
         line_starts = [0]
         line_starts += [m.end() for m in _NEWLINES.finditer(text)]
-        stack = [self._start]
-        values: list = []
-        pos = 0
+        stack, values, pos = [self._start], [], 0
         while True:  # one scan, resumed after a token the state's own lexer gives
             for m in finditer(text, pos):
                 kind = m.lastgroup
                 start = m.start(at)
                 end = m.end()
-                retype = keywords.get(kind)
-                if retype is not None:
-                    kind = retype.get(text[start:end], kind)
+                word = None
+                if (retype := keywords.get(kind)) is not None:  # a name: a keyword if its text is one
+                    word = text[start:end]
+                    kind = retype.get(word, kind)
                 relexed = None
                 action = states[stack[-1]].get(kind)
-                if action is None:  # not accepted here: the state's own lexer decides
-                    if kind == END:
-                        kind = _END
-                        action = states[stack[-1]].get(_END)
-                    elif kind != ERROR:
-                        relexed = self._relex(stack[-1], text, start, line_starts)
-                        if relexed is not None:
-                            kind, end = relexed.type, relexed.end_pos
-                            action = states[stack[-1]].get(kind)
+                if action is None:  # the end, or a token not accepted here: the state's own lexer decides
+                    kind, action, relexed = self._unexpected(stack[-1], kind, text, start, line_starts)
                     if action is None:
                         return FALLBACK  # a syntax error: Lark reports it
+                    if relexed is not None:
+                        end = relexed.end_pos
                 try:
                     while type(action) is not int:  # reductions before the shift
                         if action[2]:  # a chain of unit reductions: only the state changes
-                            key = (stack[-2], stack[-1], kind)
-                            try:
-                                state, action = units[key]
-                            except KeyError:
-                                state, action = units[key] = self._unit_chain(stack[-2], stack[-1], kind)
+                            state, action = units.get((stack[-2], stack[-1], kind)) or self._unit_memo(stack[-2], stack[-1], kind)
                             stack[-1] = state
                             if action is None:
                                 raise KeyError(kind)  # at the end state: accepted below
                             continue
                         size, origin, _, select, mode, f = action
+                        kids = values[-size:] if size else []
                         if size:
-                            kids = values[-size:]
-                            del values[-size:]
-                            del stack[-size:]
-                        else:
-                            kids = []
+                            del values[-size:], stack[-size:]
                         if select is not None:
                             kind_of = type(select)
                             kids = [kids[select]] if kind_of is int else _splice(kids, select) if kind_of is tuple else list(select(kids))
                         value = f(kids) if not mode else kids if mode == 2 else kids[0] if len(kids) == 1 else f(kids)
-                        key = (stack[-1], origin, kind)  # the goto and the unit reductions after it
-                        try:
-                            state, action = gotos[key]
-                        except KeyError:
-                            state, action = gotos[key] = self._goto(stack[-1], origin, kind)
+                        # the goto and the unit reductions after it
+                        state, action = gotos.get((stack[-1], origin, kind)) or self._goto_memo(stack[-1], origin, kind)
                         stack.append(state)
                         values.append(value)
                         if action is None:
@@ -240,24 +225,21 @@ class FastLALR:
                     return values[-1] if kind is _END and stack[-1] == end_state else FALLBACK
                 if kind is _END:
                     return FALLBACK  # Lark never shifts the end
-                token = None
-                if relexed is not None:
-                    token = relexed if kind in kept else None
-                elif kind in kept:  # Lark's Token, its line and column from the table of line starts
+                if kind not in kept:
+                    token = None
+                elif relexed is not None:
+                    token = relexed
+                else:  # Lark's Token, its line and column from the table of line starts
                     line = bisect_right(line_starts, start)
                     line_start = line_starts[line - 1]
-                    value = text[start:end]
-                    token = new_str(Token, value)
-                    token.type = kind
-                    token.value = value
-                    token.start_pos = start
-                    token.line = line
-                    token.column = start - line_start + 1
+                    if word is None:
+                        word = text[start:end]
+                    token = new_str(Token, word)
+                    token.type, token.value, token.start_pos = kind, word, start
+                    token.line, token.column, token.end_pos = line, start - line_start + 1, end
                     if kind in newline and (end_line := bisect_right(line_starts, end)) != line:
                         line, line_start = end_line, line_starts[end_line - 1]
-                    token.end_line = line
-                    token.end_column = end - line_start + 1
-                    token.end_pos = end
+                    token.end_line, token.end_column = line, end - line_start + 1
                 stack.append(action)
                 values.append(token)
                 if trace is not None:
@@ -267,6 +249,28 @@ class FastLALR:
                     break  # scan again from after it
             else:
                 return FALLBACK  # not reached: the scan ends with END or ERROR
+
+    def _unexpected(self, state: int, kind: str, text: str, start: int, line_starts: list[int]):
+        """(type, action, relexed token or None) for a token of the scan that ``state`` has no
+        action for: the end of the text, or what the state's own lexer finds there; the action
+        is None if there is none (a syntax error)."""
+        actions = self._states[state]
+        if kind == END:
+            return _END, actions.get(_END), None
+        if kind == ERROR:
+            return kind, None, None
+        relexed = self._relex(state, text, start, line_starts)
+        if relexed is None:
+            return kind, None, None
+        return relexed.type, actions.get(relexed.type), relexed
+
+    def _unit_memo(self, below: int, state: int, kind: str) -> tuple[int, object]:
+        self._units[below, state, kind] = chain = self._unit_chain(below, state, kind)
+        return chain
+
+    def _goto_memo(self, below: int, origin: str, kind: str) -> tuple[int, object]:
+        self._gotos[below, origin, kind] = step = self._goto(below, origin, kind)
+        return step
 
     def _goto(self, below: int, origin: str, kind: str) -> tuple[int, object]:
         """The state after a reduction to ``origin`` above ``below`` and the unit reductions
