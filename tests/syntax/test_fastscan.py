@@ -15,6 +15,7 @@ from lark.exceptions import UnexpectedCharacters
 from lark.lexer import LexerState
 from lark.utils import TextSlice
 
+from robogen.syntax import fastscan
 from robogen.syntax.fastscan import END, ERROR, START, _first, _reordered, whole_text_scanner
 from robogen.syntax.parser import ROBOCHART, ROBOSIM, _fast_parser
 
@@ -119,3 +120,18 @@ def test_a_character_no_terminal_matches_ends_the_scan_with_error_where_lark_fai
     with pytest.raises(UnexpectedCharacters) as failure:
         lark_root_tokens(ROBOCHART, text)
     assert failure.value.pos_in_stream == text.index("&")
+
+
+def test_without_the_analysis_every_ignored_terminal_is_guarded_and_no_terminal_moves(monkeypatch):
+    monkeypatch.setattr(fastscan, "sre_parse", None)  # a Python without re._parser
+    root = _fast_parser(ROBOCHART)._lexer.root_lexer
+    regex = root.scanner._mres[0]
+    patterns = {t.name: t.pattern.to_regexp() for t in root.terminals if t.name in regex.groupindex}
+    scanner = whole_text_scanner(regex, patterns, root.ignore_types)
+    assert scanner.pattern.count("(?!") == len(root.ignore_types)
+    order = [n for n in regex.groupindex if n not in root.ignore_types]
+    assert [n for n in scanner.groupindex if n in order] == order
+    keywords = _fast_parser(ROBOCHART)._keywords
+    for text in TEXTS.values():
+        retyped = [(keywords.get(kind, {}).get(value, kind), value) for kind, value in scan(scanner, text)]
+        assert retyped[:-1] == lark_root_tokens(ROBOCHART, text)

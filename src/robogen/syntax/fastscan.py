@@ -27,8 +27,12 @@ from __future__ import annotations
 
 import heapq
 import re
-import re._constants as sre
-import re._parser as sre_parse
+
+try:  # the standard library's parser of regular expressions (private; only proves orders safe)
+    import re._constants as sre
+    import re._parser as sre_parse
+except ImportError:  # pragma: no cover - another Python: every pair is assumed to overlap
+    sre = sre_parse = None  # type: ignore[assignment]
 
 __all__ = ["END", "ERROR", "START", "whole_text_scanner"]
 
@@ -97,9 +101,11 @@ def _reordered(order: list[str], patterns: dict[str, str]) -> list[str]:
 
 def _rank(pattern: str) -> int:
     """0 for a terminal of variable length, else its length (as the scanner prefers them)."""
+    if sre_parse is None:
+        return 0
     try:
         low, high = sre_parse.parse(pattern).getwidth()
-    except (re.error, RecursionError, TypeError, ValueError):
+    except (re.error, RecursionError, TypeError, ValueError, AttributeError):
         return 0
     return 0 if low != high else low
 
@@ -111,9 +117,11 @@ def _may_overlap(a: frozenset[str] | None, b: frozenset[str] | None) -> bool:
 def _first(pattern: str) -> frozenset[str] | None:
     """The characters a match of ``pattern`` can start with; None if unknown, or if the pattern
     can match the empty string."""
+    if sre_parse is None:
+        return None
     try:
         chars, nullable = _first_of_sequence(list(sre_parse.parse(pattern)))
-    except (re.error, RecursionError, TypeError, ValueError):
+    except (re.error, RecursionError, TypeError, ValueError, AttributeError):
         return None
     return None if chars is None or nullable else frozenset(chars)
 
