@@ -4,11 +4,13 @@ For every model of the repository (and the reference models when ../shared is pr
 tokens the fast driver shifts equal those of Lark's contextual lexer in its own parse (type,
 text, offsets, lines and columns), and the AST equals Lark's down to every span, with the same
 reserved-word problems. A text Lark rejects makes the fast driver hand the parse back to Lark.
+With ROBOGEN_FASTPARSE_CORPUS=PATH, the models under PATH are compared too (a local corpus).
 """
 
 from __future__ import annotations
 
 import dataclasses
+import os
 from pathlib import Path
 
 import pytest
@@ -107,6 +109,22 @@ def test_fast_and_lark_agree_on_every_repository_model(path):
 @pytest.mark.parametrize("path", reference_files(), ids=lambda p: p.name)
 def test_fast_and_lark_agree_on_every_reference_model(path):
     text = path.read_text(encoding="utf-8")
+    assert differences(text, language_of(path)) is None
+
+
+def local_corpus() -> list[Path]:
+    """The models under $ROBOGEN_FASTPARSE_CORPUS, if set: a local checkout of other models
+    (RoboTool's test models, say), compared without being part of the repository."""
+    root = os.environ.get("ROBOGEN_FASTPARSE_CORPUS")
+    return model_files(Path(root)) if root else []
+
+
+@pytest.mark.parametrize("path", local_corpus(), ids=str)
+def test_fast_and_lark_agree_on_every_model_of_a_local_corpus(path):
+    try:
+        text = path.read_text(encoding="utf-8")
+    except UnicodeDecodeError:
+        pytest.skip("not UTF-8 text")
     assert differences(text, language_of(path)) is None
 
 

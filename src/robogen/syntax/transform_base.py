@@ -87,6 +87,13 @@ if "__slots__" in Span.__dict__:  # pragma: no cover - a Span without __dict__ i
     make_span = Span  # noqa: F811
 
 
+def first_child(method):
+    """Marks a callback that returns its only child unchanged: a driver may keep the child
+    without calling it (see :mod:`robogen.syntax.fastparse`)."""
+    method.first_child = True
+    return method
+
+
 def node_pos(x) -> tuple[int, int] | None:
     return span_pos(getattr(x, "span", None))
 
@@ -190,7 +197,11 @@ class SpanBuilder(Transformer):
             else:
                 v = depth.get(id(x), 0)
                 d = v if v > d else d
-        return self._record(node, d + 1, c)
+        if d >= MAX_NESTING:
+            return self._record(node, d + 1, c)
+        depth[id(node)] = d + 1  # _record, inline
+        self._alive.append(node)
+        return node
 
     def _record(self, node, d: int, c):
         """Keep ``node``'s depth ``d``; the first node deeper than MAX_NESTING is reported."""
@@ -215,7 +226,12 @@ class SpanBuilder(Transformer):
         d_left = depth.get(id(left), 0) + (0 if id(left) in self._chains else 1)
         d_right = depth.get(id(right), 0) + 1
         self._chains.add(id(node))
-        return self._record(node, d_left if d_left > d_right else d_right, (left, right))
+        d = d_left if d_left > d_right else d_right
+        if d > MAX_NESTING:
+            return self._record(node, d, (left, right))
+        depth[id(node)] = d  # _record, inline
+        self._alive.append(node)
+        return node
 
     def _line_col(self, offset: int) -> tuple[int, int]:
         line = bisect_right(self._line_starts, offset)
@@ -230,18 +246,32 @@ class SpanBuilder(Transformer):
     def _span(self, children, left: tuple[str, ...] = (), right: tuple[str, ...] = ()) -> Span | None:
         # Tokens and nodes know their lines and columns: only a span grown over a keyword or a
         # bracket, or ending at a helper value, looks them up from the offsets.
-        for c in children:
+        for c in children:  # the first child with a position (tokens and nodes inline)
+            if type(c) is Token and c.start_pos is not None:
+                start, line, column = c.start_pos, c.line, c.column
+                break
+            if isinstance(c, ast.Node) and (span := c.span) is not None and span.offset >= 0:
+                start, line, column = span.offset, span.line, span.column
+                break
             first = _edge(c, False)
             if first:
+                start, line, column = first
                 break
         else:
             return None
         for c in reversed(children):
+            if type(c) is Token and c.start_pos is not None:
+                end, end_line, end_column = c.end_pos, c.end_line, c.end_column
+                break
+            if isinstance(c, ast.Node) and (span := c.span) is not None and span.offset >= 0:
+                end, end_line, end_column = span.end_offset, span.end_line, span.end_column
+                break
             last = _edge(c, True)
             if last:
+                end, end_line, end_column = last
                 break
-        start, line, column = first
-        end, end_line, end_column = last
+        if line and end_line and not left and not right:  # most spans: from the first child to the last
+            return make_span(self.path, line, column, end_line, end_column, start, end)
         text = self.text
         for word in reversed(left):
             p = start
@@ -272,9 +302,12 @@ class SpanBuilder(Transformer):
         return make_span(self.path, line, column, end_line, end_column, start, end)
 
     def _tspan(self, token: Token) -> Span:
+        start = token.start_pos
+        if start is not None and token.end_line and token.end_column:  # every token of the lexers
+            return make_span(self.path, token.line, token.column, token.end_line, token.end_column, start, token.end_pos)
         return make_span(
             self.path, token.line or 1, token.column or 1, token.end_line or token.line or 1,
-            token.end_column or (token.column or 1) + len(token), token.start_pos if token.start_pos is not None else -1,
+            token.end_column or (token.column or 1) + len(token), start if start is not None else -1,
             token.end_pos if token.end_pos is not None else -1,
         )
 

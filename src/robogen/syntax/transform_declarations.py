@@ -5,8 +5,12 @@ and function definitions."""
 
 from __future__ import annotations
 
+from lark import Token
+
 from robogen.syntax import ast
-from robogen.syntax.transform_base import Flag, Package, pos, span_pos
+from robogen.syntax.transform_base import Flag, Package, first_child, make_span, pos, span_pos
+
+_Name = ast.Name
 
 
 class Declarations:
@@ -36,8 +40,12 @@ class Declarations:
         return ast.Diagram(self._name(c[0]), span=self._span(c, left=("diagram",)), name_span=self._tspan(c[0]))
 
     def qname(self, c):
-        if len(c) == 1:  # most names: one token, its span
+        if len(c) == 1:  # most names: one token, its span (_name and _tspan inline)
             token = c[0]
+            text = token.value
+            if type(token) is Token and text[:1] != "^" and text not in (self._keywords or self.keywords) and token.end_column:
+                return _Name((text,), span=make_span(self.path, token.line, token.column, token.end_line, token.end_column,
+                                                     token.start_pos, token.end_pos))  # fmt: skip
             return ast.Name((self._name(token),), span=self._tspan(token))
         return ast.Name(tuple(self._name(t) for t in c), span=self._span(c))
 
@@ -104,6 +112,7 @@ class Declarations:
             name_span=self._tspan(rest[0]),
         )
 
+    @first_child
     def var_kind(self, c):
         return c[0]
 
@@ -138,6 +147,7 @@ class Declarations:
     def param(self, c):
         return ast.Param(self._name(c[0]), c[1], span=self._span(c), name_span=self._tspan(c[0]))
 
+    @first_child
     def iface_kind(self, c):
         return c[0]
 
@@ -163,6 +173,7 @@ class Declarations:
     def stm(self, c):
         return self._container(ast.StateMachine, c, ("stm",))
 
+    @first_child
     def ref_kind(self, c):
         return c[0]
 

@@ -7,12 +7,13 @@ import dataclasses
 import re
 
 from robogen.syntax import ast
-from robogen.syntax.transform_base import Body, SuchThat
+from robogen.syntax.transform_base import Body, SuchThat, first_child
 
 
 class Expressions:
     """Callbacks of the expressions rules (a part of :class:`~robogen.syntax.transform.ToAst`)."""
 
+    @first_child
     def binder_kind(self, c):
         return c[0]
 
@@ -48,6 +49,7 @@ class Expressions:
     def not_(self, c):
         return ast.Unary("not", c[0], span=self._span(c, left=("not",)))
 
+    @first_child
     def cmp_op(self, c):
         return c[0]
 
@@ -71,6 +73,7 @@ class Expressions:
     def if_expr(self, c):
         return ast.IfExpr(c[0], c[1], c[2], span=self._span(c, left=("if",), right=("end",)))
 
+    @first_child
     def cast_op(self, c):
         return c[0]
 
@@ -114,6 +117,7 @@ class Expressions:
     def false_lit(self, c):
         return ast.BoolLit(False, span=self._span(c))
 
+    @first_child
     def name(self, c):
         return c[0]  # a qname already built as ast.Name
 

@@ -4,7 +4,7 @@ clauses, and the communications of triggers."""
 from __future__ import annotations
 
 from robogen.syntax import ast
-from robogen.syntax.transform_base import Clause, pos, span_pos
+from robogen.syntax.transform_base import Clause, first_child, pos, span_pos
 
 
 class Machines:
@@ -28,6 +28,7 @@ class Machines:
     def state(self, c):
         return self._container(ast.State, c, ("state",))
 
+    @first_child
     def action_kind(self, c):
         return c[0]
 
@@ -36,29 +37,23 @@ class Machines:
 
     def transition(self, c):
         name, source, target = c[0], c[1], c[2]
-        fields: dict = {}
+        clauses: dict = {}  # keyed by the Transition field each clause sets
         resets = []
         for x in c[3:]:
-            if isinstance(x, Clause):
-                fields[x.key] = x.value
+            if type(x) is Clause:
+                clauses[x.key] = x.value
             elif isinstance(x, ast.ClockReset):
                 resets.append(x)
         return ast.Transition(
             self._name(name),
             self._name(source),
             self._name(target),
-            trigger=fields.get("trigger"),
-            exec=fields.get("exec", False),
-            probability=fields.get("probability"),
             resets=tuple(resets),
-            deadline=fields.get("deadline"),
-            condition=fields.get("condition"),
-            condition_else=fields.get("condition_else", False),
-            action=fields.get("action"),
             span=self._span(c, left=("transition",), right=("}",)),
             name_span=self._tspan(name),
             source_span=self._tspan(source),
             target_span=self._tspan(target),
+            **clauses,
         )
 
     def trigger(self, c):

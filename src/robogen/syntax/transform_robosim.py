@@ -6,6 +6,7 @@ the parts written before it."""
 from __future__ import annotations
 
 from robogen.syntax import ast
+from robogen.syntax.transform_base import first_child
 
 
 def _split(name: ast.Name) -> tuple[str, tuple[str, ...]]:
@@ -19,6 +20,7 @@ class RoboSim:
     def cycle_def(self, c):
         return ast.CycleDef(c[0], span=self._span(c, left=("cycleDef",)))
 
+    @first_child
     def context_kind(self, c):
         return c[0]
 
