@@ -148,14 +148,9 @@ def apply(op: str, args: list, arg_types: list[T.Type], capacity: int, overflow:
         return out.items
     if op == "indices":
         return list(range(1, len(s) + 1))  # never longer than s
-    if op == "filter":
-        for x in s:
-            if member(x, args[1], elem):
-                out.append(x)
-        return out.items
-    if op == "extract":
+    if op in ("filter", "extract"):  # the elements of s in the set (filter), or at the positions in it
         for i, x in enumerate(s, 1):
-            if member(i, args[1], T.INT):
+            if member(x, args[1], elem) if op == "filter" else member(i, args[1], T.INT):
                 out.append(x)
         return out.items
     if op == "range":
