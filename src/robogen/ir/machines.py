@@ -60,13 +60,13 @@ class FmuContext:
                                 "give this one its value in the model", None)
 
 
-
 def _parameter_record(t: T.Type) -> bool:
     """Can a constant of record type ``t`` without a value be FMU parameters, one per field (an
     enumeration whose literals carry arguments is such a record: its tag and arguments)? Its
     fields are scalars, strings or such records, and start at their type's default."""
     return isinstance(t, T.RecordT) and all(
         is_scalar(ft) or ft == T.STRING or _parameter_record(ft) for _, ft in t.fields)
+
 
 _NODE_KINDS = {ast.State: "state", ast.Junction: "junction", ast.Final: "final", ast.Initial: "initial",
                ast.Probabilistic: "probabilistic"}
