@@ -16,7 +16,7 @@ from __future__ import annotations
 
 import pytest
 
-from support.codegen_driver import FmuRunner, Instant, Scenario, Tick, interpret
+from support.codegen_driver import Tick, outputs_by_instant
 from robogen.ir.interp import random_next
 
 VECTOR = [0xE220A8397B1DCDAF, 0x6E789E6AA1B965F4, 0x06C45D188009454F, 0xF88BB8A8724C81EC]
@@ -39,19 +39,7 @@ def test_the_generator_is_splitmix64():
 def run(built_fmu, inputs: dict[int, Tick], instants: int, seed: int | None = None):
     """Outputs of every instant (all its super-dense steps), the FMU's trace checked equal to the
     interpreter's, with one tock per instant."""
-    scenario = Scenario([Instant(True, (inputs[t],) if t in inputs else ()) for t in range(instants)], half=False)
-    parameters = {"random_seed": seed} if seed is not None else None
-    runner = FmuRunner(built_fmu.folder)
-    try:
-        trace = runner.run(scenario, parameters=parameters)
-    finally:
-        runner.close()
-    assert trace.error is None, trace.error
-    assert trace.comparable() == interpret(built_fmu.fmu, scenario, runner.desc, parameters=parameters).comparable()
-    outputs: dict[int, dict] = {}
-    for s in trace.steps:
-        outputs.setdefault(s.instant, {}).update(s.outputs)
-    return outputs, trace
+    return outputs_by_instant(built_fmu, inputs, instants, {"random_seed": seed} if seed is not None else None)
 
 
 INPUTS = {1: value(2), 2: value(5), 5: value(7)}

@@ -9,7 +9,7 @@ from __future__ import annotations
 
 import pytest
 
-from support.codegen_driver import FmuRunner, Instant, Scenario, Tick, build, interpret
+from support.codegen_driver import FmuRunner, Instant, Scenario, Tick, build, outputs_by_instant
 from support.codegen_models import MODELS
 from robogen.codegen.api import lower_paths
 from robogen.cosim import fmi3
@@ -20,21 +20,6 @@ def name(text: str) -> Tick:
     return Tick("name", {"name.value": text})
 
 
-def run(built_fmu, inputs: dict[int, Tick], instants: int, parameters: dict | None = None):
-    scenario = Scenario([Instant(True, (inputs[t],) if t in inputs else ()) for t in range(instants)], half=False)
-    runner = FmuRunner(built_fmu.folder)
-    try:
-        trace = runner.run(scenario, parameters=parameters)
-    finally:
-        runner.close()
-    assert trace.error is None, trace.error
-    assert trace.comparable() == interpret(built_fmu.fmu, scenario, runner.desc, parameters=parameters).comparable()
-    outputs: dict[int, dict] = {}
-    for s in trace.steps:
-        outputs.setdefault(s.instant, {}).update(s.outputs)
-    return outputs, trace
-
-
 def answer(reply: str, known: bool) -> dict:
     return {"reply": {"reply.value": reply}, "known": {"known.value": known}}
 
@@ -42,7 +27,7 @@ def answer(reply: str, known: bool) -> dict:
 @pytest.mark.parametrize("semantics", ["exhaustive", "stepwise"])
 def test_strings_cross_the_fmu_boundary_as_their_texts(builds, semantics):
     inputs = {1: name("hello"), 2: name("bob"), 3: name("bye"), 4: name(""), 5: name("bob"), 6: name("élan")}
-    outputs, trace = run(builds.get("strings", semantics), inputs, 8)
+    outputs, trace = outputs_by_instant(builds.get("strings", semantics), inputs, 8)
     # t=0: the initial transition says "ready"; then each name: "hi" to the greeting, the name
     # itself to anyone else; known for "hello" and "bye" only ("" and "bob" are neither)
     assert outputs == {
@@ -64,7 +49,7 @@ def test_a_string_constant_is_a_string_parameter(builds, semantics):
     # greeting is the FMU parameter Greeter.greeting (start "hello"); the importer sets "bob" in
     # Initialization Mode: now bob is greeted, and hello is just a name
     inputs = {1: name("bob"), 2: name("hello"), 3: name("bye")}
-    outputs, trace = run(builds.get("strings", semantics), inputs, 4, parameters={"Greeter.greeting": "bob"})
+    outputs, trace = outputs_by_instant(builds.get("strings", semantics), inputs, 4, parameters={"Greeter.greeting": "bob"})
     assert outputs == {0: {"reply": {"reply.value": "ready"}}, 1: answer("hi", True), 2: answer("hello", False),
                        3: answer("bye", True)}
     assert trace.steps[-1].variables["Greeter.greeting"] == "bob"

@@ -10,7 +10,7 @@ from __future__ import annotations
 
 import pytest
 
-from support.codegen_driver import FmuRunner, Instant, Scenario, Tick, build, interpret
+from support.codegen_driver import Tick, build, outputs_by_instant
 from robogen.codegen.api import compile_model
 from robogen.diagnostics import RobogenError
 
@@ -24,18 +24,7 @@ def echo(tag: int, move: float = 0.0, turn: int = 0, left: bool = False) -> dict
 
 
 def run(built_fmu, inputs: dict[int, Tick], instants: int, functions: dict | None = None):
-    scenario = Scenario([Instant(True, (inputs[t],) if t in inputs else ()) for t in range(instants)], half=False)
-    runner = FmuRunner(built_fmu.folder)
-    try:
-        trace = runner.run(scenario)
-    finally:
-        runner.close()
-    assert trace.error is None, trace.error
-    assert trace.comparable() == interpret(built_fmu.fmu, scenario, runner.desc, functions=functions).comparable()
-    outputs: dict[int, dict] = {}
-    for s in trace.steps:
-        outputs.setdefault(s.instant, {}).update(s.outputs)
-    return outputs, trace
+    return outputs_by_instant(built_fmu, inputs, instants, functions=functions)
 
 
 @pytest.mark.parametrize("semantics", ["exhaustive", "stepwise"])

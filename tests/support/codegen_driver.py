@@ -391,16 +391,32 @@ def interpret(fmu: ir.Fmu, scenario: list[Instant], desc: Description, max_k: in
     return trace
 
 
-def run_checked(built: "Built", scenario: Scenario, parameters: dict[str, object] | None = None) -> Trace:
+def run_checked(built: "Built", scenario: Scenario, parameters: dict[str, object] | None = None,
+                functions: dict | None = None) -> Trace:
     """The FMU's trace of ``scenario`` (``parameters`` set in Initialization Mode), after checking
-    that the interpreter's is the same."""
+    that the interpreter's is the same (``functions``: its user functions)."""
     runner = FmuRunner(built.folder)
     try:
         got = runner.run(scenario, parameters=parameters)
     finally:
         runner.close()
-    assert got.comparable() == interpret(built.fmu, scenario, runner.desc, parameters=parameters).comparable()
+    expected = interpret(built.fmu, scenario, runner.desc, parameters=parameters, functions=functions)
+    assert got.comparable() == expected.comparable()
     return got
+
+
+def outputs_by_instant(built: "Built", inputs: dict[int, Tick], instants: int, parameters: dict[str, object] | None = None,
+                       functions: dict | None = None) -> tuple[dict[int, dict], Trace]:
+    """One tock per instant, the input ``inputs[t]`` at instant t: the outputs of each instant (all
+    its super-dense steps together) and the trace, which ran without error and which the
+    interpreter's equals."""
+    scenario = Scenario([Instant(True, (inputs[t],) if t in inputs else ()) for t in range(instants)], half=False)
+    trace = run_checked(built, scenario, parameters, functions)
+    assert trace.error is None, trace.error
+    outputs: dict[int, dict] = {}
+    for s in trace.steps:
+        outputs.setdefault(s.instant, {}).update(s.outputs)
+    return outputs, trace
 
 
 def _fmi_values(values: dict[str, object]) -> dict[str, object]:
