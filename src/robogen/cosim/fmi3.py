@@ -247,6 +247,13 @@ class Library:
         except AttributeError:
             return False
 
+    def close(self) -> None:
+        """Unload the shared object (every instance of it must be freed first). A process that
+        loads thousands of FMUs one after the other (the model fuzzer) keeps its memory bounded."""
+        if self.lib is not None:
+            ffi.dlclose(self.lib)
+            self.lib = None
+
     def fmi3GetVersion(self) -> str:
         return ffi.string(self.lib.fmi3GetVersion()).decode("utf-8", "replace")
 
