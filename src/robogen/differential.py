@@ -130,6 +130,7 @@ class Var:
     size: int  # 1, or the array length
     clock: str | None = None
     items: int = 0  # enumerations: number of items
+    array: bool = False  # declared with dimensions (a vector of one element is an array too)
 
 
 class Description:
@@ -150,7 +151,7 @@ class Description:
                 size *= int(d.start)
             clock = v.clocks[0].name if v.clocks else None
             self.vars.append(Var(v.name, v.valueReference, v.type, v.causality, size, clock,
-                                 enum_items.get(v.declaredType, 0) if v.declaredType else 0))
+                                 enum_items.get(v.declaredType, 0) if v.declaredType else 0, bool(v.dimensions)))
         self.by_name = {v.name: v for v in self.vars}
         clocks = [v for v in self.vars if v.type == "Clock"]
         self.periodic = clocks[0].name  # rg_clocks index 0: cycle or tock
@@ -194,7 +195,7 @@ def random_value(rng: random.Random, var: Var, choices: dict[str, list] | None =
             return rng.choice(NAT_EXTREMES if extreme else NAT_VALUES)
         return rng.choice(REAL_EXTREMES if extreme else REAL_VALUES)
 
-    if var.size > 1:
+    if var.array:
         return [one() for _ in range(var.size)]
     return one()
 
@@ -274,7 +275,7 @@ class FmuRunner:
             pos = 0
             for v in vars_:
                 values = [_py(buf[pos + j], fmi_type) for j in range(v.size)]
-                out[v.name] = values if v.size > 1 else values[0]
+                out[v.name] = values if v.array else values[0]
                 pos += v.size
         return out
 
