@@ -66,6 +66,13 @@ def mangle(name: str) -> str:
     return re.sub(r"[^A-Za-z0-9_]", "_", name.replace("::", "_"))
 
 
+_COMPARISONS = ("eq", "ne", "lt", "le", "gt", "ge")
+
+
+def _exact(t: T.Type) -> bool:
+    """Is every value of ``t`` equal to itself (unlike a NaN, or a record holding one)?"""
+    return t in (T.INT, T.NAT, T.BOOLEAN, T.STRING) or isinstance(t, T.EnumT)
+
 class Identifiers:
     """Unique C identifiers made from model names: each name mangled, and numbered (``_2``,
     ``_3``, ...) where it would clash with one made before."""
@@ -300,6 +307,10 @@ class Emitter:
             return f"(!{a} || {b})"
         if op == "iff":
             return f"(!{a} == !{b})"
+        if op in _COMPARISONS and a == b and "(" not in a and _exact(e.left.type):
+            # a variable compared with itself (`x == x`): its value, as C's -Wtautological-compare
+            # rejects the comparison (reals are compared: a NaN differs from itself)
+            return "true" if op in ("eq", "le", "ge") else "false"
         if op in ("eq", "ne"):
             t = e.left.type
             if isinstance(t, (T.RecordT, T.VectorT, T.MatrixT, T.SetT, T.SeqT)):
