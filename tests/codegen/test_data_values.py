@@ -96,6 +96,37 @@ def test_function_values_give_the_hand_calculated_results(tmp_path):
     assert applied == [(2, 3), (25, 5), (100, 3), (-3, 5), (5, 7), (3, 3)]
 
 
+COPIES = """\
+stm Copy {
+	var f: nat -> int = lambda x: nat @ x + 1
+	var g: nat -> int = lambda x: nat @ x * 10
+	var n: nat = 0
+	event go: nat
+	event first: int
+	event second: int
+	event third: int
+	initial i
+	state Idle { }
+	transition t0 { from i to Idle }
+	transition t1 { from Idle to Idle trigger go?n
+		action f = g ; g = lambda x: nat @ x + 100 ; first!f(n) ; second!g(n) ; f = f ; third!f(n) }
+}
+"""
+
+
+def test_a_function_variable_assigned_another_takes_the_value_it_holds(tmp_path):
+    """Found by the model fuzzer: `f = f` (a function variable stored in itself) made code
+    generation recurse without end. `f = g` copies the function g holds then: go(2) gives
+    f = x * 10 (20), g = x + 100 (102), f unchanged by f = f (20); go(3): f takes g's x + 100."""
+    scenario = Scenario([Instant(True, early=(Tick("go", {"go.value": v}),)) for v in (2, 3)], half=False)
+    got, _ = _run(tmp_path, "copies", COPIES, scenario)
+    outputs = {}
+    for s in got.steps:
+        for clock, values in s.outputs.items():
+            outputs.setdefault(clock, []).append(values[f"{clock}.value"])
+    assert outputs == {"first": [20, 103], "second": [102, 103], "third": [20, 103]}
+
+
 STRINGS = """\
 stm Str {
 	const greeting: string = "hello"

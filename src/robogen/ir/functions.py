@@ -100,28 +100,64 @@ class FunctionValues:
 
     # -- storing
 
-    def function_value(self, target: ir.Expr, value: ast.Expr, span) -> ir.Expr:
-        """The number that a function-typed variable stores for ``value``."""
+    def function_value(self, target: ir.Expr, value: ast.Expr, span, graph: Graph) -> ir.Expr:
+        """The number that a function-typed variable stores for ``value``: that of the function
+        value; for another function variable (or itself), the number of the value it holds now."""
         name = target.var.name if isinstance(target, ir.Ref) else "?"
         values = self.function_table(name)
+        source = self._function_variable(value)
+        if source is not None:
+            return self._copied(source, values, graph, span)
         text = expr_text(value)
         for n, v in enumerate(values, 1):
             if expr_text(v) == text:
                 return ir.Lit(T.INT, n)
         raise not_supported(f"storing {text} in function variable '{name}' here", span)  # pragma: no cover
 
+    def _copied(self, source: VarSym, values: list[ast.Expr], graph: Graph, span) -> ir.Expr:
+        """The number, in ``values``, of the function value variable ``source`` holds (0, none,
+        while it holds none)."""
+        ref = self.var_ref(graph, source, span)
+        texts = [expr_text(v) for v in values]
+        result: ir.Expr = ir.Lit(T.INT, 0)
+        theirs = self.function_table(source.name)
+        for k in range(len(theirs), 0, -1):
+            n = texts.index(expr_text(theirs[k - 1])) + 1
+            result = ir.Cond(T.INT, ir.Bin(T.BOOLEAN, "eq", ref, ir.Lit(T.INT, k)), ir.Lit(T.INT, n), result)
+        return result
+
+    def _function_variable(self, value: ast.Expr) -> VarSym | None:
+        """The function-typed variable that ``value`` names, if it names one."""
+        while isinstance(value, ast.Cast) and value.op == "as":
+            value = value.expr
+        sym = self.model.symbol(value) if isinstance(value, ast.Name) else None
+        if isinstance(sym, VarSym) and sym.kind in ("var", "const") and isinstance(T.single(sym.type), T.FunctionT):
+            return sym
+        return None
+
     def function_table(self, name: str) -> list[ast.Expr]:
-        """The function values the machine stores in variable ``name``, in the order written."""
+        """The function values the machine may store in variable ``name``, in the order written;
+        a value that names another function variable (or this one) stands for that variable's."""
         if self.fn_tables is None:
-            self.fn_tables = {}
+            raw: dict[str, list[ast.Expr]] = {}
             for target, value in _assignments(self.scope):
                 sym = target if isinstance(target, VarSym) else self.model.symbol(target) if isinstance(target, ast.Name) else None
                 if isinstance(sym, VarSym) and isinstance(T.single(sym.type), T.FunctionT):
-                    table = self.fn_tables.setdefault(sym.name, [])
-                    if expr_text(value) not in [expr_text(v) for v in table]:
-                        self._check_storable(value, sym.name)
-                        table.append(value)
+                    raw.setdefault(sym.name, []).append(value)
+            self.fn_tables = {n: self._expanded(n, raw, set()) for n in raw}
         return self.fn_tables.get(name, [])
+
+    def _expanded(self, name: str, raw: dict[str, list[ast.Expr]], seen: set[str]) -> list[ast.Expr]:
+        seen.add(name)
+        table: list[ast.Expr] = []
+        for value in raw.get(name, []):
+            source = self._function_variable(value)
+            for v in ([] if source is not None and source.name in seen else self._expanded(source.name, raw, seen)
+                      if source is not None else [value]):
+                if expr_text(v) not in [expr_text(x) for x in table]:
+                    self._check_storable(v, name)
+                    table.append(v)
+        return table
 
     def _check_storable(self, value: ast.Expr, name: str) -> None:
         """A value stored in a function variable reads no machine variable (see the module doc)."""

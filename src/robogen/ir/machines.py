@@ -264,7 +264,7 @@ class MachineLowering(StatementLowering, BindingLowering, ExpressionLowering, Fu
             var = self.vars[name]
             if (v.kind == "var" or (v.kind == "const" and id(var) not in parameters)) and v.init is not None:
                 if isinstance(var.type, T.FunctionT):
-                    var.init = self.function_value(ir.Ref(var.type, var), v.init, v.init.span)
+                    var.init = self.function_value(ir.Ref(var.type, var), v.init, v.init.span, graph)
                 else:
                     var.init = self.conv(self.expr(v.init, graph), var.type, v.init.span)
         start = self.block(f"start {self.scope.name}", self.scope.node.name_span)  # type: ignore[attr-defined]

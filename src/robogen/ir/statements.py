@@ -154,7 +154,7 @@ class StatementLowering:
     def _s_Assign(self, s: ast.Assign, cur: ir.Block, graph: Graph) -> ir.Block:
         target = self.lvalue(s.target, graph)
         if isinstance(target.type, T.FunctionT):  # a function variable stores the number of a function value
-            cur.stmts.append(ir.Assign(s.span, target, self.function_value(target, s.value, s.span)))  # type: ignore[attr-defined]
+            cur.stmts.append(ir.Assign(s.span, target, self.function_value(target, s.value, s.span, graph)))  # type: ignore[attr-defined]
             return cur
         cur.stmts.append(ir.Assign(s.span, target, self.conv(self.expr(s.value, graph), target.type, s.value.span)))
         return cur
