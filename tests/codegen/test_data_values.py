@@ -127,6 +127,39 @@ def test_a_function_variable_assigned_another_takes_the_value_it_holds(tmp_path)
     assert outputs == {"first": [20, 103], "second": [102, 103], "third": [20, 103]}
 
 
+EMPTY = """\
+import set_toolkit::*
+import sequence_toolkit::*
+datatype P { x: nat }
+stm Empty {
+	event go
+	event seq: Seq(P)
+	event count: nat
+	event same: boolean
+	var s: Set(int) = {5}
+	var b: boolean = true
+	initial i
+	state Idle { }
+	transition t0 { from i to Idle }
+	transition t1 { from Idle to Idle trigger go action seq!(let q == if b then <> else <> end @ reverse(q)) ;
+		s = union({}, inter({}, {})) ; count!(size(union({}, {})) + 7) ; same!({} != {}) ; b = not b }
+}
+"""
+
+
+def test_empty_enumerations_that_nothing_types_are_empty_sets_and_sequences(tmp_path):
+    """Found by the model fuzzer: `{} != {}` and `if b then <> else <> end` (elements of no known
+    type) crashed code generation (no C type for <unknown>). They are empty: seq sends no
+    element, count is 0 + 7, the two empty sets are equal, s becomes empty."""
+    scenario = Scenario([Instant(True, early=(Tick("go", {}),)) for _ in range(2)], half=False)
+    got, _ = _run(tmp_path, "empty", EMPTY, scenario)
+    sent = [s.outputs for s in got.steps if s.outputs]
+    assert [o["seq"]["seq.value.size"] for o in sent] == [0, 0]
+    assert [o["count"]["count.value"] for o in sent] == [7, 7]
+    assert [o["same"]["same.value"] for o in sent] == [False, False]
+    assert got.steps[-1].variables["Empty.s.size"] == 0
+
+
 STRINGS = """\
 stm Str {
 	const greeting: string = "hello"

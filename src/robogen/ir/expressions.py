@@ -33,6 +33,9 @@ _UNSUPPORTED = {
     ast.MatrixOp: "inverse/transpose",
 }
 
+# collection operations whose result holds elements of their collection arguments (of one type)
+_ELEMENTWISE = ("union", "inter", "diff", "symdiff", "cat", "reverse", "tail", "front", "filter", "elems")
+
 _BINARY = {
     "iff": "iff", "=>": "implies", "\\/": "or", "/\\": "and",
     "==": "eq", "!=": "ne", "<": "lt", "<=": "le", ">": "gt", ">=": "ge",
@@ -146,6 +149,14 @@ class ExpressionLowering:
             return e
         if source in T.NUMERIC and t.element in T.NUMERIC:  # each element converted (a set re-ordered)
             return ir.Coll(t, "conv", (e,), f"{e.type.show()} as {t.show()}", span)
+        # a value built from enumerations (`if c then {} else {} end`, `union({}, {})`, whose
+        # elements nothing typed): built from the enumerations as the type it is used as
+        if isinstance(e, ir.Cond):
+            return ir.Cond(t, e.cond, self.conv(e.then, t, span), self.conv(e.otherwise, t, span))
+        if isinstance(e, ir.Coll) and e.op in _ELEMENTWISE:
+            args = tuple(self.conv(a, type(a.type)(t.element), span) if is_collection(a.type)  # type: ignore[call-arg]
+                         and a.type.element == source else a for a in e.args)  # type: ignore[attr-defined]
+            return ir.Coll(t, e.op, args, e.text, e.span)
         raise not_supported(f"using a {e.type.show()} as a {t.show()}", span)
 
     def since_type(self) -> T.Type:

@@ -78,6 +78,8 @@ def normalise(t: T.Type, given: str = "int") -> T.Type:
     t = T.single(t)
     if isinstance(t, T.Given):
         return T.PRIMITIVES[given]
+    if isinstance(t, T.UnknownT):  # the elements of a set or sequence nothing gives a type: it is empty
+        return T.INT
     if isinstance(t, T.ProductT):
         return tuple_type(tuple(normalise(x, given) for x in t.items))
     if isinstance(t, T.SetT):
