@@ -107,26 +107,39 @@ def _put(node: ast.Node, name: str, value, i: int, child: ast.Node) -> ast.Node:
 
 def shrink(file: ast.File, fails: Predicate, *, seconds: float = 600.0, log: Callable[[str], None] | None = None) -> ast.File:
     """The smallest variant of ``file`` found in ``seconds`` for which ``fails`` holds (``file``
-    itself must fail)."""
+    itself must fail). After a variant is kept, the search goes on from the same place in the
+    order of variants (those before it were just rejected), and starts over from the root once
+    it has run through them all; it stops when a whole pass keeps nothing."""
     deadline = time.monotonic() + seconds
     tried: set[str] = set()
     current, size = file, len(printer.file(file))
-    improved = True
-    while improved and time.monotonic() < deadline:
-        improved = False
-        for candidate in variants(current):
+    start = 0
+    while time.monotonic() < deadline:
+        kept = None
+        for position, candidate in enumerate(variants(current)):
+            if position < start:
+                continue
             if time.monotonic() > deadline:
-                break
-            text = printer.file(candidate)  # type: ignore[arg-type]
+                return current
+            try:
+                text = printer.file(candidate)  # type: ignore[arg-type]
+            except TypeError:  # a part the syntax needs was dropped (the value of `e!v`)
+                continue
             if len(text) >= size or text in tried:
                 continue
             tried.add(text)
             if fails(candidate):  # type: ignore[arg-type]
+                kept = position
                 current, size = candidate, len(text)  # type: ignore[assignment]
                 if log is not None:
                     log(f"shrunk to {size} characters ({len(tried)} variants tried)")
-                improved = True
                 break
+        if kept is not None:
+            start = kept
+        elif start > 0:  # the end of the variants: once more from the root
+            start = 0
+        else:
+            return current
     return current
 
 
