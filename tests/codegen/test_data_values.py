@@ -160,6 +160,36 @@ def test_empty_enumerations_that_nothing_types_are_empty_sets_and_sequences(tmp_
     assert got.steps[-1].variables["Empty.s.size"] == 0
 
 
+PAIRS = """\
+import sequence_toolkit::*
+stm Pairs {
+	var p: Seq(nat * nat) = <(| 1, 2 |), (| 3, 4 |)>
+	var q: Seq(int * int)
+	var s: Set(nat * real) = {(| 2, 0.5 |), (| 1, 1.5 |)}
+	var u: Set(real * real)
+	event go
+	event first: int
+	event count: nat
+	event member: boolean
+	initial i
+	state Idle { }
+	transition t0 { from i to Idle }
+	transition t1 { from Idle to Idle trigger go
+		action q = reverse(p) ; first!(q[1][1] - 10) ; u = s ; count!size(u) ; member!((| 1.0, 1.5 |) in u) }
+}
+"""
+
+
+def test_a_collection_of_tuples_is_used_as_one_of_wider_numbers(tmp_path):
+    """Found by the model fuzzer: a Seq(nat * nat) used as a Seq(int * int) was "not supported"; its
+    tuples are converted field by field: q[1] is (| 3, 4 |), so first is 3 - 10; u holds the two
+    pairs of s as reals, (| 1.0, 1.5 |) among them."""
+    scenario = Scenario([Instant(True, early=(Tick("go", {}),))], half=False)
+    got, _ = _run(tmp_path, "pairs", PAIRS, scenario)
+    sent = {c: v[f"{c}.value"] for s in got.steps for c, v in s.outputs.items()}
+    assert sent == {"first": -7, "count": 2, "member": True}
+
+
 STRINGS = """\
 stm Str {
 	const greeting: string = "hello"

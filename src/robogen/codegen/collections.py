@@ -71,20 +71,13 @@ class CollectionCode:
         self.elements[t] = None
 
     def need_conv(self, source: T.SetT | T.SeqT, target: T.SetT | T.SeqT) -> str:
-        """The function converting each number of a ``source`` collection to ``target``'s
-        element type (as robogen.codegen.c converts one number)."""
+        """The function converting each element of a ``source`` collection to ``target``'s
+        element type (numbers as robogen.codegen.c converts one number; records and tuples field
+        by field)."""
         name = f"rg_conv_{collection_ctype(target)[3:]}_{elem_tag(source.element)}"
         self.types[source] = self.types[target] = None
         insert = self.need("insert", target) if isinstance(target, T.SetT) else None
-        s, t = source.element, target.element
-        if t == T.REAL:
-            x = "(double)s.a[i]"
-        elif s == T.REAL:
-            x = f"rg_r_to_{'u' if t == T.NAT else 'i'}(d, s.a[i])"
-        elif s == T.NAT and t == T.INT:
-            x = "rg_u_to_i(s.a[i])"
-        else:
-            x = f"(({ctype(t)})s.a[i])"
+        x = _converted("s.a[i]", source.element, target.element)
         c = collection_ctype(target)
         store = f"{insert}(d, 0, &r, {x})" if insert else f"r.a[i] = {x}"
         count = "" if insert else "    r.n = s.n;\n"
@@ -365,6 +358,23 @@ _FILTERS = ("dres", "dsub", "rres", "rsub")
 
 FALLIBLE = {*RELATION_OPS, "undefined", "conv", "set", "seq", "union", "inter", "diff", "symdiff", "cat", "head", "last", "tail", "front", "reverse",
             "elems", "range", "min", "max"}
+
+
+def _converted(x: str, s: T.Type, t: T.Type) -> str:
+    """The C expression of element ``x`` of type ``s`` as one of type ``t``: a number converted as
+    robogen.codegen.c converts one; a record or tuple field by field."""
+    if isinstance(t, T.RecordT) and isinstance(s, T.RecordT):
+        fields = ", ".join(f".{n} = {_converted(f'{x}.{n}', s.field(n), ft)}" for n, ft in t.fields)  # type: ignore[arg-type]
+        return f"(({ctype(t)}){{ {fields} }})"
+    if s == t:
+        return x
+    if t == T.REAL:
+        return f"(double){x}"
+    if s == T.REAL:
+        return f"rg_r_to_{'u' if t == T.NAT else 'i'}(d, {x})"
+    if s == T.NAT and t == T.INT:
+        return f"rg_u_to_i({x})"
+    return f"(({ctype(t)}){x})"
 
 
 def call(code: CollectionCode, e: ir.Coll, args: list[str], site: int) -> str:

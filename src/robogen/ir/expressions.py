@@ -33,6 +33,18 @@ _UNSUPPORTED = {
     ast.MatrixOp: "inverse/transpose",
 }
 
+def _convertible(source: T.Type, target: T.Type) -> bool:
+    """Can an element of type ``source`` be converted to ``target``: numbers, and records or
+    tuples whose fields can (``Seq(nat * nat)`` used as a ``Seq(int * int)``)?"""
+    if source in T.NUMERIC and target in T.NUMERIC:
+        return True
+    if isinstance(source, T.RecordT) and isinstance(target, T.RecordT) and not isinstance(target, T.EnumT):
+        names = [n for n, _ in target.fields]
+        return names == [n for n, _ in source.fields] and all(
+            st == tt or _convertible(st, tt) for (_, st), (_, tt) in zip(source.fields, target.fields))
+    return False
+
+
 # collection operations whose result holds elements of their collection arguments (of one type)
 _ELEMENTWISE = ("union", "inter", "diff", "symdiff", "cat", "reverse", "tail", "front", "filter", "elems")
 
@@ -147,7 +159,7 @@ class ExpressionLowering:
         source = e.type.element  # type: ignore[attr-defined]
         if isinstance(source, T.UnknownT) or source == t.element:
             return e
-        if source in T.NUMERIC and t.element in T.NUMERIC:  # each element converted (a set re-ordered)
+        if _convertible(source, t.element):  # each element converted (a set re-ordered)
             return ir.Coll(t, "conv", (e,), f"{e.type.show()} as {t.show()}", span)
         # a value built from enumerations (`if c then {} else {} end`, `union({}, {})`, whose
         # elements nothing typed): built from the enumerations as the type it is used as

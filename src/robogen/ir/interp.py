@@ -515,9 +515,9 @@ class Interpreter:
         where = self.fmu.place(e.span)
         if e.op == "undefined":
             raise RuntimeFault(f"machine {m.name}: {e.text} at {where}")
-        if e.op == "conv":  # numbers converted one by one, as Conv converts them
+        if e.op == "conv":  # elements converted one by one, as Conv converts numbers
             source, target = e.args[0].type.element, e.type.element  # type: ignore[attr-defined]
-            items = [convert(x, source, target) for x in args[0]]
+            items = [convert_element(x, source, target) for x in args[0]]
             return C.received(items, len(items), e.type, self.fmu.capacity)
         try:
             return copy.deepcopy(C.apply(e.op, args, [a.type for a in e.args], self.fmu.capacity,
@@ -595,6 +595,13 @@ def convert(v, source: T.Type, target: T.Type):
     if target == T.NAT:
         return wrap_nat(int(v))
     return v
+
+
+def convert_element(v, source: T.Type, target: T.Type):
+    """A number converted (see convert), or a record or tuple converted field by field."""
+    if isinstance(target, T.RecordT) and isinstance(source, T.RecordT):
+        return {n: convert_element(v[n], source.field(n), ft) for n, ft in target.fields}  # type: ignore[arg-type]
+    return convert(v, source, target) if source != target else v
 
 
 def _neg(v, t: T.Type):
