@@ -31,6 +31,8 @@ def _parser() -> argparse.ArgumentParser:
     p.add_argument("--sanitize-every", type=int, default=20, help="run the sanitizers on one model in this many (0: never)")
     p.add_argument("--sanitize", action="store_true", help="run the sanitizers on every model")
     p.add_argument("--no-validate", action="store_true", help="do not validate the FMUs (faster)")
+    p.add_argument("--optimise-all", action="store_true", help="build both semantics' FMUs with the product's -O2 "
+                   "(by default one of them, in turn, the other at -O0)")
     p.add_argument("--shrink-seconds", type=float, default=300.0, help="time to shrink a failure (0: do not shrink)")
     p.add_argument("--regressions", type=Path, default=Path("tests/fuzz/regressions"),
                    help="where shrunk failures are written")
@@ -62,7 +64,7 @@ def main(argv: list[str] | None = None) -> int:
     from robogen.fuzz.runner import Settings, check_one, run
 
     settings = Settings(args.seed, args.count, on, args.jobs, args.sanitize_every, args.sanitize, args.shrink_seconds,
-                        args.regressions, budget=budget, work=args.work)
+                        args.regressions, budget=budget, work=args.work, optimise_all=args.optimise_all)
     if args.model:
         outcome = check_one(args.model, settings, budget)
         print(f"model {args.model} ({outcome.language}): passed {', '.join(outcome.passed) or 'nothing'}"

@@ -14,6 +14,7 @@ from __future__ import annotations
 import random
 from dataclasses import dataclass, field, replace
 
+from robogen.fuzz.toolkit import ToolkitForms
 from robogen.fuzz.typegen import NUMBERS, TypeEnv, is_collection, is_tagged, name, type_ast
 from robogen.semantics import limits
 from robogen.semantics import types as T
@@ -74,7 +75,7 @@ def fits(value: T.Type, target: T.Type) -> bool:
 
 
 @dataclass
-class Exprs:
+class Exprs(ToolkitForms):
     rng: random.Random
     env: TypeEnv
     on: frozenset[str]
@@ -89,6 +90,10 @@ class Exprs:
     def chance(self, p: float) -> bool:
         return self.rng.random() < p
 
+    @staticmethod
+    def sym(x: str, t: T.Type) -> Sym:
+        return Sym(x, t, "binder")
+
     # ---------------------------------------------------------------- entry point
 
     def expr(self, t: T.Type, sc: Scope, depth: int = 2) -> tuple[ast.Expr, T.Type]:
@@ -96,13 +101,16 @@ class Exprs:
         rng = self.rng
         self.written.add(t)
         if depth <= 0 or rng.random() < 0.25:
-            return self.leaf(t, sc)
-        options = self._generic(t, sc) + self._specific(t, sc)
-        if not options:
-            return self.leaf(t, sc)
-        weights = [w for w, _ in options]
-        make = rng.choices([m for _, m in options], weights)[0]
-        return make(depth - 1)
+            result = self.leaf(t, sc)
+        else:
+            options = self._generic(t, sc) + self._specific(t, sc) + self.toolkit_forms(t, sc)
+            if not options:
+                result = self.leaf(t, sc)
+            else:
+                make = rng.choices([m for _, m in options], [w for w, _ in options])[0]
+                result = make(depth - 1)
+        self.written.add(result[1])  # (a tuple of literals has the literals' types: nat * nat)
+        return result
 
     def leaf(self, t: T.Type, sc: Scope) -> tuple[ast.Expr, T.Type]:
         syms = sc.of_type(t)
@@ -341,6 +349,7 @@ class Exprs:
             forms.append((5, self._guard_atom))
         if any(is_collection(s.type) for s in sc.syms):
             forms.append((2, self._member))
+        forms += self.predicates(sc)
         make = rng.choices([m for _, m in forms], [w for w, _ in forms])[0]
         return make(sc, d - 1)
 

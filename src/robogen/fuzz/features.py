@@ -48,6 +48,8 @@ FEATURES: tuple[Feature, ...] = (
     Feature("function_values", True, "lambdas and function-typed variables"),
     Feature("strings", True, "string variables, literals and events"),
     Feature("lets", True, "let and if expressions, casts"),
+    Feature("matrix_ops", False, "transpose (and inverse) of matrices",
+            "not supported for code generation on main ('inverse/transpose'), and not in README's Known limits"),
     # ---- still refused by code generation on main (issue 23): the other branches' areas
     Feature("nested_collections", False, "Seq(Seq(T)), collections of records whose fields hold collections",
             "not supported for code generation on main (issue 23, helper 'collections')"),

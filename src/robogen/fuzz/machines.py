@@ -106,7 +106,8 @@ class Machines:
             t = x.env.draw("var", 1)
             c = Sym(x.fresh("k"), t, "const")
             scope = Scope(syms=tuple(consts), robosim=spec.robosim, lambdas=False)
-            if "constant_expressions" not in self.on and (t in SCALARS or isinstance(t, (T.EnumT, T.VectorT, T.MatrixT))):
+            if "constant_expressions" not in self.on and (t in SCALARS or t == T.STRING
+                                                          or isinstance(t, (T.EnumT, T.VectorT, T.MatrixT))):
                 value = x.foldable(t, scope)
             else:
                 value = x.expr(t, scope, 1)[0]

@@ -20,6 +20,7 @@ from __future__ import annotations
 
 import random
 import re
+import resource
 import shutil
 import time
 import traceback
@@ -28,10 +29,13 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 from robogen import differential
-from robogen.codegen.api import build_fmu, compile_model
+from robogen.codegen import binary
+from robogen.codegen.api import build_fmu, compile_checked
 from robogen.codegen.generate import CodegenOptions
 from robogen.diagnostics import RobogenError
+from robogen.fmu.headers import PLATFORM_TUPLE
 from robogen.fuzz.model import Generated
+from robogen.ir.boundary import select_boundary
 from robogen.ir.lower import LoweringOptions
 from robogen.semantics import check_paths
 from robogen.syntax import printer
@@ -54,6 +58,9 @@ class Budget:
     semantics: tuple[str, ...] = ("exhaustive", "stepwise")  # (shrinking looks at the failing one only)
     through: str = "sanitize"  # the last property checked (shrinking stops at the one that failed)
     build: bool = True  # compile the generated C (shrinking a failure of code generation does not)
+    # the semantics whose FMU is packaged with the product's flags (-O2) and validated; the
+    # others' binary is built alone at -O0 (the runner alternates, to halve the compiler's time)
+    optimise: tuple[str, ...] = ("exhaustive", "stepwise")
 
 
 @dataclass
@@ -79,6 +86,7 @@ class Outcome:
     warnings: int = 0
     seconds: dict[str, float] = field(default_factory=dict)
     steps: int = 0  # super-dense steps compared
+    cpu: float = 0.0  # CPU seconds it took (with the C compiler's)
     outputs: int = 0  # output clock ticks compared
 
 
@@ -91,6 +99,7 @@ def _signature(kind: str, message: str) -> str:
         line = next((x[x.index("error:"):] for x in lines if "error:" in x), line)
     elif kind == "internal":
         line = lines[-1]
+    line = re.sub(r"\S*/", "", line)  # the folders of the model's files (a temporary folder each time)
     line = re.sub(r"\b[A-Za-z_]+\d+\b", "N", line)
     return re.sub(r"\d+", "0", line)[:160]
 
@@ -104,13 +113,21 @@ def check_model(g: Generated, work: Path, budget: Budget) -> Outcome:
     to remove)."""
     out = Outcome(g.seed, g.language)
     work.mkdir(parents=True, exist_ok=True)
+    cpu = _cpu()
     try:
         _run(g, work, budget, out)
     except _Stop:
         pass
     except Exception:  # noqa: BLE001 - any other exception is robogen's own bug: that is what this reports
         out.failure = Failure(_next(out), "internal", traceback.format_exc())
+    out.cpu = _cpu() - cpu
     return out
+
+
+def _cpu() -> float:
+    """CPU seconds of this process and of the processes it waited for (the C compiler)."""
+    children = resource.getrusage(resource.RUSAGE_CHILDREN)
+    return time.process_time() + children.ru_utime + children.ru_stime
 
 
 def _next(out: Outcome) -> str:
@@ -142,7 +159,12 @@ def _run(g: Generated, work: Path, budget: Budget, out: Outcome) -> None:
     out.passed.append("check")
     if budget.through == "check":
         return
-    builds = {s: _package(g, path, functions, work / s, s, budget, out) for s in budget.semantics}
+    try:
+        boundary = select_boundary(model)
+    except RobogenError as exc:
+        raise _fail(out, "package", "internal", f"{budget.semantics[0]}: no boundary: {exc}") from None
+    inputs = [path] + ([functions] if functions is not None else [])
+    builds = {s: _package(g, (model, boundary, inputs), work / s, s, budget, out) for s in budget.semantics}
     out.passed.append("package")
     if budget.through == "package":
         return
@@ -199,12 +221,16 @@ class _Build:
     built: differential.Built
 
 
-def _package(g: Generated, path: Path, functions: Path | None, work: Path, semantics: str, budget: Budget,
-             out: Outcome) -> _Build:
+def _package(g: Generated, checked: tuple, work: Path, semantics: str, budget: Budget, out: Outcome) -> _Build:
+    """Generate the FMU of one semantics and build it: packaged and validated (the product's
+    -O2), or, for a semantics not in ``budget.optimise``, its binary alone at -O0 (faster)."""
+    model, boundary, inputs = checked
     started = time.perf_counter()
     options = LoweringOptions(semantics=semantics, capacity=g.capacity)
+    functions = inputs[1] if len(inputs) > 1 else None
     try:
-        compiled = compile_model([path], work / "src", options=options, codegen=CodegenOptions(functions=functions))
+        compiled = compile_checked(model, boundary, work / "src", options=options,
+                                   codegen=CodegenOptions(functions=functions), inputs=inputs)
     except RobogenError as exc:
         _timed(out, "generate", started)
         raise _refused(out, exc, semantics) from None
@@ -214,15 +240,22 @@ def _package(g: Generated, path: Path, functions: Path | None, work: Path, seman
     if not budget.build:
         return _Build(semantics, differential.Built(compiled.fmu, work, work, {}))
     started = time.perf_counter()
+    ident = compiled.generated.model_identifier
+    optimised = semantics in budget.optimise
     try:
-        archive = build_fmu(compiled.folder, work / f"{compiled.fmu.model_identifier}.fmu",
-                            model_identifier=compiled.generated.model_identifier, validate=budget.validate)
+        if optimised:
+            archive = build_fmu(compiled.folder, work / f"{ident}.fmu", model_identifier=ident, validate=budget.validate)
+        else:
+            binary.compile_fmu_binary(compiled.folder / "sources", ident,
+                                      compiled.folder / "binaries" / PLATFORM_TUPLE / f"{ident}.so", extra_cflags=("-O0",))
     except RobogenError as exc:
         _timed(out, "compile", started)
         message = str(exc) + "\n" + "\n".join(d.message for d in exc.diagnostics[1:4])
         kind = "compile" if "compiling FMU" in exc.diagnostics[0].message else "internal"
-        raise _fail(out, "package", kind, f"{semantics}: {message}") from None
+        raise _fail(out, "package", kind, f"{semantics}{'' if optimised else ' (-O0)'}: {message}") from None
     _timed(out, "compile", started)
+    if not optimised:
+        return _Build(semantics, differential.Built(compiled.fmu, compiled.folder, compiled.folder, {}))
     folder = work / "unzipped"
     with zipfile.ZipFile(archive) as z:
         z.extractall(folder)

@@ -41,9 +41,11 @@ def _keep_functions(g: Generated, file: ast.File) -> tuple[UserFn, ...]:
 def shrink_failure(g: Generated, failure: Failure, budget: Budget, work: Path, seconds: float) -> Generated:
     """The smallest variant of ``g`` found in ``seconds`` that fails like ``failure``."""
     semantics = tuple(s for s in budget.semantics if failure.message.startswith(s)) or budget.semantics
-    focused = Budget(budget.scenarios, budget.instants, failure.prop == "sanitize", budget.validate, semantics,
-                     through=failure.prop if failure.prop in ("check", "package") else "sanitize",
-                     build="code generation" not in failure.message.splitlines()[0])
+    first = failure.message.splitlines()[0] if failure.message else ""
+    focused = replace(budget, sanitize=failure.prop == "sanitize", semantics=semantics,
+                      through=failure.prop if failure.prop in ("check", "package") else "sanitize",
+                      build="code generation" not in first,
+                      optimise=() if "(-O0)" in first else tuple(s for s in semantics if s in budget.optimise))
     count = [0]
 
     def fails(file: ast.File) -> bool:

@@ -18,13 +18,13 @@ import tempfile
 import time
 import traceback
 from collections import Counter
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import Callable, TextIO
 
 from robogen.fuzz.features import FEATURES
 from robogen.fuzz.model import generate, model_seed
-from robogen.fuzz.properties import KINDS, PROPERTIES, Budget, Failure, Outcome, check_model, remove
+from robogen.fuzz.properties import KINDS, PROPERTIES, SEMANTICS, Budget, Failure, Outcome, check_model, remove
 
 
 @dataclass
@@ -40,12 +40,16 @@ class Settings:
     timeout: float = 600.0  # seconds one model may take (shrinking not counted)
     budget: Budget = field(default_factory=Budget)
     work: Path | None = None  # where models are built (default: a temporary folder)
+    optimise_all: bool = False  # both semantics at -O2 (else one of them, in turn)
 
 
 def budget_for(settings: Settings, index: int) -> Budget:
+    """Model ``index``'s budget: the sanitizers on a sample; the product's -O2 (and validation)
+    for one semantics, the other built at -O0, in turn (unless ``settings.optimise_all``)."""
     b = settings.budget
     sample = settings.sanitize_all or (settings.sanitize_every > 0 and index % settings.sanitize_every == 0)
-    return Budget(b.scenarios, b.instants, sample, b.validate, b.semantics, b.through)
+    optimise = b.optimise if settings.optimise_all else (SEMANTICS[index % 2],)
+    return replace(b, sanitize=sample, optimise=optimise)
 
 
 # ---------------------------------------------------------------------------- the worker
@@ -217,7 +221,9 @@ def print_table(report: Report, out: TextIO) -> None:
     phases = Counter()
     for o in report.outcomes:
         phases.update(o.seconds)
-    print(f"\nseconds: {report.seconds:.0f} in all, {report.seconds / max(n, 1):.2f} per model; CPU seconds by phase: "
+    cpu = sum(o.cpu for o in report.outcomes)
+    print(f"\nseconds: {report.seconds:.0f} in all, {report.seconds / max(n, 1):.2f} per model; CPU {cpu:.0f} s "
+          f"({cpu / max(n, 1):.2f} per model, C compiler included); wall seconds by phase: "
           + ", ".join(f"{k} {v:.0f}" for k, v in phases.most_common()), file=out)
     for o in report.outcomes:
         if o.failure is not None:
