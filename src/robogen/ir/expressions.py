@@ -10,7 +10,7 @@ from __future__ import annotations
 from fractions import Fraction
 from typing import TYPE_CHECKING
 
-from robogen.diagnostics import Span, working_on
+from robogen.diagnostics import RobogenError, Span, working_on
 from robogen.ir import linear
 from robogen.ir import model as ir
 from robogen.ir.collections import RELATION_OPS
@@ -144,11 +144,33 @@ class ExpressionLowering:
             return ir.Conv(t, e)
         if isinstance(t, (T.VectorT, T.MatrixT)) and isinstance(e, ir.VectorLit):
             return ir.VectorLit(t, tuple(self.conv(x, t.element, span) for x in e.items))
+        if isinstance(t, (T.VectorT, T.MatrixT)) and type(e.type) is type(t) and e.type.element != t.element:  # type: ignore[attr-defined]
+            return self._conv_linear(e, t, span)
         if isinstance(t, T.RecordT) and isinstance(e, ir.RecordLit):
             return ir.RecordLit(t, tuple((n, self.conv(v, t.field(n), span)) for n, v in e.values))
         if is_collection(t) and type(t) is type(e.type):
             return self._conv_collection(e, t, span)  # type: ignore[arg-type]
         return e
+
+    def _conv_linear(self, e: ir.Expr, t: T.VectorT | T.MatrixT, span: Span | None) -> ir.Expr:
+        """A vector or matrix as one of another number type (`vector(nat, 2)` used as a
+        `vector(int, 2)`): the branches of a conditional converted, else each element."""
+        if isinstance(e, ir.Cond):
+            return ir.Cond(t, e.cond, self.conv(e.then, t, span), self.conv(e.otherwise, t, span))
+        if isinstance(t, T.VectorT):
+            places = [(ir.Lit(T.INT, i + 1),) for i in range(t.size or 0)]
+        else:
+            places = [(ir.Lit(T.INT, r + 1), ir.Lit(T.INT, c + 1)) for r in range(t.rows or 0) for c in range(t.columns or 0)]
+        source = e.type.element  # type: ignore[attr-defined]
+        return ir.VectorLit(t, tuple(self.conv(ir.IndexOf(source, e, at), t.element, span) for at in places))
+
+    def converted(self, e: ir.Expr, t: T.Type, span: Span | None) -> ir.Expr | None:
+        """``e`` as a value of ``t``, or None when it cannot be one."""
+        try:
+            value = self.conv(e, t, span)
+        except RobogenError:
+            return None
+        return value if value.type == t else None
 
     def _conv_collection(self, e: ir.Expr, t: T.SetT | T.SeqT, span: Span | None) -> ir.Expr:
         """A set or sequence as one of another element type: an enumeration's elements are
@@ -282,21 +304,28 @@ class ExpressionLowering:
             raise not_supported(f"'{e.op}' on {a.type.show()}", e.span)
         if not (is_scalar(a.type) or isinstance(a.type, (T.RecordT, T.VectorT, T.MatrixT, T.SetT, T.SeqT)) or a.type == T.STRING):
             raise not_supported(f"comparing values of type {a.type.show()}", e.span)
-        if a.type != b.type:  # a literal takes the type of the other side: [| 0, 0 |] is vector(nat, 2)
-            if self.conv(b, a.type, e.right.span).type == a.type:
-                b = self.conv(b, a.type, e.right.span)
-            elif self.conv(a, b.type, e.left.span).type == b.type:
-                a = self.conv(a, b.type, e.left.span)
-            else:
-                raise not_supported(f"comparing a {a.type.show()} with a {b.type.show()}", e.span)
+        a, b = self._one_type(a, b, e.span)
         return ir.Bin(T.BOOLEAN, op, a, b)
 
-    def equal(self, a: ir.Expr, b: ir.Expr) -> ir.Expr:
-        """a == b, numbers compared in their common type."""
+    def _one_type(self, a: ir.Expr, b: ir.Expr, span: Span | None) -> tuple[ir.Expr, ir.Expr]:
+        """Two values to compare, of one type: a literal takes the type of the other side
+        ([| 0, 0 |] is vector(nat, 2)), the narrower side the wider one's."""
+        if a.type == b.type:
+            return a, b
+        b_as_a = self.converted(b, a.type, span)
+        if b_as_a is not None:
+            return a, b_as_a
+        a_as_b = self.converted(a, b.type, span)
+        if a_as_b is not None:
+            return a_as_b, b
+        raise not_supported(f"comparing a {a.type.show()} with a {b.type.show()}", span)
+
+    def equal(self, a: ir.Expr, b: ir.Expr, span: Span | None = None) -> ir.Expr:
+        """a == b, numbers compared in their common type, other values as one type."""
         if a.type in T.NUMERIC and b.type in T.NUMERIC:
             t = T.REAL if T.REAL in (a.type, b.type) else T.INT
             return ir.Bin(T.BOOLEAN, "eq", self.conv(a, t, None), self.conv(b, t, None))
-        return ir.Bin(T.BOOLEAN, "eq", a, b)
+        return ir.Bin(T.BOOLEAN, "eq", *self._one_type(a, b, span))
 
     def _e_IfExpr(self, e: ast.IfExpr, graph: Graph) -> ir.Expr:
         t = self._type(e)
