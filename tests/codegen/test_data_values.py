@@ -127,6 +127,41 @@ def test_a_function_variable_assigned_another_takes_the_value_it_holds(tmp_path)
     assert outputs == {"first": [20, 103], "second": [102, 103], "third": [20, 103]}
 
 
+OPERATION_FUNCTIONS = """\
+interface Ops { twice(n: int) }
+operation twice(n: int) {
+	event first: int
+	event second: int
+	var f: int -> int = lambda x: int @ x * 2
+	var g: int -> int
+	initial i
+	final F
+	transition t { from i to F action first!f(n) ; g = f ; f = lambda x: int @ x + 1 ; second!(f(n) + g(n)) }
+}
+stm S {
+	requires Ops
+	event go: int
+	event first: int
+	event second: int
+	var k: int = 0
+	initial i
+	state A { }
+	transition t0 { from i to A }
+	transition t1 { from A to A trigger go?k action twice(k) }
+}
+"""
+
+
+def test_an_operation_has_function_variables_of_its_own(tmp_path):
+    """Found by the model fuzzer: a function variable declared by an operation was "not supported"
+    (its initial lambda, its assignments). Each call starts f as x * 2: go(5) sends f(5) = 10,
+    then (g = the old f, f = x + 1) 6 + 10; go(3) sends 6, then 4 + 6."""
+    scenario = Scenario([Instant(True, early=(Tick("go", {"go.value": v}),)) for v in (5, 3)], half=False)
+    got, _ = _run(tmp_path, "opfun", OPERATION_FUNCTIONS, scenario)
+    sent = [(c, v[f"{c}.value"]) for s in got.steps for c, v in sorted(s.outputs.items())]
+    assert sent == [("first", 10), ("second", 16), ("first", 6), ("second", 10)]
+
+
 EMPTY = """\
 import set_toolkit::*
 import sequence_toolkit::*

@@ -87,7 +87,7 @@ class FunctionValues:
 
     def _apply_variable(self, sym: VarSym, f: ast.Name, args: list[ir.Expr], e: ast.Expr, graph: Graph) -> ir.Expr:
         ref = self.var_ref(graph, sym, f.span)
-        values = self.function_table(sym.name)
+        values = self.function_table(graph.scope, sym.name)
         ftype = T.single(sym.type)
         assert isinstance(ftype, T.FunctionT)
         result_t = self._norm(ftype.range)
@@ -100,11 +100,11 @@ class FunctionValues:
 
     # -- storing
 
-    def function_value(self, target: ir.Expr, value: ast.Expr, span, graph: Graph) -> ir.Expr:
-        """The number that a function-typed variable stores for ``value``: that of the function
-        value; for another function variable (or itself), the number of the value it holds now."""
-        name = target.var.name if isinstance(target, ir.Ref) else "?"
-        values = self.function_table(name)
+    def function_value(self, target: ir.Expr, value: ast.Expr, span, graph: Graph, name: str) -> ir.Expr:
+        """The number that function variable ``name`` (of the machine or operation ``graph``
+        lowers) stores for ``value``: that of the function value; for another function variable
+        (or itself), the number of the value that one holds now."""
+        values = self.function_table(graph.scope, name)
         source = self._function_variable(value)
         if source is not None:
             return self._copied(source, values, graph, span)
@@ -120,7 +120,7 @@ class FunctionValues:
         ref = self.var_ref(graph, source, span)
         texts = [expr_text(v) for v in values]
         result: ir.Expr = ir.Lit(T.INT, 0)
-        theirs = self.function_table(source.name)
+        theirs = self.function_table(graph.scope, source.name)
         for k in range(len(theirs), 0, -1):
             n = texts.index(expr_text(theirs[k - 1])) + 1
             result = ir.Cond(T.INT, ir.Bin(T.BOOLEAN, "eq", ref, ir.Lit(T.INT, k)), ir.Lit(T.INT, n), result)
@@ -135,17 +135,19 @@ class FunctionValues:
             return sym
         return None
 
-    def function_table(self, name: str) -> list[ast.Expr]:
-        """The function values the machine may store in variable ``name``, in the order written;
-        a value that names another function variable (or this one) stands for that variable's."""
-        if self.fn_tables is None:
+    def function_table(self, scope, name: str) -> list[ast.Expr]:
+        """The function values the machine or operation ``scope`` may store in its variable
+        ``name``, in the order written; a value that names another function variable (or this
+        one) stands for that variable's."""
+        tables = self.fn_tables.get(id(scope))
+        if tables is None:
             raw: dict[str, list[ast.Expr]] = {}
-            for target, value in _assignments(self.scope):
+            for target, value in _assignments(scope):
                 sym = target if isinstance(target, VarSym) else self.model.symbol(target) if isinstance(target, ast.Name) else None
                 if isinstance(sym, VarSym) and isinstance(T.single(sym.type), T.FunctionT):
                     raw.setdefault(sym.name, []).append(value)
-            self.fn_tables = {n: self._expanded(n, raw, set()) for n in raw}
-        return self.fn_tables.get(name, [])
+            tables = self.fn_tables[id(scope)] = {n: self._expanded(n, raw, set()) for n in raw}
+        return tables.get(name, [])
 
     def _expanded(self, name: str, raw: dict[str, list[ast.Expr]], seen: set[str]) -> list[ast.Expr]:
         seen.add(name)

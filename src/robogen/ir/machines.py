@@ -120,7 +120,8 @@ class MachineLowering(StatementLowering, BindingLowering, ExpressionLowering, Fu
         # id(declaration of a let name or lambda parameter) -> what it stands for (robogen.ir.bindings,
         # robogen.ir.functions)
         self.bound: dict = {}
-        self.fn_tables: dict[str, list[ast.Expr]] | None = None  # function variable -> the values it stores
+        # per machine or operation (by identity): function variable -> the values it stores
+        self.fn_tables: dict[int, dict[str, list[ast.Expr]]] = {}
         for name, v in scope.vars.items():
             self._declare_var(v, name)
         for name, e in scope.events.items():
@@ -264,7 +265,7 @@ class MachineLowering(StatementLowering, BindingLowering, ExpressionLowering, Fu
             var = self.vars[name]
             if (v.kind == "var" or (v.kind == "const" and id(var) not in parameters)) and v.init is not None:
                 if isinstance(var.type, T.FunctionT):
-                    var.init = self.function_value(ir.Ref(var.type, var), v.init, v.init.span, graph)
+                    var.init = self.function_value(ir.Ref(var.type, var), v.init, v.init.span, graph, name)
                 else:
                     var.init = self.conv(self.expr(v.init, graph), var.type, v.init.span)
         start = self.block(f"start {self.scope.name}", self.scope.node.name_span)  # type: ignore[attr-defined]

@@ -154,7 +154,8 @@ class StatementLowering:
     def _s_Assign(self, s: ast.Assign, cur: ir.Block, graph: Graph) -> ir.Block:
         target = self.lvalue(s.target, graph)
         if isinstance(target.type, T.FunctionT):  # a function variable stores the number of a function value
-            cur.stmts.append(ir.Assign(s.span, target, self.function_value(target, s.value, s.span, graph)))  # type: ignore[attr-defined]
+            name = s.target.last if isinstance(s.target, ast.Name) else "?"
+            cur.stmts.append(ir.Assign(s.span, target, self.function_value(target, s.value, s.span, graph, name)))  # type: ignore[attr-defined]
             return cur
         cur.stmts.append(ir.Assign(s.span, target, self.conv(self.expr(s.value, graph), target.type, s.value.span)))
         return cur
@@ -273,7 +274,9 @@ class StatementLowering:
         for name, v in op.vars.items():
             if v.kind in ("var", "const") and not v.shared and v.init is not None:
                 var = sub.env[name]
-                cur.stmts.append(ir.Assign(v.span, ir.Ref(var.type, var), self.conv(self.expr(v.init, sub), var.type, v.init.span)))
+                value = self.function_value(ir.Ref(var.type, var), v.init, v.init.span, sub, name) \
+                    if isinstance(var.type, T.FunctionT) else self.conv(self.expr(v.init, sub), var.type, v.init.span)
+                cur.stmts.append(ir.Assign(v.span, ir.Ref(var.type, var), value))
         caller_node = self.node_now
         self.inline_stack.append(op.name)
         try:
