@@ -4,6 +4,8 @@ and its model line, and never corrupts memory), function values, and strings."""
 
 from __future__ import annotations
 
+from pathlib import Path
+
 import pytest
 
 from support.codegen_driver import FmuRunner, Instant, Scenario, Tick, build, interpret
@@ -160,6 +162,23 @@ def test_an_operation_has_function_variables_of_its_own(tmp_path):
     got, _ = _run(tmp_path, "opfun", OPERATION_FUNCTIONS, scenario)
     sent = [(c, v[f"{c}.value"]) for s in got.steps for c, v in sorted(s.outputs.items())]
     assert sent == [("first", 10), ("second", 16), ("first", 6), ("second", 10)]
+
+
+MIXED = (Path(__file__).resolve().parent / "models" / "mixed.rct")
+
+
+def test_tuples_of_structures_relations_of_collections_and_a_folded_zero(tmp_path):
+    """Found by the model fuzzer, each a C compiler error: a tuple whose component is a matrix
+    or a set had the C name of one whose component is an int; a conditional of tuple literals
+    (nat * int * Set) as an int * int * Set; a tuple field of a record given a tuple of nats;
+    min of a Set(nat) compared as an int; `x < (let z == 0 @ z)` of a nat (-Wtype-limits);
+    maplet of a vector and a sequence ("not supported"). cell = t[2][2, 1] = 3;
+    low = min({1, 100}) + p[1] + r.f2[1] = 1 + 2 + 7 % 5 = 5; decided = 0 < 0."""
+    scenario = Scenario([Instant(True, early=(Tick("go", {}),))], half=False)
+    got, _ = _run(tmp_path, "mixed", MIXED.read_text(), scenario)
+    sent = {k: v for s in got.steps for c, values in s.outputs.items() for k, v in values.items()}
+    assert sent["cell.value"] == 3 and sent["low.value"] == 5 and sent["decided.value"] is False
+    assert sent["pair._1"] == [2, 2] and sent["pair._2.size"] == 1 and sent["pair._2.elements"][0] == 7
 
 
 EMPTY = """\

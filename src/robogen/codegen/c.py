@@ -57,8 +57,9 @@ def tag(t: T.Type) -> str:
 
 
 def elem_tag(t: T.Type) -> str:
-    """The part of a collection's C names that names its element type."""
-    return ctype(t)[3:] if isinstance(t, T.RecordT) else tag(t)
+    """The part of a collection's (or a tuple's) C names that names its element (component)
+    type: its C type's name for a struct type, a letter for a number."""
+    return ctype(t)[3:] if isinstance(t, (T.RecordT, T.VectorT, T.MatrixT, T.SetT, T.SeqT)) else tag(t)
 
 
 def mangle(name: str) -> str:
@@ -67,6 +68,21 @@ def mangle(name: str) -> str:
 
 
 _COMPARISONS = ("eq", "ne", "lt", "le", "gt", "ge")
+
+
+def _against_zero(op: str, t: T.Type, a: str, b: str) -> str | None:
+    """``a op b`` of nats when one side is the literal 0 and the types decide it (``n < 0``,
+    ``n >= 0``, ``0 > n``, ``0 <= n``; the checker gives the value of those it can see, this
+    is for a 0 that lowering made, ``let z == 0 @ z``): the other side still evaluated (it may
+    stop the cycle with a run-time error)."""
+    zero = "UINT64_C(0)"
+    if t != T.NAT or zero not in (a, b):
+        return None
+    if b == zero and op in ("lt", "ge"):
+        return f"((void)({a}), {'false' if op == 'lt' else 'true'})"
+    if a == zero and op in ("gt", "le"):
+        return f"((void)({b}), {'false' if op == 'gt' else 'true'})"
+    return None
 
 
 def _exact(t: T.Type) -> bool:
@@ -205,6 +221,8 @@ def bare(text: str) -> str:
             depth += {"(": 1, ")": -1}.get(ch, 0)
             if depth == 0 and i < len(text) - 1:
                 return text  # the first parenthesis closes before the end: (a) && (b)
+            if depth == 1 and ch == ",":
+                return text  # a comma expression: ((void)(x), true)
         text = text[1:-1]
     return text
 
@@ -319,6 +337,9 @@ class Emitter:
                 return test if op == "eq" else f"(!{test})"
             return f"({a} {'==' if op == 'eq' else '!='} {b})"
         if op in ("lt", "le", "gt", "ge"):
+            decided = _against_zero(op, e.left.type, a, b)
+            if decided is not None:  # a nat against 0: C's -Wtype-limits rejects the test; its value
+                return decided
             return f"({a} {dict(lt='<', le='<=', gt='>', ge='>=')[op]} {b})"
         t = e.type
         if t == T.REAL:

@@ -66,7 +66,7 @@ TOOLKIT: dict[str, dict[tuple[str, tuple[str, ...]], str]] = {
     },
     "relation_toolkit": {
         ("first", ("pair",)): "first", ("second", ("pair",)): "second",
-        **{("maplet", (a, b)): "maplet" for a in ("value", "pair") for b in ("value", "pair")},
+        **{("maplet", (a, b)): "maplet" for a in ("value", "pair", "set", "seq") for b in ("value", "pair", "set", "seq")},
         ("dom", ("seq",)): "indices", ("ran", ("seq",)): "elems",
         # relations: sets of pairs
         ("dom", ("set",)): "dom", ("ran", ("set",)): "ran", ("rinv", ("set",)): "rinv",
@@ -150,6 +150,11 @@ class ExpressionLowering:
             return ir.RecordLit(t, tuple((n, self.conv(v, t.field(n), span)) for n, v in e.values))
         if is_collection(t) and type(t) is type(e.type):
             return self._conv_collection(e, t, span)  # type: ignore[arg-type]
+        if isinstance(t, T.RecordT) and isinstance(e.type, T.RecordT) and e.type != t and isinstance(e, ir.Cond):
+            return ir.Cond(t, e.cond, self.conv(e.then, t, span), self.conv(e.otherwise, t, span))
+        if isinstance(t, T.RecordT) and isinstance(e.type, T.RecordT) and e.type != t and \
+                [n for n, _ in t.fields] == [n for n, _ in e.type.fields]:  # a tuple of nats as one of ints: field by field
+            return ir.RecordLit(t, tuple((n, self.conv(ir.FieldOf(e.type.field(n), e, n), ft, span)) for n, ft in t.fields))  # type: ignore[arg-type]
         return e
 
     def _conv_linear(self, e: ir.Expr, t: T.VectorT | T.MatrixT, span: Span | None) -> ir.Expr:
@@ -465,6 +470,8 @@ class ExpressionLowering:
             args = [self.conv(a, type(a.type)(common.element), x.span) for a, x in zip(args, e.args)]  # type: ignore[union-attr, call-arg]
         elif op == "notin":
             args[0] = self.conv(args[0], args[1].type.element, e.args[0].span)  # type: ignore[union-attr]
+        elif op in ("min", "max"):  # of a Set(int): a set of nats is converted (its C function gives an int)
+            args = [self.conv(args[0], T.SetT(T.INT), e.args[0].span)]
         if isinstance(t, (T.SetT, T.SeqT)):
             check_codegen_type(t, e.span, f"the result of '{sym.name}'")
         return self.coll(t, op, args, e)

@@ -90,8 +90,8 @@ def normalise(t: T.Type, given: str = "int") -> T.Type:
         return T.SetT(tuple_type((normalise(t.domain, given), normalise(t.range, given))))
     if isinstance(t, T.FunctionT):
         return T.FunctionT(normalise(t.domain, given), normalise(t.range, given), t.relation)
-    if isinstance(t, T.RecordT):
-        return T.RecordT(t.qname, tuple((n, normalise(ft, given)) for n, ft in t.fields))
+    if isinstance(t, T.RecordT):  # (a tuple or a tagged enumeration keeps its class)
+        return type(t)(t.qname, tuple((n, normalise(ft, given)) for n, ft in t.fields))
     if isinstance(t, T.VectorT):
         return T.VectorT(normalise(t.element, given), t.size)
     if isinstance(t, T.MatrixT):
