@@ -7,7 +7,7 @@ PY     := $(VENV)/bin/python
 STAMP  := $(VENV)/.robogen-installed
 PYTEST_ARGS ?=
 
-.PHONY: all venv test demo bench campaign clean golden
+.PHONY: all venv test demo bench campaign clean golden fuzz
 
 all: test
 
@@ -59,6 +59,15 @@ $(CAMPAIGN_FMUS)/platform-sample-%.fmu: | $(STAMP)
 
 bench: $(BENCH_STAMP)
 	@set -e; for b in bench/bench_*.py; do echo "== $$b"; $(PY) $$b; done
+
+# The model fuzzer (docs/fuzzing.md): N random models from SEED through every property; the table,
+# then the line `fuzz: N models, C compile failures A, ...`; exit 1 when a model fails a property.
+N ?= 200
+SEED ?= 1
+JOBS ?= 2
+FUZZ_ARGS ?=
+fuzz: $(STAMP)
+	@$(PY) -m robogen.fuzz --count $(N) --seed $(SEED) --jobs $(JOBS) $(FUZZ_ARGS)
 
 # Refresh the golden files of the generated sources (review the diff afterwards).
 golden: $(STAMP)

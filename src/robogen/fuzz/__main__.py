@@ -57,9 +57,8 @@ def main(argv: list[str] | None = None) -> int:
     budget = Budget(args.scenarios, args.instants, args.sanitize, not args.no_validate)
     if args.print_seed:
         from robogen.fuzz.model import generate
-        from robogen.syntax import printer
 
-        print(printer.file(generate(args.print_seed, on).file), end="")
+        print(generate(args.print_seed, on).text(), end="")
         return 0
     from robogen.fuzz.runner import Settings, check_one, run
 

@@ -36,13 +36,20 @@ class Sym:
 
 @dataclass(frozen=True)
 class UserFn:
-    """A user function: its signature, and its C and Python bodies (see robogen.fuzz.model)."""
+    """A user function: its signature, and its C and Python bodies (see robogen.fuzz.functions),
+    or (switch postcondition_functions) the expression its postcondition ``result == e`` gives;
+    its parameters may have the type variable ``?X`` (switch generic_functions)."""
 
     name: str
     params: tuple[tuple[str, T.Type], ...]
     result: T.Type
-    c_body: str
-    py: str
+    c_body: str | None
+    py: str | None
+    contract: ast.Expr | None = None
+
+    @property
+    def generic(self) -> bool:
+        return any("?" in t.show() for _, t in self.params)
 
 
 @dataclass(frozen=True)
@@ -190,13 +197,16 @@ class Exprs(ToolkitForms):
         return ast.Binary(op, a, b)
 
     def enum_literal(self, t: T.EnumT, sc: Scope, depth: int) -> tuple[ast.Expr, T.Type]:
-        i = self.rng.randrange(len(t.literals))
+        choices = range(len(t.literals))
+        if depth <= 0:  # a literal that does not carry the enumeration itself, where one does
+            choices = [i for i in choices if not any(self.env.resolve(a) == t for a in (t.literal_args[i] if t.literal_args else ()))]
+        i = self.rng.choice(list(choices))
         lit = t.literals[i]
         text = f"{t.qname}::{lit}" if self.chance(0.5) else lit
-        args = t.literal_args[i] if t.literal_args else ()
+        args = tuple(self.env.resolve(a) for a in (t.literal_args[i] if t.literal_args else ()))
         if not args:
             return name(text), t
-        values = tuple(self.expr(a, sc, depth)[0] if depth else self.literal(a, sc) for a in args)
+        values = tuple(self.expr(a, sc, depth - 1)[0] if depth else self.literal(a, sc) for a in args)
         return ast.Call(name(text), values), t
 
     def lambda_(self, t: T.FunctionT, sc: Scope, depth: int) -> tuple[ast.Expr, T.Type]:
@@ -223,7 +233,7 @@ class Exprs(ToolkitForms):
         tuples = [s for s in sc.syms if isinstance(s.type, T.ProductT) and any(fits(x, t) for x in s.type.items)]
         if tuples:
             out.append((2, lambda d: self._project(self.rng.choice(tuples), t)))
-        functions = [f for f in sc.functions if fits(f.result, t)]
+        functions = [f for f in sc.functions if fits(f.result, t) or f.generic and f.result == t]
         if functions:
             out.append((2, lambda d: self._user_call(self.rng.choice(functions), sc, d)))
         applied = [s for s in sc.syms if isinstance(s.type, T.FunctionT) and fits(s.type.range, t)]
@@ -260,8 +270,10 @@ class Exprs(ToolkitForms):
         return ast.Index(ast.Name((s.name,)), (ast.IntLit(k + 1),)), items[k]
 
     def _user_call(self, f: UserFn, sc: Scope, d: int) -> tuple[ast.Expr, T.Type]:
-        args = tuple(self.expr(pt, sc, d)[0] for _, pt in f.params)
-        return ast.Call(ast.Name((f.name,)), args), f.result
+        """A call; of a generic function, with ?X instantiated by a type drawn for this call."""
+        bindings = {"X": self.env.scalar("elem")} if f.generic else {}
+        args = tuple(self.expr(T.instantiate(pt, bindings), sc, d)[0] for _, pt in f.params)
+        return ast.Call(ast.Name((f.name,)), args), T.instantiate(f.result, bindings)
 
     def _apply(self, s: Sym, sc: Scope, d: int) -> tuple[ast.Expr, T.Type]:
         ft: T.FunctionT = s.type  # type: ignore[assignment]
@@ -523,35 +535,50 @@ class Exprs(ToolkitForms):
     # ---------------------------------------------------------------- vectors and matrices
 
     def linear(self, t: T.VectorT | T.MatrixT, sc: Scope, d: int) -> tuple[ast.Expr, T.Type]:
+        """A vector or matrix: a literal, a sum or difference, a negation, a number times one, a
+        matrix product, a transpose (switch matrix_ops); with the type the checker gives it (the
+        widest of its parts' numbers)."""
         rng = self.rng
         r = rng.random()
         if r < 0.3:
-            return self.literal(t, sc) if d <= 0 else self._linear_lit(t, sc, d), t
+            if d <= 0:
+                lit = self.literal(t, sc)
+                return lit, _literal_type(lit, t)
+            return self._linear_lit(t, sc, d)
         if r < 0.55:
-            op = rng.choice(("+", "-"))
-            return ast.Binary(op, self.expr(t, sc, d)[0], self.expr(t, sc, d)[0]), t
+            (a, at), (b, bt) = self.expr(t, sc, d), self.expr(t, sc, d)
+            return ast.Binary(rng.choice(("+", "-")), a, b), _shaped(t, at, bt)
         if r < 0.7 and t.element != T.NAT:
-            return ast.Unary("-", self.expr(t, sc, d)[0]), t
+            a, at = self.expr(t, sc, d)
+            return ast.Unary("-", a), _shaped(t, at, T.INT)
         if r < 0.85:
-            k, _ = self.expr(t.element, sc, d)
-            return ast.Binary("*", k, self.expr(t, sc, d)[0]), t
+            (k, kt), (a, at) = self.expr(t.element, sc, d), self.expr(t, sc, d)
+            return ast.Binary("*", k, a), _shaped(t, at, kt)
         if isinstance(t, T.VectorT):
             if t.size < 2:  # (a matrix has two rows or more)
                 return self.literal(t, sc), t
             inner = rng.randint(2, 3)
-            m = T.MatrixT(t.element, t.size, inner)
-            return ast.Binary("*", self.expr(m, sc, d)[0], self.expr(T.VectorT(t.element, inner), sc, d)[0]), t
-        if rng.random() < 0.5:
-            return ast.MatrixOp("transpose", self.expr(T.MatrixT(t.element, t.columns, t.rows), sc, d)[0]), t
+            (m, mt), (v, vt) = self.expr(T.MatrixT(t.element, t.size, inner), sc, d), self.expr(T.VectorT(t.element, inner), sc, d)
+            return ast.Binary("*", m, v), _shaped(t, mt, vt)
+        if "matrix_ops" in self.on and rng.random() < 0.5:
+            m, mt = self.expr(T.MatrixT(t.element, t.columns, t.rows), sc, d)
+            return ast.MatrixOp("transpose", m), _shaped(t, mt)
         inner = rng.randint(2, 3)
-        a = self.expr(T.MatrixT(t.element, t.rows, inner), sc, d)[0]
-        return ast.Binary("*", a, self.expr(T.MatrixT(t.element, inner, t.columns), sc, d)[0]), t
+        (a, at), (b, bt) = self.expr(T.MatrixT(t.element, t.rows, inner), sc, d), self.expr(T.MatrixT(t.element, inner, t.columns), sc, d)
+        return ast.Binary("*", a, b), _shaped(t, at, bt)
 
-    def _linear_lit(self, t: T.VectorT | T.MatrixT, sc: Scope, d: int) -> ast.Expr:
-        if isinstance(t, T.VectorT):
-            return ast.VectorLit((tuple(self.expr(t.element, sc, d - 1)[0] for _ in range(t.size)),))  # type: ignore[arg-type]
-        return ast.VectorLit(tuple(tuple(self.expr(t.element, sc, d - 1)[0] for _ in range(t.columns))  # type: ignore[arg-type]
-                                   for _ in range(t.rows)))  # type: ignore[arg-type]
+    def _linear_lit(self, t: T.VectorT | T.MatrixT, sc: Scope, d: int) -> tuple[ast.Expr, T.Type]:
+        """A vector or matrix literal of expressions, and its type."""
+        rows, width = (1, t.size) if isinstance(t, T.VectorT) else (t.rows, t.columns)
+        items = [[self.expr(t.element, sc, d - 1) for _ in range(width)] for _ in range(rows)]  # type: ignore[arg-type]
+        return ast.VectorLit(tuple(tuple(x for x, _ in row) for row in items)), _shaped(t, *(xt for row in items for _, xt in row))
+
+
+def _shaped(t: T.VectorT | T.MatrixT, *parts: T.Type) -> T.Type:
+    """``t`` with the widest number of ``parts`` (numbers, vectors, matrices) as its element."""
+    numbers = [p.element if isinstance(p, (T.VectorT, T.MatrixT)) else p for p in parts]
+    element = join(*[n for n in numbers if n in NUMBERS]) if any(n in NUMBERS for n in numbers) else t.element
+    return T.VectorT(element, t.size) if isinstance(t, T.VectorT) else T.MatrixT(element, t.rows, t.columns)
 
 
 def _tested(e: ast.Expr) -> set[str]:
@@ -571,12 +598,19 @@ def _tested(e: ast.Expr) -> set[str]:
 
 def _literal_type(e: ast.Expr, t: T.Type) -> T.Type:
     """The checker's type of a literal written for type ``t``: an integer literal is a nat, its
-    negation an int."""
-    if t not in NUMBERS:
-        return t
-    if isinstance(e, ast.RealLit) or isinstance(e, ast.Unary) and isinstance(e.operand, ast.RealLit):
-        return T.REAL
-    return T.INT if isinstance(e, ast.Unary) else T.NAT
+    negation an int; a tuple, vector or matrix of them has the types of its parts (``(| 1, 2 |)``
+    is a ``nat * nat``, ``[| 1, -2 |]`` a ``vector(int, 2)``)."""
+    if t in NUMBERS:
+        if isinstance(e, ast.RealLit) or isinstance(e, ast.Unary) and isinstance(e.operand, ast.RealLit):
+            return T.REAL
+        return T.INT if isinstance(e, ast.Unary) else T.NAT if isinstance(e, ast.IntLit) else t
+    if isinstance(t, T.ProductT) and isinstance(e, ast.TupleLit) and len(e.items) == len(t.items):
+        return T.ProductT(tuple(_literal_type(x, xt) for x, xt in zip(e.items, t.items)))
+    if isinstance(t, (T.VectorT, T.MatrixT)) and isinstance(e, ast.VectorLit) and t.element in NUMBERS:
+        items = [_literal_type(x, t.element) for row in e.rows for x in row]
+        element = join(*items) if items else t.element
+        return T.VectorT(element, t.size) if isinstance(t, T.VectorT) else T.MatrixT(element, t.rows, t.columns)
+    return t
 
 
 def _number_literal(e: ast.Expr) -> bool:
@@ -590,10 +624,11 @@ def fits_bind(event: T.Type, var: T.Type) -> bool:
     return fits(event, var) and not isinstance(event, T.FunctionT)
 
 
-def join(a: T.Type, b: T.Type) -> T.Type:
-    """The type of ``if c then a else b end``."""
-    if a in NUMBERS and b in NUMBERS:
-        return NUMBERS[max(NUMBERS.index(a), NUMBERS.index(b))]
+def join(a: T.Type, *others: T.Type) -> T.Type:
+    """The type of ``if c then a else b end`` (of the elements of a literal)."""
+    for b in others:
+        if a in NUMBERS and b in NUMBERS:
+            a = NUMBERS[max(NUMBERS.index(a), NUMBERS.index(b))]
     return a
 
 

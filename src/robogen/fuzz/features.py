@@ -32,6 +32,7 @@ FEATURES: tuple[Feature, ...] = (
     Feature("operations", True, "software operations (opref, calls from actions)"),
     Feature("platform_operations", True, "platform operations (output clocks)"),
     Feature("shared_variables", True, "variables provided by the controller or the platform"),
+    Feature("platform_variables", True, "RoboSim: platform variables read ($x) and written ($x = e)"),
     Feature("machine_connections", True, "connections between the machines of a controller"),
     Feature("mult", True, "bidirectional connections ([ mult ])"),
     Feature("broadcast", True, "_broadcast events (RoboChart)"),
@@ -80,6 +81,8 @@ FEATURES: tuple[Feature, ...] = (
             "with an error that is not 'not supported' on other forms (see docs/fuzzing.md)"),
     Feature("abstract_operations", False, "operations without nodes, called by a machine",
             "not supported for code generation on main (issue 23, helper 'frontend')"),
+    Feature("old_syntax", False, "RoboTool's syntax before 2020-10: a bare `trigger` for the empty trigger",
+            "refused by the parser on main (issue 23, helper 'frontend')"),
     Feature("filter_from", False, "filters that bind the sender (`x = from`)",
             "not supported for code generation on main (issue 23, helper 'frontend')"),
 )

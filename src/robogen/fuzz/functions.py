@@ -34,23 +34,68 @@ CATALOGUE: tuple[tuple[tuple[T.Type, ...], T.Type, str, str], ...] = (
 PARAM_NAMES = ("a", "b")
 
 
+X = T.TypeVarT("X")
+A, B = ast.Name(("a",)), ast.Name(("b",))
+
+# functions defined by `postcondition result == e` (switch postcondition_functions; with ?X,
+# switch generic_functions): (parameter types, result type, e, the toolkit e needs)
+CONTRACTS: tuple[tuple[tuple[T.Type, ...], T.Type, ast.Expr, str | None], ...] = (
+    ((T.INT, T.INT), T.INT, ast.Binary("+", A, B), None),
+    ((T.REAL,), T.REAL, ast.Binary("*", A, ast.RealLit("2.0")), None),
+    ((T.NAT,), T.BOOLEAN, ast.Binary("==", ast.Binary("%", A, ast.IntLit(2)), ast.IntLit(0)), None),
+    ((T.BOOLEAN, T.INT), T.INT, ast.IfExpr(A, B, ast.IntLit(0)), None),
+)
+GENERIC: tuple[tuple[tuple[T.Type, ...], T.Type, ast.Expr, str | None], ...] = (
+    ((T.SetT(X), X), T.BOOLEAN, ast.Binary("in", B, A), None),
+    ((T.SeqT(X),), T.NAT, ast.Call(ast.Name(("size",)), (A,)), "sequence_toolkit"),
+    ((X, X), T.BOOLEAN, ast.Binary("==", A, B), None),
+)
+
+
 def draw(rng: random.Random, env: TypeEnv, x) -> tuple[UserFn, ...]:
-    """Zero to two user functions."""
+    """Zero to two user functions implemented in C, and, with their switches, functions defined
+    by their postcondition, generic or not."""
     out = []
     for _ in range(rng.choice((0, 0, 1, 2))):
         params, result, c_body, py = rng.choice(CATALOGUE)
         out.append(UserFn(x.fresh("fn"), tuple(zip(PARAM_NAMES, params)), result, c_body, py))
+    pool = CONTRACTS * ("postcondition_functions" in env.on) + GENERIC * ("generic_functions" in env.on)
+    for _ in range(rng.choice((0, 1, 2)) if pool else 0):
+        params, result, body, toolkit = rng.choice(pool)
+        if toolkit is not None:
+            x.toolkits.add(toolkit)
+        out.append(UserFn(x.fresh("fn"), tuple(zip(PARAM_NAMES, params)), result, None, None, body))
     return tuple(out)
 
 
 def declarations(functions: tuple[UserFn, ...]) -> list[ast.FunctionDef]:
-    return [ast.FunctionDef(f.name, tuple(ast.Param(n, type_ast(t)) for n, t in f.params), type_ast(f.result))
+    def members(f: UserFn) -> tuple[ast.Node, ...]:
+        if f.contract is None:
+            return ()
+        return (ast.Postcondition(ast.Binary("==", ast.Keyword("result"), f.contract)),)
+
+    return [ast.FunctionDef(f.name, tuple(ast.Param(n, _syntax(t)) for n, t in f.params), _syntax(f.result), members(f))
             for f in functions]
 
 
-def c_file(functions: tuple[UserFn, ...]) -> str:
+def _syntax(t: T.Type) -> ast.TypeExpr:
+    if isinstance(t, T.TypeVarT):
+        return ast.TypeVar_(t.name)
+    if isinstance(t, T.SetT):
+        return ast.SetType(_syntax(t.element))
+    if isinstance(t, T.SeqT):
+        return ast.SeqType(_syntax(t.element))
+    return type_ast(t)
+
+
+def c_file(functions: tuple[UserFn, ...]) -> str | None:
+    """The C file of the functions implemented in C (None when there is none)."""
+    if all(f.c_body is None for f in functions):
+        return None
     lines = ["/* User functions of a generated model (robogen.fuzz). */"]
     for f in functions:
+        if f.c_body is None:
+            continue
         params = ", ".join(f"{C_TYPES[t]} {n}" for n, t in f.params)
         lines.append(f"static {C_TYPES[f.result]} rg_user_{f.name}({params}) {{ {f.c_body} }}")
     return "\n".join(lines) + "\n"
@@ -60,9 +105,11 @@ def python(functions: tuple[UserFn, ...]) -> dict:
     """The Python implementations, for the reference interpreter."""
     out = {}
     for f in functions:
+        if f.py is None:
+            continue
         args = ", ".join(n for n, _ in f.params)
         out[f.name] = eval(f"lambda {args}: {f.py}", {})  # the catalogue's own text
     return out
 
 
-__all__ = ["draw", "declarations", "c_file", "python", "CATALOGUE"]
+__all__ = ["draw", "declarations", "c_file", "python", "CATALOGUE", "CONTRACTS", "GENERIC"]

@@ -44,6 +44,8 @@ class MachineSpec:
     operation: bool = False
     broadcast: set[str] = field(default_factory=set)  # events declared _broadcast
     sw_ifaces: list[str] = field(default_factory=list)  # interfaces of the software operations it calls
+    read_ifaces: list[str] = field(default_factory=list)  # RoboSim: interfaces of the variables it reads with $
+    write_ifaces: list[str] = field(default_factory=list)  # RoboSim: interfaces of the variables it writes with $
 
 
 @dataclass
@@ -334,6 +336,10 @@ class Machines:
         filt = None
         if rng.random() < 0.15:
             filt = ast.Filter(None, None, self.x.boolean(self.base, 1))
+        senders = [s for s in self.base.syms if s.assignable and s.name != var.name]
+        if "filter_from" in self.on and senders and rng.random() < 0.3:  # [| x = from |]: bind the sender
+            pred = self.x.boolean(self.base, 0) if rng.random() < 0.5 else None
+            filt = ast.Filter(rng.choice(senders).name, ast.Keyword("from"), pred)
         return ast.Communication(event, "?", var=var.name, filter=filt)
 
     def _junction_transitions(self, region: _Region, n: str, later: list[str], children: list[str]) -> None:

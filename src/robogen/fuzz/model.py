@@ -22,7 +22,7 @@ from robogen.fuzz.machines import Machines, MachineSpec
 from robogen.fuzz.stmts import OpInfo, Stmts
 from robogen.fuzz.typegen import TypeEnv, name, port_safe, type_ast
 from robogen.semantics import types as T
-from robogen.syntax import ast
+from robogen.syntax import ast, printer
 
 
 @dataclass
@@ -42,10 +42,29 @@ class Generated:
 
     @property
     def c_functions(self) -> str | None:
-        return userfns.c_file(self.functions) if self.functions else None
+        return userfns.c_file(self.functions)
 
     def py_functions(self) -> dict:
         return userfns.python(self.functions)
+
+    def text(self) -> str:
+        """The model's text: its AST printed; with the switch ``old_syntax``, in RoboTool's syntax
+        before 2020-10 where it differs (a bare ``trigger`` for the empty trigger of a RoboChart
+        transition), which parses to the same AST."""
+        text = printer.file(self.file)
+        if "old_syntax" not in self.features or self.language != "robochart":
+            return text
+        out, block = [], []
+        for line in text.splitlines(keepends=True):
+            block.append(line)
+            if line.strip() == "}" and block and block[0].lstrip().startswith("transition "):
+                out += _bare_trigger(block)
+                block = []
+            elif not line.lstrip().startswith(("transition ", "from ", "to ", "trigger", "probability", "#", "<{",
+                                               "condition", "action", "exec")):
+                out += block
+                block = []
+        return "".join(out + block)
 
 
 @dataclass
@@ -65,6 +84,15 @@ class _Controller:
     members: list[ast.Node] = field(default_factory=list)
     connections: list[ast.Connection] = field(default_factory=list)
     events: list[ast.EventDecl] = field(default_factory=list)
+
+
+def _bare_trigger(block: list[str]) -> list[str]:
+    """A transition's lines with ``trigger`` alone after its target, if it has no trigger."""
+    if any(x.lstrip().startswith(("trigger", "probability", "exec")) for x in block):
+        return block
+    at = next(i for i, x in enumerate(block) if x.lstrip().startswith("to "))
+    indent = block[at][: len(block[at]) - len(block[at].lstrip())]
+    return block[: at + 1] + [f"{indent}trigger\n"] + block[at + 1:]
 
 
 def model_seed(seed: int | str, index: int) -> str:
@@ -128,6 +156,7 @@ class Builder:
             self._wire_machines(c)
         self.ops_iface = ops_iface = self._platform_operations(controllers)
         self.shared_iface = shared = self._shared_variables(controllers)
+        self._platform_variables(controllers)
         for c in controllers:
             for m in c.machines:
                 self._software_operations(c, m)
@@ -234,6 +263,25 @@ class Builder:
                 m.spec.shared += syms
         return iface
 
+    def _platform_variables(self, controllers: list[_Controller]) -> None:
+        """RoboSim: variables of the platform the machines read (``$x``, their input context
+        requires them) and write (``$y = e``, their output context)."""
+        rng = self.rng
+        if not self.robosim or "platform_variables" not in self.on or rng.random() < 0.6:
+            return
+        for kind in ("read", "write"):
+            syms = [Sym(self.x.fresh("pv"), rng.choice((T.INT, T.NAT, T.REAL, T.BOOLEAN)), "platform") for _ in range(rng.randint(0, 2))]
+            if not syms:
+                continue
+            iface = ast.Interface(self.x.fresh("PV"), (ast.VarList(False, tuple(ast.VarDecl(v.name, type_ast(v.type)) for v in syms)),))
+            self.interfaces.append(iface)
+            self.platform_members.append(ast.InterfaceRef("provides", name(iface.name)))
+            for c in controllers:
+                c.members.append(ast.InterfaceRef("requires", name(iface.name)))
+                for m in c.machines:
+                    (m.spec.dollar_reads if kind == "read" else m.spec.dollar_writes).extend(syms)
+                    (m.spec.read_ifaces if kind == "read" else m.spec.write_ifaces).append(iface.name)
+
     def _software_operations(self, c: _Controller, m: _Machine) -> None:
         """Operations only ``m`` calls, defined at the top level and referenced by ``c``."""
         rng = self.rng
@@ -247,7 +295,8 @@ class Builder:
                                params=[Sym(n, t, "param") for n, t in params], operation=True,
                                ops=[o for o in m.spec.ops if o.platform])
             spec.broadcast = set(m.spec.broadcast)
-            body = self._op_decls(spec) + self.machines_.body(spec)
+            abstract = "abstract_operations" in self.on and rng.random() < 0.3  # declared without behaviour
+            body = [ast.Terminates()] if abstract else self._op_decls(spec) + self.machines_.body(spec)
             self.items.append(ast.OperationDef(op.name, tuple(ast.Param(n, type_ast(t)) for n, t in params), tuple(body)))
             iface = ast.Interface(self.x.fresh("SO"), (ast.OpSig(op.name, tuple(ast.Param(n, type_ast(t)) for n, t in params)),))
             self.interfaces.append(iface)
@@ -292,8 +341,10 @@ class Builder:
             return [*ins, *outs, *platform_ops, *self._requires(spec, ops_iface, shared)]
         members: list[ast.Node] = [ast.CycleDef(ast.Binary("==", ast.Keyword("cycle"), _number(self.period)))]
         shared_ref = [ast.InterfaceRef("requires", name(shared.name))] if spec.shared and shared is not None else []
-        members.append(ast.Context("input", tuple(ins) + tuple(shared_ref)))
-        members.append(ast.Context("output", tuple(outs) + tuple(platform_ops) + tuple(shared_ref)))
+        reads = [ast.InterfaceRef("requires", name(i)) for i in spec.read_ifaces]
+        writes = [ast.InterfaceRef("requires", name(i)) for i in spec.write_ifaces]
+        members.append(ast.Context("input", tuple(ins) + tuple(shared_ref) + tuple(reads)))
+        members.append(ast.Context("output", tuple(outs) + tuple(platform_ops) + tuple(shared_ref) + tuple(writes)))
         members += [ast.InterfaceRef("requires", name(i)) for i in spec.sw_ifaces]
         return members
 

@@ -141,7 +141,7 @@ def _timed(out: Outcome, phase: str, started: float) -> None:
 
 def _run(g: Generated, work: Path, budget: Budget, out: Outcome) -> None:
     started = time.perf_counter()
-    text = printer.file(g.file)
+    text = g.text()
     _print_parse(g, text, out)
     path = work / Path(g.path).name
     path.write_text(text, encoding="utf-8")

@@ -81,8 +81,9 @@ def text(g: Generated, failure: Failure, on: frozenset[str]) -> str:
             f"// capacity: {g.capacity}",
             f"// failure: {_what(failure)}"]
     for f in g.functions:
-        head += [f"// function {f.name} c: {f.c_body}", f"// function {f.name} py: {f.py}"]
-    return "\n".join(head) + "\n" + printer.file(g.file)
+        if f.c_body is not None:
+            head += [f"// function {f.name} c: {f.c_body}", f"// function {f.name} py: {f.py}"]
+    return "\n".join(head) + "\n" + g.text()
 
 
 def write(folder: Path, g: Generated, failure: Failure, on: frozenset[str]) -> Path:

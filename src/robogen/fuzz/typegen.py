@@ -94,8 +94,9 @@ def parts(t: T.Type):
 
 
 def is_struct(t: T.Type) -> bool:
-    """Is ``t`` a C struct of generated code (a record, a tuple, an enumeration with arguments)?"""
-    return isinstance(t, (T.RecordT, T.ProductT)) or is_tagged(t)
+    """Is ``t`` a C struct of generated code (a record, a tuple, an enumeration with arguments,
+    a vector, a matrix)?"""
+    return isinstance(t, (T.RecordT, T.ProductT, T.VectorT, T.MatrixT)) or is_tagged(t)
 
 
 def is_collection(t: T.Type) -> bool:
@@ -127,6 +128,8 @@ class TypeEnv:
             self._enumeration(tagged=False)
         if "enum_args" in self.on and rng.random() < 0.5:
             self._enumeration(tagged=True)
+        if "recursive_enums" in self.on and rng.random() < 0.5:
+            self._recursive_enumeration()
         if "records" in self.on:
             for _ in range(rng.choice((0, 1, 1, 2, 3))):
                 self._record()
@@ -147,6 +150,25 @@ class TypeEnv:
         self.enums.append(t)
         self.decls.append(ast.Enumeration(base, tuple(ast.EnumLiteral(lit, tuple(type_ast(a) for a in la))
                                                       for lit, la in zip(literals, args))))
+        return t
+
+    def _recursive_enumeration(self) -> T.EnumT:
+        """``enumeration E { e_leaf e_node(E, nat) }``: a literal that carries the enumeration (the
+        argument is the placeholder ``EnumT(E, ())``, see :meth:`resolve`)."""
+        base = self.fresh("E")
+        lower = base.lower()
+        literals = (f"{lower}_leaf", f"{lower}_node")
+        args = ((), (T.EnumT(base, ()), self.rng.choice(SCALARS)))
+        t = T.EnumT(base, literals, args)
+        self.enums.append(t)
+        self.decls.append(ast.Enumeration(base, tuple(ast.EnumLiteral(lit, tuple(type_ast(a) for a in la))
+                                                      for lit, la in zip(literals, args))))
+        return t
+
+    def resolve(self, t: T.Type) -> T.Type:
+        """A recursive enumeration's placeholder as the enumeration it stands for."""
+        if isinstance(t, T.EnumT) and not t.literals:
+            return next((e for e in self.enums if e.qname == t.qname), t)
         return t
 
     def _record(self) -> T.RecordT:
