@@ -181,6 +181,35 @@ def test_tuples_of_structures_relations_of_collections_and_a_folded_zero(tmp_pat
     assert sent["pair._1"] == [2, 2] and sent["pair._2.size"] == 1 and sent["pair._2.elements"][0] == 7
 
 
+KNOWN = """\
+import sequence_toolkit::*
+stm U {
+	var q: Seq(boolean)
+	var b: boolean = true
+	event go
+	event n: nat
+	event fresh: boolean
+	event grown: nat
+	initial i
+	state A { }
+	transition t0 { from i to A }
+	transition t1 { from A to A trigger go action q = (if b then <> else <true> end) ^ (<> ^ <false, true>) ; n!size(q) ;
+		fresh!prefix((lambda x: boolean @ <>)(b), extract({1}, <false>)) ; grown!size(if b then <> else <true> end) ; b = not b }
+}
+"""
+
+
+def test_an_empty_branch_or_operand_takes_the_type_of_the_other(tmp_path):
+    """Found by the model fuzzer: `if b then <> else <true> end` and `<> ^ <false, true>` have, for
+    the checker, elements of no known type; `prefix((lambda x: boolean @ <>)(b), extract(...))` was "not
+    supported" (a Seq(boolean) as a Seq(int)). They are sequences of booleans: q holds 2, then 3
+    elements; <> is a prefix of <false>; the conditional holds 0, then 1 element."""
+    scenario = Scenario([Instant(True, early=(Tick("go", {}),)) for _ in range(2)], half=False)
+    got, _ = _run(tmp_path, "known", KNOWN, scenario)
+    sent = [{c: v[f"{c}.value"] for c, v in s.outputs.items()} for s in got.steps if s.outputs]
+    assert sent == [{"n": 2, "fresh": True, "grown": 0}, {"n": 3, "fresh": True, "grown": 1}]
+
+
 EMPTY = """\
 import set_toolkit::*
 import sequence_toolkit::*

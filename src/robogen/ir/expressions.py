@@ -33,6 +33,17 @@ _UNSUPPORTED = {
     ast.MatrixOp: "inverse/transpose",
 }
 
+def _unknown_inside(t: T.Type) -> bool:
+    """Does ``t`` hold the type of elements nothing gave a type (``{}``, ``<>``)?"""
+    if isinstance(t, T.UnknownT):
+        return True
+    if isinstance(t, (T.SetT, T.SeqT)):
+        return _unknown_inside(t.element)
+    if isinstance(t, T.ProductT):
+        return any(_unknown_inside(x) for x in t.items)
+    return False
+
+
 def _convertible(source: T.Type, target: T.Type) -> bool:
     """Can an element of type ``source`` be converted to ``target``: numbers, and records or
     tuples whose fields can (``Seq(nat * nat)`` used as a ``Seq(int * int)``)?"""
@@ -295,7 +306,7 @@ class ExpressionLowering:
         if e.op == "in":
             assert isinstance(b.type, (T.SetT, T.SeqT))
             return self.coll(T.BOOLEAN, "in", (self.conv(a, b.type.element, e.left.span), b), e)
-        t = self._type(e)
+        t = self._known(e, ((e.left, a), (e.right, b)))
         return self.coll(t, "cat", (self.conv(a, t, e.left.span), self.conv(b, t, e.right.span)), e)
 
     def _comparison(self, e: ast.Binary, op: str, a: ir.Expr, b: ir.Expr) -> ir.Expr:
@@ -333,9 +344,18 @@ class ExpressionLowering:
         return ir.Bin(T.BOOLEAN, "eq", *self._one_type(a, b, span))
 
     def _e_IfExpr(self, e: ast.IfExpr, graph: Graph) -> ir.Expr:
-        t = self._type(e)
-        return ir.Cond(t, self.expr(e.cond, graph), self.conv(self.expr(e.then, graph), t, e.then.span),
-                       self.conv(self.expr(e.otherwise, graph), t, e.otherwise.span))
+        cond, then, other = self.expr(e.cond, graph), self.expr(e.then, graph), self.expr(e.otherwise, graph)
+        t = self._known(e, ((e.then, then), (e.otherwise, other)))
+        return ir.Cond(t, cond, self.conv(then, t, e.then.span), self.conv(other, t, e.otherwise.span))
+
+    def _known(self, e: ast.Expr, parts) -> T.Type:
+        """The type of ``e``; where the checker left its elements unknown (``if c then <> else
+        <true> end``, ``<> ^ <true>``), that of the first of its ``parts`` (ast, lowered) whose
+        elements are known."""
+        if not _unknown_inside(self.model.type_of(e)):
+            return self._type(e)
+        known = [x.type for a, x in parts if not _unknown_inside(self.model.type_of(a))]
+        return known[0] if known else self._type(e)
 
     def _e_Cast(self, e: ast.Cast, graph: Graph) -> ir.Expr:
         t = self._norm(self.model.type_of(e.type))
@@ -466,7 +486,7 @@ class ExpressionLowering:
             # the collections the result is made from have its type ({} and <> take it)
             args = [self.conv(a, t, x.span) if is_collection(a.type) else a for a, x in zip(args, e.args)]
         elif len(args) == 2 and all(is_collection(a.type) for a in args):
-            common = args[1].type if isinstance(args[0].type.element, T.UnknownT) else args[0].type  # type: ignore[union-attr]
+            common = args[1].type if _unknown_inside(self.model.type_of(e.args[0])) else args[0].type  # (prefix(<>, q))
             args = [self.conv(a, type(a.type)(common.element), x.span) for a, x in zip(args, e.args)]  # type: ignore[union-attr, call-arg]
         elif op == "notin":
             args[0] = self.conv(args[0], args[1].type.element, e.args[0].span)  # type: ignore[union-attr]
