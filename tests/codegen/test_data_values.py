@@ -190,11 +190,13 @@ stm U {
 	event n: nat
 	event fresh: boolean
 	event grown: nat
+	event kept: nat
 	initial i
 	state A { }
 	transition t0 { from i to A }
 	transition t1 { from A to A trigger go action q = (if b then <> else <true> end) ^ (<> ^ <false, true>) ; n!size(q) ;
-		fresh!prefix((lambda x: boolean @ <>)(b), extract({1}, <false>)) ; grown!size(if b then <> else <true> end) ; b = not b }
+		fresh!prefix((lambda x: boolean @ <>)(b), extract({1}, <false>)) ; grown!size(if b then <> else <true> end) ;
+		kept!size(filter(<-100, 5>, {0, 5})) ; b = not b }
 }
 """
 
@@ -203,11 +205,12 @@ def test_an_empty_branch_or_operand_takes_the_type_of_the_other(tmp_path):
     """Found by the model fuzzer: `if b then <> else <true> end` and `<> ^ <false, true>` have, for
     the checker, elements of no known type; `prefix((lambda x: boolean @ <>)(b), extract(...))` was "not
     supported" (a Seq(boolean) as a Seq(int)). They are sequences of booleans: q holds 2, then 3
-    elements; <> is a prefix of <false>; the conditional holds 0, then 1 element."""
+    elements; <> is a prefix of <false>; the conditional holds 0, then 1 element. A Seq(int)
+    filtered by a Set(nat) did not compile (the set was made a sequence): 5 is kept."""
     scenario = Scenario([Instant(True, early=(Tick("go", {}),)) for _ in range(2)], half=False)
     got, _ = _run(tmp_path, "known", KNOWN, scenario)
     sent = [{c: v[f"{c}.value"] for c, v in s.outputs.items()} for s in got.steps if s.outputs]
-    assert sent == [{"n": 2, "fresh": True, "grown": 0}, {"n": 3, "fresh": True, "grown": 1}]
+    assert sent == [{"n": 2, "fresh": True, "grown": 0, "kept": 1}, {"n": 3, "fresh": True, "grown": 1, "kept": 1}]
 
 
 EMPTY = """\

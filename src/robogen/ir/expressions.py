@@ -483,8 +483,10 @@ class ExpressionLowering:
         elif op == "extract":  # extract(a, q): the sequence first in the IR, as for filter(q, a)
             args = [self.conv(args[1], t, e.args[1].span), self.conv(args[0], T.SetT(T.INT), e.args[0].span)]
         elif is_collection(t) and op not in ("elems", "indices"):
-            # the collections the result is made from have its type ({} and <> take it)
-            args = [self.conv(a, t, x.span) if is_collection(a.type) else a for a, x in zip(args, e.args)]
+            # the collections the result is made from have its elements ({} and <> take them; the
+            # set that filters a sequence stays a set)
+            args = [self.conv(a, type(a.type)(t.element), x.span) if is_collection(a.type) else a  # type: ignore[call-arg, union-attr]
+                    for a, x in zip(args, e.args)]
         elif len(args) == 2 and all(is_collection(a.type) for a in args):
             common = args[1].type if _unknown_inside(self.model.type_of(e.args[0])) else args[0].type  # (prefix(<>, q))
             args = [self.conv(a, type(a.type)(common.element), x.span) for a, x in zip(args, e.args)]  # type: ignore[union-attr, call-arg]
