@@ -70,6 +70,20 @@ def mangle(name: str) -> str:
 _COMPARISONS = ("eq", "ne", "lt", "le", "gt", "ge")
 
 
+def _binds(e: ir.Expr) -> bool:
+    """Does evaluating ``e`` bind a variable (RoboSim ``$e?x``)?"""
+    todo: list = [e]
+    while todo:
+        x = todo.pop()
+        if isinstance(x, ir.BindIn):
+            return True
+        if isinstance(x, ir.Expr):
+            todo.extend(getattr(x, f) for f in x.__dataclass_fields__)
+        elif isinstance(x, tuple):
+            todo.extend(x)
+    return False
+
+
 def _against_zero(op: str, t: T.Type, a: str, b: str) -> str | None:
     """``a op b`` of nats when one side is the literal 0 and the types decide it (``n < 0``,
     ``n >= 0``, ``0 > n``, ``0 <= n``; the checker gives the value of those it can see, this
@@ -323,6 +337,10 @@ class Emitter:
             return f"({a} || {b})"
         if op == "implies":
             return f"(!{a} || {b})"
+        if op in ("iff", "eq", "ne") and e.left.type == T.BOOLEAN and (_binds(e.left) or _binds(e.right)):
+            # `$e?x iff $f?y`: the binding on the left before the right's, as the interpreter reads
+            # them (C does not order the operands of ==: gcc's -Wsequence-point)
+            return f"({a} ? {b} : !{b})" if op != "ne" else f"({a} ? !{b} : {b})"
         if op == "iff":
             return f"(!{a} == !{b})"
         if op in _COMPARISONS and a == b and "(" not in a and _exact(e.left.type):
