@@ -457,12 +457,20 @@ class ExprChecker(Calls, DollarForms):
             return T.UNKNOWN
         t = ts[0]
         for i, it in zip(items[1:], ts[1:]):
-            if T.assignable(it, t):
-                continue
-            if T.assignable(t, it):
-                t = it
-                continue
-            self._err(f"the elements of a {what} must have one type: {t.show()} and {it.show()}", i)
+            t = self._wider(t, it, i, what)
+        return t
+
+    def _wider(self, t: T.Type, it: T.Type, at: ast.Node, what: str) -> T.Type:
+        """The type of the elements of an enumeration whose elements so far are of type ``t``,
+        and the next of type ``it``: numbers widen (<0, -1> is a Seq(int), not a Seq(nat) that
+        would wrap -1), other types must fit one in the other."""
+        if t in T.NUMERIC and it in T.NUMERIC:
+            return T.numeric_join(t, it)
+        if T.assignable(it, t):
+            return t
+        if T.assignable(t, it):
+            return it
+        self._err(f"the elements of a {what} must have one type: {t.show()} and {it.show()}", at)
         return t
 
     def _e_SeqLit(self, e: ast.SeqLit) -> T.Type:
@@ -503,7 +511,10 @@ class ExprChecker(Calls, DollarForms):
         widths = {len(r) for r in e.rows}
         if len(widths) != 1:
             return self._err("the rows of a matrix literal must have the same length", e)
-        return T.MatrixT(elements[0], len(e.rows), widths.pop())
+        element = elements[0]
+        for row, t in zip(e.rows[1:], elements[1:]):  # the elements of every row, not the first row's alone
+            element = self._wider(element, t, row[0], "matrix")
+        return T.MatrixT(element, len(e.rows), widths.pop())
 
     def _e_Since(self, e: ast.Since) -> T.Type:
         self._timed_allowed(e, "since")
