@@ -205,10 +205,10 @@ def dependency_order(system: System, links: list[Link]) -> list[str]:
         return list(system.order) + [n for n in names if n not in system.order]
     succ: dict[str, set[str]] = {n: set() for n in names}
     indeg = {n: 0 for n in names}
-    for l in links:
-        if l.target not in succ[l.source] and l.target != l.source:  # an instance feeding itself orders nothing
-            succ[l.source].add(l.target)
-            indeg[l.target] += 1
+    for link in links:
+        if link.target not in succ[link.source] and link.target != link.source:  # an instance feeding itself orders nothing
+            succ[link.source].add(link.target)
+            indeg[link.target] += 1
     order: list[str] = []
     remaining = list(names)
     while remaining:
