@@ -19,6 +19,7 @@ from typing import Callable
 from robogen.cosim.fmi3 import Binding, CallNotes, Library, LoadError
 from robogen.cosim.instances import FmuInstance
 from robogen.cosim.master import Master, RunOptions
+from robogen.cosim.plan import make_plan
 from robogen.cosim.proxy import ProxyBinding
 from robogen.cosim.recorder import Recorder
 from robogen.cosim.system import Link, System, load_system, record_list, resolve
@@ -60,7 +61,9 @@ def build_master(path: Path, *, stop=None, step=None, output=None, events=None, 
         record = [(by_name[n], v) for n, v in record_list(system, models)]
         recorder = Recorder([f"{u.name}.{v.name}" for u, v in record], output, events, keep_rows, [v.type for _u, v in record],
                             every=system.record_every, start=options.start)
-        return Master(system, instances, links, record, options, recorder, notes), cache
+        plan = make_plan(instances, links, record, start=options.start, step=options.step, stop=options.stop,
+                         max_iterations=system.max_event_iterations, events_logged=recorder.recording_events)
+        return Master(system, plan, links, options, recorder, notes), cache
     except BaseException:
         cache.close()
         raise
