@@ -9,8 +9,8 @@ callbacks of this module, whose first argument is the handle of an :class:`Adapt
 binding: each callback makes the binding's call and writes its results where the engine expects
 them. A call that fails keeps its exception (an :class:`~robogen.cosim.fmi3.FMUCrashed` stays one)
 and returns its status; the engine then stops and Python raises it. The callbacks are the
-master's (:func:`robogen.cosim.signals.callback`): a signal that arrives in one is delivered once
-it has returned.
+master's (:func:`robogen.cosim.signals.callback`): a signal that arrives in one stops the
+engine as the callback returns, and Python raises :class:`~robogen.cosim.signals.Interrupted`.
 """
 
 from __future__ import annotations
@@ -27,7 +27,7 @@ class Adapter:
         self.binding, self.ffi = binding, ffi
         self.handle = ffi.new_handle(self)
         self.failure: BaseException | None = None
-        self.kept: list = []  # what the last Get of Strings or Binaries points to
+        self.kept: dict[str, list] = {}  # per type: what the last Get of Strings or Binaries points to
 
     def fail(self, exc: BaseException) -> int:
         self.failure = exc
@@ -63,9 +63,12 @@ def _make(ffi) -> dict[str, object]:  # noqa: C901 - one small closure per funct
             def call(handle, *args):
                 adapter = _adapter(ffi, handle)
                 try:
-                    return marked(adapter, *args)
+                    status = marked(adapter, *args)
                 except BaseException as exc:  # never into C: the engine stops, Python raises it
                     return adapter.fail(exc)
+                if signals.caught() is not None:  # a signal came during the call: stop the run here
+                    return adapter.fail(signals.Interrupted(signals.caught()))
+                return status
 
             made[name] = ffi.callback(ctype, signals.callback(call))
             return body
@@ -120,9 +123,9 @@ def _values(ffi, callback, fmi_type: str) -> None:
         @callback("rg_get_binary_fn", "fmi3GetBinary")
         def get_binary(adapter, vrs, n, sizes, values, _n):
             got = adapter.binding.get_values("Binary", ffi.unpack(vrs, n))
-            adapter.kept = [ffi.new("uint8_t[]", bytes(v) or b"\0") for v in got]
-            for i, (v, kept) in enumerate(zip(got, adapter.kept)):
-                sizes[i], values[i] = len(v), kept
+            kept = adapter.kept["Binary"] = [ffi.new("char[]", bytes(v)) for v in got]
+            for i, (v, data) in enumerate(zip(got, kept)):
+                sizes[i], values[i] = len(v), ffi.cast("uint8_t *", data)
             return 0
 
         @callback("rg_set_binary_fn", "fmi3SetBinary")
@@ -138,10 +141,10 @@ def _values(ffi, callback, fmi_type: str) -> None:
     def get(adapter, vrs, n, values, _n):
         got = adapter.binding.get_values(fmi_type, ffi.unpack(vrs, n))
         if fmi_type == "String":
-            adapter.kept = [ffi.new("char[]", v.encode()) for v in got]
+            kept = adapter.kept["String"] = [ffi.new("char[]", v.encode()) for v in got]
             out = ffi.cast("const char **", values)
-            for i, kept in enumerate(adapter.kept):
-                out[i] = kept
+            for i, data in enumerate(kept):
+                out[i] = data
         else:
             ffi.cast(pointer, values)[0:n] = got
         return 0
