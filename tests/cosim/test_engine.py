@@ -268,29 +268,20 @@ STRETCH_SYSTEMS = {
 }
 
 
-def simulate_with(loop: str, monkeypatch, path, **kwargs):
-    """simulate_system in this loop ("Python": the reference, or "C": the engine)."""
-    if loop == "Python":
-        monkeypatch.setenv("ROBOGEN_REFERENCE_LOOP", "1")
-    else:
-        monkeypatch.delenv("ROBOGEN_REFERENCE_LOOP", raising=False)
-    return simulate_system(path, **kwargs)
-
-
 @pytest.fixture
 def loops(monkeypatch):
     """run(system) in the reference and in the engine: (python, c) results."""
 
     def run(path, **kwargs):
-        python = simulate_with("Python", monkeypatch, path, output=path.with_suffix(".py.csv"), **kwargs)
-        c = simulate_with("C", monkeypatch, path, output=path.with_suffix(".c.csv"), **kwargs)
+        python = simulate("Python", monkeypatch, path, output=path.with_suffix(".py.csv"), **kwargs)
+        c = simulate("C", monkeypatch, path, output=path.with_suffix(".c.csv"), **kwargs)
         assert (python.stats.loop, c.stats.loop) == ("Python", "C"), "the engine did not build here"
         # the rows only to the file: the C loop writes the CSV lines itself
-        text = simulate_with("C", monkeypatch, path, output=path.with_suffix(".text.csv"), keep_rows=False, **kwargs)
+        text = simulate("C", monkeypatch, path, output=path.with_suffix(".text.csv"), keep_rows=False, **kwargs)
         assert text.output.read_bytes() == python.output.read_bytes()
         assert (text.stats.steps, text.stats.end_time) == (python.stats.steps, python.stats.end_time)
         # the rows nowhere: the same run, nothing stored
-        quiet = simulate_with("C", monkeypatch, path, keep_rows=False, **kwargs)
+        quiet = simulate("C", monkeypatch, path, keep_rows=False, **kwargs)
         assert (quiet.stats.steps, quiet.stats.event_iterations, quiet.stats.end_time, quiet.stats.terminated_by) == (
             python.stats.steps, python.stats.event_iterations, python.stats.end_time, python.stats.terminated_by)
         return python, c
@@ -339,7 +330,7 @@ def test_a_failing_fmu_in_a_quiet_stretch_stops_the_engine_with_the_same_error_a
     messages = []
     for loop, keep_rows in (("Python", True), ("C", True), ("C", False)):
         with pytest.raises(RobogenError) as exc:
-            simulate_with(loop, monkeypatch, path, output=tmp_path / f"{loop}-{keep_rows}.csv", keep_rows=keep_rows)
+            simulate(loop, monkeypatch, path, output=tmp_path / f"{loop}-{keep_rows}.csv", keep_rows=keep_rows)
         messages.append(exc.value.diagnostics[0].message)
     assert len(c_runs) == 2  # the C runs ran in the engine
     assert messages[0] == messages[1] == messages[2]
@@ -426,9 +417,9 @@ def test_every_fmi_type_is_recorded_byte_for_byte_alike_by_the_c_and_the_python_
 @pytest.mark.parametrize("step", [0.1, 0.7], ids=["step-shorter-than-the-clock", "step-longer-than-the-clock"])
 def test_every_fmi_type_travels_through_connections(monkeypatch, write_system, tmp_path, step):
     path = write_system(alltypes(step, connected=True), name="connected.toml")
-    python = simulate_with("Python", monkeypatch, path, output=tmp_path / "python.csv", events=tmp_path / "events.jsonl")
-    c = simulate_with("C", monkeypatch, path, output=tmp_path / "c.csv")
-    text = simulate_with("C", monkeypatch, path, output=tmp_path / "text.csv", keep_rows=False)
+    python = simulate("Python", monkeypatch, path, output=tmp_path / "python.csv", events=tmp_path / "events.jsonl")
+    c = simulate("C", monkeypatch, path, output=tmp_path / "c.csv")
+    text = simulate("C", monkeypatch, path, output=tmp_path / "text.csv", keep_rows=False)
     general = simulate_system(path, output=tmp_path / "general.csv", trace=lambda line: None)
     assert (python.stats.loop, c.stats.loop, text.stats.loop, general.stats.loop) == ("Python", "C", "C", "C")
     assert python.output.read_bytes() == c.output.read_bytes() == general.output.read_bytes()
