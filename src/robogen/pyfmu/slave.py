@@ -21,7 +21,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any, Callable, Iterable, Sequence
 
-from robogen.fmu.fmi import INTERVAL_UNCHANGED, LOG_CATEGORIES, same_time
+from robogen.fmu.fmi import INTERVAL_UNCHANGED, PYTHON_FMU_LOG_CATEGORIES, same_time
 from robogen.pyfmu.model import Clock, FmiUsageError, Model, Step, Update, Var
 
 #: How many different Get calls (function and value references) a slave keeps checked.
@@ -406,9 +406,9 @@ def log_categories(requested: Iterable[str]) -> set[str]:
     """Check SetDebugLogging categories (an empty list means all of them)."""
     requested = list(requested)
     if not requested:
-        return set(LOG_CATEGORIES)
-    unknown = [c for c in requested if c not in LOG_CATEGORIES]
+        return set(PYTHON_FMU_LOG_CATEGORIES)
+    unknown = [c for c in requested if c not in PYTHON_FMU_LOG_CATEGORIES]
     if unknown:
         raise FmiUsageError(f"fmi3SetDebugLogging: unknown log category '{unknown[0]}' "
-                            f"(known: {', '.join(LOG_CATEGORIES)})")
+                            f"(known: {', '.join(PYTHON_FMU_LOG_CATEGORIES)})")
     return set(requested)
