@@ -15,7 +15,7 @@ It follows the FMI 3.0 standard's Co-Simulation master algorithm with Event Mode
 This module is the algorithm's executable reference: it runs the run's plan
 (:mod:`robogen.cosim.plan`) point after point. Production runs go through the engine
 (:mod:`robogen.cosim.engine`), the same algorithm in C on the same plan, which gives the same
-results byte for byte (tests/cosim/test_engine.py runs every scenario through both) and returns
+results byte for byte (tests/cosim/test_cosim_engine.py runs every scenario through both) and returns
 to this module for what only Python does: pacing, rolling FMUs back, reporting errors. The
 reference runs only where no C compiler is at hand (or ``ROBOGEN_REFERENCE_LOOP=1``, for tests
 and benchmarks).

@@ -16,7 +16,7 @@ import pytest
 from robogen import toolchain
 from robogen.cosim import engine
 
-from test_engine import RELAYS, SUFFIXES, SYSTEMS
+from test_cosim_engine import RELAYS, SUFFIXES, SYSTEMS
 
 DRIVER = textwrap.dedent("""
     import os, sys
