@@ -1,8 +1,8 @@
 """The C toolchain: the one place that knows the compiler, the house flags and how to run them.
 
 Every C build robogen makes goes through here: generated FMUs (:mod:`robogen.codegen.binary`),
-Python FMUs' shims (:mod:`robogen.pyfmu.build`), the master's C stepper
-(:mod:`robogen.cosim.stepper`), and the test suite's own FMUs and C programs. It sits below
+Python FMUs' shims (:mod:`robogen.pyfmu.build`), the master's C engine
+(:mod:`robogen.cosim.engine`), and the test suite's own FMUs and C programs. It sits below
 codegen, pyfmu and cosim and imports none of them.
 
 - The compiler is ``$CC`` (split like a shell word list, so ``CC="ccache gcc"`` works), else ``cc``.

@@ -98,7 +98,7 @@ def test_build_description_rules(built, tmp_path):
           '      <PreprocessorDefinition name="FMI3_FUNCTION_PREFIX" value="trivial_"/>\n'
           '    </SourceFileSet>\n  </BuildConfiguration>\n</fmiBuildDescription>\n')
     fmu = rewrite(built["trivial"], tmp_path / "bd.fmu", sources__buildDescription_DOT_xml=bd)
-    found = [(l, m) for s, l, m in messages(fmu) if s == "error"]
+    found = [(line, m) for s, line, m in messages(fmu) if s == "error"]
     assert (6, '<SourceFile name="gone.c"> is not in sources/') in found
     assert (7, "FMI3_FUNCTION_PREFIX must not be defined: a shared object exports unprefixed names") in found
 

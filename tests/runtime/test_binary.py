@@ -134,12 +134,3 @@ def test_a_missing_compiler_is_a_located_robogen_error(monkeypatch):
     monkeypatch.setenv("CC", "no-such-compiler-xyz")
     with pytest.raises(RobogenError, match="C compiler 'no-such-compiler-xyz' not found"):
         toolchain.compiler()
-
-
-def test_the_runtime_tolerance_is_the_python_one():
-    """One tolerance decides 'the same time' in the C runtime and in the master and Python FMUs."""
-    from robogen.fmu.fmi import TIME_TOLERANCE
-
-    header = (binary.runtime_dir() / "robogen_runtime.h").read_text()
-    value = re.search(r"#define RG_TIME_RELATIVE_TOLERANCE (\S+)", header).group(1)
-    assert float(value) == TIME_TOLERANCE

@@ -276,14 +276,15 @@ def build_binary(model_identifier: str, token: str, workdir: Path, *, promote_li
     ffi = cffi.FFI()
     ffi.embedding_api("")
     ffi.cdef(python_decls + "\n" + c_decls)
-    ffi.set_source(module, '#include "bridge.h"\nint pyfmu_cffi_start(void) { return cffi_start_python(); }\n')
+    source = '#include "bridge.h"\nint pyfmu_cffi_start(void) { return cffi_start_python(); }\n'
+    ffi.set_source(module, source)
     init_code = (HERE / "_embedded.py").read_text()
     config = {"token": token, "site_dirs": site_dirs()}
     init_code += f"\n\nfrom {module} import ffi as _ffi, lib as _lib\nbind(_ffi, _lib, {config!r})\n"
     ffi.embedding_init_code(init_code)
     workdir.mkdir(parents=True, exist_ok=True)
     generated = workdir / f"{module}.c"
-    make_c_source(ffi, module, ffi._assigned_source[1], str(generated), verbose=False)
+    make_c_source(ffi, module, source, str(generated), verbose=False)
     sites = ", ".join(_c_string(d) for d in config["site_dirs"])
     (workdir / "pyfmu_config.h").write_text(
         f"#define PYFMU_PYTHON_HOME {_c_string(info['home'])}\n"

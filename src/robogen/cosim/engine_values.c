@@ -11,14 +11,14 @@
  * the Get calls of the recorded FMUs that forward nothing), and one row of the recorded columns.
  *
  * A row is stored in one of three ways (rg_stretch.mode):
- *   MODE_SLOTS  8-byte slots, one per recorded value (reals as doubles, signed integers as int64,
+ *   STORE_SLOTS  8-byte slots, one per recorded value (reals as doubles, signed integers as int64,
  *               unsigned ones as uint64, Booleans as 0/1, Strings and Binaries as the offset of a
  *               copy in the arena: a size_t length, then the bytes); Python builds the rows.
- *   MODE_TEXT   the CSV line the recorder would write (robogen.cosim.recorder): reals in the
+ *   STORE_TEXT   the CSV line the recorder would write (robogen.cosim.recorder): reals in the
  *               shortest form that reads back to the same double, as Python's repr; integers in
  *               decimal; True/False; Strings in double quotes, a quote doubled; Binaries as 0x
  *               and lowercase hexadecimal.
- *   MODE_NONE   nothing (the rows go nowhere).
+ *   STORE_NONE   nothing (the rows go nowhere).
  *
  * Before each FMI call the loop notes it (rg_stretch.note_call/note_time, the master's
  * robogen.cosim.fmi3.CallNotes), so a crash inside an FMU can be reported by instance, function
@@ -37,12 +37,8 @@
 #include <time.h>
 #include <unistd.h>
 
-#include "stepper.h"
+#include "engine.h"
 
-enum { K_F64 = 0, K_F32, K_I64, K_U64, K_I32, K_U32, K_I16, K_U16, K_I8, K_U8, K_BOOL, K_STRING, K_BINARY };
-enum { WHY_LIMIT = 0, WHY_EVENT, WHY_TERMINATE, WHY_STEP_FAILED, WHY_GET_FAILED, WHY_NO_MEMORY, WHY_PAUSE,
-       WHY_SET_FAILED };
-enum { MODE_SLOTS = 0, MODE_TEXT, MODE_NONE };
 
 #if defined(__GNUC__)
 #define RG_EXPORT __attribute__((visibility("default")))
@@ -50,11 +46,9 @@ enum { MODE_SLOTS = 0, MODE_TEXT, MODE_NONE };
 #define RG_EXPORT
 #endif
 
-RG_EXPORT long rg_run_stretch(rg_stretch *s, double start, double h, long *n, double *t, double limit, long max_rows,
-                              double deadline, double *times, uint64_t *slots, int *why, int *who, int *status);
-RG_EXPORT int rg_keep_last(rg_stretch *s, int link, const char *data, size_t size);
+RG_EXPORT int rg_keep_last(rg_engine *s, int link, const char *data, size_t size);
 RG_EXPORT size_t rg_format_double(char *out, double x);
-RG_EXPORT void rg_release(rg_stretch *s);
+RG_EXPORT void rg_release(rg_engine *s);
 
 /* Room for `more` bytes after b->used; false when memory runs out. */
 static bool reserve(rg_bytes *b, size_t more)
@@ -309,14 +303,14 @@ static uint64_t integer_of(int kind, const void *buffer, size_t i)
 }
 
 /* The bytes of a String or Binary value of a read (NULL reads as empty). */
-static const char *bytes_of(const rg_stretch *s, int r, size_t i, size_t *size)
+static const char *bytes_of(const rg_engine *s, int r, size_t i, size_t *size)
 {
-    const char *data = ((const char *const *)s->buffer[r])[i];
+    const char *data = ((const char *const *)s->p->buffer[r])[i];
     if (data == NULL) {
         *size = 0;
         return "";
     }
-    *size = s->kind[r] == K_STRING ? strlen(data) : s->sizes[r][i];
+    *size = s->p->kind[r] == K_STRING ? strlen(data) : s->p->sizes[r][i];
     return data;
 }
 
@@ -324,18 +318,18 @@ static bool is_bytes(int kind) { return kind == K_STRING || kind == K_BINARY; }
 
 /* One read's fmi3Get<Type> call; 0 or the failing status. Strings and Binaries are copied to the
  * arena at once: a later call on the same FMU may free the memory they point to. */
-static int get_values(rg_stretch *s, int r, bool *no_memory)
+static int get_values(rg_engine *s, int r, bool *no_memory)
 {
     size_t i, size;
     int st;
-    *s->note_call = s->read_note[r];
-    if (s->kind[r] == K_BINARY)
-        st = s->get_binary[r](s->read_instance[r], s->vrs[r], s->count[r], s->sizes[r],
-                              (const uint8_t **)s->buffer[r], s->count[r]);
+    *s->p->note_call = s->p->read_note[r];
+    if (s->p->kind[r] == K_BINARY)
+        st = s->p->get_binary[r](s->p->read_instance[r], s->p->vrs[r], s->p->count[r], s->p->sizes[r],
+                              (const uint8_t **)s->p->buffer[r], s->p->count[r]);
     else
-        st = s->get[r](s->read_instance[r], s->vrs[r], s->count[r], s->buffer[r], s->count[r]);
-    if (st > 1 || !is_bytes(s->kind[r]) || s->mode == MODE_NONE) return st > 1 ? st : 0;
-    for (i = 0; i < s->count[r]; i++) {
+        st = s->p->get[r](s->p->read_instance[r], s->p->vrs[r], s->p->count[r], s->p->buffer[r], s->p->count[r]);
+    if (st > 1 || !is_bytes(s->p->kind[r]) || s->p->store == STORE_NONE) return st > 1 ? st : 0;
+    for (i = 0; i < s->p->count[r]; i++) {
         const char *data = bytes_of(s, r, i, &size);
         s->copies[r][i] = keep_bytes(&s->arena, data, size);
         if (s->copies[r][i] == UINT64_MAX) *no_memory = true;
@@ -346,24 +340,24 @@ static int get_values(rg_stretch *s, int r, bool *no_memory)
 /* Whether a link's source value differs from the value last set (as Python's != compares them:
  * NaN differs from itself, -0.0 equals 0.0); if it does, it becomes the value last set, and goes
  * into slot j of the Set call's arrays. False with *no_memory when a copy cannot be made. */
-static bool changed(rg_stretch *s, int g, int link, int j, bool *no_memory)
+static bool changed(rg_engine *s, int g, int link, int j, bool *no_memory)
 {
-    int r = s->link_read[link], kind = s->set_kind[g];
-    size_t i = (size_t)s->link_index[link], size;
+    int r = s->p->link_read[link], kind = s->p->set_kind[g];
+    size_t i = (size_t)s->p->link_index[link], size;
     rg_value *last = s->last + link;
     if (kind == K_F64 || kind == K_F32) {
-        double v = real_of(kind, s->buffer[r], i);
+        double v = real_of(kind, s->p->buffer[r], i);
         if (s->last_valid[link] && !(v != last->d)) return false;
         last->d = v;
-        if (kind == K_F32) memcpy((char *)s->set_values + 4 * (size_t)j, &((const float *)s->buffer[r])[i], 4);
+        if (kind == K_F32) memcpy((char *)s->set_values + 4 * (size_t)j, &((const float *)s->p->buffer[r])[i], 4);
         else s->set_values[j].d = v;
     } else if (!is_bytes(kind)) {
-        uint64_t v = integer_of(kind, s->buffer[r], i);
+        uint64_t v = integer_of(kind, s->p->buffer[r], i);
         size_t width = kind == K_I64 || kind == K_U64 ? 8 : kind == K_I32 || kind == K_U32 ? 4
                      : kind == K_I16 || kind == K_U16 ? 2 : 1;
         if (s->last_valid[link] && v == last->u) return false;
         last->u = v;
-        memcpy((char *)s->set_values + width * (size_t)j, (const char *)s->buffer[r] + width * i, width);
+        memcpy((char *)s->set_values + width * (size_t)j, (const char *)s->p->buffer[r] + width * i, width);
     } else {
         const char *data = bytes_of(s, r, i, &size);
         if (s->last_valid[link] && size == s->last_size[link] && memcmp(data, s->last_bytes[link], size) == 0)
@@ -381,24 +375,24 @@ static bool changed(rg_stretch *s, int g, int link, int j, bool *no_memory)
 
 /* Group g: the connected inputs whose value changed, in one fmi3Set<Type> call (*count of them,
  * their value references in s->set_vrs); 0, the failing status, or -1 when memory runs out. */
-static int forward(rg_stretch *s, int g, int *count)
+static int forward(rg_engine *s, int g, int *count)
 {
     int k, n = 0, st;
     bool no_memory = false;
-    for (k = 0; k < s->set_count[g]; k++) {
-        int link = s->set_first[g] + k;
-        if (changed(s, g, link, n, &no_memory)) s->set_vrs[n++] = s->link_vr[link];
+    for (k = 0; k < s->p->set_count[g]; k++) {
+        int link = s->p->set_first[g] + k;
+        if (changed(s, g, link, n, &no_memory)) s->set_vrs[n++] = s->p->link_vr[link];
         if (no_memory) return -1;
     }
     *count = n;
     if (n == 0) return 0;
-    *s->note_call = s->set_note[g];
-    if (s->set_kind[g] == K_BINARY)
-        st = s->set_binary[g](s->set_instance[g], s->set_vrs, (size_t)n, s->set_sizes, s->set_pointers, (size_t)n);
-    else if (s->set_kind[g] == K_STRING)
-        st = s->set[g](s->set_instance[g], s->set_vrs, (size_t)n, s->set_pointers, (size_t)n);
+    *s->p->note_call = s->p->set_note[g];
+    if (s->p->set_kind[g] == K_BINARY)
+        st = s->p->set_binary[g](s->p->set_instance[g], s->set_vrs, (size_t)n, s->set_sizes, s->set_pointers, (size_t)n);
+    else if (s->p->set_kind[g] == K_STRING)
+        st = s->p->set[g](s->p->set_instance[g], s->set_vrs, (size_t)n, s->set_pointers, (size_t)n);
     else
-        st = s->set[g](s->set_instance[g], s->set_vrs, (size_t)n, s->set_values, (size_t)n);
+        st = s->p->set[g](s->p->set_instance[g], s->set_vrs, (size_t)n, s->set_values, (size_t)n);
     return st > 1 ? st : 0;
 }
 
@@ -456,103 +450,34 @@ static bool bytes_cell(rg_bytes *b, int kind, const rg_bytes *arena, uint64_t of
 }
 
 /* A recorded value's CSV cell; false when memory runs out. */
-static bool cell(rg_stretch *s, int r, size_t i)
+static bool cell(rg_engine *s, int r, size_t i)
 {
-    int kind = s->kind[r];
-    if (!is_bytes(kind)) return number_cell(&s->text, kind, s->buffer[r], i);
+    int kind = s->p->kind[r];
+    if (!is_bytes(kind)) return number_cell(&s->text, kind, s->p->buffer[r], i);
     return bytes_cell(&s->text, kind, &s->arena, s->copies[r][i]);
 }
 
-/* The CSV line of the point t: time, superdense 0, the recorded columns; false when memory runs
- * out (part of the line may be written). */
-static bool full_text_row(rg_stretch *s, double t)
-{
-    int c;
-    if (!reserve(&s->text, 40)) return false;
-    s->text.used += rg_format_double(s->text.data + s->text.used, t);
-    put(&s->text, ",0", 2);
-    for (c = 0; c < s->n_columns; c++) {
-        int r = s->column_read[c];
-        if (!reserve(&s->text, 2)) return false;
-        put(&s->text, ",", 1);
-        if (r < 0) {
-            size_t n = strlen(s->column_text[c]);
-            if (!reserve(&s->text, n)) return false;
-            put(&s->text, s->column_text[c], n);
-        } else if (!cell(s, r, (size_t)s->column_index[c])) {
-            return false;
-        }
-    }
-    if (!reserve(&s->text, 1)) return false;
-    put(&s->text, "\n", 1);
-    return true;
-}
-
-/* The CSV line of the point t, or nothing when memory runs out. */
-static bool text_row(rg_stretch *s, double t)
-{
-    size_t start = s->text.used;
-    if (full_text_row(s, t)) return true;
-    s->text.used = start; /* no half line */
-    return false;
-}
-
-/* The recorded values as one row of slots. */
-static void slot_row(rg_stretch *s, uint64_t *row)
-{
-    int c, j = 0;
-    for (c = 0; c < s->n_columns; c++) {
-        int r = s->column_read[c], kind;
-        size_t i = (size_t)s->column_index[c];
-        double d;
-        if (r < 0) continue;
-        kind = s->kind[r];
-        if (kind == K_F64 || kind == K_F32) {
-            d = real_of(kind, s->buffer[r], i);
-            memcpy(row + j, &d, sizeof d);
-        } else {
-            row[j] = is_bytes(kind) ? s->copies[r][i] : integer_of(kind, s->buffer[r], i);
-        }
-        j++;
-    }
-}
-
-/* The operations first..last-1 (reads, Set groups); 0, or the failing call's status (*why and
- * *who say which), or -1 when memory runs out. */
-static int run_ops(rg_stretch *s, int first, int last, int *why, int *who)
+/* The operations first..last-1 (reads, Set groups); 0, the failing call's status (the call notes
+ * say which), or -1 when memory runs out. */
+static int run_ops(rg_engine *s, int first, int last)
 {
     int k, st, count;
     bool no_memory = false;
     for (k = first; k < last; k++) {
-        int op = s->op[k];
+        int op = s->p->op[k];
         st = op >= 0 ? get_values(s, op, &no_memory) : forward(s, -1 - op, &count);
-        if (st > 0) {
-            *why = op >= 0 ? WHY_GET_FAILED : WHY_SET_FAILED;
-            *who = op >= 0 ? op : -1 - op;
-            return st;
-        }
+        if (st > 0) return st;
         if (no_memory || st < 0) return -1;
     }
     return 0;
 }
 
-/* The exchange and the reads after a step (or for an instant's row). 0, or the failing call's
- * status (*why and *who say which), or -1 when memory runs out. */
-static int exchange_and_read(rg_stretch *s, int *why, int *who)
+/* The exchange and the reads after a step (or for an instant's row). 0, the failing call's
+ * status, or -1 when memory runs out. */
+static int exchange_and_read(rg_engine *s)
 {
-    if (s->mode == MODE_TEXT) s->arena.used = 0; /* the previous row's copies are written out */
-    return run_ops(s, 0, s->n_ops, why, who);
-}
-
-/* The exchange and the reads after a step, then its row. 0, or the failing call's status
- * (*why and *who say which), or -1 when memory runs out. */
-static int exchange_and_record(rg_stretch *s, double t, uint64_t *row, int *why, int *who)
-{
-    int st = exchange_and_read(s, why, who);
-    if (st != 0) return st;
-    if (s->mode == MODE_SLOTS) slot_row(s, row);
-    else if (s->mode == MODE_TEXT && !text_row(s, t)) return -1;
-    return 0;
+    if (s->p->store == STORE_TEXT) s->arena.used = 0; /* the previous row's copies are written out */
+    return run_ops(s, 0, s->p->n_ops);
 }
 
 static double wall_clock(void)
@@ -563,19 +488,19 @@ static double wall_clock(void)
 }
 
 /* fmi3DoStep of every FMU from t to t_next; 0 or the failing status (*who the FMU). */
-static int step_all(rg_stretch *s, double t, double t_next, bool *event, bool *terminate, int *who)
+static int step_all(rg_engine *s, double t, double t_next, bool *event, bool *terminate, int *who)
 {
     int u, st;
-    *s->note_time = t;
-    for (u = 0; u < s->n_instances; u++) {
+    *s->p->note_time = t;
+    for (u = 0; u < s->p->n_instances; u++) {
         bool *f = s->flags + 4 * u;
-        *s->note_call = s->step_note[u];
-        st = s->do_step[u](s->instance[u], t, t_next - t, true, f, f + 1, f + 2, s->last_time + u);
+        *s->p->note_call = s->p->step_note[u];
+        st = s->p->do_step[u](s->p->instance[u], t, t_next - t, true, f, f + 1, f + 2, s->last_time + u);
         if (st > 1) {
             *who = u;
             return st;
         }
-        if (f[0] && s->event_mode[u]) *event = true;
+        if (f[0] && s->p->event_mode[u]) *event = true;
         if (f[1] && !*terminate) {
             *terminate = true;
             *who = u;
@@ -584,61 +509,8 @@ static int step_all(rg_stretch *s, double t, double t_next, bool *event, bool *t
     return 0;
 }
 
-/* Steps from (*n, *t) until the grid point reaches `limit` (WHY_LIMIT), an FMU asks for Event Mode
- * or to terminate, a call fails, or it pauses (WHY_PAUSE) because `max_rows` rows are stored or
- * the monotonic clock passed `deadline` (seconds, CLOCK_MONOTONIC, as Python's time.monotonic)
- * after at least one row. Returns the number of steps taken;
- * rows stored = steps, or steps - 1 when the last step ended in an event or a failed exchange.
- * *why says why it stopped; *who is the FMU (or read, or set group) concerned, *status the
- * failing status. The arena and the text are emptied first: the previous chunk's are read. */
-RG_EXPORT long rg_run_stretch(rg_stretch *s, double start, double h, long *n, double *t, double limit, long max_rows,
-                              double deadline, double *times, uint64_t *slots, int *why, int *who, int *status)
-{
-    long steps = 0, rows = 0;
-    *why = WHY_LIMIT;
-    *who = -1;
-    *status = 0;
-    s->arena.used = s->text.used = 0;
-    for (;;) {
-        long k = *n + 1;
-        double t_next = start + (double)k * h;
-        bool event = false, terminate = false;
-        int st;
-        if (t_next >= limit || t_next <= *t) return steps;
-        if (rows >= max_rows || (rows > 0 && wall_clock() > deadline)) {
-            *why = WHY_PAUSE;
-            return steps;
-        }
-        st = step_all(s, *t, t_next, &event, &terminate, who);
-        if (st != 0) {
-            *why = WHY_STEP_FAILED;
-            *status = st;
-            return steps;
-        }
-        *n = k;
-        *t = t_next;
-        steps++;
-        if (event) {
-            *why = WHY_EVENT;
-            return steps;
-        }
-        *s->note_time = t_next;
-        st = exchange_and_record(s, t_next, slots + (size_t)rows * (size_t)s->width, why, who);
-        if (st != 0) {
-            if (st < 0) *why = WHY_NO_MEMORY;
-            *status = st;
-            return steps;
-        }
-        times[rows++] = t_next;
-        if (terminate) {
-            *why = WHY_TERMINATE;
-            return steps;
-        }
-    }
-}
-
-/* The value last set to a String or Binary input (Python's, before a stretch; or the loop's). */
-RG_EXPORT int rg_keep_last(rg_stretch *s, int link, const char *data, size_t size)
+/* The value last set to a String or Binary input (Python's, before the run; or the engine's). */
+RG_EXPORT int rg_keep_last(rg_engine *s, int link, const char *data, size_t size)
 {
     char *copy = (char *)realloc(s->last_bytes[link], size + 1);
     if (copy == NULL) return -1;
@@ -647,17 +519,4 @@ RG_EXPORT int rg_keep_last(rg_stretch *s, int link, const char *data, size_t siz
     s->last_bytes[link] = copy;
     s->last_size[link] = size;
     return 0;
-}
-
-RG_EXPORT void rg_release(rg_stretch *s)
-{
-    int k;
-    for (k = 0; k < s->n_links; k++) {
-        free(s->last_bytes[k]);
-        s->last_bytes[k] = NULL;
-    }
-    free(s->arena.data);
-    free(s->text.data);
-    s->arena.data = s->text.data = NULL;
-    s->arena.size = s->arena.used = s->text.size = s->text.used = 0;
 }

@@ -1,4 +1,4 @@
-"""The master's C loops (stepper.c, runloop.c) under AddressSanitizer and UndefinedBehaviorSanitizer:
+"""The engine (engine_values.c, engine_run.c, engine_events.c) under AddressSanitizer and UndefinedBehaviorSanitizer:
 the library built with the sanitizers, loaded into a Python process of its own (libasan preloaded),
 runs systems with events, connections, early return, a failing FMU and Zeno behaviour in every
 way it stores rows, and gives the Python loop's results; any finding ends that process."""
@@ -14,22 +14,22 @@ from pathlib import Path
 import pytest
 
 from robogen import toolchain
-from robogen.cosim import stepper
+from robogen.cosim import engine
 
-from test_stepper import RELAYS, SUFFIXES, SYSTEMS
+from test_cosim_engine import RELAYS, SUFFIXES, SYSTEMS
 
 DRIVER = textwrap.dedent("""
     import os, sys
     from pathlib import Path
-    from robogen.cosim import simulate_system, stepper
+    from robogen.cosim import engine, simulate_system, schema
     from robogen.diagnostics import RobogenError
-    library = stepper.ffi.dlopen(sys.argv[1])
-    stepper._library = lambda: library
+    library = schema.ffi.dlopen(sys.argv[1])
+    engine._library = lambda: library
     def run(path, loop, **kwargs):
         if loop == "Python":
-            os.environ["ROBOGEN_NO_C_STEPPER"] = "1"
+            os.environ["ROBOGEN_REFERENCE_LOOP"] = "1"
         else:
-            os.environ.pop("ROBOGEN_NO_C_STEPPER", None)
+            os.environ.pop("ROBOGEN_REFERENCE_LOOP", None)
         try:
             result = simulate_system(path, **kwargs)
             return result.rows, (result.stats.steps, result.stats.instants, result.stats.terminated_by)
@@ -56,10 +56,10 @@ def test_the_c_loops_run_clean_under_the_sanitizers(tmp_path, write_system):
     libasan = _libasan()
     if libasan is None:
         pytest.skip("no AddressSanitizer runtime for this compiler")
-    source = tmp_path / "stepper_all.c"
-    source.write_bytes(stepper.source())
-    library = toolchain.compile_shared([source], tmp_path / "stepper_sanitized.so", sanitize=True,
-                                       what="the master's C loops under the sanitizers")
+    source = tmp_path / "engine_all.c"
+    source.write_bytes(engine.source())
+    library = toolchain.compile_shared([source], tmp_path / "engine_sanitized.so", sanitize=True,
+                                       what="the engine under the sanitizers")
     links = ", ".join(['"a.out -> b.tin"'] + [f'"a.c_{x} -> b.ci_{x}", "a.y_{x} -> b.u_{x}"' for x in SUFFIXES])
     systems = {**{name: SYSTEMS[name] for name in ("stair", "ticker", "ball", "relay-chain-stepwise", "ticker-setcount")},
                "types": f"connections = [{links}]\n[experiment]\nstop = 1.2\nstep = 0.1\n"
