@@ -138,7 +138,7 @@ class CNames:
 def user_function_prototype(u: ir.UserFunction) -> str:
     """The C declaration of a user function, as the --functions file must define it."""
     args = ", ".join(f"{ctype(t)} {n}" for n, t in u.params) or "void"
-    return f"static {ctype(u.result)} rg_user_{u.name}({args})"
+    return f"static {ctype(u.result)} rg_user_{u.cname}({args})"
 
 
 def c_string(text: str) -> str:
@@ -398,7 +398,7 @@ class Emitter:
         return self.collections.call(e, args, site)  # type: ignore[attr-defined]
 
     def _CallU(self, e: ir.CallU) -> str:
-        return f"rg_user_{e.name}({', '.join(self.expr(a) for a in e.args)})"
+        return f"rg_user_{e.instance or e.name}({', '.join(self.expr(a) for a in e.args)})"
 
     def _CallB(self, e: ir.CallB) -> str:
         args = [self.expr(a) for a in e.args]

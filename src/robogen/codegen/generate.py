@@ -248,7 +248,7 @@ def _functions_file(fmu: ir.Fmu, path: Path | None) -> str | None:
         text = path.read_text(encoding="utf-8")
     except (OSError, UnicodeDecodeError) as exc:
         raise RobogenError.at(f"cannot read the functions file {path}: {exc}", Span.whole_file(str(path))) from None
-    missing = [u for u in fmu.user_functions if not re.search(rf"\brg_user_{re.escape(u.name)}\s*\(", text)]
+    missing = [u for u in fmu.user_functions if not re.search(rf"\brg_user_{re.escape(u.cname)}\s*\(", text)]
     if missing:  # every one, located at its first call, rather than the C compiler's first complaint
         raise _unimplemented(missing, f"{path} does not define it")
     return text
@@ -257,7 +257,8 @@ def _functions_file(fmu: ir.Fmu, path: Path | None) -> str | None:
 def _unimplemented(functions: Sequence[ir.UserFunction], why: str) -> RobogenError:
     """One error per function, at its first call, spelling out the C definition to write."""
     return RobogenError([
-        error(f"function '{u.name}' has no implementation: {why}", u.first_call or u.span,
+        error(f"function '{u.name}'{f' (instantiated with {u.shown})' if u.shown else ''} has no implementation: {why}",
+              u.first_call or u.span,
               Note(f"the file must define: {user_function_prototype(u)} {{ ... }}"))
         for u in functions
     ])

@@ -74,7 +74,7 @@ TOOLKIT: dict[str, dict[tuple[str, tuple[str, ...]], str]] = {
 class ExpressionLowering:
     """The expression steps of :class:`~robogen.ir.machines.MachineLowering` (a mixin). It uses
     the machine lowering's ``_norm`` (concrete types), ``_declare_var`` (a shared variable met
-    first in a called operation) and ``user_function`` (record a user function's use)."""
+    first in a called operation) and ``declared_call`` (a call of a function the model declares)."""
 
     model: SemanticModel
     machine: ir.Machine
@@ -431,23 +431,9 @@ class ExpressionLowering:
         return self.coll(t, op, args, e)
 
     def _user_call(self, sym: FuncSym, e: ast.Call, graph: Graph) -> ir.Expr:
-        """A call of a function the model declares by its contract only: the code generator
-        takes its implementation from the user (the reference interpreter from Python)."""
-        return self.user_call(sym, [self.expr(a, graph) for a in e.args], e)
-
-    def user_call(self, sym: FuncSym, args: list[ir.Expr], e: ast.Call) -> ir.Expr:
-        """The call of user function ``sym`` on the lowered ``args``. Its parameters and result
-        are numbers, booleans, enumerations, records, tuples, sets or sequences (the C file
-        receives and returns the C types of config.h)."""
-        params = tuple((n, self._norm(t)) for n, t in sym.params)
-        result = self._norm(sym.result)
-        for n, t in params + (("result", result),):
-            if not is_scalar(t):
-                if isinstance(t, T.FunctionT) or "?" in t.show() or "string" in t.show():
-                    raise not_supported(f"function '{sym.name}': {n} of type {t.show()}", e.span)
-                check_codegen_type(t, e.span, f"function '{sym.name}': {n}")
-        self.user_function(sym, e, params, result)
-        return ir.CallU(result, sym.name, tuple(self.conv(a, pt, e.span) for a, (_, pt) in zip(args, params)))
+        """A call of a function the model declares (robogen.ir.declared)."""
+        args = [self.expr(a, graph) for a in e.args]
+        return self.declared_call(sym, args, e, graph, list(e.args))  # type: ignore[attr-defined]
 
     # -- RoboSim inputs
 

@@ -7,7 +7,7 @@ the model known at generation time, and applying it inlines it:
 - ``(lambda x: T @ e)(a)``: ``e`` with ``x`` standing for ``a`` (expressions have no side
   effects, so the argument may be read more than once), also through a ``let`` name bound to
   the lambda (``let f == lambda x: T @ e @ override(f, ...)``);
-- ``f(a)`` of a function the model declares: the call of the user function;
+- ``f(a)`` of a function the model declares: its call (:mod:`robogen.ir.declared`);
 - ``(override(f, {(| k1, v1 |), ...}) as X -> Y)(a)``: ``if a == k1 then v1 else ... else f(a)``
   (the first pair written whose key matches wins);
 - a function-typed variable holds the number of one of the function values the machine assigns
@@ -52,7 +52,7 @@ class FunctionValues:
             if isinstance(sym, VarSym) and isinstance(T.single(sym.type), T.FunctionT):
                 return self._apply_variable(sym, f, args, e, graph)
             if isinstance(sym, FuncSym) and sym.builtin is None and sym.decl is not None:
-                return self.user_call(sym, args, e)
+                return self.declared_call(sym, args, e, graph)
         raise not_supported(f"applying {expr_text(f)}", e.span)
 
     def lambda_applied(self, lam: ast.Binder, scope: dict | None, args: list[ir.Expr], span, graph: Graph) -> ir.Expr:

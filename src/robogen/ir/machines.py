@@ -23,6 +23,7 @@ from robogen.ir.expressions import ExpressionLowering
 from robogen.ir.region_tree import Graph, place_of, state_action
 from robogen.ir.ports import Ports
 from robogen.ir.statements import StatementLowering
+from robogen.ir.declared import DeclaredFunctions
 from robogen.ir.functions import FunctionValues
 from robogen.ir.supported import check_codegen_type, is_scalar, normalise, not_supported
 from robogen.semantics import types as T
@@ -95,7 +96,7 @@ def drive(steps: Steps):
     return value
 
 
-class MachineLowering(StatementLowering, BindingLowering, ExpressionLowering, FunctionValues):
+class MachineLowering(StatementLowering, BindingLowering, ExpressionLowering, FunctionValues, DeclaredFunctions):
     def __init__(self, ctx: FmuContext, scope: MachineScope, ctrl: Controller | None, index: int, used_name: str,
                  name: str | None = None):
         """``name``: the machine's name in the FMU (its own, or its instance path where two
@@ -121,6 +122,8 @@ class MachineLowering(StatementLowering, BindingLowering, ExpressionLowering, Fu
         # robogen.ir.functions)
         self.bound: dict = {}
         self.fn_tables: dict[str, list[ast.Expr]] | None = None  # function variable -> the values it stores
+        self.tvars: dict[str, T.Type] = {}  # the type variables of the generic function being inlined (robogen.ir.declared)
+        self.inlining: list[tuple[ast.FunctionDef, str]] = []  # the defined functions being inlined, outermost first
         for name, v in scope.vars.items():
             self._declare_var(v, name)
         for name, e in scope.events.items():
@@ -133,7 +136,7 @@ class MachineLowering(StatementLowering, BindingLowering, ExpressionLowering, Fu
     # -- storage
 
     def _norm(self, t: T.Type) -> T.Type:
-        return normalise(t, self.ctx.given)
+        return normalise(T.instantiate(t, self.tvars) if self.tvars else t, self.ctx.given)
 
     def _declare_var(self, v: VarSym, name: str) -> ir.Var:
         t = self._norm(v.type)
@@ -218,12 +221,20 @@ class MachineLowering(StatementLowering, BindingLowering, ExpressionLowering, Fu
         self.machine.clocks.append(name)
         return len(self.machine.clocks) - 1
 
-    def user_function(self, sym: FuncSym, call: ast.Call, params, result) -> None:
-        """Record the first use of a user function (the code generator asks for its body)."""
+    def user_function(self, sym: FuncSym, call: ast.Expr, params, result, instance: str = "", shown: str = "") -> None:
+        """Record the first use of a user function, or of one instantiation of a generic one
+        (``instance``: its C name part; ``shown``: its type variables), whose body the code
+        generator asks for. Two functions the user writes have two C names."""
         fmu = self.ctx.fmu
-        if not any(u.name == sym.name for u in fmu.user_functions):
-            span = sym.decl.name_span if sym.decl is not None else call.span
-            fmu.user_functions.append(ir.UserFunction(sym.name, params, result, span, call.span))
+        cname = instance or sym.name
+        span = sym.decl.name_span if sym.decl is not None else call.span
+        for u in fmu.user_functions:
+            if u.cname == cname:
+                if u.span != span:
+                    raise not_supported(f"function '{sym.name}' here: its C name rg_user_{cname} is also that of "
+                                        f"function '{u.name}'", call.span)
+                return
+        fmu.user_functions.append(ir.UserFunction(sym.name, params, result, span, call.span, instance, shown))
 
     # -- what the ports ask
 
