@@ -98,9 +98,10 @@ def test_a_type_variable_no_argument_decides_is_a_located_error(tmp_path):
 
 
 def test_a_generic_defined_function_with_an_element_type_from_its_argument(tmp_path):
-    """Card(s) of a Set(nat) and of a Set(boolean): two instantiations of one body, size(s)."""
+    """Card(s) of a Set(nat), of a Set(boolean) and of an empty Set(real) (its type given by a
+    cast): three instantiations of one body, size(s)."""
     path = _machine(tmp_path, "function Card(s: Set(?X)): nat { postcondition result == size(s) }\n",
-                    "out!(Card({n, 1, 2}) * 10 + Card({n > 1, true}))")
+                    "out!(Card({n, 1, 2}) * 10 + Card({n > 1, true}) + Card({} as Set(real)) * 100)")
     ticks = [Tick("go", {"go.value": v}) for v in (1, 2, 5)]
     scenario = Scenario([Instant(True, early=(t,)) for t in ticks], half=False)
     _, got = _run(tmp_path, path, scenario)

@@ -285,6 +285,8 @@ class ExpressionLowering:
         inner = self.expr(e.expr, graph)
         if e.op == "as" and t in T.NUMERIC and inner.type in T.NUMERIC:
             return ir.Conv(t, inner)
+        if e.op == "as" and is_collection(t) and self.conv(inner, t, e.span).type == t:  # {} as Set(nat)
+            return self.conv(inner, t, e.span)
         raise not_supported(f"'{e.op}' here", e.span)
 
     # -- data
