@@ -35,7 +35,7 @@ from dataclasses import dataclass, field
 from robogen.ir import collections as C
 from robogen.ir import model as ir
 from robogen.ir.constants import default_value
-from robogen.ir.supported import literal_conditions
+from robogen.ir.supported import FunMapT, literal_conditions
 from robogen.semantics import types as T
 
 MASK = (1 << 64) - 1
@@ -667,11 +667,11 @@ def _set_path(value, path: tuple[str, ...], v) -> None:
 
 
 def _flatten_value(prefix: str, t: T.Type, v, out: dict[str, object], capacity: int) -> None:
-    if isinstance(t, T.RecordT):
+    if isinstance(t, FunMapT):
+        pass  # a function value: not an FMI variable
+    elif isinstance(t, T.RecordT):
         for n, ft in t.fields:
             _flatten_value(f"{prefix}.{n}", ft, v[n], out, capacity)
-    elif isinstance(t, T.FunctionT):
-        pass  # the number of a function value: not an FMI variable
     elif isinstance(t, (T.SetT, T.SeqT)):  # as the FMU shows it: elements padded with zeros, and size
         if not isinstance(t.element, T.RecordT):
             out[f"{prefix}.elements"] = copy.deepcopy(v) + [_zero(t.element)] * (capacity - len(v))

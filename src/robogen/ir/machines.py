@@ -25,7 +25,7 @@ from robogen.ir.ports import Ports
 from robogen.ir.statements import StatementLowering
 from robogen.ir.declared import DeclaredFunctions
 from robogen.ir.functions import FunctionValues
-from robogen.ir.supported import check_codegen_type, is_scalar, normalise, not_supported
+from robogen.ir.supported import FunMapT, Shapes, check_codegen_type, is_scalar, normalise, not_supported
 from robogen.semantics import types as T
 from robogen.semantics.model import Controller, FuncSym, MachineScope, OpSym, Region, SemanticModel, VarSym
 from robogen.syntax import ast
@@ -41,6 +41,7 @@ class FmuContext:
     given: str  # the concrete type of given types
     settings: dict[str, str]  # --set NAME=VALUE
     ports: Ports
+    shapes: Shapes = field(default_factory=Shapes)  # the declared types, to unroll recursive ones
     sink: DiagnosticSink = field(default_factory=DiagnosticSink)
     # variables a controller provides, shared by its machines: (id(controller), name) -> storage
     shared_vars: dict[tuple[int, str], ir.Var] = field(default_factory=dict)
@@ -121,7 +122,7 @@ class MachineLowering(StatementLowering, BindingLowering, ExpressionLowering, Fu
         # id(declaration of a let name or lambda parameter) -> what it stands for (robogen.ir.bindings,
         # robogen.ir.functions)
         self.bound: dict = {}
-        self.fn_tables: dict[str, list[ast.Expr]] | None = None  # function variable -> the values it stores
+        self.fn_atoms: list[tuple[FunMapT, ast.Expr]] | None = None  # the static function values (robogen.ir.functions)
         self.tvars: dict[str, T.Type] = {}  # the type variables of the generic function being inlined (robogen.ir.declared)
         self.inlining: list[tuple[ast.FunctionDef, str]] = []  # the defined functions being inlined, outermost first
         for name, v in scope.vars.items():
@@ -136,7 +137,7 @@ class MachineLowering(StatementLowering, BindingLowering, ExpressionLowering, Fu
     # -- storage
 
     def _norm(self, t: T.Type) -> T.Type:
-        return normalise(T.instantiate(t, self.tvars) if self.tvars else t, self.ctx.given)
+        return normalise(T.instantiate(t, self.tvars) if self.tvars else t, self.ctx.given, self.ctx.shapes)
 
     def _declare_var(self, v: VarSym, name: str) -> ir.Var:
         t = self._norm(v.type)
@@ -274,8 +275,8 @@ class MachineLowering(StatementLowering, BindingLowering, ExpressionLowering, Fu
         for name, v in self.scope.vars.items():
             var = self.vars[name]
             if (v.kind == "var" or (v.kind == "const" and id(var) not in parameters)) and v.init is not None:
-                if isinstance(var.type, T.FunctionT):
-                    var.init = self.function_value(ir.Ref(var.type, var), v.init, v.init.span)
+                if isinstance(var.type, FunMapT):  # a function value (robogen.ir.functions)
+                    var.init = self.fvalue(v.init, var.type, graph)
                 else:
                     var.init = self.conv(self.expr(v.init, graph), var.type, v.init.span)
         start = self.block(f"start {self.scope.name}", self.scope.node.name_span)  # type: ignore[attr-defined]
