@@ -61,3 +61,55 @@ def test_the_pairs_of_a_function_with_a_default_are_a_run_time_error(tmp_path):
     got = run_checked(built, Scenario([Instant(True, early=(Tick("go", {"go.value": 1}),))], half=False))
     assert got.error is not None
     assert "f: a function given by a lambda or named function has no finite set of pairs at m.rct:8" in got.error.where
+
+
+TWO_MACHINES = """\
+package two
+interface Io { event go: nat event out: nat }
+stm A {
+\tuses Io
+\tvar n: nat = 0
+\tevent f: nat -> nat
+\tinitial i
+\tstate S { }
+\ttransition t0 { from i to S }
+\ttransition t1 { from S to S trigger go?n
+\t\taction if n > 5 then f!(lambda x: nat @ x * 3) else f!(lambda x: nat @ x + 100) end }
+}
+stm B {
+\tuses Io
+\tvar g: nat -> nat
+\tevent f: nat -> nat
+\tinitial i
+\tstate S { }
+\ttransition t0 { from i to S }
+\ttransition t1 { from S to S trigger f?g action out!g(2) }
+}
+controller C {
+\tuses Io
+\tsref a = A
+\tsref b = B
+\tconnection C on go to a on go
+\tconnection a on f to b on f
+\tconnection b on out to C on out
+}
+robotic platform P { uses Io }
+module M {
+\trref p = P
+\tcref c = C
+\tconnection p on go to c on go ( _async )
+\tconnection c on out to p on out ( _async )
+}
+"""
+
+
+def test_a_function_value_sent_from_one_machine_to_another(tmp_path):
+    """The FMU numbers the lambdas of all its machines alike: B applies what A sends.
+    go 7: A sends x * 3, B answers g(2) = 6; go 1: x + 100, 102."""
+    path = tmp_path / "two.rct"
+    path.write_text(TWO_MACHINES)
+    built = build([path], tmp_path / "two")
+    got = run_checked(built, Scenario([Instant(True, early=(Tick("go", {"go.value": v}),)) for v in (7, 1)]
+                                      + [Instant(True)] * 2, half=False))
+    assert got.error is None
+    assert [v for s in got.steps for c, values in s.outputs.items() for v in values.values()] == [6, 102]

@@ -27,7 +27,7 @@ from __future__ import annotations
 from robogen.diagnostics import RobogenError
 from robogen.ir import model as ir
 from robogen.ir.region_tree import Graph
-from robogen.ir.supported import TupleT, check_codegen_type, is_scalar, not_supported
+from robogen.ir.supported import FunMapT, TupleT, check_codegen_type, is_scalar, not_supported
 from robogen.semantics import types as T
 from robogen.semantics.model import FuncSym
 from robogen.syntax import ast
@@ -177,7 +177,7 @@ class DeclaredFunctions:
         """The call of the user's C function of this instantiation."""
         for n, t in params + (("result", result),):
             if not is_scalar(t):
-                if isinstance(t, T.FunctionT) or t == T.STRING or "string" in t.show():
+                if isinstance(t, FunMapT) or t == T.STRING or "string" in t.show():
                     raise not_supported(f"function '{sym.name}': {n} of type {t.show()}", e.span)
                 check_codegen_type(t, e.span, f"function '{sym.name}': {n}")
         names = type_variables([t for _, t in sym.params] + [sym.result])

@@ -14,8 +14,8 @@ pairs, function-typed variables and parameters, applied to arguments or kept as 
 toolkit: ``positions = fdiff(nextApple, positions)``), a function ``D -> R`` is a finite map
 with a default (:class:`~robogen.ir.supported.FunMapT`): ``pairs``, a set of (argument, result)
 pairs with one pair per argument, and ``base``, the number of a *static* function value - a
-lambda or a named function the machine's text writes, numbered 1, 2, ... in the order written
-(:meth:`FunctionValues.atoms`) - that gives the result outside ``pairs``; 0
+lambda or a named function the state machines' text writes, numbered 1, 2, ... in the order
+written (:meth:`FunctionValues.atoms`) - that gives the result outside ``pairs``; 0
 for none. Applying it: the pair's result where the argument has a pair, else the static value
 ``base`` applied, else (``base`` 0) a run-time error naming the application and its model line
 (a variable applied before it has a value is this error too).
@@ -218,13 +218,17 @@ class FunctionValues:
     # -- the static function values
 
     def atoms(self) -> list[tuple[FunMapT, ast.Expr]]:
-        """(type, value) of the static function values the machine writes as values (not applied
-        where written), numbered from 1 in the order written: those of the machine and of the
-        functions the model declares (their postconditions). A function value of a type takes
-        the numbers of those that fit it (:func:`_fits`)."""
-        if self.fn_atoms is None:
-            self.fn_atoms = []
-            roots = [v.init for v in self.scope.vars.values() if v.init is not None] + [self.scope.node]
+        """(type, value) of the static function values the FMU's state machines write as values
+        (not applied where written), numbered from 1 in the order written: those of the machines
+        and of the functions the model declares (their postconditions). One numbering for the
+        FMU, so that machines may pass function values to one another; a function value of a
+        type takes the numbers of those that fit it (:func:`_fits`)."""
+        ctx = self.ctx
+        if ctx.fn_atoms is None:
+            ctx.fn_atoms = []
+            scopes = [scope for _, scope, _ in self.boundary.machines]
+            roots = [v.init for scope in scopes for v in scope.vars.values() if v.init is not None]
+            roots += [scope.node for scope in scopes]
             roots += [m for f in self.model.files for d in f.items if isinstance(d, ast.FunctionDef) for m in d.members]
             texts: set[str] = set()
             for root in roots:
@@ -232,8 +236,8 @@ class FunctionValues:
                     atom = self._atom_in_text(node)
                     if atom is not None and expr_text(atom[1]) not in texts:
                         texts.add(expr_text(atom[1]))
-                        self.fn_atoms.append(atom)
-        return self.fn_atoms
+                        ctx.fn_atoms.append(atom)
+        return ctx.fn_atoms
 
     def _atom_in_text(self, node) -> tuple[FunMapT, ast.Expr] | None:
         """(its type, itself) of a static function value that reads no variable, found in the text."""

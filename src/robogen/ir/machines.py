@@ -42,6 +42,7 @@ class FmuContext:
     settings: dict[str, str]  # --set NAME=VALUE
     ports: Ports
     shapes: Shapes = field(default_factory=Shapes)  # the declared types, to unroll recursive ones
+    fn_atoms: list | None = None  # the static function values, numbered (robogen.ir.functions)
     sink: DiagnosticSink = field(default_factory=DiagnosticSink)
     # variables a controller provides, shared by its machines: (id(controller), name) -> storage
     shared_vars: dict[tuple[int, str], ir.Var] = field(default_factory=dict)
@@ -122,7 +123,6 @@ class MachineLowering(StatementLowering, BindingLowering, ExpressionLowering, Fu
         # id(declaration of a let name or lambda parameter) -> what it stands for (robogen.ir.bindings,
         # robogen.ir.functions)
         self.bound: dict = {}
-        self.fn_atoms: list[tuple[FunMapT, ast.Expr]] | None = None  # the static function values (robogen.ir.functions)
         self.tvars: dict[str, T.Type] = {}  # the type variables of the generic function being inlined (robogen.ir.declared)
         self.inlining: list[tuple[ast.FunctionDef, str]] = []  # the defined functions being inlined, outermost first
         for name, v in scope.vars.items():
