@@ -169,8 +169,8 @@ static uint64_t rg_undefined_u(rg_model_data *d, int32_t site)
 }
 
 /* ---- the model's user functions, defined in user_functions.c (robogen --functions) ------- */
-static uint64_t rg_user_Weight__int(rg_set_tup2_i_u s, int64_t x);  /* function Weight (declared.rct:13) */
-static uint64_t rg_user_Weight__boolean(rg_set_tup2_b_u s, bool x);  /* function Weight (declared.rct:13) */
+static uint64_t rg_user_Weight__int(rg_set_tup2_i_u s, int64_t x);  /* function Weight with ?X = int (declared.rct:13) */
+static uint64_t rg_user_Weight__boolean(rg_set_tup2_b_u s, bool x);  /* function Weight with ?X = boolean (declared.rct:13) */
 
 /* ---- the FMI variables and clocks (value references as in modelDescription.xml) ---------- */
 
