@@ -18,14 +18,14 @@ import re
 from dataclasses import dataclass
 
 from robogen.ir import model as ir
-from robogen.ir.supported import TupleT
-from robogen.ir.collections import CAN_OVERFLOW, EMPTY_FAULTS, empty_message, overflow_message
+from robogen.ir.supported import FunMapT, TupleT
+from robogen.ir.collections import CAN_OVERFLOW, NO_ELEMENT, empty_message, overflow_message
 from robogen.semantics import types as T
 
 
 def ctype(t: T.Type) -> str:
-    # a function: the number of its value; a string: its number among the model's strings
-    if t == T.INT or t == T.STRING or isinstance(t, (T.EnumT, T.FunctionT)):
+    # a string: its number among the model's strings
+    if t == T.INT or t == T.STRING or isinstance(t, T.EnumT):
         return "int64_t"
     if t == T.NAT:
         return "uint64_t"
@@ -33,6 +33,8 @@ def ctype(t: T.Type) -> str:
         return "double"
     if t == T.BOOLEAN:
         return "bool"
+    if isinstance(t, FunMapT):  # a function value: its pairs and its default (robogen.ir.functions)
+        return f"rg_fun_{elem_tag(t.pair)}"
     if isinstance(t, TupleT):  # by its arity and components: a prefix code, one name per tuple type
         return f"rg_tup{len(t.fields)}_" + "_".join(elem_tag(ft) for _, ft in t.fields)
     if isinstance(t, T.RecordT):
@@ -138,7 +140,7 @@ class CNames:
 def user_function_prototype(u: ir.UserFunction) -> str:
     """The C declaration of a user function, as the --functions file must define it."""
     args = ", ".join(f"{ctype(t)} {n}" for n, t in u.params) or "void"
-    return f"static {ctype(u.result)} rg_user_{u.name}({args})"
+    return f"static {ctype(u.result)} rg_user_{u.cname}({args})"
 
 
 def c_string(text: str) -> str:
@@ -394,11 +396,11 @@ class Emitter:
                 self.sites += [f"{e.text} at {where}", ""]
             else:
                     self.sites += [overflow_message(e.text, where, self.fmu.capacity) if e.op in CAN_OVERFLOW else "",
-                               empty_message(e.op, e.text, where) if e.op in EMPTY_FAULTS else ""]
+                               empty_message(e.op, e.text, where) if e.op in NO_ELEMENT else ""]
         return self.collections.call(e, args, site)  # type: ignore[attr-defined]
 
     def _CallU(self, e: ir.CallU) -> str:
-        return f"rg_user_{e.name}({', '.join(self.expr(a) for a in e.args)})"
+        return f"rg_user_{e.instance or e.name}({', '.join(self.expr(a) for a in e.args)})"
 
     def _CallB(self, e: ir.CallB) -> str:
         args = [self.expr(a) for a in e.args]

@@ -33,7 +33,7 @@ from robogen.fmu.modeldesc import Dimension, Variable, instantiation_token
 from robogen.fmu.modeldesc_writer import write_model_description
 from robogen.ir import model as ir
 from robogen.ir.dump import dump
-from robogen.ir.supported import literal_conditions
+from robogen.ir.supported import FunMapT, literal_conditions
 from robogen.semantics import types as T
 
 FMI_TYPE = {"int64_t": "Int64", "uint64_t": "UInt64", "double": "Float64", "bool": "Boolean"}
@@ -248,7 +248,7 @@ def _functions_file(fmu: ir.Fmu, path: Path | None) -> str | None:
         text = path.read_text(encoding="utf-8")
     except (OSError, UnicodeDecodeError) as exc:
         raise RobogenError.at(f"cannot read the functions file {path}: {exc}", Span.whole_file(str(path))) from None
-    missing = [u for u in fmu.user_functions if not re.search(rf"\brg_user_{re.escape(u.name)}\s*\(", text)]
+    missing = [u for u in fmu.user_functions if not re.search(rf"\brg_user_{re.escape(u.cname)}\s*\(", text)]
     if missing:  # every one, located at its first call, rather than the C compiler's first complaint
         raise _unimplemented(missing, f"{path} does not define it")
     return text
@@ -257,7 +257,8 @@ def _functions_file(fmu: ir.Fmu, path: Path | None) -> str | None:
 def _unimplemented(functions: Sequence[ir.UserFunction], why: str) -> RobogenError:
     """One error per function, at its first call, spelling out the C definition to write."""
     return RobogenError([
-        error(f"function '{u.name}' has no implementation: {why}", u.first_call or u.span,
+        error(f"function '{u.name}'{f' (instantiated with {u.shown})' if u.shown else ''} has no implementation: {why}",
+              u.first_call or u.span,
               Note(f"the file must define: {user_function_prototype(u)} {{ ... }}"))
         for u in functions
     ])
@@ -268,7 +269,8 @@ def _typedef(t: T.Type, capacity: int) -> str:
         return collection_typedef(t, capacity)
     if isinstance(t, T.RecordT):
         fields = "\n".join(f"    {ctype(ft)} {n};" for n, ft in t.fields)
-        return f"/* datatype {t.qname} */\ntypedef struct {{\n{fields}\n}} {ctype(t)};"
+        what = f"a function value {t.show()}: its pairs and its default" if isinstance(t, FunMapT) else f"datatype {t.qname}"
+        return f"/* {what} */\ntypedef struct {{\n{fields}\n}} {ctype(t)};"
     if isinstance(t, T.VectorT):
         return f"typedef struct {{ {ctype(t.element)} a[{t.size}]; }} {ctype(t)};  /* {t.show()} */"
     assert isinstance(t, T.MatrixT)
@@ -558,11 +560,11 @@ def _flat(name: str, t: T.Type, access: str, capacity: int = 0):
     """(FMI name, scalar or array type, C member access) of each scalar part of a value. A set or
     sequence of scalars is two: its elements, an array of the capacity (zeros after the last),
     and its size; one of records has none (its elements are not contiguous in memory)."""
+    if isinstance(t, FunMapT):
+        return  # a function value (robogen.ir.functions): not an FMI variable
     if isinstance(t, T.RecordT):
         for n, ft in t.fields:
             yield from _flat(f"{name}.{n}", ft, f"{access}.{n}", capacity)
-    elif isinstance(t, T.FunctionT):
-        return  # the number of a function value (robogen.ir.functions): not an FMI variable
     elif isinstance(t, (T.SetT, T.SeqT)):
         if not isinstance(t.element, T.RecordT):
             yield f"{name}.elements", T.VectorT(t.element, capacity), f"{access}.a"

@@ -180,7 +180,7 @@ def expr(e: ir.Expr | None) -> str:
     if isinstance(e, ir.VectorLit):
         return "[" + ", ".join(expr(x) for x in e.items) + "]"
     if isinstance(e, ir.CallU):
-        return f"user {e.name}({', '.join(expr(a) for a in e.args)})"
+        return f"user {e.instance or e.name}({', '.join(expr(a) for a in e.args)})"
     if isinstance(e, ir.CallB):
         return f"{e.name}({', '.join(expr(a) for a in e.args)})"
     if isinstance(e, ir.Coll):

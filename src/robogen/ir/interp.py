@@ -35,7 +35,7 @@ from dataclasses import dataclass, field
 from robogen.ir import collections as C
 from robogen.ir import model as ir
 from robogen.ir.constants import default_value
-from robogen.ir.supported import literal_conditions
+from robogen.ir.supported import FunMapT, literal_conditions
 from robogen.semantics import types as T
 
 MASK = (1 << 64) - 1
@@ -109,8 +109,9 @@ class Instant:
 
 class Interpreter:
     def __init__(self, fmu: ir.Fmu, parameters: dict[str, object] | None = None, functions: dict | None = None):
-        """``functions``: Python implementations of the model's user functions (name -> callable),
-        the counterparts of the C file given to the code generator with --functions."""
+        """``functions``: Python implementations of the model's user functions (name -> callable;
+        an instantiation of a generic function by its C name part, ``UpdateValue__int``, else by
+        the function's name), the counterparts of the C file given to the code generator with --functions."""
         self.fmu = fmu
         self.functions = dict(functions or {})
         self.parameters = {p.fmi_name: p.value for p in fmu.params}
@@ -503,10 +504,11 @@ class Interpreter:
             return args[0] if args[0] >= args[1] else args[1]
         if isinstance(e, ir.Coll):
             return self._collection(e, m, ms)
-        if isinstance(e, ir.CallU):
-            f = self.functions.get(e.name)
+        if isinstance(e, ir.CallU):  # an instantiation of a generic function by its own name, or by the function's
+            f = self.functions.get(e.instance) if e.instance else None
+            f = f if f is not None else self.functions.get(e.name)
             if f is None:
-                raise RuntimeFault(f"user function '{e.name}' has no implementation in the reference interpreter")
+                raise RuntimeFault(f"user function '{e.instance or e.name}' has no implementation in the reference interpreter")
             return python_value(f(*(self._eval(a, m, ms) for a in e.args)), e.type)
         raise RuntimeFault(f"unknown expression {type(e).__name__}")  # pragma: no cover
 
@@ -665,11 +667,11 @@ def _set_path(value, path: tuple[str, ...], v) -> None:
 
 
 def _flatten_value(prefix: str, t: T.Type, v, out: dict[str, object], capacity: int) -> None:
-    if isinstance(t, T.RecordT):
+    if isinstance(t, FunMapT):
+        pass  # a function value: not an FMI variable
+    elif isinstance(t, T.RecordT):
         for n, ft in t.fields:
             _flatten_value(f"{prefix}.{n}", ft, v[n], out, capacity)
-    elif isinstance(t, T.FunctionT):
-        pass  # the number of a function value: not an FMI variable
     elif isinstance(t, (T.SetT, T.SeqT)):  # as the FMU shows it: elements padded with zeros, and size
         if not isinstance(t.element, T.RecordT):
             out[f"{prefix}.elements"] = copy.deepcopy(v) + [_zero(t.element)] * (capacity - len(v))

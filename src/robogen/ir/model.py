@@ -296,10 +296,12 @@ class CallB(Expr):
 
 @dataclass(frozen=True)
 class CallU(Expr):
-    """A call of a user function (see :class:`UserFunction`)."""
+    """A call of a user function (see :class:`UserFunction`): ``name`` the model's, ``instance``
+    the instantiation of a generic one ('' for one without type variables)."""
 
     name: str
     args: tuple[Expr, ...]
+    instance: str = ""
 
 
 @dataclass(frozen=True)
@@ -318,14 +320,24 @@ class Coll(Expr):
 
 @dataclass(frozen=True)
 class UserFunction:
-    """A function the model declares by its contract only; the code generator takes its body
-    from the user (``--functions``), the reference interpreter a Python implementation."""
+    """A function the model declares by its contract only, whose result no postcondition pins
+    (:mod:`robogen.ir.declared`); the code generator takes its body from the user
+    (``--functions``), the reference interpreter a Python implementation."""
 
     name: str
     params: tuple[tuple[str, Type], ...]
     result: Type
     span: Span | None  # its declaration
     first_call: Span | None = None  # where the model first calls it
+    # a generic function: one UserFunction per instantiation, ``instance`` its C name part
+    # (robogen.ir.declared.type_word: ``UpdateValue__int``), ``shown`` its type variables (``?X = int``)
+    instance: str = ""
+    shown: str = ""
+
+    @property
+    def cname(self) -> str:
+        """The C function is ``rg_user_<cname>``."""
+        return self.instance or self.name
 
 
 # ============================================================================ messages

@@ -16,7 +16,7 @@ from typing import Protocol
 from robogen.diagnostics import Span, warning
 from robogen.ir import model as ir
 from robogen.ir.boundary import Boundary
-from robogen.ir.supported import TaggedT, check_codegen_type, is_scalar, not_supported
+from robogen.ir.supported import FunMapT, TaggedT, check_codegen_type, is_scalar, not_supported
 from robogen.semantics import types as T
 from robogen.semantics.model import Controller, MachineScope, Module, OpSym
 from robogen.syntax import ast
@@ -266,6 +266,9 @@ def _flatten(prefix: str, t: T.Type | None, path: tuple[str, ...], span: Span | 
     records instead of the elements (``prefix.elements.f``; path ``#elements``, then the field's)."""
     assert t is not None
     check_codegen_type(t, span, f"'{prefix}'")
+    if isinstance(t, FunMapT):
+        raise not_supported(f"'{prefix}': a function value as an FMU port (its default is a lambda of the model, which an "
+                            "FMI variable cannot carry)", span)
     if isinstance(t, T.RecordT):
         out: list[ir.Field_] = []
         for n, ft in t.fields:

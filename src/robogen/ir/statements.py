@@ -13,7 +13,7 @@ from typing import TYPE_CHECKING
 from robogen.diagnostics import Span, working_on
 from robogen.ir import model as ir
 from robogen.ir.region_tree import Graph, place_of
-from robogen.ir.supported import check_codegen_type, not_supported
+from robogen.ir.supported import FunMapT, check_codegen_type, not_supported
 from robogen.semantics import types as T
 from robogen.semantics.model import MachineScope, OpSym
 from robogen.syntax import ast
@@ -153,8 +153,8 @@ class StatementLowering:
 
     def _s_Assign(self, s: ast.Assign, cur: ir.Block, graph: Graph) -> ir.Block:
         target = self.lvalue(s.target, graph)
-        if isinstance(target.type, T.FunctionT):  # a function variable stores the number of a function value
-            cur.stmts.append(ir.Assign(s.span, target, self.function_value(target, s.value, s.span)))  # type: ignore[attr-defined]
+        if isinstance(target.type, FunMapT):  # a function value (robogen.ir.functions)
+            cur.stmts.append(ir.Assign(s.span, target, self.fvalue(s.value, target.type, graph)))  # type: ignore[attr-defined]
             return cur
         cur.stmts.append(ir.Assign(s.span, target, self.conv(self.expr(s.value, graph), target.type, s.value.span)))
         return cur

@@ -381,6 +381,9 @@ class Tables:
     type_exprs: dict[int, tuple[ast.TypeExpr, Type]] = field(default_factory=dict)
     # comparisons whose value the operands' types decide: id(node) -> value (robogen.semantics.limits)
     comparisons: dict[int, bool] = field(default_factory=dict)
+    # the enumerations and records declared, by qualified name, in full: inside a recursive one
+    # the checker refers to it by a stand-in without literals' arguments or fields
+    declared: dict[str, Type] = field(default_factory=dict)
 
     def type_of(self, e: ast.Expr) -> Type:
         return self.types.get(id(e), UNKNOWN)
