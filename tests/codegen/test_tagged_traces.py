@@ -12,7 +12,6 @@ import pytest
 
 from support.codegen_driver import Tick, build, outputs_by_instant
 from robogen.codegen.api import compile_model
-from robogen.diagnostics import RobogenError
 
 
 def cmd(tag: int, move: float = 0.0, turn: int = 0, left: bool = False) -> Tick:
