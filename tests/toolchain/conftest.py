@@ -18,7 +18,6 @@ import pytest
 
 from robogen.cli import main
 from robogen.codegen.api import lower_paths
-from robogen.fmu.platforms import BUILT
 from robogen.ir import model as ir
 from robogen.ir.lower import LoweringOptions
 
@@ -79,5 +78,3 @@ def wine_prefix(tmp_path_factory):
 
     end_wineserver(prefix)
 
-
-ALL = [p.name for p in BUILT]

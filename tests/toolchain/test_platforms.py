@@ -95,3 +95,18 @@ def test_two_checkouts_give_byte_identical_fmus(ur5e_everywhere, tmp_path, monke
     monkeypatch.chdir(checkout)
     assert main(["package", "models/ur5e/ur5e.rst", "--platforms", "all", "-o", "again.fmu"]) == 0
     assert (checkout / "again.fmu").read_bytes() == ur5e_everywhere.archive.read_bytes()
+
+
+def test_the_house_flags_hold_on_every_target(tmp_path):
+    """A warning fails the build for each platform, and the error names the platform."""
+    if importlib.util.find_spec("ziglang") is None:
+        pytest.skip("the ziglang package is not installed (pip install 'robogen[cross]')")
+    (tmp_path / "warn.c").write_text("int warn(void);\nint warn(void) { int unused; return 0; }\n")
+    others = {p: tmp_path / p.name / f"warn{p.suffix}" for p in BUILT if p != HOST}
+    with pytest.raises(RobogenError) as caught:
+        toolchain.compile_shared_all([tmp_path / "warn.c"], others, what="warn")
+    messages = [d.message for d in caught.value.diagnostics]
+    assert len(messages) == 4
+    for platform, message in zip(others, messages):
+        assert message.startswith(f"compiling warn for {platform} failed")
+        assert "-std=c99 -Wall -Wextra -Wpedantic -Werror -fvisibility=hidden" in message and "-Werror,-Wunused-variable" in message
