@@ -30,6 +30,7 @@ TOP_LEVEL = {"modelDescription.xml", "binaries", "sources", "resources", "docume
 TIME_BASED = ("constant", "fixed", "tunable", "changing", "countdown")
 KINDS = TIME_BASED + ("triggered",)
 FRACTION_ATTRS = ("resolution", "intervalCounter", "shiftCounter")
+FMI2_PLATFORMS = ("linux64", "linux32", "win64", "win32", "darwin64")
 
 
 def fmi3_function_names() -> list[str]:
@@ -104,7 +105,7 @@ def _check_layout(infos: list[zipfile.ZipInfo], sink: DiagnosticSink, whole: Spa
         if info.extract_version > 20:
             sink.error(f"'{info.filename}' needs ZIP version {info.extract_version / 10:.1f} to extract; FMI allows at most 2.0", whole)
         parts = info.filename.split("/")
-        if parts[0] == "binaries" and len(parts) > 2 and parts[1] in ("linux64", "linux32", "win64", "win32", "darwin64"):
+        if parts[0] == "binaries" and len(parts) > 2 and parts[1] in FMI2_PLATFORMS:
             sink.error(f"'binaries/{parts[1]}' is an FMI 2.0 platform name; FMI 3.0 uses tuples such as '{HOST.name}'", whole)
 
 
@@ -264,9 +265,6 @@ def _check_structure(md: ModelDescription, sink: DiagnosticSink) -> None:
 
 # ----------------------------------------------------------------------------------------
 # Binary (§5) and build description (§4)
-
-
-FMI2_PLATFORMS = ("linux64", "linux32", "win64", "win32", "darwin64")
 
 
 def _check_binaries(folder: Path, md: ModelDescription, fmu: Path, sink: DiagnosticSink) -> None:
