@@ -34,6 +34,7 @@ from robogen.fmu.modeldesc_writer import write_model_description
 from robogen.ir import model as ir
 from robogen.ir.dump import dump
 from robogen.ir.supported import literal_conditions
+from robogen.ir.walk import value_types
 from robogen.semantics import types as T
 
 FMI_TYPE = {"int64_t": "Int64", "uint64_t": "UInt64", "double": "Float64", "bool": "Boolean"}
@@ -186,6 +187,8 @@ def generate(fmu: ir.Fmu, options: CodegenOptions | None = None, *, diagrams: Se
     needed = {name: t for mc in machines for name, t in mc["equalities"].items()}
     for t in needed.values():  # a type compared only inside an expression (a tuple key) is declared too
         layout._type(t)
+    for t in value_types(fmu):  # every other use: a literal, an operation's parameter, a local, ...
+        layout._type(t, enums=False)
     equalities, bodies = _equalities(layout.types, set(needed))
     param_starts = {p.fmi_name: _param_starts(p, strings) for p in fmu.params}  # before the strings are written
     hooks = _hooks(fmu, machines)
@@ -397,15 +400,16 @@ class _Layout:
             self.enums.append(EnumType(name, [(lit, i) for i, lit in enumerate(t.literals)]))
         return name
 
-    def _type(self, t: T.Type) -> None:
-        """Register a struct type (and what it contains) in dependency order."""
+    def _type(self, t: T.Type, enums: bool = True) -> None:
+        """Register a struct type (and what it contains) in dependency order; with ``enums``,
+        the enumerations it holds as FMI types too."""
         if isinstance(t, T.RecordT):
             for _, ft in t.fields:
-                self._type(ft)
+                self._type(ft, enums)
         elif isinstance(t, (T.VectorT, T.MatrixT, T.SetT, T.SeqT)):
-            self._type(t.element)
+            self._type(t.element, enums)
         else:
-            if isinstance(t, T.EnumT):
+            if isinstance(t, T.EnumT) and enums:
                 self._enum(t)
             return
         if not any(ctype(x) == ctype(t) for x in self.types):
