@@ -443,7 +443,8 @@ class _Layout:
         if inward:
             what = f"input event {port.source}"
         else:
-            what = ("call of platform operation " if port.kind == "operation" else "output event ") + port.source
+            what = ("output event " if port.kind != "operation" else
+                    "call of abstract operation " if port.abstract else "call of platform operation ") + port.source
         if port.model_name:
             what += f" (renamed: the FMU has another variable named {port.source})"
         c = FmiVar(port.name, self._next_vr(), "Clock", causality, "discrete", interval_variability="triggered",
@@ -457,7 +458,7 @@ class _Layout:
             if inward:
                 description = f"value of input event {port.source}"
             elif port.kind == "operation":
-                description = f"argument {f.path[0]} of platform operation {port.source}"
+                description = f"argument {f.path[0]} of {'abstract' if port.abstract else 'platform'} operation {port.source}"
             else:
                 description = f"value of output event {port.source}"
             self.variables.append(FmiVar(

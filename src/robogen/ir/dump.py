@@ -27,7 +27,7 @@ def dump(fmu: ir.Fmu) -> str:
     for p in fmu.inputs:
         out.append(f"  input {p.name}" + _fields(p) + "".join(f" -> m{m}.e{e}" for m, e in p.routes))
     for p in fmu.outputs:
-        out.append(f"  output {p.kind} {p.name}" + _fields(p))
+        out.append(f"  output {'abstract ' if p.abstract else ''}{p.kind} {p.name}" + _fields(p))
     for p in fmu.params:
         out.append(f"  parameter {p.fmi_name}: {p.var.type.show()} = {_value(p.value)}" + (" (no value in the model)" if p.free else ""))
     for m in fmu.machines:

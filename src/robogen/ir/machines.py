@@ -22,7 +22,7 @@ from robogen.ir.constants import constant_value, default_value, parse_setting, s
 from robogen.ir.expressions import ExpressionLowering
 from robogen.ir.region_tree import Graph, place_of, state_action
 from robogen.ir.ports import Ports
-from robogen.ir.statements import StatementLowering
+from robogen.ir.statements import StatementLowering, is_abstract
 from robogen.ir.functions import FunctionValues
 from robogen.ir.supported import check_codegen_type, is_scalar, normalise, not_supported
 from robogen.semantics import types as T
@@ -233,6 +233,14 @@ class MachineLowering(StatementLowering, BindingLowering, ExpressionLowering, Fu
         if self.robosim:
             return op.platform
         return self.software_operation(op.name) is None
+
+    def is_abstract_operation(self, op: OpSym) -> bool:
+        """A software operation the machine requires whose definition has no nodes (see
+        robogen.ir.statements.is_abstract)."""
+        if self.robosim and op.platform:
+            return False
+        definition = self.software_operation(op.name)
+        return definition is not None and is_abstract(definition)
 
     def event_type(self, name: str) -> T.Type | None:
         sym = self.scope.events.get(name)

@@ -104,6 +104,9 @@ class Port:
     # the event or operation of the model, when the FMI name differs from it (a name FMI or
     # robogen already uses, or the name of another port: :class:`robogen.ir.ports.Ports`)
     model_name: str = ""
+    # operations: an abstract operation (a definition without nodes), whose call leaves the FMU
+    # as a platform operation's does; False for an operation the platform provides
+    abstract: bool = False
 
     @property
     def source(self) -> str:

@@ -32,6 +32,7 @@ class MachinePorts(Protocol):
     def event_type(self, name: str) -> T.Type | None: ...
     def op_params(self, name: str) -> tuple[tuple[str, T.Type], ...]: ...
     def is_platform_operation(self, op: OpSym) -> bool: ...
+    def is_abstract_operation(self, op: OpSym) -> bool: ...
 
 
 class Ports:
@@ -76,9 +77,13 @@ class Ports:
         self._operation_ports(ml)
 
     def _operation_ports(self, ml: MachinePorts) -> None:
+        """The output clocks of the operations a machine calls that leave the FMU: those of the
+        platform and the abstract ones (definitions without nodes)."""
         for name, op in ml.scope.ops.items():
             if ml.is_platform_operation(op):
                 self.output_port(name, "operation", None, ml.op_params(name), op.span)
+            elif ml.is_abstract_operation(op):
+                self.output_port(name, "operation", None, ml.op_params(name), op.span, abstract=True)
 
     def _platform_event_type(self, info: Module, name: str) -> T.Type | None:
         sym = info.platform.events.get(name) if info.platform is not None else None
@@ -106,14 +111,15 @@ class Ports:
         return routes
 
     def output_routes(self, ml: MachinePorts, name: str, kind: str, span: Span | None,
-                      params: tuple[tuple[str, T.Type], ...] | None = None) -> tuple[tuple, ...]:
-        """Where a machine's output event or platform operation call goes: ("port", index) or
-        ("machine", machine index, event index). ``params``: the parameters of the operation
-        called (a call inside a software operation names an operation the machine itself may
-        not declare)."""
+                      params: tuple[tuple[str, T.Type], ...] | None = None, abstract: bool = False) -> tuple[tuple, ...]:
+        """Where a machine's output event or operation call (of a platform or an ``abstract``
+        operation) goes: ("port", index) or ("machine", machine index, event index). ``params``:
+        the parameters of the operation called (a call inside a software operation names an
+        operation the machine itself may not declare)."""
         if kind == "operation" or self.b.module is None:
             t = None if kind == "operation" else ml.event_type(name)
-            return (("port", self.output_port(name, kind, t, ml.op_params(name) if params is None else params, span).index),)
+            params = ml.op_params(name) if params is None else params
+            return (("port", self.output_port(name, kind, t, params, span, abstract).index),)
         info = self.b.module
         ctrl = ml.ctrl
         if ctrl is None:
@@ -156,18 +162,19 @@ class Ports:
         fmu.inputs.append(port)
         return port
 
-    def output_port(self, name: str, kind: str, t: T.Type | None, params, span: Span | None) -> ir.Port:
+    def output_port(self, name: str, kind: str, t: T.Type | None, params, span: Span | None,
+                    abstract: bool = False) -> ir.Port:
         fmu = self.fmu
         for p in fmu.outputs:
             if p.source == name and p.kind == kind:
                 return p
-        clock = self._clock_name(name, kind, span)
+        clock = self._clock_name(name, "abstract operation" if abstract else kind, span)
         if kind == "operation":
             fields: list[ir.Field_] = []
             for pname, ptype in params:
                 fields += _flatten(f"{clock}.{pname}", ptype, (pname,), span, fmu.capacity)
             port = ir.Port(clock, kind, None, tuple(fields), tuple(params), span=span, index=len(fmu.outputs),
-                           model_name=_renamed(name, clock))
+                           model_name=_renamed(name, clock), abstract=abstract)
         else:
             fields = _flatten(clock + ".value" if not isinstance(t, T.RecordT) else clock, t, (), span, fmu.capacity) if t is not None else []
             port = ir.Port(clock, kind, t, tuple(fields), span=span, index=len(fmu.outputs), model_name=_renamed(name, clock))
@@ -185,11 +192,12 @@ class Ports:
         taken = {"time", fmu.clock_name, *RESERVED} | {p.name for p in fmu.inputs + fmu.outputs}
         if name not in taken:
             return name
-        base = f"{name}_call" if kind == "operation" else f"{name}_event"
+        base = f"{name}_call" if kind.endswith("operation") else f"{name}_event"
         clock, n = base, 2
         while clock in taken:
             clock, n = f"{base}{n}", n + 1
-        what = {"operation": "platform operation", "input-event": "input event", "output-event": "output event"}[kind]
+        what = {"operation": "platform operation", "abstract operation": "abstract operation", "input-event": "input event",
+                "output-event": "output event"}[kind]
         why = "FMI's independent variable" if name == "time" else (
             "one of robogen's own FMI variables" if name in RESERVED or name == fmu.clock_name else "the clock of another port")
         fmu.warnings.append(warning(f"{what} '{name}' becomes the FMI clock '{clock}': '{name}' is {why}", span))

@@ -225,11 +225,15 @@ class StatementLowering:
         return self._call(self.model.symbol(s), s.args, cur, graph, s.span)
 
     def _call(self, op: OpSym, args, cur: ir.Block, graph: Graph, span: Span | None) -> ir.Block:
+        """A call of a platform operation, or of an abstract operation (a definition without
+        nodes: the model leaves its behaviour to the environment), leaves the FMU through the
+        operation's output clock; a software operation's body is inlined."""
         values = tuple(self.conv(self.expr(a, graph), self._norm(pt), a.span) for a, (_, pt) in zip(args, op.params))
         definition = self.software_operation(op.name, graph.scope) if not op.platform else None
-        if definition is None:
+        if definition is None or is_abstract(definition):
             params = tuple((p, self._norm(t)) for p, t in op.params)
-            cur.stmts.append(ir.Emit(span, op.name, values, self.ports.output_routes(self, op.name, "operation", span, params)))  # type: ignore[arg-type]
+            routes = self.ports.output_routes(self, op.name, "operation", span, params, abstract=definition is not None)  # type: ignore[arg-type]
+            cur.stmts.append(ir.Emit(span, op.name, values, routes))
             return cur
         return self._inline(definition, values, cur, graph, span)
 
@@ -254,9 +258,8 @@ class StatementLowering:
         the block where the caller goes on when the operation reaches its final node."""
         if op.name in self.inline_stack:
             raise not_supported(f"the recursive call of operation '{op.name}'", span)
-        if op.region is None or not op.region.initials():
-            raise not_supported(f"a call of operation '{op.name}', whose definition has no initial node (an abstract "
-                                "operation: the model gives it no behaviour to generate)", span)
+        if op.region is None or not op.region.initials():  # nodes, but none to start from (RoboTool warns)
+            raise not_supported(f"a call of operation '{op.name}', whose definition has nodes but no initial node", span)
         self.site += 1
         site = self.site
         after = self.block(f"after {op.name}()", span)
@@ -305,6 +308,13 @@ class StatementLowering:
         return env
 
 
+def is_abstract(op: MachineScope) -> bool:
+    """An operation definition without nodes (only its signature, requirements or ``terminates``):
+    abstract, valid in RoboTool, and an operation that terminates at once. Its call is an output
+    of the FMU, as a platform operation's (README: The FMI mapping)."""
+    return op.region is None or not op.region.nodes
+
+
 def has_control(s: ast.Stmt | None) -> bool:
     """Does ``s`` need blocks of its own (exec, wait, operation calls, inputs)?"""
     if s is None:
@@ -322,4 +332,4 @@ def has_control(s: ast.Stmt | None) -> bool:
     return False
 
 
-__all__ = ["StatementLowering", "has_control"]
+__all__ = ["StatementLowering", "has_control", "is_abstract"]
