@@ -6,7 +6,7 @@ from __future__ import annotations
 import pytest
 from support.frontend import at, brief
 
-from robogen.diagnostics import RobogenError
+from robogen.diagnostics import RobogenError, Span
 from robogen.semantics import check_paths, check_texts
 from robogen.semantics.workspace import collect_model_paths, load
 
@@ -169,13 +169,19 @@ def test_paths_that_hold_no_model_are_reported(tmp_path, name, message):
     assert [brief(d) for d in model.diagnostics] == [("error", message.format(path=path))]
 
 
-def test_an_empty_folder_is_a_warning(tmp_path):
-    """RoboTool loads an empty project folder without complaint (K14)."""
+def test_an_empty_folder_is_an_error_located_at_the_folder(tmp_path):
+    """RoboTool loads an empty project folder without complaint (K14), but a script that checks a
+    folder would believe its models checked: a folder without a model file is an error, located
+    at the folder (a span of the path alone)."""
     (tmp_path / "empty-folder").mkdir()
     path = tmp_path / "empty-folder"
-    assert collect_model_paths([path]) == []
+    message = f"no model files (.rct, .rst, .rsim) in directory {path}"
+    with pytest.raises(RobogenError) as exc:
+        collect_model_paths([path])
+    (d,) = exc.value.diagnostics
+    assert (d.message, d.span) == (message, Span.of_path(str(path)))
     model = check_paths([path])
-    assert [brief(d) for d in model.diagnostics] == [("warning", f"no model files (.rct, .rst, .rsim) in directory {path}")]
+    assert [brief(d) for d in model.diagnostics] == [("error", 0, 0, message)]
     assert model.files == ()
 
 

@@ -24,7 +24,8 @@ def run(args: argparse.Namespace) -> int:
     shown = [d for d in model.diagnostics if d.is_error or not args.no_warnings]
     for d in shown:
         print(render(d, sources), file=sys.stderr)
-    n_files = len(model.files) + len({d.span.path for d in model.errors if d.span} - {f.path for f in model.files})
+    # files that did not load count too; a folder (a span of the path alone, line 0) does not
+    n_files = len(model.files) + len({d.span.path for d in model.errors if d.span and d.span.line} - {f.path for f in model.files})
     errors, warnings = len(model.errors), len(model.warnings)
     print(
         f"checked {n_files} file{'s' if n_files != 1 else ''}: "

@@ -373,8 +373,8 @@ def collect_model_paths(paths: Sequence[str | os.PathLike], problems: Diagnostic
         path = Path(p)
         if path.is_dir():
             inside = sorted(str(q) for q in path.rglob("*") if q.suffix.lower() in EXTENSIONS and q.is_file())
-            if not inside:  # RoboTool loads an empty project without complaint
-                problems.warning(f"no model files (.rct, .rst, .rsim) in directory {path}", None)
+            if not inside:  # RoboTool loads an empty project, but a script would believe its models checked
+                problems.error(f"no model files (.rct, .rst, .rsim) in directory {path}", Span.of_path(str(path)))
             found += inside
         elif path.is_file():
             if language_of(path) is None:
