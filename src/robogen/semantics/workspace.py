@@ -2,7 +2,9 @@
 project. Imports and package-qualified names resolve across all its files.
 
 Global name lookup for a simple name ``N`` used in a file of package ``P`` tries, in order:
-the declarations of ``P`` (in any file), the file's explicit imports (``import Q::N``), its
+the declarations of the file itself (Xtext resolves a resource's own elements before the global
+index, so a name declared in the same file shadows its declarations in other files), those of
+``P`` (in any file), the file's explicit imports (``import Q::N``), its
 wildcard imports (``import Q::*``), declarations of files without a package (visible everywhere,
 as in RoboTool), the built-in ``core`` package. As a last resort, a declaration of that simple
 name anywhere in the workspace is used with a warning naming the import that is missing
@@ -13,8 +15,8 @@ Each lookup asks for declarations of some kinds (a type, an interface, a functio
 sees only those, as RoboTool's scopes do: a function ``real`` does not hide the type ``real``.
 Functions and the other declarations are separate name spaces, so a function and a type of
 one package may share a name. Like RoboTool, robogen only warns about an import that finds
-nothing and about two declarations of one name in the files without a package (it uses the
-first).
+nothing and about two declarations of one qualified name and kind (RoboTool's "is not unique",
+which counts the declarations of one kind); a use takes the one of its own file, else the first.
 """
 
 from __future__ import annotations
@@ -134,21 +136,23 @@ class Workspace:
                             self.by_simple.setdefault(m.name, []).append(Decl(m.name, pkg_name, m, f))
 
     def _check_duplicates(self) -> None:
-        """Two declarations of one name and name space in a package are an error; in the files
-        without a package, a warning (RoboTool's "is not unique"; lookups use the first)."""
+        """Two declarations of one qualified name and kind (two interfaces ``p::I``, in one file or
+        two): a warning, as RoboTool's UniqueQualifiedName check gives (it counts the exported
+        objects of one class; declarations of other kinds, a machine and a type of one name, do
+        not clash there, and lookups ask for a kind). A use takes the one declared in its own
+        file, else the first (see :meth:`lookup`)."""
         for pkg in self.packages.values():
             for name, decls in pkg.decls.items():
-                for space in (True, False):
-                    same_space = [d for d in decls if d.node is not None and _is_function(d) is space]
-                    for d in same_space[1:]:
-                        self._duplicate(pkg, name, d, same_space[0])
-
-    def _duplicate(self, pkg: Package, name: str, d: Decl, first: Decl) -> None:
-        note = Note(f"'{name}' is first declared here as a {first.kind}", first.span)
-        if pkg.name is None:
-            self.sink.warning(f"'{name}' is not unique: the files without a package declare it twice; robogen uses the first", d.span, note)
-        else:
-            self.sink.error(f"duplicate declaration of '{name}' in {_pkg_text(pkg.name)}", d.span, note)
+                by_kind: dict[type, list[Decl]] = {}
+                for d in decls:
+                    if d.node is not None:
+                        by_kind.setdefault(type(d.node), []).append(d)
+                for same in by_kind.values():
+                    for d in same[1:]:
+                        self.sink.warning(
+                            f"'{name}' is not unique: {_article(d.kind)} of that name is declared twice in {_pkg_text(pkg.name)}; "
+                            "a file that declares one uses its own, the other files the first", d.span,
+                            Note(f"'{name}' is first declared here", same[0].span))
 
     def _resolve_imports(self, f: ast.File) -> None:
         singles: list[tuple[ast.Import, Decl]] = []
@@ -185,7 +189,7 @@ class Workspace:
                     imp.name.span,
                 )
                 continue
-            singles.append((imp, decls[0]))
+            singles += [(imp, d) for d in decls]  # each kind of that name: a lookup asks for one
         self._imports[id(f)] = (singles, wildcards)
 
     def _package_names(self) -> list[str]:
@@ -211,7 +215,7 @@ class Workspace:
                 if report:
                     sink.error(f"unknown package '{pkg_name}' in '{name.text}'" + did_you_mean(pkg_name, self._package_names()), name.span)
                 return None
-            found = [d for d in pkg.decls.get(simple, ()) if d.is_a(kinds)]
+            found = sorted((d for d in pkg.decls.get(simple, ()) if d.is_a(kinds)), key=lambda d: d.file is not file)
             if not found:
                 if report:
                     other = pkg.decls.get(simple)
@@ -276,7 +280,9 @@ class Workspace:
 
     def _visible(self, simple: str, file: ast.File) -> Iterable[list[Decl]]:
         pkg_name = file.package.text if file.package else None
-        yield list(self.packages[pkg_name].decls.get(simple, ())) if pkg_name in self.packages else []
+        own = list(self.packages[pkg_name].decls.get(simple, ())) if pkg_name in self.packages else []
+        yield [d for d in own if d.file is file]  # the file's own declarations shadow the others (Xtext's local scope)
+        yield own
         singles, wildcards = self._imports.get(id(file), ([], []))
         yield [d for imp, d in singles if d.name == simple]
         yield [d for imp, pkg in wildcards for d in pkg.decls.get(simple, ())]
@@ -343,13 +349,9 @@ def _closest_package(decls: list[Decl], file: ast.File) -> Decl | None:
 
 
 def _one_name(decls: list[Decl]) -> bool:
-    """Are these one name declared more than once in the files without a package? (a warning at
-    the declarations; lookups use the first, as RoboTool links one of them)"""
-    return all(d.package is None and d.node is not None for d in decls)
-
-
-def _is_function(d: Decl) -> bool:
-    return d.builtin is not None or isinstance(d.node, ast.FunctionDef)
+    """Are these one qualified name declared more than once? (a warning at the declarations of
+    one kind; lookups use the first, as RoboTool links one of them)"""
+    return all(d.node is not None for d in decls) and len({d.package for d in decls}) == 1
 
 
 def _article(what: str) -> str:
