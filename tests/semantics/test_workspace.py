@@ -220,20 +220,22 @@ def test_paths_that_hold_no_model_are_reported(tmp_path, name, message):
     assert [brief(d) for d in model.diagnostics] == [("error", message.format(path=path))]
 
 
-def test_an_empty_folder_is_an_error_located_at_the_folder(tmp_path):
-    """RoboTool loads an empty project folder without complaint (K14), but a script that checks a
-    folder would believe its models checked: a folder without a model file is an error, located
-    at the folder (a span of the path alone)."""
+def test_an_empty_folder_is_an_empty_project_or_for_robogen_check_an_error(tmp_path):
+    """RoboTool loads an empty project folder without complaint (K14): a warning, located at the
+    folder (a span of the path alone); but a script that runs `robogen check` on a folder would
+    believe its models checked, so there (empty_is_error) it is an error."""
     (tmp_path / "empty-folder").mkdir()
     path = tmp_path / "empty-folder"
     message = f"no model files (.rct, .rst, .rsim) in directory {path}"
+    assert collect_model_paths([path]) == []
+    model = check_paths([path])
+    assert [brief(d) for d in model.diagnostics] == [("warning", 0, 0, message)]
+    assert model.files == ()
     with pytest.raises(RobogenError) as exc:
-        collect_model_paths([path])
+        collect_model_paths([path], empty_is_error=True)
     (d,) = exc.value.diagnostics
     assert (d.message, d.span) == (message, Span.of_path(str(path)))
-    model = check_paths([path])
-    assert [brief(d) for d in model.diagnostics] == [("error", 0, 0, message)]
-    assert model.files == ()
+    assert [brief(d) for d in check_paths([path], empty_is_error=True).diagnostics] == [("error", 0, 0, message)]
 
 
 def test_a_file_with_a_syntax_error_is_left_out_and_the_others_still_checked(tmp_path):

@@ -19,7 +19,7 @@ def configure(p: argparse.ArgumentParser) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
-    model = check_paths(args.paths)
+    model = check_paths(args.paths, empty_is_error=True)  # a script would believe an empty folder's models checked
     sources = SourceMap()
     shown = [d for d in model.diagnostics if d.is_error or not args.no_warnings]
     for d in shown:

@@ -365,9 +365,13 @@ def _pkg_text(pkg: str | None) -> str:
 # ---------------------------------------------------------------------------- loading
 
 
-def collect_model_paths(paths: Sequence[str | os.PathLike], problems: DiagnosticSink | None = None) -> list[str]:
+def collect_model_paths(paths: Sequence[str | os.PathLike], problems: DiagnosticSink | None = None, *,
+                        empty_is_error: bool = False) -> list[str]:
     """Files given directly, plus every .rct/.rst/.rsim file below each directory (sorted).
-    Missing paths and non-model files are reported to ``problems`` (raised if not given)."""
+    Missing paths and non-model files are reported to ``problems`` (raised if not given). A
+    directory without a model file is an empty project, which RoboTool loads without complaint:
+    a warning, located at the directory; ``empty_is_error``: an error (``robogen check``, whose
+    caller would otherwise believe its models checked)."""
     found: list[str] = []
     own = problems is None
     problems = problems if problems is not None else DiagnosticSink()
@@ -375,8 +379,9 @@ def collect_model_paths(paths: Sequence[str | os.PathLike], problems: Diagnostic
         path = Path(p)
         if path.is_dir():
             inside = sorted(str(q) for q in path.rglob("*") if q.suffix.lower() in EXTENSIONS and q.is_file())
-            if not inside:  # RoboTool loads an empty project, but a script would believe its models checked
-                problems.error(f"no model files (.rct, .rst, .rsim) in directory {path}", Span.of_path(str(path)))
+            if not inside:
+                (problems.error if empty_is_error else problems.warning)(
+                    f"no model files (.rct, .rst, .rsim) in directory {path}", Span.of_path(str(path)))
             found += inside
         elif path.is_file():
             if language_of(path) is None:
@@ -409,16 +414,19 @@ def workspace_root(paths: Sequence[str | os.PathLike]) -> str:
     return os.path.commonpath(folders) if folders else os.path.abspath(os.curdir)
 
 
-def load(paths: Sequence[str | os.PathLike], sink: DiagnosticSink | None = None) -> Workspace:
+def load(paths: Sequence[str | os.PathLike], sink: DiagnosticSink | None = None, *, empty_is_error: bool = False) -> Workspace:
     """Parse every model under ``paths`` into one workspace; syntax errors of a file are recorded
-    in the sink and that file is left out, so the other files are still checked."""
+    in the sink and that file is left out, so the other files are still checked
+    (``empty_is_error``: see :func:`collect_model_paths`)."""
     sink = sink or DiagnosticSink()
     files = []
-    for path in collect_model_paths(paths, sink):
+    for path in collect_model_paths(paths, sink, empty_is_error=empty_is_error):
         try:
             files.append(parse_file(path))
         except RobogenError as exc:
             sink.extend(exc.diagnostics)
+        else:
+            sink.extend(files[-1].notices)
     return Workspace(files, sink, workspace_root(paths))
 
 
@@ -433,6 +441,8 @@ def from_texts(texts: dict[str, str], sink: DiagnosticSink | None = None) -> Wor
             files.append(parse_text(text, path))
         except RobogenError as exc:
             sink.extend(exc.diagnostics)
+        else:
+            sink.extend(files[-1].notices)
     return Workspace(files, sink, workspace_root(list(texts)))
 
 
