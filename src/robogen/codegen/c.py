@@ -135,6 +135,18 @@ class CNames:
         return cls(var_identifiers(fmu), tuple(machines), clocks)
 
 
+def deliver(target: MachineNames, event: ir.Event, value: str | None, sender: int, indent: str) -> list[str]:
+    """The C that delivers an occurrence of ``event`` of the machine named ``target``, carrying the
+    C variable ``value`` (None: no value), from sender number ``sender`` (0: the FMU's boundary,
+    k: its k-th machine) to its register; an event that keeps its sender gets it with the value
+    (robogen.ir.bindings)."""
+    slot = f"&{target.event_table}[{target.events[event.index]}]"
+    if not event.sender:
+        return [f"{indent}rg_deliver(d, {slot}, {'&' + value if value else 'NULL'});"]
+    fields = ([f".value = {value}"] if value else []) + [f".from = {sender}"]
+    return [f"{indent}{{ {ctype(event.type)} sent_ = {{ {', '.join(fields)} }}; rg_deliver(d, {slot}, &sent_); }}"]  # type: ignore[arg-type]
+
+
 def user_function_prototype(u: ir.UserFunction) -> str:
     """The C declaration of a user function, as the --functions file must define it."""
     args = ", ".join(f"{ctype(t)} {n}" for n, t in u.params) or "void"
@@ -493,12 +505,10 @@ class Emitter:
                 read.add(0)
                 _, mi, ei = route
                 self.delivers_to.add(mi)
-                target = self.names.machines[mi]
                 event = self.fmu.machines[mi].events[ei]
-                assert [ctype(a.type) for a in s.args] == ([ctype(event.type)] if event.type is not None else []), \
+                assert [ctype(a.type) for a in s.args] == ([ctype(event.value_type)] if event.value_type is not None else []), \
                     f"{s.name} sends a value of another type than event {event.name} carries"  # rg_deliver copies bytes
-                value = "&a0_" if s.args else "NULL"
-                lines.append(f"{inner}rg_deliver(d, &{target.event_table}[{target.events[ei]}], {value});")
+                lines += deliver(self.names.machines[mi], event, "a0_" if s.args else None, self.m.index + 1, inner)
         if not s.routes:
             lines.append(f"{inner}/* {c_comment(s.name)} is connected to nothing: evaluated, sent nowhere */")
         lines += [f"{inner}(void){t};" for k, t in enumerate(temporaries) if k not in read]

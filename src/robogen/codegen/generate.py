@@ -21,6 +21,7 @@ from robogen.codegen.c import (
     c_comment,
     c_string,
     ctype,
+    deliver,
     literal,
     mangle,
     string_literal,
@@ -179,6 +180,7 @@ def generate(fmu: ir.Fmu, options: CodegenOptions | None = None, *, diagrams: Se
     collections = CollectionCode(fmu.capacity)
     machines, sites, strings = _machines_code(fmu, layout, names, line_comments, collections)
     latch = {p.index: _latch(p, layout.port_fields_in.get(p.index, []), collections) for p in fmu.inputs}
+    deliveries = {p.index: _deliveries(fmu, p, names) for p in fmu.inputs}
     for t in collections.types:
         layout._type(t)
     for u in fmu.user_functions:  # the C types a --functions file receives and returns
@@ -201,6 +203,7 @@ def generate(fmu: ir.Fmu, options: CodegenOptions | None = None, *, diagrams: Se
         strings=strings if any(v.fmi_type == "String" for v in layout.variables) else None,
         string_bytes=STRING_BYTES,
         latch=latch,
+        deliveries=deliveries,
         collection_code=collections.text(),
         equality_bodies=bodies,
         param_starts=param_starts,
@@ -347,6 +350,13 @@ def _latch(port: ir.Port, fields: list[tuple[str, ir.Field_]], collections: Coll
     for at, t in made:
         lines.append(f"{at} = {collections.need('canon', t)}(d, {at});")
     return lines
+
+
+def _deliveries(fmu: ir.Fmu, port: ir.Port, names: CNames) -> list[str]:
+    """The statements of rg_model_latch that deliver the value ``v`` of input port ``port`` (if
+    it carries one) to the machine events it reaches; its sender is the boundary, number 0."""
+    value = "v" if port.type is not None else None
+    return [line for mi, ei in port.routes for line in deliver(names.machines[mi], fmu.machines[mi].events[ei], value, 0, " " * 8)]
 
 
 def _type_at(t, path: tuple[str, ...]) -> T.Type:

@@ -171,7 +171,7 @@ class Interpreter:
             raise KeyError(f"no input clock {clock!r}")
         value = self._assemble(port, payload or {})
         for mi, ei in port.routes:
-            self._deliver(mi, ei, value)
+            self._deliver(mi, ei, value, 0)
 
     def _assemble(self, port: ir.Port, payload: dict[str, object]):
         if port.type is None:
@@ -211,10 +211,14 @@ class Interpreter:
                 _set_path(value, path, v)
         return value
 
-    def _deliver(self, mi: int, ei: int, value) -> None:
+    def _deliver(self, mi: int, ei: int, value, sender: int) -> None:
+        """An occurrence of event ``ei`` of machine ``mi`` from sender number ``sender`` (0: the
+        boundary, k: the k-th machine), kept with the value by an event that keeps its sender."""
         ms = self.machines[mi]
         if ei in ms.register:
             self.dropped += 1  # several occurrences before they are used: the last one wins
+        if self.fmu.machines[mi].events[ei].sender:
+            value = ({"value": value} if value is not None else {}) | {"from": sender}
         ms.register[ei] = copy.deepcopy(value)
         ms.new_input = True
 
@@ -366,7 +370,7 @@ class Interpreter:
                     port = self.fmu.outputs[route[1]]
                     self.active[port.name] = self._payload(port, args)
                 else:
-                    self._deliver(route[1], route[2], args[0] if args else None)
+                    self._deliver(route[1], route[2], args[0] if args else None, m.index + 1)
         elif isinstance(s, ir.If):
             for x in s.then if self._eval(s.cond, m, ms) else s.otherwise:
                 self._exec(x, m, ms)

@@ -16,7 +16,7 @@ from typing import Any, Generator
 
 from robogen.diagnostics import DiagnosticSink, Note, RobogenError, Span, did_you_mean
 from robogen.ir import model as ir
-from robogen.ir.bindings import BindingLowering
+from robogen.ir.bindings import BindingLowering, sender_events, sender_type
 from robogen.ir.boundary import Boundary
 from robogen.ir.constants import constant_value, default_value, parse_setting, shown
 from robogen.ir.expressions import ExpressionLowering
@@ -123,12 +123,15 @@ class MachineLowering(StatementLowering, BindingLowering, ExpressionLowering, Fu
         self.fn_tables: dict[str, list[ast.Expr]] | None = None  # function variable -> the values it stores
         for name, v in scope.vars.items():
             self._declare_var(v, name)
+        senders = sender_events(ctx.model, scope)
         for name, e in scope.events.items():
             if e.input:
                 t = self._norm(e.type) if e.type is not None else None
                 if t is not None:
                     check_codegen_type(t, e.span, f"event '{name}'")
-                self.machine.events.append(ir.Event(name, t, len(self.machine.events), e.span))
+                if name in senders:  # its register keeps the sender too
+                    t = sender_type(t)
+                self.machine.events.append(ir.Event(name, t, len(self.machine.events), e.span, sender=name in senders))
 
     # -- storage
 
@@ -489,10 +492,8 @@ class MachineLowering(StatementLowering, BindingLowering, ExpressionLowering, Fu
         self.node_now = graph.node_ids[id(leaf)]
         cur = b
         if consume is not None:
-            if t.trigger is not None and t.trigger.kind == "?":  # bound as the transition is taken
-                var = self.model.bound_var(t.trigger)
-                cur.stmts.append(ir.Assign(t.trigger.span, self.var_ref(graph, var, t.trigger.var_span),
-                                           ir.Payload(self.machine.event(t.trigger.event).type, consume)))
+            if t.trigger is not None:  # bound as the transition is taken
+                cur.stmts += self.bindings(t.trigger, self.machine.events[consume], graph)
             cur.stmts.append(ir.Consume(t.span, consume))
         cur.stmts.append(ir.Trace(t.span, f"{t.name}: {src.name} -> {t.target}"))  # type: ignore[attr-defined]
         chain = self._chain(graph, leaf)

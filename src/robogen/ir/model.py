@@ -116,12 +116,23 @@ class Port:
 
 @dataclass(eq=False)
 class Event:
-    """An event a machine reads (its input register and sample)."""
+    """An event a machine reads (its input register and sample). ``type`` is what the register
+    holds: the event's value, or with ``sender`` (a filter ``e[| x = from |]`` of the machine reads
+    the sender) a record of the value (field ``value``, if the event carries one) and the sender's
+    number (field ``from``, see :mod:`robogen.ir.bindings`), which every delivery fills in."""
 
     name: str
     type: Type | None
     index: int
     span: Span | None = None
+    sender: bool = False
+
+    @property
+    def value_type(self) -> Type | None:
+        """The type of the value the event carries (None: it carries none)."""
+        if not self.sender:
+            return self.type
+        return self.type.field("value")  # type: ignore[union-attr]
 
 
 @dataclass(eq=False)

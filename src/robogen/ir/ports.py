@@ -70,7 +70,7 @@ class Ports:
         for ev in ml.machine.events:
             sym = ml.scope.events[ev.name]
             if ml.scope.robosim or ev.name in used_in:
-                self.input_port(ev.name, ev.type, sym.span).routes.append((0, ev.index))
+                self.input_port(ev.name, ev.value_type, sym.span).routes.append((0, ev.index))
         for name, sym in ml.scope.events.items():
             if sym.output and (ml.scope.robosim or name in used_out):
                 self.output_port(name, "output-event", ml.event_type(name), (), sym.span)

@@ -198,10 +198,25 @@ class StatementLowering:
         wait = self.block(f"wait for {c.event}", s.span)
         nxt = self.block(f"after {c.event}?{c.var}", s.span)
         cur.term = ir.Goto(wait.id)
+        if ev.sender:  # bound when it comes, from the register, with the sender
+            nxt.stmts += self.bindings(c, ev, graph)
         nxt.stmts.append(ir.Consume(s.span, ev.index))
-        guard = self.receive(c, ev, graph)
+        guard = self.receive(c, ev, graph, bind=not ev.sender)
         wait.term = ir.Branch((ir.Case(guard, nxt.id, f"{c.event}?{c.var}", s.span),), ir.Suspend(wait.id))
         return nxt
+
+    def bindings(self, c: ast.Communication, ev: ir.Event, graph: Graph) -> list[ir.Stmt]:
+        """The assignments of a communication that takes the occurrence of ``ev`` in the buffer:
+        the sender to the variable of ``[| x = from |]``, then the value to ``x`` of ``e?x``."""
+        out: list[ir.Stmt] = []
+        sender = self.sender_binding(c, ev)  # type: ignore[attr-defined]
+        if sender is not None:
+            var, value = sender
+            out.append(ir.Assign(c.span, self.var_ref(graph, var, c.filter.span), value))  # type: ignore[attr-defined, union-attr]
+        if c.kind == "?":
+            target = self.var_ref(graph, self.model.bound_var(c), c.var_span)  # type: ignore[attr-defined]
+            out.append(ir.Assign(c.span, target, self.event_value(ev)))  # type: ignore[attr-defined]
+        return out
 
     def receive(self, c: ast.Communication, ev: ir.Event, graph: Graph, bind: bool = True) -> ir.Expr:
         """The test that ``c`` (``e``, ``e?x``, with a filter or not) can take event ``ev`` now;
