@@ -78,6 +78,7 @@ TEST_MODELS = {
         ModelCase("abstract", MODELS / "abstract.rct"),
         ModelCase("abstractsim", MODELS / "abstractsim.rst"),
         ModelCase("senders", MODELS / "senders.rct"),
+        ModelCase("widen", MODELS / "widen.rct", choices={"r.value": [-2.75, 0.5, 2.75, 1e10]}),
         ModelCase("typeusessim", MODELS / "typeusessim.rst"),
         ModelCase("tagged", MODELS / "tagged.rct", choices={
             "cmd.tag": [0, 1, 2], "cmd.Move_1": [1.5, 2.5, 0.0], "cmd.Turn_1": [2, 0, 2], "cmd.Turn_2": [True, False],

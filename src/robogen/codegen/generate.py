@@ -356,7 +356,8 @@ def _deliveries(fmu: ir.Fmu, port: ir.Port, names: CNames) -> list[str]:
     """The statements of rg_model_latch that deliver the value ``v`` of input port ``port`` (if
     it carries one) to the machine events it reaches; its sender is the boundary, number 0."""
     value = "v" if port.type is not None else None
-    return [line for mi, ei in port.routes for line in deliver(names.machines[mi], fmu.machines[mi].events[ei], value, 0, " " * 8)]
+    return [line for mi, ei in port.routes
+            for line in deliver(names.machines[mi], fmu.machines[mi].events[ei], value, port.type, 0, " " * 8)]
 
 
 def _type_at(t, path: tuple[str, ...]) -> T.Type:

@@ -129,8 +129,8 @@ class BindingLowering:
         sender = self.sender_binding(c, event)
         pairs: list = [sender] if sender is not None else []
         var = self.model.bound_var(c) if c.kind == "?" else None
-        if var is not None and event.value_type is not None:
-            pairs.append((var, self.event_value(event)))  # after the sender: the value wins
+        if var is not None and event.value_type is not None:  # after the sender: the value wins
+            pairs.append((var, self.conv(self.event_value(event), self._norm(var.type), c.span)))  # type: ignore[attr-defined]
         with self.binding(pairs):
             return self.expr(f.predicate, graph)
 

@@ -163,7 +163,7 @@ def expr(e: ir.Expr | None) -> str:
     if isinstance(e, ir.Payload):
         return f"value(e{e.event})"
     if isinstance(e, ir.BindIn):
-        return f"bind(e{e.event} -> {expr(e.target)})"
+        return f"bind(e{e.event} -> {expr(e.target)})" if e.value is None else f"bind(e{e.event}: {expr(e.value)} -> {expr(e.target)})"
     if isinstance(e, ir.Since):
         return f"since(c{e.clock})"
     if isinstance(e, ir.SinceEntry):

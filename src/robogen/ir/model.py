@@ -251,10 +251,12 @@ class Payload(Expr):
 @dataclass(frozen=True)
 class BindIn(Expr):
     """``$e?x`` / ``e?x``: true if event ``event`` is present, and then its value is stored in
-    ``target`` (as a side effect of evaluating the guard)."""
+    ``target`` (as a side effect of evaluating the guard): the value itself, or ``value`` (an
+    expression of it: converted to the target's type)."""
 
     event: int
     target: Expr
+    value: "Expr | None" = None
 
 
 @dataclass(frozen=True)

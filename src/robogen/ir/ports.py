@@ -56,6 +56,7 @@ class Ports:
             if conn.source == platform:
                 port = self.input_port(conn.source_event, self._platform_event_type(info, conn.source_event), conn.span)
                 for r in self._routes_into_controller(conn.target, conn.target_event, info):
+                    self._deliverable(port.type, r, conn.span)
                     if r not in port.routes:
                         port.routes.append(r)
         for conn in directed(info.connections):
@@ -132,7 +133,22 @@ class Ports:
                 routes += self._from_controller(ml, info, ctrl, conn.target_event, name, span)
             else:  # machine -> machine of the same controller
                 routes += [("machine", mi, me) for mi, me in self._machine_event(ctrl, conn.target, conn.target_event)]
+        for route in routes:
+            if route[0] == "machine":
+                self._deliverable(ml.event_type(name), route[1:], span)
         return tuple(routes)
+
+    def _deliverable(self, source: T.Type | None, route: tuple[int, int], span: Span | None) -> None:
+        """A value of type ``source`` can reach the machine event of ``route``: the same type, or
+        a number the delivery converts without a run-time error (connections may widen a number,
+        RoboChart's nat to int or real; a bidirectional one carries it back too, narrowed)."""
+        event = self.fmu.machines[route[0]].events[route[1]]
+        target = event.value_type
+        if source is None or target is None or source == target:
+            return
+        if not (source in T.NUMERIC and target in T.NUMERIC) or source == T.REAL:
+            raise not_supported(f"a connection that delivers {source.show()} values to event '{event.name}' of "
+                                f"{self.fmu.machines[route[0]].name}, which carries {target.show()}", span)
 
     def _from_controller(self, ml: MachinePorts, info: Module, ctrl: Controller, event: str, name: str,
                          span: Span | None) -> list[tuple]:
@@ -145,6 +161,9 @@ class Ports:
             if mconn.source == ctrl_used and mconn.source_event == event:
                 if mconn.target == platform:
                     port = self.output_port(mconn.target_event, "output-event", ml.event_type(name), (), span)
+                    if port.type != ml.event_type(name):  # the first sender's type is the port's
+                        raise not_supported(f"sending {_shown(ml.event_type(name))} values on '{port.source}', whose "
+                                            f"FMI variables another machine sends {_shown(port.type)} values on", span)
                     routes.append(("port", port.index))
                 else:
                     routes += [("machine", mi, me) for mi, me in self._routes_into_controller(mconn.target, mconn.target_event, info)]
@@ -206,6 +225,10 @@ class Ports:
 
 #: FMI variables robogen adds to every FMU (besides ``time`` and the periodic clock)
 RESERVED = ("cycles", "dropped_events", "deadline_misses")
+
+
+def _shown(t: T.Type | None) -> str:
+    return t.show() if t is not None else "no"
 
 
 def _renamed(name: str, clock: str) -> str:

@@ -215,8 +215,14 @@ class StatementLowering:
             out.append(ir.Assign(c.span, self.var_ref(graph, var, c.filter.span), value))  # type: ignore[attr-defined, union-attr]
         if c.kind == "?":
             target = self.var_ref(graph, self.model.bound_var(c), c.var_span)  # type: ignore[attr-defined]
-            out.append(ir.Assign(c.span, target, self.event_value(ev)))  # type: ignore[attr-defined]
+            out.append(ir.Assign(c.span, target, self.conv(self.event_value(ev), target.type, c.span)))  # type: ignore[attr-defined]
         return out
+
+    def bind_in(self, ev: ir.Event, target: ir.Expr, span: Span | None) -> ir.BindIn:
+        """``e?x`` in a guard: the value stored in x as its type holds it (RoboChart lets a real
+        event be received into an int variable, and an int into a nat one)."""
+        value = self.conv(ir.Payload(ev.type, ev.index), target.type, span)  # type: ignore[arg-type, attr-defined]
+        return ir.BindIn(T.BOOLEAN, ev.index, target, None if isinstance(value, ir.Payload) else value)
 
     def receive(self, c: ast.Communication, ev: ir.Event, graph: Graph, bind: bool = True) -> ir.Expr:
         """The test that ``c`` (``e``, ``e?x``, with a filter or not) can take event ``ev`` now;
@@ -228,7 +234,7 @@ class StatementLowering:
             offered = ir.Bin(T.BOOLEAN, "and", offered, condition)
         if c.kind != "?" or not bind:
             return offered
-        bind_in = ir.BindIn(T.BOOLEAN, ev.index, self.var_ref(graph, self.model.bound_var(c), c.var_span))  # type: ignore[attr-defined]
+        bind_in = self.bind_in(ev, self.var_ref(graph, self.model.bound_var(c), c.var_span), c.span)  # type: ignore[attr-defined]
         return bind_in if condition is None else ir.Bin(T.BOOLEAN, "and", offered, bind_in)
 
     # -- operation calls

@@ -196,7 +196,7 @@ class StmtChecker(ExprChecker):
                 pass  # reported
             elif not var.assignable:
                 self.sink.error(f"cannot receive into {KIND_WORDS[var.kind]} '{var.name}'", c.var_span or c.span, Note("declared here", var.span))
-            elif not T.assignable(ev.type, var.type):
+            elif not T.receivable(ev.type, var.type):
                 self.sink.error(
                     f"cannot receive a value of event '{c.event}' ({ev.type.show()}) into '{var.name}' ({var.type.show()})",
                     c.var_span or c.span,
