@@ -152,7 +152,7 @@ def deliver(target: MachineNames, event: ir.Event, value: str | None, source: T.
     (robogen.ir.bindings)."""
     slot = f"&{target.event_table}[{target.events[event.index]}]"
     lines = []
-    if value is not None and source is not None and event.value_type is not None and source != event.value_type:
+    if value is not None and source in T.NUMERIC and event.value_type in T.NUMERIC and source != event.value_type:
         lines.append(f"{ctype(event.value_type)} conv_ = {integral_cast(value, source, event.value_type)};")
         value = "conv_"
     if not event.sender:

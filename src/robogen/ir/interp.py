@@ -220,7 +220,7 @@ class Interpreter:
         event = self.fmu.machines[mi].events[ei]
         if ei in ms.register:
             self.dropped += 1  # several occurrences before they are used: the last one wins
-        if value is not None and source is not None and event.value_type is not None and source != event.value_type:
+        if value is not None and source in T.NUMERIC and event.value_type in T.NUMERIC and source != event.value_type:
             value = convert(value, source, event.value_type)
         if event.sender:
             value = ({"value": value} if value is not None else {}) | {"from": sender}

@@ -144,8 +144,8 @@ class Ports:
         RoboChart's nat to int or real; a bidirectional one carries it back too, narrowed)."""
         event = self.fmu.machines[route[0]].events[route[1]]
         target = event.value_type
-        if source is None or target is None or source == target:
-            return
+        if source is None or target is None or source == target or (T.same(source, target) and source not in T.NUMERIC):
+            return  # the same values (two declarations of one record or enumeration: the same layout)
         if not (source in T.NUMERIC and target in T.NUMERIC) or source == T.REAL:
             raise not_supported(f"a connection that delivers {source.show()} values to event '{event.name}' of "
                                 f"{self.fmu.machines[route[0]].name}, which carries {target.show()}", span)
@@ -161,7 +161,7 @@ class Ports:
             if mconn.source == ctrl_used and mconn.source_event == event:
                 if mconn.target == platform:
                     port = self.output_port(mconn.target_event, "output-event", ml.event_type(name), (), span)
-                    if port.type != ml.event_type(name):  # the first sender's type is the port's
+                    if port.type != ml.event_type(name) and port.type in T.NUMERIC:  # the first sender's number type is the port's
                         raise not_supported(f"sending {_shown(ml.event_type(name))} values on '{port.source}', whose "
                                             f"FMI variables another machine sends {_shown(port.type)} values on", span)
                     routes.append(("port", port.index))
