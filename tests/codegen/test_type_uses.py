@@ -9,7 +9,7 @@ from __future__ import annotations
 
 import pytest
 
-from support.codegen_driver import Tick, outputs_by_instant
+from support.codegen_driver import Tick, build, outputs_by_instant
 
 CAPACITY = 32  # the default --capacity: the length of a sequence's arrays at the boundary
 
@@ -53,3 +53,34 @@ def test_robosim_operation_call_and_event_output_of_nested_records(builds, seman
     assert outputs[0] == outputs[1] == {}
     for t, v in ((2, 1.5), (3, -2.0)):
         assert outputs[t] == {"cmd_vel": twist(v, 2 * v, -v), "pose": frame(v), "force": {"force.value": v - 2}}
+
+
+GUST = """package gust
+datatype Axis { u: real w: real }
+datatype Gust { a: Axis k: nat }
+function speed(g: Gust): real { }
+interface Io { event go: real event out: real }
+stm M {
+\tuses Io
+\tvar v: real = 0.0
+\tinitial i
+\tstate S { }
+\ttransition t0 { from i to S }
+\ttransition t1 { from S to S trigger go?v action out!speed(Gust(|a = Axis(|u = v, w = 2.0|), k = 3|)) }
+}
+"""
+GUST_C = """static double rg_user_speed(rg_rec_gust_Gust g)
+{
+    return g.a.u * g.a.w + (double)g.k;
+}
+"""
+
+
+def test_a_record_met_only_in_a_user_function_signature_and_a_literal(tmp_path):
+    model, c_file = tmp_path / "gust.rct", tmp_path / "gust.c"
+    model.write_text(GUST)
+    c_file.write_text(GUST_C)
+    built = build([model], tmp_path / "w", machine="M", functions=c_file)
+    python = {"speed": lambda g: g["a"]["u"] * g["a"]["w"] + g["k"]}
+    outputs, _ = outputs_by_instant(built, {1: go(1.5)}, 2, functions=python)
+    assert outputs == {0: {}, 1: {"out": {"out.value": 6.0}}}  # 1.5 * 2.0 + 3
