@@ -137,6 +137,35 @@ class CNames:
         return cls(var_identifiers(fmu), tuple(machines), clocks)
 
 
+def integral_cast(a: str, source: T.Type, target: T.Type) -> str:
+    """C converting ``a`` from number type ``source`` to ``target``, but a real to an integer
+    (which may fail): nat to int wraps (rg_u_to_i), as the interpreter's convert does."""
+    if source == T.NAT and target == T.INT:
+        return f"rg_u_to_i({a})"
+    return f"(({ctype(target)}){a})"
+
+
+def deliver(target: MachineNames, event: ir.Event, value: str | None, source: T.Type | None, sender: int,
+            indent: str) -> list[str]:
+    """The C that delivers an occurrence of ``event`` of the machine named ``target``, carrying the
+    C variable ``value`` (None: no value) of type ``source`` (a connection may widen a number to
+    the event's type: converted), from sender number ``sender`` (0: the FMU's boundary, k: its
+    k-th machine) to its register; an event that keeps its sender gets it with the value
+    (robogen.ir.bindings)."""
+    slot = f"&{target.event_table}[{target.events[event.index]}]"
+    lines = []
+    if value is not None and source in T.NUMERIC and event.value_type in T.NUMERIC and source != event.value_type:
+        lines.append(f"{ctype(event.value_type)} conv_ = {integral_cast(value, source, event.value_type)};")
+        value = "conv_"
+    if not event.sender:
+        lines.append(f"rg_deliver(d, {slot}, {'&' + value if value else 'NULL'});")
+    else:
+        fields = ([f".value = {value}"] if value else []) + [f".from = {sender}"]
+        lines.append(f"{ctype(event.type)} sent_ = {{ {', '.join(fields)} }}; rg_deliver(d, {slot}, &sent_);")  # type: ignore[arg-type]
+    plain = len(lines) == 1 and not event.sender  # no declaration: no block of its own
+    return [indent + (lines[0] if plain else "{ " + " ".join(lines) + " }")]
+
+
 def user_function_prototype(u: ir.UserFunction) -> str:
     """The C declaration of a user function, as the --functions file must define it."""
     args = ", ".join(f"{ctype(t)} {n}" for n, t in u.params) or "void"
@@ -328,9 +357,7 @@ class Emitter:
         if source == T.REAL and target in (T.INT, T.NAT):  # out of range is a run-time error, not UB
             self.fallible = True
             return f"rg_r_to_{tag(target)}(d, {a})"
-        if source == T.NAT and target == T.INT:
-            return f"rg_u_to_i({a})"
-        return f"(({ctype(target)}){a})"
+        return integral_cast(a, source, target)
 
     def _Cond(self, e: ir.Cond) -> str:
         return f"({self.expr(e.cond)} ? {self.expr(e.then)} : {self.expr(e.otherwise)})"
@@ -348,7 +375,8 @@ class Emitter:
         return self._value(e.event)
 
     def _BindIn(self, e: ir.BindIn) -> str:
-        return f"({self._present(e.event)} ? ({self.expr(e.target)} = {self._value(e.event)}, true) : false)"
+        value = self._value(e.event) if e.value is None else self.expr(e.value)
+        return f"({self._present(e.event)} ? ({self.expr(e.target)} = {value}, true) : false)"
 
     def _since(self, elapsed: str, t: T.Type) -> str:
         p = self.fmu.period
@@ -495,12 +523,10 @@ class Emitter:
                 read.add(0)
                 _, mi, ei = route
                 self.delivers_to.add(mi)
-                target = self.names.machines[mi]
                 event = self.fmu.machines[mi].events[ei]
-                assert [ctype(a.type) for a in s.args] == ([ctype(event.type)] if event.type is not None else []), \
-                    f"{s.name} sends a value of another type than event {event.name} carries"  # rg_deliver copies bytes
-                value = "&a0_" if s.args else "NULL"
-                lines.append(f"{inner}rg_deliver(d, &{target.event_table}[{target.events[ei]}], {value});")
+                assert len(s.args) == (event.value_type is not None), f"{s.name} sends another value than event {event.name} carries"
+                source = s.args[0].type if s.args else None
+                lines += deliver(self.names.machines[mi], event, "a0_" if s.args else None, source, self.m.index + 1, inner)
         if not s.routes:
             lines.append(f"{inner}/* {c_comment(s.name)} is connected to nothing: evaluated, sent nowhere */")
         lines += [f"{inner}(void){t};" for k, t in enumerate(temporaries) if k not in read]

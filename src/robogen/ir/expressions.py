@@ -288,6 +288,11 @@ class ExpressionLowering:
             assert isinstance(b.type, (T.SetT, T.SeqT))
             return self.coll(T.BOOLEAN, "in", (self.conv(a, b.type.element, e.left.span), b), e)
         t = self._type(e)
+        if t == T.STRING:  # two strings: only literals, joined here (a string is a number at run time)
+            if isinstance(a, ir.Lit) and isinstance(b, ir.Lit):
+                return ir.Lit(T.STRING, str(a.value) + str(b.value))
+            raise not_supported("joining strings that are not literals (a string is one of the model's or an importer's "
+                                "at run time, never a new one)", e.span)
         return self.coll(t, "cat", (self.conv(a, t, e.left.span), self.conv(b, t, e.right.span)), e)
 
     def _comparison(self, e: ast.Binary, op: str, a: ir.Expr, b: ir.Expr) -> ir.Expr:
@@ -506,7 +511,7 @@ class ExpressionLowering:
         if ev is None:
             raise not_supported(f"'${e.event}?{e.var}'", e.span)
         var = self.model.bound_var(e)
-        guard: ir.Expr = ir.BindIn(T.BOOLEAN, ev.index, self.var_ref(graph, var, e.var_span))
+        guard: ir.Expr = self.bind_in(ev, self.var_ref(graph, var, e.var_span), e.span)
         if e.predicate is not None:
             guard = ir.Bin(T.BOOLEAN, "and", guard, self.expr(e.predicate, graph))
         return guard
