@@ -264,12 +264,12 @@ class FmuRunner:
             var = d.by_name[name]
             values = value if isinstance(value, list) else [value]
             buf, _, _keep = fmi3.encode(var.type, values)
-            self.inst._call("fmi3Set" + fmi3.ACCESSOR[var.type], fmi3.vr_array([var.vr]), 1, buf, len(values))
+            self.inst.set(var.type, fmi3.vr_array([var.vr]), 1, buf, n_values=len(values))
 
     def _read(self, group) -> dict[str, object]:
         out: dict[str, object] = {}
         for fmi_type, (vars_, vrs, n_values, buf) in group.items():
-            self.inst._call("fmi3Get" + fmi3.ACCESSOR[fmi_type], vrs, len(vars_), buf, n_values)
+            self.inst.get(fmi_type, vrs, len(vars_), buf, n_values=n_values)
             if fmi_type == "String":
                 buf = fmi3.decode_strings(buf, n_values)
             pos = 0
@@ -310,7 +310,7 @@ class FmuRunner:
                 var = d.by_name[name]
                 values = value if isinstance(value, list) else [value]  # an array parameter: its elements
                 buf, _, _keep = fmi3.encode(var.type, values)
-                inst._call("fmi3Set" + fmi3.ACCESSOR[var.type], fmi3.vr_array([var.vr]), 1, buf, len(values))
+                inst.set(var.type, fmi3.vr_array([var.vr]), 1, buf, n_values=len(values))
             inst.fmi3ExitInitializationMode()
             for instant, step in enumerate(scenario):
                 k = 0

@@ -264,7 +264,7 @@ def _log_message(env, status, category, message):
     try:
         inst = ffi.from_handle(env)
         text = ffi.string(message).decode("utf-8", "replace") if message != ffi.NULL else ""
-        inst._logged(status, text)
+        inst.receive_log(status, text)
     except Exception:  # a logger must never raise into C
         pass
 
@@ -361,7 +361,7 @@ class Binding:
         return FMI3Error(function, status, self.name, self.logged.message())
 
     # -- plumbing ------------------------------------------------------------------------
-    def _logged(self, status: int, text: str) -> None:
+    def receive_log(self, status: int, text: str) -> None:
         self.logged.note(status, text)
         if self.log is not None:
             self.log(self.name, status, text)
@@ -422,22 +422,23 @@ class Binding:
         return self._call("fmi3Reset")
 
     # -- values ----------------------------------------------------------------------------
-    def get(self, fmi_type: str, vrs, n: int, values, sizes=None) -> None:
-        """fmi3Get<Type>(vrs, n, values, n) into a caller-owned buffer (Binary: and ``sizes``)."""
+    def get(self, fmi_type: str, vrs, n: int, values, sizes=None, n_values: int | None = None) -> None:
+        """fmi3Get<Type>(vrs, n, values, nValues) into a caller-owned buffer (Binary: and ``sizes``);
+        ``n_values`` is ``n`` unless array variables are among ``vrs``."""
         if fmi_type == "Clock":
             self._call("fmi3GetClock", vrs, n, values)
         elif fmi_type == "Binary":
-            self._call("fmi3GetBinary", vrs, n, sizes, values, n)
+            self._call("fmi3GetBinary", vrs, n, sizes, values, n if n_values is None else n_values)
         else:
-            self._call("fmi3Get" + ACCESSOR[fmi_type], vrs, n, values, n)
+            self._call("fmi3Get" + ACCESSOR[fmi_type], vrs, n, values, n if n_values is None else n_values)
 
-    def set(self, fmi_type: str, vrs, n: int, values, sizes=None) -> None:
+    def set(self, fmi_type: str, vrs, n: int, values, sizes=None, n_values: int | None = None) -> None:
         if fmi_type == "Clock":
             self._call("fmi3SetClock", vrs, n, values)
         elif fmi_type == "Binary":
-            self._call("fmi3SetBinary", vrs, n, sizes, values, n)
+            self._call("fmi3SetBinary", vrs, n, sizes, values, n if n_values is None else n_values)
         else:
-            self._call("fmi3Set" + ACCESSOR[fmi_type], vrs, n, values, n)
+            self._call("fmi3Set" + ACCESSOR[fmi_type], vrs, n, values, n if n_values is None else n_values)
 
     def get_values(self, fmi_type: str, vrs: Sequence[int]) -> list:
         """The values of ``vrs`` (all of ``fmi_type``) as a Python list."""

@@ -27,7 +27,7 @@ from robogen.fuzz.features import DEFAULT
 from robogen.fuzz.model import Generated
 from robogen.fuzz.properties import Budget, Failure, check_model, remove
 from robogen.fuzz.shrink import shrink
-from robogen.syntax import ast, printer
+from robogen.syntax import ast
 from robogen.syntax.parser import parse_text
 
 HEADER = "// robogen fuzz regression: property "

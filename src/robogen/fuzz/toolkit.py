@@ -6,7 +6,7 @@ written behind a test of its size."""
 
 from __future__ import annotations
 
-from robogen.fuzz.typegen import NUMBERS, SCALARS, is_collection, is_tagged, name, type_ast
+from robogen.fuzz.typegen import NUMBERS, SCALARS, is_tagged, name, type_ast
 from robogen.semantics import types as T
 from robogen.syntax import ast
 
