@@ -183,6 +183,7 @@ def test_tuples_of_structures_relations_of_collections_and_a_folded_zero(tmp_pat
 
 KNOWN = """\
 import sequence_toolkit::*
+import relation_toolkit::*
 stm U {
 	var q: Seq(boolean)
 	var b: boolean = true
@@ -191,12 +192,13 @@ stm U {
 	event fresh: boolean
 	event grown: nat
 	event kept: nat
+	event keys: nat
 	initial i
 	state A { }
 	transition t0 { from i to A }
 	transition t1 { from A to A trigger go action q = (if b then <> else <true> end) ^ (<> ^ <false, true>) ; n!size(q) ;
 		fresh!prefix((lambda x: boolean @ <>)(b), extract({1}, <false>)) ; grown!size(if b then <> else <true> end) ;
-		kept!size(filter(<-100, 5>, {0, 5})) ; b = not b }
+		kept!size(filter(<-100, 5>, {0, 5})) ; keys!size(dom(if b then {} else {(| 2, 0 |)} end)) ; b = not b }
 }
 """
 
@@ -206,11 +208,13 @@ def test_an_empty_branch_or_operand_takes_the_type_of_the_other(tmp_path):
     the checker, elements of no known type; `prefix((lambda x: boolean @ <>)(b), extract(...))` was "not
     supported" (a Seq(boolean) as a Seq(int)). They are sequences of booleans: q holds 2, then 3
     elements; <> is a prefix of <false>; the conditional holds 0, then 1 element. A Seq(int)
-    filtered by a Set(nat) did not compile (the set was made a sequence): 5 is kept."""
+    filtered by a Set(nat) did not compile (the set was made a sequence): 5 is kept. The domain of
+    `if b then {} else {(| 2, 0 |)} end` was "a set of ?X" (the checker typed the conditional by
+    its empty branch): it has 0, then 1 key."""
     scenario = Scenario([Instant(True, early=(Tick("go", {}),)) for _ in range(2)], half=False)
     got, _ = _run(tmp_path, "known", KNOWN, scenario)
     sent = [{c: v[f"{c}.value"] for c, v in s.outputs.items()} for s in got.steps if s.outputs]
-    assert sent == [{"n": 2, "fresh": True, "grown": 0, "kept": 1}, {"n": 3, "fresh": True, "grown": 1, "kept": 1}]
+    assert sent == [{"n": 2, "fresh": True, "grown": 0, "kept": 1, "keys": 0}, {"n": 3, "fresh": True, "grown": 1, "kept": 1, "keys": 1}]
 
 
 EMPTY = """\

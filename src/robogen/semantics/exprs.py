@@ -33,6 +33,12 @@ class Where:
     pre: bool = False  # pre/postcondition (result allowed)
 
 
+def _untyped_empty(t: T.Type) -> bool:
+    """Is ``t`` the type of ``{}`` or ``<>``, a set or sequence whose elements nothing typed?"""
+    t = T.single(t)
+    return isinstance(t, (T.SetT, T.SeqT)) and isinstance(T.single(t.element), T.UnknownT)
+
+
 class ExprChecker(Calls, DollarForms):
     def __init__(
         self,
@@ -376,6 +382,8 @@ class ExprChecker(Calls, DollarForms):
         if not T.is_boolean(c):
             self._err(f"the condition of 'if' must be boolean, not {c.show()}", e.cond)
         a, b = self.expr(e.then), self.expr(e.otherwise)
+        if _untyped_empty(a) and T.assignable(a, b):  # if c then {} else {(| 2, 0 |)} end: the other branch's type
+            return b
         if T.assignable(b, a):
             return a if not (a == T.NAT and b == T.INT) else b
         if T.assignable(a, b):
