@@ -47,10 +47,20 @@ FEATURES: tuple[Feature, ...] = (
     Feature("vectors", True, "vectors, vector arithmetic"),
     Feature("matrices", True, "matrices, transpose, matrix products"),
     Feature("function_values", True, "lambdas and function-typed variables"),
+    Feature("function_updates", True, "function variables updated by the toolkit (f = override(f, {(| k, v |)}))"),
     Feature("strings", True, "string variables, literals and events"),
     Feature("lets", True, "let and if expressions, casts"),
     Feature("matrix_ops", False, "transpose (and inverse) of matrices",
             "not supported for code generation on main ('inverse/transpose'), and not in README's Known limits"),
+    # ---- issue 23, on main: functions (helper 'functions'), the front end (helper 'frontend')
+    Feature("generic_functions", True, "user functions with type variables (?X)"),
+    Feature("postcondition_functions", True, "functions defined by `postcondition result == e`, without a C file"),
+    Feature("recursive_enums", True, "enumerations whose literals carry the enumeration"),
+    Feature("literal_types", True, "record, tuple and tagged types used only in expressions, events or operation "
+            "parameters (else the machine also declares a variable of each)"),
+    Feature("abstract_operations", True, "operations without nodes, called by a machine"),
+    Feature("old_syntax", True, "RoboTool's syntax before 2020-10: a bare `trigger` for the empty trigger"),
+    Feature("filter_from", True, "filters that bind the sender (`x = from`)"),
     # ---- still refused by code generation on main (issue 23): the other branches' areas
     Feature("nested_collections", False, "Seq(Seq(T)), collections of records whose fields hold collections",
             "not supported for code generation on main (issue 23, helper 'collections')"),
@@ -64,27 +74,10 @@ FEATURES: tuple[Feature, ...] = (
             "not supported for code generation on main (issue 23, helper 'collections')"),
     Feature("strings_in_collections", False, "sets and sequences of strings",
             "not supported for code generation on main (issue 23, helper 'collections')"),
-    Feature("generic_functions", False, "user functions with type variables (?X)",
-            "not supported for code generation on main (issue 23, helper 'functions')"),
-    Feature("postcondition_functions", False, "functions defined by `postcondition result == e`, without a C file",
-            "not supported for code generation on main (issue 23, helper 'functions')"),
-    Feature("fdiff", False, "function variables updated by the toolkit (fdiff)",
-            "not supported for code generation on main (issue 23, helper 'functions')"),
-    Feature("recursive_enums", False, "enumerations whose literals carry the enumeration",
-            "not supported for code generation on main (issue 23, helper 'functions')"),
-    Feature("literal_types", False, "record, tuple and tagged types used only in expressions, events or operation "
-            "parameters (else the machine also declares a variable of each)",
-            "C compiler error on main (`unknown type name 'rg_rec_...'`, issue 23's rg_rec_Twist; helper 'frontend')"),
     Feature("constant_expressions", False, "constants of scalar, vector and matrix types whose value is any expression "
             "(else literals, other constants and + - *)",
             "code generation on main computes such a constant's start value when it generates the FMU, and stops "
             "with an error that is not 'not supported' on other forms (see docs/fuzzing.md)"),
-    Feature("abstract_operations", False, "operations without nodes, called by a machine",
-            "not supported for code generation on main (issue 23, helper 'frontend')"),
-    Feature("old_syntax", False, "RoboTool's syntax before 2020-10: a bare `trigger` for the empty trigger",
-            "refused by the parser on main (issue 23, helper 'frontend')"),
-    Feature("filter_from", False, "filters that bind the sender (`x = from`)",
-            "not supported for code generation on main (issue 23, helper 'frontend')"),
 )
 
 BY_NAME = {f.name: f for f in FEATURES}

@@ -59,13 +59,19 @@ def draw(rng: random.Random, env: TypeEnv, x) -> tuple[UserFn, ...]:
     for _ in range(rng.choice((0, 0, 1, 2))):
         params, result, c_body, py = rng.choice(CATALOGUE)
         out.append(UserFn(x.fresh("fn"), tuple(zip(PARAM_NAMES, params)), result, c_body, py))
-    pool = CONTRACTS * ("postcondition_functions" in env.on) + GENERIC * ("generic_functions" in env.on)
+    generic = tuple(g for g in GENERIC if all(_switched_on(t, env.on) for t in g[0]))
+    pool = CONTRACTS * ("postcondition_functions" in env.on) + generic * ("generic_functions" in env.on)
     for _ in range(rng.choice((0, 1, 2)) if pool else 0):
         params, result, body, toolkit = rng.choice(pool)
         if toolkit is not None:
             x.toolkits.add(toolkit)
         out.append(UserFn(x.fresh("fn"), tuple(zip(PARAM_NAMES, params)), result, None, None, body))
     return tuple(out)
+
+
+def _switched_on(t: T.Type, on) -> bool:
+    """Is a parameter of type ``t`` allowed by the switches (a set needs sets, a sequence sequences)?"""
+    return not (isinstance(t, T.SetT) and "sets" not in on or isinstance(t, T.SeqT) and "sequences" not in on)
 
 
 def declarations(functions: tuple[UserFn, ...]) -> list[ast.FunctionDef]:

@@ -336,7 +336,8 @@ class Machines:
         filt = None
         if rng.random() < 0.15:
             filt = ast.Filter(None, None, self.x.boolean(self.base, 1))
-        senders = [s for s in self.base.syms if s.assignable and s.name != var.name]
+        # the sender is a number or a name: robogen binds it to a nat, int or string (README, Known limits)
+        senders = [s for s in self.base.syms if s.assignable and s.name != var.name and s.type in (T.NAT, T.INT, T.STRING)]
         if "filter_from" in self.on and senders and rng.random() < 0.3:  # [| x = from |]: bind the sender
             pred = self.x.boolean(self.base, 0) if rng.random() < 0.5 else None
             filt = ast.Filter(rng.choice(senders).name, ast.Keyword("from"), pred)

@@ -95,8 +95,18 @@ class Stmts:
         elif isinstance(t, T.MatrixT) and r < 0.4:
             target = ast.Index(target, (ast.IntLit(rng.randint(1, t.rows)), ast.IntLit(rng.randint(1, t.columns))))  # type: ignore[arg-type]
             t = t.element
+        elif isinstance(t, T.FunctionT) and "function_updates" in self.x.on and r < 0.5:
+            return ast.Assign(target, self._updated(target, t, sc))
         value, _ = self.x.expr(t, sc, 2)
         return ast.Assign(target, value)
+
+    def _updated(self, f: ast.Expr, t: T.FunctionT, sc: Scope) -> ast.Expr:
+        """``override(f, {(| k, v |), ...})``: function variable ``f`` updated at one or two
+        arguments by the relation toolkit (the later pair of one argument wins)."""
+        self.x.toolkits.add("relation_toolkit")
+        pairs = tuple(ast.TupleLit((self.x.expr(t.domain, sc, 1)[0], self.x.expr(t.range, sc, 1)[0]))
+                      for _ in range(self.rng.choice((1, 2))))
+        return ast.Call(ast.Name(("override",)), (f, ast.SetLit(pairs)))
 
     def _dollar_assign(self, p: Place, d: int) -> ast.Stmt:
         s = self.rng.choice(p.dollar_writes)

@@ -111,7 +111,13 @@ class ToolkitForms:
         self.toolkits.add("relation_toolkit")  # type: ignore[attr-defined]
         x, y = t.element.items  # type: ignore[attr-defined]
         rng = self.rng  # type: ignore[attr-defined]
-        form = rng.choice(("rinv", "dres", "rres", "dsub", "rsub", "override", "relcomp"))
+        forms = ("rinv", "dres", "rres", "dsub", "rsub", "override", "relcomp")
+        if x == y and "iter_dconcat" in self.on and "nested_collections" in self.on:  # type: ignore[attr-defined]
+            forms += ("iter",)
+        form = rng.choice(forms)
+        if form == "iter":  # r composed with itself 1 to 3 times (iter(0, r) is the identity: finite on enumerations only)
+            self.toolkits.add("sequence_toolkit")  # type: ignore[attr-defined]
+            return _call("iter", ast.IntLit(rng.randint(1, 3)), self.operand(t, sc, d)), t  # type: ignore[attr-defined]
         if form == "rinv":
             return _call("rinv", self.operand(T.SetT(T.ProductT((y, x))), sc, d)), t  # type: ignore[attr-defined]
         r = self.operand(t, sc, d)  # type: ignore[attr-defined]
