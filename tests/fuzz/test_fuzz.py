@@ -115,16 +115,18 @@ def test_a_model_that_code_generation_refuses_is_not_supported_not_a_failure(tmp
 
 @pytest.mark.slow
 def test_a_small_fixed_budget_passes_every_property(tmp_path):
-    """The CI budget: three models (the first also under the sanitizers), each property checked."""
+    """The CI budget: two dozen models of seed 3 through every property, the first under the
+    sanitizers too; the table ends with the summary line, all four failure counts 0."""
     out = io.StringIO()
-    settings = Settings(seed=3, count=3, on=DEFAULT, jobs=2, sanitize_every=3, shrink_seconds=0,
-                        budget=Budget(scenarios=3, instants=12), work=tmp_path)
+    settings = Settings(seed=3, count=24, on=DEFAULT, jobs=2, sanitize_every=24, shrink_seconds=0,
+                        budget=Budget(scenarios=3, instants=10), work=tmp_path)
     report = run(settings, out)
     text = out.getvalue()
     last = text.strip().splitlines()[-1]
     match = SUMMARY.fullmatch(last)
     assert match is not None, last
-    assert match.group(1) == "3" and match.groups()[1:5] == ("0", "0", "0", "0"), text
+    assert match.group(1) == "24" and match.groups()[1:5] == ("0", "0", "0", "0"), text
     assert not report.failed, text
     assert sum("sanitize" in o.passed for o in report.outcomes) == 1
     assert all("differential" in o.passed or o.unsupported for o in report.outcomes)
+    assert sum(1 for o in report.outcomes if o.unsupported) <= 1, text  # "not supported" stays rare (under 1% in `make fuzz` runs)

@@ -4,7 +4,8 @@
     python -m robogen.fuzz --print 1.17                      # the text of model 17 of seed 1
     python -m robogen.fuzz --model 1.17 --sanitize           # check that one model, and say why it fails
 
-Exit status 1 when a model fails a property, 0 otherwise, 2 for a wrong command line.
+Exit status 1 when a model fails a property, 0 otherwise, 2 for a wrong command line; 130 for a
+run stopped by SIGINT or SIGTERM (the table and the summary line count the models checked).
 """
 
 from __future__ import annotations
@@ -72,7 +73,9 @@ def main(argv: list[str] | None = None) -> int:
             print(f"{outcome.failure.prop} ({outcome.failure.kind}): {outcome.failure.message}")
         return 1 if outcome.failure is not None else 0
     report = run(settings, sys.stdout, None if args.quiet else lambda line: print(line, file=sys.stderr, flush=True))
-    return 1 if report.failed else 0
+    if report.failed:
+        return 1
+    return 130 if report.interrupted else 0  # (an interrupted run passed only as far as it went)
 
 
 if __name__ == "__main__":

@@ -272,8 +272,14 @@ class Exprs(ToolkitForms):
     def _user_call(self, f: UserFn, sc: Scope, d: int) -> tuple[ast.Expr, T.Type]:
         """A call; of a generic function, with ?X instantiated by a type drawn for this call."""
         bindings = {"X": self.env.scalar("elem")} if f.generic else {}
-        args = tuple(self.expr(T.instantiate(pt, bindings), sc, d)[0] for _, pt in f.params)
+        args = tuple(self._argument(T.instantiate(pt, bindings), sc, d, f.generic) for _, pt in f.params)
         return ast.Call(ast.Name((f.name,)), args), T.instantiate(f.result, bindings)
+
+    def _argument(self, t: T.Type, sc: Scope, d: int, generic: bool) -> ast.Expr:
+        """An argument of type ``t``; of a generic function, a collection is cast to its type
+        (``<>`` alone does not decide ?X: a located error, as the README says)."""
+        e = self.expr(t, sc, d)[0]
+        return ast.Cast("as", e, type_ast(t)) if generic and isinstance(t, (T.SetT, T.SeqT)) else e
 
     def _apply(self, s: Sym, sc: Scope, d: int) -> tuple[ast.Expr, T.Type]:
         ft: T.FunctionT = s.type  # type: ignore[assignment]

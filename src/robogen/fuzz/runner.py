@@ -14,6 +14,7 @@ from __future__ import annotations
 import multiprocessing
 import os
 import queue
+import signal
 import tempfile
 import time
 import traceback
@@ -56,6 +57,8 @@ def budget_for(settings: Settings, index: int) -> Budget:
 
 
 def _worker(settings: Settings, tasks, results) -> None:
+    for s in (signal.SIGINT, signal.SIGTERM):  # the parent stops the run (and kills its workers)
+        signal.signal(s, signal.SIG_IGN)
     while True:
         index = tasks.get()
         if index is None:
@@ -99,6 +102,7 @@ class Report:
     settings: Settings
     outcomes: list[Outcome] = field(default_factory=list)
     seconds: float = 0.0
+    interrupted: bool = False  # stopped (SIGINT, SIGTERM) before every model was checked: outcomes are those done
 
     def count(self, kind: str) -> int:
         return sum(1 for o in self.outcomes if o.failure is not None and o.failure.kind == kind)
@@ -137,7 +141,8 @@ def run(settings: Settings, out: TextIO, progress: Callable[[str], None] | None 
     for _ in range(max(1, min(settings.jobs, settings.count))):
         spawn()
     done: dict[int, Outcome] = {}
-    while len(done) < settings.count:
+    stop = _stop_on_signals()
+    while len(done) < settings.count and not stop:
         try:
             message = results.get(timeout=1.0)
         except queue.Empty:
@@ -154,11 +159,27 @@ def run(settings: Settings, out: TextIO, progress: Callable[[str], None] | None 
     for _ in workers:
         tasks.put(None)
     for p in workers.values():
+        if stop:
+            p.kill()  # (the models they were checking are not counted)
         p.join(timeout=5)
-    report.outcomes = [done[i] for i in range(settings.count)]
+    report.interrupted = bool(stop)
+    report.outcomes = [done[i] for i in sorted(done)]
     report.seconds = time.perf_counter() - started
     print_table(report, out)
     return report
+
+
+def _stop_on_signals() -> list[int]:
+    """A list that SIGINT or SIGTERM makes non-empty: the run then stops and prints the table of
+    the models checked so far (a run cut short by a deadline still reports what it did)."""
+    stop: list[int] = []
+
+    def note(signum, frame) -> None:
+        stop.append(signum)
+
+    for s in (signal.SIGINT, signal.SIGTERM):
+        signal.signal(s, note)
+    return stop
 
 
 def _reap(settings: Settings, workers, running, done, spawn) -> None:
@@ -201,6 +222,8 @@ def print_table(report: Report, out: TextIO) -> None:
     n = len(report.outcomes)
     print(f"fuzz: seed {s.seed}, {n} models, jobs {s.jobs}, {s.budget.scenarios} scenarios x {s.budget.instants} "
           f"instants per semantics, sanitizers on {'every' if s.sanitize_all else f'1 in {s.sanitize_every}'} model(s)", file=out)
+    if report.interrupted:
+        print(f"interrupted: {n} of {s.count} models checked (the table counts those)", file=out)
     print(f"features off: {', '.join(off) or 'none'}", file=out)
     languages = Counter(o.language for o in report.outcomes)
     print("models: " + ", ".join(f"{k} {v}" for k, v in sorted(languages.items()) if k), file=out)

@@ -88,9 +88,13 @@ class ToolkitForms:
         if "comprehensions" in self.on:  # type: ignore[attr-defined]
             out.append((1, lambda d: self._comprehension(t, sc, d)))
         if "union_inter" in self.on and "nested_collections" in self.on:  # type: ignore[attr-defined]
-            out.append((1, lambda d: (_call(self.rng.choice(("Union", "Inter")),  # type: ignore[attr-defined]
-                                            ast.SetLit((self.operand(t, sc, d), self.operand(t, sc, d)))), t)))  # type: ignore[attr-defined]
+            out.append((1, lambda d: self._union_inter(t, sc, d)))
         return out
+
+    def _union_inter(self, t: T.SetT, sc, d: int):
+        """``Union({a, b})`` or ``Inter({a, b})`` of two sets of type ``t``."""
+        self.toolkits.add("set_toolkit")  # type: ignore[attr-defined]
+        return _call(self.rng.choice(("Union", "Inter")), ast.SetLit((self.operand(t, sc, d), self.operand(t, sc, d)))), t  # type: ignore[attr-defined]
 
     def _ranges(self, sc, d: int):
         """``{a to b}``, ``[a, b]``, ``(a, b]`` (switch comprehensions), else ``ran(range(a, b))``."""
@@ -160,6 +164,7 @@ class ToolkitForms:
                                             ast.IntLit(self.rng.randint(0, 4))), t)))  # type: ignore[attr-defined]
             self.toolkits.add("sequence_toolkit")  # type: ignore[attr-defined]
         if "iter_dconcat" in self.on and "nested_collections" in self.on:  # type: ignore[attr-defined]
+            self.toolkits.add("sequence_toolkit")  # type: ignore[attr-defined]
             out.append((1, lambda d: (_call("dconcat", ast.SeqLit((self.operand(t, sc, d), self.operand(t, sc, d)))), t)))  # type: ignore[attr-defined]
         return out
 
