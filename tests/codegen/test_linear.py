@@ -91,3 +91,39 @@ def test_a_vector_of_nats_is_used_as_one_of_ints(tmp_path, semantics):
                          Instant(True), Instant(True)], half=False)
     sent = [s.outputs for s in run_checked(b, scenario).steps if s.outputs]
     assert sent == [{"out": {"out.value": [10, 12]}, "same": {"same.value": True}}, {"same": {"same.value": True}}]
+
+
+TRANSPOSED = """\
+stm Tr {
+	cycleDef cycle == 1
+	input context { event m: matrix(int, 2, 3) event v: vector(nat, 3) }
+	output context { event t: matrix(int, 3, 2) event row: matrix(real, 1, 3) event back: boolean }
+	var a: matrix(int, 2, 3)
+	var b: vector(nat, 3)
+	initial i
+	state A { }
+	transition t0 { from i to A }
+	transition t1 { from A to A exec condition $m?a action $t!transpose(a) ; $back!(transpose(transpose(a)) == a) }
+	transition t2 { from A to A exec condition not $m /\\ $v?b action $row!transpose(b) }
+	transition t3 { from A to A exec condition not $m /\\ not $v }
+}
+"""
+
+
+@pytest.mark.parametrize("semantics", ["exhaustive", "stepwise"])
+def test_transpose_swaps_rows_and_columns(tmp_path, semantics):
+    """Found by the model fuzzer ('inverse/transpose' was not supported, and not in the Known
+    limits). m = ((1, 2, 3), (4, 5, 6)) row by row: its transpose is ((1, 4), (2, 5), (3, 6)),
+    row by row 1 4 2 5 3 6, and transposing twice gives m back; the transpose of the vector
+    (7, 8, 9) is the one-row matrix of its elements, as reals (RoboTool's TransposeExp)."""
+    from robogen.differential import build
+    from robogen.ir.lower import LoweringOptions
+
+    model = tmp_path / "transposed.rst"
+    model.write_text(TRANSPOSED)
+    b = build([model], tmp_path / "t", options=LoweringOptions(semantics=semantics))
+    scenario = Scenario([Instant(True, (Tick("m", {"m.value": [1, 2, 3, 4, 5, 6]}),)), Instant(True),
+                         Instant(True, (Tick("v", {"v.value": [7, 8, 9]}),)), Instant(True)], half=False)
+    sent = [s.outputs for s in run_checked(b, scenario).steps if s.outputs]
+    assert sent == [{"t": {"t.value": [1, 4, 2, 5, 3, 6]}, "back": {"back.value": True}},
+                    {"row": {"row.value": [7.0, 8.0, 9.0]}}]

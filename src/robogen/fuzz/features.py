@@ -50,8 +50,7 @@ FEATURES: tuple[Feature, ...] = (
     Feature("function_updates", True, "function variables updated by the toolkit (f = override(f, {(| k, v |)}))"),
     Feature("strings", True, "string variables, literals and events"),
     Feature("lets", True, "let and if expressions, casts"),
-    Feature("matrix_ops", False, "transpose (and inverse) of matrices",
-            "not supported for code generation on main ('inverse/transpose'), and not in README's Known limits"),
+    Feature("matrix_ops", True, "transpose of matrices"),
     # ---- issue 23, on main: functions (helper 'functions'), the front end (helper 'frontend')
     Feature("generic_functions", True, "user functions with type variables (?X)"),
     Feature("postcondition_functions", True, "functions defined by `postcondition result == e`, without a C file"),

@@ -30,8 +30,8 @@ _UNSUPPORTED = {
     ast.SetRange: "a set range",
     ast.SetComprehension: "a set comprehension",
     ast.Range: "a range",
-    ast.MatrixOp: "inverse/transpose",
 }
+
 
 def _unknown_inside(t: T.Type) -> bool:
     """Does ``t`` hold the type of elements nothing gave a type (``{}``, ``<>``)?"""
@@ -403,6 +403,13 @@ class ExpressionLowering:
             return self._type(e)
         known = [x.type for a, x in parts if not _unknown_inside(self.model.type_of(a))]
         return known[0] if known else self._type(e)
+
+    def _e_MatrixOp(self, e: ast.MatrixOp, graph: Graph) -> ir.Expr:
+        if e.op != "transpose":
+            raise not_supported(f"the {e.op} of a matrix", e.span)
+        t = self._type(e)
+        assert isinstance(t, T.MatrixT)
+        return linear.transpose(self.expr(e.operand, graph), t, self.conv, e.span)
 
     def _e_Cast(self, e: ast.Cast, graph: Graph) -> ir.Expr:
         t = self._norm(self.model.type_of(e.type))
