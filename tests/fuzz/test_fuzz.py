@@ -10,7 +10,7 @@ import re
 import pytest
 
 from robogen.fuzz import regressions
-from robogen.fuzz.features import BY_NAME, DEFAULT, FEATURES, features
+from robogen.fuzz.features import DEFAULT, FEATURES, features
 from robogen.fuzz.model import generate
 from robogen.fuzz.properties import Budget, Failure, check_model
 from robogen.fuzz.runner import Settings, run
