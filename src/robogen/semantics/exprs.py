@@ -476,6 +476,8 @@ class ExprChecker(Calls, DollarForms):
         would wrap -1), other types must fit one in the other."""
         if t in T.NUMERIC and it in T.NUMERIC:
             return T.numeric_join(t, it)
+        if _untyped_empty(t) and T.assignable(t, it):  # { {}, {1} }: the elements' type is the typed one's
+            return it
         if T.assignable(it, t):
             return t
         if T.assignable(t, it):
