@@ -56,8 +56,9 @@ def _convertible(source: T.Type, target: T.Type) -> bool:
     return False
 
 
-# collection operations whose result holds elements of their collection arguments (of one type)
-_ELEMENTWISE = ("union", "inter", "diff", "symdiff", "cat", "reverse", "tail", "front", "filter", "elems")
+# collection operations whose result holds elements of their collection arguments (of one type;
+# extract's second argument holds positions)
+_ELEMENTWISE = ("union", "inter", "diff", "symdiff", "cat", "reverse", "tail", "front", "filter", "elems", "extract")
 
 _BINARY = {
     "iff": "iff", "=>": "implies", "\\/": "or", "/\\": "and",
@@ -242,7 +243,8 @@ class ExpressionLowering:
             return ir.Cond(t, e.cond, self.conv(e.then, t, span), self.conv(e.otherwise, t, span))
         if isinstance(e, ir.Coll) and e.op in _ELEMENTWISE:
             args = tuple(self.conv(a, type(a.type)(t.element), span) if is_collection(a.type)  # type: ignore[call-arg]
-                         and a.type.element == source else a for a in e.args)  # type: ignore[attr-defined]
+                         and a.type.element == source and (e.op != "extract" or k == 0) else a  # type: ignore[attr-defined]
+                         for k, a in enumerate(e.args))
             return ir.Coll(t, e.op, args, e.text, e.span)
         raise not_supported(f"using a {e.type.show()} as a {t.show()}", span)
 
