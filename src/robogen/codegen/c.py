@@ -17,8 +17,10 @@ from __future__ import annotations
 import re
 from dataclasses import dataclass
 
+from robogen.codegen.layout_code import write
 from robogen.ir import model as ir
-from robogen.ir.supported import TupleT
+from robogen.ir.layout import nested
+from robogen.ir.supported import ArrayT, TupleT
 from robogen.ir.collections import CAN_OVERFLOW, EMPTY_FAULTS, empty_message, overflow_message
 from robogen.semantics import types as T
 
@@ -35,14 +37,17 @@ def ctype(t: T.Type) -> str:
         return "bool"
     if isinstance(t, TupleT):  # by its arity and components: a prefix code, one name per tuple type
         return f"rg_tup{len(t.fields)}_" + "_".join(elem_tag(ft) for _, ft in t.fields)
-    if isinstance(t, T.RecordT):
-        return "rg_rec_" + mangle(t.qname)
+    if isinstance(t, T.RecordT):  # one inside collections of other capacities: rg_rec<level>_
+        return f"rg_rec{getattr(t, 'level', 0) or ''}_" + mangle(t.qname)
     if isinstance(t, T.VectorT):
         return f"rg_vec_{tag(t.element)}_{t.size}"
     if isinstance(t, T.MatrixT):
         return f"rg_mat_{tag(t.element)}_{t.rows}_{t.columns}"
-    if isinstance(t, (T.SetT, T.SeqT)):
-        return f"rg_{'set' if isinstance(t, T.SetT) else 'seq'}_{elem_tag(t.element)}"
+    if isinstance(t, ArrayT):
+        return f"rg_arr_{tag(t.element)}_" + "x".join(map(str, t.dims))
+    if isinstance(t, (T.SetT, T.SeqT)):  # a nested one of another capacity: rg_seq<capacity>_
+        kind = "set" if isinstance(t, T.SetT) else "seq"
+        return f"rg_{kind}{getattr(t, 'capacity', '')}_{elem_tag(t.element)}"
     raise TypeError(f"no C type for {t.show()}")
 
 
@@ -57,8 +62,10 @@ def tag(t: T.Type) -> str:
 
 
 def elem_tag(t: T.Type) -> str:
-    """The part of a collection's C names that names its element type."""
-    return ctype(t)[3:] if isinstance(t, T.RecordT) else tag(t)
+    """The part of a collection's C names that names its element type (a string: ``s``)."""
+    if t == T.STRING:
+        return "s"
+    return ctype(t)[3:] if isinstance(t, (T.RecordT, T.SetT, T.SeqT, T.VectorT, T.MatrixT)) else tag(t)
 
 
 def mangle(name: str) -> str:
@@ -233,6 +240,7 @@ class Emitter:
         self.collections = None  # the CollectionCode of the FMU (robogen.codegen.collections)
         self.sites: list[str] = []  # run-time messages of collection operations (model.c's rg_sites)
         self.strings: list[str] = [""]  # the model's strings, numbered: a string is its number in C
+        self.texts = False  # a string is passed by its text (rg_text)
 
     @property
     def fault_return(self) -> str:
@@ -518,6 +526,21 @@ class Emitter:
 
     def _to_port(self, index: int, values: list[str], indent: str) -> list[str]:
         """Write ``values`` (C expressions of the arguments) to output port ``index`` and activate its clock."""
+        port = self.fmu.outputs[index]
+        lines: list[str] = []
+        if port.kind == "operation" and any(nested(t) for _, t in port.params):
+            for k, (pname, t) in enumerate(port.params):
+                mine = [(c, f) for c, f in self.port_fields[index] if f.path[0] == pname]
+                lines += write(t, values[k], mine, self.fmu.capacity_of, indent, skip=1)
+        elif port.kind != "operation" and port.type is not None and nested(port.type):
+            lines += write(port.type, values[0], self.port_fields[index], self.fmu.capacity_of, indent)
+        else:
+            lines += self._flat_to_port(index, values, indent)
+        clock = self.names.clocks[port.name]
+        return lines + [f"{indent}rg_activate_output_clock(inst, {clock});"]
+
+    def _flat_to_port(self, index: int, values: list[str], indent: str) -> list[str]:
+        """The writes of ``_to_port`` where every collection holds scalars or records of scalars."""
         lines = []
         for (cname, _), (k, access) in zip(self.port_fields[index], self._port_reads(index)):
             if access.endswith(".#elements"):  # a collection's elements: an array, copied
@@ -533,8 +556,7 @@ class Emitter:
                           f"{indent}}}"]
             else:
                 lines.append(f"{indent}d->{cname} = {values[k]}{access.replace('.#size', '.n')};")
-        clock = self.names.clocks[self.fmu.outputs[index].name]
-        return lines + [f"{indent}rg_activate_output_clock(inst, {clock});"]
+        return lines
 
     def step(self, indent: str) -> list[str]:
         """The start of a transition segment (a block marked step)."""

@@ -30,9 +30,11 @@ def add_model_options(p: argparse.ArgumentParser) -> None:
     p.add_argument("--given-type", choices=("int", "nat", "real"), default="int", help="the scalar type of given types (default int)")
     p.add_argument("--max-transitions", type=int, default=1000, metavar="N",
                    help="transitions per cycle before a runaway cycle is reported (default 1000)")
-    p.add_argument("--capacity", type=int, default=32, metavar="N",
+    p.add_argument("--capacity", default="32", metavar="N[,N...]",
                    help="the most elements a set or sequence holds (default 32); a result with more is a run-time "
-                        "fmi3Error naming the expression and its model line (docs/collections.md)")
+                        "fmi3Error naming the expression and its model line. One number for every nesting level of "
+                        "collections, or one per level, outermost first, the last for deeper levels (32,8,4: a "
+                        "Seq(Seq(int)) holds 32 sequences of at most 8 numbers; docs/collections.md)")
     p.add_argument("--functions", metavar="FILE.c",
                    help="C file implementing the model's user functions, each as static <type> rg_user_<name>(...)")
     p.add_argument("--no-line-comments", action="store_true", help="leave the model file:line out of the generated C comments")
@@ -47,8 +49,7 @@ def options_from(args: argparse.Namespace) -> LoweringOptions:
         settings[name.strip()] = value
     if args.max_transitions < 1:
         raise RobogenError(error("--max-transitions must be at least 1", None))
-    if not 1 <= args.capacity <= 1 << 20:
-        raise RobogenError(error("--capacity must be between 1 and 1048576", None))
+    capacities = _capacities(args.capacity)
     return LoweringOptions(
         semantics=args.semantics,
         trigger=args.trigger,
@@ -56,8 +57,21 @@ def options_from(args: argparse.Namespace) -> LoweringOptions:
         settings=settings,
         given=args.given_type,
         max_steps=args.max_transitions,
-        capacity=args.capacity,
+        capacity=capacities[0],
+        capacities=capacities if len(capacities) > 1 else (),
     )
+
+
+def _capacities(text: str) -> tuple[int, ...]:
+    """The capacities of --capacity N[,N...]: each between 1 and 2^20."""
+    try:
+        values = tuple(int(x) for x in str(text).split(","))
+    except ValueError:
+        values = ()
+    if not values or not all(1 <= v <= 1 << 20 for v in values):
+        raise RobogenError(error(f"--capacity {text}: give a number between 1 and 1048576, or one per nesting level "
+                                 "separated by commas (32,8,4)", None))
+    return values
 
 
 def codegen_options_from(args: argparse.Namespace) -> CodegenOptions:

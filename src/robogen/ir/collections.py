@@ -6,8 +6,12 @@ follows step for step.
 A set is a list of distinct elements in ascending order (its canonical form, so that equality,
 printing and the FMI array of a set never depend on how it was built); a sequence is a list.
 Elements are ordered by :func:`compare`: numbers and enumeration literals by value (``false``
-before ``true``), records and tuples field by field. Membership and insertion use the same
-comparison. Every operation builds its result in order, element by element: a result with more
+before ``true``), strings by their text (byte by byte in UTF-8, as C's ``strcmp``), records and
+tuples field by field, vectors and matrices element by element, and sets and sequences
+lexicographically: element by element, the first difference decides, and a collection that is
+the beginning of another comes before it (``<1> < <1, 2> < <2>``; a set compares as the
+ascending sequence of its elements, so ``{} < {1} < {1, 2} < {2}``). Membership and insertion
+use the same comparison. Every operation builds its result in order, element by element: a result with more
 than ``capacity`` elements is a run-time error (:class:`CollectionFault`) naming the expression,
 as is ``head``, ``last``, ``tail``, ``front``, ``min`` or ``max`` of an empty collection.
 
@@ -22,7 +26,15 @@ The operations, by the name lowering gives them (``s``, ``t`` sets, ``q``, ``r``
   the positions (from 1) in the set of integers a, in order (the toolkit's ``extract(a, q)``);
   ``range(x, y)``: the integers x..y;
 - ``min(s)``, ``max(s)`` of a set of integers; ``nonempty(s)`` (``isNonEmpty``, ``hasMin``,
-  ``hasMax``); ``prefix(q, r)``, ``suffix(q, r)``, ``infix(q, r)``.
+  ``hasMax``); ``prefix(q, r)``, ``suffix(q, r)``, ``infix(q, r)``; ``injective(q)``
+  (``isInjectiveSequence``: no element twice);
+- ``Union(a)``, ``Inter(a)`` of a set of sets (``Inter`` of the empty set is every value of the
+  element type: all the literals of an enumeration, ``{false, true}``, and a run-time error for
+  an infinite type); ``dconcat(q)`` of a sequence of sequences (their concatenation);
+- relations (:data:`RELATION_OPS`), among them ``iter(n, r)``: ``r`` composed with itself n
+  times (``relcomp``), of ``rinv(r)`` for a negative n, the identity relation for 0 (as
+  ``Inter({})``, only of an enumeration or boolean); the powers stop early when one repeats the
+  one before, and more than :data:`LOOP_LIMIT` of them is a run-time error.
 """
 
 from __future__ import annotations
@@ -31,11 +43,17 @@ from robogen.semantics import types as T
 
 # the operations whose result is a set / a sequence / something else (and which element type
 # their result has is the code generator's business)
-SET_RESULTS = ("set", "union", "inter", "diff", "symdiff", "elems", "indices")
-SEQ_RESULTS = ("seq", "cat", "tail", "front", "reverse", "filter", "extract", "range")
+SET_RESULTS = ("set", "union", "inter", "diff", "symdiff", "elems", "indices", "Union", "Inter")
+SEQ_RESULTS = ("seq", "cat", "tail", "front", "reverse", "filter", "extract", "range", "dconcat")
 EMPTY_FAULTS = ("head", "last", "tail", "front", "min", "max")
 CAN_OVERFLOW = ("set", "seq", "union", "symdiff", "cat", "elems", "range", "dom", "ran", "rinv", "rimage", "roverride",
-                "relcomp")
+                "relcomp", "Union", "dconcat", "iter", "conv")
+# operations whose second fault is not that of an empty collection: the message of each
+OTHER_FAULTS = {"Inter": "'Inter' of an empty set of sets: every value of an infinite type",
+                "iter": "'iter' of 0 (the identity relation on an infinite type), or beyond the limit of powers"}
+# the most values one expression loops over: the integers of a quantifier's range, iter's powers
+# (every cycle of an FMU ends: a loop of an expression is bounded too)
+LOOP_LIMIT = 1 << 16
 
 
 class CollectionFault(Exception):
@@ -43,14 +61,30 @@ class CollectionFault(Exception):
 
 
 def compare(a, b, t: T.Type) -> int:
-    """-1, 0 or 1: the order of elements of type ``t``."""
+    """-1, 0 or 1: the order of elements of type ``t`` (see the module documentation)."""
     if isinstance(t, T.RecordT):
         for n, ft in t.fields:
             c = compare(a[n], b[n], ft)
             if c:
                 return c
         return 0
-    return (a > b) - (a < b)
+    if isinstance(t, (T.SetT, T.SeqT, T.VectorT, T.MatrixT)):
+        for x, y in zip(a, b):
+            c = compare(x, y, t.element)
+            if c:
+                return c
+        return (len(a) > len(b)) - (len(a) < len(b))
+    return (a > b) - (a < b)  # a string: by code point, which is UTF-8's byte order
+
+
+def all_values(t: T.Type) -> list | None:
+    """Every value of a finite type, in order: the literals of an enumeration, false and true
+    (None for another type)."""
+    if t == T.BOOLEAN:
+        return [False, True]
+    if isinstance(t, T.EnumT):
+        return list(range(len(t.literals)))
+    return None
 
 
 def _find(s: list, x, t: T.Type) -> tuple[int, bool]:
@@ -99,7 +133,7 @@ def apply(op: str, args: list, arg_types: list[T.Type], capacity: int, overflow:
     elem = first.element if isinstance(first, (T.SetT, T.SeqT)) else first  # type: ignore[union-attr]
     out = Builder(capacity, overflow)
     if op in RELATION_OPS:
-        return _relation(op, args, arg_types, result, out)
+        return _relation(op, args, arg_types, result, out, empty)
     if op in ("set", "seq"):
         for x, xt in zip(args, arg_types):
             out.insert(x, xt) if op == "set" else out.append(x)
@@ -160,6 +194,10 @@ def apply(op: str, args: list, arg_types: list[T.Type], capacity: int, overflow:
         return out.items
     if op in ("min", "max"):
         return s[0] if op == "min" else s[-1]
+    if op in ("Union", "Inter", "dconcat"):
+        return _nested(op, s, elem, result, out, empty)
+    if op == "injective":
+        return all(compare(x, y, elem) != 0 for i, x in enumerate(s) for y in s[i + 1:])
     if op in ("prefix", "suffix", "infix"):
         q, r = s, args[1]
         n = len(q)
@@ -168,15 +206,33 @@ def apply(op: str, args: list, arg_types: list[T.Type], capacity: int, overflow:
     raise CollectionFault(f"unknown collection operation {op}")  # pragma: no cover
 
 
+def _nested(op: str, s: list, inner: T.Type, result: T.Type, out: Builder, other: str) -> list:
+    """``Union``, ``Inter`` of the set of sets ``s``, ``dconcat`` of the sequence of sequences."""
+    elem = inner.element  # type: ignore[attr-defined]
+    if op == "Inter":
+        if not s:
+            every = all_values(elem)
+            if every is None:
+                raise CollectionFault(other)
+            for x in every:
+                out.append(x)
+            return out.items
+        return [x for x in s[0] if all(member(x, t, elem) for t in s[1:])]  # never longer than s[0]
+    for t in s:
+        for x in t:
+            out.insert(x, elem) if op == "Union" else out.append(x)
+    return out.items
+
+
 # relations are sets of pairs (tuples with fields _1, _2): their operations, by name
-RELATION_OPS = ("dom", "ran", "rinv", "dres", "dsub", "rres", "rsub", "rimage", "roverride", "relcomp", "squash")
+RELATION_OPS = ("dom", "ran", "rinv", "dres", "dsub", "rres", "rsub", "rimage", "roverride", "relcomp", "squash", "iter")
 
 
-def _relation(op: str, args: list, arg_types: list[T.Type], result: T.Type, out: Builder):
+def _relation(op: str, args: list, arg_types: list[T.Type], result: T.Type, out: Builder, other: str = ""):
     """``dom``, ``ran``, ``rinv``, ``dres(a, r)``, ``dsub(a, r)``, ``rres(r, b)``, ``rsub(r, b)``,
     ``rimage(r, a)``, ``override(r, s)`` (``roverride``), ``relcomp(r, s)`` and ``squash(f)``
     (the second components in the order of the first: a set of pairs is ordered by them)."""
-    relation = 1 if op in ("dres", "dsub") else 0
+    relation = 1 if op in ("dres", "dsub", "iter") else 0
     r, pair = args[relation], arg_types[relation].element  # type: ignore[attr-defined]
     x, y = pair.field("_1"), pair.field("_2")
     res_elem = result.element if isinstance(result, (T.SetT, T.SeqT)) else result  # type: ignore[union-attr]
@@ -202,14 +258,45 @@ def _relation(op: str, args: list, arg_types: list[T.Type], result: T.Type, out:
                 out.insert(p, pair)
         return out.items
     if op == "relcomp":
-        for p in r:
-            for q in args[1]:
-                if compare(p["_2"], q["_1"], y) == 0:
-                    out.insert({"_1": p["_1"], "_2": q["_2"]}, res_elem)
-        return out.items
+        return _relcomp(r, args[1], y, res_elem, out)
+    if op == "iter":
+        return _iter(args[0], r, pair, out, other)
     for p in r:  # squash
         out.append(p["_2"])
     return out.items
+
+
+def _relcomp(r: list, s: list, middle: T.Type, pair: T.Type, out: Builder) -> list:
+    for p in r:
+        for q in s:
+            if compare(p["_2"], q["_1"], middle) == 0:
+                out.insert({"_1": p["_1"], "_2": q["_2"]}, pair)
+    return out.items
+
+
+def _iter(n: int, r: list, pair: T.Type, out: Builder, other: str) -> list:
+    """``iter(n, r)`` (see the module documentation)."""
+    x = pair.field("_1")  # type: ignore[attr-defined]
+    if n == 0:
+        every = all_values(x)  # type: ignore[arg-type]
+        if every is None:
+            raise CollectionFault(other)
+        for v in every:
+            out.append({"_1": v, "_2": v})
+        return out.items
+    if n < 0:
+        for p in r:
+            out.insert({"_1": p["_2"], "_2": p["_1"]}, pair)
+        r, n = out.items, -n
+    power = list(r)
+    for k in range(1, n):
+        if k >= LOOP_LIMIT:
+            raise CollectionFault(other)
+        step = _relcomp(r, power, x, pair, Builder(out.capacity, out.overflow))  # type: ignore[arg-type]
+        if len(step) == len(power) and all(compare(a, b, pair) == 0 for a, b in zip(step, power)):
+            break
+        power = step
+    return power
 
 
 def received(elements: list, size: int, t: T.Type, capacity: int) -> list:
@@ -224,11 +311,54 @@ def received(elements: list, size: int, t: T.Type, capacity: int) -> list:
     return out.items
 
 
-def overflow_message(text: str, where: str, capacity: int) -> str:
+def convert(v, source: T.Type, target: T.Type, number, capacity_of, overflow: str):
+    """A value of type ``source`` as a value of ``target``, a type of the same form whose numbers
+    or capacities differ: ``number(x, s, t)`` converts a number; a set or sequence is rebuilt
+    element by element, each converted first, then appended (inserted into a set, in canonical
+    order), and more elements than ``capacity_of(target)`` is a fault (message ``overflow``)."""
+    if isinstance(target, (T.SetT, T.SeqT)):
+        out = Builder(capacity_of(target), overflow)
+        for x in v:
+            y = convert(x, source.element, target.element, number, capacity_of, overflow)  # type: ignore[attr-defined]
+            out.insert(y, target.element) if isinstance(target, T.SetT) else out.append(y)
+        return out.items
+    if isinstance(target, T.RecordT):
+        return {n: convert(v[n], source.field(n), ft, number, capacity_of, overflow)  # type: ignore[attr-defined]
+                for n, ft in target.fields}
+    if isinstance(target, (T.VectorT, T.MatrixT)):
+        return [convert(x, source.element, target.element, number, capacity_of, overflow) for x in v]  # type: ignore[attr-defined]
+    return v if source == target else number(v, source, target)
+
+
+def site_capacity(op: str, arg_types: list[T.Type], result: T.Type, capacity_of) -> str:
+    """The capacity an operation's overflow message names: its result's; for a conversion, that
+    of the nesting levels where the target holds fewer elements than the source (the only ones
+    that can overflow; ``32/8`` when they differ)."""
+    if op != "conv":
+        return str(capacity_of(result))
+    found: list[int] = []
+
+    def walk(source: T.Type, target: T.Type) -> None:
+        if isinstance(target, (T.SetT, T.SeqT)):
+            if capacity_of(target) < capacity_of(source) and capacity_of(target) not in found:
+                found.append(capacity_of(target))
+            walk(source.element, target.element)  # type: ignore[attr-defined]
+        elif isinstance(target, T.RecordT):
+            for n, ft in target.fields:
+                walk(source.field(n), ft)  # type: ignore[attr-defined, arg-type]
+
+    walk(arg_types[0], result)
+    return "/".join(map(str, found)) or str(capacity_of(result))
+
+
+def overflow_message(text: str, where: str, capacity: int | str) -> str:
     return f"more than {capacity} elements (the capacity) in {text} at {where}"
 
 
 def empty_message(op: str, text: str, where: str) -> str:
+    """The message of an operation's second fault: an empty collection, or :data:`OTHER_FAULTS`."""
+    if op in OTHER_FAULTS:
+        return f"{OTHER_FAULTS[op]} in {text} at {where}"
     return f"'{op}' of an empty collection in {text} at {where}"
 
 
@@ -239,4 +369,5 @@ def index(q: list, i: int, what: str) -> int:
     return i - 1
 
 
-__all__ = ["CollectionFault", "apply", "compare", "member", "index", "received", "overflow_message", "empty_message", "SET_RESULTS", "SEQ_RESULTS", "EMPTY_FAULTS", "CAN_OVERFLOW"]
+__all__ = ["CollectionFault", "apply", "compare", "member", "index", "received", "convert", "all_values", "overflow_message", "site_capacity",
+           "empty_message", "SET_RESULTS", "SEQ_RESULTS", "EMPTY_FAULTS", "CAN_OVERFLOW", "OTHER_FAULTS", "LOOP_LIMIT"]

@@ -34,7 +34,7 @@ def dump(fmu: ir.Fmu) -> str:
         out.append(machine(m))
     text = "\n".join(out) + "\n"
     if "Set(" in text or "Seq(" in text:  # the capacity of collections is part of the model's meaning
-        text = text.replace("\n", f"\n  capacity {fmu.capacity}\n", 1)
+        text = text.replace("\n", f"\n  capacity {','.join(map(str, fmu.levels))}\n", 1)
     return text
 
 

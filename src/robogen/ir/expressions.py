@@ -7,6 +7,7 @@ a form without a step has no code-generation meaning yet and is reported as not 
 
 from __future__ import annotations
 
+from dataclasses import replace
 from fractions import Fraction
 from typing import TYPE_CHECKING
 
@@ -16,7 +17,8 @@ from robogen.ir import model as ir
 from robogen.ir.collections import RELATION_OPS
 from robogen.ir.constants import default_expr
 from robogen.ir.region_tree import Graph
-from robogen.ir.supported import TaggedT, TupleT, check_codegen_type, is_collection, is_scalar, not_supported, tuple_type
+from robogen.ir.supported import (TaggedT, TupleT, check_codegen_type, convertible, fits, is_collection, is_scalar, not_supported,
+                                  tuple_type)
 from robogen.semantics import types as T
 from robogen.semantics.model import EnumLitSym, EventSym, FuncSym, VarSym
 from robogen.syntax import ast
@@ -47,7 +49,7 @@ TOOLKIT: dict[str, dict[tuple[str, tuple[str, ...]], str]] = {
         ("notin", ("value", "set")): "notin", ("notin", ("pair", "set")): "notin",
         ("subseteq", ("set", "set")): "subseteq", ("subset", ("set", "set")): "subset",
         ("union", ("set", "set")): "union", ("inter", ("set", "set")): "inter", ("diff", ("set", "set")): "diff",
-        ("symetric_diff", ("set", "set")): "symdiff",
+        ("symetric_diff", ("set", "set")): "symdiff", ("Union", ("set",)): "Union", ("Inter", ("set",)): "Inter",
     },
     "relation_toolkit": {
         ("first", ("pair",)): "first", ("second", ("pair",)): "second",
@@ -66,9 +68,15 @@ TOOLKIT: dict[str, dict[tuple[str, tuple[str, ...]], str]] = {
         ("reverse", ("seq",)): "reverse", ("head", ("seq",)): "head", ("last", ("seq",)): "last",
         ("tail", ("seq",)): "tail", ("front", ("seq",)): "front", ("filter", ("seq", "set")): "filter",
         ("extract", ("set", "seq")): "extract",
+        ("dconcat", ("seq",)): "dconcat", ("iter", ("value", "set")): "iter", ("isInjectiveSequence", ("seq",)): "injective",
         ("squash", ("set",)): "squash", ("prefix", ("seq", "seq")): "prefix", ("suffix", ("seq", "seq")): "suffix", ("infix", ("seq", "seq")): "infix",
     },
 }
+
+
+def _literal(e: ir.Expr) -> bool:
+    """A record literal or a set or sequence enumeration: it takes the type it is used as."""
+    return isinstance(e, ir.RecordLit) or (isinstance(e, ir.Coll) and e.op in ("set", "seq"))
 
 
 class ExpressionLowering:
@@ -131,22 +139,41 @@ class ExpressionLowering:
             return ir.VectorLit(t, tuple(self.conv(x, t.element, span) for x in e.items))
         if isinstance(t, T.RecordT) and isinstance(e, ir.RecordLit):
             return ir.RecordLit(t, tuple((n, self.conv(v, t.field(n), span)) for n, v in e.values))
-        if is_collection(t) and type(t) is type(e.type):
+        if is_collection(t) and is_collection(e.type) and isinstance(t, T.SetT) == isinstance(e.type, T.SetT):
             return self._conv_collection(e, t, span)  # type: ignore[arg-type]
+        if isinstance(t, (T.RecordT, T.VectorT, T.MatrixT)) and not isinstance(e, ir.VectorLit) and convertible(e.type, t):
+            return ir.Coll(t, "conv", (e,), self._conv_text(e.type, t), span)  # collections of other capacities inside
         return e
 
     def _conv_collection(self, e: ir.Expr, t: T.SetT | T.SeqT, span: Span | None) -> ir.Expr:
-        """A set or sequence as one of another element type: an enumeration's elements are
-        converted (``{}`` takes the type it is used as); other values only where the
-        representation does not change."""
+        """A set or sequence as one of another element type or capacity: an enumeration's
+        elements are converted (``{}`` takes the type it is used as); another value element by
+        element (a set re-ordered), a run-time error if it holds more than ``t``'s capacity."""
         if isinstance(e, ir.Coll) and e.op in ("set", "seq"):
             return ir.Coll(t, e.op, tuple(self.conv(x, t.element, span) for x in e.args), e.text, e.span)
         source = e.type.element  # type: ignore[attr-defined]
-        if isinstance(source, T.UnknownT) or source == t.element:
+        if isinstance(source, T.UnknownT):
             return e
-        if source in T.NUMERIC and t.element in T.NUMERIC:  # each element converted (a set re-ordered)
-            return ir.Coll(t, "conv", (e,), f"{e.type.show()} as {t.show()}", span)
+        if convertible(e.type, t):
+            return ir.Coll(t, "conv", (e,), self._conv_text(e.type, t), span)
         raise not_supported(f"using a {e.type.show()} as a {t.show()}", span)
+
+    @staticmethod
+    def _conv_text(source: T.Type, target: T.Type) -> str:
+        """What a conversion's run-time error calls it."""
+        if source.show() != target.show():
+            return f"{source.show()} as {target.show()}"
+        return f"a {source.show()} stored at a nesting level of another capacity"
+
+    def common(self, a: ir.Expr, b: ir.Expr, spans) -> tuple[ir.Expr, ir.Expr]:
+        """``a`` and ``b`` (collections of one form whose capacities may differ) in one type, the
+        one into which the other converts without overflowing (equality, membership)."""
+        of = self.ctx.fmu.capacity_of  # type: ignore[attr-defined]
+        if a.type == b.type:
+            return a, b
+        if fits(b.type, a.type, of):
+            return a, self.conv(b, a.type, spans[1])
+        return self.conv(a, b.type, spans[0]), b
 
     def since_type(self) -> T.Type:
         """The type of clock readings: nat when the period is whole, real otherwise."""
@@ -243,10 +270,17 @@ class ExpressionLowering:
 
     def _collection_binary(self, e: ast.Binary, a: ir.Expr, b: ir.Expr) -> ir.Expr:
         if e.op == "in":
-            assert isinstance(b.type, (T.SetT, T.SeqT))
-            return self.coll(T.BOOLEAN, "in", (self.conv(a, b.type.element, e.left.span), b), e)
+            return self.coll(T.BOOLEAN, "in", self.member(a, b, e.left.span, e.right.span), e)
         t = self._type(e)
         return self.coll(t, "cat", (self.conv(a, t, e.left.span), self.conv(b, t, e.right.span)), e)
+
+    def member(self, x: ir.Expr, s: ir.Expr, x_span: Span | None, s_span: Span | None) -> tuple[ir.Expr, ir.Expr]:
+        """The operands of ``x in s``: ``x`` as an element of ``s``, or, where it might not fit
+        (a collection of a greater capacity than the elements'), ``s`` as a collection of its type."""
+        assert isinstance(s.type, (T.SetT, T.SeqT))
+        if fits(x.type, s.type.element, self.ctx.fmu.capacity_of) or not convertible(x.type, s.type.element):  # type: ignore[attr-defined]
+            return self.conv(x, s.type.element, x_span), s
+        return x, self.conv(s, replace(s.type, element=x.type), s_span)
 
     def _comparison(self, e: ast.Binary, op: str, a: ir.Expr, b: ir.Expr) -> ir.Expr:
         known = self.model.constant_comparison(e)  # k >= 0 for a nat k: C compilers reject the test (-Wtype-limits)
@@ -259,6 +293,9 @@ class ExpressionLowering:
             raise not_supported(f"'{e.op}' on {a.type.show()}", e.span)
         if not (is_scalar(a.type) or isinstance(a.type, (T.RecordT, T.VectorT, T.MatrixT, T.SetT, T.SeqT)) or a.type == T.STRING):
             raise not_supported(f"comparing values of type {a.type.show()}", e.span)
+        if a.type != b.type and isinstance(a.type, (T.SetT, T.SeqT, T.RecordT)) and convertible(a.type, b.type) \
+                and not (_literal(a) or _literal(b)):
+            a, b = self.common(a, b, (e.left.span, e.right.span))  # collections of other capacities inside
         if a.type != b.type:  # a literal takes the type of the other side: [| 0, 0 |] is vector(nat, 2)
             if self.conv(b, a.type, e.right.span).type == a.type:
                 b = self.conv(b, a.type, e.right.span)
@@ -401,6 +438,13 @@ class ExpressionLowering:
         if op == "maplet":
             pair = tuple_type((args[0].type, args[1].type))
             return ir.RecordLit(pair, (("_1", args[0]), ("_2", args[1])))
+        if op in ("head", "last", "min", "max") and not isinstance(args[0].type.element, T.UnknownT):  # type: ignore[union-attr]
+            return self.coll(args[0].type.element, op, args, e)  # an element, of the collection's own type  # type: ignore[union-attr]
+        if op in ("Union", "Inter", "dconcat"):  # of the elements' elements: the outermost level's capacity
+            inner = args[0].type.element  # type: ignore[union-attr]
+            outer = (T.SetT if op != "dconcat" else T.SeqT)(inner.element)  # type: ignore[union-attr]
+            check_codegen_type(outer, e.span, f"the result of '{sym.name}'")
+            return self.conv(self.coll(outer, op, args, e), t, e.span)
         if op == "range":
             args = [self.conv(a, T.INT, x.span) for a, x in zip(args, e.args)]
         elif op == "extract":  # extract(a, q): the sequence first in the IR, as for filter(q, a)
@@ -410,9 +454,9 @@ class ExpressionLowering:
             args = [self.conv(a, t, x.span) if is_collection(a.type) else a for a, x in zip(args, e.args)]
         elif len(args) == 2 and all(is_collection(a.type) for a in args):
             common = args[1].type if isinstance(args[0].type.element, T.UnknownT) else args[0].type  # type: ignore[union-attr]
-            args = [self.conv(a, type(a.type)(common.element), x.span) for a, x in zip(args, e.args)]  # type: ignore[union-attr, call-arg]
+            args = [self.conv(a, replace(a.type, element=common.element), x.span) for a, x in zip(args, e.args)]  # type: ignore[union-attr, call-arg]
         elif op == "notin":
-            args[0] = self.conv(args[0], args[1].type.element, e.args[0].span)  # type: ignore[union-attr]
+            args[0], args[1] = self.member(args[0], args[1], e.args[0].span, e.args[1].span)
         if isinstance(t, (T.SetT, T.SeqT)):
             check_codegen_type(t, e.span, f"the result of '{sym.name}'")
         return self.coll(t, op, args, e)
@@ -424,6 +468,8 @@ class ExpressionLowering:
         if not (isinstance(pair, TupleT) and len(pair.fields) == 2):
             raise not_supported(f"'{sym.name}' of {args[at].type.show()} (a relation is a set of pairs)", e.span)
         x, y = pair.field("_1"), pair.field("_2")
+        if op == "iter":  # iter(n, r)
+            return self.coll(args[1].type, op, (self.conv(args[0], T.INT, e.args[0].span), args[1]), e)
         wanted = {"dres": (T.SetT(x), None), "dsub": (T.SetT(x), None), "rres": (None, T.SetT(y)),
                   "rsub": (None, T.SetT(y)), "rimage": (None, T.SetT(x)), "roverride": (None, args[0].type)}.get(op, (None, None))
         args = [self.conv(a, w, x_.span) if w is not None else a for a, w, x_ in zip(args, wanted, e.args)]

@@ -133,7 +133,7 @@ class MachineLowering(StatementLowering, BindingLowering, ExpressionLowering, Fu
     # -- storage
 
     def _norm(self, t: T.Type) -> T.Type:
-        return normalise(t, self.ctx.given)
+        return normalise(t, self.ctx.given, self.ctx.fmu.levels)
 
     def _declare_var(self, v: VarSym, name: str) -> ir.Var:
         t = self._norm(v.type)

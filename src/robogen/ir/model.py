@@ -515,6 +515,9 @@ class Fmu:
     user_functions: list[UserFunction] = field(default_factory=list)
     max_steps: int = 1000  # transitions per cycle before a runaway cycle is reported
     capacity: int = 32  # the most elements a set or sequence holds (robogen compile --capacity)
+    # the capacity of each nesting level of collections, outermost first (the last for every deeper
+    # level; ``--capacity 32,8``); empty: ``capacity`` at every level
+    capacities: tuple[int, ...] = ()
     root: str = ""  # the workspace root (absolute), to which generated files name model files
     # what lowering warns about (constants that become parameters without a value, renamed
     # ports); the front end prints them. Not in the dump: they restate the model's meaning.
@@ -532,6 +535,16 @@ class Fmu:
     @property
     def source_names(self) -> list[str]:
         return sorted(self.source_name(p) for p in self.sources)
+
+    @property
+    def levels(self) -> tuple[int, ...]:
+        """The capacity of each nesting level of collections (see ``capacities``)."""
+        return self.capacities or (self.capacity,)
+
+    def capacity_of(self, t: Type) -> int:
+        """The most elements a set or sequence of type ``t`` holds: that of its nesting level
+        (robogen.ir.supported.InnerSetT), else the outermost level's."""
+        return getattr(t, "capacity", None) or self.capacity
 
     @property
     def clock_name(self) -> str:
