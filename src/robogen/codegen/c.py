@@ -20,7 +20,7 @@ from dataclasses import dataclass
 from robogen.codegen.layout_code import write
 from robogen.ir import model as ir
 from robogen.ir.layout import nested
-from robogen.ir.supported import ArrayT, TupleT
+from robogen.ir.supported import ArrayT, TupleT, holds_string
 from robogen.ir.collections import CAN_OVERFLOW, EMPTY_FAULTS, empty_message, overflow_message
 from robogen.semantics import types as T
 
@@ -143,9 +143,18 @@ class CNames:
 
 
 def user_function_prototype(u: ir.UserFunction) -> str:
-    """The C declaration of a user function, as the --functions file must define it."""
-    args = ", ".join(f"{ctype(t)} {n}" for n, t in u.params) or "void"
-    return f"static {ctype(u.result)} rg_user_{u.name}({args})"
+    """The C declaration of a user function, as the --functions file must define it: a string
+    parameter is its text; where a record or collection parameter holds strings (their numbers),
+    the model data comes first, for ``rg_text(d, number)``."""
+    args = [f"const char *{n}" if t == T.STRING else f"{ctype(t)} {n}" for n, t in u.params]
+    if strings_inside(u):
+        args.insert(0, "const rg_model_data *d")
+    return f"static {ctype(u.result)} rg_user_{u.name}({', '.join(args) or 'void'})"
+
+
+def strings_inside(u: ir.UserFunction) -> bool:
+    """Whether a parameter of user function ``u`` holds strings inside a record or collection."""
+    return any(t != T.STRING and holds_string(t) for _, t in u.params)
 
 
 def c_string(text: str) -> str:
@@ -406,7 +415,14 @@ class Emitter:
         return self.collections.call(e, args, site)  # type: ignore[attr-defined]
 
     def _CallU(self, e: ir.CallU) -> str:
-        return f"rg_user_{e.name}({', '.join(self.expr(a) for a in e.args)})"
+        """A user function's call: a string argument as its text, the model data first where a
+        record or collection argument holds strings (user_function_prototype)."""
+        args = [f"rg_text(d, {self.expr(a)})" if a.type == T.STRING else self.expr(a) for a in e.args]
+        if any(holds_string(a.type) for a in e.args):
+            self.texts = True
+        if any(a.type != T.STRING and holds_string(a.type) for a in e.args):
+            args.insert(0, "d")
+        return f"rg_user_{e.name}({', '.join(args)})"
 
     def _CallB(self, e: ir.CallB) -> str:
         args = [self.expr(a) for a in e.args]

@@ -107,8 +107,11 @@ class FmiVar:
             return Variable(self.name, self.vr, "Clock", self.causality, "discrete", description=self.description,
                             interval_variability=self.interval_variability, interval_decimal=self.interval or None,
                             shift_decimal=self.shift if self.interval else None)
+        start: tuple[str, ...] = () if self.start is None else (self.start,)
+        if self.fmi_type == "String" and self.dims and self.start is not None:  # one <Start> per entry: the empty string
+            start = ("",) * (self.size or 0)
         return Variable(self.name, self.vr, self.fmi_type, self.causality, self.variability, description=self.description,
-                        initial=self.initial, start=() if self.start is None else (self.start,),
+                        initial=self.initial, start=start,
                         declared_type=self.declared_type, clocks=() if self.clock is None else (self.clock,),
                         dimensions=tuple(Dimension(start=d) for d in self.dims))
 

@@ -17,8 +17,8 @@ from robogen.ir import model as ir
 from robogen.ir.collections import RELATION_OPS
 from robogen.ir.constants import default_expr
 from robogen.ir.region_tree import Graph
-from robogen.ir.supported import (TaggedT, TupleT, check_codegen_type, convertible, fits, is_collection, is_scalar, not_supported,
-                                  tuple_type)
+from robogen.ir.supported import (TaggedT, TupleT, check_codegen_type, convertible, fits, holds_string, is_collection, is_scalar,
+                                  not_supported, tuple_type)
 from robogen.semantics import types as T
 from robogen.semantics.model import EnumLitSym, EventSym, FuncSym, VarSym
 from robogen.syntax import ast
@@ -487,11 +487,15 @@ class ExpressionLowering:
         receives and returns the C types of config.h)."""
         params = tuple((n, self._norm(t)) for n, t in sym.params)
         result = self._norm(sym.result)
-        for n, t in params + (("result", result),):
-            if not is_scalar(t):
-                if isinstance(t, T.FunctionT) or "?" in t.show() or "string" in t.show():
-                    raise not_supported(f"function '{sym.name}': {n} of type {t.show()}", e.span)
-                check_codegen_type(t, e.span, f"function '{sym.name}': {n}")
+        if holds_string(result):  # RoboChart builds no string: every string is one the FMU knows
+            raise not_supported(f"function '{sym.name}': a result of type {result.show()} (the FMU holds the model's "
+                                "strings and those the importer sets, not a text a C function makes)", e.span)
+        for k, (n, t) in enumerate(params + (("result", result),)):
+            what = f"parameter {n}" if k < len(params) else "result"
+            if not is_scalar(t) and t != T.STRING:
+                if isinstance(t, T.FunctionT) or "?" in t.show():
+                    raise not_supported(f"function '{sym.name}': {what} of type {t.show()}", e.span)
+                check_codegen_type(t, e.span, f"function '{sym.name}': {what}")
         self.user_function(sym, e, params, result)
         return ir.CallU(result, sym.name, tuple(self.conv(a, pt, e.span) for a, (_, pt) in zip(args, params)))
 
