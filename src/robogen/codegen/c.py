@@ -8,69 +8,22 @@ machine's run function turns into ``fmi3Error`` after the statement. ``&&`` and 
 left-to-right evaluation the interpreter uses, so the side effects of ``$e?x`` bindings happen in
 the same order.
 
-This module is also the one place that makes C names from model names (:func:`mangle`,
-:class:`CNames`): the IR keeps the model's names.
+This module and :mod:`robogen.codegen.cnames` (the C types, :func:`mangle`) are the one place
+that makes C names from model names (:class:`CNames`): the IR keeps the model's names.
 """
 
 from __future__ import annotations
 
-import re
 from dataclasses import dataclass
 
+from robogen.codegen.cnames import ctype, elem_tag, literal, mangle, tag
 from robogen.codegen.layout_code import write
+from robogen.codegen.quantifiers import quantifier
 from robogen.ir import model as ir
 from robogen.ir.layout import nested
-from robogen.ir.supported import ArrayT, TupleT, holds_string
-from robogen.ir.collections import CAN_OVERFLOW, EMPTY_FAULTS, empty_message, overflow_message
+from robogen.ir.supported import holds_string
+from robogen.ir.collections import CAN_OVERFLOW, EMPTY_FAULTS, OTHER_FAULTS, empty_message, overflow_message, site_capacity
 from robogen.semantics import types as T
-
-
-def ctype(t: T.Type) -> str:
-    # a function: the number of its value; a string: its number among the model's strings
-    if t == T.INT or t == T.STRING or isinstance(t, (T.EnumT, T.FunctionT)):
-        return "int64_t"
-    if t == T.NAT:
-        return "uint64_t"
-    if t == T.REAL:
-        return "double"
-    if t == T.BOOLEAN:
-        return "bool"
-    if isinstance(t, TupleT):  # by its arity and components: a prefix code, one name per tuple type
-        return f"rg_tup{len(t.fields)}_" + "_".join(elem_tag(ft) for _, ft in t.fields)
-    if isinstance(t, T.RecordT):  # one inside collections of other capacities: rg_rec<level>_
-        return f"rg_rec{getattr(t, 'level', 0) or ''}_" + mangle(t.qname)
-    if isinstance(t, T.VectorT):
-        return f"rg_vec_{tag(t.element)}_{t.size}"
-    if isinstance(t, T.MatrixT):
-        return f"rg_mat_{tag(t.element)}_{t.rows}_{t.columns}"
-    if isinstance(t, ArrayT):
-        return f"rg_arr_{tag(t.element)}_" + "x".join(map(str, t.dims))
-    if isinstance(t, (T.SetT, T.SeqT)):  # a nested one of another capacity: rg_seq<capacity>_
-        kind = "set" if isinstance(t, T.SetT) else "seq"
-        return f"rg_{kind}{getattr(t, 'capacity', '')}_{elem_tag(t.element)}"
-    raise TypeError(f"no C type for {t.show()}")
-
-
-def tag(t: T.Type) -> str:
-    if t == T.NAT:
-        return "u"
-    if t == T.REAL:
-        return "r"
-    if t == T.BOOLEAN:
-        return "b"
-    return "i"  # int and enumerations
-
-
-def elem_tag(t: T.Type) -> str:
-    """The part of a collection's C names that names its element type (a string: ``s``)."""
-    if t == T.STRING:
-        return "s"
-    return ctype(t)[3:] if isinstance(t, (T.RecordT, T.SetT, T.SeqT, T.VectorT, T.MatrixT)) else tag(t)
-
-
-def mangle(name: str) -> str:
-    """A C identifier part for a model name (qualified names, '#', '.' become '_')."""
-    return re.sub(r"[^A-Za-z0-9_]", "_", name.replace("::", "_"))
 
 
 class Identifiers:
@@ -183,22 +136,6 @@ def c_comment(text: str) -> str:
     return text.replace("*/", "* /").replace("/*", "/ *")
 
 
-def literal(value: object, t: T.Type) -> str:
-    if t == T.BOOLEAN:
-        return "true" if value else "false"
-    if t == T.REAL:
-        f = float(value)  # type: ignore[arg-type]
-        text = repr(f)
-        return text if ("." in text or "e" in text or "inf" in text or "nan" in text) else text + ".0"
-    v = int(value)  # type: ignore[arg-type]
-    if t == T.NAT:
-        return f"UINT64_C({v & ((1 << 64) - 1)})"
-    v &= (1 << 64) - 1
-    if v >> 63:
-        return f"(int64_t)UINT64_C({v})"
-    return f"INT64_C({v})"
-
-
 def truth(e: ir.Expr) -> bool | None:
     """The value of a boolean literal (None for any other expression): the emitter folds tests of
     constants away instead of writing ``if (true)``."""
@@ -250,6 +187,7 @@ class Emitter:
         self.sites: list[str] = []  # run-time messages of collection operations (model.c's rg_sites)
         self.strings: list[str] = [""]  # the model's strings, numbered: a string is its number in C
         self.texts = False  # a string is passed by its text (rg_text)
+        self.helpers: list[str] = []  # the functions of its quantifiers (robogen.codegen.quantifiers)
 
     @property
     def fault_return(self) -> str:
@@ -410,9 +348,13 @@ class Emitter:
             if e.op == "undefined":
                 self.sites += [f"{e.text} at {where}", ""]
             else:
-                    self.sites += [overflow_message(e.text, where, self.fmu.capacity) if e.op in CAN_OVERFLOW else "",
-                               empty_message(e.op, e.text, where) if e.op in EMPTY_FAULTS else ""]
+                capacity = site_capacity(e.op, [a.type for a in e.args], e.type, self.fmu.capacity_of)
+                self.sites += [overflow_message(e.text, where, capacity) if e.op in CAN_OVERFLOW else "",
+                               empty_message(e.op, e.text, where) if e.op in EMPTY_FAULTS or e.op in OTHER_FAULTS else ""]
         return self.collections.call(e, args, site)  # type: ignore[attr-defined]
+
+    def _Quant(self, e: ir.Quant) -> str:
+        return quantifier(self, e)
 
     def _CallU(self, e: ir.CallU) -> str:
         """A user function's call: a string argument as its text, the model data first where a

@@ -12,7 +12,7 @@ from __future__ import annotations
 
 from typing import Protocol
 
-from robogen.codegen.c import ctype, elem_tag
+from robogen.codegen.cnames import ctype, elem_tag
 from robogen.semantics import types as T
 
 

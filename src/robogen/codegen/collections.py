@@ -20,7 +20,7 @@ The bodies of the operations are :mod:`robogen.codegen.collection_ops`'s; relati
 from __future__ import annotations
 
 from robogen.codegen import collection_ops as O
-from robogen.codegen.c import ctype, elem_tag, literal
+from robogen.codegen.cnames import ctype, elem_tag, literal
 from robogen.codegen.relations import relation_body
 from robogen.ir import model as ir
 from robogen.ir.collections import EMPTY_FAULTS, RELATION_OPS, all_values

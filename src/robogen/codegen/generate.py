@@ -648,7 +648,7 @@ def _machine_code(fmu: ir.Fmu, em: Emitter, line_comments: bool) -> dict:
     labels = [c_string(f"b{b.id}: {b.label}" + (f" ({fmu.place(b.span)})" if b.span else "")) for b in m.blocks]
     parts = [cases[k:k + PART_SIZE] for k in range(0, len(cases), PART_SIZE)]
     return dict(machine=m, names=em.own, cases=cases, parts=parts, part_size=PART_SIZE, inits=inits, labels=labels,
-                equalities=em.equalities, texts=em.texts,
+                equalities=em.equalities, texts=em.texts, helpers=em.helpers,
                 event_types=[(e.index, ctype(e.type) if e.type is not None else None) for e in m.events])
 
 

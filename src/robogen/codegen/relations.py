@@ -5,7 +5,7 @@ collects which the model needs."""
 from __future__ import annotations
 
 from robogen.codegen import collection_ops as O
-from robogen.codegen.c import ctype, literal
+from robogen.codegen.cnames import ctype, literal
 from robogen.ir.collections import LOOP_LIMIT, all_values
 from robogen.semantics import types as T
 

@@ -50,7 +50,8 @@ CAN_OVERFLOW = ("set", "seq", "union", "symdiff", "cat", "elems", "range", "dom"
                 "relcomp", "Union", "dconcat", "iter", "conv")
 # operations whose second fault is not that of an empty collection: the message of each
 OTHER_FAULTS = {"Inter": "'Inter' of an empty set of sets: every value of an infinite type",
-                "iter": "'iter' of 0 (the identity relation on an infinite type), or beyond the limit of powers"}
+                "iter": f"'iter' of 0 on an infinite type (the identity relation), or of more than {1 << 16} powers that "
+                        "never repeat"}
 # the most values one expression loops over: the integers of a quantifier's range, iter's powers
 # (every cycle of an FMU ends: a loop of an expression is bounded too)
 LOOP_LIMIT = 1 << 16

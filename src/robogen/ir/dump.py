@@ -185,4 +185,15 @@ def expr(e: ir.Expr | None) -> str:
         return f"{e.name}({', '.join(expr(a) for a in e.args)})"
     if isinstance(e, ir.Coll):
         return f"{e.op}<{e.type.show()}>({', '.join(expr(a) for a in e.args)}) @{_line(e.span)}"
+    if isinstance(e, ir.Quant):
+        domains = ", ".join(_domain(d) for d in e.domains)
+        return f"({e.kind} {domains} | {expr(e.pred) if e.pred is not None else 'true'} @ {expr(e.body)}) @{_line(e.span)}"
     return f"<{type(e).__name__}>"
+
+
+def _domain(d: ir.Domain) -> str:
+    if d.kind == "set":
+        return f"{d.var.name} in{' nat' if d.natural else ''} {expr(d.set)}"
+    if d.kind == "range":
+        return f"{d.var.name} in {expr(d.low)}..{expr(d.high)}"
+    return f"{d.var.name}: every {d.var.type.show()}"

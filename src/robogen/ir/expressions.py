@@ -28,10 +28,6 @@ if TYPE_CHECKING:  # the attributes MachineLowering provides
     from robogen.semantics.model import SemanticModel
 
 _UNSUPPORTED = {
-    ast.Binder: "a quantifier, lambda or definite description",
-    ast.SetRange: "a set range",
-    ast.SetComprehension: "a set comprehension",
-    ast.Range: "a range",
     ast.MatrixOp: "inverse/transpose",
 }
 
@@ -463,7 +459,7 @@ class ExpressionLowering:
 
     def _relation_call(self, sym: FuncSym, op: str, args: list[ir.Expr], t: T.Type, e: ast.Call) -> ir.Expr:
         """A relation operation: every relation is a set of pairs (robogen.ir.collections)."""
-        at = 1 if op in ("dres", "dsub") else 0
+        at = 1 if op in ("dres", "dsub", "iter") else 0
         pair = args[at].type.element  # type: ignore[attr-defined]
         if not (isinstance(pair, TupleT) and len(pair.fields) == 2):
             raise not_supported(f"'{sym.name}' of {args[at].type.show()} (a relation is a set of pairs)", e.span)

@@ -33,6 +33,7 @@ import math
 from dataclasses import dataclass, field
 
 from robogen.ir import collections as C
+from robogen.ir import finite
 from robogen.ir import model as ir
 from robogen.ir.constants import default_value
 from robogen.ir.layout import build, gather, leaves
@@ -481,6 +482,8 @@ class Interpreter:
             return args[0] if args[0] >= args[1] else args[1]
         if isinstance(e, ir.Coll):
             return self._collection(e, m, ms)
+        if isinstance(e, ir.Quant):
+            return self._quantifier(e, m, ms)
         if isinstance(e, ir.CallU):
             f = self.functions.get(e.name)
             if f is None:
@@ -500,6 +503,16 @@ class Interpreter:
                 return C.convert(args[0], e.args[0].type, e.type, convert, self.fmu.capacity_of, overflow)
             return copy.deepcopy(C.apply(e.op, args, [a.type for a in e.args], self.fmu.capacity_of(e.type), overflow,
                                          C.empty_message(e.op, e.text, where), e.type))
+        except C.CollectionFault as fault:
+            raise RuntimeFault(f"machine {m.name}: {fault}") from None
+
+    def _quantifier(self, e: ir.Quant, m: ir.Machine, ms: MachineState):
+        def store(var: ir.Var, value) -> None:
+            self._memory(var, ms)[var.name] = copy.deepcopy(value)
+
+        try:
+            return finite.evaluate(e, lambda x: self._eval(x, m, ms), store, convert, self.fmu.capacity_of(e.type),
+                                   self.fmu.place(e.span))
         except C.CollectionFault as fault:
             raise RuntimeFault(f"machine {m.name}: {fault}") from None
 

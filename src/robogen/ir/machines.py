@@ -16,6 +16,7 @@ from typing import Any, Generator
 
 from robogen.diagnostics import DiagnosticSink, Note, RobogenError, Span, did_you_mean
 from robogen.ir import model as ir
+from robogen.ir.binders import BinderLowering
 from robogen.ir.bindings import BindingLowering
 from robogen.ir.boundary import Boundary
 from robogen.ir.constants import constant_value, default_value, parse_setting, shown
@@ -95,7 +96,7 @@ def drive(steps: Steps):
     return value
 
 
-class MachineLowering(StatementLowering, BindingLowering, ExpressionLowering, FunctionValues):
+class MachineLowering(StatementLowering, BindingLowering, BinderLowering, ExpressionLowering, FunctionValues):
     def __init__(self, ctx: FmuContext, scope: MachineScope, ctrl: Controller | None, index: int, used_name: str,
                  name: str | None = None):
         """``name``: the machine's name in the FMU (its own, or its instance path where two

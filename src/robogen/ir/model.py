@@ -317,6 +317,40 @@ class Coll(Expr):
 
 
 @dataclass(frozen=True)
+class Domain:
+    """The values a bound variable ``var`` of a quantifier or set comprehension takes, in order
+    (robogen.ir.finite): ``set``, the elements of a set (``natural``: only those not negative, for
+    a ``nat`` variable over integers); ``range``, the integers ``low`` to ``high`` (both ``int``);
+    ``values``, every value of the variable's finite type (an enumeration's literals, false then
+    true)."""
+
+    var: Var
+    kind: str  # set, range, values
+    set: Expr | None = None
+    low: Expr | None = None
+    high: Expr | None = None
+    natural: bool = False
+
+
+@dataclass(frozen=True)
+class Quant(Expr):
+    """``forall``, ``exists``, ``exists1``, ``the`` (``the x: T | p @ e``: ``e`` for the one x for
+    which ``p`` holds) or ``set`` (``{x: T | p @ e}``) over the finite ``domains`` of its bound
+    variables (nested loops, the first outermost), ``pred`` its predicate (None: true) and
+    ``body`` its expression (a comprehension without one: its variable, or the tuple of them).
+    Run-time errors: a comprehension of more elements than the capacity, a range of more than
+    robogen.ir.collections.LOOP_LIMIT integers, ``the`` without exactly one value; each names
+    ``text`` and ``span``."""
+
+    kind: str
+    domains: tuple[Domain, ...]
+    pred: Expr | None
+    body: Expr | None
+    text: str = ""
+    span: Span | None = None
+
+
+@dataclass(frozen=True)
 class UserFunction:
     """A function the model declares by its contract only; the code generator takes its body
     from the user (``--functions``), the reference interpreter a Python implementation."""
