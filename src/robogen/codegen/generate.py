@@ -191,6 +191,7 @@ def generate(fmu: ir.Fmu, options: CodegenOptions | None = None, *, diagrams: Se
     needed = {name: t for mc in machines for name, t in mc["equalities"].items()}
     for t in needed.values():  # a type compared only inside an expression (a tuple key) is declared too
         layout._type(t)
+    _check_sizes(fmu, layout.types)
     equalities, bodies = _equalities(layout.types, set(needed))
     param_starts = {p.fmi_name: _param_starts(p, strings) for p in fmu.params}  # before the strings are written
     hooks = _hooks(fmu, machines)
@@ -239,6 +240,49 @@ def generate(fmu: ir.Fmu, options: CodegenOptions | None = None, *, diagrams: Se
     gen.files["documentation/externalDependencies.txt"] = "none beyond libc and libm\n"
     gen.files["documentation/ir.txt"] = ir_text
     return gen
+
+
+# The largest C value of a model type: values are passed and returned on the C stack (a set
+# operation holds about four), which the host's thread gives (8 MiB by default on Linux, less in
+# some hosts' threads); a larger one is an error at generation that names it.
+VALUE_BYTES = 1 << 18
+
+
+def value_bytes(t: T.Type, capacity_of) -> int:
+    """The size of a C value of type ``t`` (members of 8 bytes aligned to 8)."""
+    if t == T.BOOLEAN:
+        return 1
+    if isinstance(t, T.RecordT):
+        sizes = [value_bytes(ft, capacity_of) for _, ft in t.fields]
+        total = 0
+        for n in sizes:
+            total = (total + 7) // 8 * 8 + n if n >= 8 else total + n
+        return (total + 7) // 8 * 8 if any(n >= 8 for n in sizes) else total
+    if isinstance(t, (T.VectorT, T.MatrixT, ArrayT)):
+        element, dims = _shape(t)
+        count = 1
+        for n in dims:
+            count *= n
+        return count * value_bytes(element, capacity_of)
+    if isinstance(t, (T.SetT, T.SeqT)):
+        return 8 + capacity_of(t) * max(value_bytes(t.element, capacity_of), 1)
+    return 8
+
+
+def _check_sizes(fmu: ir.Fmu, types: list[T.Type]) -> None:
+    """Every C value of the model is below :data:`VALUE_BYTES` (the error names the first
+    variable or event of a type that holds a larger one)."""
+    for t in types:
+        size = value_bytes(t, fmu.capacity_of)
+        if size <= VALUE_BYTES:
+            continue
+        holders = [(v.span, v.type) for m in fmu.machines for v in m.vars] + \
+                  [(e.span, e.type) for m in fmu.machines for e in m.events if e.type is not None]
+        span = next((sp for sp, ht in holders if ht == t or t.show() in ht.show()), fmu.span)
+        levels = ", ".join(map(str, fmu.levels))
+        raise RobogenError.at(f"a value of type {t.show()} takes {size} bytes in C at capacities {levels}, more than the "
+                              f"{VALUE_BYTES} bytes robogen gives one value (values are passed on the C stack): give the "
+                              "inner levels of collections smaller capacities (--capacity 32,8)", span)
 
 
 def _strings(layout: "_Layout", strings: list[str], texts: bool) -> dict:

@@ -103,8 +103,7 @@ class BinderLowering:
             bound.append(var)
         conjuncts = _conjuncts(such_that)
         with self.binding([(id(d), ir.Ref(v.type, v)) for d, v in zip(decls, bound)]):  # type: ignore[attr-defined]
-            domains = tuple(self._domain(kind, d, v, conjuncts, {id(x) for x in decls[k:]}, graph)
-                            for k, (d, v) in enumerate(zip(decls, bound)))
+            domains = self._domains(kind, list(zip(decls, bound)), conjuncts, graph)
             pred = self.expr(such_that, graph) if such_that is not None else None  # type: ignore[attr-defined]
             value = self.expr(body, graph) if body is not None else None  # type: ignore[attr-defined]
         if value is None:  # {x: T | p}: the values of x (of the tuple of the variables)
@@ -119,10 +118,31 @@ class BinderLowering:
         value = self.conv(value, t.element if kind == "set" else t, e.span)  # type: ignore[attr-defined]
         return ir.Quant(t, kind, domains, pred, value, expr_text(e), e.span)
 
-    def _domain(self, kind: str, d: ast.Decl, var: ir.Var, conjuncts: list[ast.Expr], later: set[int],
-                graph: Graph) -> ir.Domain:
-        """Where bound variable ``var`` (declared by ``d``) ranges (see the module documentation);
-        ``later``: the declarations of it and of the variables after it, which a bound may not read."""
+    def _domains(self, kind: str, pending: list[tuple[ast.Decl, ir.Var]], conjuncts: list[ast.Expr],
+                 graph: Graph) -> tuple[ir.Domain, ...]:
+        """The domains of the bound variables, in the order of the loops: each time, the first
+        variable (as declared) whose domain reads no variable still unbound."""
+        domains: list[ir.Domain] = []
+        while pending:
+            unbound = {id(d) for d, _ in pending}
+            for k, (d, var) in enumerate(pending):
+                domain = self._domain(d, var, conjuncts, unbound, graph)
+                if domain is not None:
+                    domains.append(domain)
+                    del pending[k]
+                    break
+            else:
+                d, var = pending[0]
+                hint = f"'{d.name} in s'" + (f" or '0 <= {d.name} /\\ {d.name} <= n'" if var.type in (T.NAT, T.INT) else "")
+                raise not_supported(f"'{kind}' over '{d.name}: {var.type.show()}' without a finite domain ({var.type.show()} "
+                                    f"has infinitely many values; bound '{d.name}' in the predicate, as {hint})", d.span)
+        return tuple(domains)
+
+    def _domain(self, d: ast.Decl, var: ir.Var, conjuncts: list[ast.Expr], later: set[int],
+                graph: Graph) -> ir.Domain | None:
+        """Where bound variable ``var`` (declared by ``d``) ranges (see the module documentation;
+        None: nowhere finite); ``later``: the declarations of the variables still unbound, which
+        its domain may not read."""
         def mine(x: ast.Expr) -> bool:
             sym = self.model.symbol(x) if isinstance(x, ast.Name) else None
             return isinstance(sym, VarSym) and sym.decl is d
@@ -141,9 +161,7 @@ class BinderLowering:
                 low = ir.Lit(T.INT, 0)
             if low is not None and high is not None:
                 return ir.Domain(var, "range", low=low, high=high)
-        raise not_supported(
-            f"'{kind}' over '{d.name}: {var.type.show()}' without a finite domain ({var.type.show()} has infinitely many "
-            f"values; bound '{d.name}' in the predicate, as '{d.name} in s' or '0 <= {d.name} /\\ {d.name} <= n')", d.span)
+        return None
 
     def _set_domain(self, var: ir.Var, s: ast.Expr, d: ast.Decl, graph: Graph) -> ir.Domain:
         if isinstance(s, ast.SetRange) or (isinstance(s, ast.Call) and isinstance(self.model.symbol(s.func), FuncSym)

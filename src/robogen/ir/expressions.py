@@ -100,7 +100,7 @@ class ExpressionLowering:
         if isinstance(e, ast.Field):
             base = self.lvalue(e.obj, graph)
             assert isinstance(base.type, T.RecordT)
-            return ir.FieldOf(self._norm(base.type.field(e.field)), base, e.field)  # type: ignore[arg-type]
+            return ir.FieldOf(base.type.field(e.field), base, e.field)  # type: ignore[arg-type]
         if isinstance(e, ast.Index):
             return self._index(self.lvalue(e.obj, graph), e, graph)
         raise not_supported("this assignment target", e.span)
@@ -326,7 +326,7 @@ class ExpressionLowering:
         base = self.expr(e.obj, graph)
         if not isinstance(base.type, T.RecordT):
             raise not_supported(f"field selection on {base.type.show()}", e.span)
-        return ir.FieldOf(self._norm(base.type.field(e.field)), base, e.field)  # type: ignore[arg-type]
+        return ir.FieldOf(base.type.field(e.field), base, e.field)  # type: ignore[arg-type]  # (already concrete)
 
     def _e_Index(self, e: ast.Index, graph: Graph) -> ir.Expr:
         return self._index(self.expr(e.obj, graph), e, graph)

@@ -147,6 +147,8 @@ def normalise(t: T.Type, given: str = "int", capacities: tuple[int, ...] = (), l
     :class:`InnerSeqT`, and a record there whose fields hold such collections an
     :class:`InnerRecordT` (a tagged record its own ``level``)."""
     t = T.single(t)
+    if isinstance(t, (TupleT, TaggedT, InnerRecordT, InnerSetT, InnerSeqT, ArrayT)):
+        return t  # already concrete
     if isinstance(t, T.Given):
         return T.PRIMITIVES[given]
     if isinstance(t, T.ProductT):
