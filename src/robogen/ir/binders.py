@@ -11,7 +11,10 @@ found in the predicate's conjuncts or in the variable's type, in this order:
 - an enumeration or ``boolean``: every value;
 - an integer ``x`` with bounds in conjuncts ``a <= x``, ``x < b``, ``x == c``, ... (either way
   round; a ``nat`` has the lower bound 0): the integers between them (a strict bound is taken as
-  the wider one; the predicate, always evaluated in full, excludes it).
+  the wider one; the predicate excludes it).
+
+The predicate is evaluated for every value but for the conjuncts ``x in s`` that give domains
+(they hold for each value of their variable).
 
 A variable with none has an infinite domain and no finite meaning: a located error says so
 (robogen.ir.finite gives the semantics).
@@ -104,7 +107,11 @@ class BinderLowering:
         conjuncts = _conjuncts(such_that)
         with self.binding([(id(d), ir.Ref(v.type, v)) for d, v in zip(decls, bound)]):  # type: ignore[attr-defined]
             domains = self._domains(kind, list(zip(decls, bound)), conjuncts, graph)
-            pred = self.expr(such_that, graph) if such_that is not None else None  # type: ignore[attr-defined]
+            pred = None  # the conjuncts left: an 'x in s' a variable ranges over holds for each of its values
+            for c in conjuncts:
+                if not any(c is used for used in self._ranged):
+                    value = self.expr(c, graph)  # type: ignore[attr-defined]
+                    pred = value if pred is None else ir.Bin(T.BOOLEAN, "and", pred, value)
             value = self.expr(body, graph) if body is not None else None  # type: ignore[attr-defined]
         if value is None:  # {x: T | p}: the values of x (of the tuple of the variables)
             refs = [ir.Ref(v.type, v) for v in bound]
@@ -121,8 +128,10 @@ class BinderLowering:
     def _domains(self, kind: str, pending: list[tuple[ast.Decl, ir.Var]], conjuncts: list[ast.Expr],
                  graph: Graph) -> tuple[ir.Domain, ...]:
         """The domains of the bound variables, in the order of the loops: each time, the first
-        variable (as declared) whose domain reads no variable still unbound."""
+        variable (as declared) whose domain reads no variable still unbound. ``_ranged``: the
+        conjuncts 'x in s' that give domains."""
         domains: list[ir.Domain] = []
+        self._ranged: list[ast.Expr] = []
         while pending:
             unbound = {id(d) for d, _ in pending}
             for k, (d, var) in enumerate(pending):
@@ -152,6 +161,7 @@ class BinderLowering:
 
         for c in conjuncts:
             if isinstance(c, ast.Binary) and c.op == "in" and mine(c.left) and free(c.right):
+                self._ranged.append(c)
                 return self._set_domain(var, c.right, d, graph)
         if var.type == T.BOOLEAN or (isinstance(var.type, T.EnumT) and not var.type.literal_args):
             return ir.Domain(var, "values")

@@ -438,6 +438,9 @@ class ExpressionLowering:
             return self.coll(args[0].type.element, op, args, e)  # an element, of the collection's own type  # type: ignore[union-attr]
         if op in ("Union", "Inter", "dconcat"):  # of the elements' elements: the outermost level's capacity
             inner = args[0].type.element  # type: ignore[union-attr]
+            if not isinstance(inner, T.SeqT if op == "dconcat" else T.SetT):
+                raise not_supported(f"'{sym.name}' of {args[0].type.show()} (a sequence taken as the set of its (index, "
+                                    "element) pairs)", e.span)
             outer = (T.SetT if op != "dconcat" else T.SeqT)(inner.element)  # type: ignore[union-attr]
             check_codegen_type(outer, e.span, f"the result of '{sym.name}'")
             return self.conv(self.coll(outer, op, args, e), t, e.span)
