@@ -20,7 +20,7 @@ The bodies of the operations are :mod:`robogen.codegen.collection_ops`'s; relati
 from __future__ import annotations
 
 from robogen.codegen import collection_ops as O
-from robogen.codegen.cnames import ctype, elem_tag, literal
+from robogen.codegen.cnames import ctype, elem_tag, literal, mangle
 from robogen.codegen.relations import relation_body
 from robogen.ir import model as ir
 from robogen.ir.collections import EMPTY_FAULTS, RELATION_OPS, all_values
@@ -161,6 +161,8 @@ class CollectionCode:
         """The function of relation operation ``op`` on arguments of ``types`` (relations: sets
         of pairs) giving ``result``, as robogen.ir.collections computes it."""
         name = f"rg_{op}_" + "_".join(ctype(t)[3:] for t in types)
+        if op == "iter":  # its identity relation is every value of an enumeration: one function per enumeration
+            name = f"rg_iter_{ctype(types[1])[3:]}{_finite_suffix(types[1].element.field('_1'))}"
         if name not in self.extra:
             for t in (*types, result):
                 if isinstance(t, (T.SetT, T.SeqT)):
@@ -174,14 +176,14 @@ class CollectionCode:
 
     def need_inter(self, t: T.SetT) -> str:
         """``Inter`` of a set of sets of type ``t``."""
-        name = function("Inter", t)
+        name = function("Inter", t) + _finite_suffix(t.element.element)  # type: ignore[attr-defined]
         if name not in self.extra:
             self.types[t] = self.types[_outer(t.element)] = None
             self._element(t.element)
             inner = t.element.element  # type: ignore[attr-defined]
             values = all_values(inner)
             every = None if values is None else [literal(v, inner) for v in values]
-            self.extra[name] = O.inter_all(t, every, self)
+            self.extra[name] = O.inter_all(t, every, self).replace(function("Inter", t) + "(", name + "(")
         return name
 
     def fallible(self, op: str) -> bool:
@@ -199,6 +201,12 @@ class CollectionCode:
             parts.setdefault(function(op, t), O.BODIES[op](t, self))
         parts.update(self.extra)
         return "\n\n".join(parts.values())
+
+
+def _finite_suffix(t: T.Type) -> str:
+    """What tells apart the functions that list every value of an enumeration (Inter, iter) when
+    enumerations share one C type."""
+    return f"_{mangle(t.qname)}" if isinstance(t, T.EnumT) else ""
 
 
 def _outer(t: T.Type) -> T.Type:
