@@ -9,7 +9,7 @@ from xml.etree import ElementTree
 
 import pytest
 
-from support.codegen_driver import FmuRunner, Instant, Scenario, Tick, build, interpret
+from support.codegen_driver import Instant, Scenario, Tick, build, run_checked
 from support.codegen_models import MODELS
 from robogen.ir.lower import LoweringOptions
 
@@ -24,14 +24,7 @@ def nesting(tmp_path_factory):
 
 def _run(built, ticks: list[Tick]):
     """One tick per instant (each with a tock); the FMU's trace, checked against the interpreter's."""
-    scenario = Scenario([Instant(True, early=(t,)) for t in ticks], half=False)
-    runner = FmuRunner(built.folder)
-    try:
-        got = runner.run(scenario)
-    finally:
-        runner.close()
-    expected = interpret(built.fmu, scenario, runner.desc)
-    assert got.comparable() == expected.comparable()
+    got = run_checked(built, Scenario([Instant(True, early=(t,)) for t in ticks], half=False))
     assert got.error is None, got.error
     return got
 

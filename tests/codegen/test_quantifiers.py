@@ -7,7 +7,7 @@ from __future__ import annotations
 
 import pytest
 
-from support.codegen_driver import FmuRunner, Instant, Scenario, Tick, build, interpret
+from support.codegen_driver import Instant, Scenario, Tick, build, run_checked
 from robogen.diagnostics import RobogenError
 from robogen.ir.lower import LoweringOptions
 
@@ -22,17 +22,7 @@ def _run(tmp_path, name: str, text: str, ticks: list[Tick], options: LoweringOpt
         c_file = tmp_path / f"{name}.c"
         c_file.write_text(c_functions)
     built = build([path], tmp_path / name, options=options, functions=c_file)
-    scenario = Scenario([Instant(True, early=(t,)) for t in ticks], half=False)
-    runner = FmuRunner(built.folder)
-    try:
-        got = runner.run(scenario)
-    finally:
-        runner.close()
-    expected = interpret(built.fmu, scenario, runner.desc, functions=functions)
-    assert got.comparable() == expected.comparable()
-    if got.error is not None:  # the same run-time error, with the same message
-        assert expected.error is not None and expected.error.where in got.error.where
-    return got
+    return run_checked(built, Scenario([Instant(True, early=(t,)) for t in ticks], half=False), functions=functions)
 
 
 def _values(trace, clock: str):

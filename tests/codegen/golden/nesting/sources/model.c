@@ -1043,8 +1043,8 @@ static rg_set_tup2_i_i rg_rinv_set_tup2_i_i(rg_model_data *d, int32_t site, rg_s
     return r;
 }
 
-static rg_set_tup2_i_i rg_iter_64_t_set_tup2_i_i(rg_model_data *d, int32_t site, int64_t n, rg_set_tup2_i_i a) RG_MAYBE_UNUSED;
-static rg_set_tup2_i_i rg_iter_64_t_set_tup2_i_i(rg_model_data *d, int32_t site, int64_t n, rg_set_tup2_i_i a)
+static rg_set_tup2_i_i rg_iter_set_tup2_i_i(rg_model_data *d, int32_t site, int64_t n, rg_set_tup2_i_i a) RG_MAYBE_UNUSED;
+static rg_set_tup2_i_i rg_iter_set_tup2_i_i(rg_model_data *d, int32_t site, int64_t n, rg_set_tup2_i_i a)
 {
     uint64_t i, k, count;
     rg_set_tup2_i_i r, p;
@@ -1729,7 +1729,7 @@ static int rg_run_0(rg_instance *inst)
             RG_TRACE(inst, "Shapes: t6: Idle -> Idle");
             if (((rg_i_neg(INT64_C(3)) <= m->v_n) && (m->v_n <= INT64_C(5))) && (m->v_n != INT64_C(0))) {
                 {
-                    rg_set_tup2_i_i a0_ = rg_iter_64_t_set_tup2_i_i(d, 89, m->v_n, m->v_r);
+                    rg_set_tup2_i_i a0_ = rg_iter_set_tup2_i_i(d, 89, m->v_n, m->v_r);
                     if (d->fault) return rg_fault_0(inst);
                     {
                         uint64_t i;
