@@ -38,18 +38,20 @@ _BINARY = {
 }
 
 
+_KINDS = ("value", "pair", "set", "seq")  # the forms of arguments (a set or sequence may hold anything)
+
 # toolkit functions code generation implements: (name, the forms of the arguments) -> operation
 # of robogen.ir.collections (first, second and maplet are tuple operations)
 TOOLKIT: dict[str, dict[tuple[str, tuple[str, ...]], str]] = {
     "set_toolkit": {
-        ("notin", ("value", "set")): "notin", ("notin", ("pair", "set")): "notin",
+        **{("notin", (a, "set")): "notin" for a in _KINDS},
         ("subseteq", ("set", "set")): "subseteq", ("subset", ("set", "set")): "subset",
         ("union", ("set", "set")): "union", ("inter", ("set", "set")): "inter", ("diff", ("set", "set")): "diff",
         ("symetric_diff", ("set", "set")): "symdiff", ("Union", ("set",)): "Union", ("Inter", ("set",)): "Inter",
     },
     "relation_toolkit": {
         ("first", ("pair",)): "first", ("second", ("pair",)): "second",
-        **{("maplet", (a, b)): "maplet" for a in ("value", "pair") for b in ("value", "pair")},
+        **{("maplet", (a, b)): "maplet" for a in _KINDS for b in _KINDS},
         ("dom", ("seq",)): "indices", ("ran", ("seq",)): "elems",
         # relations: sets of pairs
         ("dom", ("set",)): "dom", ("ran", ("set",)): "ran", ("rinv", ("set",)): "rinv",
@@ -451,11 +453,11 @@ class ExpressionLowering:
         elif is_collection(t) and op not in ("elems", "indices"):
             # the collections the result is made from have its type ({} and <> take it)
             args = [self.conv(a, t, x.span) if is_collection(a.type) else a for a, x in zip(args, e.args)]
+        elif op == "notin":  # an element (of any form) and a set
+            args[0], args[1] = self.member(args[0], args[1], e.args[0].span, e.args[1].span)
         elif len(args) == 2 and all(is_collection(a.type) for a in args):
             common = args[1].type if isinstance(args[0].type.element, T.UnknownT) else args[0].type  # type: ignore[union-attr]
             args = [self.conv(a, replace(a.type, element=common.element), x.span) for a, x in zip(args, e.args)]  # type: ignore[union-attr, call-arg]
-        elif op == "notin":
-            args[0], args[1] = self.member(args[0], args[1], e.args[0].span, e.args[1].span)
         if isinstance(t, (T.SetT, T.SeqT)):
             check_codegen_type(t, e.span, f"the result of '{sym.name}'")
         return self.coll(t, op, args, e)
