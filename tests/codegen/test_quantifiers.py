@@ -245,3 +245,63 @@ def test_a_user_function_receives_a_string_as_its_text(tmp_path):
                c_functions=STRING_C, functions=functions)
     assert _values(got, "out") == [10, 10]
     assert _values(got, "len") == [8, 13]
+
+
+RELATIONS = """\
+import function_toolkit::*
+import relation_toolkit::*
+import set_toolkit::*
+enumeration E { A B C }
+stm F {
+	var r: int <-> int = {(| 1, 2 |), (| 2, 3 |), (| 3, 4 |)}
+	var s: Set(int * int) = {(| 1, 2 |), (| 5, 2 |)}
+	var g: E <-> E
+	event go
+	event b1: boolean
+	event b2: boolean
+	event b3: boolean
+	event b4: boolean
+	event b5: boolean
+	event b6: boolean
+	event b7: boolean
+	event b8: boolean
+	event t1: int <-> int
+	event t2: int <-> int
+	event u: E <-> E
+	initial i
+	state Idle { }
+	transition t0 { from i to Idle }
+	transition t { from Idle to Idle trigger go action b1!isInjection(r) ; b2!isInjection(s) ; t1!tr_closure(r) ;
+		t2!funcomp(r, r) ; b3!isFinite(r) ; g = id() ; b4!isTotal(g) ; b5!isBijection(g) ;
+		u!refl_tr_closure({(| E::A, E::B |)}) ; b6!disjoint({(| 1, {2} |), (| 2, {3} |)}) ;
+		b7!partitions({(| 1, {2} |), (| 2, {3, 2} |)}, {2, 3}) ; b8!isSurjection({(| E::A, E::B |)}) }
+}
+"""
+
+
+def _pairs(trace, clock: str) -> list[tuple]:
+    (o,) = [s.outputs[clock] for s in trace.steps if clock in s.outputs]
+    n = o[f"{clock}.value.size"]
+    return list(zip(o[f"{clock}.value.elements._1"][:n], o[f"{clock}.value.elements._2"][:n]))
+
+
+def test_the_relation_and_function_toolkits_on_finite_relations(tmp_path):
+    got = _run(tmp_path, "f", RELATIONS, [Tick("go", {})])
+    # r = {1 -> 2, 2 -> 3, 3 -> 4} is injective; s = {1 -> 2, 5 -> 2} is not
+    assert [_values(got, b)[0] for b in ("b1", "b2", "b3")] == [True, False, True]
+    assert _pairs(got, "t1") == [(1, 2), (1, 3), (1, 4), (2, 3), (2, 4), (3, 4)]  # r, r;r, r;r;r
+    assert _pairs(got, "t2") == [(1, 3), (2, 4)]  # funcomp(r, r) = relcomp(r, r)
+    # id() on E (its type from where it is stored) is total and a bijection
+    assert [_values(got, b)[0] for b in ("b4", "b5")] == [True, True]
+    assert _pairs(got, "u") == [(0, 0), (0, 1), (1, 1), (2, 2)]  # {A -> B} with the identity on E
+    # {2} and {3} are disjoint; {2} and {3, 2} are not, so no partition; {A -> B} does not reach A and C
+    assert [_values(got, b)[0] for b in ("b6", "b7", "b8")] == [True, False, False]
+
+
+def test_the_identity_relation_on_an_infinite_type_is_a_located_error(tmp_path):
+    path = tmp_path / "f.rct"
+    path.write_text(RELATIONS.replace("u!refl_tr_closure({(| E::A, E::B |)})", "t1!refl_tr_closure(r)"))
+    with pytest.raises(RobogenError) as info:
+        build([path], tmp_path / "f")
+    assert "f.rct:26:6: 'refl_tr_closure' on int (the identity relation on an infinite type) is not supported" \
+        in str(info.value)

@@ -182,6 +182,12 @@ def indices(t, k: Needs) -> str:
     return building("rg_set_u", function("indices", t), f"{ctype(t)} q", loop)
 
 
+def pairs(t, k: Needs, result: T.Type) -> str:
+    """A sequence as the set of its (index, element) pairs (of the same capacity)."""
+    loop = "for (i = 0; i < q.n; i++) { r.a[i]._1 = i + 1; r.a[i]._2 = q.a[i]; } r.n = q.n;"
+    return building(ctype(result), function("pairs", t), f"{ctype(t)} q", loop)
+
+
 def filter_(t, k: Needs) -> str:
     c, s = ctype(t), ctype(T.SetT(t.element))
     loop = f"for (i = 0; i < q.n; i++) if ({k.has(T.SetT(t.element))}s, q.a[i])) r.a[r.n++] = q.a[i];"
@@ -272,4 +278,4 @@ BODIES = {
 }
 
 
-__all__ = ["BODIES", "Needs", "cmp", "cmp_function", "function", "sig", "fault", "building", "inter_all"]
+__all__ = ["BODIES", "Needs", "cmp", "cmp_function", "function", "sig", "fault", "building", "inter_all", "pairs"]

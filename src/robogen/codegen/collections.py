@@ -265,6 +265,11 @@ def call(code: CollectionCode, e: ir.Coll, args: list[str], site: int) -> str:
         return f"{code.need_conv(e.args[0].type, e.type)}(d, {site}, {args[0]})"
     if op == "Inter":
         return f"{code.need_inter(e.args[0].type)}(d, {site}, {args[0]})"  # type: ignore[arg-type]
+    if op == "pairs":
+        name = function("pairs", e.args[0].type)
+        code.types[e.type] = None
+        code.extra.setdefault(name, O.pairs(e.args[0].type, code, e.type))
+        return f"{name}({args[0]})"
     if op == "undefined":  # a run-time error in place of a value of type e.type
         name = f"rg_undefined_{elem_tag(e.type)}"
         c = ctype(e.type)

@@ -17,6 +17,8 @@ def relation_body(op: str, name: str, types: list, result: T.Type, code) -> str:
     ``result``; ``code``: the FMU's CollectionCode (the functions it calls)."""
     if op == "iter":
         return _iter(name, types, result, code)
+    if op == "closure":
+        return _closure(name, types[0], code)
     at = 1 if op in ("dres", "dsub") else 0
     rel = types[at]
     x, y = rel.element.field("_1"), rel.element.field("_2")
@@ -94,6 +96,25 @@ def _iter(name: str, types: list, result: T.Type, code) -> str:
     ]
     body = "\n".join(lines)
     return f"{O.sig(r, name, f'rg_model_data *d, int32_t site, int64_t n, {r} a')}\n{{\n{body}\n}}"
+
+
+def _closure(name: str, rel: T.Type, code) -> str:
+    """``tr_closure(r)``: t with t;r until it grows no more (the union only grows, so the same
+    size is the same set; the capacity bounds the loop)."""
+    r = ctype(rel)
+    compose = code.need_relation("relcomp", [rel, rel], rel)
+    union = code.need("union", rel)
+    body = "\n".join([
+        f"    {r} t = a, p, q;",
+        "    for (;;) {",
+        f"        p = {compose}(d, site, t, a);",
+        "        if (d->fault) return t;",
+        f"        q = {union}(d, site, t, p);",
+        "        if (d->fault || q.n == t.n) return q;",
+        "        t = q;",
+        "    }",
+    ])
+    return f"{O.sig(r, name, f'rg_model_data *d, int32_t site, {r} a')}\n{{\n{body}\n}}"
 
 
 __all__ = ["relation_body", "FILTERS"]

@@ -26,7 +26,7 @@ from typing import TYPE_CHECKING
 
 from robogen.ir import model as ir
 from robogen.ir.region_tree import Graph
-from robogen.ir.supported import check_codegen_type, not_supported, tuple_type
+from robogen.ir.supported import InnerSeqT, InnerSetT, check_codegen_type, not_supported, tuple_type
 from robogen.semantics import types as T
 from robogen.semantics.model import FuncSym, VarSym
 from robogen.syntax import ast
@@ -124,6 +124,19 @@ class BinderLowering:
             check_codegen_type(t, e.span, "this comprehension" if kind == "set" else "this definite description")
         value = self.conv(value, t.element if kind == "set" else t, e.span)  # type: ignore[attr-defined]
         return ir.Quant(t, kind, domains, pred, value, expr_text(e), e.span)
+
+    def as_pair_sets(self, a: ir.Expr, at: ast.Expr) -> tuple[list[ir.Expr], T.Type]:
+        """A set of sequences as the set of their sets of (index, element) pairs (RoboChart's
+        sequences are such sets): ``{q | q in a @ pairs(q)}``; and the type of its elements."""
+        self.site += 1
+        seq = a.type.element  # type: ignore[attr-defined]
+        var = ir.Var(f"q#{self.site}", seq, "local", None, at.span, False, len(self.machine.vars))
+        self.machine.vars.append(var)
+        pair = tuple_type((T.NAT, seq.element))
+        inner: T.Type = InnerSetT(pair, seq.capacity) if isinstance(seq, InnerSeqT) else T.SetT(pair)
+        body = ir.Coll(inner, "pairs", (ir.Ref(seq, var),), expr_text(at), at.span)
+        sets = ir.Quant(T.SetT(inner), "set", (ir.Domain(var, "set", set=a),), None, body, expr_text(at), at.span)
+        return [sets], inner
 
     def _domains(self, kind: str, pending: list[tuple[ast.Decl, ir.Var]], conjuncts: list[ast.Expr],
                  graph: Graph) -> tuple[ir.Domain, ...]:

@@ -21,7 +21,9 @@ The operations, by the name lowering gives them (``s``, ``t`` sets, ``q``, ``r``
 - ``in(x, s)``, ``notin(x, s)`` (also of a sequence's elements), ``size(s)`` (also of a sequence);
 - ``union``, ``inter``, ``diff``, ``symdiff`` of two sets; ``subseteq``, ``subset`` (tests);
 - ``cat(q, r)`` (``^``, ``concat``), ``head``, ``last``, ``tail``, ``front``, ``reverse``;
-- ``elems(q)`` (``ran`` of a sequence: the set of its elements), ``indices(q)`` (its ``dom``);
+- ``elems(q)`` (``ran`` of a sequence: the set of its elements), ``indices(q)`` (its ``dom``),
+  ``pairs(q)`` (the sequence as a set of (index, element) pairs, as RoboChart takes it where a set
+  is expected: ``Union`` of a set of sequences);
 - ``filter(q, s)``: the elements of q in s, in order; ``extract(q, a)``: the elements of q at
   the positions (from 1) in the set of integers a, in order (the toolkit's ``extract(a, q)``);
   ``range(x, y)``: the integers x..y;
@@ -31,7 +33,8 @@ The operations, by the name lowering gives them (``s``, ``t`` sets, ``q``, ``r``
 - ``Union(a)``, ``Inter(a)`` of a set of sets (``Inter`` of the empty set is every value of the
   element type: all the literals of an enumeration, ``{false, true}``, and a run-time error for
   an infinite type); ``dconcat(q)`` of a sequence of sequences (their concatenation);
-- relations (:data:`RELATION_OPS`), among them ``iter(n, r)``: ``r`` composed with itself n
+- relations (:data:`RELATION_OPS`), among them ``closure(r)`` (``tr_closure``: r with r;r,
+  r;r;r... until nothing is added) and ``iter(n, r)``: ``r`` composed with itself n
   times (``relcomp``), of ``rinv(r)`` for a negative n, the identity relation for 0 (as
   ``Inter({})``, only of an enumeration or boolean); the powers stop early when one repeats the
   one before, and more than :data:`LOOP_LIMIT` of them is a run-time error.
@@ -43,11 +46,11 @@ from robogen.semantics import types as T
 
 # the operations whose result is a set / a sequence / something else (and which element type
 # their result has is the code generator's business)
-SET_RESULTS = ("set", "union", "inter", "diff", "symdiff", "elems", "indices", "Union", "Inter")
+SET_RESULTS = ("set", "union", "inter", "diff", "symdiff", "elems", "indices", "Union", "Inter", "pairs")
 SEQ_RESULTS = ("seq", "cat", "tail", "front", "reverse", "filter", "extract", "range", "dconcat")
 EMPTY_FAULTS = ("head", "last", "tail", "front", "min", "max")
 CAN_OVERFLOW = ("set", "seq", "union", "symdiff", "cat", "elems", "range", "dom", "ran", "rinv", "rimage", "roverride",
-                "relcomp", "Union", "dconcat", "iter", "conv")
+                "relcomp", "Union", "dconcat", "iter", "conv", "closure")
 # operations whose second fault is not that of an empty collection: the message of each
 OTHER_FAULTS = {"Inter": "'Inter' of an empty set of sets: every value of an infinite type",
                 "iter": f"'iter' of 0 on an infinite type (the identity relation), or of more than {1 << 16} powers that "
@@ -150,23 +153,8 @@ def apply(op: str, args: list, arg_types: list[T.Type], capacity: int, overflow:
         return bool(s)
     if op in EMPTY_FAULTS and not s:
         raise CollectionFault(empty)
-    if op in ("union", "symdiff"):
-        t = args[1]
-        for x in s:
-            if op == "union" or not member(x, t, elem):
-                out.insert(x, elem)
-        for x in t:
-            if op == "union" or not member(x, s, elem):
-                out.insert(x, elem)
-        return out.items
-    if op in ("inter", "diff"):
-        for x in s:
-            if member(x, args[1], elem) == (op == "inter"):
-                out.append(x)
-        return out.items
-    if op in ("subseteq", "subset"):
-        inside = all(member(x, args[1], elem) for x in s)
-        return inside and (op == "subseteq" or len(s) < len(args[1]))
+    if op in ("union", "symdiff", "inter", "diff", "subseteq", "subset"):
+        return _sets(op, s, args[1], elem, out)
     if op == "cat":
         for x in s + args[1]:
             out.append(x)
@@ -183,6 +171,8 @@ def apply(op: str, args: list, arg_types: list[T.Type], capacity: int, overflow:
         return out.items
     if op == "indices":
         return list(range(1, len(s) + 1))  # never longer than s
+    if op == "pairs":  # a sequence as the set of its (index, element) pairs, in the order of the indices
+        return [{"_1": i, "_2": x} for i, x in enumerate(s, 1)]
     if op in ("filter", "extract"):  # the elements of s in the set (filter), or at the positions in it
         for i, x in enumerate(s, 1):
             if member(x, args[1], elem) if op == "filter" else member(i, args[1], T.INT):
@@ -207,6 +197,25 @@ def apply(op: str, args: list, arg_types: list[T.Type], capacity: int, overflow:
     raise CollectionFault(f"unknown collection operation {op}")  # pragma: no cover
 
 
+def _sets(op: str, s: list, t: list, elem: T.Type, out: Builder):
+    """The operations of two sets (union, symdiff, inter, diff; the tests subseteq, subset)."""
+    if op in ("union", "symdiff"):
+        for x in s:
+            if op == "union" or not member(x, t, elem):
+                out.insert(x, elem)
+        for x in t:
+            if op == "union" or not member(x, s, elem):
+                out.insert(x, elem)
+        return out.items
+    if op in ("inter", "diff"):
+        for x in s:
+            if member(x, t, elem) == (op == "inter"):
+                out.append(x)
+        return out.items
+    inside = all(member(x, t, elem) for x in s)
+    return inside and (op == "subseteq" or len(s) < len(t))
+
+
 def _nested(op: str, s: list, inner: T.Type, result: T.Type, out: Builder, other: str) -> list:
     """``Union``, ``Inter`` of the set of sets ``s``, ``dconcat`` of the sequence of sequences."""
     elem = inner.element  # type: ignore[attr-defined]
@@ -226,7 +235,8 @@ def _nested(op: str, s: list, inner: T.Type, result: T.Type, out: Builder, other
 
 
 # relations are sets of pairs (tuples with fields _1, _2): their operations, by name
-RELATION_OPS = ("dom", "ran", "rinv", "dres", "dsub", "rres", "rsub", "rimage", "roverride", "relcomp", "squash", "iter")
+RELATION_OPS = ("dom", "ran", "rinv", "dres", "dsub", "rres", "rsub", "rimage", "roverride", "relcomp", "squash", "iter",
+                "closure")
 
 
 def _relation(op: str, args: list, arg_types: list[T.Type], result: T.Type, out: Builder, other: str = ""):
@@ -262,6 +272,16 @@ def _relation(op: str, args: list, arg_types: list[T.Type], result: T.Type, out:
         return _relcomp(r, args[1], y, res_elem, out)
     if op == "iter":
         return _iter(args[0], r, pair, out, other)
+    if op == "closure":  # tr_closure: t := t with t;r until it grows no more (it only grows: a capacity bounds it)
+        closure = list(r)
+        while True:
+            step = _relcomp(closure, r, y, pair, Builder(out.capacity, out.overflow))
+            grown = Builder(out.capacity, out.overflow)
+            for q in closure + step:
+                grown.insert(q, pair)
+            if len(grown.items) == len(closure):
+                return grown.items
+            closure = grown.items
     for p in r:  # squash
         out.append(p["_2"])
     return out.items

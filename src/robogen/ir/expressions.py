@@ -16,6 +16,7 @@ from robogen.ir import linear
 from robogen.ir import model as ir
 from robogen.ir.collections import RELATION_OPS
 from robogen.ir.constants import default_expr
+from robogen.ir.derived import FUNCTIONAL, RELATIONAL, identity
 from robogen.ir.region_tree import Graph
 from robogen.ir.supported import (TaggedT, TupleT, check_codegen_type, convertible, fits, holds_string, is_collection, is_scalar,
                                   not_supported, tuple_type)
@@ -149,6 +150,8 @@ class ExpressionLowering:
         element (a set re-ordered), a run-time error if it holds more than ``t``'s capacity."""
         if isinstance(e, ir.Coll) and e.op in ("set", "seq"):
             return ir.Coll(t, e.op, tuple(self.conv(x, t.element, span) for x in e.args), e.text, e.span)
+        if isinstance(e, ir.Coll) and e.op == "identity":  # id(): the identity relation of the type it is used as
+            return identity(t, "id", e.text, e.span)
         source = e.type.element  # type: ignore[attr-defined]
         if isinstance(source, T.UnknownT):
             return e
@@ -409,6 +412,9 @@ class ExpressionLowering:
             return ir.CallB(t, sym.name, tuple(self.conv(self.expr(a, graph), t, a.span) for a in e.args))
         if isinstance(sym, FuncSym) and sym.builtin is None and sym.decl is not None:
             return self._user_call(sym, e, graph)
+        if isinstance(sym, FuncSym) and sym.builtin is not None and sym.name in RELATIONAL + FUNCTIONAL and \
+                getattr(sym.builtin, "package", None) in ("relation_toolkit", "function_toolkit"):
+            return self.derived_call(sym.name, [self.expr(a, graph) for a in e.args], e)  # type: ignore[attr-defined]
         if isinstance(sym, FuncSym) and getattr(sym.builtin, "package", None) in TOOLKIT:
             return self._toolkit_call(sym, e, graph)
         if sym is None or isinstance(sym, VarSym):  # a function value: a lambda, override, a variable
@@ -440,9 +446,8 @@ class ExpressionLowering:
             return self.coll(args[0].type.element, op, args, e)  # an element, of the collection's own type  # type: ignore[union-attr]
         if op in ("Union", "Inter", "dconcat"):  # of the elements' elements: the outermost level's capacity
             inner = args[0].type.element  # type: ignore[union-attr]
-            if not isinstance(inner, T.SeqT if op == "dconcat" else T.SetT):
-                raise not_supported(f"'{sym.name}' of {args[0].type.show()} (a sequence taken as the set of its (index, "
-                                    "element) pairs)", e.span)
+            if op != "dconcat" and isinstance(inner, T.SeqT):  # sequences, as sets of (index, element) pairs
+                args, inner = self.as_pair_sets(args[0], e.args[0])
             outer = (T.SetT if op != "dconcat" else T.SeqT)(inner.element)  # type: ignore[union-attr]
             check_codegen_type(outer, e.span, f"the result of '{sym.name}'")
             return self.conv(self.coll(outer, op, args, e), t, e.span)

@@ -19,6 +19,7 @@ from robogen.ir import model as ir
 from robogen.ir.binders import BinderLowering
 from robogen.ir.bindings import BindingLowering
 from robogen.ir.boundary import Boundary
+from robogen.ir.derived import DerivedLowering
 from robogen.ir.constants import constant_value, default_value, parse_setting, shown
 from robogen.ir.expressions import ExpressionLowering
 from robogen.ir.region_tree import Graph, place_of, state_action
@@ -96,7 +97,7 @@ def drive(steps: Steps):
     return value
 
 
-class MachineLowering(StatementLowering, BindingLowering, BinderLowering, ExpressionLowering, FunctionValues):
+class MachineLowering(StatementLowering, BindingLowering, BinderLowering, DerivedLowering, ExpressionLowering, FunctionValues):
     def __init__(self, ctx: FmuContext, scope: MachineScope, ctrl: Controller | None, index: int, used_name: str,
                  name: str | None = None):
         """``name``: the machine's name in the FMU (its own, or its instance path where two
