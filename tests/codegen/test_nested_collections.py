@@ -5,12 +5,20 @@ its elements' variables with one more array dimension of the collection's capaci
 
 from __future__ import annotations
 
+import os
+import shutil
+import subprocess
+import sys
+from pathlib import Path
 from xml.etree import ElementTree
 
 import pytest
 
 from support.codegen_driver import Instant, Scenario, Tick, build, run_checked
 from support.codegen_models import MODELS
+from robogen import toolchain
+from robogen.codegen import binary
+from robogen.fmu.headers import PLATFORM_TUPLE
 from robogen.ir.lower import LoweringOptions
 
 CAPACITIES = (6, 3, 2)
@@ -155,3 +163,39 @@ def test_iter_composes_a_relation_with_itself(nesting):
              for s in _outputs(got, "steps")]
     assert pairs == [[(1, 2), (2, 3), (3, 1)], [(1, 3), (2, 1), (3, 2)], [(1, 3), (2, 1), (3, 2)],
                      [(1, 1), (2, 2), (3, 3)], []]
+
+
+SANITIZED_DRIVER = """
+import random, sys
+from pathlib import Path
+from support.codegen_driver import FmuRunner, random_scenario
+from support.codegen_models import NESTING
+runner = FmuRunner(Path(sys.argv[1]))
+rng = random.Random(5)
+steps = 0
+for n in range(30):
+    # the test model's choices (sizes mostly within the capacities), then any value (sizes up to 2^64 - 1)
+    steps += len(runner.run(random_scenario(rng, runner.desc, 20, choices=NESTING if n % 2 else None)).steps)
+runner.close()
+print("ok", steps)
+"""
+
+
+@pytest.mark.slow
+def test_the_loops_of_every_nesting_level_run_clean_under_the_sanitizers(nesting, tmp_path):
+    """The C that reads and writes nested values, their views and the quantifiers' loops, under
+    AddressSanitizer and UndefinedBehaviorSanitizer, driven by random inputs in a process of its own."""
+    found = subprocess.run([*toolchain.compiler(), "-print-file-name=libasan.so"], capture_output=True, text=True).stdout.strip()
+    if not (os.path.isabs(found) and os.path.exists(found)):
+        pytest.skip("no AddressSanitizer runtime for this compiler")
+    folder = tmp_path / "sanitized"
+    shutil.copytree(nesting.folder, folder)
+    ident = nesting.fmu.model_identifier
+    binary.compile_fmu_binary(folder / "sources", ident, folder / "binaries" / PLATFORM_TUPLE / f"{ident}.so", sanitize=True)
+    env = {**os.environ, "LD_PRELOAD": found, "ASAN_OPTIONS": "detect_leaks=0:halt_on_error=1", "PYTHONMALLOC": "malloc",
+           "UBSAN_OPTIONS": "halt_on_error=1:print_stacktrace=1", "PYTHONPATH": str(Path(__file__).resolve().parent.parent)}
+    proc = subprocess.run([sys.executable, "-c", SANITIZED_DRIVER, str(folder)], capture_output=True, text=True, timeout=900,
+                          env=env)
+    assert proc.returncode == 0, proc.stderr[-4000:]
+    assert proc.stdout.startswith("ok ") and int(proc.stdout.split()[1]) > 0
+    assert "runtime error" not in proc.stderr and "AddressSanitizer" not in proc.stderr

@@ -159,8 +159,8 @@ def normalise(t: T.Type, given: str = "int", capacities: tuple[int, ...] = (), l
     if isinstance(t, T.FunctionT) and t.relation:  # a relation is the set of its pairs
         pair = tuple_type((normalise(t.domain, given, capacities, level + 1), normalise(t.range, given, capacities, level + 1)))
         return _collection(T.SetT, pair, capacities, level)
-    if isinstance(t, T.FunctionT):
-        return T.FunctionT(normalise(t.domain, given), normalise(t.range, given), t.relation)
+    if isinstance(t, T.FunctionT):  # its parameters and result are values of their own (level 0)
+        return T.FunctionT(normalise(t.domain, given, capacities), normalise(t.range, given, capacities), t.relation)
     if isinstance(t, T.RecordT) or (isinstance(t, T.EnumT) and any(t.literal_args)):
         return _record(t, given, capacities, level)
     if isinstance(t, T.VectorT):
