@@ -4,7 +4,7 @@ and its model line, and never corrupts memory), function values, and strings."""
 
 from __future__ import annotations
 
-from support.codegen_driver import FmuRunner, Instant, Scenario, Tick, build, interpret
+from support.codegen_driver import FmuRunner, Instant, Scenario, Tick, build_text, interpret
 from support.codegen_models import MODELS
 from robogen.ir.lower import LoweringOptions
 
@@ -26,13 +26,7 @@ stm Grow {
 
 def _run(tmp_path, name: str, text: str, scenario: Scenario, options: LoweringOptions | None = None,
          c_functions: str | None = None, functions: dict | None = None):
-    path = tmp_path / f"{name}.rct"
-    path.write_text(text)
-    c_file = None
-    if c_functions is not None:
-        c_file = tmp_path / f"{name}.c"
-        c_file.write_text(c_functions)
-    built = build([path], tmp_path / name, options=options, functions=c_file)
+    built = build_text(tmp_path, name, text, options, c_functions)
     runner = FmuRunner(built.folder)
     try:
         got = runner.run(scenario)

@@ -7,7 +7,7 @@ from __future__ import annotations
 
 import pytest
 
-from support.codegen_driver import Instant, Scenario, Tick, build, run_checked
+from support.codegen_driver import Instant, Scenario, Tick, build, build_text, run_checked
 from robogen.diagnostics import RobogenError
 from robogen.ir.lower import LoweringOptions
 
@@ -15,13 +15,7 @@ from robogen.ir.lower import LoweringOptions
 def _run(tmp_path, name: str, text: str, ticks: list[Tick], options: LoweringOptions | None = None,
          c_functions: str | None = None, functions: dict | None = None):
     """One tick per instant; the FMU's trace, after checking that the interpreter's is the same."""
-    path = tmp_path / f"{name}.rct"
-    path.write_text(text)
-    c_file = None
-    if c_functions is not None:
-        c_file = tmp_path / f"{name}.c"
-        c_file.write_text(c_functions)
-    built = build([path], tmp_path / name, options=options, functions=c_file)
+    built = build_text(tmp_path, name, text, options, c_functions)
     return run_checked(built, Scenario([Instant(True, early=(t,)) for t in ticks], half=False), functions=functions)
 
 

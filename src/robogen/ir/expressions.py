@@ -73,11 +73,6 @@ TOOLKIT: dict[str, dict[tuple[str, tuple[str, ...]], str]] = {
 }
 
 
-def _literal(e: ir.Expr) -> bool:
-    """A record literal or a set or sequence enumeration: it takes the type it is used as."""
-    return isinstance(e, ir.RecordLit) or (isinstance(e, ir.Coll) and e.op in ("set", "seq"))
-
-
 class ExpressionLowering:
     """The expression steps of :class:`~robogen.ir.machines.MachineLowering` (a mixin). It uses
     the machine lowering's ``_norm`` (concrete types), ``_declare_var`` (a shared variable met
@@ -294,9 +289,8 @@ class ExpressionLowering:
             raise not_supported(f"'{e.op}' on {a.type.show()}", e.span)
         if not (is_scalar(a.type) or isinstance(a.type, (T.RecordT, T.VectorT, T.MatrixT, T.SetT, T.SeqT)) or a.type == T.STRING):
             raise not_supported(f"comparing values of type {a.type.show()}", e.span)
-        if a.type != b.type and isinstance(a.type, (T.SetT, T.SeqT, T.RecordT)) and convertible(a.type, b.type) \
-                and not (_literal(a) or _literal(b)):
-            a, b = self.common(a, b, (e.left.span, e.right.span))  # collections of other capacities inside
+        if a.type != b.type and isinstance(a.type, (T.SetT, T.SeqT, T.RecordT)) and convertible(a.type, b.type):
+            a, b = self.common(a, b, (e.left.span, e.right.span))  # into the one of the greater capacities
         if a.type != b.type:  # a literal takes the type of the other side: [| 0, 0 |] is vector(nat, 2)
             if self.conv(b, a.type, e.right.span).type == a.type:
                 b = self.conv(b, a.type, e.right.span)
