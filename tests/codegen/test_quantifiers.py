@@ -299,3 +299,28 @@ def test_the_identity_relation_on_an_infinite_type_is_a_located_error(tmp_path):
         build([path], tmp_path / "f")
     assert "f.rct:26:6: 'refl_tr_closure' on int (the identity relation on an infinite type) is not supported" \
         in str(info.value)
+
+
+BETWEEN_LEVELS = """\
+import sequence_toolkit::*
+stm C {
+	var qq: Seq(Seq(int)) = <<1, 2, 3>>
+	event go
+	event b: boolean
+	event c: boolean
+	event d: boolean
+	initial i
+	state Idle { }
+	transition t0 { from i to Idle }
+	transition t1 { from Idle to Idle trigger go action b!(qq[1] == <1, 2, 3, 4>) ; c!(<1, 2, 3, 4> in qq) ;
+		d!(<1, 2, 3> in qq) }
+}
+"""
+
+
+def test_membership_and_equality_between_levels_never_overflow(tmp_path):
+    # --capacity 4,3: <1, 2, 3, 4> cannot be an element of qq, and is not (the nested value is
+    # converted to the literal's capacity, not the other way round)
+    got = _run(tmp_path, "c", BETWEEN_LEVELS, [Tick("go", {})], LoweringOptions(capacity=4, capacities=(4, 3)))
+    assert got.error is None
+    assert [_values(got, x) for x in "bcd"] == [[False], [False], [True]]
