@@ -111,7 +111,7 @@ def bench_calls(fmus: dict[str, Path], folder: Path) -> None:
     note = median_time(noting) - median_time(empty)
     print(f"1. one fmi3GetFloat64 call: robogen {1e6 * a / n:.3f} us, fmpy FMU3Slave.getFloat64 {1e6 * b / n:.3f} us "
           f"-> robogen {b / a:.1f}x faster; noting the call for a crash report: {1e9 * note / n:.0f} ns "
-          f"({100 * note / a:.1f}% of the call; in the C stretch one store)")
+          f"({100 * note / a:.1f}% of the call; in the engine one store)")
     inst.fmi3FreeInstance()
     slave.terminate()
     slave.freeInstance()
@@ -131,22 +131,22 @@ def bench_steps(fmus: dict[str, Path], folder: Path) -> None:
         results["theirs"] = fmpy.simulate_fmu(str(fmus["trivial"]), stop_time=1.0, output_interval=h, output=["y"],
                                               use_event_mode=True, early_return_allowed=False)
 
-    def python_loop():  # the master without its C stretch (as on a machine without a C compiler)
-        saved = os.environ.get("ROBOGEN_NO_C_STEPPER")
-        os.environ["ROBOGEN_NO_C_STEPPER"] = "1"
+    def python_loop():  # the master's reference loop (as on a machine without a C compiler)
+        saved = os.environ.get("ROBOGEN_REFERENCE_LOOP")
+        os.environ["ROBOGEN_REFERENCE_LOOP"] = "1"
         try:
             results["python"] = simulate_system(path)
         finally:
             if saved is None:
-                del os.environ["ROBOGEN_NO_C_STEPPER"]
+                del os.environ["ROBOGEN_REFERENCE_LOOP"]
             else:
-                os.environ["ROBOGEN_NO_C_STEPPER"] = saved
+                os.environ["ROBOGEN_REFERENCE_LOOP"] = saved
 
     a, b, c = median_time(ours), median_time(theirs), median_time(python_loop)
     assert len(results["ours"].rows) >= steps and len(results["theirs"]) >= steps
     assert results["ours"].rows == results["python"].rows
-    assert results["python"].stats.stretch == "Python"
-    print(f"2. {steps} steps of a trivial FMU: robogen ({results['ours'].stats.stretch} stretch) {a:.3f} s ({1e6 * a / steps:.2f} us/step), "
+    assert results["python"].stats.loop == "Python"
+    print(f"2. {steps} steps of a trivial FMU: robogen ({results['ours'].stats.loop} engine) {a:.3f} s ({1e6 * a / steps:.2f} us/step), "
           f"fmpy.simulate_fmu {b:.3f} s ({1e6 * b / steps:.2f} us/step) -> robogen {b / a:.2f}x faster (target >= 2.5x); "
           f"robogen's Python loop {c:.3f} s ({1e6 * c / steps:.2f} us/step, {b / c:.2f}x fmpy)")
     TABLE.append((f"one trivial FMU, {steps:,} steps", f"{a:.2f} s", f"fmpy.simulate_fmu {b:.2f} s", f"{b / a:.1f}x faster",
@@ -158,7 +158,7 @@ def bench_events(fmus: dict[str, Path], folder: Path) -> None:
     first event comes after the stop time, rows kept in memory: the difference per event iteration.
     The plain step is the quiet run's time less that of a 10-step run (loading and instantiating),
     per step. Also: the same with the rows going nowhere (the loop's own cost), to a CSV file
-    (flushed after every event iteration), and the Python loop (ROBOGEN_NO_C_STEPPER=1)."""
+    (flushed after every event iteration), and the Python loop (ROBOGEN_REFERENCE_LOOP=1)."""
     steps = 2_000 if QUICK else 20_000
     template = '[experiment]\nstop = {stop}\nstep = 0.1\n[instances.s]\nfmu = "{fmu}"\nstart = {{ period = {period} }}\n'
     every = system(folder, "stair-events", template.format(stop=steps * 0.1, fmu=fmus["stair"], period=0.1))
@@ -169,18 +169,18 @@ def bench_events(fmus: dict[str, Path], folder: Path) -> None:
                                   ("CSV", {"keep_rows": False, "output": folder / "events.csv"}, False),
                                   ("Python loop", {}, True)):
         runs = {}
-        saved = os.environ.pop("ROBOGEN_NO_C_STEPPER", None)
+        saved = os.environ.pop("ROBOGEN_REFERENCE_LOOP", None)
         if python:
-            os.environ["ROBOGEN_NO_C_STEPPER"] = "1"
+            os.environ["ROBOGEN_REFERENCE_LOOP"] = "1"
         try:
             a = median_time(lambda: runs.__setitem__("a", simulate_system(every, **kwargs)), repeat=5)
             b = median_time(lambda: runs.__setitem__("b", simulate_system(never, **kwargs)), repeat=5)
             b0 = median_time(lambda: simulate_system(short, **kwargs), repeat=5)
         finally:
-            os.environ.pop("ROBOGEN_NO_C_STEPPER", None)
+            os.environ.pop("ROBOGEN_REFERENCE_LOOP", None)
             if saved is not None:
-                os.environ["ROBOGEN_NO_C_STEPPER"] = saved
-        assert runs["a"].stats.stretch == ("Python" if python else "C") or python
+                os.environ["ROBOGEN_REFERENCE_LOOP"] = saved
+        assert runs["a"].stats.loop == ("Python" if python else "C") or python
         n_events = runs["a"].stats.event_iterations - runs["b"].stats.event_iterations
         figures[label] = ((a - b) / n_events, (b - b0) / (steps - 10), n_events)
     event, plain, n_events = figures["kept"]
@@ -296,7 +296,7 @@ def bench_ecos(fmus: dict[str, Path], folder: Path) -> None:
         modes[csv] = "parallel" if mode == 1 else "--noParallel"
         for count in (MIN_STEPS, steps):
             times[csv, count] = (medians[count][0], medians[count][mode])
-        assert results["ours"].stats.stretch == "C" and results["ours"].stats.steps == steps
+        assert results["ours"].stats.loop == "C" and results["ours"].stats.steps == steps
     fmu_steps = n * (steps - MIN_STEPS)
     for csv, label in ((True, "every output to CSV"), (False, "no recording")):
         (r, e), (r0, e0) = times[csv, steps], times[csv, MIN_STEPS]

@@ -1,7 +1,7 @@
 """The house limits on code size under src/: no module over 800 lines, no function over 80 (Python and C).
 
 A module or function past them does several things; split it along its seams. The C scan reads
-hand-written C (the runtime, the Python-FMU shim, the master's stepper), where a function starts
+hand-written C (the runtime, the Python-FMU shim, the master's engine), where a function starts
 with its signature at column 0 and ends at the first ``}`` at column 0.
 """
 

@@ -106,3 +106,31 @@ def test_the_master_does_not_import_the_code_generator():
 
 def test_no_import_cycle_between_robogen_modules():
     assert cycles(import_graph()) == []
+
+
+#: The modules of robogen.cosim in layers, lowest first: a module imports only modules of the
+#: layers below its own (docs/architecture.md draws the same picture).
+COSIM_LAYERS = (
+    ("signals", "clocks", "columnar", "tomlspan", "watch"),  # no other module of cosim
+    ("fmi3", "system"),  # the FMI 3.0 binding; the system file
+    ("instances", "recorder", "proxy", "worker", "crash", "schema", "adapters"),  # around one instance, one row
+    ("wiring",),  # who reads what, which clock goes where
+    ("plan",),  # the run's plan: what both loops execute
+    ("flat",),  # the plan as rg_plan (engine.h)
+    ("engine",),  # the plan run in C
+    ("master",),  # the reference loop, setup and errors; runs the engine
+    ("assemble",),  # from a system file to a master
+    ("__init__", "plot"),  # the API (simulate_system), plots of results
+    ("cli",),  # the commands
+)
+
+
+def test_cosim_modules_import_each_other_only_downward():
+    layer = {(f"robogen.cosim.{m}" if m != "__init__" else "robogen.cosim"): i
+             for i, names in enumerate(COSIM_LAYERS) for m in names}
+    graph = import_graph()
+    cosim = {name for name in graph if name == "robogen.cosim" or name.startswith("robogen.cosim.")}
+    assert cosim == set(layer), "every module of robogen.cosim has its layer in COSIM_LAYERS"
+    upward = sorted((name, target) for name in cosim for target in graph[name]
+                    if target in layer and layer[target] >= layer[name])
+    assert upward == []

@@ -71,7 +71,7 @@ def test_the_wheel_holds_the_robogen_package_only(wheel):
     assert not [name for name in wheel if name.startswith("robogen/platforms/data/")]
     # what the tool reads at run time does ship
     assert {"robogen/grammar/robosim.lark", "robogen/runtime/robogen_runtime.c", "robogen/pyfmu/shim.c",
-            "robogen/pyfmu/bridge.h", "robogen/cosim/stepper.c", "robogen/py.typed"} <= set(wheel)
+            "robogen/pyfmu/bridge.h", "robogen/cosim/engine_run.c", "robogen/cosim/engine.h", "robogen/py.typed"} <= set(wheel)
 
 
 def test_no_golden_file_refresher_ships(wheel):

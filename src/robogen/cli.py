@@ -52,7 +52,7 @@ def build_parser(selected: str | None = None) -> argparse.ArgumentParser:
     sub = parser.add_subparsers(dest="command", metavar="COMMAND", parser_class=_Parser)
     for name, (module_name, help_text) in COMMANDS.items():
         p = sub.add_parser(name, help=help_text, description=help_text)
-        p.set_defaults(_module=module_name)
+        p.set_defaults(command_module=module_name)
         if name == selected:
             module = _load(module_name)
             if module is not None:
@@ -85,7 +85,7 @@ def main(argv: Sequence[str] | None = None) -> int:
         if not getattr(args, "command", None):
             parser.print_help()
             return EXIT_USAGE
-        module = _load(args._module)
+        module = _load(args.command_module)
         if module is None:
             raise UsageError(f"robogen {args.command}: not available in this installation")
         return int(module.run(args) or 0)

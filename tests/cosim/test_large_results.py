@@ -54,7 +54,7 @@ def _fmi_types(path) -> list[str]:
 
     master, cache = build_master(path, keep_rows=False)
     cache.close()
-    return [column.variable.type for column in master.wiring.columns]
+    return [column.variable.type for column in master.plan.wiring.columns]
 
 
 def _peak(write_system, tmp_path, stop: float) -> tuple[int, int]:

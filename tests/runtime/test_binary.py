@@ -85,8 +85,9 @@ def test_house_flags():
 
 
 def test_include_order_puts_the_sources_first(tmp_path):
-    assert binary.include_dirs(tmp_path) == [tmp_path, binary.runtime_dir(), include_dir()]
-    assert toolchain.include_args(binary.include_dirs(tmp_path)) == ["-I", str(tmp_path), "-I", str(binary.runtime_dir()), "-I", str(include_dir())]
+    assert binary.include_dirs(tmp_path) == [tmp_path, binary.runtime_dir()]
+    assert toolchain.include_args(binary.include_dirs(tmp_path)) == ["-I", str(tmp_path), "-I", str(binary.runtime_dir())]
+    assert toolchain.include_args([include_dir()], "-isystem") == ["-isystem", str(include_dir())]
 
 
 def test_a_compile_error_is_a_robogen_error_with_the_compiler_output(tmp_path):
@@ -134,12 +135,3 @@ def test_a_missing_compiler_is_a_located_robogen_error(monkeypatch):
     monkeypatch.setenv("CC", "no-such-compiler-xyz")
     with pytest.raises(RobogenError, match="C compiler 'no-such-compiler-xyz' not found"):
         toolchain.compiler()
-
-
-def test_the_runtime_tolerance_is_the_python_one():
-    """One tolerance decides 'the same time' in the C runtime and in the master and Python FMUs."""
-    from robogen.fmu.fmi import TIME_TOLERANCE
-
-    header = (binary.runtime_dir() / "robogen_runtime.h").read_text()
-    value = re.search(r"#define RG_TIME_RELATIVE_TOLERANCE (\S+)", header).group(1)
-    assert float(value) == TIME_TOLERANCE

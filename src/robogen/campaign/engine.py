@@ -24,7 +24,7 @@ import time
 from contextlib import contextmanager
 from typing import Callable, Iterator
 
-from robogen.campaign.plan import Plan, Run
+from robogen.campaign.plan import CampaignPlan, Run
 from robogen.campaign.worker import execute_run, prepare
 from robogen.diagnostics import RobogenError
 
@@ -115,7 +115,7 @@ class Progress:
             self.stream.flush()
 
 
-def execute(plan: Plan, todo: list[Run], client, *, retries: int, record: Callable[[Run, dict], None],
+def execute(plan: CampaignPlan, todo: list[Run], client, *, retries: int, record: Callable[[Run, dict], None],
             progress: Progress) -> dict[str, str]:
     """Run ``todo`` (one per key) on the cluster; ``record(run, row)`` each result as it arrives.
     Returns key -> reason for the runs that could not be completed (lost)."""

@@ -185,7 +185,7 @@ def _tail(log) -> str:
 
 def warm_up(preload: tuple[str, ...] = ()) -> None:
     """Import what a simulation needs, so that forked children start warm: every module of the
-    master (some it imports only at their first use, such as the C stepper, whose C declarations
+    master (some it imports only at their first use, such as the engine, whose C declarations
     take 20 ms to parse) and the ``preload`` modules."""
     import importlib
     import pkgutil

@@ -69,7 +69,7 @@ class Run:
 
 
 @dataclass
-class Plan:
+class CampaignPlan:
     campaign: Campaign
     runs: list[Run]
     context: Context
@@ -114,7 +114,7 @@ class _Files:
         return self.models[key]
 
 
-def make_plan(campaign: Campaign) -> Plan:
+def make_plan(campaign: Campaign) -> CampaignPlan:
     """Expand, resolve and check every run; raise every problem found, located."""
     sink = DiagnosticSink()
     files = _Files()
@@ -133,7 +133,7 @@ def make_plan(campaign: Campaign) -> Plan:
         runs.append(Run(index, values, RunSpec(key, hashes, resources, start)))
     _check_metrics(campaign, _models_by_instance(runs, fmu_files, files), sink)
     sink.raise_if_errors()
-    return Plan(campaign, runs, context, fmu_files)
+    return CampaignPlan(campaign, runs, context, fmu_files)
 
 
 def _resolve(campaign: Campaign, values: dict[str, Value], files: _Files, sink: DiagnosticSink):

@@ -12,7 +12,7 @@ import statistics
 from pathlib import Path
 
 from robogen.campaign import figure as figures
-from robogen.campaign.plan import Plan
+from robogen.campaign.plan import CampaignPlan
 from robogen.campaign.results import metric_names, table, write_tables
 from robogen.outputs import write_text
 
@@ -20,7 +20,7 @@ STATUS_ORDER = ("ok", "terminated", "failed", "lost")
 MAX_FAILURES = 20
 
 
-def write_report(plan: Plan, rows: list[dict], folder: Path, *, wall: float, executed: int) -> dict[str, int]:
+def write_report(plan: CampaignPlan, rows: list[dict], folder: Path, *, wall: float, executed: int) -> dict[str, int]:
     """Write runs.parquet, runs.csv, summary.png (when there is something to draw) and
     summary.md; return the number of runs per status."""
     runs = table(plan, rows)
@@ -47,7 +47,7 @@ def _fmt(v) -> str:
     return str(v)
 
 
-def _summary(plan: Plan, records: list[dict], params: list[str], metrics: list[str], counts: dict[str, int],
+def _summary(plan: CampaignPlan, records: list[dict], params: list[str], metrics: list[str], counts: dict[str, int],
              choice, *, wall: float, executed: int) -> str:
     c = plan.campaign
     rate = f", {executed / wall:.2f} runs/s" if executed and wall > 0 else ""

@@ -16,7 +16,7 @@ import pyarrow as pa
 import pyarrow.csv
 import pyarrow.parquet as pq
 
-from robogen.campaign.plan import Plan
+from robogen.campaign.plan import CampaignPlan
 from robogen.outputs import replacing
 
 #: Columns that depend on where and when a run executed.
@@ -32,7 +32,7 @@ def _column(values: list) -> pa.Array:
         return pa.array([None if v is None else str(v) for v in values], type=pa.string())
 
 
-def metric_names(plan: Plan, rows: list[dict]) -> list[str]:
+def metric_names(plan: CampaignPlan, rows: list[dict]) -> list[str]:
     """Built-in metrics in declaration order, with each user metric's columns in its place
     (names in the order they first appear, in run order)."""
     names: list[str] = []
@@ -48,7 +48,7 @@ def metric_names(plan: Plan, rows: list[dict]) -> list[str]:
     return names
 
 
-def table(plan: Plan, rows: list[dict]) -> pa.Table:
+def table(plan: CampaignPlan, rows: list[dict]) -> pa.Table:
     """The runs table; ``rows[i]`` is the row of ``plan.runs[i]``."""
     params = list(plan.campaign.targets)
     metrics = metric_names(plan, rows)

@@ -23,7 +23,7 @@ from pathlib import Path
 from typing import Callable
 
 from robogen.campaign.journal import Journal
-from robogen.campaign.plan import Plan, Run, make_plan
+from robogen.campaign.plan import CampaignPlan, Run, make_plan
 from robogen.campaign.spec import Campaign, load_campaign
 from robogen.diagnostics import RobogenError
 from robogen.outputs import output_folder
@@ -73,7 +73,7 @@ def check_base(campaign: Campaign) -> None:
         raise RobogenError(outcome.result)
 
 
-def describe(plan: Plan) -> str:
+def describe(plan: CampaignPlan) -> str:
     """The dry-run listing: what was checked, then one line per run."""
     c = plan.campaign
     params = list(c.targets)
@@ -118,7 +118,7 @@ def run_campaign(path: str | Path, out: str | Path | None = None, *, workers: in
         journal.close()
 
 
-def _run(plan: Plan, folder: Path, journal: Journal, workers, scheduler, retries, progress, echo) -> CampaignResult:
+def _run(plan: CampaignPlan, folder: Path, journal: Journal, workers, scheduler, retries, progress, echo) -> CampaignResult:
     from robogen.campaign.engine import Progress, connect, execute
     from robogen.campaign.report import write_report
 
@@ -147,7 +147,7 @@ def _run(plan: Plan, folder: Path, journal: Journal, workers, scheduler, retries
     return CampaignResult(folder, len(plan.runs), len(todo), len(unique) - len(todo), counts, wall, execution)
 
 
-def _recorder(plan: Plan, folder: Path, journal: Journal) -> Callable[[Run, dict], None]:
+def _recorder(plan: CampaignPlan, folder: Path, journal: Journal) -> Callable[[Run, dict], None]:
     from robogen.campaign.results import write_series
 
     def record(run: Run, row: dict) -> None:

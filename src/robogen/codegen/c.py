@@ -22,7 +22,7 @@ from robogen.codegen.quantifiers import quantifier
 from robogen.ir import model as ir
 from robogen.ir.layout import nested
 from robogen.ir.supported import holds_string
-from robogen.ir.collections import CAN_OVERFLOW, EMPTY_FAULTS, OTHER_FAULTS, empty_message, overflow_message, site_capacity
+from robogen.ir.collections import CAN_OVERFLOW, SECOND_FAULTS, empty_message, overflow_message, site_capacity
 from robogen.semantics import types as T
 
 
@@ -95,14 +95,43 @@ class CNames:
         return cls(var_identifiers(fmu), tuple(machines), clocks)
 
 
+def integral_cast(a: str, source: T.Type, target: T.Type) -> str:
+    """C converting ``a`` from number type ``source`` to ``target``, but a real to an integer
+    (which may fail): nat to int wraps (rg_u_to_i), as the interpreter's convert does."""
+    if source == T.NAT and target == T.INT:
+        return f"rg_u_to_i({a})"
+    return f"(({ctype(target)}){a})"
+
+
+def deliver(target: MachineNames, event: ir.Event, value: str | None, source: T.Type | None, sender: int,
+            indent: str) -> list[str]:
+    """The C that delivers an occurrence of ``event`` of the machine named ``target``, carrying the
+    C variable ``value`` (None: no value) of type ``source`` (a connection may widen a number to
+    the event's type: converted), from sender number ``sender`` (0: the FMU's boundary, k: its
+    k-th machine) to its register; an event that keeps its sender gets it with the value
+    (robogen.ir.bindings)."""
+    slot = f"&{target.event_table}[{target.events[event.index]}]"
+    lines = []
+    if value is not None and source in T.NUMERIC and event.value_type in T.NUMERIC and source != event.value_type:
+        lines.append(f"{ctype(event.value_type)} conv_ = {integral_cast(value, source, event.value_type)};")
+        value = "conv_"
+    if not event.sender:
+        lines.append(f"rg_deliver(d, {slot}, {'&' + value if value else 'NULL'});")
+    else:
+        fields = ([f".value = {value}"] if value else []) + [f".from = {sender}"]
+        lines.append(f"{ctype(event.type)} sent_ = {{ {', '.join(fields)} }}; rg_deliver(d, {slot}, &sent_);")  # type: ignore[arg-type]
+    plain = len(lines) == 1 and not event.sender  # no declaration: no block of its own
+    return [indent + (lines[0] if plain else "{ " + " ".join(lines) + " }")]
+
+
 def user_function_prototype(u: ir.UserFunction) -> str:
-    """The C declaration of a user function, as the --functions file must define it: a string
-    parameter is its text; where a record or collection parameter holds strings (their numbers),
-    the model data comes first, for ``rg_text(d, number)``."""
+    """The C declaration of a user function, as the --functions file must define it (a generic
+    one per instantiation): a string parameter is its text; where a record or collection
+    parameter holds strings (their numbers), the model data comes first, for ``rg_text(d, number)``."""
     args = [f"const char *{n}" if t == T.STRING else f"{ctype(t)} {n}" for n, t in u.params]
     if strings_inside(u):
         args.insert(0, "const rg_model_data *d")
-    return f"static {ctype(u.result)} rg_user_{u.name}({', '.join(args) or 'void'})"
+    return f"static {ctype(u.result)} rg_user_{u.cname}({', '.join(args) or 'void'})"
 
 
 def strings_inside(u: ir.UserFunction) -> bool:
@@ -281,9 +310,7 @@ class Emitter:
         if source == T.REAL and target in (T.INT, T.NAT):  # out of range is a run-time error, not UB
             self.fallible = True
             return f"rg_r_to_{tag(target)}(d, {a})"
-        if source == T.NAT and target == T.INT:
-            return f"rg_u_to_i({a})"
-        return f"(({ctype(target)}){a})"
+        return integral_cast(a, source, target)
 
     def _Cond(self, e: ir.Cond) -> str:
         return f"({self.expr(e.cond)} ? {self.expr(e.then)} : {self.expr(e.otherwise)})"
@@ -301,7 +328,8 @@ class Emitter:
         return self._value(e.event)
 
     def _BindIn(self, e: ir.BindIn) -> str:
-        return f"({self._present(e.event)} ? ({self.expr(e.target)} = {self._value(e.event)}, true) : false)"
+        value = self._value(e.event) if e.value is None else self.expr(e.value)
+        return f"({self._present(e.event)} ? ({self.expr(e.target)} = {value}, true) : false)"
 
     def _since(self, elapsed: str, t: T.Type) -> str:
         p = self.fmu.period
@@ -350,21 +378,22 @@ class Emitter:
             else:
                 capacity = site_capacity(e.op, [a.type for a in e.args], e.type, self.fmu.capacity_of)
                 self.sites += [overflow_message(e.text, where, capacity) if e.op in CAN_OVERFLOW else "",
-                               empty_message(e.op, e.text, where) if e.op in EMPTY_FAULTS or e.op in OTHER_FAULTS else ""]
+                               empty_message(e.op, e.text, where) if e.op in SECOND_FAULTS else ""]
         return self.collections.call(e, args, site)  # type: ignore[attr-defined]
 
     def _Quant(self, e: ir.Quant) -> str:
         return quantifier(self, e)
 
     def _CallU(self, e: ir.CallU) -> str:
-        """A user function's call: a string argument as its text, the model data first where a
-        record or collection argument holds strings (user_function_prototype)."""
+        """A user function's call (of the instantiation of a generic one): a string argument as
+        its text, the model data first where a record or collection argument holds strings
+        (user_function_prototype)."""
         args = [f"rg_text(d, {self.expr(a)})" if a.type == T.STRING else self.expr(a) for a in e.args]
         if any(holds_string(a.type) for a in e.args):
             self.texts = True
         if any(a.type != T.STRING and holds_string(a.type) for a in e.args):
             args.insert(0, "d")
-        return f"rg_user_{e.name}({', '.join(args)})"
+        return f"rg_user_{e.instance or e.name}({', '.join(args)})"
 
     def _CallB(self, e: ir.CallB) -> str:
         args = [self.expr(a) for a in e.args]
@@ -459,12 +488,10 @@ class Emitter:
                 read.add(0)
                 _, mi, ei = route
                 self.delivers_to.add(mi)
-                target = self.names.machines[mi]
                 event = self.fmu.machines[mi].events[ei]
-                assert [ctype(a.type) for a in s.args] == ([ctype(event.type)] if event.type is not None else []), \
-                    f"{s.name} sends a value of another type than event {event.name} carries"  # rg_deliver copies bytes
-                value = "&a0_" if s.args else "NULL"
-                lines.append(f"{inner}rg_deliver(d, &{target.event_table}[{target.events[ei]}], {value});")
+                assert len(s.args) == (event.value_type is not None), f"{s.name} sends another value than event {event.name} carries"
+                source = s.args[0].type if s.args else None
+                lines += deliver(self.names.machines[mi], event, "a0_" if s.args else None, source, self.m.index + 1, inner)
         if not s.routes:
             lines.append(f"{inner}/* {c_comment(s.name)} is connected to nothing: evaluated, sent nowhere */")
         lines += [f"{inner}(void){t};" for k, t in enumerate(temporaries) if k not in read]

@@ -11,6 +11,7 @@ from robogen.codegen.generate import CodegenOptions
 from robogen.diagnostics import RobogenError, SourceMap, error, render_all, warning
 from robogen.ir.dump import dump
 from robogen.ir.lower import LoweringOptions
+from robogen.ir.supported import ENUM_DEPTH
 
 
 def add_model_options(p: argparse.ArgumentParser) -> None:
@@ -35,8 +36,12 @@ def add_model_options(p: argparse.ArgumentParser) -> None:
                         "fmi3Error naming the expression and its model line. One number for every nesting level of "
                         "collections, or one per level, outermost first, the last for deeper levels (32,8,4: a "
                         "Seq(Seq(int)) holds 32 sequences of at most 8 numbers; docs/collections.md)")
+    p.add_argument("--enum-depth", default=str(ENUM_DEPTH), metavar="N",
+                   help=f"the levels a value of a recursive enumeration holds (default {ENUM_DEPTH}, at most 16); a deeper "
+                        "one is a run-time fmi3Error naming the expression and its model line (docs/collections.md)")
     p.add_argument("--functions", metavar="FILE.c",
-                   help="C file implementing the model's user functions, each as static <type> rg_user_<name>(...)")
+                   help="C file implementing the model's functions whose result no postcondition pins, each as static <type> "
+                        "rg_user_<name>(...) (a generic one per instantiation: rg_user_<name>__<type>)")
     p.add_argument("--no-line-comments", action="store_true", help="leave the model file:line out of the generated C comments")
 
 
@@ -49,7 +54,8 @@ def options_from(args: argparse.Namespace) -> LoweringOptions:
         settings[name.strip()] = value
     if args.max_transitions < 1:
         raise RobogenError(error("--max-transitions must be at least 1", None))
-    capacities = _capacities(args.capacity)
+    capacities = _bounds("--capacity", args.capacity, 1, 1 << 20, several=True)
+    (enum_depth,) = _bounds("--enum-depth", args.enum_depth, 0, 16, several=False)
     return LoweringOptions(
         semantics=args.semantics,
         trigger=args.trigger,
@@ -59,18 +65,21 @@ def options_from(args: argparse.Namespace) -> LoweringOptions:
         max_steps=args.max_transitions,
         capacity=capacities[0],
         capacities=capacities if len(capacities) > 1 else (),
+        enum_depth=enum_depth,
     )
 
 
-def _capacities(text: str) -> tuple[int, ...]:
-    """The capacities of --capacity N[,N...]: each between 1 and 2^20."""
+def _bounds(option: str, text: object, low: int, high: int, several: bool) -> tuple[int, ...]:
+    """The bounds of the finite shape of values an option gives (robogen.ir.supported.Shapes):
+    ``--capacity N[,N...]`` (one per nesting level: ``several``), ``--enum-depth N``, each
+    between ``low`` and ``high``."""
     try:
         values = tuple(int(x) for x in str(text).split(","))
     except ValueError:
         values = ()
-    if not values or not all(1 <= v <= 1 << 20 for v in values):
-        raise RobogenError(error(f"--capacity {text}: give a number between 1 and 1048576, or one per nesting level "
-                                 "separated by commas (32,8,4)", None))
+    if not values or (len(values) > 1 and not several) or not all(low <= v <= high for v in values):
+        levels = ", or one per nesting level separated by commas (32,8,4)" if several else ""
+        raise RobogenError(error(f"{option} {text}: give a number between {low} and {high}{levels}", None))
     return values
 
 

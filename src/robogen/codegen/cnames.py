@@ -5,13 +5,13 @@ from __future__ import annotations
 
 import re
 
-from robogen.ir.supported import ArrayT, TupleT
+from robogen.ir.supported import ArrayT, FunMapT, TupleT
 from robogen.semantics import types as T
 
 
 def ctype(t: T.Type) -> str:
-    # a function: the number of its value; a string: its number among the model's strings
-    if t == T.INT or t == T.STRING or isinstance(t, (T.EnumT, T.FunctionT)):
+    # a string: its number among the model's strings
+    if t == T.INT or t == T.STRING or isinstance(t, T.EnumT):
         return "int64_t"
     if t == T.NAT:
         return "uint64_t"
@@ -19,6 +19,9 @@ def ctype(t: T.Type) -> str:
         return "double"
     if t == T.BOOLEAN:
         return "bool"
+    if isinstance(t, FunMapT):  # a function value: its pairs and its default (robogen.ir.functions); inside
+        # collections of other capacities its pairs have that level's: rg_fun<capacity>_
+        return f"rg_fun{getattr(t.pairs, 'capacity', '')}_{elem_tag(t.pair)}"
     if isinstance(t, TupleT):  # by its arity and components: a prefix code, one name per tuple type
         return f"rg_tup{len(t.fields)}_" + "_".join(elem_tag(ft) for _, ft in t.fields)
     if isinstance(t, T.RecordT):  # one inside collections of other capacities: rg_rec<level>_

@@ -160,7 +160,7 @@ class CollectionCode:
     def need_relation(self, op: str, types: list, result: T.Type) -> str:
         """The function of relation operation ``op`` on arguments of ``types`` (relations: sets
         of pairs) giving ``result``, as robogen.ir.collections computes it."""
-        name = f"rg_{op}_" + "_".join(ctype(t)[3:] for t in types)
+        name = f"rg_{op}_" + "_".join(elem_tag(t) for t in types)  # (a function value's key: any type)
         if op == "iter":  # its identity relation is every value of an enumeration: one function per enumeration
             name = f"rg_iter_{ctype(types[1])[3:]}{_finite_suffix(types[1].element.field('_1'))}"
         if name not in self.extra:

@@ -22,15 +22,11 @@ from robogen.fmu.modeldesc import (
     Unknown,
     Variable,
 )
+from robogen.fmu import fmi
 from robogen.ir import model as ir
 
-#: What a generated FMU logs, by category (the runtime's RG_LOG_* categories).
-LOG_CATEGORIES = (
-    LogCategory("logEvents", "clock activations, event iterations, mode changes"),
-    LogCategory("logTransitions", "transitions taken by the state machines"),
-    LogCategory("logStatusWarning", "warnings"),
-    LogCategory("logStatusError", "errors: every fmi3Error explains itself here"),
-)
+#: What a generated FMU logs, by category (robogen.fmu.fmi.LOG_CATEGORIES: all four).
+LOG_CATEGORIES = tuple(LogCategory(name, description) for name, description in fmi.LOG_CATEGORIES.items())
 
 
 def model_description(fmu: ir.Fmu, token: str, variables: Sequence[Variable],

@@ -12,7 +12,7 @@ levels first, as robogen.ir.layout.build does.
 from __future__ import annotations
 
 from robogen.ir import model as ir
-from robogen.ir.supported import ArrayT, TaggedT
+from robogen.ir.supported import ArrayT, FunMapT, TaggedT
 from robogen.semantics import types as T
 
 
@@ -111,13 +111,13 @@ def _read(t, target: str, path, index, depth: int, fields, capacity_of, canon, i
                     lines += _read(ft, f"{target}.{n}", path + (n,), index, depth, fields, capacity_of, canon, indent + "    ")
                 lines.append(f"{indent}}}")
         return lines
+    if isinstance(t, FunMapT):  # a function value has no FMI variables: it stays zero
+        return []
     if isinstance(t, T.RecordT):
         lines = []
         for n, ft in t.fields:
             lines += _read(ft, f"{target}.{n}", path + (n,), index, depth, fields, capacity_of, canon, indent)
         return lines
-    if isinstance(t, T.FunctionT):
-        return []
     member = f"d->{fields[path]}"
     n = _entries(t)
     if index is None:

@@ -38,6 +38,12 @@ def relation_body(op: str, name: str, types: list, result: T.Type, code) -> str:
         test = "" if op in ("dres", "rres") else "!"
         other = "a" if A == "b" else "b"
         lines.append(f"    for (i = 0; i < {A}.n; i++) if ({test}{has}{other}, {A}.a[i].{key})) r.a[r.n++] = {A}.a[i];")
+    elif op in ("haskey", "at"):  # a function value's pairs (robogen.ir.functions): the (first) pair of key b
+        cmp = code.cmp(x)
+        found = "return true;" if op == "haskey" else "return a.a[i]._2;"
+        lines = ["    uint64_t i;", f"    {r} r;", "    memset(&r, 0, sizeof r);",
+                 f"    for (i = 0; i < a.n; i++) if ({cmp}a.a[i]._1, b) == 0) {found}",
+                 "    (void)d; (void)site;" if op == "haskey" else f"    {O.fault('site + 1')};"]
     elif op == "rimage":
         has = code.has(T.SetT(x))
         lines.append(f"    for (i = 0; i < a.n && !d->fault; i++) if ({has}b, a.a[i]._1)) {ins}(d, site, &r, a.a[i]._2);")

@@ -19,6 +19,7 @@ from typing import Callable
 from robogen.cosim.fmi3 import Binding, CallNotes, Library, LoadError
 from robogen.cosim.instances import FmuInstance
 from robogen.cosim.master import Master, RunOptions
+from robogen.cosim.plan import make_plan
 from robogen.cosim.proxy import ProxyBinding
 from robogen.cosim.recorder import Recorder
 from robogen.cosim.system import Link, System, load_system, record_list, resolve
@@ -60,7 +61,9 @@ def build_master(path: Path, *, stop=None, step=None, output=None, events=None, 
         record = [(by_name[n], v) for n, v in record_list(system, models)]
         recorder = Recorder([f"{u.name}.{v.name}" for u, v in record], output, events, keep_rows, [v.type for _u, v in record],
                             every=system.record_every, start=options.start)
-        return Master(system, instances, links, record, options, recorder, notes), cache
+        plan = make_plan(instances, links, record, start=options.start, step=options.step, stop=options.stop,
+                         max_iterations=system.max_event_iterations, events_logged=recorder.recording_events)
+        return Master(system, plan, links, options, recorder, notes), cache
     except BaseException:
         cache.close()
         raise
@@ -205,10 +208,10 @@ def dependency_order(system: System, links: list[Link]) -> list[str]:
         return list(system.order) + [n for n in names if n not in system.order]
     succ: dict[str, set[str]] = {n: set() for n in names}
     indeg = {n: 0 for n in names}
-    for l in links:
-        if l.target not in succ[l.source] and l.target != l.source:  # an instance feeding itself orders nothing
-            succ[l.source].add(l.target)
-            indeg[l.target] += 1
+    for link in links:
+        if link.target not in succ[link.source] and link.target != link.source:  # an instance feeding itself orders nothing
+            succ[link.source].add(link.target)
+            indeg[link.target] += 1
     order: list[str] = []
     remaining = list(names)
     while remaining:

@@ -257,7 +257,7 @@ def _log_message(env, status, category, message):
     try:
         inst = ffi.from_handle(env)
         text = ffi.string(message).decode("utf-8", "replace") if message != ffi.NULL else ""
-        inst._logged(status, text)
+        inst.receive_log(status, text)
     except Exception:  # a logger must never raise into C
         pass
 
@@ -354,7 +354,7 @@ class Binding:
         return FMI3Error(function, status, self.name, self.logged.message())
 
     # -- plumbing ------------------------------------------------------------------------
-    def _logged(self, status: int, text: str) -> None:
+    def receive_log(self, status: int, text: str) -> None:
         self.logged.note(status, text)
         if self.log is not None:
             self.log(self.name, status, text)

@@ -265,9 +265,6 @@ class FmuInstance:
                 active.append(vr)
         return active
 
-    def get_one(self, var: Variable):
-        return self.binding.get_values(var.type, [var.value_reference])[0]
-
     def _batch(self, kind: type, fmi_type: str, vrs: tuple[int, ...]):
         """The Reader, Writer or ClockSetter of these value references (made at first use)."""
         key = (kind, fmi_type, vrs)

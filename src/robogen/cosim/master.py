@@ -12,9 +12,13 @@ It follows the FMI 3.0 standard's Co-Simulation master algorithm with Event Mode
                 every FMU that uses it, event iteration at t, Step Mode
                 else: exchange values, record (t, 0)
 
-Where no FMU can return early, the points before the next time event are a quiet stretch
-(:mod:`robogen.cosim.stretch`): the same steps, exchanges and records, run by a fast loop (in C
-where it can) up to the first point at which an FMU asks for Event Mode or to terminate.
+This module is the algorithm's executable reference: it runs the run's plan
+(:mod:`robogen.cosim.plan`) point after point. Production runs go through the engine
+(:mod:`robogen.cosim.engine`), the same algorithm in C on the same plan, which gives the same
+results byte for byte (tests/cosim/test_cosim_engine.py runs every scenario through both) and returns
+to this module for what only Python does: pacing, rolling FMUs back, reporting errors. The
+reference runs only where no C compiler is at hand (or ``ROBOGEN_REFERENCE_LOOP=1``, for tests
+and benchmarks).
 
 An event iteration runs super-dense instants (t, 0), (t, 1), ... Each instant activates the due
 time-based clocks (first instant only), then forwards clocks and values through a worklist in
@@ -34,20 +38,19 @@ from __future__ import annotations
 
 import heapq
 import math
+import os
 from dataclasses import dataclass
 
 from signal import SIGINT
 
-from robogen.cosim import signals
+from robogen.cosim import engine, signals
 from robogen.cosim.clocks import grid_index
 from robogen.cosim.fmi3 import CallNotes, FMI3Error, FMUCrashed, StepResult
 from robogen.cosim.instances import FmuInstance
+from robogen.cosim.plan import Plan
 from robogen.cosim.recorder import Pacer, Progress, Recorder
-from robogen.cosim.runloop import CRun
-from robogen.cosim.stepper import CStretch
-from robogen.cosim.stretch import PythonStretch, Stretch, StretchPlan
 from robogen.cosim.system import Link, System
-from robogen.cosim.wiring import CLOCK, CLOCKED, VALUE, ValueExchange, find_cycle, plain, wire
+from robogen.cosim.wiring import CLOCK, VALUE, find_cycle, plain
 from robogen.diagnostics import Note, RobogenError
 from robogen.fmu.fmi import DISCARD, status_name, tolerance
 
@@ -76,34 +79,24 @@ class Stats:
     end_time: float = 0.0
     terminated_by: str | None = None
     realtime: dict | None = None
-    stretch: str | None = None  # the quiet stretches' loop: "C", "Python", or None (the system has none)
+    loop: str | None = None  # the loop that ran: "C" (the engine) or "Python" (the reference)
 
 
 class Master:
-    """One run of a system: its instances (in dependency order), their wiring, the results."""
+    """One run of a system: its plan (instances in dependency order, their wiring), the results."""
 
-    def __init__(self, system: System, instances: list[FmuInstance], links: list[Link], record: list,
-                 options: RunOptions, recorder: Recorder, notes: CallNotes):
-        self.system, self.options, self.recorder, self.notes = system, options, recorder, notes
+    def __init__(self, system: System, plan: Plan, links: list[Link], options: RunOptions, recorder: Recorder,
+                 notes: CallNotes):
+        self.system, self.plan, self.options, self.recorder, self.notes = system, plan, options, recorder, notes
         self.links = links
-        self.instances = instances  # in dependency order
-        self.by_name = {u.name: u for u in instances}
+        self.instances = list(plan.instances)
+        self.by_name = plan.by_name
         self.stats = Stats()
-        self.rank = {u.name: i for i, u in enumerate(instances)}
-        self.event_instances = [u for u in instances if u.event_mode]
-        self.step_order = [u for u in instances if u.early] + [u for u in instances if not u.early]
-        self.rollback = len([u for u in instances if u.early]) > 1
-        self.any_early = any(u.early for u in instances)
-        self.wiring = wire(instances, links, record)
-        self.values = ValueExchange(self.wiring.value_links)
-        self._columns = plain(self.wiring.columns)
-        self._routes = _route_plans(self.wiring)
-        self._clocked_columns = _clocked_columns(self.wiring)
-        self._event_values = _event_values(instances)
-        self._events_logged = recorder.recording_events
-        self._stop_limit = options.stop - tolerance(options.stop)
+        self.rank = {u.name: i for i, u in enumerate(self.instances)}
+        self.values = plan.values
+        self._columns = plain(plan.wiring.columns)
+        self._stop_limit = plan.stop_limit
         self._next_event = math.inf
-        self._stretch: Stretch | None = None  # None: every point goes through the general step
         self._pacer: Pacer | None = None
         self._timed: list[FmuInstance] = []  # the instances with time-based input clocks (known after setup)
         self._aperiodic: list[FmuInstance] = []  # those with aperiodic ones
@@ -113,19 +106,20 @@ class Master:
 
     def run(self) -> Stats:
         """The algorithm of the module's docstring: setup, the event iteration at the start, then
-        from point to point up to the stop time, with Event Mode where an event is due."""
+        from point to point up to the stop time, with Event Mode where an event is due. In the
+        engine, unless there is no C compiler (or ROBOGEN_REFERENCE_LOOP is set)."""
         opt = self.options
         progress = Progress(opt.start, opt.stop, enabled=opt.progress)
         with signals.interruptible([SIGINT], only_if_default=True):
             try:
                 self._setup()
-                whole = None if opt.realtime else CRun.for_master(self, self._plan(progress))
-                if whole is not None:  # the whole run in C
-                    self.stats.stretch = whole.name
-                    t = whole.run(progress)
+                library = None if os.environ.get("ROBOGEN_REFERENCE_LOOP") else engine.load()
+                if library is not None:
+                    self.stats.loop = "C"
+                    self.stats.end_time = engine.Engine(library, self).run(progress)
                 else:
-                    t = self._run_in_python(progress)
-                self.stats.end_time = t
+                    self.stats.loop = "Python"
+                    self.stats.end_time = self._run_in_python(progress)
             except FMI3Error as exc:
                 if signals.caught() is not None:  # the FMU failed because the signal interrupted it
                     raise signals.Interrupted(signals.caught()) from None
@@ -139,21 +133,25 @@ class Master:
                         self.stats.realtime = self._pacer.summary()
         return self.stats
 
+    def start_pacing(self) -> Pacer | None:
+        """The pacer of a paced run, started now: once the system is initialised (loading and
+        instantiating the FMUs is not simulated time, and must not show as lag)."""
+        opt = self.options
+        self._pacer = Pacer(opt.realtime, opt.start) if opt.realtime else None
+        return self._pacer
+
     def _run_in_python(self, progress: Progress) -> float:
         """The run after setup, point after point; the time reached."""
         opt = self.options
         t = opt.start
-        if self.event_instances:
+        if self.plan.event_instances:
             self._event_iteration(t)
         else:
             self._record(t, 0, event=False)
             self.recorder.flush()
-        # Pacing starts once the system is initialised: loading and instantiating the FMUs
-        # is not simulated time, and must not show as lag.
-        self._pacer = Pacer(opt.realtime, opt.start) if opt.realtime else None
-        self._choose_stretch(progress)
+        pacer = self.start_pacing()
         while not self._finished(t):
-            t, event = self._advance(t)
+            t, event = self._advance(t, pacer)
             if event:
                 self._event_mode(t)
             progress.update(t)
@@ -162,7 +160,7 @@ class Master:
     def _finished(self, t: float) -> bool:
         return t >= self._stop_limit or self.stats.terminated_by is not None
 
-    def _terminated(self, u: FmuInstance, function: str, t: float) -> None:
+    def terminated(self, u: FmuInstance, function: str, t: float) -> None:
         """An FMU asked to terminate: the run ends after this point (the first request is reported)."""
         if self.stats.terminated_by is None:
             self.stats.terminated_by = f"instance '{u.name}' asked to terminate in {function} at t={_when(t)}"
@@ -186,23 +184,6 @@ class Master:
         for u in self.instances:
             u.binding.fmi3ExitInitializationMode()
 
-    def _choose_stretch(self, progress: Progress) -> None:
-        """The quiet stretches' loop for this run (after setup: the C loop binds the instances): the
-        C loop where it can run, else the Python one; none where the system has no quiet stretch (an
-        FMU that may return early, or an instance without raw C access: a trace, or a binding outside
-        this process), and every point goes through the general step."""
-        plan = self._plan(progress)
-        self._stretch = None
-        if not any(u.early or u.binding.raw("fmi3DoStep") is None for u in plan.instances):
-            self._stretch = CStretch.for_plan(plan) or PythonStretch(plan)
-        self.stats.stretch = self._stretch.name if self._stretch is not None else None
-
-    def _plan(self, progress: Progress) -> StretchPlan:
-        opt = self.options
-        reads = [r for u in self.wiring.record_reads for r in u.readers]
-        return StretchPlan(opt.start, opt.step, self.instances, self.values, reads, self.wiring.columns,
-                           self.recorder, progress, self._pacer, self.notes)
-
     # -- time ---------------------------------------------------------------------------------
     def _next_point(self, t: float) -> float:
         """The next grid point, clock tick or nextEventTime after t; one within the time tolerance
@@ -223,65 +204,60 @@ class Master:
             tick = u.next_tick()
             if limit < tick < earliest:
                 earliest = tick
-        for u in self.event_instances:  # only those in Event Mode announce a next event time
+        for u in self.plan.event_instances:  # only those in Event Mode announce a next event time
             event = u.next_event_time
             if event is not None and limit < event < earliest:
                 earliest = event
         self._next_event = earliest
 
     # -- Step Mode ------------------------------------------------------------------------------
-    def _advance(self, t: float) -> tuple[float, bool]:
-        """From t to the next point where something happens: the quiet stretch up to the next time
-        event (where the system has one), then one general step; unless an event is due there,
+    def _advance(self, t: float, pacer: Pacer | None) -> tuple[float, bool]:
+        """From t to the next point where something happens; unless an event is due there,
         exchange values and record (t, 0). Returns (time reached, event pending)."""
-        if self._stretch is not None:
-            t, event = self._quiet_stretch(t)
-            if event or self._finished(t):
-                return t, event
         t_next = self._next_point(t)
         self.notes.time[0] = t
-        t, event = self._step_with_early_returns(t, t_next) if self.any_early else self._step_on_grid(t, t_next)
+        if self.plan.early:
+            t, event, terminating = self.step_with_early_returns(t, t_next)
+        else:
+            t, event, terminating = self._step_on_grid(t, t_next)
+        for u, when in terminating:
+            self.terminated(u, "fmi3DoStep", when)
         self.stats.steps += 1
-        if self._pacer is not None:
-            self._pacer.wait(t)
+        if pacer is not None:
+            pacer.wait(t)
         if event or self._next_event <= t + tolerance(t):
             return t, True
+        self.notes.time[0] = t
         self.values.exchange(self.instances)
         self._record(t, 0, event=False)
         return t, False
 
-    def _quiet_stretch(self, t: float) -> tuple[float, bool]:
-        """The points before the next time event, each stepped, exchanged and recorded; stops early
-        after a step that asks for Event Mode. Returns (time reached, event pending)."""
-        end = self._stretch.run(t, min(self._next_event, self.options.stop))
-        self.stats.steps += end.steps
-        if end.terminating is not None:
-            self._terminated(end.terminating, "fmi3DoStep", end.t)
-        return end.t, end.event
-
-    def _step_on_grid(self, t: float, t_next: float) -> tuple[float, bool]:
+    def _step_on_grid(self, t: float, t_next: float) -> tuple[float, bool, list]:
         """Step every FMU from t to t_next (nobody can return early: one DoStep each, no
-        bookkeeping); return (t_next, event pending)."""
-        event = False
+        bookkeeping); return (t_next, event pending, [(instance asking to terminate, time)])."""
+        event, terminating = False, []
         for u in self.instances:
             result = u.binding.fmi3DoStep(t, t_next - t, True)
             u.time = t_next
             if result.terminate_simulation:
-                self._terminated(u, "fmi3DoStep", t_next)
+                terminating.append((u, t_next))
             event = event or (result.event_handling_needed and u.event_mode)
-        return t_next, event
+        return t_next, event, terminating
 
-    def _step_with_early_returns(self, t: float, end: float) -> tuple[float, bool]:
+    def step_with_early_returns(self, t: float, end: float) -> tuple[float, bool, list]:
         """Step every FMU from t towards ``end``, early returners first; nobody goes past the
         earliest lastSuccessfulTime, and those already past it are rolled back (with FMU state)
-        and stepped again, up to it. Returns (time reached by all, event pending)."""
+        and stepped again, up to it. Returns (time reached by all, event pending, [(instance
+        asking to terminate, its time)]); the engine calls it for every general step of a
+        system whose FMUs roll back."""
         results: dict[str, StepResult] = {}  # of those that stepped
         stepped: list[tuple[FmuInstance, object, float]] = []  # (instance, its saved state, its time before)
         reached = end - tolerance(end)  # an instance at or after this time is at end
-        for u in self.step_order:
+        rollback = self.plan.rollback
+        for u in self.plan.step_order:
             if u.time >= reached:
                 continue  # ahead after an early return it could not be rolled back from
-            saved = u.binding.fmi3GetFMUState() if (self.rollback and u.early and u.can_state) else None
+            saved = u.binding.fmi3GetFMUState() if (rollback and u.early and u.can_state) else None
             t_u = u.time
             results[u.name] = self._do_step(u, end)
             if u.time < reached:  # early return: nobody goes past lastSuccessfulTime
@@ -295,24 +271,24 @@ class Master:
                         self.stats.rollbacks += 1
                         results[v.name] = self._do_step(v, end)
             stepped.append((u, saved, t_u))
-        event = False
+        event, terminating = False, []
         for u in self.instances:
             result = results.get(u.name)
             if result is None:
                 continue
             if result.terminate_simulation:
-                self._terminated(u, "fmi3DoStep", u.time)
+                terminating.append((u, u.time))
             event = event or (result.event_handling_needed and u.event_mode)
-        return end, event
+        return end, event, terminating
 
     def _do_step(self, u: FmuInstance, end: float) -> StepResult:
-        result = u.binding.fmi3DoStep(u.time, end - u.time, not self.rollback)
+        result = u.binding.fmi3DoStep(u.time, end - u.time, not self.plan.rollback)
         u.time = result.last_successful_time if result.early_return else end
         return result
 
     # -- Event Mode -------------------------------------------------------------------------
     def _event_mode(self, t: float) -> None:
-        for u in self.event_instances:
+        for u in self.plan.event_instances:
             u.binding.fmi3EnterEventMode()
             u.new_instant()
         self._event_iteration(t)
@@ -340,19 +316,19 @@ class Master:
             if not needs and not changed:
                 break
             if k >= self.system.max_event_iterations:
-                self._zeno(t, k, needs, ticked)
+                self.zeno(t, k, needs, ticked)
         for u in self._timed:
             u.read_intervals(t, ticked_all.get(u.name, ()))
         self._record(t, k)
         self.recorder.flush()
-        for u in self.event_instances:
+        for u in self.plan.event_instances:
             u.binding.fmi3EnterStepMode()
         self._refresh_timing(t)
 
     def _update_discrete_states(self, t: float) -> list[FmuInstance]:
         """Close an instant on every FMU in Event Mode; those that ask for another."""
         needs = []
-        for u in self.event_instances:
+        for u in self.plan.event_instances:
             states = u.binding.fmi3UpdateDiscreteStates()
             u.active.clear()
             u.new_instant()
@@ -360,14 +336,14 @@ class Master:
             if states.discrete_states_need_update:
                 needs.append(u)
             if states.terminate_simulation:
-                self._terminated(u, "fmi3UpdateDiscreteStates", t)
+                self.terminated(u, "fmi3UpdateDiscreteStates", t)
         return needs
 
     def _propagate(self, t: float, clocks: bool, event_mode: bool) -> None:
         """Forward clocks and values in dependency order until nothing new happens at this instant
         (without connections: read each instance's output clocks, nothing to forward)."""
-        instances = self.event_instances if event_mode else self.instances
-        if not self._routes and not self.values.connected:
+        instances = self.plan.event_instances if event_mode else self.instances
+        if not self.plan.routes and not self.values.connected:
             if clocks:
                 for u in instances:
                     if u.out_clocks:
@@ -382,7 +358,7 @@ class Master:
         while heap:
             budget -= 1
             if budget < 0:
-                raise self._algebraic_loop(t, woke)
+                raise self.algebraic_loop(t, woke)
             _, name = heapq.heappop(heap)
             queued.discard(name)
             u = self.by_name[name]
@@ -395,7 +371,7 @@ class Master:
                     queued.add(w)
                     heapq.heappush(heap, (self.rank[w], w))
 
-    def _algebraic_loop(self, t: float, woke: dict[tuple[str, str], int]) -> RobogenError:
+    def algebraic_loop(self, t: float, woke: dict[tuple[str, str], int]) -> RobogenError:
         """The error for values that keep changing at t, located at the connections of the loop
         (among the instances that set each other's inputs most often)."""
         busiest = max(woke.values(), default=0)
@@ -430,7 +406,7 @@ class Master:
             if (u.name, vr) in forwarded:
                 continue
             forwarded.add((u.name, vr))
-            for target, target_clock, sources, batches in self._routes.get((u.name, vr), ()):
+            for target, target_clock, sources, batches in self.plan.routes.get((u.name, vr), ()):
                 if not target.event_mode:
                     continue
                 if target_clock not in target.active:
@@ -442,7 +418,7 @@ class Master:
                 woken.add(target.name)
         return woken
 
-    def _zeno(self, t: float, k: int, needs: list[FmuInstance], ticked: dict) -> None:
+    def zeno(self, t: float, k: int, needs: list[FmuInstance], ticked: dict) -> None:
         active = [f"{n}.{self.by_name[n].by_vr[vr].name}" for n, vrs in ticked.items() for vr in sorted(vrs)]
         who = ", ".join(f"'{u.name}'" for u in needs) or "none (connected values keep changing)"
         diag_notes = [Note(f"instance '{u.name}' is declared here", u.span) for u in needs]
@@ -459,7 +435,7 @@ class Master:
         """The connections of a loop of clocks active in the last instant (an instance may drive
         its own input clock), or none."""
         drives: dict[str, set[str]] = {}
-        for (source, vr), routes in self.wiring.clock_routes.items():
+        for (source, vr), routes in self.plan.wiring.clock_routes.items():
             if vr in ticked.get(source, ()):
                 drives.setdefault(source, set()).update(r.target.name for r in routes if r.target_clock in ticked[r.target.name])
         return self._connections_around(find_cycle(drives), clocks=True)
@@ -469,7 +445,7 @@ class Master:
         """Record the row (t, k): of an event iteration, or a plain one (``event`` false, which
         decimation may drop)."""
         # Instances with value connections were read while forwarding; read the others here.
-        for u in self.wiring.record_reads:
+        for u in self.plan.wiring.record_reads:
             u.read_outputs()
         row = [t, k]
         for kind, u, var, reader, index in self._columns:
@@ -479,7 +455,7 @@ class Master:
                 row.append(1 if var.value_reference in u.active else 0)
             else:
                 row.append(None)  # a clocked value: filled below while its clock is active
-        for u, cells in self._clocked_columns:
+        for u, cells in self.plan.clocked_columns:
             if u.active:
                 live = [(position, var) for position, var, clocks in cells if not clocks.isdisjoint(u.active)]
                 if live:
@@ -491,11 +467,11 @@ class Master:
             self.recorder.append_row(row)
 
     def _log_events(self, t: float, k: int) -> None:
-        if not self._events_logged:
+        if self.plan.event_values is None:
             return
         for u in self.instances:
             for vr in sorted(u.active):
-                variables = self._event_values[u.name].get(vr, [])
+                variables = self.plan.event_values[u.name].get(vr, [])
                 values = dict(zip((v.name for v in variables), u.clocked_values(variables)))
                 self.recorder.event(t, k, u.name, u.by_vr[vr].name, values)
 
@@ -516,38 +492,3 @@ class Master:
         """fmi3Terminate every healthy instance, free all but those that returned fmi3Fatal."""
         for u in self.instances:
             u.shut_down()
-
-
-def _route_plans(wiring) -> dict[tuple[str, int], list[tuple]]:
-    """Each clock route as (target, target clock, the source variables it carries, and per type
-    (type, target value references, indices into the sources)): what _forward_clocks calls."""
-    plans: dict[tuple[str, int], list[tuple]] = {}
-    for key, routes in wiring.clock_routes.items():
-        for route in routes:
-            sources = [value.source for value in route.values]
-            by_type: dict[str, tuple[list[int], list[int]]] = {}
-            for i, value in enumerate(route.values):
-                vrs, indices = by_type.setdefault(value.target.type, ([], []))
-                vrs.append(value.target.value_reference)
-                indices.append(i)
-            batches = [(fmi_type, vrs, indices) for fmi_type, (vrs, indices) in by_type.items()]
-            plans.setdefault(key, []).append((route.target, route.target_clock, sources, batches))
-    return plans
-
-
-def _clocked_columns(wiring) -> list[tuple[FmuInstance, list[tuple[int, object, frozenset[int]]]]]:
-    """The recorded clocked variables per instance: (row position, variable, its clocks)."""
-    by_instance: dict[str, tuple[FmuInstance, list]] = {}
-    for i, column in enumerate(wiring.columns):
-        if column.kind == CLOCKED:
-            cells = by_instance.setdefault(column.instance.name, (column.instance, []))[1]
-            cells.append((2 + i, column.variable, frozenset(column.variable.clocks)))
-    return list(by_instance.values())
-
-
-def _event_values(instances: list[FmuInstance]) -> dict[str, dict[int, list]]:
-    """Per instance and clock: the clocked inputs and outputs the events log shows with it."""
-    return {u.name: {c.value_reference: [v for v in u.md.variables if c.value_reference in v.clocks and not v.is_clock
-                                         and v.causality in ("input", "output")]
-                     for c in u.md.variables if c.is_clock}
-            for u in instances}

@@ -30,7 +30,9 @@ from pathlib import Path
 from typing import Callable, Sequence
 
 import robogen
-from robogen.cosim.fmi3 import CallNotes, DiscreteStates, FMI3Error, FMUCrashed, LoadError, LogMemory, StepResult, ffi
+from robogen.cosim.fmi3 import (
+    FUNCTION_CODE, UNLISTED, CallNotes, DiscreteStates, FMI3Error, FMUCrashed, LoadError, LogMemory, StepResult, ffi,
+)
 
 #: How long a worker may take to exit when asked (then it is killed).
 EXIT_SECONDS = 5.0
@@ -54,6 +56,7 @@ class ProxyBinding:
                  log: Callable[[str, int, str], None] | None = None, notes: CallNotes | None = None):
         self.name, self.trace, self.log = name, trace, log
         self.notes = notes if notes is not None else CallNotes()
+        self.note_base = self.notes.base(name)
         self.handle = None
         self.logged = LogMemory()
         self.dead = False  # the worker is gone (crashed, killed or stopped)
@@ -71,7 +74,11 @@ class ProxyBinding:
         return self._instantiated and not self.dead
 
     def raw(self, function: str):
-        return None  # no C function in this process: the master's general loop calls through here
+        return None  # no C function in this process: the engine calls through an adapter (robogen.cosim.adapters)
+
+    def note_code(self, function: str) -> int:
+        """What is noted before ``function`` is called on this instance (robogen.cosim.fmi3.CallNotes)."""
+        return self.note_base | FUNCTION_CODE.get(function, UNLISTED)
 
     def error(self, function: str, status: int) -> FMI3Error:
         return FMI3Error(function, status, self.name, self.logged.message())

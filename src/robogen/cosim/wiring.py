@@ -131,7 +131,7 @@ class ValueExchange:
         self.connected = any(value_links.values())
         self._links = {name: plain(links) for name, links in value_links.items()}
         #: the value each connected input was last set to, by (target instance, value reference); the
-        #: C stretch (robogen.cosim.stepper) takes it over for its run and hands it back
+        #: engine (robogen.cosim.engine) takes it over for its run and hands it back
         self.last_set: dict[tuple[str, int], object] = {}
 
     def forward(self, u: FmuInstance) -> set[str]:

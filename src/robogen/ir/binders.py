@@ -68,9 +68,8 @@ class BinderLowering:
     site: int
 
     def _e_Binder(self, e: ast.Binder, graph: Graph) -> ir.Expr:
-        if e.kind == "lambda":
-            raise not_supported("a lambda as a value here (a function value is applied, or stored in a function variable)",
-                                e.span)
+        if e.kind == "lambda":  # a function value (robogen.ir.functions)
+            return self.fvalue(e, self._type(e), graph)  # type: ignore[attr-defined]
         return self._quantified(e.kind, e.decls, e.such_that, e.body, e, graph)
 
     def _e_SetComprehension(self, e: ast.SetComprehension, graph: Graph) -> ir.Expr:

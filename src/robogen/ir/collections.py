@@ -55,6 +55,9 @@ CAN_OVERFLOW = ("set", "seq", "union", "symdiff", "cat", "elems", "range", "dom"
 OTHER_FAULTS = {"Inter": "'Inter' of an empty set of sets: every value of an infinite type",
                 "iter": f"'iter' of 0 on an infinite type (the identity relation), or of more than {1 << 16} powers that "
                         "never repeat"}
+# the operations that may fail other than by overflowing: their message is the site's second
+# (robogen.codegen gives each fallible operation two sites: overflow, then this)
+SECOND_FAULTS = EMPTY_FAULTS + ("at",) + tuple(OTHER_FAULTS)
 # the most values one expression loops over: the integers of a quantifier's range, iter's powers
 # (every cycle of an FMU ends: a loop of an expression is bounded too)
 LOOP_LIMIT = 1 << 16
@@ -109,10 +112,11 @@ def member(x, s: list, t: T.Type, ordered: bool = True) -> bool:
 class Builder:
     """A result under construction, that may not hold more than ``capacity`` elements."""
 
-    def __init__(self, capacity: int, overflow: str):
+    def __init__(self, capacity: int, overflow: str, empty: str = ""):
         self.items: list = []
         self.capacity = capacity
         self.overflow = overflow
+        self.empty = empty  # the message of the operation's other fault (robogen.ir.collections.SECOND_FAULTS)
 
     def append(self, x) -> None:
         if len(self.items) >= self.capacity:
@@ -135,9 +139,9 @@ def apply(op: str, args: list, arg_types: list[T.Type], capacity: int, overflow:
     the messages of its faults."""
     first = arg_types[0] if arg_types else T.INT
     elem = first.element if isinstance(first, (T.SetT, T.SeqT)) else first  # type: ignore[union-attr]
-    out = Builder(capacity, overflow)
+    out = Builder(capacity, overflow, empty)
     if op in RELATION_OPS:
-        return _relation(op, args, arg_types, result, out, empty)
+        return _relation(op, args, arg_types, result, out)
     if op in ("set", "seq"):
         for x, xt in zip(args, arg_types):
             out.insert(x, xt) if op == "set" else out.append(x)
@@ -186,7 +190,7 @@ def apply(op: str, args: list, arg_types: list[T.Type], capacity: int, overflow:
     if op in ("min", "max"):
         return s[0] if op == "min" else s[-1]
     if op in ("Union", "Inter", "dconcat"):
-        return _nested(op, s, elem, result, out, empty)
+        return _nested(op, s, elem, result, out)
     if op == "injective":
         return all(compare(x, y, elem) != 0 for i, x in enumerate(s) for y in s[i + 1:])
     if op in ("prefix", "suffix", "infix"):
@@ -216,14 +220,14 @@ def _sets(op: str, s: list, t: list, elem: T.Type, out: Builder):
     return inside and (op == "subseteq" or len(s) < len(t))
 
 
-def _nested(op: str, s: list, inner: T.Type, result: T.Type, out: Builder, other: str) -> list:
+def _nested(op: str, s: list, inner: T.Type, result: T.Type, out: Builder) -> list:
     """``Union``, ``Inter`` of the set of sets ``s``, ``dconcat`` of the sequence of sequences."""
     elem = inner.element  # type: ignore[attr-defined]
     if op == "Inter":
         if not s:
             every = all_values(elem)
             if every is None:
-                raise CollectionFault(other)
+                raise CollectionFault(out.empty)
             for x in every:
                 out.append(x)
             return out.items
@@ -236,13 +240,16 @@ def _nested(op: str, s: list, inner: T.Type, result: T.Type, out: Builder, other
 
 # relations are sets of pairs (tuples with fields _1, _2): their operations, by name
 RELATION_OPS = ("dom", "ran", "rinv", "dres", "dsub", "rres", "rsub", "rimage", "roverride", "relcomp", "squash", "iter",
-                "closure")
+                "closure", "haskey", "at")
 
 
-def _relation(op: str, args: list, arg_types: list[T.Type], result: T.Type, out: Builder, other: str = ""):
+def _relation(op: str, args: list, arg_types: list[T.Type], result: T.Type, out: Builder):
     """``dom``, ``ran``, ``rinv``, ``dres(a, r)``, ``dsub(a, r)``, ``rres(r, b)``, ``rsub(r, b)``,
-    ``rimage(r, a)``, ``override(r, s)`` (``roverride``), ``relcomp(r, s)`` and ``squash(f)``
-    (the second components in the order of the first: a set of pairs is ordered by them)."""
+    ``rimage(r, a)``, ``override(r, s)`` (``roverride``), ``relcomp(r, s)``, ``squash(f)``
+    (the second components in the order of the first: a set of pairs is ordered by them),
+    ``iter(n, r)`` and ``closure(r)``, and for function values (robogen.ir.functions)
+    ``haskey(r, x)``, whether a pair has first component x, and ``at(r, x)``, the second
+    component of the first such pair (a fault if none)."""
     relation = 1 if op in ("dres", "dsub", "iter") else 0
     r, pair = args[relation], arg_types[relation].element  # type: ignore[attr-defined]
     x, y = pair.field("_1"), pair.field("_2")
@@ -255,6 +262,13 @@ def _relation(op: str, args: list, arg_types: list[T.Type], result: T.Type, out:
         other = args[1 - relation]
         key, kt = ("_1", x) if op in ("dres", "dsub") else ("_2", y)
         return [p for p in r if member(p[key], other, kt) == (op in ("dres", "rres"))]
+    if op in ("haskey", "at"):
+        for p in r:
+            if compare(p["_1"], args[1], x) == 0:
+                return True if op == "haskey" else p["_2"]
+        if op == "at":
+            raise CollectionFault(out.empty)
+        return False
     if op == "rimage":
         for p in r:
             if member(p["_1"], args[1], x):
@@ -271,7 +285,7 @@ def _relation(op: str, args: list, arg_types: list[T.Type], result: T.Type, out:
     if op == "relcomp":
         return _relcomp(r, args[1], y, res_elem, out)
     if op == "iter":
-        return _iter(args[0], r, pair, out, other)
+        return _iter(args[0], r, pair, out)
     if op == "closure":  # tr_closure: t := t with t;r until it grows no more (it only grows: a capacity bounds it)
         closure = list(r)
         while True:
@@ -295,13 +309,13 @@ def _relcomp(r: list, s: list, middle: T.Type, pair: T.Type, out: Builder) -> li
     return out.items
 
 
-def _iter(n: int, r: list, pair: T.Type, out: Builder, other: str) -> list:
+def _iter(n: int, r: list, pair: T.Type, out: Builder) -> list:
     """``iter(n, r)`` (see the module documentation)."""
     x = pair.field("_1")  # type: ignore[attr-defined]
     if n == 0:
         every = all_values(x)  # type: ignore[arg-type]
         if every is None:
-            raise CollectionFault(other)
+            raise CollectionFault(out.empty)
         for v in every:
             out.append({"_1": v, "_2": v})
         return out.items
@@ -312,7 +326,7 @@ def _iter(n: int, r: list, pair: T.Type, out: Builder, other: str) -> list:
     power = list(r)
     for k in range(1, n):
         if k >= LOOP_LIMIT:
-            raise CollectionFault(other)
+            raise CollectionFault(out.empty)
         step = _relcomp(r, power, x, pair, Builder(out.capacity, out.overflow))  # type: ignore[arg-type]
         if len(step) == len(power) and all(compare(a, b, pair) == 0 for a, b in zip(step, power)):
             break
@@ -377,9 +391,12 @@ def overflow_message(text: str, where: str, capacity: int | str) -> str:
 
 
 def empty_message(op: str, text: str, where: str) -> str:
-    """The message of an operation's second fault: an empty collection, or :data:`OTHER_FAULTS`."""
+    """The message of an operation's second fault (:data:`SECOND_FAULTS`): an empty collection,
+    an argument outside a function value's domain, or :data:`OTHER_FAULTS`."""
     if op in OTHER_FAULTS:
         return f"{OTHER_FAULTS[op]} in {text} at {where}"
+    if op == "at":
+        return f"{text} outside the function's domain at {where}"
     return f"'{op}' of an empty collection in {text} at {where}"
 
 
@@ -391,4 +408,5 @@ def index(q: list, i: int, what: str) -> int:
 
 
 __all__ = ["CollectionFault", "apply", "compare", "member", "index", "received", "convert", "all_values", "overflow_message", "site_capacity",
-           "empty_message", "SET_RESULTS", "SEQ_RESULTS", "EMPTY_FAULTS", "CAN_OVERFLOW", "OTHER_FAULTS", "LOOP_LIMIT"]
+           "empty_message", "SET_RESULTS", "SEQ_RESULTS", "EMPTY_FAULTS", "CAN_OVERFLOW", "OTHER_FAULTS", "SECOND_FAULTS",
+           "LOOP_LIMIT"]

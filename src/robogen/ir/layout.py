@@ -23,7 +23,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 from typing import Callable
 
-from robogen.ir.supported import ArrayT, TaggedT
+from robogen.ir.supported import ArrayT, FunMapT, TaggedT
 from robogen.semantics import types as T
 
 
@@ -54,21 +54,22 @@ def _shape(t: T.Type) -> tuple[T.Type, tuple[int, ...]]:
     return t, ()
 
 
-def leaves(t: T.Type, capacity_of: Callable[[T.Type], int], functions: bool = False,
-           name: tuple[str, ...] = (), path: tuple[str, ...] = (), dims: tuple[int, ...] = ()) -> list[Leaf]:
-    """The FMI variables of a value of type ``t`` (see the module documentation), in order.
-    ``functions``: a function value is a variable of its own (its number), else it has none."""
+def leaves(t: T.Type, capacity_of: Callable[[T.Type], int], name: tuple[str, ...] = (), path: tuple[str, ...] = (),
+           dims: tuple[int, ...] = ()) -> list[Leaf]:
+    """The FMI variables of a value of type ``t`` (see the module documentation), in order. A
+    function value has none (robogen.ir.functions: its default is robogen's numbering of the
+    model's lambdas; an FMU port of one is a located error, robogen.ir.ports)."""
+    if isinstance(t, FunMapT):
+        return []
     if isinstance(t, T.RecordT):
         out: list[Leaf] = []
         for n, ft in t.fields:
-            out += leaves(ft, capacity_of, functions, name + (n,), path + (n,), dims)
+            out += leaves(ft, capacity_of, name + (n,), path + (n,), dims)
         return out
     if isinstance(t, (T.SetT, T.SeqT)):
         inner = dims + (capacity_of(t),)
-        out = leaves(t.element, capacity_of, functions, name + ("elements",), path + ("#elements",), inner)
+        out = leaves(t.element, capacity_of, name + ("elements",), path + ("#elements",), inner)
         return out + [Leaf(name + ("size",), path + ("#size",), _array(T.NAT, dims))]
-    if isinstance(t, T.FunctionT) and not functions:
-        return []
     if dims and isinstance(t, (T.VectorT, T.MatrixT)):
         element, own = _shape(t)
         return [Leaf(name, path, _array(element, dims + own))]
@@ -90,6 +91,8 @@ def _deep(t: T.Type) -> bool:
     """An element type of a collection that needs more than one array per field."""
     if isinstance(t, TaggedT):
         return True
+    if isinstance(t, FunMapT):
+        return False  # no FMI variables
     if isinstance(t, T.RecordT):
         return any(_deep(ft) for _, ft in t.fields)
     return isinstance(t, (T.SetT, T.SeqT, T.VectorT, T.MatrixT))
@@ -147,10 +150,10 @@ def build(t: T.Type, path: tuple[str, ...], pos: int, read, capacity_of, receive
             mine = n.rsplit("_", 1)[0] == literal
             value[n] = build(ft, path + (n,), pos, read, capacity_of, received, default) if mine else default(ft)
         return value
+    if isinstance(t, FunMapT):  # no FMI variables
+        return default(t)
     if isinstance(t, T.RecordT):
         return {n: build(ft, path + (n,), pos, read, capacity_of, received, default) for n, ft in t.fields}
-    if isinstance(t, T.FunctionT):
-        return default(t)
     n = width(t, (), capacity_of)
     entries = read(path, pos, n)
     return list(entries) if isinstance(t, (T.VectorT, T.MatrixT)) else entries[0]

@@ -25,7 +25,7 @@ from pathlib import Path
 from typing import Iterator
 
 from robogen.diagnostics import RobogenError, Span
-from robogen.platforms.plan import Command, Plan, load_plan
+from robogen.platforms.plan import Command, CommandPlan, load_plan
 from robogen.pyfmu import Clock, FmiUsageError, Int64, Model, Setting, Step, Update
 from robogen.fmu.fmi import same_time
 
@@ -88,7 +88,7 @@ class PlanController(Model):
         packaged = None if self.resource_path is None else self.resource_path / "plan.toml"
         if packaged is None or not packaged.is_file():
             raise FmiUsageError("the plan is missing from the FMU's resources (resources/plan.toml)")
-        self._plan: Plan = load_plan(packaged)
+        self._plan: CommandPlan = load_plan(packaged)
         self._upcoming: Iterator[Command] = iter(())
         self._next: Command | None = None
         self._emitted = False  # a command was raised in the current instant

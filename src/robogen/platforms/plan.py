@@ -35,7 +35,7 @@ class Command:
 
 
 @dataclass(frozen=True)
-class Plan:
+class CommandPlan:
     commands: tuple[Command, ...]
     repeat_period: float | None = None
     end_time: float | None = None
@@ -97,7 +97,7 @@ def _number(value: object) -> bool:
     return isinstance(value, (int, float)) and not isinstance(value, bool) and math.isfinite(value)
 
 
-def parse_plan(text: str, path: str = "<plan>") -> Plan:
+def parse_plan(text: str, path: str = "<plan>") -> CommandPlan:
     try:
         data = tomllib.loads(text)
     except tomllib.TOMLDecodeError as exc:
@@ -159,11 +159,11 @@ def parse_plan(text: str, path: str = "<plan>") -> Plan:
     if times != sorted(times):
         sink.error("commands must be listed in time order", Span.whole_file(path))
     sink.raise_if_errors()
-    return Plan(tuple(commands), float(period) if period is not None else None,
+    return CommandPlan(tuple(commands), float(period) if period is not None else None,
                 float(end) if end is not None else None)
 
 
-def load_plan(path: str | Path) -> Plan:
+def load_plan(path: str | Path) -> CommandPlan:
     path = Path(path)
     try:
         text = path.read_text(encoding="utf-8")

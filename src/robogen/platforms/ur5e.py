@@ -218,7 +218,7 @@ class UR5ePlatform(Model):
     # -- outputs --------------------------------------------------------------------------------
 
     def update_outputs(self) -> None:
-        values = self._values
+        values = self.variable_values
         if self._scene is None:  # before the physics exists: the start pose at rest
             q, dq = self._initial_q(), (0.0,) * 6
             flange = forward(q)

@@ -36,6 +36,7 @@ from robogen import toolchain
 from robogen.diagnostics import RobogenError, Span, did_you_mean
 from robogen.fmu.archive import write_fmu
 from robogen.fmu.headers import PLATFORM_TUPLE, include_dir
+from robogen.fmu.platforms import HOST, Platform
 from robogen.fmu.modeldesc_writer import write_model_description
 from robogen.outputs import output_file
 from robogen.pyfmu.description import model_description
@@ -276,14 +277,15 @@ def build_binary(model_identifier: str, token: str, workdir: Path, *, promote_li
     ffi = cffi.FFI()
     ffi.embedding_api("")
     ffi.cdef(python_decls + "\n" + c_decls)
-    ffi.set_source(module, '#include "bridge.h"\nint pyfmu_cffi_start(void) { return cffi_start_python(); }\n')
+    source = '#include "bridge.h"\nint pyfmu_cffi_start(void) { return cffi_start_python(); }\n'
+    ffi.set_source(module, source)
     init_code = (HERE / "_embedded.py").read_text()
     config = {"token": token, "site_dirs": site_dirs()}
     init_code += f"\n\nfrom {module} import ffi as _ffi, lib as _lib\nbind(_ffi, _lib, {config!r})\n"
     ffi.embedding_init_code(init_code)
     workdir.mkdir(parents=True, exist_ok=True)
     generated = workdir / f"{module}.c"
-    make_c_source(ffi, module, ffi._assigned_source[1], str(generated), verbose=False)
+    make_c_source(ffi, module, source, str(generated), verbose=False)
     sites = ", ".join(_c_string(d) for d in config["site_dirs"])
     (workdir / "pyfmu_config.h").write_text(
         f"#define PYFMU_PYTHON_HOME {_c_string(info['home'])}\n"
@@ -312,6 +314,19 @@ def build_binary(model_identifier: str, token: str, workdir: Path, *, promote_li
 
 # --------------------------------------------------------------------------------------------
 # The archive
+
+
+def _host_only(platforms: Sequence[Platform]) -> None:
+    """A Python FMU runs its model in the CPython that built it: the binary links that
+    interpreter's libpython and finds its standard library and site-packages by the paths of
+    this machine, so it exists for this machine's platform only."""
+    others = [p.name for p in platforms if p != HOST]
+    if others:
+        raise RobogenError.at(
+            f"a Python FMU is built for {HOST.name} only, not {', '.join(others)}: its binary embeds this machine's "
+            f"CPython (it links {sysconfig.get_config_var('LDLIBRARY') or 'libpython'} and loads the model's "
+            "packages from this machine's site-packages), which no other platform has. Package a RoboChart/RoboSim "
+            "model with `robogen package --platforms` for binaries of every platform", None)
 
 
 def external_dependencies(info: Mapping[str, str]) -> str:
@@ -346,8 +361,10 @@ def external_dependencies(info: Mapping[str, str]) -> str:
 
 
 def package(spec: str, output: str | os.PathLike, assignments: Iterable[str] = (),
-            model_identifier: str | None = None, *, promote_libpython: bool = True) -> Packaged:
-    """Write the FMU for ``spec`` (``module:Class``) to ``output``."""
+            model_identifier: str | None = None, *, promote_libpython: bool = True,
+            platforms: Sequence[Platform] = (HOST,)) -> Packaged:
+    """Write the FMU for ``spec`` (``module:Class``) to ``output``, for the host only."""
+    _host_only(platforms)
     output = Path(output)
     if output.suffix != ".fmu":
         raise RobogenError.at(f"the output '{output}' must end in .fmu", None)

@@ -13,7 +13,7 @@ from __future__ import annotations
 from typing import Any
 
 from robogen import __version__
-from robogen.fmu.fmi import LOG_CATEGORIES
+from robogen.fmu.fmi import PYTHON_FMU_LOG_CATEGORIES
 from robogen.fmu.modeldesc import (
     CoSimulation, DefaultExperiment, LogCategory, ModelDescription, Unit, Unknown, Variable,
 )
@@ -58,7 +58,7 @@ def model_description(model: type[Model], model_identifier: str) -> ModelDescrip
             might_return_early=model.might_return_early),
         unit_definitions=tuple(Unit(u, _BASE_UNITS.get(u)) for u in sorted(
             {v.unit for v in variables if v.unit is not None and v.type_name == "Float64"})),
-        log_categories=tuple(LogCategory(name) for name in LOG_CATEGORIES),
+        log_categories=tuple(LogCategory(name) for name in PYTHON_FMU_LOG_CATEGORIES),
         default_experiment=_default_experiment(model),
         variables=(TIME, *(_variable(model, var) for var in variables)),
         unknowns=_model_structure(model),

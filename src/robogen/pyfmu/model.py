@@ -89,7 +89,7 @@ class Var:
         self.attr = attr
         self.name = self.name or attr
 
-    def _complete(self) -> None:
+    def complete_declaration(self) -> None:
         """Fill in FMI defaults and reject combinations the standard forbids (called by
         ``Model.__init_subclass__`` for the variables a class declares)."""
         where = f"variable '{self.name}'"
@@ -139,10 +139,10 @@ class Var:
     def __get__(self, obj: "Model | None", owner: type) -> Any:
         if obj is None:
             return self
-        return obj._values[self.name]
+        return obj.variable_values[self.name]
 
     def __set__(self, obj: "Model", value: Any) -> None:
-        obj._values[self.name] = self.coerce(value)
+        obj.variable_values[self.name] = self.coerce(value)
 
     def initial_value(self) -> Any:
         return self.start if self.start is not None else self.default_start
@@ -231,7 +231,7 @@ class Clock(Var):
         self.interval = interval
         self.shift = shift
 
-    def _complete(self) -> None:
+    def complete_declaration(self) -> None:
         where = f"clock '{self.name}'"
         if self.kind not in CLOCK_KINDS:
             raise DeclarationError(f"{where}: kind must be one of {', '.join(CLOCK_KINDS)}")
@@ -256,7 +256,7 @@ class Clock(Var):
     def __get__(self, obj: "Model | None", owner: type) -> Any:
         if obj is None:
             return self
-        return self.name in obj._active_clocks
+        return self.name in obj.active_clocks
 
     def __set__(self, obj: "Model", value: Any) -> None:
         raise AttributeError(f"clock '{self.name}' is activated with raise_clock(), not assigned")
@@ -378,6 +378,11 @@ class Model:
     - ``get(name)`` / ``set(name, value)``: value access by FMI name; override to compute
       outputs on demand per variable or to react to a parameter.
     - ``terminate()``, ``free()``: release resources (``free`` also runs before a reset).
+
+    The framework keeps two attributes on every instance, read by the slave (and by a subclass
+    that computes its outputs in bulk): ``variable_values``, the values of the variables by name
+    (the storage the declared attributes read and write), and ``active_clocks``, the names of the
+    clocks active in the current event instant. A variable may not take either name.
     """
 
     model_identifier: ClassVar[str] = ""
@@ -397,7 +402,7 @@ class Model:
         for value in vars(cls).values():
             if isinstance(value, Var):
                 try:
-                    value._complete()
+                    value.complete_declaration()
                 except DeclarationError as exc:
                     raise DeclarationError(f"{cls.__name__}: {exc}") from None
         for klass in reversed(cls.__mro__):
@@ -500,27 +505,27 @@ class Model:
         self.stop_time: float | None = None
         self.early_return_allowed = False
         self._logger = logger
-        self._values: dict[str, Any] = {v.name: v.initial_value() for v in self._variables if not isinstance(v, Clock)}
-        self._active_clocks: set[str] = set()
+        self.variable_values: dict[str, Any] = {v.name: v.initial_value() for v in self._variables if not isinstance(v, Clock)}
+        self.active_clocks: set[str] = set()
 
     #: Whether :meth:`update_outputs` must run before the importer reads outputs (see the class).
     outputs_stale: bool = False
 
     def get(self, name: str) -> Any:
-        return self._values[name]
+        return self.variable_values[name]
 
     def set(self, name: str, value: Any) -> None:
-        self._values[name] = self._by_name[name].coerce(value)
+        self.variable_values[name] = self._by_name[name].coerce(value)
 
     def raise_clock(self, name: str) -> None:
         """Activate an output (or local) clock in the current event instant."""
         var = self._by_name.get(name)
         if not isinstance(var, Clock) or var.causality == "input":
             raise ValueError(f"'{name}' is not an output clock of {type(self).__name__}")
-        self._active_clocks.add(name)
+        self.active_clocks.add(name)
 
     def clock_active(self, name: str) -> bool:
-        return name in self._active_clocks
+        return name in self.active_clocks
 
     def log(self, message: str, category: str = "logEvents", status: int = 0) -> None:
         """Send a message through the importer's logMessage callback (if logging is on)."""

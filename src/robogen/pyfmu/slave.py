@@ -21,7 +21,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any, Callable, Iterable, Sequence
 
-from robogen.fmu.fmi import INTERVAL_UNCHANGED, LOG_CATEGORIES, same_time
+from robogen.fmu.fmi import INTERVAL_UNCHANGED, PYTHON_FMU_LOG_CATEGORIES, same_time
 from robogen.pyfmu.model import Clock, FmiUsageError, Model, Step, Update, Var
 
 #: How many different Get calls (function and value references) a slave keeps checked.
@@ -155,8 +155,8 @@ class Slave:
         if self._update_pending:
             raise FmiUsageError("fmi3EnterStepMode: the event iteration is not finished: call fmi3UpdateDiscreteStates "
                                 "until it returns discreteStatesNeedUpdate=false")
-        if self.model._active_clocks:
-            raise FmiUsageError(f"fmi3EnterStepMode: clock '{sorted(self.model._active_clocks)[0]}' is active: close "
+        if self.model.active_clocks:
+            raise FmiUsageError(f"fmi3EnterStepMode: clock '{sorted(self.model.active_clocks)[0]}' is active: close "
                                 "its instant with fmi3UpdateDiscreteStates first")
         self.state = State.STEP
         self._set_since_step = False
@@ -164,7 +164,7 @@ class Slave:
     def terminate(self) -> None:
         self._require("fmi3Terminate", State.EVENT, State.STEP)
         self.model.terminate()
-        self.model._active_clocks.clear()
+        self.model.active_clocks.clear()
         self.state = State.TERMINATED
 
     def failed(self) -> None:
@@ -279,7 +279,7 @@ class Slave:
                 self._check_tick(clock)
         for clock in clocks:
             if not self.model.clock_active(clock.name):
-                self.model._active_clocks.add(clock.name)
+                self.model.active_clocks.add(clock.name)
                 self._new_input_clocks.add(clock.name)
                 if clock.periodic:
                     self._periodic_ticked.add(clock.name)
@@ -337,7 +337,7 @@ class Slave:
         update = self.model.update_discrete_states() or Update()
         if not isinstance(update, Update):
             raise TypeError(f"{type(self.model).__name__}.update_discrete_states must return Update or None")
-        self.model._active_clocks.clear()
+        self.model.active_clocks.clear()
         self._new_input_clocks.clear()
         self._reacted = False
         self._updated_in_event_mode = True
@@ -397,18 +397,18 @@ def _reader(names: list[str], plain: bool) -> Callable[[Model], list[Any]]:
         return lambda model: [model.get(name) for name in names]
     if len(names) == 1:
         name = names[0]
-        return lambda model: [model._values[name]]
+        return lambda model: [model.variable_values[name]]
     several = operator.itemgetter(*names)
-    return lambda model: list(several(model._values))
+    return lambda model: list(several(model.variable_values))
 
 
 def log_categories(requested: Iterable[str]) -> set[str]:
     """Check SetDebugLogging categories (an empty list means all of them)."""
     requested = list(requested)
     if not requested:
-        return set(LOG_CATEGORIES)
-    unknown = [c for c in requested if c not in LOG_CATEGORIES]
+        return set(PYTHON_FMU_LOG_CATEGORIES)
+    unknown = [c for c in requested if c not in PYTHON_FMU_LOG_CATEGORIES]
     if unknown:
         raise FmiUsageError(f"fmi3SetDebugLogging: unknown log category '{unknown[0]}' "
-                            f"(known: {', '.join(LOG_CATEGORIES)})")
+                            f"(known: {', '.join(PYTHON_FMU_LOG_CATEGORIES)})")
     return set(requested)

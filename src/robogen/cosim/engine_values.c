@@ -1,0 +1,522 @@
+/* The master's quiet stretches in C: consecutive plain communication steps with no event and no
+ * early return (robogen.cosim.stretch describes the contract; robogen.cosim.stepper.CStretch
+ * drives this loop).
+ *
+ * Built once with the system C compiler (robogen.cosim.stepper) and called through cffi. Each
+ * step does exactly what the Python stretch does, in the same order and with the same arithmetic:
+ * t_next = start + n * h; fmi3DoStep of every FMU from t with step t_next - t; then, unless an FMU
+ * asked for Event Mode, the exchange and the recording: the operations in `op` (in dependency
+ * order: a connected FMU's fmi3Get<Type> calls, then the values it forwards, one fmi3Set<Type>
+ * call per target FMU and type for the inputs whose value changed since they were last set; then
+ * the Get calls of the recorded FMUs that forward nothing), and one row of the recorded columns.
+ *
+ * A row is stored in one of three ways (rg_stretch.mode):
+ *   STORE_SLOTS  8-byte slots, one per recorded value (reals as doubles, signed integers as int64,
+ *               unsigned ones as uint64, Booleans as 0/1, Strings and Binaries as the offset of a
+ *               copy in the arena: a size_t length, then the bytes); Python builds the rows.
+ *   STORE_TEXT   the CSV line the recorder would write (robogen.cosim.recorder): reals in the
+ *               shortest form that reads back to the same double, as Python's repr; integers in
+ *               decimal; True/False; Strings in double quotes, a quote doubled; Binaries as 0x
+ *               and lowercase hexadecimal.
+ *   STORE_NONE   nothing (the rows go nowhere).
+ *
+ * Before each FMI call the loop notes it (rg_stretch.note_call/note_time, the master's
+ * robogen.cosim.fmi3.CallNotes), so a crash inside an FMU can be reported by instance, function
+ * and time. A chunk also ends at a wall-clock deadline, so the rows reach the results file at
+ * least that often however slow the FMUs are. */
+#define _POSIX_C_SOURCE 199309L
+#include <errno.h>
+#include <float.h>
+#include <math.h>
+#include <stdbool.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+#include <unistd.h>
+
+#include "engine.h"
+
+
+#if defined(__GNUC__)
+#define RG_EXPORT __attribute__((visibility("default")))
+#else
+#define RG_EXPORT
+#endif
+
+RG_EXPORT int rg_keep_last(rg_engine *s, int link, const char *data, size_t size);
+RG_EXPORT size_t rg_format_double(char *out, double x);
+RG_EXPORT void rg_release(rg_engine *s);
+
+/* Room for `more` bytes after b->used; false when memory runs out. */
+static bool reserve(rg_bytes *b, size_t more)
+{
+    size_t need = b->used + more;
+    if (need > b->size) {
+        size_t grown = b->size ? 2 * b->size : 65536;
+        char *data;
+        while (grown < need) grown *= 2;
+        data = (char *)realloc(b->data, grown);
+        if (data == NULL) return false;
+        b->data = data;
+        b->size = grown;
+    }
+    return true;
+}
+
+/* A copy of `size` bytes in the arena (a size_t length, then the bytes); its offset, or
+ * UINT64_MAX when memory runs out. */
+static uint64_t keep_bytes(rg_bytes *arena, const void *data, size_t size)
+{
+    uint64_t offset = arena->used;
+    if (!reserve(arena, sizeof(size_t) + size + 1)) return UINT64_MAX;
+    memcpy(arena->data + arena->used, &size, sizeof(size_t));
+    if (size) memcpy(arena->data + arena->used + sizeof(size_t), data, size);
+    arena->data[arena->used + sizeof(size_t) + size] = '\0'; /* a String's copy is a C string */
+    arena->used += sizeof(size_t) + size + 1;
+    return offset;
+}
+
+/* ---------------------------------------------------------------------------------------------
+ * Python's repr of a double: the shortest decimal that reads back to it (the closest such when
+ * there are several), in positional form for decimal exponents -4 <= e < 16 (with ".0" when it
+ * is whole), else as d.ddde+XX with at least two exponent digits. */
+
+/* The digits of |x| rounded to `precision` significant digits, into `digits` (NUL-terminated,
+ * trailing zeros kept), and the decimal exponent of the first. */
+static int round_digits(double x, int precision, char *digits)
+{
+    char buffer[40];
+    int i, k = 0;
+    snprintf(buffer, sizeof buffer, "%.*e", precision - 1, fabs(x));
+    for (i = 0; buffer[i] != 'e'; i++)
+        if (buffer[i] != '.') digits[k++] = buffer[i];
+    digits[k] = '\0';
+    return atoi(buffer + i + 1);
+}
+
+static void strip_zeros(char *digits)
+{
+    size_t k = strlen(digits);
+    while (k > 1 && digits[k - 1] == '0') digits[--k] = '\0';
+}
+
+static double digits_value(const char *digits, int exponent)
+{
+    char buffer[48];
+    size_t k = strlen(digits);
+    buffer[0] = '0';
+    buffer[1] = '.';
+    memcpy(buffer + 2, digits, k);
+    sprintf(buffer + 2 + k, "e%d", exponent + 1);
+    return strtod(buffer, NULL);
+}
+
+/* The next decimal of as many digits away from zero; the exponent may change. */
+static int step_up(char *digits, int exponent)
+{
+    int i = (int)strlen(digits) - 1;
+    while (i >= 0 && digits[i] == '9') digits[i--] = '0';
+    if (i >= 0) {
+        digits[i]++;
+        return exponent;
+    }
+    digits[0] = '1'; /* 99..9 -> 100..0: one digit more before the point */
+    return exponent + 1;
+}
+
+/* The `precision` digits of |x| from its 17 (`d17`, exponent e17), rounded to nearest; where the
+ * 17 digits end in a tie for that rounding (..5 or ..50), from x itself. */
+static int shorter(double x, const char *d17, int e17, int precision, char *digits)
+{
+    const char *tail = d17 + precision;
+    int cmp = tail[0] != '5' ? tail[0] - '5' : precision == 16 ? 0 : tail[1] - '0';
+    if (cmp == 0) return round_digits(x, precision, digits);
+    memcpy(digits, d17, (size_t)precision);
+    digits[precision] = '\0';
+    return cmp > 0 ? step_up(digits, e17) : e17;
+}
+
+/* Powers of ten exact in a long double (x86's 64-bit mantissa; elsewhere at least a double's,
+ * and the checks below then only send more values to the exact path). */
+static const long double P10[] = {1e0L, 1e1L, 1e2L, 1e3L, 1e4L, 1e5L, 1e6L, 1e7L, 1e8L, 1e9L, 1e10L, 1e11L,
+                                  1e12L, 1e13L, 1e14L, 1e15L, 1e16L, 1e17L, 1e18L, 1e19L, 1e20L, 1e21L,
+                                  1e22L, 1e23L, 1e24L, 1e25L, 1e26L, 1e27L};
+
+/* v scaled by 10^k (|k| <= 27): one rounding. */
+static long double scaled(long double v, int k) { return k >= 0 ? v * P10[k] : v / P10[-k]; }
+
+/* The fast path of shortest_digits: |x| scaled to 17 digits in long double arithmetic, whose
+ * error (a few units of 2^-64) is far below the margins it keeps; -1000 where a rounding or a
+ * bound is too close to call (or |x| is out of its range), and the exact path decides. */
+static int fast_shortest(double ax, char *digits)
+{
+    int e10 = (int)floor(log10(ax)), k, p, i;
+    long double y, lo, hi, r = 0;
+    uint64_t d;
+    if (LDBL_MANT_DIG < 64 || e10 < -11 || e10 > 43) return -1000;
+    k = 16 - e10;
+    y = scaled(ax, k);
+    if (y < 1e16L || y >= 1e17L) { /* log10 was off by one */
+        e10 += y < 1e16L ? -1 : 1;
+        k = 16 - e10;
+        if (k < -27 || k > 27) return -1000;
+        y = scaled(ax, k);
+    }
+    lo = scaled((long double)ax - 0.5L * ((long double)ax - nextafter(ax, 0)), k);
+    hi = scaled((long double)ax + 0.5L * ((long double)nextafter(ax, INFINITY) - ax), k);
+    for (p = 15; p <= 17; p++) {
+        /* q rounded to an integer by the addition of 2^63 (a long double's units there are 1): no
+         * switch of the x87 rounding mode, as floorl and integer casts make */
+        long double unit = P10[17 - p], q = y / unit, c;
+        int tries;
+        r = (q + 0x1p63L) - 0x1p63L;
+        if (fabsl(fabsl(q - r) - 0.5L) < 0.001L) return -1000;
+        for (tries = 0; tries < (p == 16 ? 2 : 1); tries++) { /* 16 digits: the far neighbour too */
+            c = r * unit;
+            if (fabsl(c - lo) < 0.004L || fabsl(c - hi) < 0.004L) return -1000;
+            if (lo < c && c < hi) goto found;
+            r += c < y ? 1 : -1;
+        }
+    }
+    return -1000;
+found:
+    d = (uint64_t)llrintl(r);
+    if (d >= (uint64_t)llrintl(P10[p])) { /* 99..9 rounded up to 100..0 */
+        d /= 10;
+        e10++;
+    }
+    for (i = p - 1; i >= 0; i--) {
+        digits[i] = (char)('0' + d % 10);
+        d /= 10;
+    }
+    digits[p] = '\0';
+    strip_zeros(digits);
+    return e10;
+}
+
+/* The shortest digits of |x| (x finite, not 0), their decimal exponent as the result. Any decimal
+ * of 15 digits reads back (DBL_DIG), so if one of at most 15 does, the rounding to 15 digits is
+ * it; 17 digits always read back. */
+static int shortest_digits(double x, char *digits)
+{
+    double ax = fabs(x);
+    char d17[24], d16[24];
+    int e17, e16, e15, precision;
+    if ((e15 = fast_shortest(ax, digits)) != -1000) return e15;
+    if (ax < 2.2250738585072014e-308) { /* subnormal: fewer digits are exact, try them all */
+        for (precision = 1; precision < 17; precision++) {
+            e15 = round_digits(x, precision, digits);
+            if (digits_value(digits, e15) == ax) break;
+        }
+        e15 = round_digits(x, precision, digits);
+        strip_zeros(digits);
+        return e15;
+    }
+    e17 = round_digits(x, 17, d17);
+    e16 = shorter(x, d17, e17, 16, d16);
+    if (digits_value(d16, e16) != ax) {
+        /* Where the double below is nearer than the one above (x a power of two), the correctly
+         * rounded decimal may miss while its neighbour further from zero reads back. */
+        if (digits_value(d16, e16) > ax || digits_value(d16, e16 = step_up(d16, e16)) != ax) {
+            memcpy(digits, d17, sizeof d17);
+            strip_zeros(digits);
+            return e17;
+        }
+        memcpy(digits, d16, sizeof d16);
+        strip_zeros(digits);
+        return e16;
+    }
+    e15 = shorter(x, d17, e17, 15, digits);
+    if (digits_value(digits, e15) != ax) {
+        memcpy(digits, d16, sizeof d16);
+        e15 = e16;
+    }
+    strip_zeros(digits);
+    return e15;
+}
+
+/* repr(x) into out (at least 32 bytes); its length. */
+RG_EXPORT size_t rg_format_double(char *out, double x)
+{
+    char digits[24];
+    int exponent, k, i, n = 0;
+    if (isnan(x)) return (size_t)sprintf(out, "nan");
+    if (isinf(x)) return (size_t)sprintf(out, x < 0 ? "-inf" : "inf");
+    if (x == 0) return (size_t)sprintf(out, signbit(x) ? "-0.0" : "0.0");
+    exponent = shortest_digits(x, digits);
+    k = (int)strlen(digits);
+    if (x < 0) out[n++] = '-';
+    if (exponent < -4 || exponent >= 16) {
+        out[n++] = digits[0];
+        if (k > 1) {
+            out[n++] = '.';
+            memcpy(out + n, digits + 1, (size_t)(k - 1));
+            n += k - 1;
+        }
+        return (size_t)(n + sprintf(out + n, "e%c%02d", exponent < 0 ? '-' : '+', abs(exponent)));
+    }
+    if (exponent < 0) {
+        out[n++] = '0';
+        out[n++] = '.';
+        for (i = -1; i > exponent; i--) out[n++] = '0';
+        memcpy(out + n, digits, (size_t)k);
+        n += k;
+    } else {
+        for (i = 0; i <= exponent || i < k; i++) {
+            if (i == exponent + 1) out[n++] = '.';
+            out[n++] = i < k ? digits[i] : '0';
+        }
+        if (k <= exponent + 1) {
+            out[n++] = '.';
+            out[n++] = '0';
+        }
+    }
+    out[n] = '\0';
+    return (size_t)n;
+}
+
+/* ---------------------------------------------------------------------------------------------
+ * Values */
+
+static double real_of(int kind, const void *buffer, size_t i)
+{
+    return kind == K_F32 ? (double)((const float *)buffer)[i] : ((const double *)buffer)[i];
+}
+
+/* An integer or Boolean value widened to 64 bits (signed kinds sign-extended). */
+static uint64_t integer_of(int kind, const void *buffer, size_t i)
+{
+    switch (kind) {
+    case K_I64: return (uint64_t)((const int64_t *)buffer)[i];
+    case K_U64: return ((const uint64_t *)buffer)[i];
+    case K_I32: return (uint64_t)(int64_t)((const int32_t *)buffer)[i];
+    case K_U32: return ((const uint32_t *)buffer)[i];
+    case K_I16: return (uint64_t)(int64_t)((const int16_t *)buffer)[i];
+    case K_U16: return ((const uint16_t *)buffer)[i];
+    case K_I8: return (uint64_t)(int64_t)((const int8_t *)buffer)[i];
+    case K_U8: return ((const uint8_t *)buffer)[i];
+    default: return ((const bool *)buffer)[i] ? 1u : 0u;
+    }
+}
+
+/* The bytes of a String or Binary value of a read (NULL reads as empty). */
+static const char *bytes_of(const rg_engine *s, int r, size_t i, size_t *size)
+{
+    const char *data = ((const char *const *)s->p->buffer[r])[i];
+    if (data == NULL) {
+        *size = 0;
+        return "";
+    }
+    *size = s->p->kind[r] == K_STRING ? strlen(data) : s->p->sizes[r][i];
+    return data;
+}
+
+static bool is_bytes(int kind) { return kind == K_STRING || kind == K_BINARY; }
+
+/* One read's fmi3Get<Type> call; 0 or the failing status. Strings and Binaries are copied to the
+ * arena at once: a later call on the same FMU may free the memory they point to. */
+static int get_values(rg_engine *s, int r, bool *no_memory)
+{
+    size_t i, size;
+    int st;
+    *s->p->note_call = s->p->read_note[r];
+    if (s->p->kind[r] == K_BINARY)
+        st = s->p->get_binary[r](s->p->read_instance[r], s->p->vrs[r], s->p->count[r], s->p->sizes[r],
+                              (const uint8_t **)s->p->buffer[r], s->p->count[r]);
+    else
+        st = s->p->get[r](s->p->read_instance[r], s->p->vrs[r], s->p->count[r], s->p->buffer[r], s->p->count[r]);
+    if (st > 1 || !is_bytes(s->p->kind[r]) || s->p->store == STORE_NONE) return st > 1 ? st : 0;
+    for (i = 0; i < s->p->count[r]; i++) {
+        const char *data = bytes_of(s, r, i, &size);
+        s->copies[r][i] = keep_bytes(&s->arena, data, size);
+        if (s->copies[r][i] == UINT64_MAX) *no_memory = true;
+    }
+    return 0;
+}
+
+/* Whether a link's source value differs from the value last set (as Python's != compares them:
+ * NaN differs from itself, -0.0 equals 0.0); if it does, it becomes the value last set, and goes
+ * into slot j of the Set call's arrays. False with *no_memory when a copy cannot be made. */
+static bool changed(rg_engine *s, int g, int link, int j, bool *no_memory)
+{
+    int r = s->p->link_read[link], kind = s->p->set_kind[g];
+    size_t i = (size_t)s->p->link_index[link], size;
+    rg_value *last = s->last + link;
+    if (kind == K_F64 || kind == K_F32) {
+        double v = real_of(kind, s->p->buffer[r], i);
+        if (s->last_valid[link] && !(v != last->d)) return false;
+        last->d = v;
+        if (kind == K_F32) memcpy((char *)s->set_values + 4 * (size_t)j, &((const float *)s->p->buffer[r])[i], 4);
+        else s->set_values[j].d = v;
+    } else if (!is_bytes(kind)) {
+        uint64_t v = integer_of(kind, s->p->buffer[r], i);
+        size_t width = kind == K_I64 || kind == K_U64 ? 8 : kind == K_I32 || kind == K_U32 ? 4
+                     : kind == K_I16 || kind == K_U16 ? 2 : 1;
+        if (s->last_valid[link] && v == last->u) return false;
+        last->u = v;
+        memcpy((char *)s->set_values + width * (size_t)j, (const char *)s->p->buffer[r] + width * i, width);
+    } else {
+        const char *data = bytes_of(s, r, i, &size);
+        if (s->last_valid[link] && size == s->last_size[link] && memcmp(data, s->last_bytes[link], size) == 0)
+            return false;
+        if (rg_keep_last(s, link, data, size) != 0) {
+            *no_memory = true;
+            return false;
+        }
+        s->set_pointers[j] = (const uint8_t *)s->last_bytes[link];
+        s->set_sizes[j] = size;
+    }
+    s->last_valid[link] = true;
+    return true;
+}
+
+/* Group g: the connected inputs whose value changed, in one fmi3Set<Type> call (*count of them,
+ * their value references in s->set_vrs); 0, the failing status, or -1 when memory runs out. */
+static int forward(rg_engine *s, int g, int *count)
+{
+    int k, n = 0, st;
+    bool no_memory = false;
+    for (k = 0; k < s->p->set_count[g]; k++) {
+        int link = s->p->set_first[g] + k;
+        if (changed(s, g, link, n, &no_memory)) s->set_vrs[n++] = s->p->link_vr[link];
+        if (no_memory) return -1;
+    }
+    *count = n;
+    if (n == 0) return 0;
+    *s->p->note_call = s->p->set_note[g];
+    if (s->p->set_kind[g] == K_BINARY)
+        st = s->p->set_binary[g](s->p->set_instance[g], s->set_vrs, (size_t)n, s->set_sizes, s->set_pointers, (size_t)n);
+    else if (s->p->set_kind[g] == K_STRING)
+        st = s->p->set[g](s->p->set_instance[g], s->set_vrs, (size_t)n, s->set_pointers, (size_t)n);
+    else
+        st = s->p->set[g](s->p->set_instance[g], s->set_vrs, (size_t)n, s->set_values, (size_t)n);
+    return st > 1 ? st : 0;
+}
+
+/* ---------------------------------------------------------------------------------------------
+ * Rows */
+
+static void put(rg_bytes *b, const char *text, size_t n)
+{
+    memcpy(b->data + b->used, text, n);
+    b->used += n;
+}
+
+/* The CSV cell of value i of a buffer of numbers or Booleans of this kind; false when memory
+ * runs out. */
+static bool number_cell(rg_bytes *b, int kind, const void *buffer, size_t i)
+{
+    if (kind == K_F64 || kind == K_F32) {
+        if (!reserve(b, 32)) return false;
+        b->used += rg_format_double(b->data + b->used, real_of(kind, buffer, i));
+    } else {
+        uint64_t v = integer_of(kind, buffer, i);
+        if (!reserve(b, 24)) return false;
+        if (kind == K_BOOL) put(b, v ? "True" : "False", v ? 4 : 5);
+        else if (kind == K_I64 || kind == K_I32 || kind == K_I16 || kind == K_I8)
+            b->used += (size_t)sprintf(b->data + b->used, "%lld", (long long)(int64_t)v);
+        else b->used += (size_t)sprintf(b->data + b->used, "%llu", (unsigned long long)v);
+    }
+    return true;
+}
+
+/* The CSV cell of a String or Binary copied to the arena at `offset`; false when memory runs out. */
+static bool bytes_cell(rg_bytes *b, int kind, const rg_bytes *arena, uint64_t offset)
+{
+    static const char hex[] = "0123456789abcdef";
+    const char *data;
+    size_t size, j;
+    memcpy(&size, arena->data + offset, sizeof size);
+    data = arena->data + offset + sizeof size;
+    if (!reserve(b, 2 * size + 2)) return false;
+    if (kind == K_BINARY) {
+        put(b, "0x", 2);
+        for (j = 0; j < size; j++) {
+            b->data[b->used++] = hex[(unsigned char)data[j] >> 4];
+            b->data[b->used++] = hex[(unsigned char)data[j] & 15];
+        }
+        return true;
+    }
+    b->data[b->used++] = '"';
+    for (j = 0; j < size; j++) {
+        if (data[j] == '"') b->data[b->used++] = '"';
+        b->data[b->used++] = data[j];
+    }
+    b->data[b->used++] = '"';
+    return true;
+}
+
+/* A recorded value's CSV cell; false when memory runs out. */
+static bool cell(rg_engine *s, int r, size_t i)
+{
+    int kind = s->p->kind[r];
+    if (!is_bytes(kind)) return number_cell(&s->text, kind, s->p->buffer[r], i);
+    return bytes_cell(&s->text, kind, &s->arena, s->copies[r][i]);
+}
+
+/* The operations first..last-1 (reads, Set groups); 0, the failing call's status (the call notes
+ * say which), or -1 when memory runs out. */
+static int run_ops(rg_engine *s, int first, int last)
+{
+    int k, st, count;
+    bool no_memory = false;
+    for (k = first; k < last; k++) {
+        int op = s->p->op[k];
+        st = op >= 0 ? get_values(s, op, &no_memory) : forward(s, -1 - op, &count);
+        if (st > 0) return st;
+        if (no_memory || st < 0) return -1;
+    }
+    return 0;
+}
+
+/* The exchange and the reads after a step (or for an instant's row). 0, the failing call's
+ * status, or -1 when memory runs out. */
+static int exchange_and_read(rg_engine *s)
+{
+    if (s->p->store == STORE_TEXT) s->arena.used = 0; /* the previous row's copies are written out */
+    return run_ops(s, 0, s->p->n_ops);
+}
+
+static double wall_clock(void)
+{
+    struct timespec now;
+    clock_gettime(CLOCK_MONOTONIC, &now);
+    return (double)now.tv_sec + 1e-9 * (double)now.tv_nsec;
+}
+
+/* fmi3DoStep of every FMU from t to t_next; 0 or the failing status (*who the FMU). */
+static int step_all(rg_engine *s, double t, double t_next, bool *event, bool *terminate, int *who)
+{
+    int u, st;
+    *s->p->note_time = t;
+    for (u = 0; u < s->p->n_instances; u++) {
+        bool *f = s->flags + 4 * u;
+        *s->p->note_call = s->p->step_note[u];
+        st = s->p->do_step[u](s->p->instance[u], t, t_next - t, true, f, f + 1, f + 2, s->last_time + u);
+        if (st > 1) {
+            *who = u;
+            return st;
+        }
+        if (f[0] && s->p->event_mode[u]) *event = true;
+        if (f[1] && !*terminate) {
+            *terminate = true;
+            *who = u;
+        }
+    }
+    return 0;
+}
+
+/* The value last set to a String or Binary input (Python's, before the run; or the engine's). */
+RG_EXPORT int rg_keep_last(rg_engine *s, int link, const char *data, size_t size)
+{
+    char *copy = (char *)realloc(s->last_bytes[link], size + 1);
+    if (copy == NULL) return -1;
+    if (size) memcpy(copy, data, size);
+    copy[size] = '\0';
+    s->last_bytes[link] = copy;
+    s->last_size[link] = size;
+    return 0;
+}
