@@ -186,17 +186,7 @@ def generate(fmu: ir.Fmu, options: CodegenOptions | None = None, *, diagrams: Se
     machines, sites, strings = _machines_code(fmu, layout, names, line_comments, collections)
     latch = {p.index: _latch(p, layout.port_fields_in.get(p.index, []), collections) for p in fmu.inputs}
     deliveries = {p.index: _deliveries(fmu, p, names) for p in fmu.inputs}
-    for t in collections.types:
-        layout._type(t)
-    for u in fmu.user_functions:  # the C types a --functions file receives and returns
-        for t in (*(pt for _, pt in u.params), u.result):
-            layout._type(t)
-    needed = {name: t for mc in machines for name, t in mc["equalities"].items()}
-    for t in needed.values():  # a type compared only inside an expression (a tuple key) is declared too
-        layout._type(t)
-    for t in value_types(fmu):  # every other use: a literal, an operation's parameter, a local, ...
-        layout._type(t, enums=False)
-    _check_sizes(fmu, layout.types)
+    needed = _declare_types(fmu, layout, collections, machines)
     equalities, bodies = _equalities(layout.types, set(needed))
     param_starts = {p.fmi_name: _param_starts(p, strings) for p in fmu.params}  # before the strings are written
     hooks = _hooks(fmu, machines)
@@ -246,6 +236,23 @@ def generate(fmu: ir.Fmu, options: CodegenOptions | None = None, *, diagrams: Se
     gen.files["documentation/externalDependencies.txt"] = "none beyond libc and libm\n"
     gen.files["documentation/ir.txt"] = ir_text
     return gen
+
+
+def _declare_types(fmu: ir.Fmu, layout: _Layout, collections: CollectionCode, machines: list) -> dict:
+    """Declare in ``layout`` every C type the code uses, check their sizes, and return the types
+    compared by name in the machines' code."""
+    for t in collections.types:
+        layout._type(t)
+    for u in fmu.user_functions:  # the C types a --functions file receives and returns
+        for t in (*(pt for _, pt in u.params), u.result):
+            layout._type(t)
+    needed = {name: t for mc in machines for name, t in mc["equalities"].items()}
+    for t in needed.values():  # a type compared only inside an expression (a tuple key) is declared too
+        layout._type(t)
+    for t in value_types(fmu):  # every other use: a literal, an operation's parameter, a local, ...
+        layout._type(t, enums=False)
+    _check_sizes(fmu, layout.types)
+    return needed
 
 
 # The largest C value of a model type: values are passed and returned on the C stack (a set
