@@ -242,15 +242,15 @@ def _declare_types(fmu: ir.Fmu, layout: _Layout, collections: CollectionCode, ma
     """Declare in ``layout`` every C type the code uses, check their sizes, and return the types
     compared by name in the machines' code."""
     for t in collections.types:
-        layout._type(t)
+        layout.declare(t)
     for u in fmu.user_functions:  # the C types a --functions file receives and returns
         for t in (*(pt for _, pt in u.params), u.result):
-            layout._type(t)
+            layout.declare(t)
     needed = {name: t for mc in machines for name, t in mc["equalities"].items()}
     for t in needed.values():  # a type compared only inside an expression (a tuple key) is declared too
-        layout._type(t)
+        layout.declare(t)
     for t in value_types(fmu):  # every other use: a literal, an operation's parameter, a local, ...
-        layout._type(t, enums=False)
+        layout.declare(t, enums=False)
     _check_sizes(fmu, layout.types)
     return needed
 
@@ -486,14 +486,14 @@ class _Layout:
             self.enums.append(EnumType(name, [(lit, i) for i, lit in enumerate(t.literals)]))
         return name
 
-    def _type(self, t: T.Type, enums: bool = True) -> None:
+    def declare(self, t: T.Type, enums: bool = True) -> None:
         """Register a struct type (and what it contains) in dependency order; with ``enums``,
         the enumerations it holds as FMI types too."""
         if isinstance(t, T.RecordT):
             for _, ft in t.fields:
-                self._type(ft, enums)
+                self.declare(ft, enums)
         elif isinstance(t, (T.VectorT, T.MatrixT, T.SetT, T.SeqT, ArrayT)):
-            self._type(t.element, enums)
+            self.declare(t.element, enums)
         else:
             if isinstance(t, T.EnumT) and enums:
                 self._enum(t)
@@ -594,7 +594,7 @@ class _Layout:
         parameters = {id(p.var) for p in fmu.params}
         for m in fmu.machines:
             for v in m.vars:
-                self._type(v.type)
+                self.declare(v.type)
                 if v.kind not in ("var", "const") or id(v) in parameters:
                     continue  # constants are parameters, but those computed from an initialiser (sets, ...)
                 for name, t, access, leaf in _flat(f"{m.name}.{v.name}", v.type, "", fmu.capacity_of):
@@ -610,7 +610,7 @@ class _Layout:
                         description=f"variable {v.name} of {m.name}", span=v.span))
             for e in m.events:
                 if e.type is not None:
-                    self._type(e.type)
+                    self.declare(e.type)
         self._check_names()
 
     def _check_names(self) -> None:
@@ -640,7 +640,7 @@ class _Layout:
         self.variables.append(c)
 
     def _data(self, t: T.Type, member: str, comment: str) -> None:
-        self._type(t)
+        self.declare(t)
         self.data_fields.append((ctype(t), member, comment))
 
 
