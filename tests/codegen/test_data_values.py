@@ -6,11 +6,8 @@ from __future__ import annotations
 
 from pathlib import Path
 
-import pytest
-
-from support.codegen_driver import FmuRunner, Instant, Scenario, Tick, build, interpret
+from support.codegen_driver import FmuRunner, Instant, Scenario, Tick, build_text, interpret
 from support.codegen_models import MODELS
-from robogen.diagnostics import RobogenError
 from robogen.ir.lower import LoweringOptions
 
 MODEL = """\
@@ -31,13 +28,7 @@ stm Grow {
 
 def _run(tmp_path, name: str, text: str, scenario: Scenario, options: LoweringOptions | None = None,
          c_functions: str | None = None, functions: dict | None = None):
-    path = tmp_path / f"{name}.rct"
-    path.write_text(text)
-    c_file = None
-    if c_functions is not None:
-        c_file = tmp_path / f"{name}.c"
-        c_file.write_text(c_functions)
-    built = build([path], tmp_path / name, options=options, functions=c_file)
+    built = build_text(tmp_path, name, text, options, c_functions)
     runner = FmuRunner(built.folder)
     try:
         got = runner.run(scenario)
@@ -305,17 +296,6 @@ def test_strings_are_literals_compared_for_equality(tmp_path):
     assert [s.outputs["eq"]["eq.value"] for s in got.steps if "eq" in s.outputs] == [True, False, True]
 
 
-def test_a_sequence_of_strings_is_not_supported_at_the_fmu_boundary(tmp_path):
-    # a string event is an FMI String (test_string_ports.py); collections hold no strings
-    path = tmp_path / "say.rct"
-    path.write_text('import sequence_toolkit::*\nstm Say {\n\tevent said: Seq(string)\n\tinitial i\n'
-                    '\tstate S { entry said!<"hi"> }\n\ttransition t0 { from i to S }\n}\n')
-    with pytest.raises(RobogenError) as info:
-        build([path], tmp_path / "say")
-    assert "event 'said': a sequence of string (elements of collections are numbers" in str(info.value)
-    assert "say.rct:3:" in str(info.value)
-
-
 EXTRACT = """\
 import sequence_toolkit::*
 stm Ex {
@@ -488,3 +468,32 @@ def test_a_function_overridden_at_a_pair_compares_the_arguments_as_a_tuple(tmp_p
     scenario = Scenario([Instant(True, early=(Tick("go", {"go.value": k}),)) for k in (1, 2)], half=False)
     got, _ = _run(tmp_path, "overridden", OVERRIDDEN, scenario, c_functions=ADD_C, functions={"add": lambda x, y: x + y})
     assert [s.outputs["out"]["out.value"] for s in got.steps if "out" in s.outputs] == [7, 1]
+
+
+UNTYPED_NESTED = """\
+import sequence_toolkit::*
+import set_toolkit::*
+stm Flat {
+	var qq: Seq(Seq(nat)) = <<1>>
+	var ss: Set(Set(int)) = {{1}}
+	event go
+	event deep: nat
+	event sets: nat
+	event joined: nat
+	initial i
+	state A { }
+	transition t0 { from i to A }
+	transition t1 { from A to A trigger go action qq = dconcat(<<>, (let l == 1 @ <>)>) ; deep!size(qq) ;
+		ss = Union({{}, (let l == 2 @ {})}) ; sets!size(ss) ; qq = <<2>> ^ dconcat(<<>>) ; joined!size(qq) }
+}
+"""
+
+
+def test_dconcat_and_union_of_collections_nothing_typed_take_the_type_they_are_used_as(tmp_path):
+    """Found by the model fuzzer: `dconcat(<<>, (let l == 1 @ <>)>)` stored in a Seq(Seq(nat)) was
+    "using a Seq(int) as a Seq(Seq(int))" (its elements nothing typed); likewise Union of empty
+    sets. Both are empty: 0 and 0; `<<2>> ^ dconcat(<<>>)` holds one sequence: 1."""
+    scenario = Scenario([Instant(True, early=(Tick("go", {}),))], half=False)
+    got, _ = _run(tmp_path, "flat", UNTYPED_NESTED, scenario, LoweringOptions(capacities=(8, 4, 2)))
+    sent = [(c, v[f"{c}.value"]) for s in got.steps for c, v in s.outputs.items()]
+    assert sorted(sent) == [("deep", 0), ("joined", 1), ("sets", 0)]

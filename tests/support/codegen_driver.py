@@ -3,8 +3,11 @@ the FMU runner, the interpreter's side, building), re-exported, and two helpers 
 
 from __future__ import annotations
 
+from pathlib import Path
+
 from robogen.differential import (Built, Description, Error, FmuRunner, Instant, Scenario, Step, Tick, Trace, Var,  # noqa: F401
                                   build, canonical, first_difference, interpret, random_scenario, random_value)
+from robogen.ir.lower import LoweringOptions
 
 
 def run_checked(built: Built, scenario: Scenario, parameters: dict[str, object] | None = None,
@@ -35,5 +38,18 @@ def outputs_by_instant(built: Built, inputs: dict[int, Tick], instants: int, par
     return outputs, trace
 
 
+def build_text(work: Path, name: str, text: str, options: LoweringOptions | None = None,
+               c_functions: str | None = None) -> Built:
+    """:func:`build` of a model written to ``work/<name>.rct`` (and its user functions' C, if
+    given, to ``work/<name>.c``)."""
+    path = work / f"{name}.rct"
+    path.write_text(text)
+    c_file = None
+    if c_functions is not None:
+        c_file = work / f"{name}.c"
+        c_file.write_text(c_functions)
+    return build([path], work / name, options=options, functions=c_file)
+
+
 __all__ = ["Tick", "Instant", "Scenario", "canonical", "Step", "Trace", "Description", "FmuRunner", "interpret", "run_checked",
-           "outputs_by_instant", "random_scenario", "build", "Built"]
+           "outputs_by_instant", "random_scenario", "build", "build_text", "Built"]

@@ -38,7 +38,8 @@ class Builds:
             if key not in self.futures:
                 model = TEST_MODELS[name]
                 options = LoweringOptions(semantics=semantics, trigger=trigger, max_steps=model.max_steps,
-                                          settings=dict(model.settings), capacity=model.capacity)
+                                          settings=dict(model.settings), capacity=model.capacity,
+                                          capacities=model.capacities)
                 work = self.folder / f"{name}-{semantics}-{trigger}"
                 self.futures[key] = self.pool.submit(build, [model.path], work, options=options)
             return self.futures[key]

@@ -60,19 +60,14 @@ FEATURES: tuple[Feature, ...] = (
     Feature("abstract_operations", True, "operations without nodes, called by a machine"),
     Feature("old_syntax", True, "RoboTool's syntax before 2020-10: a bare `trigger` for the empty trigger"),
     Feature("filter_from", True, "filters that bind the sender (`x = from`)"),
-    # ---- still refused by code generation on main (issue 23): the other branches' areas
-    Feature("nested_collections", False, "Seq(Seq(T)), collections of records whose fields hold collections",
-            "not supported for code generation on main (issue 23, helper 'collections')"),
-    Feature("comprehensions", False, "set comprehensions and ranges as values",
-            "not supported for code generation on main (issue 23, helper 'collections')"),
-    Feature("quantifiers", False, "forall, exists, exists1 over finite sets",
-            "not supported for code generation on main (issue 23, helper 'collections')"),
-    Feature("iter_dconcat", False, "the toolkit's iter and dconcat",
-            "not supported for code generation on main (issue 23, helper 'collections')"),
-    Feature("union_inter", False, "the toolkit's Union and Inter (sets of sets)",
-            "not supported for code generation on main (issue 23, helper 'collections')"),
-    Feature("strings_in_collections", False, "sets and sequences of strings",
-            "not supported for code generation on main (issue 23, helper 'collections')"),
+    # ---- issue 23, on main: collections of collections, quantifiers, comprehensions (helper 'collections')
+    Feature("nested_collections", True, "Seq(Seq(T)), collections of records whose fields hold collections"),
+    Feature("comprehensions", True, "set comprehensions and ranges as values"),
+    Feature("quantifiers", True, "forall, exists, exists1 over finite sets"),
+    Feature("iter_dconcat", True, "the toolkit's iter and dconcat"),
+    Feature("union_inter", True, "the toolkit's Union and Inter (sets of sets)"),
+    Feature("strings_in_collections", True, "sets and sequences of strings"),
+    # ---- off
     Feature("constant_expressions", False, "constants of scalar, vector and matrix types whose value is any expression "
             "(else literals, other constants and + - *)",
             "code generation on main computes such a constant's start value when it generates the FMU, and stops "
