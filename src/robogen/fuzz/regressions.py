@@ -11,9 +11,7 @@ collections, and the C and Python bodies of its user functions::
     // function fn3 c: return a > b ? a : b;
     // function fn3 py: a if a > b else b
 
-tests/fuzz/test_regressions.py runs every file of tests/fuzz/regressions through its property;
-the files of tests/fuzz/pending are failures in code another branch owns, expected to fail until
-that branch is merged.
+tests/fuzz/test_regressions.py runs every file of tests/fuzz/regressions through its property.
 """
 
 from __future__ import annotations
