@@ -185,13 +185,16 @@ stm U {
 	event kept: nat
 	event keys: nat
 	event picked: nat
+	event imaged: nat
+	event overridden: nat
 	initial i
 	state A { }
 	transition t0 { from i to A }
 	transition t1 { from A to A trigger go action q = (if b then <> else <true> end) ^ (<> ^ <false, true>) ; n!size(q) ;
 		fresh!prefix((lambda x: boolean @ <>)(b), extract({1}, <false>)) ; grown!size(if b then <> else <true> end) ;
 		kept!size(filter(<-100, 5>, {0, 5})) ; keys!size(dom(if b then {} else {(| 2, 0 |)} end)) ; b = not b ;
-		q = extract({1}, let l == 1 @ <>) ; picked!size(q) }
+		q = extract({1}, let l == 1 @ <>) ; picked!size(q) ;
+		imaged!size(rimage((lambda x: nat @ {})(1), {1})) ; overridden!size(dom(override({}, {(| 1, 2 |), (| 3, 4 |)}))) }
 }
 """
 
@@ -204,12 +207,13 @@ def test_an_empty_branch_or_operand_takes_the_type_of_the_other(tmp_path):
     filtered by a Set(nat) did not compile (the set was made a sequence): 5 is kept. The domain of
     `if b then {} else {(| 2, 0 |)} end` was "a set of ?X" (the checker typed the conditional by
     its empty branch): it has 0, then 1 key. `extract({1}, let l == 1 @ <>)` stored in the
-    Seq(boolean) q was "using a Seq(int) as a Seq(boolean)": it is empty."""
+    Seq(boolean) q was "using a Seq(int) as a Seq(boolean)": it is empty. The image of the empty
+    relation a lambda gives was "'rimage' of Set(int)": empty; override({}, r) is r, 2 keys."""
     scenario = Scenario([Instant(True, early=(Tick("go", {}),)) for _ in range(2)], half=False)
     got, _ = _run(tmp_path, "known", KNOWN, scenario)
     sent = [{c: v[f"{c}.value"] for c, v in s.outputs.items()} for s in got.steps if s.outputs]
-    assert sent == [{"n": 2, "fresh": True, "grown": 0, "kept": 1, "keys": 0, "picked": 0},
-                    {"n": 3, "fresh": True, "grown": 1, "kept": 1, "keys": 1, "picked": 0}]
+    assert sent == [{"n": 2, "fresh": True, "grown": 0, "kept": 1, "keys": 0, "picked": 0, "imaged": 0, "overridden": 2},
+                    {"n": 3, "fresh": True, "grown": 1, "kept": 1, "keys": 1, "picked": 0, "imaged": 0, "overridden": 2}]
 
 
 EMPTY = """\

@@ -30,8 +30,9 @@ if TYPE_CHECKING:  # the attributes MachineLowering provides
 
 
 def _unknown_inside(t: T.Type) -> bool:
-    """Does ``t`` hold the type of elements nothing gave a type (``{}``, ``<>``)?"""
-    if isinstance(t, T.UnknownT):
+    """Does ``t`` hold the type of elements nothing gave a type (``{}``, ``<>``, a toolkit result's
+    ``?Y`` that such an argument leaves open)?"""
+    if isinstance(t, (T.UnknownT, T.TypeVarT)):
         return True
     if isinstance(t, (T.SetT, T.SeqT)):
         return _unknown_inside(t.element)
@@ -43,6 +44,10 @@ def _unknown_inside(t: T.Type) -> bool:
 # collection operations whose result holds elements of their collection arguments (of one type;
 # extract's second argument holds positions)
 _ELEMENTWISE = ("union", "inter", "diff", "symdiff", "cat", "reverse", "tail", "front", "filter", "elems", "extract")
+
+# relation operations whose result is empty when their relation is ({} nothing types), or, for
+# override({}, s), the other relation (not iter(0, {}), the identity)
+_EMPTY_IN_EMPTY_OUT = ("dom", "ran", "rinv", "dres", "dsub", "rres", "rsub", "rimage", "relcomp", "squash", "closure", "roverride")
 
 _BINARY = {
     "iff": "iff", "=>": "implies", "\\/": "or", "/\\": "and",
@@ -605,6 +610,10 @@ class ExpressionLowering:
         at = 1 if op in ("dres", "dsub", "iter") else 0
         pair = args[at].type.element  # type: ignore[attr-defined]
         if not (isinstance(pair, TupleT) and len(pair.fields) == 2):
+            if op in _EMPTY_IN_EMPTY_OUT and _unknown_inside(self.model.type_of(e.args[at])):  # {}: an empty relation nothing typed
+                if op == "roverride":
+                    return self.conv(args[1], t, e.span)  # override({}, s) is s
+                return ir.Coll(t, "set" if isinstance(t, T.SetT) else "seq", (), expr_text(e), e.span)  # the result is empty too
             raise not_supported(f"'{sym.name}' of {args[at].type.show()} (a relation is a set of pairs)", e.span)
         x, y = pair.field("_1"), pair.field("_2")
         if op == "iter":  # iter(n, r)
