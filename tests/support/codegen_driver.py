@@ -5,7 +5,7 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from robogen.differential import (Built, Description, Error, FmuRunner, Instant, Scenario, Step, Tick, Trace, Var,  # noqa: F401
+from robogen.differential import (COUNTERS, Built, Description, Error, FmuRunner, Instant, Scenario, Step, Tick, Trace, Var,  # noqa: F401
                                   build, canonical, first_difference, interpret, random_scenario, random_value)
 from robogen.ir.lower import LoweringOptions
 
