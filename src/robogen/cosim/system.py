@@ -29,7 +29,7 @@ from robogen.cosim.tomlspan import SpanIndex
 _ARROW = re.compile(r"^\s*(\S+)\s*->\s*(\S+)\s*$")
 TOP_KEYS = ("experiment", "instances", "connections", "record")
 EXPERIMENT_KEYS = ("start", "stop", "step", "tolerance", "max_event_iterations", "order")
-INSTANCE_KEYS = ("fmu", "start", "clocks", "isolate")
+INSTANCE_KEYS = ("fmu", "start", "clocks", "isolate", "scenario")
 CLOCK_KEYS = ("interval", "shift")
 RECORD_KEYS = ("variables", "every")
 
@@ -60,6 +60,9 @@ class InstanceSpec:
     start: dict[str, tuple[object, Span]] = field(default_factory=dict)
     clocks: dict[str, tuple[dict, Span]] = field(default_factory=dict)
     isolate: bool = False  # run the instance in a worker process of its own (robogen.cosim.proxy)
+    scenario: Path | None = None  # a scenario file that drives it (robogen.cosim.scenario, .player)
+    scenario_span: Span | None = None
+    player_of: str | None = None  # this instance plays the scenario of that one (no FMU file)
 
 
 @dataclass
@@ -112,6 +115,8 @@ def load_system(path: str | Path) -> System:
     for name, spec in raw_instances.items():
         inst = _instance(name, spec, path, check)
         if inst is not None:
+            if inst.scenario is not None:
+                _player(inst, raw_instances, instances, check)
             instances[name] = inst
     connections = _connections(data, check)
     order = _order(exp, raw_instances, check)
@@ -210,6 +215,12 @@ def _instance(name: str, spec, path: Path, check: _SchemaCheck) -> InstanceSpec 
     if not isinstance(isolate, bool):
         check.error("'isolate' must be true or false", *where, "isolate")
     inst.isolate = isolate is True
+    scenario = spec.get("scenario")
+    if scenario is not None:
+        if not isinstance(scenario, str) or not scenario:
+            check.error("'scenario' must be the path of a scenario file (TOML)", *where, "scenario")
+        else:
+            inst.scenario, inst.scenario_span = path.parent / scenario, check.idx.span(*where, "scenario")
     starts = spec.get("start", {})
     if not isinstance(starts, dict):
         check.error("'start' must be a table of variable = value", *where, "start")
@@ -228,6 +239,17 @@ def _instance(name: str, spec, path: Path, check: _SchemaCheck) -> InstanceSpec 
         if checked is not None:
             inst.clocks[clock] = (checked, check.idx.span(*where, "clocks", clock))
     return inst
+
+
+def _player(inst: InstanceSpec, raw_instances: dict, instances: dict[str, InstanceSpec], check: _SchemaCheck) -> None:
+    """The instance that plays ``inst``'s scenario, ``<name>_scenario``, declared just before it
+    (robogen.cosim.player); its "FMU" is the scenario file."""
+    name = f"{inst.name}_scenario"
+    if name in raw_instances:
+        check.error(f"instance '{name}' plays the scenario of '{inst.name}': choose another name for it",
+                    "instances", name)
+        return
+    instances[name] = InstanceSpec(name, inst.scenario, inst.scenario_span, inst.scenario_span, player_of=inst.name)
 
 
 def _clock_timing(timing, where: tuple, check: _SchemaCheck) -> dict | None:
@@ -313,7 +335,8 @@ def resolve(system: System, models: dict[str, ModelDescription]) -> list[Link]:
     """Check every connection, start value and recorded name against the FMUs; collect all problems."""
     check = _ModelCheck(system, models)
     for name in models:
-        check.instance(name)
+        if system.instances[name].player_of is None:
+            check.instance(name)
     links = [link for c in system.connections if (link := check.connection(c)) is not None]
     for link in links:
         check.clocks_connected(link, links)
