@@ -16,12 +16,11 @@ from __future__ import annotations
 
 import math
 import re
-import tomllib
 from dataclasses import dataclass, field, replace
 from pathlib import Path
 
-from robogen.cosim.tomlspan import SpanIndex
-from robogen.diagnostics import DiagnosticSink, Note, RobogenError, Span, did_you_mean
+from robogen.cosim.tomlspan import SpanIndex, read_toml
+from robogen.diagnostics import DiagnosticSink, Note, Span, did_you_mean
 from robogen.fmu.fmi import same_time, tolerance
 from robogen.fmu.modeldesc import ModelDescription, Variable
 
@@ -116,21 +115,8 @@ class Timeline:
 
 def load_scenario(path: str | Path) -> Scenario:
     path = Path(path)
-    display = str(path)
-    try:
-        text = path.read_text(encoding="utf-8")
-    except OSError as exc:
-        raise RobogenError.at(f"cannot read scenario file: {exc.strerror}", Span.of_path(display)) from None
-    except UnicodeDecodeError:
-        raise RobogenError.at("scenario file is not UTF-8 text", Span.whole_file(display)) from None
-    try:
-        data = tomllib.loads(text)
-    except tomllib.TOMLDecodeError as exc:
-        m = re.search(r"\(at line (\d+), column (\d+)\)", str(exc))
-        msg = re.sub(r"\s*\(at line \d+, column \d+\)", "", str(exc))
-        span = Span.point(display, int(m.group(1)), int(m.group(2))) if m else Span.whole_file(display)
-        raise RobogenError.at(f"invalid TOML: {msg}", span) from None
-    spans = SpanIndex(text, display)
+    text, data = read_toml(path, "scenario file")
+    spans = SpanIndex(text, str(path))
     sink = DiagnosticSink()
     _schema(data, spans, sink)
     sink.raise_if_errors()
@@ -264,7 +250,9 @@ def _event(scenario: Scenario, md: ModelDescription, i: int, entry: dict, clocks
                   scenario.span(*where, "every"), sink)
     until = _time(substitute(entry.get("until"), params, scenario.span(*where, "until"), sink), "until",
                   scenario.span(*where, "until"), sink)
-    assigned = _payload(md, clock, entry, params, scenario.span(*where, "value") if "value" in entry else span, sink)
+    value_span = scenario.span(*where, "value") if "value" in entry else span
+    assigned = payload(md, clock, substitute(entry["value"], params, value_span, sink), value_span, sink) \
+        if "value" in entry else payload(md, clock, _NO_VALUE, span, sink)
     if at is None or assigned is None:
         return []
     if at < start and not same_time(at, start):
@@ -324,7 +312,7 @@ def _input(scenario: Scenario, i: int, entry: dict, values: dict[str, Variable],
                     scenario.span(*where, "value"), sink, md_types=None)
     if "until" in entry:
         sink.error("'until' ends a ramp: give ramp = [FROM, TO]", scenario.span(*where, "until"))
-    return None if at is None or value is _BAD else (var, Segment(at, at, value, value))
+    return None if at is None or value is BAD else (var, Segment(at, at, value, value))
 
 
 def _ramp(scenario: Scenario, where: tuple, entry: dict, var: Variable, at: float | None, params: dict,
@@ -359,38 +347,88 @@ class _Bad:
         return "<bad value>"
 
 
-_BAD = _Bad()
+#: What :func:`convert` returns for a value that does not fit its variable (the error is in the sink).
+BAD = _Bad()
 
 
-def clocked_inputs(md: ModelDescription, clock: Variable) -> dict[str, Variable]:
+_NO_VALUE = object()
+
+
+def clocked_variables(md: ModelDescription, clock: Variable) -> dict[str, Variable]:
+    """The clocked variables of ``clock`` of its own causality (an input clock's inputs, an
+    output clock's outputs), by name."""
     return {v.name: v for v in md.variables
-            if clock.value_reference in v.clocks and not v.is_clock and v.causality == "input"}
+            if clock.value_reference in v.clocks and not v.is_clock and v.causality == clock.causality}
 
 
-def _payload(md: ModelDescription, clock: Variable, entry: dict, params: dict, span: Span,
-             sink: DiagnosticSink) -> tuple[tuple[Variable, object], ...] | None:
-    """The clocked inputs an occurrence of ``clock`` sets, from the entry's ``value``."""
-    carried = clocked_inputs(md, clock)
-    if "value" not in entry:
-        if carried:
+def payload(md: ModelDescription, clock: Variable, value, span: Span, sink: DiagnosticSink,
+            complete: bool = True) -> tuple[tuple[Variable, object], ...] | None:
+    """The clocked variables an occurrence of ``clock`` carries, with their values, from a TOML
+    ``value`` (a number, a table for a record, an array for a set or sequence); ``complete``:
+    every one of them must be given (an input event's), else only those given (an expectation)."""
+    carried = clocked_variables(md, clock)
+    if value is _NO_VALUE:
+        if carried and complete:
             sink.error(f"event '{clock.name}' carries a value: give value = ... ({_shape(carried, clock.name)})", span)
             return None
         return ()
     if not carried:
         sink.error(f"event '{clock.name}' carries no value", span)
         return None
-    value = substitute(entry["value"], params, span, sink)
     base = f"{clock.name}.value" if any(n == f"{clock.name}.value" or n.startswith(f"{clock.name}.value.") for n in carried) \
         else clock.name
     out: dict[str, tuple[Variable, object]] = {}
     if not _assign(md, carried, base, value, span, sink, out):
         return None
     missing = sorted(set(carried) - set(out))
-    if missing:
+    if missing and complete:
         sink.error(f"the value of event '{clock.name}' leaves out {', '.join(missing)}", span,
                    Note(f"the event carries {_shape(carried, clock.name)}"))
         return None
     return tuple(out.values())
+
+
+def example(md: ModelDescription, clock: Variable):
+    """An example ``value`` of an occurrence of ``clock`` (the shape :func:`payload` reads: a
+    number, a table for a record, an array for a set or sequence), or None when it carries none."""
+    carried = clocked_variables(md, clock)
+    if not carried:
+        return None
+    base = f"{clock.name}.value" if any(n == f"{clock.name}.value" or n.startswith(f"{clock.name}.value.") for n in carried) \
+        else clock.name
+    return _example(md, carried, base)
+
+
+def _example(md: ModelDescription, carried: dict[str, Variable], base: str):
+    if base in carried:
+        var = carried[base]
+        one = _example_scalar(md, var)
+        return [one] * _length(var) if var.dimensions else one
+    if f"{base}.size" in carried:
+        if f"{base}.elements" in carried:
+            return [_example_scalar(md, carried[f"{base}.elements"])]
+        fields = {n[len(base) + len(".elements") + 1:]: v for n, v in carried.items() if n.startswith(f"{base}.elements.")}
+        return [_nest({k: _example_scalar(md, v) for k, v in fields.items()})]
+    fields = sorted({n[len(base) + 1:].split(".")[0] for n in carried if n.startswith(base + ".")})
+    return {f: _example(md, carried, f"{base}.{f}") for f in fields}
+
+
+def _nest(flat: dict[str, object]) -> dict:
+    out: dict = {}
+    for path, value in flat.items():
+        *parents, last = path.split(".")
+        here = out
+        for p in parents:
+            here = here.setdefault(p, {})
+        here[last] = value
+    return out
+
+
+def _example_scalar(md: ModelDescription, var: Variable):
+    if var.type == "Enumeration":
+        items = next((e.items for e in md.type_definitions if e.name == var.declared_type), ())
+        return items[0].name.rpartition(".")[2] if items else 0
+    return _zero(var)
 
 
 def _shape(carried: dict[str, Variable], event: str) -> str:
@@ -408,7 +446,7 @@ def _assign(md: ModelDescription, carried: dict[str, Variable], base: str, value
     if base in carried:
         var = carried[base]
         converted = convert(var, value, span, sink, md.type_definitions)
-        if converted is _BAD:
+        if converted is BAD:
             return False
         out[base] = (var, converted)
         return True
@@ -455,7 +493,7 @@ def _collection(md: ModelDescription, carried: dict[str, Variable], base: str, v
                     return False
                 item = item[key]
             converted = convert(replace(var, dimensions=()), item, span, sink, md.type_definitions)
-            ok = ok and converted is not _BAD
+            ok = ok and converted is not BAD
             items.append(converted)
         if ok:
             out[name] = (var, items + [_zero(var)] * (_length(var) - len(items)))
@@ -467,18 +505,18 @@ def _zero(var: Variable):
 
 
 def convert(var: Variable, value, span: Span, sink: DiagnosticSink, md_types=None):
-    """``value`` (from TOML) as a value of ``var``'s FMI type, or _BAD with an error at ``span``.
+    """``value`` (from TOML) as a value of ``var``'s FMI type, or BAD with an error at ``span``.
     An array variable takes a list of its length; an Enumeration an item's name or number."""
     if var.dimensions:
         n = _length(var)
         if not isinstance(value, list) or len(value) != n:
             sink.error(f"'{var.name}' is an array of {n} {var.type} values: give [ ... ] with {n} elements, not {value!r}", span)
-            return _BAD
+            return BAD
         items = [convert(replace(var, dimensions=()), x, span, sink, md_types) for x in value]
-        return _BAD if any(x is _BAD for x in items) else items
+        return BAD if any(x is BAD for x in items) else items
     t = var.type
     if value is None:
-        return _BAD
+        return BAD
     if t in ("Float64", "Float32"):
         if isinstance(value, (int, float)) and not isinstance(value, bool):
             return float(value)
@@ -497,9 +535,9 @@ def convert(var: Variable, value, span: Span, sink: DiagnosticSink, md_types=Non
             if low <= value < high:
                 return value
             sink.error(f"{value} is out of range for '{var.name}' ({t})", span)
-            return _BAD
+            return BAD
     sink.error(f"'{var.name}' is {_type_words(t)}, not {value!r}", span)
-    return _BAD
+    return BAD
 
 
 def _type_words(t: str) -> str:
@@ -525,6 +563,6 @@ def _enumeration(var: Variable, value, span: Span, sink: DiagnosticSink, md_type
             return names.get(value, short.get(value))
         sink.error(f"'{var.name}' has no literal '{value}'{did_you_mean(value, list(short))}", span,
                    Note(f"its literals: {', '.join(short) or 'none'}"))
-        return _BAD
+        return BAD
     sink.error(f"'{var.name}' is an Enumeration: give a literal's name, not {value!r}", span)
-    return _BAD
+    return BAD

@@ -18,13 +18,12 @@ from __future__ import annotations
 import fnmatch
 import math
 import re
-import tomllib
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from robogen.diagnostics import DiagnosticSink, Note, RobogenError, Span, did_you_mean
+from robogen.diagnostics import DiagnosticSink, Note, Span, did_you_mean
 from robogen.fmu.modeldesc import ModelDescription, Variable
-from robogen.cosim.tomlspan import SpanIndex
+from robogen.cosim.tomlspan import SpanIndex, read_toml
 
 _ARROW = re.compile(r"^\s*(\S+)\s*->\s*(\S+)\s*$")
 TOP_KEYS = ("experiment", "instances", "connections", "record")
@@ -102,7 +101,7 @@ def matching(pattern: str, names: list[str]) -> list[str]:
 
 def load_system(path: str | Path) -> System:
     path = Path(path)
-    text, data = _read_toml(path)
+    text, data = read_toml(path, "system file")
     check = _SchemaCheck(SpanIndex(text, str(path)))
     check.unknown_keys(data, TOP_KEYS)
     exp = check.table(data, "experiment", "'experiment' must be a table")
@@ -123,23 +122,6 @@ def load_system(path: str | Path) -> System:
     record, every = _record(data, check)
     check.sink.raise_if_errors()
     return System(path, text, start, stop, step, tol, max_iter, order, instances, connections, record, check.idx, every)
-
-
-def _read_toml(path: Path) -> tuple[str, dict]:
-    display = str(path)
-    try:
-        text = path.read_text(encoding="utf-8")
-    except OSError as exc:
-        raise RobogenError.at(f"cannot read system file: {exc.strerror}", Span.whole_file(display)) from None
-    except UnicodeDecodeError:
-        raise RobogenError.at("system file is not UTF-8 text", Span.whole_file(display)) from None
-    try:
-        return text, tomllib.loads(text)
-    except tomllib.TOMLDecodeError as exc:
-        m = re.search(r"\(at line (\d+), column (\d+)\)", str(exc))
-        msg = re.sub(r"\s*\(at line \d+, column \d+\)", "", str(exc))
-        span = Span.point(display, int(m.group(1)), int(m.group(2))) if m else Span.whole_file(display)
-        raise RobogenError.at(f"invalid TOML: {msg}", span) from None
 
 
 class _SchemaCheck:
