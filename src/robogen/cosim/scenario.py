@@ -549,7 +549,7 @@ def _type_words(t: str) -> str:
         return "a String (a text in quotes)"
     if t == "Binary":
         return "a Binary, which a scenario cannot give"
-    return f"an {t} (an integer)"
+    return f"{'a' if t.startswith('U') else 'an'} {t} (an integer)"
 
 
 def _enumeration(var: Variable, value, span: Span, sink: DiagnosticSink, md_types) -> object:

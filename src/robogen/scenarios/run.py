@@ -13,7 +13,7 @@ import argparse
 import json
 import tempfile
 import zipfile
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from pathlib import Path
 from typing import Callable, Sequence
 
@@ -115,8 +115,10 @@ def run_scenario(scenario_path: str | Path, paths: Sequence[str] | None = None, 
 
 
 def _relocated(d, system: Path, scenario: Scenario):
-    """A diagnostic at the temporary system file, moved to the scenario (the file the user wrote)."""
+    """A diagnostic at the temporary system file, moved to the scenario (the file the user wrote);
+    its notes there left out."""
+    notes = tuple(n for n in d.notes if n.span is None or n.span.path != str(system))
     if d.span is not None and d.span.path == str(system):
-        return type(d)(d.severity, d.message, Span.point(str(scenario.path)),
-                       d.notes + (Note("while running the scenario on the model's FMU"),), d.code)
-    return d
+        return replace(d, span=Span.point(str(scenario.path)),
+                       notes=notes + (Note("while running the scenario on the model's FMU"),))
+    return replace(d, notes=notes)
