@@ -25,7 +25,7 @@ from robogen.cosim.proxy import ProxyBinding
 from robogen.cosim.recorder import Recorder
 from robogen.cosim.scenario import load_scenario, timeline
 from robogen.cosim.system import Link, System, load_system, record_list, resolve
-from robogen.diagnostics import Diagnostic, DiagnosticSink, Note, RobogenError, SourceMap, Span, render, warning
+from robogen.diagnostics import Diagnostic, DiagnosticSink, Note, RobogenError, SourceMap, Span, did_you_mean, render, warning
 from robogen.fmu.extract import extract_fmu
 from robogen.fmu.fmi import tolerance
 from robogen.fmu.headers import PLATFORM_TUPLE
@@ -129,6 +129,10 @@ def _players(system: System, models: dict[str, ModelDescription], options: RunOp
         except RobogenError as exc:
             sink.extend(d.with_note(f"in the scenario of instance '{target}'", spec.fmu_span) for d in exc.diagnostics)
             continue
+        for key, (_value, span) in spec.start.items():
+            if key not in scenario.parameters:
+                sink.error(f"the scenario has no parameter '{key}'{did_you_mean(key, scenario.parameters)}", span,
+                           Note("its parameters are declared in its [parameters]", scenario.span("parameters")))
         players[name] = ScenarioBinding(name, scenario, models[target], md, notes)
     sink.raise_if_errors()
     return players

@@ -28,7 +28,7 @@ from robogen.cosim.tomlspan import SpanIndex, read_toml
 _ARROW = re.compile(r"^\s*(\S+)\s*->\s*(\S+)\s*$")
 TOP_KEYS = ("experiment", "instances", "connections", "record")
 EXPERIMENT_KEYS = ("start", "stop", "step", "tolerance", "max_event_iterations", "order")
-INSTANCE_KEYS = ("fmu", "start", "clocks", "isolate", "scenario")
+INSTANCE_KEYS = ("fmu", "start", "clocks", "isolate", "scenario", "scenario_parameters")
 CLOCK_KEYS = ("interval", "shift")
 RECORD_KEYS = ("variables", "every")
 
@@ -198,6 +198,9 @@ def _instance(name: str, spec, path: Path, check: _SchemaCheck) -> InstanceSpec 
         check.error("'isolate' must be true or false", *where, "isolate")
     inst.isolate = isolate is True
     scenario = spec.get("scenario")
+    if scenario is None and "scenario_parameters" in spec:
+        check.error("'scenario_parameters' sets parameters of a scenario: give scenario = \"S.toml\" too", *where,
+                    "scenario_parameters")
     if scenario is not None:
         if not isinstance(scenario, str) or not scenario:
             check.error("'scenario' must be the path of a scenario file (TOML)", *where, "scenario")
@@ -231,7 +234,18 @@ def _player(inst: InstanceSpec, raw_instances: dict, instances: dict[str, Instan
         check.error(f"instance '{name}' plays the scenario of '{inst.name}': choose another name for it",
                     "instances", name)
         return
-    instances[name] = InstanceSpec(name, inst.scenario, inst.scenario_span, inst.scenario_span, player_of=inst.name)
+    player = InstanceSpec(name, inst.scenario, inst.scenario_span, inst.scenario_span, player_of=inst.name)
+    values = raw_instances[inst.name].get("scenario_parameters", {})
+    where = ("instances", inst.name, "scenario_parameters")
+    if not isinstance(values, dict):
+        check.error("'scenario_parameters' must be a table of parameter = value", *where)
+        values = {}
+    for key, value in values.items():
+        if isinstance(value, (dict, list)):
+            check.error(f"scenario parameter '{key}' must be a number, boolean or string", *where, key)
+        else:
+            player.start[key] = (value, check.idx.span(*where, key))
+    instances[name] = player
 
 
 def _clock_timing(timing, where: tuple, check: _SchemaCheck) -> dict | None:
