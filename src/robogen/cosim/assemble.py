@@ -38,11 +38,14 @@ MANY_ROWS = 10**8
 
 def build_master(path: Path, *, stop=None, step=None, output=None, events=None, realtime=None,
                  progress=False, trace=None, keep_rows=True, isolate=False, cache: FmuCache | None = None,
-                 notes: CallNotes | None = None, warn: Callable[[Diagnostic], None] | None = None) -> tuple[Master, FmuCache]:
+                 notes: CallNotes | None = None, warn: Callable[[Diagnostic], None] | None = None,
+                 bindings: dict[str, Callable] | None = None) -> tuple[Master, FmuCache]:
     """The master of one run of the system file at ``path`` and the cache it loaded the FMUs
     into (close it after the run). ``isolate``: every instance in a worker process (else those
     with ``isolate = true``); ``notes``: where the bindings note their calls; ``warn`` receives
-    the warnings found before the run (default: printed on stderr)."""
+    the warnings found before the run (default: printed on stderr); ``bindings``: instances the
+    caller binds itself, by name, ``make(name, model_description, notes)`` giving an object with
+    the binding's methods in place of the FMU's binary (the reference interpreter of a model)."""
     system = load_system(path)
     output, events = _outputs(system, output, events)
     options = _options(system, stop, step, realtime, progress, warn or _print_warning)
@@ -60,8 +63,12 @@ def build_master(path: Path, *, stop=None, step=None, output=None, events=None, 
         for name in dependency_order(system, links):
             folder, md = loaded[name]
             spec = system.instances[name]
-            binding = players[name] if name in players else \
-                cache.bind(folder, md, spec.fmu_span, name, trace, notes, isolate or spec.isolate)
+            if name in players:
+                binding = players[name]
+            elif bindings and name in bindings:
+                binding = bindings[name](name, md, notes)
+            else:
+                binding = cache.bind(folder, md, spec.fmu_span, name, trace, notes, isolate or spec.isolate)
             instances.append(FmuInstance(name, md, folder, binding, spec.span))
         by_name = {u.name: u for u in instances}
         for name, player in players.items():

@@ -92,8 +92,10 @@ def system_text(fmu: Path, scenario: Path, stop: float, step: float) -> str:
 def run_scenario(scenario_path: str | Path, paths: Sequence[str] | None = None, given: argparse.Namespace | None = None, *,
                  stop: float | None = None, step: float | None = None, output: str | Path | None = None,
                  events: str | Path | None = None, progress: bool | None = False, keep_rows: bool = True,
-                 warn: Callable | None = None, on_built: Callable[[Built], None] | None = None) -> ScenarioRun:
-    """Build the model of the scenario (cached) and run the scenario on it."""
+                 warn: Callable | None = None, on_built: Callable[[Built], None] | None = None,
+                 reference: bool = False) -> ScenarioRun:
+    """Build the model of the scenario (cached) and run the scenario on it; ``reference``: on the
+    reference interpreter of its IR instead of the FMU's binary (robogen.scenarios.reference)."""
     scenario = load_scenario(scenario_path)
     paths = model_paths(scenario, paths)
     args = model_options(scenario, given)
@@ -107,7 +109,7 @@ def run_scenario(scenario_path: str | Path, paths: Sequence[str] | None = None, 
         system.write_text(system_text(built.fmu, scenario.path, stop, step), encoding="utf-8")
         try:
             result = simulate_system(system, output=output, events=events, progress=progress, keep_rows=keep_rows,
-                                     warn=warn)
+                                     warn=warn, bindings=_reference(paths, args) if reference else None)
         except RobogenError as exc:
             exc.diagnostics = tuple(_relocated(d, system, scenario) for d in exc.diagnostics)
             raise
@@ -122,3 +124,13 @@ def _relocated(d, system: Path, scenario: Scenario):
         return replace(d, span=Span.point(str(scenario.path)),
                        notes=notes + (Note("while running the scenario on the model's FMU"),))
     return replace(d, notes=notes)
+
+
+def _reference(paths: Sequence[str], args: argparse.Namespace) -> dict:
+    """The model's instance bound to the reference interpreter of its IR (the same options)."""
+    from robogen.codegen.api import lower_paths
+    from robogen.codegen.cli import options_from
+    from robogen.scenarios.reference import InterpreterBinding
+
+    fmu, _model = lower_paths(list(paths), module=args.module, machine=args.machine, options=options_from(args))
+    return {INSTANCE: lambda name, md, notes: InterpreterBinding(fmu, md, name, notes)}

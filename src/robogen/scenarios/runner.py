@@ -29,6 +29,11 @@ def configure(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("paths", nargs="+", metavar="FILE_OR_FOLDER", help="scenario files, or folders searched for them")
     parser.add_argument("--junit", metavar="REPORT.xml", help="also write the outcomes as JUnit XML (for CI systems)")
     parser.add_argument("--results", metavar="DIR", help="keep each scenario's results CSV and events log in DIR")
+    which = parser.add_mutually_exclusive_group()
+    which.add_argument("--reference", action="store_true",
+                       help="run the scenarios on the reference interpreter (robogen.ir.interp) instead of the FMUs")
+    which.add_argument("--compare", action="store_true",
+                       help="run each scenario on the FMU and on the reference interpreter; report the first difference")
 
 
 def scenario_files(paths: list[str]) -> list[Path]:
@@ -54,8 +59,10 @@ def _has_expectations(path: Path) -> bool:
     return "expect" in data and "instances" not in data
 
 
-def run_one(path: Path, results: Path | None) -> junit.Suite:
-    """Run the scenario at ``path`` and check its expectations; print a line for each."""
+def run_one(path: Path, results: Path | None, how: str = "fmu") -> junit.Suite:
+    """Run the scenario at ``path`` and check its expectations; print a line for each. ``how``:
+    "fmu", "reference" (the reference interpreter) or "compare" (both; one more expectation: the
+    two runs agree)."""
     from robogen.cosim.scenario import load_scenario
     from robogen.scenarios.build import model_fmu
     from robogen.scenarios.expect import Outcome, check, expectations
@@ -77,9 +84,12 @@ def run_one(path: Path, results: Path | None) -> junit.Suite:
         results.mkdir(parents=True, exist_ok=True)
         output, events = results / f"{path.stem}.csv", results / f"{path.stem}.events.jsonl"
     try:
-        done = run_scenario(path, paths, output=output, events=events, keep_rows=True, warn=lambda d: None)
+        done = run_scenario(path, paths, output=output, events=events, keep_rows=True, warn=lambda d: None,
+                            reference=how == "reference")
         outcomes = [Outcome(None, True, "", Span.point(str(path)), "the run ends without error")]
         outcomes += check(expected, done.result, INSTANCE)
+        if how == "compare":
+            outcomes.append(_compare(path, paths, done))
     except RobogenError as exc:
         message = "; ".join(d.message for d in exc.diagnostics)
         outcomes = [Outcome(None, False, message, Span.point(str(path)), "the run ends without error")]
@@ -93,6 +103,22 @@ def run_one(path: Path, results: Path | None) -> junit.Suite:
                                       None if o.passed else f"{o.text}: {o.detail}", detail=line))
     suite.seconds = seconds
     return suite
+
+
+def _compare(path: Path, paths: list[str], done):
+    """The outcome of running the scenario on the reference interpreter too: the rows agree."""
+    from robogen.scenarios.expect import Outcome
+    from robogen.scenarios.reference import first_difference
+    from robogen.scenarios.run import run_scenario
+
+    text = "the FMU and the reference interpreter give the same results"
+    try:
+        other = run_scenario(path, paths, keep_rows=True, warn=lambda d: None, reference=True)
+    except RobogenError as exc:
+        return Outcome(None, False, "the reference interpreter's run failed: " + "; ".join(d.message for d in exc.diagnostics),
+                       Span.point(str(path)), text)
+    found = first_difference(done.result.columns, done.result.rows, other.result.rows)
+    return Outcome(None, found is None, found or "", Span.point(str(path)), text)
 
 
 def _error(suite: junit.Suite, exc: RobogenError, what: str, started: float) -> junit.Suite:
@@ -121,7 +147,8 @@ def table(suites: list[junit.Suite]) -> str:
 def run(args: argparse.Namespace) -> int:
     files = scenario_files(args.paths)
     results = Path(args.results) if args.results else None
-    suites = [run_one(path, results) for path in files]
+    how = "reference" if args.reference else "compare" if args.compare else "fmu"
+    suites = [run_one(path, results, how) for path in files]
     print()
     print(table(suites))
     if args.junit:

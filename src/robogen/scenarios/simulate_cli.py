@@ -27,6 +27,8 @@ def configure(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--scenario", metavar="S.toml",
                         help="drive the model given in place of SYSTEM with this scenario (docs/scenarios.md)")
     parser.add_argument("--plot", metavar="TRACE.png", help="with a scenario: draw the trace (events, states)")
+    parser.add_argument("--reference", action="store_true",
+                        help="with a scenario: run the model on the reference interpreter (robogen.ir.interp), not its FMU")
     group = parser.add_argument_group("model options (with --scenario: those of 'robogen package')")
     add_model_options(group)
     # a model option left out is None, so that those given override the scenario's [options]
@@ -72,7 +74,8 @@ def _run(args: argparse.Namespace, scenario: str, model: list[str] | None, given
         print(f"robogen simulate: {how} ({b.fmu})", file=sys.stderr)
 
     done = run_scenario(scenario, model, given, stop=args.stop, step=args.step, output=args.output, events=args.events,
-                        progress=False if args.no_progress else None, keep_rows=False, on_built=built)
+                        progress=False if args.no_progress else None, keep_rows=False, on_built=built,
+                        reference=args.reference)
     s = done.result.stats
     print(f"simulated {scenario} to t={s.end_time!r}: {s.steps} steps, {s.event_iterations} event iterations, "
           f"{s.instants} super-dense instants -> {args.output}", file=sys.stderr)
