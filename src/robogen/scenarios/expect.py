@@ -221,15 +221,18 @@ def _check_event(e: Expectation, rows: list[list], index: dict[str, int], instan
     clock = index.get(f"{instance}.{e.name}")
     if clock is None:
         return Outcome(e, False, f"'{e.name}' was not recorded", e.span, e.text)
-    ticks = []
+    ticks, outside = [], []
     for r in rows:
-        if r[clock] == 1 and (e.window is None or _inside(r[0], e.window)):
+        if r[clock] == 1 and e.window is not None and not _inside(r[0], e.window):
+            outside.append(r[0])
+        elif r[clock] == 1:
             ticks.append((r[0], {v.name: r[index[f"{instance}.{v.name}"]] for v, _x in e.values
                                  if f"{instance}.{v.name}" in index}))
     matching = [(t, got) for t, got in ticks if all(_same(got.get(v.name), x) for v, x in e.values)]
     shown = ", ".join(f"t={t:g}" + (f" ({', '.join(f'{k} = {v!r}' for k, v in got.items())})" if got else "")
                       for t, got in ticks[:5]) + (", ..." if len(ticks) > 5 else "")
-    found = f"ticks: {shown}" if ticks else "no tick"
+    found = f"ticks: {shown}" if ticks else "no tick" + (f" (it ticks at {', '.join(f't={t:g}' for t in outside[:5])})"
+                                                       if outside else "")
     if not e.occurs:
         return Outcome(e, not matching, "" if not matching else found, e.span, e.text)
     ok = bool(matching) if e.count is None else len(matching) == e.count

@@ -133,15 +133,18 @@ def _error(suite: junit.Suite, exc: RobogenError, what: str, started: float) -> 
 
 
 def table(suites: list[junit.Suite]) -> str:
-    rows = [("scenario", "passed", "failed", "errors", "time")]
+    """Per scenario: the expectations passed and failed, the errors (the times are in the JUnit
+    report: the table is the same from run to run)."""
+    rows = [("scenario", "passed", "failed", "errors")]
     for s in suites:
         failed = sum(c.failure is not None for c in s.cases)
         errors = sum(c.error is not None for c in s.cases)
-        rows.append((s.name, str(len(s.cases) - failed - errors), str(failed), str(errors), f"{s.seconds:.2f} s"))
+        rows.append((s.name, str(len(s.cases) - failed - errors), str(failed), str(errors)))
     totals = [sum(int(r[i]) for r in rows[1:]) for i in (1, 2, 3)]
-    rows.append(("total", *map(str, totals), f"{sum(s.seconds for s in suites):.2f} s"))
-    width = [max(len(r[i]) for r in rows) for i in range(5)]
-    return "\n".join("  ".join(c.ljust(width[i]) if i == 0 else c.rjust(width[i]) for i, c in enumerate(r)) for r in rows)
+    rows.append(("total", *map(str, totals)))
+    width = [max(len(r[i]) for r in rows) for i in range(4)]
+    return "\n".join("  ".join(c.ljust(width[i]) if i == 0 else c.rjust(width[i]) for i, c in enumerate(r)).rstrip()
+                     for r in rows)
 
 
 def run(args: argparse.Namespace) -> int:
@@ -149,7 +152,6 @@ def run(args: argparse.Namespace) -> int:
     results = Path(args.results) if args.results else None
     how = "reference" if args.reference else "compare" if args.compare else "fmu"
     suites = [run_one(path, results, how) for path in files]
-    print()
     print(table(suites))
     if args.junit:
         print(f"wrote {junit.write(output_file(args.junit, inputs=files, option='--junit'), suites)}", file=sys.stderr)

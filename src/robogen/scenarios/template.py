@@ -49,11 +49,39 @@ def toml(value) -> str:
 
 
 def _kind(md: ModelDescription, clock) -> str:
+    """What an occurrence of ``clock`` carries, in words: no value, a Float64, a record
+    { x: Int64, y: Int64 }, a set or sequence of UInt64 (at most 32)."""
     carried = clocked_variables(md, clock)
     if not carried:
         return "no value"
-    return ", ".join(f"{n}: {v.type}" + (f"[{math.prod(d.start or 0 for d in v.dimensions)}]" if v.dimensions else "")
-                     + (f" ({v.declared_type})" if v.declared_type else "") for n, v in carried.items())
+    value = f"{clock.name}.value"
+    base = value if any(n == value or n.startswith(value + ".") for n in carried) else clock.name
+    return _describe(md, carried, base)
+
+
+def _describe(md: ModelDescription, carried: dict, base: str) -> str:
+    if base in carried:
+        var = carried[base]
+        size = math.prod(d.start or 0 for d in var.dimensions)
+        return f"{_scalar(md, var)}" + (f" array of {size}" if var.dimensions else "")
+    if f"{base}.size" in carried:
+        arrays = {n: v for n, v in carried.items() if n.startswith(f"{base}.elements")}
+        size = min(math.prod(d.start or 0 for d in v.dimensions) for v in arrays.values())
+        if f"{base}.elements" in carried:
+            what = _scalar(md, carried[f"{base}.elements"])
+        else:
+            what = "records { " + ", ".join(f"{n[len(base) + 10:]}: {_scalar(md, v)}" for n, v in arrays.items()) + " }"
+        return f"a set or sequence of {what} (at most {size})"
+    fields = sorted({n[len(base) + 1:].split(".")[0] for n in carried if n.startswith(base + ".")},
+                    key=lambda f: min(v.value_reference for n, v in carried.items() if n.startswith(f"{base}.{f}")))
+    return "a record { " + ", ".join(f"{f}: {_describe(md, carried, f'{base}.{f}')}" for f in fields) + " }"
+
+
+def _scalar(md: ModelDescription, var) -> str:
+    if var.type == "Enumeration":
+        items = next((e.items for e in md.type_definitions if e.name == var.declared_type), ())
+        return "one of " + ", ".join(i.name.rpartition(".")[2] for i in items)
+    return var.type
 
 
 def skeleton(md: ModelDescription, *, model: str | None, options: dict, stop: float) -> str:
@@ -103,7 +131,7 @@ def _expect_examples(md: ModelDescription) -> list[str]:
             items = next((t.items for t in md.type_definitions if t.name == var.declared_type), ())
             names = [i.name.rpartition(".")[2] for i in items]
             lines += [f"# machine {var.name.removesuffix('.state')}: states {', '.join(names)}", "# [[expect]]",
-                      f"# state = {json.dumps(names[-1] if names else '')}", "# at = 1.0"]
+                      f"# state = {json.dumps(names[min(1, len(names) - 1)] if names else '')}", "# at = 1.0"]
             if sum(1 for v in md.variables if v.name.endswith(".state") and v.type == "Enumeration") > 1:
                 lines += [f"# machine = {json.dumps(var.name.removesuffix('.state'))}"]
     return lines
