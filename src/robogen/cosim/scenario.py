@@ -255,6 +255,10 @@ def _event(scenario: Scenario, md: ModelDescription, i: int, entry: dict, clocks
         if "value" in entry else payload(md, clock, _NO_VALUE, span, sink)
     if at is None or assigned is None:
         return []
+    if assigned and all(v.dimensions for v, _x in assigned):
+        sink.error(f"event '{name}' carries only an FMI array (a vector or matrix): a scenario cannot drive it, the "
+                   "master carries no arrays and the event has no scalar to go with it", value_span)
+        return []
     if at < start and not same_time(at, start):
         sink.error(f"event '{name}' at t={at:g} is before the start of the run (t={start:g})", scenario.span(*where, "at"))
         return []
