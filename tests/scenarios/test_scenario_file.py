@@ -3,7 +3,6 @@ parameters, input courses, the player's answers to the master, and located error
 
 from __future__ import annotations
 
-import math
 from pathlib import Path
 
 import pytest
