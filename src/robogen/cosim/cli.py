@@ -42,7 +42,9 @@ def _number(text: str) -> float:
 
 
 def configure(parser: argparse.ArgumentParser) -> None:
-    parser.add_argument("system", help="the system description (TOML, see docs/system-toml.md)")
+    parser.add_argument("system", metavar="SYSTEM.toml|MODEL|S.toml",
+                        help="the system description (TOML, see docs/system-toml.md); with --scenario, the model (or its "
+                             "FMU); or a scenario that names its model (docs/scenarios.md)")
     parser.add_argument("--stop", type=_number, help="stop time (overrides [experiment] stop)")
     parser.add_argument("--step", type=_number, help="communication step (overrides [experiment] step)")
     parser.add_argument("-o", "--output", default=str(DEFAULT_OUTPUT),

@@ -32,9 +32,10 @@ _STAGES = ("syntax", "semantics", "ir", "codegen", "templates", "runtime", "fmu"
 @dataclass(frozen=True)
 class Built:
     fmu: Path
-    compiled: bool  # False: taken from the cache
+    compiled: bool  # False: taken from the cache (or given)
     seconds: float
     warnings: tuple = ()
+    given: bool = False  # an FMU given as the model: not built here
 
 
 def cache_dir() -> Path:

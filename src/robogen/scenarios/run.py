@@ -1,4 +1,4 @@
-"""One model, one scenario: build (cached), co-simulate, and hand back what the run produced.
+"""One model (or its FMU), one scenario: build (cached), co-simulate, and hand back what the run produced.
 
 :func:`run_scenario` packages the model (:mod:`robogen.scenarios.build`), writes the system of
 one instance, ``model``, driven by the scenario (``[instances.model] scenario = ...``, see
@@ -99,7 +99,12 @@ def run_scenario(scenario_path: str | Path, paths: Sequence[str] | None = None, 
     scenario = load_scenario(scenario_path)
     paths = model_paths(scenario, paths)
     args = model_options(scenario, given)
-    built = model_fmu(paths, args)
+    if len(paths) == 1 and str(paths[0]).endswith(".fmu"):  # an FMU already built: driven as it is
+        if reference:
+            raise RobogenError.at("--reference needs the model, not its FMU", Span.of_path(str(paths[0])))
+        built = Built(Path(paths[0]), False, 0.0, given=True)
+    else:
+        built = model_fmu(paths, args)
     if on_built is not None:
         on_built(built)
     md = fmu_description(built.fmu)

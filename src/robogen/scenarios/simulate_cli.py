@@ -70,6 +70,8 @@ def _run(args: argparse.Namespace, scenario: str, model: list[str] | None, given
     from robogen.scenarios.run import run_scenario
 
     def built(b) -> None:
+        if b.given:
+            return
         how = f"built the FMU in {b.seconds:.2f} s" if b.compiled else f"the FMU is unchanged: from the cache in {b.seconds:.3f} s"
         print(f"robogen simulate: {how} ({b.fmu})", file=sys.stderr)
 
