@@ -75,12 +75,13 @@ def _run(args: argparse.Namespace, scenario: str, model: list[str] | None, given
         how = f"built the FMU in {b.seconds:.2f} s" if b.compiled else f"the FMU is unchanged: from the cache in {b.seconds:.3f} s"
         print(f"robogen simulate: {how} ({b.fmu})", file=sys.stderr)
 
-    done = run_scenario(scenario, model, given, stop=args.stop, step=args.step, output=args.output, events=args.events,
+    events = args.events or str(Path(args.output).with_suffix(".events.jsonl"))
+    done = run_scenario(scenario, model, given, stop=args.stop, step=args.step, output=args.output, events=events,
                         progress=False if args.no_progress else None, keep_rows=False, on_built=built,
                         reference=args.reference)
     s = done.result.stats
     print(f"simulated {scenario} to t={s.end_time!r}: {s.steps} steps, {s.event_iterations} event iterations, "
-          f"{s.instants} super-dense instants -> {args.output}", file=sys.stderr)
+          f"{s.instants} super-dense instants -> {args.output}, events log {events}", file=sys.stderr)
     if s.terminated_by:
         print(f"robogen simulate: stopped at t={s.end_time!r} before the stop time: {s.terminated_by}", file=sys.stderr)
     if args.plot:
