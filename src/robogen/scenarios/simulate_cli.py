@@ -18,8 +18,8 @@ from pathlib import Path
 
 from robogen.codegen.cli import add_model_options
 from robogen.cosim import cli as system_cli
-from robogen.diagnostics import RobogenError, SourceMap, render_all
-from robogen.scenarios.build import parse_options
+from robogen.diagnostics import RobogenError, SourceMap, Span, error, render_all
+from robogen.scenarios.build import MODEL_SUFFIXES, parse_options
 
 
 def configure(parser: argparse.ArgumentParser) -> None:
@@ -48,6 +48,12 @@ def _is_scenario_alone(args: argparse.Namespace) -> bool:
 
 def run(args: argparse.Namespace) -> int:
     if args.scenario is None and not _is_scenario_alone(args):
+        target = Path(args.system)
+        if target.suffix in MODEL_SUFFIXES + (".fmu",) or target.is_dir():
+            print(render_all([error(f"{target} is a model: drive it with a scenario, --scenario S.toml "
+                                    f"(robogen scenario --template {target} -o S.toml writes one)",
+                                    Span.of_path(str(target)))], SourceMap()), file=sys.stderr)
+            return 1
         return system_cli.run(args)
     from robogen.cosim.signals import Interrupted, interruptible
 
