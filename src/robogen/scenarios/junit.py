@@ -64,7 +64,7 @@ def document(suites: list[Suite]) -> bytes:
 
 
 def _classname(suite: Suite) -> str:
-    return Path(suite.name).with_suffix("").as_posix().replace("/", ".")
+    return Path(suite.name).with_suffix("").as_posix().lstrip("./").replace("/", ".")
 
 
 def write(path: Path, suites: list[Suite]) -> Path:
