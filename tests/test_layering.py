@@ -112,8 +112,8 @@ def test_no_import_cycle_between_robogen_modules():
 #: layers below its own (docs/architecture.md draws the same picture).
 COSIM_LAYERS = (
     ("signals", "clocks", "columnar", "tomlspan", "watch"),  # no other module of cosim
-    ("fmi3", "system"),  # the FMI 3.0 binding; the system file
-    ("instances", "recorder", "proxy", "worker", "crash", "schema", "adapters"),  # around one instance, one row
+    ("fmi3", "system", "scenario"),  # the FMI 3.0 binding; the system file; scenario files
+    ("instances", "recorder", "proxy", "worker", "crash", "schema", "adapters", "player"),  # one instance, one row
     ("wiring",),  # who reads what, which clock goes where
     ("plan",),  # the run's plan: what both loops execute
     ("flat",),  # the plan as rg_plan (engine.h)
