@@ -16,6 +16,7 @@ import tempfile
 from pathlib import Path
 from typing import Callable
 
+from robogen.cosim import interfaces
 from robogen.cosim.fmi3 import Binding, CallNotes, Library, LoadError
 from robogen.cosim.instances import FmuInstance
 from robogen.cosim.master import Master, RunOptions
@@ -26,7 +27,7 @@ from robogen.cosim.system import Link, System, load_system, record_list, resolve
 from robogen.diagnostics import Diagnostic, DiagnosticSink, Note, RobogenError, SourceMap, Span, render, warning
 from robogen.fmu.extract import extract_fmu
 from robogen.fmu.fmi import tolerance
-from robogen.fmu.headers import PLATFORM_TUPLE
+from robogen.fmu.headers import FMI2_PLATFORM, PLATFORM_TUPLE
 from robogen.fmu.modeldesc import ModelDescription, load_model_description
 from robogen.outputs import check_not_input, output_file
 
@@ -48,6 +49,7 @@ def build_master(path: Path, *, stop=None, step=None, output=None, events=None, 
     notes = notes if notes is not None else CallNotes()
     try:
         loaded = _load_fmus(system, cache)
+        choices = _interfaces(system, loaded, options.step, warn or _print_warning)
         models = {n: md for n, (_folder, md) in loaded.items()}
         links = resolve(system, models)
         _check_event_mode(system, models)
@@ -55,7 +57,7 @@ def build_master(path: Path, *, stop=None, step=None, output=None, events=None, 
         for name in dependency_order(system, links):
             folder, md = loaded[name]
             spec = system.instances[name]
-            binding = cache.bind(folder, md, spec.fmu_span, name, trace, notes, isolate or spec.isolate)
+            binding = cache.bind(folder, md, spec, name, trace, notes, isolate, choices[name], options.step)
             instances.append(FmuInstance(name, md, folder, binding, spec.span))
         by_name = {u.name: u for u in instances}
         record = [(by_name[n], v) for n, v in record_list(system, models)]
@@ -99,6 +101,32 @@ def _load_fmus(system: System, cache: FmuCache) -> dict[str, tuple[Path, ModelDe
     return loaded
 
 
+def _interfaces(system: System, loaded: dict[str, tuple[Path, ModelDescription]], step: float,
+                warn: Callable[[Diagnostic], None]) -> dict[str, tuple[ModelDescription, interfaces.Choice]]:
+    """Each instance's interface (``[instances.X] interface``, else co-simulation where offered):
+    its description replaced in ``loaded`` by the one the master works with (the adapter's, where
+    one is needed); per instance, the original description and the choice. A pre-release of FMI
+    3.0 is warned about."""
+    sink = DiagnosticSink()
+    choices = {}
+    for name, (folder, md) in list(loaded.items()):
+        spec = system.instances[name]
+        interface = spec.interface or interfaces.default_interface(md) or "co-simulation"
+        where = system.span("instances", name, "interface") if spec.interface else spec.fmu_span
+        try:
+            loaded[name] = (folder, interfaces.view(md, interface, where))
+        except RobogenError as exc:
+            sink.extend(exc.diagnostics)
+            continue
+        if md.prerelease:
+            warn(warning(f"the FMU of instance '{name}' declares fmiVersion=\"{md.fmi_version}\", a pre-release of "
+                         "FMI 3.0: it is imported as FMI 3.0", spec.fmu_span))
+        choices[name] = (md, interfaces.Choice(interface, spec.solver, interfaces.tolerance(system.tolerance, md),
+                                               spec.solver_step))
+    sink.raise_if_errors()
+    return choices
+
+
 def _check_event_mode(system: System, models: dict[str, ModelDescription]) -> None:
     """An FMU with clocks must offer Event Mode: the master ticks its clocks there."""
     sink = DiagnosticSink()
@@ -132,10 +160,11 @@ class FmuCache:
     def binary(self, folder: Path, md: ModelDescription, span: Span) -> Path:
         """The FMU's shared object for this platform."""
         ident = md.co_simulation.model_identifier
-        path = folder / "binaries" / PLATFORM_TUPLE / f"{ident}.so"
+        platform = FMI2_PLATFORM if md.is_fmi2 else PLATFORM_TUPLE
+        path = folder / "binaries" / platform / f"{ident}.so"
         if not path.is_file():
             found = sorted(p.name for p in (folder / "binaries").iterdir()) if (folder / "binaries").is_dir() else []
-            raise RobogenError.at(f"the FMU has no binary for this platform: binaries/{PLATFORM_TUPLE}/{ident}.so is missing",
+            raise RobogenError.at(f"the FMU has no binary for this platform: binaries/{platform}/{ident}.so is missing",
                                   span, Note(f"platforms in the archive: {', '.join(found) or 'none'}"))
         return path
 
@@ -148,10 +177,20 @@ class FmuCache:
                 raise RobogenError.at(str(exc), span) from None
         return self.libraries[key]
 
-    def bind(self, folder: Path, md: ModelDescription, span: Span, name: str, trace, notes: CallNotes,
-             isolate: bool) -> Binding | ProxyBinding:
-        """A binding of a new instance of the FMU: in this process, or in a worker process."""
-        if not isolate:
+    def bind(self, folder: Path, md: ModelDescription, spec, name: str, trace, notes: CallNotes, isolate: bool,
+             choice: tuple[ModelDescription, interfaces.Choice], step: float) -> Binding | ProxyBinding:
+        """A binding of a new instance of the FMU: in this process, or in a worker process; behind
+        an adapter where its interface needs one (in this process)."""
+        span = spec.fmu_span
+        original, chosen = choice
+        if interfaces.adapted(original, chosen.interface):
+            if isolate or spec.isolate:
+                raise RobogenError.at(f"instance '{name}' uses its FMU through an adapter ({'FMI 2.0 ' if original.is_fmi2 else ''}"
+                                      f"{chosen.interface}), which runs in the master's process: isolate = true is "
+                                      "not available for it", spec.span)
+            return interfaces.bind(original, chosen, self.binary(folder, md, span), step, name, span,
+                                   trace=trace, notes=notes)
+        if not (isolate or spec.isolate):
             return Binding(self.library(folder, md, span), name, trace=trace, notes=notes)
         try:
             worker = ProxyBinding(str(self.binary(folder, md, span)), name, trace=trace, notes=notes)

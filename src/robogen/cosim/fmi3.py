@@ -225,6 +225,8 @@ def encode(fmi_type: str, values: Sequence) -> tuple[object, object, list]:
 class Library:
     """An FMU's shared object, opened once per path (several instances share it)."""
 
+    required = REQUIRED  # the functions it must export
+
     def __init__(self, path: str):
         self.path = path
         try:
@@ -232,7 +234,7 @@ class Library:
         except OSError as exc:
             raise LoadError(f"cannot load the FMU binary {path}: {exc}") from None
         missing = []
-        for name in REQUIRED:
+        for name in self.required:
             try:
                 getattr(self.lib, name)
             except AttributeError:
@@ -260,6 +262,11 @@ def _log_message(env, status, category, message):
         inst.receive_log(status, text)
     except Exception:  # a logger must never raise into C
         pass
+
+
+def log_message_callback():
+    """The fmi3LogMessageCallback every binding gives its instance (its environment: the binding)."""
+    return _log_message
 
 
 class StepResult(NamedTuple):

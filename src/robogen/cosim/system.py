@@ -29,7 +29,11 @@ from robogen.cosim.tomlspan import SpanIndex
 _ARROW = re.compile(r"^\s*(\S+)\s*->\s*(\S+)\s*$")
 TOP_KEYS = ("experiment", "instances", "connections", "record")
 EXPERIMENT_KEYS = ("start", "stop", "step", "tolerance", "max_event_iterations", "order")
-INSTANCE_KEYS = ("fmu", "start", "clocks", "isolate")
+INSTANCE_KEYS = ("fmu", "start", "clocks", "isolate", "interface", "solver", "solver_step")
+#: The interfaces an instance may use its FMU through ([instances.X] interface) ...
+INTERFACES = ("co-simulation", "model-exchange", "scheduled-execution")
+#: ... and the integrators of a Model Exchange FMU ([instances.X] solver).
+SOLVERS = ("cvode", "euler")
 CLOCK_KEYS = ("interval", "shift")
 RECORD_KEYS = ("variables", "every")
 
@@ -60,6 +64,9 @@ class InstanceSpec:
     start: dict[str, tuple[object, Span]] = field(default_factory=dict)
     clocks: dict[str, tuple[dict, Span]] = field(default_factory=dict)
     isolate: bool = False  # run the instance in a worker process of its own (robogen.cosim.proxy)
+    interface: str | None = None  # None: co-simulation where the FMU offers it, else the first it offers
+    solver: str = "cvode"  # Model Exchange: the integrator
+    solver_step: float | None = None  # Euler's step (None: the communication step)
 
 
 @dataclass
@@ -210,6 +217,7 @@ def _instance(name: str, spec, path: Path, check: _SchemaCheck) -> InstanceSpec 
     if not isinstance(isolate, bool):
         check.error("'isolate' must be true or false", *where, "isolate")
     inst.isolate = isolate is True
+    _interface(spec, inst, where, check)
     starts = spec.get("start", {})
     if not isinstance(starts, dict):
         check.error("'start' must be a table of variable = value", *where, "start")
@@ -228,6 +236,21 @@ def _instance(name: str, spec, path: Path, check: _SchemaCheck) -> InstanceSpec 
         if checked is not None:
             inst.clocks[clock] = (checked, check.idx.span(*where, "clocks", clock))
     return inst
+
+
+def _interface(spec: dict, inst: InstanceSpec, where: tuple, check: _SchemaCheck) -> None:
+    """[instances.NAME] interface, solver and solver_step."""
+    for key, allowed in (("interface", INTERFACES), ("solver", SOLVERS)):
+        if key not in spec:
+            continue
+        value = spec[key]
+        if value not in allowed:
+            check.error(f"'{key}' must be one of {', '.join(repr(a) for a in allowed)}, not {value!r}"
+                        f"{did_you_mean(str(value), allowed)}", *where, key)
+        else:
+            setattr(inst, key, value)
+    if "solver_step" in spec:
+        inst.solver_step = check.number(spec["solver_step"], *where, "solver_step", positive=True)
 
 
 def _clock_timing(timing, where: tuple, check: _SchemaCheck) -> dict | None:

@@ -1,0 +1,41 @@
+/* Scheduled Execution: two model partitions, at the ticks of the input clocks fast (vr 1, every
+ * 0.1 s, priority 2) and slow (vr 2, every 0.3 s, priority 1: it runs first when both tick). Each
+ * activation numbers itself (seq); fast_seq and slow_seq keep the number of each partition's
+ * last activation, fast_n and slow_n count them; y_fast (clocked by fast) is 10 t at its tick,
+ * y_slow (clocked by slow) the fast count when slow last ran. */
+#include "mex_core.h"
+#define NX 0
+#define NZ 0
+#define CS_STEP 1e-3
+typedef struct {
+    double x[1];
+    bool fast, slow;
+    int64_t seq, fast_seq, slow_seq, fast_n, slow_n;
+    double y_fast;
+    int64_t y_slow;
+} Model;
+static const VarInfo VARS[] = {
+    {1, T_CLOCK, offsetof(Model, fast)}, {2, T_CLOCK, offsetof(Model, slow)}, {3, T_I64, offsetof(Model, seq)},
+    {4, T_I64, offsetof(Model, fast_seq)}, {5, T_I64, offsetof(Model, slow_seq)}, {6, T_I64, offsetof(Model, fast_n)},
+    {7, T_I64, offsetof(Model, slow_n)}, {8, T_F64, offsetof(Model, y_fast)}, {9, T_I64, offsetof(Model, y_slow)},
+};
+static void model_defaults(Model *m) { memset(m, 0, sizeof *m); }
+static void model_derivatives(Model *m, double t, double *dx) { (void)m; (void)t; (void)dx; }
+static void model_indicators(Model *m, double t, double *z) { (void)m; (void)t; (void)z; }
+static bool model_step_event(Model *m, double t) { (void)m; (void)t; return false; }
+static void model_event(Model *m, double t, Events *e) { (void)m; (void)t; (void)e; }
+static int model_partition(Model *m, unsigned vr, double t)
+{
+    m->seq++;
+    if (vr == 1) {
+        m->fast_seq = m->seq;
+        m->fast_n++;
+        m->y_fast = 10.0 * t;
+    } else {
+        m->slow_seq = m->seq;
+        m->slow_n++;
+        m->y_slow = m->fast_n;
+    }
+    return 0;
+}
+#include "mex.h"
