@@ -114,7 +114,7 @@ COSIM_LAYERS = (
     ("signals", "clocks", "columnar", "tomlspan", "watch"),  # no other module of cosim
     ("fmi3", "system"),  # the FMI 3.0 binding; the system file
     ("instances", "recorder", "proxy", "worker", "crash", "schema", "adapters"),  # around one instance, one row
-    ("wiring",),  # who reads what, which clock goes where
+    ("wiring", "interfaces"),  # who reads what, which clock goes where; the interface adapters
     ("plan",),  # the run's plan: what both loops execute
     ("flat",),  # the plan as rg_plan (engine.h)
     ("engine",),  # the plan run in C

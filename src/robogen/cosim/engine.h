@@ -33,8 +33,9 @@ enum rg_end {
     END_LOOP,       /* connected values did not settle in an instant (woke says where) */
     END_WRITE,      /* the results file or the events log cannot be written */
     END_PACE,       /* paced: a communication point was reached (t); Python waits for the wall clock */
-    END_STEP        /* Python steps the FMUs from t to step_to (they roll back with FMU state) and
+    END_STEP,       /* Python steps the FMUs from t to step_to (they roll back with FMU state) and
                      * tells the engine with rg_engine_stepped */
+    END_RANGE       /* a connected value does not fit its input's type (range_link says which link) */
 };
 
 /* The call that asked to terminate the run. */
@@ -220,6 +221,7 @@ typedef struct {
     int term_who, term_by;
     double term_t;
     int zeno_k;
+    int range_link;          /* END_RANGE: the link whose value did not fit (else -1) */
     bool *ticked;            /* per clock: active in the instant before the last allowed (Zeno) */
     long *woke;              /* per edge: how often its source set its target's inputs (algebraic loops) */
     bool event_ended;        /* an event iteration (or the start) ended since Python last looked */

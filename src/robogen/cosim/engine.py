@@ -222,6 +222,12 @@ class Engine:
             raise MemoryError("no memory left for the recorded Strings and Binaries")
         if end == End.WRITE:
             raise OSError(f"cannot write the results file: {os.strerror(ffi.errno)}")
+        if end == End.RANGE:
+            k = e.range_link
+            read, index = self.flat.link_sources[k]
+            reader = self.flat.exchange.reads[read]
+            value = reader.buffer[index]
+            raise m.narrowing(self.flat.inputs[k][0], bool(value) if reader.fmi_type == "Boolean" else value)
         if end == End.LOOP:
             names = [u.name for u in m.instances]
             woke = {(names[a], names[b]): e.woke[k] for (a, b), k in self.flat.edges.items() if e.woke[k] > 0}

@@ -22,7 +22,7 @@
 
 
 enum { STAGE_ADVANCE = 0, STAGE_STRETCH, STAGE_STEP, STAGE_AFTER_STEP, STAGE_IN_PYTHON };
-enum { ST_NO_MEMORY = -1, ST_ZENO = -2, ST_LOOP = -3, ST_WRITE = -4, ST_PACE = -5, ST_PYTHON_STEP = -6 };
+enum { ST_NO_MEMORY = -1, ST_ZENO = -2, ST_LOOP = -3, ST_WRITE = -4, ST_PACE = -5, ST_PYTHON_STEP = -6, ST_RANGE = -7 };
 
 RG_EXPORT rg_engine *rg_engine_new(const rg_plan *p);
 RG_EXPORT void rg_engine_free(rg_engine *e);
@@ -453,7 +453,7 @@ RG_EXPORT int rg_engine_run(rg_engine *r, long max_rows, double deadline, int *s
     *status = st;
     if (write_events(r) != 0 && st == 0) st = ST_WRITE; /* what an event iteration that failed logged */
     return st == 0 ? END_DONE : st == ST_NO_MEMORY ? END_NO_MEMORY : st == ST_ZENO ? END_ZENO : st == ST_LOOP ? END_LOOP
-         : st == ST_WRITE ? END_WRITE : END_FAILED;
+         : st == ST_WRITE ? END_WRITE : st == ST_RANGE ? END_RANGE : END_FAILED;
 }
 
 /* ---------------------------------------------------------------------------------------------
@@ -477,6 +477,7 @@ RG_EXPORT rg_engine *rg_engine_new(const rg_plan *p)
     if (r == NULL) return NULL;
     r->p = p;
     r->term_who = -1;
+    r->range_link = -1;
     r->next_time = INFINITY;
     for (k = 0; k < (size_t)p->n_sets; k++)
         if ((size_t)p->set_count[k] > widest) widest = (size_t)p->set_count[k];

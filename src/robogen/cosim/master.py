@@ -50,7 +50,7 @@ from robogen.cosim.instances import FmuInstance
 from robogen.cosim.plan import Plan
 from robogen.cosim.recorder import Pacer, Progress, Recorder
 from robogen.cosim.system import Link, System
-from robogen.cosim.wiring import CLOCK, VALUE, find_cycle, plain
+from robogen.cosim.wiring import CLOCK, VALUE, Narrowing, find_cycle, plain
 from robogen.diagnostics import Note, RobogenError
 from robogen.fmu.fmi import DISCARD, status_name, tolerance
 
@@ -120,6 +120,8 @@ class Master:
                 else:
                     self.stats.loop = "Python"
                     self.stats.end_time = self._run_in_python(progress)
+            except Narrowing as exc:
+                raise self.narrowing(exc.key, exc.value) from None
             except FMI3Error as exc:
                 if signals.caught() is not None:  # the FMU failed because the signal interrupted it
                     raise signals.Interrupted(signals.caught()) from None
@@ -386,6 +388,15 @@ class Master:
         return RobogenError.at(f"values did not settle at t={_when(t)}: an algebraic loop {where} "
                                "(each instance's output changes the next one's input)",
                                loop[0].span if loop else self.system.span("connections"), *notes)
+
+    def narrowing(self, key: tuple[str, int], value) -> RobogenError:
+        """The error for a connected value that does not fit its input's type, at the connection."""
+        target, vr = key
+        link = next(k for k in self.links if k.target == target and k.dst.value_reference == vr)
+        return RobogenError.at(f"connection '{link.source}.{link.src.name} -> {link.target}.{link.dst.name}': the value "
+                               f"{value!r} of {link.src.type} '{link.source}.{link.src.name}' does not fit the input's type "
+                               f"{link.dst.type} at t={_when(self.notes.time[0])}; the results recorded so far are kept",
+                               link.span)
 
     def _connections_around(self, cycle: list[str], clocks: bool) -> list[Link]:
         """One connection (of clocks, or of values) for each step a -> b of an instance cycle."""

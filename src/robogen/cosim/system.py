@@ -418,7 +418,7 @@ class _ModelCheck:
         if src.is_clock != dst.is_clock:
             sink.error(f"a clock connects only to a clock: '{c.source}' is {_kind(src)}, '{c.target}' is {_kind(dst)}", c.span)
             return False
-        if _base_type(src) != _base_type(dst):
+        if _base_type(src) != _base_type(dst) and not (convertible(src.type, dst.type) and not src.is_clocked):
             sink.error(f"type mismatch: '{c.source}' is {src.type}, '{c.target}' is {dst.type}", c.span)
         if src.is_clocked != dst.is_clocked:
             sink.error(f"'{c.source}' is {'clocked' if src.is_clocked else 'not clocked'} but '{c.target}' is {'clocked' if dst.is_clocked else 'not clocked'}", c.span)
@@ -491,6 +491,29 @@ def record_list(system: System, models: dict[str, ModelDescription]) -> list[tup
 
 def _kind(v: Variable) -> str:
     return "a clock" if v.is_clock else f"a variable of type {v.type}"
+
+
+#: The types a connected value is converted between (FMI 2.0's Integer is Int32, its Enumeration
+#: Int64): the master converts a value between two integer types or two real types, and stops the
+#: run with an error naming the connection where a value does not fit its input's type.
+INTEGER_TYPES = ("Int8", "UInt8", "Int16", "UInt16", "Int32", "UInt32", "Int64", "UInt64", "Enumeration")
+REAL_TYPES = ("Float32", "Float64")
+
+
+def convertible(source: str, target: str) -> bool:
+    return (source in INTEGER_TYPES and target in INTEGER_TYPES) or (source in REAL_TYPES and target in REAL_TYPES)
+
+
+def fits(fmi_type: str, value) -> bool:
+    """Whether a value converted to ``fmi_type`` keeps its value (a finite real within Float32's range)."""
+    if fmi_type == "Float32":
+        return not math.isfinite(value) or abs(value) <= 3.4028234663852886e38
+    if fmi_type not in INTEGER_TYPES or isinstance(value, bool):
+        return True
+    if fmi_type.startswith("UInt"):
+        return 0 <= value < 2 ** int(fmi_type[4:])
+    bits = _INT_RANGES.get(fmi_type, 64)
+    return -(2 ** (bits - 1)) <= value < 2 ** (bits - 1)
 
 
 def _base_type(v: Variable) -> str:

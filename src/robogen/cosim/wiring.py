@@ -18,7 +18,7 @@ from dataclasses import dataclass, field
 from typing import NamedTuple
 
 from robogen.cosim.instances import FmuInstance, Reader
-from robogen.cosim.system import Link
+from robogen.cosim.system import Link, fits
 from robogen.fmu.modeldesc import Variable
 
 #: Column kinds: a non-clocked value, a clock (1 while active, else 0), a clocked value (empty
@@ -145,6 +145,8 @@ class ValueExchange:
             value = u.value(vr)
             key = (target.name, variable.value_reference)
             if self.last_set.get(key, UNSET) != value:
+                if not fits(variable.type, value):
+                    raise Narrowing(key, value)
                 self.last_set[key] = value
                 target.set_values(variable.type, [variable.value_reference], [value])
                 woken.add(target.name)
@@ -160,6 +162,15 @@ class ValueExchange:
 
 
 UNSET = object()  # an input not set yet
+
+
+class Narrowing(Exception):
+    """A connected value that does not fit its input's type: the input (target instance, value
+    reference) and the value."""
+
+    def __init__(self, key: tuple[str, int], value):
+        super().__init__(key, value)
+        self.key, self.value = key, value
 
 
 def find_cycle(edges: dict[str, set[str]]) -> list[str]:
