@@ -197,3 +197,43 @@ def test_values_are_converted_between_fmi_2_and_3_and_narrowing_overflow_names_t
     assert d.message == ("connection 'a.y_i64 -> b.u_i32': the value -3000000021 of Int64 'a.y_i64' does not fit the "
                          "input's type Int32 at t=0.3; the results recorded so far are kept")
     assert d.span.line == 1
+
+
+@pytest.mark.parametrize("loop", ["Python", "C"])
+def test_an_array_whose_dimension_is_a_structural_parameter_is_read_whole(write_system, monkeypatch, loop):
+    # y has n = 3 elements (n: a structural parameter, start 3); y[i] = i x, x = t. Read as a
+    # scalar, the FMU refuses the call ("Expected nValues >= 3 but was 1", as the Reference FMUs do).
+    if loop == "Python":
+        monkeypatch.setenv("ROBOGEN_REFERENCE_LOOP", "1")
+    result = simulate_system(write_system(system("arrays3", 1.0, 0.25, tolerance=None)))
+    assert result.columns == ["time", "superdense", "p.x", "p.y[1]", "p.y[2]", "p.y[3]"]
+    assert [r[2:] for r in result.rows if r[1] == 0 and r[0] > 0] == [[t, t, 2 * t, 3 * t] for t in (0.25, 0.5, 0.75, 1.0)]
+    path = write_system('connections = ["p.y -> q.u"]\n' + system("arrays3", 1.0, 0.25, tolerance=None)
+                        + '[instances.q]\nfmu = "{trivial}"\n', name="connected.toml")
+    with pytest.raises(RobogenError) as exc:
+        simulate_system(path)
+    assert exc.value.diagnostics[0].message == ("'p.y' is an array: the master records arrays, element by element, but "
+                                                "does not connect them")
+
+
+def test_an_fmu_whose_archive_lists_a_member_twice_runs_when_both_copies_agree(write_system, fmus, tmp_path):
+    import shutil
+    import warnings
+    import zipfile
+
+    for name, second in (("same", None), ("different", b"<changed/>")):
+        copy = tmp_path / f"{name}.fmu"
+        shutil.copy(fmus["vdp3"], copy)
+        with zipfile.ZipFile(copy) as z:
+            text = z.read("modelDescription.xml")
+        with warnings.catch_warnings(), zipfile.ZipFile(copy, "a") as z:  # as CMake's zip writes it
+            warnings.simplefilter("ignore")
+            z.writestr("modelDescription.xml", second or text)
+        path = tmp_path / f"{name}.toml"
+        path.write_text(f'[experiment]\nstop = 1.0\nstep = 0.1\n[instances.p]\nfmu = "{copy}"\n')
+        if second is None:
+            assert simulate_system(path).rows[-1][0] == 1.0
+            continue
+        with pytest.raises(RobogenError) as exc:
+            simulate_system(path)
+        assert exc.value.diagnostics[0].message == "archive member 'modelDescription.xml' appears twice with different contents"

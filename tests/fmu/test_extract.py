@@ -91,3 +91,20 @@ def test_simulate_and_validate_reject_a_zip_slip_fmu(tmp_path, capsys):
     err = capsys.readouterr().err
     assert err.count("unsafe archive member '../../slip.txt': member path contains '..'") == 2
     assert not (tmp_path.parent / "slip.txt").exists() and not (tmp_path / "slip.txt").exists()
+
+
+def test_a_member_listed_twice_is_accepted_when_both_copies_are_the_same_and_refused_when_they_differ(tmp_path):
+    # as CMake's zip writer lists a member twice (the Reference FMUs' Roberts model)
+    import warnings
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")  # zipfile warns of the duplicate name it is asked to write
+        same = make_zip(tmp_path / "same.fmu", [("modelDescription.xml", MD, None), ("resources/a.txt", b"one", None),
+                                                ("resources/a.txt", b"one", None)])
+        different = make_zip(tmp_path / "different.fmu", [("modelDescription.xml", MD, None), ("resources/a.txt", b"one", None),
+                                                          ("resources/a.txt", b"two", None)])
+    dest = extract_fmu(same, tmp_path / "s")
+    assert (dest / "resources" / "a.txt").read_bytes() == b"one"
+    with pytest.raises(RobogenError) as exc:
+        extract_fmu(different, tmp_path / "d")
+    assert exc.value.diagnostics[0].message == "archive member 'resources/a.txt' appears twice with different contents"

@@ -57,11 +57,12 @@ def build_master(path: Path, *, stop=None, step=None, output=None, events=None, 
         for name in dependency_order(system, links):
             folder, md = loaded[name]
             spec = system.instances[name]
-            binding = cache.bind(folder, md, spec, name, trace, notes, isolate, choices[name], options.step)
+            binding = cache.bind_instance(folder, md, spec, name, trace, notes, isolate, choices[name], options.step)
             instances.append(FmuInstance(name, md, folder, binding, spec.span))
         by_name = {u.name: u for u in instances}
         record = [(by_name[n], v) for n, v in record_list(system, models)]
-        recorder = Recorder([f"{u.name}.{v.name}" for u, v in record], output, events, keep_rows, [v.type for _u, v in record],
+        recorder = Recorder([f"{u.name}.{n}" for u, v in record for n in u.md.element_names(v)], output, events, keep_rows,
+                            [v.type for u, v in record for _n in u.md.element_names(v)],
                             every=system.record_every, start=options.start)
         plan = make_plan(instances, links, record, start=options.start, step=options.step, stop=options.stop,
                          max_iterations=system.max_event_iterations, events_logged=recorder.recording_events)
@@ -177,20 +178,24 @@ class FmuCache:
                 raise RobogenError.at(str(exc), span) from None
         return self.libraries[key]
 
-    def bind(self, folder: Path, md: ModelDescription, spec, name: str, trace, notes: CallNotes, isolate: bool,
-             choice: tuple[ModelDescription, interfaces.Choice], step: float) -> Binding | ProxyBinding:
-        """A binding of a new instance of the FMU: in this process, or in a worker process; behind
-        an adapter where its interface needs one (in this process)."""
-        span = spec.fmu_span
+    def bind_instance(self, folder: Path, md: ModelDescription, spec, name: str, trace, notes: CallNotes, isolate: bool,
+                      choice: tuple[ModelDescription, interfaces.Choice], step: float) -> Binding | ProxyBinding:
+        """The binding of the system's instance ``name``: behind an adapter where its interface
+        needs one (in this process), else :meth:`bind`'s."""
         original, chosen = choice
-        if interfaces.adapted(original, chosen.interface):
-            if isolate or spec.isolate:
-                raise RobogenError.at(f"instance '{name}' uses its FMU through an adapter ({'FMI 2.0 ' if original.is_fmi2 else ''}"
-                                      f"{chosen.interface}), which runs in the master's process: isolate = true is "
-                                      "not available for it", spec.span)
-            return interfaces.bind(original, chosen, self.binary(folder, md, span), step, name, span,
-                                   trace=trace, notes=notes)
-        if not (isolate or spec.isolate):
+        if not interfaces.adapted(original, chosen.interface):
+            return self.bind(folder, md, spec.fmu_span, name, trace, notes, isolate or spec.isolate)
+        if isolate or spec.isolate:
+            raise RobogenError.at(f"instance '{name}' uses its FMU through an adapter ({'FMI 2.0 ' if original.is_fmi2 else ''}"
+                                  f"{chosen.interface}), which runs in the master's process: isolate = true is "
+                                  "not available for it", spec.span)
+        return interfaces.bind(original, chosen, self.binary(folder, md, spec.fmu_span), step, name, spec.fmu_span,
+                               trace=trace, notes=notes)
+
+    def bind(self, folder: Path, md: ModelDescription, span: Span, name: str, trace, notes: CallNotes,
+             isolate: bool) -> Binding | ProxyBinding:
+        """A binding of a new instance of the FMU: in this process, or in a worker process."""
+        if not isolate:
             return Binding(self.library(folder, md, span), name, trace=trace, notes=notes)
         try:
             worker = ProxyBinding(str(self.binary(folder, md, span)), name, trace=trace, notes=notes)

@@ -121,6 +121,7 @@ typedef struct {
     void *const *read_instance;
     const uint32_t *const *vrs;
     const size_t *count;
+    const size_t *n_values;  /* the values it reads (count, or more where arrays are read: their elements) */
     const int *kind;
     void *const *buffer;     /* where each fmi3Get writes (the master's Readers' buffers) */
     size_t *const *sizes;    /* fmi3GetBinary's valueSizes (K_BINARY only) */

@@ -327,7 +327,7 @@ static int get_values(rg_engine *s, int r, bool *no_memory)
         st = s->p->get_binary[r](s->p->read_instance[r], s->p->vrs[r], s->p->count[r], s->p->sizes[r],
                               (const uint8_t **)s->p->buffer[r], s->p->count[r]);
     else
-        st = s->p->get[r](s->p->read_instance[r], s->p->vrs[r], s->p->count[r], s->p->buffer[r], s->p->count[r]);
+        st = s->p->get[r](s->p->read_instance[r], s->p->vrs[r], s->p->count[r], s->p->buffer[r], s->p->n_values[r]);
     if (st > 1 || !is_bytes(s->p->kind[r]) || s->p->store == STORE_NONE) return st > 1 ? st : 0;
     for (i = 0; i < s->p->count[r]; i++) {
         const char *data = bytes_of(s, r, i, &size);

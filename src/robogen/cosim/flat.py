@@ -212,6 +212,7 @@ class Flat:
         p.read_instance = self.pointers("void *[]", [self.handle(owner[id(r)]) for r in reads])
         p.vrs = self.pointers("uint32_t *[]", [r.c_vrs for r in reads])
         p.count = self.array("size_t[]", [r.count for r in reads])
+        p.n_values = self.array("size_t[]", [r.n_values for r in reads])
         p.kind = self.array("int[]", [kind(r.fmi_type) for r in reads])
         p.buffer = self.pointers("void *[]", [r.buffer for r in reads])
         p.sizes = self.pointers("size_t *[]", [r.sizes if r.sizes is not None else fmi_ffi.NULL for r in reads])

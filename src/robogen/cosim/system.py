@@ -415,6 +415,10 @@ class _ModelCheck:
             sink.error(f"'{c.source}' is not an output (causality {src.causality})", c.span)
         if dst.causality != "input":
             sink.error(f"'{c.target}' is not an input (causality {dst.causality})", c.span)
+        if src.dimensions or dst.dimensions:
+            sink.error(f"'{c.source if src.dimensions else c.target}' is an array: the master records arrays, element "
+                       "by element, but does not connect them", c.span)
+            return False
         if src.is_clock != dst.is_clock:
             sink.error(f"a clock connects only to a clock: '{c.source}' is {_kind(src)}, '{c.target}' is {_kind(dst)}", c.span)
             return False

@@ -81,8 +81,10 @@ def wire(instances: list[FmuInstance], links: list[Link], record: list[tuple[Fmu
     for u in instances:
         u.observe(observe[u.name])
         u.watch_clocks(watch[u.name])
-    columns = [Column(kind, u, var, *u.reader_of.get(var.value_reference, (None, 0)))
-               for kind, (u, var) in zip(kinds, record)]
+    columns = [Column(kind, u, var, reader, index + k)
+               for kind, (u, var) in zip(kinds, record)
+               for reader, index in [u.reader_of.get(var.value_reference, (None, 0))]
+               for k in range(u.md.element_count(var) if kind == VALUE else 1)]
     recorded = {c.instance.name for c in columns if c.kind == VALUE}
     record_reads = [u for u in instances if u.name in recorded and not value_links[u.name]]
     return Wiring(value_links, clock_routes, columns, record_reads)

@@ -5,11 +5,14 @@ path, no drive letter, no ``..`` component, no backslash, no symbolic link or de
 Unix mode bits in the ZIP's external attributes), no encryption, only store or deflate. The
 member count and the total unpacked size are capped, and the bytes actually written are counted
 (a ZIP header can lie about sizes). Files are created with ``O_EXCL`` below the destination
-folder only, so nothing is ever written outside it.
+folder only, so nothing is ever written outside it. A member that the ZIP directory lists twice
+(as some zip writers do, CMake's among them) is accepted when both copies hold the same bytes and
+refused when they differ.
 """
 
 from __future__ import annotations
 
+import hashlib
 import os
 import stat
 import tempfile
@@ -113,14 +116,34 @@ def extract_fmu(path: str | Path, destination: str | Path | None = None, limits:
             try:
                 fd = os.open(target, flags, 0o755 if executable else 0o644)
             except FileExistsError:
-                raise RobogenError.at(f"archive member '{info.filename}' appears twice", Span.whole_file(display)) from None
+                written += _same_copy(z, info, target, limits.max_bytes - written, display)
+                continue
             with os.fdopen(fd, "wb") as out, z.open(info) as src:
-                while True:
-                    chunk = src.read(_CHUNK)
-                    if not chunk:
-                        break
-                    written += len(chunk)
-                    if written > limits.max_bytes:
-                        raise RobogenError.at(f"archive unpacks to more than the limit of {limits.max_bytes} bytes", Span.whole_file(display))
-                    out.write(chunk)
+                written += _copy(src, out.write, limits.max_bytes - written, limits.max_bytes, display)
     return dest
+
+
+def _copy(src, sink, room: int, limit: int, display: str) -> int:
+    """The member's bytes to ``sink``, at most ``room`` of them; how many."""
+    count = 0
+    while True:
+        chunk = src.read(_CHUNK)
+        if not chunk:
+            return count
+        count += len(chunk)
+        if count > room:
+            raise RobogenError.at(f"archive unpacks to more than the limit of {limit} bytes", Span.whole_file(display))
+        sink(chunk)
+
+
+def _same_copy(z: zipfile.ZipFile, info: zipfile.ZipInfo, target: Path, room: int, display: str) -> int:
+    """A member listed again: accepted if its bytes are those already extracted (how many), else refused."""
+    again, first = hashlib.sha256(), hashlib.sha256()
+    with z.open(info) as src:
+        count = _copy(src, again.update, room, room, display)
+    with open(target, "rb") as written:
+        for chunk in iter(lambda: written.read(_CHUNK), b""):
+            first.update(chunk)
+    if again.digest() != first.digest():
+        raise RobogenError.at(f"archive member '{info.filename}' appears twice with different contents", Span.whole_file(display))
+    return count

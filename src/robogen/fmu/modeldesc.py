@@ -243,6 +243,29 @@ class ModelDescription:
                    ("scheduled-execution", self.scheduled_execution))
         return tuple(name for name, element in offered if element is not None)
 
+    def element_count(self, var: Variable) -> int:
+        """How many values the variable holds: 1 for a scalar; for an array the product of its
+        dimensions, each a fixed size or the start value of the structural parameter named by its
+        value reference (the master does not change structural parameters)."""
+        count = 1
+        by_vr = None
+        for d in var.dimensions:
+            if d.start is not None:
+                count *= d.start
+                continue
+            by_vr = by_vr or self.by_vr()
+            parameter = by_vr.get(d.value_reference)
+            if parameter is None or len(parameter.start) != 1 or not parameter.start[0].isdigit():
+                raise RobogenError.at(f"array '{var.name}': its dimension names value reference {d.value_reference}, "
+                                      "which is not a structural parameter with an integer start value", self.span(var.line))
+            count *= int(parameter.start[0])
+        return count
+
+    def element_names(self, var: Variable) -> list[str]:
+        """The names of a variable's values: its name, or for an array name[1], name[2], ... (row-major)."""
+        count = self.element_count(var)
+        return [var.name] if not var.dimensions else [f"{var.name}[{k}]" for k in range(1, count + 1)]
+
     def number_of_states(self) -> int:
         return sum(1 for u in self.unknowns if u.kind == "ContinuousStateDerivative")
 

@@ -14,10 +14,10 @@ typedef struct {
     bool resting, kicked, stepped;
 } Model;
 static const VarInfo VARS[] = {
-    {1, T_F64, offsetof(Model, x[0])}, {2, T_F64, offsetof(Model, x[1])}, {3, T_I64, offsetof(Model, bounces)},
-    {4, T_F64, offsetof(Model, g)}, {5, T_F64, offsetof(Model, e)}, {6, T_F64, offsetof(Model, kick_time)},
-    {7, T_F64, offsetof(Model, kick)}, {8, T_F64, offsetof(Model, step_event_at)},
-    {9, T_I64, offsetof(Model, step_events)}, {10, T_I64, offsetof(Model, max_bounces)},
+    {1, T_F64, offsetof(Model, x[0]), 0}, {2, T_F64, offsetof(Model, x[1]), 0}, {3, T_I64, offsetof(Model, bounces), 0},
+    {4, T_F64, offsetof(Model, g), 0}, {5, T_F64, offsetof(Model, e), 0}, {6, T_F64, offsetof(Model, kick_time), 0},
+    {7, T_F64, offsetof(Model, kick), 0}, {8, T_F64, offsetof(Model, step_event_at), 0},
+    {9, T_I64, offsetof(Model, step_events), 0}, {10, T_I64, offsetof(Model, max_bounces), 0},
 };
 static void model_defaults(Model *m)
 {

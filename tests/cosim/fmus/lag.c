@@ -12,9 +12,9 @@ typedef struct {
     bool above;
 } Model;
 static const VarInfo VARS[] = {
-    {1, T_F64, offsetof(Model, x[0])}, {2, T_F64, offsetof(Model, u)}, {3, T_F64, offsetof(Model, tau)},
-    {4, T_I32, offsetof(Model, crossings)}, {5, T_BOOL, offsetof(Model, above)}, {6, T_I32, offsetof(Model, level)},
-    {7, T_I32, offsetof(Model, stop_after)},
+    {1, T_F64, offsetof(Model, x[0]), 0}, {2, T_F64, offsetof(Model, u), 0}, {3, T_F64, offsetof(Model, tau), 0},
+    {4, T_I32, offsetof(Model, crossings), 0}, {5, T_BOOL, offsetof(Model, above), 0}, {6, T_I32, offsetof(Model, level), 0},
+    {7, T_I32, offsetof(Model, stop_after), 0},
 };
 static void model_defaults(Model *m)
 {

@@ -133,16 +133,25 @@ FMI3_Export fmi3Status fmi3Reset(fmi3Instance i)
     return fmi3OK;
 }
 
-static fmi3Status access_values(Instance *c, int type, const fmi3ValueReference vrs[], size_t n, void *values, bool set)
+static fmi3Status access_values(Instance *c, int type, const fmi3ValueReference vrs[], size_t n, void *values, bool set,
+                                size_t n_values)
 {
-    size_t k;
+    size_t k, j = 0;
+    if (!set) model_outputs(&c->m, c->time);
     for (k = 0; k < n; k++) {
         const VarInfo *v = find_var(VARS, NVARS, vrs[k]);
+        size_t count = v != NULL && v->count > 0 ? v->count : 1;
         char *field;
         if (v == NULL || v->type != type) return fail(c, "unknown value reference or wrong type");
+        if (j + count > n_values) {
+            char why[96];
+            snprintf(why, sizeof why, "Expected nValues >= %lu but was %lu", (unsigned long)(j + count), (unsigned long)n_values);
+            return fail(c, why);
+        }
         field = (char *)&c->m + v->offset;
-        if (set) memcpy(field, (char *)values + k * type_size(type), type_size(type));
-        else memcpy((char *)values + k * type_size(type), field, type_size(type));
+        if (set) memcpy(field, (char *)values + j * type_size(type), count * type_size(type));
+        else memcpy((char *)values + j * type_size(type), field, count * type_size(type));
+        j += count;
     }
     if (set && c->mode == M_CONTINUOUS) model_indicators(&c->m, c->time, c->z);
     return fmi3OK;
@@ -152,13 +161,13 @@ static fmi3Status access_values(Instance *c, int type, const fmi3ValueReference 
     FMI3_Export fmi3Status fmi3Get##T(fmi3Instance i, const fmi3ValueReference vrs[], size_t n, CTYPE values[], size_t m) \
     {                                                                                                                \
         (void)m;                                                                                                     \
-        return access_values((Instance *)i, type, vrs, n, (void *)values, false);                                           \
+        return access_values((Instance *)i, type, vrs, n, (void *)values, false, m);                                           \
     }                                                                                                                \
     FMI3_Export fmi3Status fmi3Set##T(fmi3Instance i, const fmi3ValueReference vrs[], size_t n, const CTYPE values[], \
                                       size_t m)                                                                      \
     {                                                                                                                \
         (void)m;                                                                                                     \
-        return access_values((Instance *)i, type, vrs, n, (void *)values, true);                                            \
+        return access_values((Instance *)i, type, vrs, n, (void *)values, true, m);                                            \
     }
 #define NONE(T, CTYPE)                                                                                               \
     FMI3_Export fmi3Status fmi3Get##T(fmi3Instance i, const fmi3ValueReference vrs[], size_t n, CTYPE values[], size_t m) \
@@ -203,7 +212,7 @@ FMI3_Export fmi3Status fmi3SetBinary(fmi3Instance i, const fmi3ValueReference v[
 FMI3_Export fmi3Status fmi3GetClock(fmi3Instance i, const fmi3ValueReference vrs[], size_t n, fmi3Clock values[])
 {
     Instance *c = (Instance *)i;
-    fmi3Status status = access_values(c, T_CLOCK, vrs, n, values, false);
+    fmi3Status status = access_values(c, T_CLOCK, vrs, n, values, false, n);
     size_t k;
     for (k = 0; status == fmi3OK && c->interface == I_SE && k < n; k++)
         *(bool *)((char *)&c->m + find_var(VARS, NVARS, vrs[k])->offset) = false;
@@ -211,7 +220,7 @@ FMI3_Export fmi3Status fmi3GetClock(fmi3Instance i, const fmi3ValueReference vrs
 }
 FMI3_Export fmi3Status fmi3SetClock(fmi3Instance i, const fmi3ValueReference vrs[], size_t n, const fmi3Clock values[])
 {
-    return access_values((Instance *)i, T_CLOCK, vrs, n, (void *)values, true);
+    return access_values((Instance *)i, T_CLOCK, vrs, n, (void *)values, true, n);
 }
 
 #include "mex3_rest.h"

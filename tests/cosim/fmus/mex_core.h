@@ -10,11 +10,13 @@
  *   model_event(m, t, e)         Event Mode: one update (e: what it asks for, see Events)
  *   model_step_event(m, t)       after an integrator step: whether to enter Event Mode
  *   model_partition(m, vr, t)    Scheduled Execution: the partition of input clock vr at t
+ *   model_outputs(m, t)          (optional, #define MODEL_OUTPUTS) the outputs, before they are read
  *   CS_STEP                      Co-Simulation: the internal step (classic Runge-Kutta; an event
  *                                indicator's sign change ends a step early, at the internal step)
  *
  * Variables are Float64 (T_F64), Int32 (T_I32, an FMI 2.0 Integer), Int64 (T_I64), Boolean (T_BOOL,
- * an int in FMI 2.0, a bool in FMI 3.0) and Clock (T_CLOCK: a bool, active or not). */
+ * an int in FMI 2.0, a bool in FMI 3.0) and Clock (T_CLOCK: a bool, active or not); a VarInfo's
+ * count is an array's number of elements (0: a scalar). */
 #include <math.h>
 #include <stdarg.h>
 #include <stdbool.h>
@@ -30,7 +32,12 @@ typedef struct {
     unsigned vr;
     int type;
     size_t offset;
+    size_t count;
 } VarInfo;
+
+#ifndef MODEL_OUTPUTS
+#define model_outputs(m, t) ((void)(m), (void)(t))
+#endif
 
 typedef struct {
     bool needs_update, terminate, next_defined, values_changed;

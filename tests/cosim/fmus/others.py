@@ -14,7 +14,7 @@ import tempfile
 from pathlib import Path
 
 from robogen.fmu.modeldesc import (
-    CoSimulation, DefaultExperiment, ModelDescription, ModelExchange, ScheduledExecution, Unknown, Variable,
+    CoSimulation, DefaultExperiment, Dimension, ModelDescription, ModelExchange, ScheduledExecution, Unknown, Variable,
 )
 from robogen.fmu.modeldesc_writer import with_content_token, write_model_description
 
@@ -44,6 +44,9 @@ SCHED = [("Clock", "fast", 1, "input", "discrete", ("0.1", 2)), ("Clock", "slow"
          integer("fast_n", 6, "output"), integer("slow_n", 7, "output"), ("Float64", "y_fast", 8, "output", "discrete", 1),
          ("Int64", "y_slow", 9, "output", "discrete", 2)]
 
+ARRAYS = [real("x", 1, "output", "0"), Variable("n", 2, "UInt64", "structuralParameter", "fixed", start=("3",)),
+          Variable("y", 3, "Float64", "output", "continuous", dimensions=(Dimension(value_reference=2),))]
+
 #: name -> (C file, FMI version, interfaces, variables, states, event indicators)
 MODELS = {
     "bounce3": ("bounce.c", 3, ("me", "cs"), BOUNCE, 2, 1),
@@ -54,10 +57,13 @@ MODELS = {
     "lag2": ("lag.c", 2, ("cs",), LAG, 1, 1),
     "lag2me": ("lag.c", 2, ("me", "cs"), LAG, 1, 1),
     "sched3": ("sched.c", 3, ("se",), SCHED, 0, 0),
+    "arrays3": ("arrays.c", 3, ("cs", "me"), ARRAYS, 1, 0),
 }
 
 
 def _variable3(spec) -> Variable:
+    if isinstance(spec, Variable):
+        return spec
     kind, name, vr, causality, variability, extra = spec
     fmi_type = "Float64" if kind == "Real" else kind
     if fmi_type == "Clock":

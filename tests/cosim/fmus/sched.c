@@ -15,9 +15,9 @@ typedef struct {
     int64_t y_slow;
 } Model;
 static const VarInfo VARS[] = {
-    {1, T_CLOCK, offsetof(Model, fast)}, {2, T_CLOCK, offsetof(Model, slow)}, {3, T_I64, offsetof(Model, seq)},
-    {4, T_I64, offsetof(Model, fast_seq)}, {5, T_I64, offsetof(Model, slow_seq)}, {6, T_I64, offsetof(Model, fast_n)},
-    {7, T_I64, offsetof(Model, slow_n)}, {8, T_F64, offsetof(Model, y_fast)}, {9, T_I64, offsetof(Model, y_slow)},
+    {1, T_CLOCK, offsetof(Model, fast), 0}, {2, T_CLOCK, offsetof(Model, slow), 0}, {3, T_I64, offsetof(Model, seq), 0},
+    {4, T_I64, offsetof(Model, fast_seq), 0}, {5, T_I64, offsetof(Model, slow_seq), 0}, {6, T_I64, offsetof(Model, fast_n), 0},
+    {7, T_I64, offsetof(Model, slow_n), 0}, {8, T_F64, offsetof(Model, y_fast), 0}, {9, T_I64, offsetof(Model, y_slow), 0},
 };
 static void model_defaults(Model *m) { memset(m, 0, sizeof *m); }
 static void model_derivatives(Model *m, double t, double *dx) { (void)m; (void)t; (void)dx; }

@@ -7,7 +7,7 @@
 typedef struct {
     double x[NX];
 } Model;
-static const VarInfo VARS[] = {{1, T_F64, offsetof(Model, x[0])}, {2, T_F64, offsetof(Model, x[1])}, {3, T_F64, offsetof(Model, x[2])}};
+static const VarInfo VARS[] = {{1, T_F64, offsetof(Model, x[0]), 0}, {2, T_F64, offsetof(Model, x[1]), 0}, {3, T_F64, offsetof(Model, x[2]), 0}};
 static void model_defaults(Model *m)
 {
     m->x[0] = 1.0;
