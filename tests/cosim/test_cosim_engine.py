@@ -76,6 +76,11 @@ SYSTEMS = {
                '[instances.k]\nfmu = "{ticker}"\n',
     # scheduled execution: two partitions at their clocks' ticks, in priority order
     "scheduled": '[experiment]\nstop = 1.0\nstep = 0.1\n[instances.s]\nfmu = "{sched3}"\n',
+    # clock domains: sampled into a clocked input, held from a clocked output (the supervisory-control example)
+    "supervisory": 'connections = ["controller.ur -> plant.u", "plant.x -> controller.xr", "plant.x -> supervisor.x", '
+                   '"supervisor.s -> controller.s", "supervisor.as -> controller.as"]\n[experiment]\nstop = 0.8\n'
+                   'step = 0.025\n[instances.controller]\nfmu = "{controller3}"\n[instances.plant]\nfmu = "{plant2}"\n'
+                   '[instances.supervisor]\nfmu = "{supervisor3}"\n',
     # decimation: the plain rows thinned, every event row kept
     "ticker-every": '[experiment]\nstop = 3.0\nstep = 0.01\n[instances.k]\nfmu = "{ticker}"\n'
                     '[record]\nvariables = ["k.tick", "k.count", "k.phase"]\nevery = 0.3\n',

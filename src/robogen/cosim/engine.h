@@ -176,7 +176,9 @@ typedef struct {
     const int *cell_dep_first, *cell_dep_count;
     /* -- clock routes: an active output clock sets its target clocks and the values they carry */
     const int *route_first, *route_count; /* per watched output clock */
-    const int *route_target, *route_clock, *route_edge;
+    const int *croute_first, *croute_count; /* per clock: the routes between clock domains its ticks forward */
+    const int *route_source_instance; /* per route: the instance whose cells it reads */
+    const int *route_target, *route_clock, *route_edge; /* route_clock -1: an input that is not clocked */
     const int *route_source_first, *route_source_count, *route_source; /* the cells it carries */
     const int *route_batch_first, *route_batch_count; /* one Set call per target type */
     rg_set_fn const *batch_set;
@@ -249,6 +251,7 @@ typedef struct {
     bool *out_on;            /* per watched output clock: what fmi3GetClock said in this instant */
     bool *out_fresh;         /* read in this instant, unchanged since */
     bool *forwarded;         /* forwarded in this instant */
+    bool *clock_forwarded;   /* per clock: its routes between clock domains forwarded in this instant */
     uint32_t *clock_scratch; /* one fmi3SetClock call's value references */
     uint64_t *cell_raw;      /* the value as its C type, at the start of 8 bytes (Strings and
                               * Binaries: the offset of a copy in the arena) */

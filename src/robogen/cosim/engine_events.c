@@ -136,14 +136,13 @@ static void wake(rg_engine *r, int w, int edge)
     r->woken_edge[w] = edge;
 }
 
-/* Route q of an active output clock: its target clock (unless active already), then the clocked
- * values it carries, one Set call per type. */
-static int forward_route(rg_engine *r, int u, int q)
+/* Route q of an active clock: its target clock (unless active already, or none: an input that is
+ * not clocked), then the values it carries (read from the route's source), one Set call per type. */
+static int forward_route(rg_engine *r, int q)
 {
-    int w = r->p->route_target[q], b, i, st;
+    int w = r->p->route_target[q], u = r->p->route_source_instance[q], b, i, st;
     uint32_t vr;
-    if (!r->p->event_mode[w]) return 0;
-    if (!r->active[r->p->route_clock[q]]) {
+    if (r->p->route_clock[q] >= 0 && !r->active[r->p->route_clock[q]]) {
         vr = r->p->clock_vr[r->p->route_clock[q]];
         *r->p->note_call = r->p->set_clock_note[w];
         if ((st = r->p->set_clock[w](r->p->instance[w], &vr, 1, r->p->on)) > 1) return st;
@@ -179,16 +178,23 @@ static int forward_route(rg_engine *r, int u, int q)
     return 0;
 }
 
-/* u's active output clocks, each forwarded once per instant along its routes. */
+/* u's active output clocks, each forwarded once per instant along its routes (to instances in
+ * Event Mode); then the routes between clock domains of u's active clocks, once per instant. */
 static int forward_clocks(rg_engine *r, int u)
 {
-    int j, q, st;
+    int j, q, c, st;
     if ((st = read_clocks(r, u)) != 0) return st;
     for (j = r->p->out_first[u]; j < r->p->out_first[u] + r->p->out_count[u]; j++) {
         if (!r->out_on[j] || r->forwarded[j]) continue;
         r->forwarded[j] = true;
         for (q = r->p->route_first[j]; q < r->p->route_first[j] + r->p->route_count[j]; q++)
-            if ((st = forward_route(r, u, q)) != 0) return st;
+            if (r->p->event_mode[r->p->route_target[q]] && (st = forward_route(r, q)) != 0) return st;
+    }
+    for (c = r->p->clock_first[u]; c < r->p->clock_first[u] + r->p->clock_count[u]; c++) {
+        if (!r->active[c] || r->clock_forwarded[c] || r->p->croute_count[c] == 0) continue;
+        r->clock_forwarded[c] = true;
+        for (q = r->p->croute_first[c]; q < r->p->croute_first[c] + r->p->croute_count[c]; q++)
+            if ((st = forward_route(r, q)) != 0) return st;
     }
     return 0;
 }
@@ -229,6 +235,7 @@ static int propagate(rg_engine *r)
         return 0;
     }
     for (w = 0; w < r->p->out_first[n]; w++) r->forwarded[w] = false;
+    for (w = 0; w < r->p->clock_first[n]; w++) r->clock_forwarded[w] = false;
     for (e = 0; e < r->p->n_edges; e++) r->woke[e] = 0;
     for (e = 0; e < r->p->n_event; e++) r->queued[r->p->event_instance[e]] = true;
     for (;;) {

@@ -507,6 +507,7 @@ RG_EXPORT rg_engine *rg_engine_new(const rg_plan *p)
     r->out_on = (bool *)zeroed(outs, sizeof(bool), &ok);
     r->out_fresh = (bool *)zeroed(outs, sizeof(bool), &ok);
     r->forwarded = (bool *)zeroed(outs, sizeof(bool), &ok);
+    r->clock_forwarded = (bool *)zeroed(clocks, sizeof(bool), &ok);
     r->clock_scratch = (uint32_t *)zeroed(clocks, sizeof(uint32_t), &ok);
     r->cell_raw = (uint64_t *)zeroed(cells, sizeof(uint64_t), &ok);
     r->cell_fresh = (bool *)zeroed(cells, sizeof(bool), &ok);
@@ -541,7 +542,7 @@ RG_EXPORT void rg_engine_free(rg_engine *r)
     free(r->a_ticked); free(r->ticked); free(r->woke); free(r->last); free(r->last_valid); free(r->last_bytes);
     free(r->last_size); free(r->flags); free(r->last_time); free(r->copies); free(r->set_vrs); free(r->set_values);
     free((void *)r->set_pointers); free(r->set_sizes); free(r->active); free(r->out_on); free(r->out_fresh);
-    free(r->forwarded); free(r->clock_scratch); free(r->cell_raw); free(r->cell_fresh); free(r->cell_live);
+    free(r->forwarded); free(r->clock_forwarded); free(r->clock_scratch); free(r->cell_raw); free(r->cell_fresh); free(r->cell_live);
     free(r->cell_need); free(r->get_vrs); free(r->get_buffer); free(r->get_sizes); free(r->get_cells);
     free(r->route_scratch); free(r->set_scratch); free(r->queued); free(r->woken); free(r->woken_edge);
     free(r->rows.times); free(r->rows.index); free(r->rows.event); free(r->rows.slots); free(r->rows.present);

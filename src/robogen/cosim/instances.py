@@ -125,6 +125,7 @@ class FmuInstance:
         self.binding = binding
         self.vars = md.by_name()
         self.by_vr = md.by_vr()
+        self.clock_vrs = sorted(v.value_reference for v in md.variables if v.is_clock)
         self.time = 0.0  # where this instance is: the communication point of its last step
         self.periodic: list[Periodic] = []
         self.aperiodic: list[Aperiodic] = []

@@ -345,7 +345,7 @@ class Master:
         """Forward clocks and values in dependency order until nothing new happens at this instant
         (without connections: read each instance's output clocks, nothing to forward)."""
         instances = self.plan.event_instances if event_mode else self.instances
-        if not self.plan.routes and not self.values.connected:
+        if not self.plan.routes and not self.plan.domain_routes and not self.values.connected:
             if clocks:
                 for u in instances:
                     if u.out_clocks:
@@ -407,10 +407,12 @@ class Master:
                 loop.append(link)
         return loop
 
-    def _forward_clocks(self, u: FmuInstance, forwarded: set[tuple[str, int]]) -> set[str]:
+    def _forward_clocks(self, u: FmuInstance, forwarded: set[tuple]) -> set[str]:
         """Note u's active output clocks; set the clocks (and clocked values) they drive, once per
         instant: the values a clock carries read with one Get call per type, and set with one
-        Set call per type on each target. The names of the instances set."""
+        Set call per type on each target. Then the values crossing clock domains at u's active
+        clocks (in the order of their value references): held into inputs that are not clocked,
+        sampled into u's clocked inputs. The names of the instances set."""
         woken = set()
         for vr in u.read_clocks():
             u.active.add(vr)
@@ -418,16 +420,27 @@ class Master:
                 continue
             forwarded.add((u.name, vr))
             for target, target_clock, sources, batches in self.plan.routes.get((u.name, vr), ()):
-                if not target.event_mode:
-                    continue
-                if target_clock not in target.active:
-                    target.set_clocks([target_clock])
-                if sources:
-                    values = u.clocked_values(sources)
-                    for fmi_type, vrs, indices in batches:
-                        target.set_values(fmi_type, vrs, [values[i] for i in indices])
+                if target.event_mode:
+                    self._forward(u, target, target_clock, sources, batches)
+                    woken.add(target.name)
+        for vr in u.clock_vrs:
+            if vr not in u.active or (u.name, vr, "domains") in forwarded or (u.name, vr) not in self.plan.domain_routes:
+                continue
+            forwarded.add((u.name, vr, "domains"))
+            for source, target, target_clock, sources, batches in self.plan.domain_routes[u.name, vr]:
+                self._forward(source, target, target_clock, sources, batches)
                 woken.add(target.name)
         return woken
+
+    @staticmethod
+    def _forward(source: FmuInstance, target: FmuInstance, target_clock: int | None, sources, batches) -> None:
+        """One route: the target clock set (unless active, or none), the values it carries."""
+        if target_clock is not None and target_clock not in target.active:
+            target.set_clocks([target_clock])
+        if sources:
+            values = source.clocked_values(sources)
+            for fmi_type, vrs, indices in batches:
+                target.set_values(fmi_type, vrs, [values[i] for i in indices])
 
     def zeno(self, t: float, k: int, needs: list[FmuInstance], ticked: dict) -> None:
         active = [f"{n}.{self.by_name[n].by_vr[vr].name}" for n, vrs in ticked.items() for vr in sorted(vrs)]

@@ -424,8 +424,6 @@ class _ModelCheck:
             return False
         if _base_type(src) != _base_type(dst) and not (convertible(src.type, dst.type) and not src.is_clocked):
             sink.error(f"type mismatch: '{c.source}' is {src.type}, '{c.target}' is {dst.type}", c.span)
-        if src.is_clocked != dst.is_clocked:
-            sink.error(f"'{c.source}' is {'clocked' if src.is_clocked else 'not clocked'} but '{c.target}' is {'clocked' if dst.is_clocked else 'not clocked'}", c.span)
         for inst_name, var in ((c.source.instance, src), (c.target.instance, dst)):
             cs = self.models[inst_name].co_simulation
             if (var.is_clock or var.is_clocked) and cs is not None and not cs.has_event_mode:
@@ -442,8 +440,10 @@ class _ModelCheck:
         by_vr_s, by_vr_d = self.models[link.source].by_vr(), self.models[link.target].by_vr()
         sc = " or ".join(f"{link.source}.{by_vr_s[a].name}" if a in by_vr_s else str(a) for a in link.src.clocks)
         dc = " or ".join(f"{link.target}.{by_vr_d[b].name}" if b in by_vr_d else str(b) for b in link.dst.clocks)
-        self.sink.error(f"clocked connection '{link.source}.{link.src.name} -> {link.target}.{link.dst.name}' "
-                        f"needs its clocks connected: add \"{sc} -> {dc}\"", link.span)
+        self.sink.error(f"'{link.source}.{link.src.name}' is clocked by {sc} and '{link.target}.{link.dst.name}' by {dc}: "
+                        "a clocked value crosses only to a clock it drives", link.span,
+                        Note(f"connect the clocks (\"{sc.split(' or ')[0]} -> {dc.split(' or ')[0]}\"), or connect the "
+                             "value to an input that is not clocked (sample and hold)"))
 
     def recorded(self, name: str, span: Span) -> None:
         """A [record] entry: an exact variable name (any causality), or a pattern that matches

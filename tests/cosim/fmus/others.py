@@ -47,7 +47,16 @@ SCHED = [("Clock", "fast", 1, "input", "discrete", ("0.1", 2)), ("Clock", "slow"
 ARRAYS = [real("x", 1, "output", "0"), Variable("n", 2, "UInt64", "structuralParameter", "fixed", start=("3",)),
           Variable("y", 3, "Float64", "output", "continuous", dimensions=(Dimension(value_reference=2),))]
 
-#: name -> (C file, FMI version, interfaces, variables, states, event indicators)
+PLANT = [real("x", 1, "output", "0"), real("u", 2, "input", "0", "discrete")]
+CONTROLLER = [("Clock", "r", 1, "input", "discrete", ("0.1", None)), ("Clock", "s", 2, "input", "discrete", (None, None)),
+              ("Float64", "xr", 3, "input", "discrete", 1), ("Float64", "ur", 4, "output", "discrete", 1),
+              ("Float64", "as", 5, "input", "discrete", 2), real("ref", 6, "output", None, "discrete"),
+              real("k", 7, "parameter", "2", "fixed")]
+SUPERVISOR = [real("x", 1, "input", "0", "discrete"), ("Clock", "s", 2, "output", "discrete", (None, None)),
+              ("Float64", "as", 3, "output", "discrete", 2), real("threshold", 4, "parameter", "0.5", "fixed")]
+
+#: name -> (C file, FMI version, interfaces, variables, states, event indicators[, options: early
+#: (the CS interface might return early; default true)])
 MODELS = {
     "bounce3": ("bounce.c", 3, ("me", "cs"), BOUNCE, 2, 1),
     "bounce2": ("bounce.c", 2, ("me",), BOUNCE, 2, 1),
@@ -58,6 +67,9 @@ MODELS = {
     "lag2me": ("lag.c", 2, ("me", "cs"), LAG, 1, 1),
     "sched3": ("sched.c", 3, ("se",), SCHED, 0, 0),
     "arrays3": ("arrays.c", 3, ("cs", "me"), ARRAYS, 1, 0),
+    "plant2": ("integrator.c", 2, ("me",), PLANT, 1, 0),
+    "controller3": ("controller.c", 3, ("cs",), CONTROLLER, 0, 0, {"early": False}),
+    "supervisor3": ("supervisor.c", 3, ("cs",), SUPERVISOR, 0, 0, {"early": False}),
 }
 
 
@@ -68,6 +80,8 @@ def _variable3(spec) -> Variable:
     fmi_type = "Float64" if kind == "Real" else kind
     if fmi_type == "Clock":
         interval, priority = extra
+        if interval is None:
+            return Variable(name, vr, "Clock", causality, "discrete", interval_variability="triggered", priority=priority)
         return Variable(name, vr, "Clock", causality, "discrete", interval_variability="constant", interval_decimal=interval,
                         shift_decimal="0", priority=priority)
     clocked = fmi_type != "Enumeration" and isinstance(extra, int) and variability == "discrete"
@@ -77,7 +91,8 @@ def _variable3(spec) -> Variable:
 
 
 def description3(name: str) -> ModelDescription:
-    source, _version, interfaces, variables, nx, nz = MODELS[name]
+    source, _version, interfaces, variables, nx, nz, *options = MODELS[name]
+    early = (options or [{}])[0].get("early", True)
     declared = [_variable3(v) for v in variables]
     outputs = [v for v in declared if v.causality == "output"]
     derivatives = [Variable(f"der({v.name})", 100 + i, "Float64", "local", "continuous") for i, v in enumerate(declared[:nx])]
@@ -89,7 +104,7 @@ def description3(name: str) -> ModelDescription:
     ident = name
     return with_content_token(ModelDescription(
         model_name=name, instantiation_token="",
-        co_simulation=CoSimulation(ident, can_handle_variable_step=True, has_event_mode=True, might_return_early=True,
+        co_simulation=CoSimulation(ident, can_handle_variable_step=True, has_event_mode=True, might_return_early=early,
                                    can_get_and_set_state=True) if "cs" in interfaces else None,
         model_exchange=ModelExchange(ident, needs_completed_integrator_step=True, can_get_and_set_state=True)
         if "me" in interfaces else None,
@@ -104,7 +119,7 @@ _FMI2_TYPE = {"Real": "Real", "Float64": "Real", "Int64": "Integer", "Int32": "I
 
 def description2(name: str) -> tuple[str, str]:
     """(the FMI 2.0 modelDescription.xml, its GUID)."""
-    source, _version, interfaces, variables, nx, nz = MODELS[name]
+    source, _version, interfaces, variables, nx, nz, *_options = MODELS[name]
     rows, outputs, derivatives = [], [], []
     for position, (kind, var, vr, causality, variability, start) in enumerate(variables, 1):
         element = _FMI2_TYPE[kind]
