@@ -26,7 +26,8 @@ from robogen.cosim.recorder import Recorder
 from robogen.cosim.system import Link, System, load_system, record_list, resolve
 from robogen.diagnostics import Diagnostic, DiagnosticSink, Note, RobogenError, SourceMap, Span, render, warning
 from robogen.fmu.extract import extract_fmu
-from robogen.fmu.fmi import tolerance
+from robogen.cosim.clocks import PERIODIC
+from robogen.fmu.fmi import TIME_ULPS, resolvable, time_resolution
 from robogen.fmu.headers import FMI2_PLATFORM, PLATFORM_TUPLE
 from robogen.fmu.modeldesc import ModelDescription, load_model_description
 from robogen.outputs import check_not_input, output_file
@@ -65,7 +66,8 @@ def build_master(path: Path, *, stop=None, step=None, output=None, events=None, 
                             [v.type for u, v in record for _n in u.md.element_names(v)],
                             every=system.record_every, start=options.start)
         plan = make_plan(instances, links, record, start=options.start, step=options.step, stop=options.stop,
-                         max_iterations=system.max_event_iterations, events_logged=recorder.recording_events)
+                         max_iterations=system.max_event_iterations, events_logged=recorder.recording_events,
+                         resolution=_resolution(system, models, options.step))
         return Master(system, plan, links, options, recorder, notes), cache
     except BaseException:
         cache.close()
@@ -229,14 +231,29 @@ def _options(system: System, stop, step, realtime, progress, warn: Callable[[Dia
     return RunOptions(system.start, stop, step, realtime, progress)
 
 
+def _resolution(system: System, models: dict[str, ModelDescription], step: float) -> float | None:
+    """The run's time resolution (robogen.fmu.fmi.time_resolution): the step, and the intervals and
+    shifts of the periodic input clocks as the model descriptions and the system file give them."""
+    times = [step]
+    for name, md in models.items():
+        overrides = system.instances[name].clocks
+        for v in md.variables:
+            if v.is_clock and v.causality == "input" and v.interval_variability in PERIODIC:
+                timing = overrides.get(v.name, ({}, None))[0]
+                times += [timing.get("interval", v.interval), timing.get("shift", v.shift)]
+    return time_resolution(t for t in times if t is not None)
+
+
 def _check_step(system: System, stop: float, step: float, where: Span | None, warn: Callable[[Diagnostic], None]) -> None:
-    """A step must advance time everywhere in the run: larger than the time tolerance at the
-    latest time (there t + step == t, or counts as t). Warn before a run of over MANY_ROWS rows."""
+    """A step must advance time everywhere in the run: doubles tell the latest time and the
+    latest time plus the step apart (robogen.fmu.fmi.resolvable). Warn before a run of over
+    MANY_ROWS rows."""
     latest = max(abs(system.start), abs(stop))
-    if step <= tolerance(latest):  # includes latest + step == latest
-        raise RobogenError.at(f"the communication step {step!r} cannot advance time: at t={latest:g}, times closer "
-                              f"than {tolerance(latest):g} are the same time to the master and the FMUs", where,
-                              Note("choose a larger step (or --step)"))
+    if not resolvable(step, latest):  # includes latest + step == latest
+        spacing = math.ulp(max(1.0, latest))
+        raise RobogenError.at(f"the communication step {step!r} cannot advance time exactly: at t={latest:g}, doubles "
+                              f"are {spacing:.3g} apart, and a step must be more than {4 * TIME_ULPS} of those "
+                              f"({4 * TIME_ULPS * spacing:.3g})", where, Note("choose a larger step (or --step)"))
     rows = (stop - system.start) / step
     if rows > MANY_ROWS:
         warn(warning(f"this run records about {rows:.3g} rows (({stop:g} - {system.start:g}) / {step!r}); "

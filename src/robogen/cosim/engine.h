@@ -88,7 +88,9 @@ typedef struct {
 typedef struct {
     /* -- the grid and the run ------------------------------------------------------------ */
     double start, step, stop, stop_limit;
-    double time_tolerance;   /* robogen.fmu.fmi.TIME_TOLERANCE: times this close (relatively) are the same */
+    double time_tolerance;   /* robogen.fmu.fmi.TIME_TOLERANCE: times this close (relatively) are the same ... */
+    double resolution;       /* ... but never a quarter of the run's time resolution or more (0: none) ... */
+    int time_ulps;           /* ... and never fewer than this many units in the last place (robogen.fmu.fmi.TIME_ULPS) */
     int max_iterations;
     bool early;              /* an FMU may return early: every step a general one */
     bool rollback;           /* several may: Python steps them (END_STEP), rolling back with FMU state */

@@ -62,7 +62,7 @@ static int activate_due_clocks(rg_engine *r, double t, double limit)
                 r->a_next[q - p->n_periodic] = INFINITY;
                 continue;
             }
-            k = grid_index(r, t - p->p_start[q] - p->p_shift[q], p->p_interval[q]) + 1;
+            k = grid_index(r, p->p_start[q] + p->p_shift[q], p->p_interval[q], t) + 1;
             r->p_k[q] = r->p_k[q] + 1 > k ? r->p_k[q] + 1 : k;
         }
     }

@@ -23,7 +23,7 @@ from robogen.cosim.fmi3 import ffi as fmi_ffi
 from robogen.cosim.instances import FmuInstance, Reader
 from robogen.cosim.plan import Plan
 from robogen.cosim.wiring import CLOCK, CLOCKED, VALUE
-from robogen.fmu.fmi import TIME_TOLERANCE
+from robogen.fmu.fmi import TIME_TOLERANCE, TIME_ULPS
 
 _COLUMN_KINDS = {VALUE: ColumnKind.VALUE, CLOCK: ColumnKind.CLOCK, CLOCKED: ColumnKind.CLOCKED}
 
@@ -158,7 +158,7 @@ class Flat:
     def _run(self, p, plan: Plan, master, store: int) -> None:
         recorder = master.recorder
         p.start, p.step, p.stop, p.stop_limit = plan.start, plan.step, plan.stop, plan.stop_limit
-        p.time_tolerance = TIME_TOLERANCE
+        p.time_tolerance, p.resolution, p.time_ulps = TIME_TOLERANCE, plan.resolution or 0.0, TIME_ULPS
         p.max_iterations = plan.max_iterations
         p.early, p.rollback, p.paced = plan.early, plan.rollback, bool(master.options.realtime)
         p.store = store

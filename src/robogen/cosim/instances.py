@@ -207,13 +207,15 @@ class FmuInstance:
             raise RobogenError.at(f"instance '{self.name}': periodic clock '{var.name}' has no positive interval", self.span)
         return Periodic(var, start, float(interval), float(shift or 0.0))
 
-    def activate_due_clocks(self, t: float, limit: float) -> None:
-        """Set every input clock due by ``limit`` (first instant at t) and move it past t."""
+    def activate_due_clocks(self, t: float, close: float) -> None:
+        """Set every input clock due by t (a tick within ``close`` of it counting: first instant at
+        t) and move it past t."""
+        limit = t + close
         due = [p for p in self.periodic if p.next_time() <= limit] + [a for a in self.aperiodic if a.next_time() <= limit]
         if due:
             self.set_clocks(sorted(c.var.value_reference for c in due))
             for c in due:
-                c.ticked(t)
+                c.ticked(t, close)
 
     def read_intervals(self, t: float, ticked: set[int]) -> None:
         """After an event iteration at t: the next tick of each countdown clock and of each changing

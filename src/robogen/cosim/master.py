@@ -159,6 +159,10 @@ class Master:
             progress.update(t)
         return t
 
+    def _tol(self, t: float) -> float:
+        """How close to t counts as t (robogen.fmu.fmi.tolerance at the run's resolution)."""
+        return tolerance(t, self.plan.resolution)
+
     def _finished(self, t: float) -> bool:
         return t >= self._stop_limit or self.stats.terminated_by is not None
 
@@ -191,16 +195,16 @@ class Master:
         """The next grid point, clock tick or nextEventTime after t; one within the time tolerance
         of the stop time is the stop time (an event there is handled there)."""
         opt = self.options
-        n = grid_index(t - opt.start, opt.step)
+        n = grid_index(opt.start, opt.step, t, self._tol(t))
         grid = opt.start + (n + 1) * opt.step
-        if grid <= t + tolerance(t):
+        if grid <= t + self._tol(t):
             grid = opt.start + (n + 2) * opt.step
         point = min(grid, opt.stop, self._next_event)
         return opt.stop if point >= self._stop_limit else point
 
     def _refresh_timing(self, t: float) -> None:
         """The earliest clock tick or nextEventTime after t, over all FMUs (after setup and each Event Mode)."""
-        limit = t + tolerance(t)
+        limit = t + self._tol(t)
         earliest = math.inf
         for u in self._timed:
             tick = u.next_tick()
@@ -227,7 +231,7 @@ class Master:
         self.stats.steps += 1
         if pacer is not None:
             pacer.wait(t)
-        if event or self._next_event <= t + tolerance(t):
+        if event or self._next_event <= t + self._tol(t):
             return t, True
         self.notes.time[0] = t
         self.values.exchange(self.instances)
@@ -254,7 +258,7 @@ class Master:
         system whose FMUs roll back."""
         results: dict[str, StepResult] = {}  # of those that stepped
         stepped: list[tuple[FmuInstance, object, float]] = []  # (instance, its saved state, its time before)
-        reached = end - tolerance(end)  # an instance at or after this time is at end
+        reached = end - self._tol(end)  # an instance at or after this time is at end
         rollback = self.plan.rollback
         for u in self.plan.step_order:
             if u.time >= reached:
@@ -264,10 +268,10 @@ class Master:
             results[u.name] = self._do_step(u, end)
             if u.time < reached:  # early return: nobody goes past lastSuccessfulTime
                 end = u.time
-                reached = end - tolerance(end)
+                reached = end - self._tol(end)
                 self.stats.early_returns += 1
                 for v, v_saved, t_v in stepped:
-                    if v.time > end + tolerance(end) and v_saved is not None:
+                    if v.time > end + self._tol(end) and v_saved is not None:
                         v.binding.fmi3SetFMUState(v_saved)
                         v.time = t_v
                         self.stats.rollbacks += 1
@@ -298,9 +302,9 @@ class Master:
     def _event_iteration(self, t: float) -> None:
         self.stats.event_iterations += 1
         self.notes.time[0] = t
-        limit = t + tolerance(t)
+        limit = t + self._tol(t)
         for u in self._timed:
-            u.activate_due_clocks(t, limit)
+            u.activate_due_clocks(t, self._tol(t))
         k = 0
         ticked_all: dict[str, set[int]] = {u.name: set() for u in self._aperiodic}  # for the changing clocks' intervals
         last = self.system.max_event_iterations - 1

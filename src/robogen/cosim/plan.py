@@ -29,6 +29,7 @@ class Plan:
     step: float
     stop: float
     stop_limit: float  # a point at or after this is the stop time
+    resolution: float | None  # the time resolution (robogen.fmu.fmi.time_resolution): caps the time tolerance
     max_iterations: int  # super-dense instants of one event iteration
     instances: tuple[FmuInstance, ...]  # in dependency order
     step_order: tuple[FmuInstance, ...]  # the early returners first
@@ -53,11 +54,12 @@ class Plan:
 
 
 def make_plan(instances: list[FmuInstance], links: list[Link], record: list[tuple[FmuInstance, Variable]], *,
-              start: float, step: float, stop: float, max_iterations: int, events_logged: bool) -> Plan:
+              start: float, step: float, stop: float, max_iterations: int, events_logged: bool,
+              resolution: float | None = None) -> Plan:
     """The plan of a run of ``instances`` (in dependency order); sets up their readers and watched clocks."""
     wiring = wire(instances, links, record)
     early = [u for u in instances if u.early]
-    return Plan(start, step, stop, stop - tolerance(stop), max_iterations, tuple(instances),
+    return Plan(start, step, stop, stop - tolerance(stop, resolution), resolution, max_iterations, tuple(instances),
                 tuple(early + [u for u in instances if not u.early]), tuple(u for u in instances if u.event_mode),
                 bool(early), len(early) > 1, wiring, ValueExchange(wiring.value_links), _routes(wiring),
                 _domain_routes(wiring),
