@@ -302,9 +302,9 @@ class Master:
     def _event_iteration(self, t: float) -> None:
         self.stats.event_iterations += 1
         self.notes.time[0] = t
-        limit = t + self._tol(t)
+        close = self._tol(t)
         for u in self._timed:
-            u.activate_due_clocks(t, self._tol(t))
+            u.activate_due_clocks(t, close)
         k = 0
         ticked_all: dict[str, set[int]] = {u.name: set() for u in self._aperiodic}  # for the changing clocks' intervals
         last = self.system.max_event_iterations - 1
