@@ -264,6 +264,7 @@ static bool load(rga *a, char *error, size_t error_size)
 static int me_new(rga *a, char *error, size_t error_size);     /* adapt_me.c */
 static void me_free(rga *a);
 static void me_restart_later(rga *a);
+static void me_next_event(rga *a, bool defined, double t);
 static fmi3Status me_restart(rga *a);
 static fmi3Status me_step(rga *a, double t, double h, bool *event, bool *terminate, bool *early, double *last);
 static void me_statistics(const rga *a, long *steps, long *rhs, long *roots);
@@ -543,8 +544,11 @@ FMI3_Export fmi3Status fmi3UpdateDiscreteStates(fmi3Instance instance, fmi3Boole
     *nextEventTime = 0.0;
     switch (a->cfg.kind) {
     case RGA_FMI3_ME:
-        return a->f3.update(a->inner, discreteStatesNeedUpdate, terminateSimulation, nominalsOfContinuousStatesChanged,
-                            valuesOfContinuousStatesChanged, nextEventTimeDefined, nextEventTime);
+        status = (fmi2Status)a->f3.update(a->inner, discreteStatesNeedUpdate, terminateSimulation,
+                                          nominalsOfContinuousStatesChanged, valuesOfContinuousStatesChanged,
+                                          nextEventTimeDefined, nextEventTime);
+        me_next_event(a, *nextEventTimeDefined, *nextEventTime);
+        return (fmi3Status)status;
     case RGA_FMI2_ME:
         memset(&info, 0, sizeof info);
         status = a->f2.new_discrete_states(a->inner, &info);
@@ -554,6 +558,7 @@ FMI3_Export fmi3Status fmi3UpdateDiscreteStates(fmi3Instance instance, fmi3Boole
         *valuesOfContinuousStatesChanged = info.valuesOfContinuousStatesChanged != fmi2False;
         *nextEventTimeDefined = info.nextEventTimeDefined != fmi2False;
         *nextEventTime = info.nextEventTime;
+        me_next_event(a, *nextEventTimeDefined, *nextEventTime);
         return (fmi3Status)status;
     case RGA_FMI3_SE:
         a->clock_update = false;

@@ -12,9 +12,13 @@
  *
  * CVode is SUNDIALS' (the libraries fmpy ships, loaded at run time: the declarations below are the
  * few of its C API used here): BDF with Newton iterations and a dense linear solver, the relative
- * tolerance of the configuration and each state's absolute tolerance that times its nominal value,
- * one internal step at a time (CV_ONE_STEP) with the step's end as CVode's stop time, so that it
- * never integrates past a communication point. An FMU without states integrates one dummy state. */
+ * tolerance of the configuration and each state's absolute tolerance that times its nominal value
+ * (as fmpy sets it up), one internal step at a time (CV_ONE_STEP), each completed step shown to the
+ * FMU (completedIntegratorStep). CVode's steps do not stop at communication points (its step sizes
+ * are its own, as under fmpy's CV_NORMAL): a step that ends past the communication point is
+ * interpolated there (CVodeGetDky), and a root found past it waits for the step that reaches it.
+ * Only a time event (nextEventTime) is CVode's stop time: the right-hand side may jump there. An
+ * FMU without states integrates one dummy state. */
 
 typedef int (*cv_rhs_fn)(double, void *, void *, void *);
 typedef int (*cv_root_fn)(double, void *, double *, void *);
@@ -47,6 +51,8 @@ typedef struct {
     int (*no_root_warning)(void *);
     int (*step)(void *, double, void *, double *, int);
     int (*root_info)(void *, int *);
+    int (*dky)(void *, double, int, void *);
+    int (*clear_stop_time)(void *);
     void (*free_memory)(void **);
 } rga_sundials;
 
@@ -56,8 +62,13 @@ struct rga_me {
     bool dummy;
     double *x, *dx, *z, *z_before, *nominal;
     int *roots;
-    void *context, *memory, *y, *abstol, *matrix, *solver;
+    void *context, *memory, *y, *abstol, *matrix, *solver, *y_out;
     bool started;           /* CVodeInit was called */
+    double tn;              /* CVode: where its solution has reached (the FMU is at or before it) */
+    bool root_pending;      /*        a root found past the last communication point, at root_time */
+    double root_time, *root_y;
+    bool next_defined;      /* the FMU's next time event (fmi3UpdateDiscreteStates), CVode's stop time */
+    double next;
     bool restart;           /* start afresh at the next step */
     double t0;              /* Euler: where it started afresh */
     long k;                 /*        the steps since */
@@ -84,7 +95,7 @@ static const rga_sundials_symbol SUNDIALS_SYMBOLS[] = {
     SUN(linear_solver, "CVodeSetLinearSolver", 1), SUN(user_data, "CVodeSetUserData", 1),
     SUN(stop_time, "CVodeSetStopTime", 1), SUN(max_steps, "CVodeSetMaxNumSteps", 1),
     SUN(no_root_warning, "CVodeSetNoInactiveRootWarn", 1), SUN(step, "CVode", 1), SUN(root_info, "CVodeGetRootInfo", 1),
-    SUN(free_memory, "CVodeFree", 1),
+    SUN(dky, "CVodeGetDky", 1), SUN(clear_stop_time, "CVodeClearStopTime", 1), SUN(free_memory, "CVodeFree", 1),
 };
 
 static bool load_sundials(rga_sundials *s, const rga_config *c, char *error, size_t error_size)
@@ -227,11 +238,12 @@ static int cvode_new(rga *a, char *error, size_t error_size)
     s->clear_errors(me->context);
     s->push_error(me->context, cv_error, me);
     me->y = s->new_serial((int64_t)me->nx, me->context);
+    me->y_out = s->new_serial((int64_t)me->nx, me->context);
     me->abstol = s->new_serial((int64_t)me->nx, me->context);
     me->memory = s->create(CV_BDF, me->context);
     me->matrix = s->dense_matrix((int64_t)me->nx, (int64_t)me->nx, me->context);
     me->solver = me->y != NULL && me->matrix != NULL ? s->dense_solver(me->y, me->matrix, me->context) : NULL;
-    if (me->y == NULL || me->abstol == NULL || me->memory == NULL || me->solver == NULL) {
+    if (me->y == NULL || me->y_out == NULL || me->abstol == NULL || me->memory == NULL || me->solver == NULL) {
         snprintf(error, error_size, "CVode could not be set up: %s", me->error);
         return -1;
     }
@@ -254,8 +266,9 @@ static int me_new(rga *a, char *error, size_t error_size)
     me->z = (double *)zeroed(me->nz, sizeof(double));
     me->z_before = (double *)zeroed(me->nz, sizeof(double));
     me->roots = (int *)zeroed(me->nz, sizeof(int));
+    me->root_y = (double *)zeroed(me->nx, sizeof(double));
     me->restart = true;
-    if (!me->x || !me->dx || !me->nominal || !me->z || !me->z_before || !me->roots) {
+    if (!me->x || !me->dx || !me->nominal || !me->z || !me->z_before || !me->roots || !me->root_y) {
         snprintf(error, error_size, "no memory left for the integrator");
         return -1;
     }
@@ -270,11 +283,12 @@ static void me_free(rga *a)
     if (me->solver != NULL) me->s.solver_free(me->solver);
     if (me->matrix != NULL) me->s.matrix_free(me->matrix);
     if (me->y != NULL) me->s.destroy(me->y);
+    if (me->y_out != NULL) me->s.destroy(me->y_out);
     if (me->abstol != NULL) me->s.destroy(me->abstol);
     if (me->context != NULL) me->s.context_free(&me->context);
     if (me->s.cvode != NULL) dlclose(me->s.cvode);
     if (me->s.core != NULL) dlclose(me->s.core);
-    free(me->x); free(me->dx); free(me->nominal); free(me->z); free(me->z_before); free(me->roots);
+    free(me->x); free(me->dx); free(me->nominal); free(me->z); free(me->z_before); free(me->roots); free(me->root_y);
     free(me);
     a->me = NULL;
 }
@@ -282,6 +296,13 @@ static void me_free(rga *a)
 static void me_restart_later(rga *a)
 {
     if (a->me != NULL) a->me->restart = true;
+}
+
+/* The FMU's next time event (from its update in Event Mode): CVode's stop time after the restart. */
+static void me_next_event(rga *a, bool defined, double t)
+{
+    a->me->next_defined = defined;
+    a->me->next = t;
 }
 
 static void me_statistics(const rga *a, long *steps, long *rhs, long *roots)
@@ -297,6 +318,14 @@ static fmi3Status cvode_failed(rga *a, const char *what, int flag)
     return fmi3Error;
 }
 
+/* CVode's stop time: the FMU's next time event, if it announced one after its time. */
+static fmi3Status cvode_stop_at_time_event(rga *a)
+{
+    rga_me *me = a->me;
+    int flag = me->next_defined && me->next > a->time ? me->s.stop_time(me->memory, me->next) : me->s.clear_stop_time(me->memory);
+    return flag != 0 ? cvode_failed(a, "CVodeSetStopTime", flag) : fmi3OK;
+}
+
 /* CVode started afresh at the FMU's time and states. */
 static fmi3Status cvode_restart(rga *a)
 {
@@ -307,7 +336,12 @@ static fmi3Status cvode_restart(rga *a)
     int flag;
     memcpy(s->array(me->y), me->x, me->nx * sizeof(double));
     for (i = 0; i < me->nx; i++) abstol[i] = a->cfg.tolerance * fabs(me->nominal[i]);
-    if (me->started) return (flag = s->reinit(me->memory, a->time, me->y)) != 0 ? cvode_failed(a, "CVodeReInit", flag) : fmi3OK;
+    me->tn = a->time;
+    me->root_pending = false;
+    if (me->started) {
+        if ((flag = s->reinit(me->memory, a->time, me->y)) != 0) return cvode_failed(a, "CVodeReInit", flag);
+        return cvode_stop_at_time_event(a);
+    }
     me->started = true;
     if ((flag = s->init(me->memory, cv_rhs, a->time, me->y)) != 0) return cvode_failed(a, "CVodeInit", flag);
     if ((flag = s->tolerances(me->memory, a->cfg.tolerance, me->abstol)) != 0) return cvode_failed(a, "CVodeSVtolerances", flag);
@@ -317,7 +351,7 @@ static fmi3Status cvode_restart(rga *a)
     s->user_data(me->memory, a);
     s->max_steps(me->memory, 100000);
     s->no_root_warning(me->memory);
-    return fmi3OK;
+    return cvode_stop_at_time_event(a);
 }
 
 /* Start afresh from the FMU's states at its time (after Event Mode, a Set, a restored state). */
@@ -334,29 +368,55 @@ static fmi3Status me_restart(rga *a)
     return a->cfg.solver == RGA_CVODE ? cvode_restart(a) : fmi3OK;
 }
 
-/* CVode from t to end, one internal step at a time: *reached, *event (a root or a step event). */
+/* The FMU at (t, x) after a completed step: *event where it asks for Event Mode, *terminate. */
+static fmi3Status show_step(rga *a, double t, const double *x, bool *event, bool *terminate)
+{
+    fmi3Status status;
+    bool enter;
+    if ((status = me_set_time(a, t)) > fmi3Warning || (status = me_set_x(a, x)) > fmi3Warning
+        || (status = me_completed(a, &enter, terminate)) > fmi3Warning)
+        return status;
+    if (enter) *event = true;
+    return fmi3OK;
+}
+
+/* CVode from the FMU's time to end, one internal step at a time (see the file's comment):
+ * *reached, *event (a root or a step event), *terminate. */
 static fmi3Status cvode_step(rga *a, double end, double *reached, bool *event, bool *terminate)
 {
     rga_me *me = a->me;
     rga_sundials *s = &me->s;
-    fmi3Status status;
-    double t = a->time;
-    bool enter;
+    double t;
     int flag;
-    if ((flag = s->stop_time(me->memory, end)) != 0) return cvode_failed(a, "CVodeSetStopTime", flag);
     for (;;) {
+        if (me->root_pending && me->root_time <= end) { /* a root found in an earlier step is due */
+            *reached = me->root_time;
+            *event = true;
+            return show_step(a, me->root_time, me->root_y, event, terminate);
+        }
+        if (me->tn >= end) { /* CVode is at or past end: the FMU there, interpolated */
+            if ((flag = s->dky(me->memory, end, 0, me->y_out)) != 0) return cvode_failed(a, "CVodeGetDky", flag);
+            *reached = end;
+            return show_step(a, end, s->array(me->y_out), event, terminate);
+        }
         me->failed = fmi3OK;
         flag = s->step(me->memory, end, me->y, &t, CV_ONE_STEP);
         if (me->failed > fmi3Warning) return me->failed;
         if (flag < 0) return cvode_failed(a, "CVode", flag);
         me->steps++;
-        /* the FMU at the step's end, with the integrator's states */
-        if ((status = me_set_time(a, t)) > fmi3Warning || (status = me_set_x(a, s->array(me->y))) > fmi3Warning
-            || (status = me_completed(a, &enter, terminate)) > fmi3Warning)
-            return status;
-        *reached = t;
-        if (flag == CV_ROOT_RETURN || enter) *event = true;
-        if (*event || *terminate || flag == CV_TSTOP_RETURN || t >= end) return fmi3OK;
+        me->tn = t;
+        if (flag == CV_ROOT_RETURN) {
+            me->root_pending = true;
+            me->root_time = t;
+            memcpy(me->root_y, s->array(me->y), me->nx * sizeof(double));
+            continue;
+        }
+        if (t < end) {
+            fmi3Status status = show_step(a, t, s->array(me->y), event, terminate);
+            *reached = t;
+            if (flag == CV_TSTOP_RETURN) *event = true; /* a time event before end: CVode stops there */
+            if (status > fmi3Warning || *event || *terminate) return status;
+        }
     }
 }
 
