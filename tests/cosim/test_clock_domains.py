@@ -73,3 +73,21 @@ def test_a_clocked_value_into_an_input_of_another_clock_is_refused_naming_both_c
     assert d.span.line == 6  # the removed connection leaves its line empty
     assert [n.message for n in d.notes] == ['connect the clocks ("supervisor.s -> controller.r"), or connect the value to '
                                             'an input that is not clocked (sample and hold)']
+
+
+@pytest.mark.parametrize("loop", ["Python", "C"])
+def test_a_held_value_is_converted_and_one_out_of_range_stops_the_run_naming_the_connection(write_system, monkeypatch,
+                                                                                          loop):
+    # the all-types FMU's c_i64 (clocked by out, which ticks with tick every 0.3 s) is y_i64 - k
+    # 1000000007 at its k-th tick (k = 1 at t = 0), y_i64 = -n 1000000007 after n steps: -1000000007
+    # at t = 0 (held in g.X), then -3000000021 - 2000000014 at t = 0.3, out of an FMI 2.0 Integer's range
+    if loop == "Python":
+        monkeypatch.setenv("ROBOGEN_REFERENCE_LOOP", "1")
+    path = write_system('connections = ["a.c_i64 -> g.X"]\n[experiment]\nstop = 1.0\nstep = 0.1\n'
+                        '[instances.a]\nfmu = "{alltypes}"\n[instances.g]\nfmu = "{gantry2}"\n')
+    with pytest.raises(RobogenError) as exc:
+        simulate_system(path)
+    d = exc.value.diagnostics[0]
+    assert d.message == ("connection 'a.c_i64 -> g.X': the value -5000000035 of Int64 'a.c_i64' does not fit the input's "
+                         "type Int32 at t=0.3; the results recorded so far are kept")
+    assert d.span.line == 1

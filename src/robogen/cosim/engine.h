@@ -226,7 +226,11 @@ typedef struct {
     int term_who, term_by;
     double term_t;
     int zeno_k;
-    int range_link;          /* END_RANGE: the link whose value did not fit (else -1) */
+    int range_link;          /* END_RANGE: a value did not fit its input (else -1): the input (instance, */
+    int range_target;        /* value reference), the value as the source's kind holds it */
+    uint32_t range_vr;
+    int range_kind;
+    rg_value range_value;
     bool *ticked;            /* per clock: active in the instant before the last allowed (Zeno) */
     long *woke;              /* per edge: how often its source set its target's inputs (algebraic loops) */
     bool event_ended;        /* an event iteration (or the start) ended since Python last looked */

@@ -223,11 +223,9 @@ class Engine:
         if end == End.WRITE:
             raise OSError(f"cannot write the results file: {os.strerror(ffi.errno)}")
         if end == End.RANGE:
-            k = e.range_link
-            read, index = self.flat.link_sources[k]
-            reader = self.flat.exchange.reads[read]
-            value = reader.buffer[index]
-            raise m.narrowing(self.flat.inputs[k][0], bool(value) if reader.fmi_type == "Boolean" else value)
+            kind_ = Kind(e.range_kind)
+            value = e.range_value.d if kind_ in (Kind.F64, Kind.F32) else e.range_value.i if kind_ in SIGNED else e.range_value.u
+            raise m.narrowing((m.instances[e.range_target].name, e.range_vr), value)
         if end == End.LOOP:
             names = [u.name for u in m.instances]
             woke = {(names[a], names[b]): e.woke[k] for (a, b), k in self.flat.edges.items() if e.woke[k] > 0}

@@ -136,6 +136,38 @@ static void wake(rg_engine *r, int w, int edge)
     r->woken_edge[w] = edge;
 }
 
+/* Cell c's value as slot i of a Set call of kind `kind` (its own, or converted: a connection
+ * between clock domains, or between FMI 2.0 and 3.0): 0, or -7 where it does not fit input vr of w. */
+static int carried(rg_engine *r, int c, int kind, int i, int w, uint32_t vr)
+{
+    uint64_t raw = r->cell_raw[c];
+    int from = r->p->cell_kind[c];
+    rg_value value;
+    if (is_bytes(kind)) { /* the copy's bytes (a C string) and size */
+        ((const char **)r->set_scratch)[i] = r->arena.data + raw + sizeof(size_t);
+        memcpy(&r->get_sizes[i], r->arena.data + raw, sizeof(size_t));
+    } else if (kind == K_F64 || kind == K_F32) {
+        double d = real_of(from, &raw, 0);
+        float f = (float)d;
+        if (kind == K_F32 && isfinite(d) && fabs(d) > FLT_MAX) {
+            value.d = d;
+            out_of_range(r, w, vr, from, value);
+            return -7;
+        }
+        if (kind == K_F32) memcpy((char *)r->set_scratch + 4 * (size_t)i, &f, 4);
+        else memcpy((char *)r->set_scratch + 8 * (size_t)i, &d, 8);
+    } else {
+        uint64_t v = integer_of(from, &raw, 0);
+        if (!fits(from, kind, v)) {
+            value.u = v;
+            out_of_range(r, w, vr, from, value);
+            return -7;
+        }
+        put_integer(r->set_scratch, kind, i, v);
+    }
+    return 0;
+}
+
 /* Route q of an active clock: its target clock (unless active already, or none: an input that is
  * not clocked), then the values it carries (read from the route's source), one Set call per type. */
 static int forward_route(rg_engine *r, int q)
@@ -154,16 +186,11 @@ static int forward_route(rg_engine *r, int q)
         if (st != 0) return st;
     }
     for (b = r->p->route_batch_first[q]; b < r->p->route_batch_first[q] + r->p->route_batch_count[q]; b++) {
-        int n = r->p->batch_count[b], kind = r->p->batch_kind[b], width = value_width(kind);
+        int n = r->p->batch_count[b], kind = r->p->batch_kind[b];
         const uint32_t *vrs = r->p->batch_vr + r->p->batch_first[b];
         for (i = 0; i < n; i++) {
-            uint64_t raw = r->cell_raw[r->p->batch_cell[r->p->batch_first[b] + i]];
-            if (is_bytes(kind)) { /* the copy's bytes (a C string) and size */
-                ((const char **)r->set_scratch)[i] = r->arena.data + raw + sizeof(size_t);
-                memcpy(&r->get_sizes[i], r->arena.data + raw, sizeof(size_t));
-            } else {
-                memcpy((char *)r->set_scratch + (size_t)width * (size_t)i, &raw, (size_t)width);
-            }
+            int c = r->p->batch_cell[r->p->batch_first[b] + i];
+            if ((st = carried(r, c, kind, i, w, vrs[i])) != 0) return st;
         }
         *r->p->note_call = r->p->batch_note[b];
         if (kind == K_BINARY)

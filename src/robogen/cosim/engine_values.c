@@ -337,11 +337,22 @@ static int get_values(rg_engine *s, int r, bool *no_memory)
     return 0;
 }
 
-/* A value that does not fit its input: the run stops (END_RANGE), naming the link. */
-static bool narrowed(rg_engine *s, int link, bool *no_memory)
+/* A value that does not fit its input (instance w, value reference vr): the run stops (END_RANGE). */
+static void out_of_range(rg_engine *s, int w, uint32_t vr, int kind, rg_value value)
 {
-    s->range_link = link;
-    *no_memory = true; /* stops the exchange; forward() tells it from a lack of memory */
+    s->range_link = 0;
+    s->range_target = w;
+    s->range_vr = vr;
+    s->range_kind = kind;
+    s->range_value = value;
+}
+
+/* A linked value that does not fit its input: stops the exchange (forward() tells it from a lack
+ * of memory by range_link). */
+static bool narrowed(rg_engine *s, int g, int link, int from, rg_value value, bool *no_memory)
+{
+    out_of_range(s, s->p->set_target[g], s->p->link_vr[link], from, value);
+    *no_memory = true;
     return false;
 }
 
@@ -363,10 +374,10 @@ static bool fits(int from, int to, uint64_t v)
     }
 }
 
-/* An integer (widened) as a value of kind `to`, into slot j of the Set call's values. */
-static void put_integer(rg_engine *s, int to, int j, uint64_t v)
+/* An integer (widened) as a value of kind `to`, into slot j of `values`. */
+static void put_integer(void *values, int to, int j, uint64_t v)
 {
-    char *out = (char *)s->set_values;
+    char *out = (char *)values;
     int64_t i = (int64_t)v;
     switch (to) {
     case K_I32: { int32_t x = (int32_t)i; memcpy(out + 4 * (size_t)j, &x, 4); break; }
@@ -394,7 +405,11 @@ static bool changed(rg_engine *s, int g, int link, int j, bool *no_memory)
         double v = real_of(from, s->p->buffer[r], i);
         float f;
         if (s->last_valid[link] && !(v != last->d)) return false;
-        if (kind == K_F32 && isfinite(v) && fabs(v) > FLT_MAX) return narrowed(s, link, no_memory);
+        if (kind == K_F32 && isfinite(v) && fabs(v) > FLT_MAX) {
+            rg_value value;
+            value.d = v;
+            return narrowed(s, g, link, from, value, no_memory);
+        }
         last->d = v;
         f = (float)v;
         if (kind == K_F32) memcpy((char *)s->set_values + 4 * (size_t)j, &f, 4);
@@ -402,9 +417,13 @@ static bool changed(rg_engine *s, int g, int link, int j, bool *no_memory)
     } else if (!is_bytes(kind)) {
         uint64_t v = integer_of(from, s->p->buffer[r], i);
         if (s->last_valid[link] && v == last->u) return false;
-        if (!fits(from, kind, v)) return narrowed(s, link, no_memory);
+        if (!fits(from, kind, v)) {
+            rg_value value;
+            value.u = v;
+            return narrowed(s, g, link, from, value, no_memory);
+        }
         last->u = v;
-        put_integer(s, kind, j, v);
+        put_integer(s->set_values, kind, j, v);
     } else {
         const char *data = bytes_of(s, r, i, &size);
         if (s->last_valid[link] && size == s->last_size[link] && memcmp(data, s->last_bytes[link], size) == 0)

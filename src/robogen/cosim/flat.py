@@ -107,8 +107,6 @@ class Flat:
                         for c in plan.wiring.columns]
         #: per link: the exchange's key of its input and its kind
         self.inputs = [((g.target.name, vr), kind(g.fmi_type)) for g in self.exchange.groups for _r, _i, vr in g.links]
-        #: per link: its source's read and the index in it
-        self.link_sources = [(r, i) for g in self.exchange.groups for r, i, _vr in g.links]
 
     # -- arrays ---------------------------------------------------------------------------------
     def new(self, ctype: str, init):

@@ -49,7 +49,7 @@ from robogen.cosim.fmi3 import CallNotes, FMI3Error, FMUCrashed, StepResult
 from robogen.cosim.instances import FmuInstance
 from robogen.cosim.plan import Plan
 from robogen.cosim.recorder import Pacer, Progress, Recorder
-from robogen.cosim.system import Link, System
+from robogen.cosim.system import Link, System, fits
 from robogen.cosim.wiring import CLOCK, VALUE, Narrowing, find_cycle, plain
 from robogen.diagnostics import Note, RobogenError
 from robogen.fmu.fmi import DISCARD, status_name, tolerance
@@ -444,6 +444,9 @@ class Master:
         if sources:
             values = source.clocked_values(sources)
             for fmi_type, vrs, indices in batches:
+                for vr, i in zip(vrs, indices):
+                    if not fits(fmi_type, values[i]):
+                        raise Narrowing((target.name, vr), values[i])
                 target.set_values(fmi_type, vrs, [values[i] for i in indices])
 
     def zeno(self, t: float, k: int, needs: list[FmuInstance], ticked: dict) -> None:

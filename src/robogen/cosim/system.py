@@ -422,7 +422,7 @@ class _ModelCheck:
         if src.is_clock != dst.is_clock:
             sink.error(f"a clock connects only to a clock: '{c.source}' is {_kind(src)}, '{c.target}' is {_kind(dst)}", c.span)
             return False
-        if _base_type(src) != _base_type(dst) and not (convertible(src.type, dst.type) and not src.is_clocked):
+        if _base_type(src) != _base_type(dst) and not convertible(src.type, dst.type):
             sink.error(f"type mismatch: '{c.source}' is {src.type}, '{c.target}' is {dst.type}", c.span)
         for inst_name, var in ((c.source.instance, src), (c.target.instance, dst)):
             cs = self.models[inst_name].co_simulation

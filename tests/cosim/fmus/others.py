@@ -55,6 +55,11 @@ CONTROLLER = [("Clock", "r", 1, "input", "discrete", ("0.1", None)), ("Clock", "
 SUPERVISOR = [real("x", 1, "input", "0", "discrete"), ("Clock", "s", 2, "output", "discrete", (None, None)),
               ("Float64", "as", 3, "output", "discrete", 2), real("threshold", 4, "parameter", "0.5", "fixed")]
 
+GANTRY = [real("x", 1, "output", "0"), real("y", 2, "output", "0"), real("z", 3, "output", "0"),
+          integer("X", 4, "input", "0", fmi3="Int32"), integer("Y", 5, "input", "0", fmi3="Int32"),
+          integer("Z", 6, "input", "0", fmi3="Int32"), real("cell", 7, "parameter", "0.05", "fixed"),
+          real("tau", 8, "parameter", "0.5", "fixed")]
+
 #: name -> (C file, FMI version, interfaces, variables, states, event indicators[, options: early
 #: (the CS interface might return early; default true)])
 MODELS = {
@@ -70,6 +75,7 @@ MODELS = {
     "plant2": ("integrator.c", 2, ("me",), PLANT, 1, 0),
     "controller3": ("controller.c", 3, ("cs",), CONTROLLER, 0, 0, {"early": False}),
     "supervisor3": ("supervisor.c", 3, ("cs",), SUPERVISOR, 0, 0, {"early": False}),
+    "gantry2": ("gantry.c", 2, ("me",), GANTRY, 3, 0),
 }
 
 
