@@ -98,15 +98,21 @@ static const rga_sundials_symbol SUNDIALS_SYMBOLS[] = {
     SUN(dky, "CVodeGetDky", 1), SUN(clear_stop_time, "CVodeClearStopTime", 1), SUN(free_memory, "CVodeFree", 1),
 };
 
+/* SUNDIALS' libraries, loaded once per process and kept (unloading and loading them again for
+ * every instance costs milliseconds; they hold no state of their own between contexts). */
+static void *sundials_core, *sundials_cvode;
+
 static bool load_sundials(rga_sundials *s, const rga_config *c, char *error, size_t error_size)
 {
     size_t i;
     /* the core first: CVode's library needs it (by its soname, which the loaded core has) */
-    if ((s->core = dlopen(c->sundials_core, RTLD_NOW | RTLD_LOCAL)) == NULL
-        || (s->cvode = dlopen(c->sundials_cvode, RTLD_NOW | RTLD_LOCAL)) == NULL) {
+    if ((sundials_core == NULL && (sundials_core = dlopen(c->sundials_core, RTLD_NOW | RTLD_LOCAL)) == NULL)
+        || (sundials_cvode == NULL && (sundials_cvode = dlopen(c->sundials_cvode, RTLD_NOW | RTLD_LOCAL)) == NULL)) {
         snprintf(error, error_size, "cannot load SUNDIALS (CVode) from fmpy: %s", dlerror());
         return false;
     }
+    s->core = sundials_core;
+    s->cvode = sundials_cvode;
     for (i = 0; i < sizeof SUNDIALS_SYMBOLS / sizeof SUNDIALS_SYMBOLS[0]; i++) {
         void *symbol = dlsym(SUNDIALS_SYMBOLS[i].library ? s->cvode : s->core, SUNDIALS_SYMBOLS[i].name);
         if (symbol == NULL) {
@@ -286,8 +292,6 @@ static void me_free(rga *a)
     if (me->y_out != NULL) me->s.destroy(me->y_out);
     if (me->abstol != NULL) me->s.destroy(me->abstol);
     if (me->context != NULL) me->s.context_free(&me->context);
-    if (me->s.cvode != NULL) dlclose(me->s.cvode);
-    if (me->s.core != NULL) dlclose(me->s.core);
     free(me->x); free(me->dx); free(me->nominal); free(me->z); free(me->z_before); free(me->roots); free(me->root_y);
     free(me);
     a->me = NULL;
