@@ -77,3 +77,30 @@ def test_robogen_simulate_runs_a_long_horizon_until_interrupted(write_system, pu
     assert len(set(times)) > 10 and times == sorted(times)
     # every time a grid point n step or a tick k 0.25, computed from its index
     assert all(t == round(t / step) * step or t == round(t / 0.25) * 0.25 for t in times)
+
+
+def test_a_generated_fmu_tells_its_ticks_apart_at_1e9(pulse, tmp_path):
+    # the runtime's rg_time_equal: at t = 1e9 a relative 1e-9 is 1 s, four of the cycle's ticks
+    # (0.25 s); capped at a quarter of the FMU's resolution (0.25 s), a step from 1e9 to 1e9 + 0.5
+    # passes the tick at 1e9 + 0.25 that was not activated, and the FMU refuses it
+    from robogen.cosim.fmi3 import Binding, FMI3Error, Library, ffi, vr_array
+    from robogen.fmu.extract import extract_fmu
+    from robogen.fmu.modeldesc import load_model_description
+
+    folder = extract_fmu(pulse, tmp_path / "pulse")
+    md = load_model_description(folder)
+    binding = Binding(Library(str(folder / "binaries" / "x86_64-linux" / f"{md.co_simulation.model_identifier}.so")), "p")
+    binding.fmi3InstantiateCoSimulation(md.instantiation_token, None, eventModeUsed=True)
+    try:
+        binding.fmi3EnterInitializationMode(None, 1e9, None)
+        binding.fmi3ExitInitializationMode()
+        cycle = md.by_name()["cycle"].value_reference
+        binding.fmi3SetClock(vr_array([cycle]), 1, ffi.new("bool[]", [True]))
+        while binding.fmi3UpdateDiscreteStates().discrete_states_need_update:
+            pass
+        binding.fmi3EnterStepMode()
+        with pytest.raises(FMI3Error) as exc:
+            binding.fmi3DoStep(1e9, 0.5)
+        assert "would pass tick k=1 of 'cycle' at t=1000000000.25" in exc.value.message
+    finally:
+        binding.fmi3FreeInstance()
