@@ -241,3 +241,20 @@ def test_an_fmu_whose_archive_lists_a_member_twice_runs_when_both_copies_agree(w
         with pytest.raises(RobogenError) as exc:
             simulate_system(path)
         assert exc.value.diagnostics[0].message == "archive member 'modelDescription.xml' appears twice with different contents"
+
+
+@pytest.mark.parametrize("loop", ["Python", "C"])
+def test_a_triggered_partition_runs_at_its_clocks_tick_first_by_priority(write_system, monkeypatch, loop):
+    # the ticker's output clock out ticks with its periodic input clock (every 0.25 s) and drives
+    # the SE FMU's triggered clock kick (priority 0). By hand: at t = 0 kick, slow and fast tick
+    # together: kick 1, slow 2, fast 3; at 0.1, 0.2 fast alone (4, 5); at 0.25 kick alone (6); at 0.3
+    # slow 7, fast 8; at 0.4 fast 9; at 0.5 kick 10, fast 11.
+    if loop == "Python":
+        monkeypatch.setenv("ROBOGEN_REFERENCE_LOOP", "1")
+    result = simulate_system(write_system('connections = ["k.out -> s.kick"]\n[experiment]\nstop = 0.5\nstep = 0.1\n'
+                                          '[instances.k]\nfmu = "{ticker}"\n[instances.s]\nfmu = "{sched3}"\n'
+                                          '[record]\nvariables = ["s.kick_seq", "s.slow_seq", "s.fast_seq"]\n'))
+    rows = by_time(result)
+    seqs = {t: (r["s.kick_seq"], r["s.slow_seq"], r["s.fast_seq"]) for t, r in rows.items()}
+    assert seqs == {0.0: (1, 2, 3), 0.1: (1, 2, 4), 0.2: (1, 2, 5), 0.25: (6, 2, 5), 0.3: (6, 7, 8), 0.4: (6, 7, 9),
+                    0.5: (10, 7, 11)}

@@ -42,7 +42,8 @@ LAG = [real("x", 1, "output", "0"), real("u", 2, "input", "1"), real("tau", 3, "
 SCHED = [("Clock", "fast", 1, "input", "discrete", ("0.1", 2)), ("Clock", "slow", 2, "input", "discrete", ("0.3", 1)),
          integer("seq", 3, "output"), integer("fast_seq", 4, "output"), integer("slow_seq", 5, "output"),
          integer("fast_n", 6, "output"), integer("slow_n", 7, "output"), ("Float64", "y_fast", 8, "output", "discrete", 1),
-         ("Int64", "y_slow", 9, "output", "discrete", 2)]
+         ("Int64", "y_slow", 9, "output", "discrete", 2), ("Clock", "kick", 10, "input", "discrete", (None, 0)),
+         integer("kick_seq", 11, "output")]
 
 ARRAYS = [real("x", 1, "output", "0"), Variable("n", 2, "UInt64", "structuralParameter", "fixed", start=("3",)),
           Variable("y", 3, "Float64", "output", "continuous", dimensions=(Dimension(value_reference=2),))]

@@ -1,5 +1,6 @@
-/* Scheduled Execution: two model partitions, at the ticks of the input clocks fast (vr 1, every
- * 0.1 s, priority 2) and slow (vr 2, every 0.3 s, priority 1: it runs first when both tick). Each
+/* Scheduled Execution: three model partitions, at the ticks of the input clocks fast (vr 1, every
+ * 0.1 s, priority 2), slow (vr 2, every 0.3 s, priority 1: it runs first when both tick) and kick
+ * (vr 10, triggered, priority 0: first of all; kick_seq, vr 11, its last activation). Each
  * activation numbers itself (seq); fast_seq and slow_seq keep the number of each partition's
  * last activation, fast_n and slow_n count them; y_fast (clocked by fast) is 10 t at its tick,
  * y_slow (clocked by slow) the fast count when slow last ran. */
@@ -9,8 +10,8 @@
 #define CS_STEP 1e-3
 typedef struct {
     double x[1];
-    bool fast, slow;
-    int64_t seq, fast_seq, slow_seq, fast_n, slow_n;
+    bool fast, slow, kick;
+    int64_t seq, fast_seq, slow_seq, fast_n, slow_n, kick_seq;
     double y_fast;
     int64_t y_slow;
 } Model;
@@ -18,6 +19,7 @@ static const VarInfo VARS[] = {
     {1, T_CLOCK, offsetof(Model, fast), 0}, {2, T_CLOCK, offsetof(Model, slow), 0}, {3, T_I64, offsetof(Model, seq), 0},
     {4, T_I64, offsetof(Model, fast_seq), 0}, {5, T_I64, offsetof(Model, slow_seq), 0}, {6, T_I64, offsetof(Model, fast_n), 0},
     {7, T_I64, offsetof(Model, slow_n), 0}, {8, T_F64, offsetof(Model, y_fast), 0}, {9, T_I64, offsetof(Model, y_slow), 0},
+    {10, T_CLOCK, offsetof(Model, kick), 0}, {11, T_I64, offsetof(Model, kick_seq), 0},
 };
 static void model_defaults(Model *m) { memset(m, 0, sizeof *m); }
 static void model_derivatives(Model *m, double t, double *dx) { (void)m; (void)t; (void)dx; }
@@ -27,7 +29,9 @@ static void model_event(Model *m, double t, Events *e) { (void)m; (void)t; (void
 static int model_partition(Model *m, unsigned vr, double t)
 {
     m->seq++;
-    if (vr == 1) {
+    if (vr == 10) {
+        m->kick_seq = m->seq;
+    } else if (vr == 1) {
         m->fast_seq = m->seq;
         m->fast_n++;
         m->y_fast = 10.0 * t;
