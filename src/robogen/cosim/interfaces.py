@@ -27,14 +27,12 @@ the engine, named by the hash of its source.
 from __future__ import annotations
 
 import functools
-import hashlib
-import os
-import tempfile
 from dataclasses import dataclass, replace
 from pathlib import Path
 
 import cffi
 
+from robogen.cosim.cbuild import cached_library, package_source
 from robogen.cosim.fmi3 import REQUIRED, Binding, Library, LoadError, log_message_callback
 from robogen.cosim.fmi3 import ffi as fmi_ffi
 from robogen.cosim.schema import package_file
@@ -114,48 +112,25 @@ def _kind(md: ModelDescription, interface: str) -> int:
 
 def source() -> bytes:
     """The adapters' C source: its files in order, the schema in place of its #include line."""
-    parts = []
-    for name in SOURCES:
-        parts.append(f'#line 1 "{name}"\n')
-        for number, line in enumerate(package_file(name).splitlines(keepends=True), 1):
-            if line.strip() == f'#include "{HEADER}"':
-                parts += [f'#line 1 "{HEADER}"\n', package_file(HEADER), f'#line {number + 1} "{name}"\n']
-            else:
-                parts.append(line)
-    return "".join(parts).encode()
-
-
-def _cache_dir() -> Path:
-    base = os.environ.get("XDG_CACHE_HOME") or os.path.join(os.path.expanduser("~"), ".cache")
-    return Path(base) / "robogen"
+    return package_source(SOURCES, package_file)
 
 
 @functools.cache
 def library_path() -> Path:
     """The compiled adapter library (built at first use, kept by the hash of its source)."""
-    from robogen import toolchain
-    from robogen.fmu.headers import include_dir
+    def compile_to(c_file: Path, so: Path) -> None:
+        from robogen import toolchain
+        from robogen.fmu.headers import include_dir
 
-    code = source()
-    name = f"adapt-{hashlib.sha256(code).hexdigest()[:16]}.so"
-    fallback = Path(tempfile.gettempdir()) / f"robogen-{os.getuid() if hasattr(os, 'getuid') else 'user'}"
-    failure: Exception | None = None
-    for folder in (_cache_dir(), fallback):  # a read-only home still gets the library
-        target = folder / name
-        if target.is_file():
-            return target
-        try:
-            target.parent.mkdir(parents=True, exist_ok=True)
-            with tempfile.TemporaryDirectory(dir=target.parent) as tmp:
-                c_file, so = Path(tmp) / "adapt.c", Path(tmp) / "adapt.so"
-                c_file.write_bytes(code)
-                toolchain.compile_shared([c_file], so, includes=[include_dir(fmi2=True)], libs=("-lm", "-ldl"),
-                                         what="the master's interface adapters")
-                os.replace(so, target)
-            return target
-        except OSError as exc:
-            failure = exc
-    raise RobogenError.at(f"cannot build the master's interface adapters: {failure}", None)
+        toolchain.compile_shared([c_file], so, includes=[include_dir(fmi2=True)], libs=("-lm", "-ldl"),
+                                 what="the master's interface adapters")
+
+    try:
+        return cached_library("adapt", source(), compile_to)
+    except RobogenError:
+        raise
+    except Exception as exc:
+        raise RobogenError.at(f"cannot build the master's interface adapters: {exc}", None) from None
 
 
 class AdapterLibrary(Library):
