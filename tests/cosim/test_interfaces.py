@@ -126,6 +126,10 @@ def test_fmi2_co_simulation_is_the_fmus_own_steps(write_system, fmus):
     # terminate (fmi2Discard, fmi2Terminated) ends the run at that step
     stopped = simulate_system(write_system(system("lag2", 3.0, 0.1, extra="start = { stop_after = 1 }\n")))
     assert stopped.stats.terminated_by == "instance 'p' asked to terminate in fmi3DoStep at t=0.4"
+    # asynchronous steps (fmi2DoStep returns fmi2Pending; fmi2GetStatus says pending three times
+    # more, then the step's status): waited for, the same results
+    pending = simulate_system(write_system(system("lag2", 3.0, 0.1, extra="start = { async_polls = 3 }\n"), name="a.toml"))
+    assert pending.rows == result.rows
 
 
 def test_scheduled_execution_activates_partitions_at_their_ticks_in_priority_order(write_system):

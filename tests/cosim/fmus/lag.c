@@ -1,6 +1,8 @@
 /* A first-order lag for FMI 2.0 Co-Simulation: x' = (u - x) / tau, its input u, outputs x, an
  * Integer count of the threshold crossings (the event indicator x - 0.5), a Boolean above = x > 0.5,
- * an Enumeration level (1 low, 2 high). Terminate: at the first crossing past stop_after (> 0). */
+ * an Enumeration level (1 low, 2 high). Terminate: at the first crossing past stop_after (> 0).
+ * Asynchronous steps: with async_polls (vr 8) > 0, fmi2DoStep is pending that many polls. */
+#define MODEL_ASYNC
 #include "mex_core.h"
 #define NX 1
 #define NZ 1
@@ -8,14 +10,15 @@
 typedef struct {
     double x[NX];
     double u, tau;
-    int32_t crossings, level, stop_after;
+    int32_t crossings, level, stop_after, async_polls;
     bool above;
 } Model;
 static const VarInfo VARS[] = {
     {1, T_F64, offsetof(Model, x[0]), 0}, {2, T_F64, offsetof(Model, u), 0}, {3, T_F64, offsetof(Model, tau), 0},
     {4, T_I32, offsetof(Model, crossings), 0}, {5, T_BOOL, offsetof(Model, above), 0}, {6, T_I32, offsetof(Model, level), 0},
-    {7, T_I32, offsetof(Model, stop_after), 0},
+    {7, T_I32, offsetof(Model, stop_after), 0}, {8, T_I32, offsetof(Model, async_polls), 0},
 };
+static int model_async_polls(Model *m) { return m->async_polls; }
 static void model_defaults(Model *m)
 {
     memset(m, 0, sizeof *m);

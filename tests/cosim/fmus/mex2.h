@@ -11,6 +11,8 @@ typedef struct {
     double time, next, last_successful;
     int mode;
     bool cs, next_defined, terminated;
+    int polls_left;          /* an asynchronous step: fmi2GetStatus says fmi2Pending this often more */
+    fmi2Status step_status;  /* then this */
     const fmi2CallbackFunctions *callbacks;
     double z[NZ + 1];
 } Instance;

@@ -93,11 +93,10 @@ FMI2_Export fmi2Status fmi2GetNominalsOfContinuousStates(fmi2Component c, fmi2Re
 
 MEX_RK4(Model, model_derivatives)
 
-FMI2_Export fmi2Status fmi2DoStep(fmi2Component c, fmi2Real t, fmi2Real h, fmi2Boolean no_set)
+/* The step itself (fmi2DoStep: at once, or, for a model that asks for it, reported as pending first). */
+static fmi2Status do_step(Instance *x, fmi2Real t, fmi2Real h)
 {
-    Instance *x = (Instance *)c;
     double end = t + h, tiny = 1e-12 * (fabs(end) > 1 ? fabs(end) : 1);
-    UNUSED(no_set);
     x->time = t;
     while (x->time < end - tiny) {
         double before[NZ + 1], step = end - x->time < CS_STEP * (1 + 1e-9) ? end - x->time : CS_STEP;
@@ -117,6 +116,17 @@ FMI2_Export fmi2Status fmi2DoStep(fmi2Component c, fmi2Real t, fmi2Real h, fmi2B
     return fmi2OK;
 }
 
+FMI2_Export fmi2Status fmi2DoStep(fmi2Component c, fmi2Real t, fmi2Real h, fmi2Boolean no_set)
+{
+    Instance *x = (Instance *)c;
+    fmi2Status status = do_step(x, t, h);
+    UNUSED(no_set);
+    x->polls_left = model_async_polls(&x->m); /* asked for that many times as pending before it is done */
+    if (x->polls_left == 0) return status;
+    x->step_status = status;
+    return fmi2Pending;
+}
+
 FMI2_Export fmi2Status fmi2CancelStep(fmi2Component c) { return fail((Instance *)c, "no asynchronous step"); }
 FMI2_Export fmi2Status fmi2SetRealInputDerivatives(fmi2Component c, const fmi2ValueReference v[], size_t n,
                                                    const fmi2Integer o[], const fmi2Real d[])
@@ -132,8 +142,10 @@ FMI2_Export fmi2Status fmi2GetRealOutputDerivatives(fmi2Component c, const fmi2V
 }
 FMI2_Export fmi2Status fmi2GetStatus(fmi2Component c, const fmi2StatusKind s, fmi2Status *v)
 {
-    UNUSED(c); UNUSED(s);
-    *v = fmi2OK;
+    Instance *x = (Instance *)c;
+    if (s != fmi2DoStepStatus) return fmi2Discard;
+    *v = x->polls_left > 0 ? fmi2Pending : x->step_status;
+    if (x->polls_left > 0) x->polls_left--;
     return fmi2OK;
 }
 FMI2_Export fmi2Status fmi2GetRealStatus(fmi2Component c, const fmi2StatusKind s, fmi2Real *v)

@@ -11,6 +11,8 @@
  *   model_step_event(m, t)       after an integrator step: whether to enter Event Mode
  *   model_partition(m, vr, t)    Scheduled Execution: the partition of input clock vr at t
  *   model_outputs(m, t)          (optional, #define MODEL_OUTPUTS) the outputs, before they are read
+ *   model_async_polls(m)         (optional, #define MODEL_ASYNC) FMI 2.0 Co-Simulation: fmi2DoStep
+ *                                returns fmi2Pending, fmi2GetStatus says so this many times more
  *   CS_STEP                      Co-Simulation: the internal step (classic Runge-Kutta; an event
  *                                indicator's sign change ends a step early, at the internal step)
  *
@@ -37,6 +39,9 @@ typedef struct {
 
 #ifndef MODEL_OUTPUTS
 #define model_outputs(m, t) ((void)(m), (void)(t))
+#endif
+#ifndef MODEL_ASYNC
+#define model_async_polls(m) ((void)(m), 0)
 #endif
 
 typedef struct {

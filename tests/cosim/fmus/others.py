@@ -38,7 +38,8 @@ VDP = [real("x0", 1, "output", "2"), real("x1", 2, "output", "0"), real("mu", 3,
 STIFF = [real("y0", 1, "output", "1"), real("y1", 2, "output", "0"), real("y2", 3, "output", "0")]
 LAG = [real("x", 1, "output", "0"), real("u", 2, "input", "1"), real("tau", 3, "parameter", "0.5", "fixed"),
        integer("crossings", 4, "output", fmi3="Int32"), ("Boolean", "above", 5, "output", "discrete", None),
-       ("Enumeration", "level", 6, "output", "discrete", None), integer("stop_after", 7, "parameter", "0", fmi3="Int32")]
+       ("Enumeration", "level", 6, "output", "discrete", None), integer("stop_after", 7, "parameter", "0", fmi3="Int32"),
+       integer("async_polls", 8, "parameter", "0", fmi3="Int32")]
 SCHED = [("Clock", "fast", 1, "input", "discrete", ("0.1", 2)), ("Clock", "slow", 2, "input", "discrete", ("0.3", 1)),
          integer("seq", 3, "output"), integer("fast_seq", 4, "output"), integer("slow_seq", 5, "output"),
          integer("fast_n", 6, "output"), integer("slow_n", 7, "output"), ("Float64", "y_fast", 8, "output", "discrete", 1),
