@@ -50,6 +50,8 @@ CASES: dict[str, Case] = {
     "ur5e-robochart": _fixture("ur5e_rct"),
     **{name: _fixture(name) for name in sorted(TEST_MODELS) if name not in ("ur5e", "ur5e_rct")},
     "userfun": Case("tests/codegen/models/userfun.rst", functions="tests/codegen/models/userfun.c"),
+    "declared": Case("tests/codegen/models/declared.rct", functions="tests/codegen/models/declared.c"),
+    "recursive": Case("tests/codegen/models/recursive.rct"),
 }
 
 

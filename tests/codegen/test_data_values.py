@@ -79,7 +79,7 @@ stm Late {
 def test_a_function_variable_applied_before_any_assignment_is_a_located_error(tmp_path):
     scenario = Scenario([Instant(True, early=(Tick("go", {}),))], half=False)
     got, expected = _run(tmp_path, "late", FUNCTION_VARIABLE, scenario)
-    message = "function variable 'f' applied before it has a value at late.rct:8"
+    message = "function variable 'f' applied outside its domain (or before it has a value) at late.rct:8"
     assert expected.error is not None and message in expected.error.where
     assert got.error is not None and message in got.error.where, got.error.where
 

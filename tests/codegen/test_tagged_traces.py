@@ -12,7 +12,6 @@ import pytest
 
 from support.codegen_driver import Tick, build, outputs_by_instant
 from robogen.codegen.api import compile_model
-from robogen.diagnostics import RobogenError
 
 
 def cmd(tag: int, move: float = 0.0, turn: int = 0, left: bool = False) -> Tick:
@@ -107,13 +106,12 @@ def test_a_user_function_takes_the_tagged_struct(tmp_path):
     assert values == {1: 0.5, 2: 30.0, 3: -1.0, 4: -1.0}
 
 
-def test_a_recursive_enumeration_is_a_located_not_supported_error(tmp_path):
+def test_a_recursive_enumeration_is_unrolled_to_the_default_depth(tmp_path):
+    """E { a b(E) } at the default --enum-depth 4: E, then E@3 down to E@0, which holds only a
+    (tests/codegen/test_recursive_enumerations.py runs such values)."""
     model = tmp_path / "rec.rct"
     model.write_text("package rec\nenumeration E { a b(E) }\nstm M {\n\tvar x: E = b(a)\n\tinitial i\n\tstate S { }\n"
                      "\ttransition t0 { from i to S }\n}\n")
-    with pytest.raises(RobogenError) as exc:
-        compile_model([str(model)], tmp_path / "out", machine="M")
-    (d,) = exc.value.diagnostics
-    assert d.message == ("variable 'x': enumeration rec::E whose literal's argument holds a rec::E (a recursive "
-                         "enumeration) is not supported for code generation")
-    assert (d.span.line, d.span.column) == (4, 6)
+    config = compile_model([str(model)], tmp_path / "out", machine="M").generated.files["sources/config.h"]
+    assert [level for level in ("", "_3", "_2", "_1", "_0") if f"}} rg_rec_rec_E{level};" in config] == ["", "_3", "_2", "_1", "_0"]
+    assert "typedef struct {\n    int64_t tag;\n} rg_rec_rec_E_0;" in config

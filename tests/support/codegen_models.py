@@ -74,6 +74,17 @@ TEST_MODELS = {
             "seen.value.elements.at.x": [0.0, 0.5, 0.5], "seen.value.elements.at.y": [0.0, -1.0],
         }),
         ModelCase("strings", MODELS / "strings.rct", choices={"name.value": ["hello", "bye", "", "bob", "amy", "\u00e9lan"]}),
+        ModelCase("fmaps", MODELS / "fmaps.rct", choices={
+            # 1 is never dropped: asking for it never leaves the domain (test_function_maps.py does)
+            "ask.value": [1], "put.value": [1, 2, 3, 4], "drop.value": [2, 3, 5], "bump.value": [0, 1, 2],
+            "turn.value": [0, 3],
+        }),
+        ModelCase("typeuses", MODELS / "typeuses.rct"),
+        ModelCase("abstract", MODELS / "abstract.rct"),
+        ModelCase("abstractsim", MODELS / "abstractsim.rst"),
+        ModelCase("senders", MODELS / "senders.rct"),
+        ModelCase("widen", MODELS / "widen.rct", choices={"r.value": [-2.75, 0.5, 2.75, 1e10]}),
+        ModelCase("typeusessim", MODELS / "typeusessim.rst"),
         ModelCase("tagged", MODELS / "tagged.rct", choices={
             "cmd.tag": [0, 1, 2], "cmd.Move_1": [1.5, 2.5, 0.0], "cmd.Turn_1": [2, 0, 2], "cmd.Turn_2": [True, False],
         }),

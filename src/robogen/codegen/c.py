@@ -18,14 +18,14 @@ import re
 from dataclasses import dataclass
 
 from robogen.ir import model as ir
-from robogen.ir.supported import TupleT
-from robogen.ir.collections import CAN_OVERFLOW, EMPTY_FAULTS, empty_message, overflow_message
+from robogen.ir.supported import FunMapT, TupleT
+from robogen.ir.collections import CAN_OVERFLOW, NO_ELEMENT, empty_message, overflow_message
 from robogen.semantics import types as T
 
 
 def ctype(t: T.Type) -> str:
-    # a function: the number of its value; a string: its number among the model's strings
-    if t == T.INT or t == T.STRING or isinstance(t, (T.EnumT, T.FunctionT)):
+    # a string: its number among the model's strings
+    if t == T.INT or t == T.STRING or isinstance(t, T.EnumT):
         return "int64_t"
     if t == T.NAT:
         return "uint64_t"
@@ -33,6 +33,8 @@ def ctype(t: T.Type) -> str:
         return "double"
     if t == T.BOOLEAN:
         return "bool"
+    if isinstance(t, FunMapT):  # a function value: its pairs and its default (robogen.ir.functions)
+        return f"rg_fun_{elem_tag(t.pair)}"
     if isinstance(t, TupleT):  # by its arity and components: a prefix code, one name per tuple type
         return f"rg_tup{len(t.fields)}_" + "_".join(elem_tag(ft) for _, ft in t.fields)
     if isinstance(t, T.RecordT):
@@ -135,10 +137,39 @@ class CNames:
         return cls(var_identifiers(fmu), tuple(machines), clocks)
 
 
+def integral_cast(a: str, source: T.Type, target: T.Type) -> str:
+    """C converting ``a`` from number type ``source`` to ``target``, but a real to an integer
+    (which may fail): nat to int wraps (rg_u_to_i), as the interpreter's convert does."""
+    if source == T.NAT and target == T.INT:
+        return f"rg_u_to_i({a})"
+    return f"(({ctype(target)}){a})"
+
+
+def deliver(target: MachineNames, event: ir.Event, value: str | None, source: T.Type | None, sender: int,
+            indent: str) -> list[str]:
+    """The C that delivers an occurrence of ``event`` of the machine named ``target``, carrying the
+    C variable ``value`` (None: no value) of type ``source`` (a connection may widen a number to
+    the event's type: converted), from sender number ``sender`` (0: the FMU's boundary, k: its
+    k-th machine) to its register; an event that keeps its sender gets it with the value
+    (robogen.ir.bindings)."""
+    slot = f"&{target.event_table}[{target.events[event.index]}]"
+    lines = []
+    if value is not None and source in T.NUMERIC and event.value_type in T.NUMERIC and source != event.value_type:
+        lines.append(f"{ctype(event.value_type)} conv_ = {integral_cast(value, source, event.value_type)};")
+        value = "conv_"
+    if not event.sender:
+        lines.append(f"rg_deliver(d, {slot}, {'&' + value if value else 'NULL'});")
+    else:
+        fields = ([f".value = {value}"] if value else []) + [f".from = {sender}"]
+        lines.append(f"{ctype(event.type)} sent_ = {{ {', '.join(fields)} }}; rg_deliver(d, {slot}, &sent_);")  # type: ignore[arg-type]
+    plain = len(lines) == 1 and not event.sender  # no declaration: no block of its own
+    return [indent + (lines[0] if plain else "{ " + " ".join(lines) + " }")]
+
+
 def user_function_prototype(u: ir.UserFunction) -> str:
     """The C declaration of a user function, as the --functions file must define it."""
     args = ", ".join(f"{ctype(t)} {n}" for n, t in u.params) or "void"
-    return f"static {ctype(u.result)} rg_user_{u.name}({args})"
+    return f"static {ctype(u.result)} rg_user_{u.cname}({args})"
 
 
 def c_string(text: str) -> str:
@@ -326,9 +357,7 @@ class Emitter:
         if source == T.REAL and target in (T.INT, T.NAT):  # out of range is a run-time error, not UB
             self.fallible = True
             return f"rg_r_to_{tag(target)}(d, {a})"
-        if source == T.NAT and target == T.INT:
-            return f"rg_u_to_i({a})"
-        return f"(({ctype(target)}){a})"
+        return integral_cast(a, source, target)
 
     def _Cond(self, e: ir.Cond) -> str:
         return f"({self.expr(e.cond)} ? {self.expr(e.then)} : {self.expr(e.otherwise)})"
@@ -346,7 +375,8 @@ class Emitter:
         return self._value(e.event)
 
     def _BindIn(self, e: ir.BindIn) -> str:
-        return f"({self._present(e.event)} ? ({self.expr(e.target)} = {self._value(e.event)}, true) : false)"
+        value = self._value(e.event) if e.value is None else self.expr(e.value)
+        return f"({self._present(e.event)} ? ({self.expr(e.target)} = {value}, true) : false)"
 
     def _since(self, elapsed: str, t: T.Type) -> str:
         p = self.fmu.period
@@ -394,11 +424,11 @@ class Emitter:
                 self.sites += [f"{e.text} at {where}", ""]
             else:
                     self.sites += [overflow_message(e.text, where, self.fmu.capacity) if e.op in CAN_OVERFLOW else "",
-                               empty_message(e.op, e.text, where) if e.op in EMPTY_FAULTS else ""]
+                               empty_message(e.op, e.text, where) if e.op in NO_ELEMENT else ""]
         return self.collections.call(e, args, site)  # type: ignore[attr-defined]
 
     def _CallU(self, e: ir.CallU) -> str:
-        return f"rg_user_{e.name}({', '.join(self.expr(a) for a in e.args)})"
+        return f"rg_user_{e.instance or e.name}({', '.join(self.expr(a) for a in e.args)})"
 
     def _CallB(self, e: ir.CallB) -> str:
         args = [self.expr(a) for a in e.args]
@@ -493,12 +523,10 @@ class Emitter:
                 read.add(0)
                 _, mi, ei = route
                 self.delivers_to.add(mi)
-                target = self.names.machines[mi]
                 event = self.fmu.machines[mi].events[ei]
-                assert [ctype(a.type) for a in s.args] == ([ctype(event.type)] if event.type is not None else []), \
-                    f"{s.name} sends a value of another type than event {event.name} carries"  # rg_deliver copies bytes
-                value = "&a0_" if s.args else "NULL"
-                lines.append(f"{inner}rg_deliver(d, &{target.event_table}[{target.events[ei]}], {value});")
+                assert len(s.args) == (event.value_type is not None), f"{s.name} sends another value than event {event.name} carries"
+                source = s.args[0].type if s.args else None
+                lines += deliver(self.names.machines[mi], event, "a0_" if s.args else None, source, self.m.index + 1, inner)
         if not s.routes:
             lines.append(f"{inner}/* {c_comment(s.name)} is connected to nothing: evaluated, sent nowhere */")
         lines += [f"{inner}(void){t};" for k, t in enumerate(temporaries) if k not in read]

@@ -11,6 +11,7 @@ from robogen.codegen.generate import CodegenOptions
 from robogen.diagnostics import RobogenError, SourceMap, error, render_all, warning
 from robogen.ir.dump import dump
 from robogen.ir.lower import LoweringOptions
+from robogen.ir.supported import ENUM_DEPTH
 
 
 def add_model_options(p: argparse.ArgumentParser) -> None:
@@ -33,8 +34,12 @@ def add_model_options(p: argparse.ArgumentParser) -> None:
     p.add_argument("--capacity", type=int, default=32, metavar="N",
                    help="the most elements a set or sequence holds (default 32); a result with more is a run-time "
                         "fmi3Error naming the expression and its model line (docs/collections.md)")
+    p.add_argument("--enum-depth", type=int, default=ENUM_DEPTH, metavar="N",
+                   help=f"the levels a value of a recursive enumeration holds (default {ENUM_DEPTH}); a deeper one is a run-time "
+                        "fmi3Error naming the expression and its model line (docs/collections.md)")
     p.add_argument("--functions", metavar="FILE.c",
-                   help="C file implementing the model's user functions, each as static <type> rg_user_<name>(...)")
+                   help="C file implementing the model's functions whose result no postcondition pins, each as static <type> "
+                        "rg_user_<name>(...) (a generic one per instantiation: rg_user_<name>__<type>)")
     p.add_argument("--no-line-comments", action="store_true", help="leave the model file:line out of the generated C comments")
 
 
@@ -49,6 +54,8 @@ def options_from(args: argparse.Namespace) -> LoweringOptions:
         raise RobogenError(error("--max-transitions must be at least 1", None))
     if not 1 <= args.capacity <= 1 << 20:
         raise RobogenError(error("--capacity must be between 1 and 1048576", None))
+    if not 0 <= args.enum_depth <= 16:
+        raise RobogenError(error("--enum-depth must be between 0 and 16", None))
     return LoweringOptions(
         semantics=args.semantics,
         trigger=args.trigger,
@@ -57,6 +64,7 @@ def options_from(args: argparse.Namespace) -> LoweringOptions:
         given=args.given_type,
         max_steps=args.max_transitions,
         capacity=args.capacity,
+        enum_depth=args.enum_depth,
     )
 
 

@@ -96,7 +96,7 @@ class CollectionCode:
     def need_relation(self, op: str, types: list, result: T.Type) -> str:
         """The function of relation operation ``op`` on arguments of ``types`` (relations: sets
         of pairs) giving ``result``, as robogen.ir.collections computes it."""
-        name = f"rg_{op}_" + "_".join(ctype(t)[3:] for t in types)
+        name = f"rg_{op}_" + "_".join(ctype(t)[3:] if isinstance(t, (T.SetT, T.SeqT)) else elem_tag(t) for t in types)
         if name in self.extra:
             return name
         at = 1 if op in ("dres", "dsub") else 0
@@ -122,6 +122,12 @@ class CollectionCode:
             test = "" if op in ("dres", "rres") else "!"
             other = "a" if A == "b" else "b"
             lines.append(f"    for (i = 0; i < {A}.n; i++) if ({test}{has}({other}, {A}.a[i].{key})) r.a[r.n++] = {A}.a[i];")
+        elif op in ("haskey", "at"):  # a function value's pairs: the (first) pair of key b
+            cmp = cmp_function(x)
+            found = "return true;" if op == "haskey" else "return a.a[i]._2;"
+            lines = ["    uint64_t i;", f"    {r} r;", "    memset(&r, 0, sizeof r);",
+                     f"    for (i = 0; i < a.n; i++) if ({cmp}(a.a[i]._1, b) == 0) {found}",
+                     "    (void)d; (void)site;" if op == "haskey" else f"    {_fault('site + 1')};"]
         elif op == "rimage":
             has = self.need("has", T.SetT(x))
             lines.append(f"    for (i = 0; i < a.n && !d->fault; i++) if ({has}(b, a.a[i]._1)) {ins}(d, site, &r, a.a[i]._2);")
@@ -390,7 +396,8 @@ def call(code: CollectionCode, e: ir.Coll, args: list[str], site: int) -> str:
     if op == "conv":
         return f"{code.need_conv(e.args[0].type, e.type)}(d, {args[0]})"  # type: ignore[arg-type]
     if op == "undefined":  # a run-time error in place of a value of type e.type
-        name = f"rg_undefined_{elem_tag(e.type)}"
+        shaped = isinstance(e.type, (T.SetT, T.SeqT, T.VectorT, T.MatrixT))  # elem_tag names only scalars and records
+        name = f"rg_undefined_{ctype(e.type)[3:] if shaped else elem_tag(e.type)}"
         c = ctype(e.type)
         code.extra[name] = (f"{_sig(c, name, 'rg_model_data *d, int32_t site')}\n{{\n    {c} zero;\n"
                                 f"    memset(&zero, 0, sizeof zero);\n    {_fault('site')};\n    return zero;\n}}")

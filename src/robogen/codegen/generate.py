@@ -21,6 +21,7 @@ from robogen.codegen.c import (
     c_comment,
     c_string,
     ctype,
+    deliver,
     literal,
     mangle,
     string_literal,
@@ -33,7 +34,8 @@ from robogen.fmu.modeldesc import Dimension, Variable, instantiation_token
 from robogen.fmu.modeldesc_writer import write_model_description
 from robogen.ir import model as ir
 from robogen.ir.dump import dump
-from robogen.ir.supported import literal_conditions
+from robogen.ir.supported import FunMapT, literal_conditions
+from robogen.ir.walk import value_types
 from robogen.semantics import types as T
 
 FMI_TYPE = {"int64_t": "Int64", "uint64_t": "UInt64", "double": "Float64", "bool": "Boolean"}
@@ -178,6 +180,7 @@ def generate(fmu: ir.Fmu, options: CodegenOptions | None = None, *, diagrams: Se
     collections = CollectionCode(fmu.capacity)
     machines, sites, strings = _machines_code(fmu, layout, names, line_comments, collections)
     latch = {p.index: _latch(p, layout.port_fields_in.get(p.index, []), collections) for p in fmu.inputs}
+    deliveries = {p.index: _deliveries(fmu, p, names) for p in fmu.inputs}
     for t in collections.types:
         layout._type(t)
     for u in fmu.user_functions:  # the C types a --functions file receives and returns
@@ -186,6 +189,8 @@ def generate(fmu: ir.Fmu, options: CodegenOptions | None = None, *, diagrams: Se
     needed = {name: t for mc in machines for name, t in mc["equalities"].items()}
     for t in needed.values():  # a type compared only inside an expression (a tuple key) is declared too
         layout._type(t)
+    for t in value_types(fmu):  # every other use: a literal, an operation's parameter, a local, ...
+        layout._type(t, enums=False)
     equalities, bodies = _equalities(layout.types, set(needed))
     param_starts = {p.fmi_name: _param_starts(p, strings) for p in fmu.params}  # before the strings are written
     hooks = _hooks(fmu, machines)
@@ -198,6 +203,7 @@ def generate(fmu: ir.Fmu, options: CodegenOptions | None = None, *, diagrams: Se
         strings=strings if any(v.fmi_type == "String" for v in layout.variables) else None,
         string_bytes=STRING_BYTES,
         latch=latch,
+        deliveries=deliveries,
         collection_code=collections.text(),
         equality_bodies=bodies,
         param_starts=param_starts,
@@ -248,7 +254,7 @@ def _functions_file(fmu: ir.Fmu, path: Path | None) -> str | None:
         text = path.read_text(encoding="utf-8")
     except (OSError, UnicodeDecodeError) as exc:
         raise RobogenError.at(f"cannot read the functions file {path}: {exc}", Span.whole_file(str(path))) from None
-    missing = [u for u in fmu.user_functions if not re.search(rf"\brg_user_{re.escape(u.name)}\s*\(", text)]
+    missing = [u for u in fmu.user_functions if not re.search(rf"\brg_user_{re.escape(u.cname)}\s*\(", text)]
     if missing:  # every one, located at its first call, rather than the C compiler's first complaint
         raise _unimplemented(missing, f"{path} does not define it")
     return text
@@ -257,7 +263,8 @@ def _functions_file(fmu: ir.Fmu, path: Path | None) -> str | None:
 def _unimplemented(functions: Sequence[ir.UserFunction], why: str) -> RobogenError:
     """One error per function, at its first call, spelling out the C definition to write."""
     return RobogenError([
-        error(f"function '{u.name}' has no implementation: {why}", u.first_call or u.span,
+        error(f"function '{u.name}'{f' (instantiated with {u.shown})' if u.shown else ''} has no implementation: {why}",
+              u.first_call or u.span,
               Note(f"the file must define: {user_function_prototype(u)} {{ ... }}"))
         for u in functions
     ])
@@ -268,7 +275,8 @@ def _typedef(t: T.Type, capacity: int) -> str:
         return collection_typedef(t, capacity)
     if isinstance(t, T.RecordT):
         fields = "\n".join(f"    {ctype(ft)} {n};" for n, ft in t.fields)
-        return f"/* datatype {t.qname} */\ntypedef struct {{\n{fields}\n}} {ctype(t)};"
+        what = f"a function value {t.show()}: its pairs and its default" if isinstance(t, FunMapT) else f"datatype {t.qname}"
+        return f"/* {what} */\ntypedef struct {{\n{fields}\n}} {ctype(t)};"
     if isinstance(t, T.VectorT):
         return f"typedef struct {{ {ctype(t.element)} a[{t.size}]; }} {ctype(t)};  /* {t.show()} */"
     assert isinstance(t, T.MatrixT)
@@ -346,6 +354,14 @@ def _latch(port: ir.Port, fields: list[tuple[str, ir.Field_]], collections: Coll
     return lines
 
 
+def _deliveries(fmu: ir.Fmu, port: ir.Port, names: CNames) -> list[str]:
+    """The statements of rg_model_latch that deliver the value ``v`` of input port ``port`` (if
+    it carries one) to the machine events it reaches; its sender is the boundary, number 0."""
+    value = "v" if port.type is not None else None
+    return [line for mi, ei in port.routes
+            for line in deliver(names.machines[mi], fmu.machines[mi].events[ei], value, port.type, 0, " " * 8)]
+
+
 def _type_at(t, path: tuple[str, ...]) -> T.Type:
     for p in path:
         t = t.field(p)
@@ -397,15 +413,16 @@ class _Layout:
             self.enums.append(EnumType(name, [(lit, i) for i, lit in enumerate(t.literals)]))
         return name
 
-    def _type(self, t: T.Type) -> None:
-        """Register a struct type (and what it contains) in dependency order."""
+    def _type(self, t: T.Type, enums: bool = True) -> None:
+        """Register a struct type (and what it contains) in dependency order; with ``enums``,
+        the enumerations it holds as FMI types too."""
         if isinstance(t, T.RecordT):
             for _, ft in t.fields:
-                self._type(ft)
+                self._type(ft, enums)
         elif isinstance(t, (T.VectorT, T.MatrixT, T.SetT, T.SeqT)):
-            self._type(t.element)
+            self._type(t.element, enums)
         else:
-            if isinstance(t, T.EnumT):
+            if isinstance(t, T.EnumT) and enums:
                 self._enum(t)
             return
         if not any(ctype(x) == ctype(t) for x in self.types):
@@ -439,7 +456,8 @@ class _Layout:
         if inward:
             what = f"input event {port.source}"
         else:
-            what = ("call of platform operation " if port.kind == "operation" else "output event ") + port.source
+            what = ("output event " if port.kind != "operation" else
+                    "call of abstract operation " if port.abstract else "call of platform operation ") + port.source
         if port.model_name:
             what += f" (renamed: the FMU has another variable named {port.source})"
         c = FmiVar(port.name, self._next_vr(), "Clock", causality, "discrete", interval_variability="triggered",
@@ -453,7 +471,7 @@ class _Layout:
             if inward:
                 description = f"value of input event {port.source}"
             elif port.kind == "operation":
-                description = f"argument {f.path[0]} of platform operation {port.source}"
+                description = f"argument {f.path[0]} of {'abstract' if port.abstract else 'platform'} operation {port.source}"
             else:
                 description = f"value of output event {port.source}"
             self.variables.append(FmiVar(
@@ -558,11 +576,11 @@ def _flat(name: str, t: T.Type, access: str, capacity: int = 0):
     """(FMI name, scalar or array type, C member access) of each scalar part of a value. A set or
     sequence of scalars is two: its elements, an array of the capacity (zeros after the last),
     and its size; one of records has none (its elements are not contiguous in memory)."""
+    if isinstance(t, FunMapT):
+        return  # a function value (robogen.ir.functions): not an FMI variable
     if isinstance(t, T.RecordT):
         for n, ft in t.fields:
             yield from _flat(f"{name}.{n}", ft, f"{access}.{n}", capacity)
-    elif isinstance(t, T.FunctionT):
-        return  # the number of a function value (robogen.ir.functions): not an FMI variable
     elif isinstance(t, (T.SetT, T.SeqT)):
         if not isinstance(t.element, T.RecordT):
             yield f"{name}.elements", T.VectorT(t.element, capacity), f"{access}.a"

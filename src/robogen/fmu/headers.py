@@ -12,10 +12,11 @@ import importlib.resources
 from pathlib import Path
 
 from robogen.diagnostics import RobogenError
+from robogen.fmu.platforms import HOST
 
 HEADER_NAMES = ("fmi3Functions.h", "fmi3FunctionTypes.h", "fmi3PlatformTypes.h")
 FMI2_HEADER_NAMES = ("fmi2Functions.h", "fmi2FunctionTypes.h", "fmi2TypesPlatform.h")
-PLATFORM_TUPLE = "x86_64-linux"
+PLATFORM_TUPLE = HOST.name  # the host's folder of binaries/ (robogen.fmu.platforms)
 #: FMI 2.0's name of the same platform (its binaries/ folder).
 FMI2_PLATFORM = "linux64"
 

@@ -71,10 +71,11 @@ def member(x, s: list, t: T.Type, ordered: bool = True) -> bool:
 class Builder:
     """A result under construction, that may not hold more than ``capacity`` elements."""
 
-    def __init__(self, capacity: int, overflow: str):
+    def __init__(self, capacity: int, overflow: str, empty: str = ""):
         self.items: list = []
         self.capacity = capacity
         self.overflow = overflow
+        self.empty = empty  # the message of finding no element to give
 
     def append(self, x) -> None:
         if len(self.items) >= self.capacity:
@@ -97,7 +98,7 @@ def apply(op: str, args: list, arg_types: list[T.Type], capacity: int, overflow:
     the messages of its faults."""
     first = arg_types[0] if arg_types else T.INT
     elem = first.element if isinstance(first, (T.SetT, T.SeqT)) else first  # type: ignore[union-attr]
-    out = Builder(capacity, overflow)
+    out = Builder(capacity, overflow, empty)
     if op in RELATION_OPS:
         return _relation(op, args, arg_types, result, out)
     if op in ("set", "seq"):
@@ -169,13 +170,18 @@ def apply(op: str, args: list, arg_types: list[T.Type], capacity: int, overflow:
 
 
 # relations are sets of pairs (tuples with fields _1, _2): their operations, by name
-RELATION_OPS = ("dom", "ran", "rinv", "dres", "dsub", "rres", "rsub", "rimage", "roverride", "relcomp", "squash")
+RELATION_OPS = ("dom", "ran", "rinv", "dres", "dsub", "rres", "rsub", "rimage", "roverride", "relcomp", "squash",
+                "haskey", "at")
+# the operations that may find no element to give: a message of the same site (robogen.codegen)
+NO_ELEMENT = EMPTY_FAULTS + ("at",)
 
 
 def _relation(op: str, args: list, arg_types: list[T.Type], result: T.Type, out: Builder):
     """``dom``, ``ran``, ``rinv``, ``dres(a, r)``, ``dsub(a, r)``, ``rres(r, b)``, ``rsub(r, b)``,
-    ``rimage(r, a)``, ``override(r, s)`` (``roverride``), ``relcomp(r, s)`` and ``squash(f)``
-    (the second components in the order of the first: a set of pairs is ordered by them)."""
+    ``rimage(r, a)``, ``override(r, s)`` (``roverride``), ``relcomp(r, s)``, ``squash(f)``
+    (the second components in the order of the first: a set of pairs is ordered by them), and
+    for function values (robogen.ir.functions) ``haskey(r, x)``, whether a pair has first
+    component x, and ``at(r, x)``, the second component of the first such pair (a fault if none)."""
     relation = 1 if op in ("dres", "dsub") else 0
     r, pair = args[relation], arg_types[relation].element  # type: ignore[attr-defined]
     x, y = pair.field("_1"), pair.field("_2")
@@ -188,6 +194,13 @@ def _relation(op: str, args: list, arg_types: list[T.Type], result: T.Type, out:
         other = args[1 - relation]
         key, kt = ("_1", x) if op in ("dres", "dsub") else ("_2", y)
         return [p for p in r if member(p[key], other, kt) == (op in ("dres", "rres"))]
+    if op in ("haskey", "at"):
+        for p in r:
+            if compare(p["_1"], args[1], x) == 0:
+                return True if op == "haskey" else p["_2"]
+        if op == "at":
+            raise CollectionFault(out.empty)
+        return False
     if op == "rimage":
         for p in r:
             if member(p["_1"], args[1], x):
@@ -229,6 +242,8 @@ def overflow_message(text: str, where: str, capacity: int) -> str:
 
 
 def empty_message(op: str, text: str, where: str) -> str:
+    if op == "at":
+        return f"{text} outside the function's domain at {where}"
     return f"'{op}' of an empty collection in {text} at {where}"
 
 
@@ -239,4 +254,5 @@ def index(q: list, i: int, what: str) -> int:
     return i - 1
 
 
-__all__ = ["CollectionFault", "apply", "compare", "member", "index", "received", "overflow_message", "empty_message", "SET_RESULTS", "SEQ_RESULTS", "EMPTY_FAULTS", "CAN_OVERFLOW"]
+__all__ = ["CollectionFault", "apply", "compare", "member", "index", "received", "overflow_message", "empty_message", "SET_RESULTS", "SEQ_RESULTS", "EMPTY_FAULTS", "CAN_OVERFLOW",
+           "NO_ELEMENT"]

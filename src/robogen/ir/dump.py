@@ -27,7 +27,7 @@ def dump(fmu: ir.Fmu) -> str:
     for p in fmu.inputs:
         out.append(f"  input {p.name}" + _fields(p) + "".join(f" -> m{m}.e{e}" for m, e in p.routes))
     for p in fmu.outputs:
-        out.append(f"  output {p.kind} {p.name}" + _fields(p))
+        out.append(f"  output {'abstract ' if p.abstract else ''}{p.kind} {p.name}" + _fields(p))
     for p in fmu.params:
         out.append(f"  parameter {p.fmi_name}: {p.var.type.show()} = {_value(p.value)}" + (" (no value in the model)" if p.free else ""))
     for m in fmu.machines:
@@ -163,7 +163,7 @@ def expr(e: ir.Expr | None) -> str:
     if isinstance(e, ir.Payload):
         return f"value(e{e.event})"
     if isinstance(e, ir.BindIn):
-        return f"bind(e{e.event} -> {expr(e.target)})"
+        return f"bind(e{e.event} -> {expr(e.target)})" if e.value is None else f"bind(e{e.event}: {expr(e.value)} -> {expr(e.target)})"
     if isinstance(e, ir.Since):
         return f"since(c{e.clock})"
     if isinstance(e, ir.SinceEntry):
@@ -180,7 +180,7 @@ def expr(e: ir.Expr | None) -> str:
     if isinstance(e, ir.VectorLit):
         return "[" + ", ".join(expr(x) for x in e.items) + "]"
     if isinstance(e, ir.CallU):
-        return f"user {e.name}({', '.join(expr(a) for a in e.args)})"
+        return f"user {e.instance or e.name}({', '.join(expr(a) for a in e.args)})"
     if isinstance(e, ir.CallB):
         return f"{e.name}({', '.join(expr(a) for a in e.args)})"
     if isinstance(e, ir.Coll):

@@ -16,7 +16,7 @@ from robogen.ir import model as ir
 from robogen.ir.collections import RELATION_OPS
 from robogen.ir.constants import default_expr
 from robogen.ir.region_tree import Graph
-from robogen.ir.supported import TaggedT, TupleT, check_codegen_type, is_collection, is_scalar, not_supported, tuple_type
+from robogen.ir.supported import FunMapT, TaggedT, TupleT, base_name, check_codegen_type, is_collection, is_scalar, not_supported, tuple_type
 from robogen.semantics import types as T
 from robogen.semantics.model import EnumLitSym, EventSym, FuncSym, VarSym
 from robogen.syntax import ast
@@ -74,7 +74,7 @@ TOOLKIT: dict[str, dict[tuple[str, tuple[str, ...]], str]] = {
 class ExpressionLowering:
     """The expression steps of :class:`~robogen.ir.machines.MachineLowering` (a mixin). It uses
     the machine lowering's ``_norm`` (concrete types), ``_declare_var`` (a shared variable met
-    first in a called operation) and ``user_function`` (record a user function's use)."""
+    first in a called operation) and ``declared_call`` (a call of a function the model declares)."""
 
     model: SemanticModel
     machine: ir.Machine
@@ -85,6 +85,8 @@ class ExpressionLowering:
 
     def expr(self, e: ast.Expr, graph: Graph) -> ir.Expr:
         with working_on(e.span):
+            if isinstance(e, ast.Binder) and e.kind == "lambda":  # a function value (robogen.ir.functions)
+                return self.fvalue(e, self._type(e), graph)  # type: ignore[attr-defined]
             step = getattr(self, "_e_" + type(e).__name__, None)
             if step is None:
                 raise not_supported(_UNSUPPORTED.get(type(e), type(e).__name__), e.span)
@@ -129,11 +131,46 @@ class ExpressionLowering:
             return ir.Conv(t, e)
         if isinstance(t, (T.VectorT, T.MatrixT)) and isinstance(e, ir.VectorLit):
             return ir.VectorLit(t, tuple(self.conv(x, t.element, span) for x in e.items))
+        if isinstance(t, T.RecordT) and isinstance(e.type, T.RecordT) and t.qname != e.type.qname \
+                and base_name(t.qname) == base_name(e.type.qname):
+            return self._reshape(e, t, span)  # a recursive type at another level (robogen.ir.supported.Shapes)
         if isinstance(t, T.RecordT) and isinstance(e, ir.RecordLit):
             return ir.RecordLit(t, tuple((n, self.conv(v, t.field(n), span)) for n, v in e.values))
+        if isinstance(e.type, FunMapT) and t == e.type.pairs:  # a function as the set of its pairs
+            return self.pairs_of(e, "this function", span)  # type: ignore[attr-defined]
+        if isinstance(t, FunMapT) and isinstance(e.type, T.SetT):  # a set of pairs as a function
+            return self.map_of_pairs(self.conv(e, t.pairs, span), t)  # type: ignore[attr-defined]
         if is_collection(t) and type(t) is type(e.type):
             return self._conv_collection(e, t, span)  # type: ignore[arg-type]
         return e
+
+    def _reshape(self, e: ir.Expr, t: T.RecordT, span: Span | None) -> ir.Expr:
+        """A value of a recursive type as one of another level: field by field; a field ``t``
+        lacks is a literal's argument with no room at its last level, so a value of that literal
+        is deeper than the bound: a run-time error."""
+        source = e.type
+        assert isinstance(source, T.RecordT)
+        given = dict(e.values) if isinstance(e, ir.RecordLit) else {}
+
+        def part(n: str) -> ir.Expr:
+            return given[n] if n in given else ir.FieldOf(source.field(n), e, n)  # type: ignore[arg-type]
+
+        value: ir.Expr = ir.RecordLit(t, tuple((n, self.conv(part(n), ft, span) if source.field(n) is not None
+                                                else default_expr(ft, span)) for n, ft in t.fields))
+        if not isinstance(t, TaggedT):
+            return value
+        lost = sorted({t.tag.literals.index(n.rsplit("_", 1)[0]) for n, _ in source.fields if t.field(n) is None})
+        tag = part("tag")
+        if isinstance(tag, ir.Lit):  # a literal: known here
+            lost = [k for k in lost if k == tag.value]
+        if not lost:
+            return value
+        deep = ir.Bin(T.BOOLEAN, "eq", tag, ir.Lit(t.tag, lost[0]))
+        for k in lost[1:]:
+            deep = ir.Bin(T.BOOLEAN, "or", deep, ir.Bin(T.BOOLEAN, "eq", tag, ir.Lit(t.tag, k)))
+        fault = ir.Coll(t, "undefined", (), f"a value of {base_name(t.qname)} nested deeper than the depth bound "
+                        f"{self.ctx.shapes.depth} (--enum-depth)", span)  # type: ignore[attr-defined]
+        return ir.Cond(t, deep, fault, value)
 
     def _conv_collection(self, e: ir.Expr, t: T.SetT | T.SeqT, span: Span | None) -> ir.Expr:
         """A set or sequence as one of another element type: an enumeration's elements are
@@ -178,6 +215,10 @@ class ExpressionLowering:
         sym = self.model.symbol(e)
         if isinstance(sym, EnumLitSym):
             return self._literal(sym, (), e.span)
+        if self._atom(e) is not None:  # type: ignore[attr-defined]  # a named function or let-bound lambda, as a value
+            return self.fvalue(e, self._type(e), graph)  # type: ignore[attr-defined]
+        if isinstance(sym, FuncSym) and sym.builtin is None and sym.decl is not None and not sym.params:
+            return self.declared_call(sym, [], e, graph)  # type: ignore[attr-defined]  # stands for its result
         if isinstance(sym, VarSym):
             value = self.bound_value(sym, e.span)  # type: ignore[attr-defined]  # a let name, lambda parameter...
             if value is not None:
@@ -243,9 +284,15 @@ class ExpressionLowering:
 
     def _collection_binary(self, e: ast.Binary, a: ir.Expr, b: ir.Expr) -> ir.Expr:
         if e.op == "in":
+            b = self._as_relation(b, e.right)
             assert isinstance(b.type, (T.SetT, T.SeqT))
             return self.coll(T.BOOLEAN, "in", (self.conv(a, b.type.element, e.left.span), b), e)
         t = self._type(e)
+        if t == T.STRING:  # two strings: only literals, joined here (a string is a number at run time)
+            if isinstance(a, ir.Lit) and isinstance(b, ir.Lit):
+                return ir.Lit(T.STRING, str(a.value) + str(b.value))
+            raise not_supported("joining strings that are not literals (a string is one of the model's or an importer's "
+                                "at run time, never a new one)", e.span)
         return self.coll(t, "cat", (self.conv(a, t, e.left.span), self.conv(b, t, e.right.span)), e)
 
     def _comparison(self, e: ast.Binary, op: str, a: ir.Expr, b: ir.Expr) -> ir.Expr:
@@ -282,9 +329,13 @@ class ExpressionLowering:
 
     def _e_Cast(self, e: ast.Cast, graph: Graph) -> ir.Expr:
         t = self._norm(self.model.type_of(e.type))
+        if e.op == "as" and isinstance(t, FunMapT):
+            return self.fvalue(e.expr, t, graph)  # type: ignore[attr-defined]
         inner = self.expr(e.expr, graph)
         if e.op == "as" and t in T.NUMERIC and inner.type in T.NUMERIC:
             return ir.Conv(t, inner)
+        if e.op == "as" and is_collection(t) and self.conv(inner, t, e.span).type == t:  # {} as Set(nat)
+            return self.conv(inner, t, e.span)
         raise not_supported(f"'{e.op}' here", e.span)
 
     # -- data
@@ -385,7 +436,10 @@ class ExpressionLowering:
     def _toolkit_call(self, sym: FuncSym, e: ast.Call, graph: Graph) -> ir.Expr:
         """A call of a toolkit function that code generation implements on sets, sequences and
         pairs (see :mod:`robogen.ir.collections`)."""
-        args = [self.expr(a, graph) for a in e.args]
+        first = T.single(self.model.type_of(e.args[0])) if e.args else None
+        if sym.name == "override" and isinstance(first, T.FunctionT) and not first.relation:
+            return self.fvalue(e, self._norm(first), graph)  # type: ignore[attr-defined]
+        args = [self._as_relation(self.expr(a, graph), a) for a in e.args]
         t = self._type(e)
         kinds = tuple("set" if isinstance(a.type, T.SetT) else "seq" if isinstance(a.type, T.SeqT) else "pair"
                       if isinstance(a.type, TupleT) else "value" for a in args)
@@ -417,6 +471,12 @@ class ExpressionLowering:
             check_codegen_type(t, e.span, f"the result of '{sym.name}'")
         return self.coll(t, op, args, e)
 
+    def _as_relation(self, value: ir.Expr, e: ast.Expr) -> ir.Expr:
+        """A function value given to the toolkit: the set of its pairs (robogen.ir.functions)."""
+        if isinstance(value.type, FunMapT):
+            return self.pairs_of(value, expr_text(e), e.span)  # type: ignore[attr-defined]
+        return value
+
     def _relation_call(self, sym: FuncSym, op: str, args: list[ir.Expr], t: T.Type, e: ast.Call) -> ir.Expr:
         """A relation operation: every relation is a set of pairs (robogen.ir.collections)."""
         at = 1 if op in ("dres", "dsub") else 0
@@ -431,23 +491,9 @@ class ExpressionLowering:
         return self.coll(t, op, args, e)
 
     def _user_call(self, sym: FuncSym, e: ast.Call, graph: Graph) -> ir.Expr:
-        """A call of a function the model declares by its contract only: the code generator
-        takes its implementation from the user (the reference interpreter from Python)."""
-        return self.user_call(sym, [self.expr(a, graph) for a in e.args], e)
-
-    def user_call(self, sym: FuncSym, args: list[ir.Expr], e: ast.Call) -> ir.Expr:
-        """The call of user function ``sym`` on the lowered ``args``. Its parameters and result
-        are numbers, booleans, enumerations, records, tuples, sets or sequences (the C file
-        receives and returns the C types of config.h)."""
-        params = tuple((n, self._norm(t)) for n, t in sym.params)
-        result = self._norm(sym.result)
-        for n, t in params + (("result", result),):
-            if not is_scalar(t):
-                if isinstance(t, T.FunctionT) or "?" in t.show() or "string" in t.show():
-                    raise not_supported(f"function '{sym.name}': {n} of type {t.show()}", e.span)
-                check_codegen_type(t, e.span, f"function '{sym.name}': {n}")
-        self.user_function(sym, e, params, result)
-        return ir.CallU(result, sym.name, tuple(self.conv(a, pt, e.span) for a, (_, pt) in zip(args, params)))
+        """A call of a function the model declares (robogen.ir.declared)."""
+        args = [self.expr(a, graph) for a in e.args]
+        return self.declared_call(sym, args, e, graph, list(e.args))  # type: ignore[attr-defined]
 
     # -- RoboSim inputs
 
@@ -465,7 +511,7 @@ class ExpressionLowering:
         if ev is None:
             raise not_supported(f"'${e.event}?{e.var}'", e.span)
         var = self.model.bound_var(e)
-        guard: ir.Expr = ir.BindIn(T.BOOLEAN, ev.index, self.var_ref(graph, var, e.var_span))
+        guard: ir.Expr = self.bind_in(ev, self.var_ref(graph, var, e.var_span), e.span)
         if e.predicate is not None:
             guard = ir.Bin(T.BOOLEAN, "and", guard, self.expr(e.predicate, graph))
         return guard

@@ -35,7 +35,7 @@ from dataclasses import dataclass, field
 from robogen.ir import collections as C
 from robogen.ir import model as ir
 from robogen.ir.constants import default_value
-from robogen.ir.supported import literal_conditions
+from robogen.ir.supported import FunMapT, literal_conditions
 from robogen.semantics import types as T
 
 MASK = (1 << 64) - 1
@@ -109,8 +109,9 @@ class Instant:
 
 class Interpreter:
     def __init__(self, fmu: ir.Fmu, parameters: dict[str, object] | None = None, functions: dict | None = None):
-        """``functions``: Python implementations of the model's user functions (name -> callable),
-        the counterparts of the C file given to the code generator with --functions."""
+        """``functions``: Python implementations of the model's user functions (name -> callable;
+        an instantiation of a generic function by its C name part, ``UpdateValue__int``, else by
+        the function's name), the counterparts of the C file given to the code generator with --functions."""
         self.fmu = fmu
         self.functions = dict(functions or {})
         self.parameters = {p.fmi_name: p.value for p in fmu.params}
@@ -171,7 +172,7 @@ class Interpreter:
             raise KeyError(f"no input clock {clock!r}")
         value = self._assemble(port, payload or {})
         for mi, ei in port.routes:
-            self._deliver(mi, ei, value)
+            self._deliver(mi, ei, value, port.type, 0)
 
     def _assemble(self, port: ir.Port, payload: dict[str, object]):
         if port.type is None:
@@ -211,10 +212,19 @@ class Interpreter:
                 _set_path(value, path, v)
         return value
 
-    def _deliver(self, mi: int, ei: int, value) -> None:
+    def _deliver(self, mi: int, ei: int, value, source: T.Type | None, sender: int) -> None:
+        """An occurrence of event ``ei`` of machine ``mi`` carrying ``value`` of type ``source``
+        (a number the connection widens to the event's type: converted) from sender number
+        ``sender`` (0: the boundary, k: the k-th machine), kept with the value by an event that
+        keeps its sender."""
         ms = self.machines[mi]
+        event = self.fmu.machines[mi].events[ei]
         if ei in ms.register:
             self.dropped += 1  # several occurrences before they are used: the last one wins
+        if value is not None and source in T.NUMERIC and event.value_type in T.NUMERIC and source != event.value_type:
+            value = convert(value, source, event.value_type)
+        if event.sender:
+            value = ({"value": value} if value is not None else {}) | {"from": sender}
         ms.register[ei] = copy.deepcopy(value)
         ms.new_input = True
 
@@ -366,7 +376,7 @@ class Interpreter:
                     port = self.fmu.outputs[route[1]]
                     self.active[port.name] = self._payload(port, args)
                 else:
-                    self._deliver(route[1], route[2], args[0] if args else None)
+                    self._deliver(route[1], route[2], args[0] if args else None, s.args[0].type if s.args else None, m.index + 1)
         elif isinstance(s, ir.If):
             for x in s.then if self._eval(s.cond, m, ms) else s.otherwise:
                 self._exec(x, m, ms)
@@ -478,7 +488,8 @@ class Interpreter:
         if isinstance(e, ir.BindIn):
             if e.event not in ms.sample:
                 return False
-            self._store(e.target, copy.deepcopy(ms.sample[e.event]), m, ms)
+            value = ms.sample[e.event] if e.value is None else self._eval(e.value, m, ms)
+            self._store(e.target, copy.deepcopy(value), m, ms)
             return True
         if isinstance(e, ir.Since):
             return self._since(ms.ticks - ms.clocks[e.clock], e.type)
@@ -503,10 +514,11 @@ class Interpreter:
             return args[0] if args[0] >= args[1] else args[1]
         if isinstance(e, ir.Coll):
             return self._collection(e, m, ms)
-        if isinstance(e, ir.CallU):
-            f = self.functions.get(e.name)
+        if isinstance(e, ir.CallU):  # an instantiation of a generic function by its own name, or by the function's
+            f = self.functions.get(e.instance) if e.instance else None
+            f = f if f is not None else self.functions.get(e.name)
             if f is None:
-                raise RuntimeFault(f"user function '{e.name}' has no implementation in the reference interpreter")
+                raise RuntimeFault(f"user function '{e.instance or e.name}' has no implementation in the reference interpreter")
             return python_value(f(*(self._eval(a, m, ms) for a in e.args)), e.type)
         raise RuntimeFault(f"unknown expression {type(e).__name__}")  # pragma: no cover
 
@@ -665,11 +677,11 @@ def _set_path(value, path: tuple[str, ...], v) -> None:
 
 
 def _flatten_value(prefix: str, t: T.Type, v, out: dict[str, object], capacity: int) -> None:
-    if isinstance(t, T.RecordT):
+    if isinstance(t, FunMapT):
+        pass  # a function value: not an FMI variable
+    elif isinstance(t, T.RecordT):
         for n, ft in t.fields:
             _flatten_value(f"{prefix}.{n}", ft, v[n], out, capacity)
-    elif isinstance(t, T.FunctionT):
-        pass  # the number of a function value: not an FMI variable
     elif isinstance(t, (T.SetT, T.SeqT)):  # as the FMU shows it: elements padded with zeros, and size
         if not isinstance(t.element, T.RecordT):
             out[f"{prefix}.elements"] = copy.deepcopy(v) + [_zero(t.element)] * (capacity - len(v))

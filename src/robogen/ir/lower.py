@@ -22,7 +22,7 @@ from robogen.ir import model as ir
 from robogen.ir.boundary import Boundary, model_identifier
 from robogen.ir.machines import FmuContext, MachineLowering
 from robogen.ir.ports import Ports
-from robogen.ir.supported import normalise
+from robogen.ir.supported import ENUM_DEPTH, Shapes, normalise
 from robogen.semantics.model import SemanticModel
 
 
@@ -35,6 +35,7 @@ class LoweringOptions:
     given: str = "int"  # the scalar type of given types
     max_steps: int = 1000
     capacity: int = 32  # the most elements a set or sequence holds
+    enum_depth: int = ENUM_DEPTH  # the levels of a recursive enumeration's values (robogen.ir.supported.Shapes)
 
 
 def lower(model: SemanticModel, boundary: Boundary, options: LoweringOptions | None = None) -> ir.Fmu:
@@ -44,8 +45,9 @@ def lower(model: SemanticModel, boundary: Boundary, options: LoweringOptions | N
     options = options or LoweringOptions()
     fmu = _header(model, boundary, options)
     lowerings: list[MachineLowering] = []
-    ports = Ports(fmu, boundary, lowerings, lambda t: normalise(t, options.given))  # type: ignore[arg-type]
-    ctx = FmuContext(model, boundary, fmu, options.given, options.settings, ports)
+    shapes = Shapes(model.tables.declared, options.enum_depth)
+    ports = Ports(fmu, boundary, lowerings, lambda t: normalise(t, options.given, shapes))  # type: ignore[arg-type]
+    ctx = FmuContext(model, boundary, fmu, options.given, options.settings, ports, shapes)
     for i, ((used_name, scope, ctrl), name) in enumerate(zip(boundary.machines, boundary.machine_names)):
         with working_on(scope.node.span):
             ml = MachineLowering(ctx, scope, ctrl, i, used_name, name)

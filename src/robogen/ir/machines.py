@@ -16,15 +16,16 @@ from typing import Any, Generator
 
 from robogen.diagnostics import DiagnosticSink, Note, RobogenError, Span, did_you_mean
 from robogen.ir import model as ir
-from robogen.ir.bindings import BindingLowering
+from robogen.ir.bindings import BindingLowering, sender_events, sender_type
 from robogen.ir.boundary import Boundary
 from robogen.ir.constants import constant_value, default_value, parse_setting, shown
 from robogen.ir.expressions import ExpressionLowering
 from robogen.ir.region_tree import Graph, place_of, state_action
 from robogen.ir.ports import Ports
-from robogen.ir.statements import StatementLowering
+from robogen.ir.statements import StatementLowering, is_abstract
+from robogen.ir.declared import DeclaredFunctions
 from robogen.ir.functions import FunctionValues
-from robogen.ir.supported import check_codegen_type, is_scalar, normalise, not_supported
+from robogen.ir.supported import FunMapT, Shapes, check_codegen_type, is_scalar, normalise, not_supported
 from robogen.semantics import types as T
 from robogen.semantics.model import Controller, FuncSym, MachineScope, OpSym, Region, SemanticModel, VarSym
 from robogen.syntax import ast
@@ -40,6 +41,8 @@ class FmuContext:
     given: str  # the concrete type of given types
     settings: dict[str, str]  # --set NAME=VALUE
     ports: Ports
+    shapes: Shapes = field(default_factory=Shapes)  # the declared types, to unroll recursive ones
+    fn_atoms: list | None = None  # the static function values, numbered (robogen.ir.functions)
     sink: DiagnosticSink = field(default_factory=DiagnosticSink)
     # variables a controller provides, shared by its machines: (id(controller), name) -> storage
     shared_vars: dict[tuple[int, str], ir.Var] = field(default_factory=dict)
@@ -95,7 +98,7 @@ def drive(steps: Steps):
     return value
 
 
-class MachineLowering(StatementLowering, BindingLowering, ExpressionLowering, FunctionValues):
+class MachineLowering(StatementLowering, BindingLowering, ExpressionLowering, FunctionValues, DeclaredFunctions):
     def __init__(self, ctx: FmuContext, scope: MachineScope, ctrl: Controller | None, index: int, used_name: str,
                  name: str | None = None):
         """``name``: the machine's name in the FMU (its own, or its instance path where two
@@ -120,20 +123,24 @@ class MachineLowering(StatementLowering, BindingLowering, ExpressionLowering, Fu
         # id(declaration of a let name or lambda parameter) -> what it stands for (robogen.ir.bindings,
         # robogen.ir.functions)
         self.bound: dict = {}
-        self.fn_tables: dict[str, list[ast.Expr]] | None = None  # function variable -> the values it stores
+        self.tvars: dict[str, T.Type] = {}  # the type variables of the generic function being inlined (robogen.ir.declared)
+        self.inlining: list[tuple[ast.FunctionDef, str]] = []  # the defined functions being inlined, outermost first
         for name, v in scope.vars.items():
             self._declare_var(v, name)
+        senders = sender_events(ctx.model, scope)
         for name, e in scope.events.items():
             if e.input:
                 t = self._norm(e.type) if e.type is not None else None
                 if t is not None:
                     check_codegen_type(t, e.span, f"event '{name}'")
-                self.machine.events.append(ir.Event(name, t, len(self.machine.events), e.span))
+                if name in senders:  # its register keeps the sender too
+                    t = sender_type(t)
+                self.machine.events.append(ir.Event(name, t, len(self.machine.events), e.span, sender=name in senders))
 
     # -- storage
 
     def _norm(self, t: T.Type) -> T.Type:
-        return normalise(t, self.ctx.given)
+        return normalise(T.instantiate(t, self.tvars) if self.tvars else t, self.ctx.given, self.ctx.shapes)
 
     def _declare_var(self, v: VarSym, name: str) -> ir.Var:
         t = self._norm(v.type)
@@ -218,12 +225,20 @@ class MachineLowering(StatementLowering, BindingLowering, ExpressionLowering, Fu
         self.machine.clocks.append(name)
         return len(self.machine.clocks) - 1
 
-    def user_function(self, sym: FuncSym, call: ast.Call, params, result) -> None:
-        """Record the first use of a user function (the code generator asks for its body)."""
+    def user_function(self, sym: FuncSym, call: ast.Expr, params, result, instance: str = "", shown: str = "") -> None:
+        """Record the first use of a user function, or of one instantiation of a generic one
+        (``instance``: its C name part; ``shown``: its type variables), whose body the code
+        generator asks for. Two functions the user writes have two C names."""
         fmu = self.ctx.fmu
-        if not any(u.name == sym.name for u in fmu.user_functions):
-            span = sym.decl.name_span if sym.decl is not None else call.span
-            fmu.user_functions.append(ir.UserFunction(sym.name, params, result, span, call.span))
+        cname = instance or sym.name
+        span = sym.decl.name_span if sym.decl is not None else call.span
+        for u in fmu.user_functions:
+            if u.cname == cname:
+                if u.span != span:
+                    raise not_supported(f"function '{sym.name}' here: its C name rg_user_{cname} is also that of "
+                                        f"function '{u.name}'", call.span)
+                return
+        fmu.user_functions.append(ir.UserFunction(sym.name, params, result, span, call.span, instance, shown))
 
     # -- what the ports ask
 
@@ -233,6 +248,14 @@ class MachineLowering(StatementLowering, BindingLowering, ExpressionLowering, Fu
         if self.robosim:
             return op.platform
         return self.software_operation(op.name) is None
+
+    def is_abstract_operation(self, op: OpSym) -> bool:
+        """A software operation the machine requires whose definition has no nodes (see
+        robogen.ir.statements.is_abstract)."""
+        if self.robosim and op.platform:
+            return False
+        definition = self.software_operation(op.name)
+        return definition is not None and is_abstract(definition)
 
     def event_type(self, name: str) -> T.Type | None:
         sym = self.scope.events.get(name)
@@ -263,8 +286,8 @@ class MachineLowering(StatementLowering, BindingLowering, ExpressionLowering, Fu
         for name, v in self.scope.vars.items():
             var = self.vars[name]
             if (v.kind == "var" or (v.kind == "const" and id(var) not in parameters)) and v.init is not None:
-                if isinstance(var.type, T.FunctionT):
-                    var.init = self.function_value(ir.Ref(var.type, var), v.init, v.init.span)
+                if isinstance(var.type, FunMapT):  # a function value (robogen.ir.functions)
+                    var.init = self.fvalue(v.init, var.type, graph)
                 else:
                     var.init = self.conv(self.expr(v.init, graph), var.type, v.init.span)
         start = self.block(f"start {self.scope.name}", self.scope.node.name_span)  # type: ignore[attr-defined]
@@ -481,10 +504,8 @@ class MachineLowering(StatementLowering, BindingLowering, ExpressionLowering, Fu
         self.node_now = graph.node_ids[id(leaf)]
         cur = b
         if consume is not None:
-            if t.trigger is not None and t.trigger.kind == "?":  # bound as the transition is taken
-                var = self.model.bound_var(t.trigger)
-                cur.stmts.append(ir.Assign(t.trigger.span, self.var_ref(graph, var, t.trigger.var_span),
-                                           ir.Payload(self.machine.event(t.trigger.event).type, consume)))
+            if t.trigger is not None:  # bound as the transition is taken
+                cur.stmts += self.bindings(t.trigger, self.machine.events[consume], graph)
             cur.stmts.append(ir.Consume(t.span, consume))
         cur.stmts.append(ir.Trace(t.span, f"{t.name}: {src.name} -> {t.target}"))  # type: ignore[attr-defined]
         chain = self._chain(graph, leaf)

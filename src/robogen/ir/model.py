@@ -104,6 +104,9 @@ class Port:
     # the event or operation of the model, when the FMI name differs from it (a name FMI or
     # robogen already uses, or the name of another port: :class:`robogen.ir.ports.Ports`)
     model_name: str = ""
+    # operations: an abstract operation (a definition without nodes), whose call leaves the FMU
+    # as a platform operation's does; False for an operation the platform provides
+    abstract: bool = False
 
     @property
     def source(self) -> str:
@@ -113,12 +116,23 @@ class Port:
 
 @dataclass(eq=False)
 class Event:
-    """An event a machine reads (its input register and sample)."""
+    """An event a machine reads (its input register and sample). ``type`` is what the register
+    holds: the event's value, or with ``sender`` (a filter ``e[| x = from |]`` of the machine reads
+    the sender) a record of the value (field ``value``, if the event carries one) and the sender's
+    number (field ``from``, see :mod:`robogen.ir.bindings`), which every delivery fills in."""
 
     name: str
     type: Type | None
     index: int
     span: Span | None = None
+    sender: bool = False
+
+    @property
+    def value_type(self) -> Type | None:
+        """The type of the value the event carries (None: it carries none)."""
+        if not self.sender:
+            return self.type
+        return self.type.field("value")  # type: ignore[union-attr]
 
 
 @dataclass(eq=False)
@@ -237,10 +251,12 @@ class Payload(Expr):
 @dataclass(frozen=True)
 class BindIn(Expr):
     """``$e?x`` / ``e?x``: true if event ``event`` is present, and then its value is stored in
-    ``target`` (as a side effect of evaluating the guard)."""
+    ``target`` (as a side effect of evaluating the guard): the value itself, or ``value`` (an
+    expression of it: converted to the target's type)."""
 
     event: int
     target: Expr
+    value: "Expr | None" = None
 
 
 @dataclass(frozen=True)
@@ -296,10 +312,12 @@ class CallB(Expr):
 
 @dataclass(frozen=True)
 class CallU(Expr):
-    """A call of a user function (see :class:`UserFunction`)."""
+    """A call of a user function (see :class:`UserFunction`): ``name`` the model's, ``instance``
+    the instantiation of a generic one ('' for one without type variables)."""
 
     name: str
     args: tuple[Expr, ...]
+    instance: str = ""
 
 
 @dataclass(frozen=True)
@@ -318,14 +336,24 @@ class Coll(Expr):
 
 @dataclass(frozen=True)
 class UserFunction:
-    """A function the model declares by its contract only; the code generator takes its body
-    from the user (``--functions``), the reference interpreter a Python implementation."""
+    """A function the model declares by its contract only, whose result no postcondition pins
+    (:mod:`robogen.ir.declared`); the code generator takes its body from the user
+    (``--functions``), the reference interpreter a Python implementation."""
 
     name: str
     params: tuple[tuple[str, Type], ...]
     result: Type
     span: Span | None  # its declaration
     first_call: Span | None = None  # where the model first calls it
+    # a generic function: one UserFunction per instantiation, ``instance`` its C name part
+    # (robogen.ir.declared.type_word: ``UpdateValue__int``), ``shown`` its type variables (``?X = int``)
+    instance: str = ""
+    shown: str = ""
+
+    @property
+    def cname(self) -> str:
+        """The C function is ``rg_user_<cname>``."""
+        return self.instance or self.name
 
 
 # ============================================================================ messages

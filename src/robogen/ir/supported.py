@@ -51,6 +51,39 @@ class TaggedT(T.RecordT):
         return tuple((n, t) for n, t in self.fields[1:] if n.rsplit("_", 1)[0] == literal)
 
 
+@dataclass(frozen=True, slots=True)
+class FunMapT(T.RecordT):
+    """A function value ``D -> R`` at run time (robogen.ir.functions): a record of ``pairs``, a
+    set of (argument, result) pairs of at most one pair per argument (its finite part, in
+    canonical order), and ``base``, the number of the function value (a lambda or named function,
+    in the machine's table of function values of this type) that gives the result for every
+    argument outside ``pairs``; 0 for none (the function is the finite map ``pairs``)."""
+
+    def show(self) -> str:
+        pair = self.pair
+        return f"{_paren(pair.field('_1'))} -> {pair.field('_2').show()}"  # type: ignore[arg-type]
+
+    @property
+    def pair(self) -> TupleT:
+        t = self.fields[0][1]
+        assert isinstance(t, T.SetT) and isinstance(t.element, TupleT)
+        return t.element
+
+    @property
+    def pairs(self) -> T.SetT:
+        return T.SetT(self.pair)
+
+
+def _paren(t: T.Type) -> str:
+    return f"({t.show()})" if isinstance(t, (TupleT, FunMapT)) else t.show()
+
+
+def fun_map_type(domain: T.Type, range_: T.Type) -> FunMapT:
+    """The run-time type of function values ``domain -> range_`` (both normalised)."""
+    pair = tuple_type((domain, range_))
+    return FunMapT(f"fun({pair.qname})", (("pairs", T.SetT(pair)), ("base", T.INT)))
+
+
 def literal_conditions(t: T.Type, path: tuple[str, ...]) -> tuple[tuple[tuple[str, ...], int], ...]:
     """When the part at ``path`` of a value of type ``t`` holds an argument of an enumeration
     literal: (path of the tag, literal index) for each tagged record on the way. An input
@@ -65,50 +98,167 @@ def literal_conditions(t: T.Type, path: tuple[str, ...]) -> tuple[tuple[tuple[st
     return tuple(found) if is_scalar(t) else ()  # (an array argument is taken as it is)
 
 
-def tagged_type(t: T.EnumT, given: str) -> TaggedT:
+ENUM_DEPTH = 4  # the default depth bound of recursive enumerations (robogen compile --enum-depth)
+
+
+@dataclass(frozen=True, slots=True)
+class Unshaped(T.Type):
+    """A type that holds itself with no enumeration literal between (a record on a cycle of
+    records and collections): no finite shape. :func:`check_codegen_type` reports it."""
+
+    qname: str
+
+    def show(self) -> str:
+        return self.qname
+
+
+class Shapes:
+    """What :func:`normalise` needs to give a recursive type a finite shape: the enumerations and
+    records the model declares, in full (inside a recursive one the checker refers to it by a
+    stand-in without arguments or fields), and the depth bound.
+
+    A type on a cycle of references (an enumeration whose literal's argument holds it, directly
+    or through collections, products, records or other enumerations of the cycle) is unrolled to
+    ``depth`` levels: at level k an enumeration literal's arguments hold the types of its cycle
+    at level k - 1 (records pass their level on to their fields); at level 0 those arguments
+    are absent, so a value that needs one is deeper than the bound (a run-time error where it
+    is made: robogen.ir.expressions). Level ``depth`` keeps the type's own name, so a model's
+    variables and ports are named as without recursion; level k < depth is ``<name>@k``."""
+
+    def __init__(self, declared: dict[str, T.Type] | None = None, depth: int = ENUM_DEPTH):
+        self.declared = dict(declared or {})
+        self.depth = depth
+        self._reach: dict[str, frozenset[str]] = {}
+
+    def full(self, t: T.EnumT | T.RecordT) -> T.Type:
+        """The declaration of ``t`` (``t`` itself where the model declares none)."""
+        return self.declared.get(t.qname, t)
+
+    def reach(self, qname: str) -> frozenset[str]:
+        """The enumerations and records a value of type ``qname`` may hold, at any depth."""
+        if qname not in self._reach:
+            seen: set[str] = set()
+            todo = [qname]
+            while todo:
+                for n in _named_in(_parts_of(self.declared.get(todo.pop()))):
+                    if n not in seen:
+                        seen.add(n)
+                        todo.append(n)
+            self._reach[qname] = frozenset(seen)
+        return self._reach[qname]
+
+    def cycle(self, qname: str) -> frozenset[str]:
+        """The types on a cycle of references with ``qname`` (empty: it is not recursive)."""
+        r = self.reach(qname)
+        return frozenset(n for n in r if qname in self.reach(n)) if qname in r else frozenset()
+
+    def named(self, qname: str, level: int, cycle: frozenset[str]) -> str:
+        return qname if not cycle or level == self.depth else f"{qname}@{level}"
+
+
+_PLAIN = Shapes()
+
+
+def base_name(qname: str) -> str:
+    """The declared name of a type unrolled by :class:`Shapes` (``pkg::E@2`` -> ``pkg::E``)."""
+    return qname.split("@", 1)[0]
+
+
+def _parts_of(t: T.Type | None) -> list[T.Type]:
+    """The types a declared enumeration's arguments or record's fields have."""
+    if isinstance(t, T.EnumT):
+        return [a for args in t.literal_args for a in args]
+    if isinstance(t, T.RecordT):
+        return [ft for _, ft in t.fields]
+    return []
+
+
+def _named_in(types) -> set[str]:
+    """The enumerations and records named in ``types`` (through collections, products,
+    functions, vectors; not into their own declarations)."""
+    found: set[str] = set()
+    todo = list(types)
+    while todo:
+        t = T.single(todo.pop())
+        if isinstance(t, (T.EnumT, T.RecordT)) and not isinstance(t, TupleT):
+            found.add(t.qname)
+        elif isinstance(t, TupleT):
+            todo += [ft for _, ft in t.fields]
+        elif isinstance(t, T.ProductT):
+            todo += list(t.items)
+        elif isinstance(t, T.FunctionT):
+            todo += [t.domain, t.range]
+        elif isinstance(getattr(t, "element", None), T.Type):
+            todo.append(t.element)  # type: ignore[attr-defined]
+    return found
+
+
+def tagged_type(t: T.EnumT, given: str, shapes: Shapes = _PLAIN, level: int | None = None,
+                path: tuple = ()) -> TaggedT:
+    """The code-generation type of enumeration ``t`` (declared in full), at ``level`` of its
+    cycle (None: the top, the depth bound; see :class:`Shapes`)."""
+    cycle = shapes.cycle(t.qname)
+    level = shapes.depth if level is None else level
     tag = T.EnumT(t.qname, t.literals)
-    fields = tuple((f"{lit}_{k + 1}", normalise(at, given))
-                   for lit, args in zip(t.literals, t.literal_args) for k, at in enumerate(args))
-    return TaggedT(t.qname, (("tag", tag),) + fields)
+    fields = []
+    for lit, args in zip(t.literals, t.literal_args):
+        if level == 0 and cycle & _named_in(args):
+            continue  # no room for another level: a value of this literal is deeper than the bound
+        for k, at in enumerate(args):
+            inner = bool(cycle & _named_in([at]))
+            fields.append((f"{lit}_{k + 1}", normalise(at, given, shapes, (cycle, level - 1) if inner else None, path)))
+    return TaggedT(shapes.named(t.qname, level, cycle), (("tag", tag),) + tuple(fields))
 
 
-def normalise(t: T.Type, given: str = "int") -> T.Type:
-    """Replace given types by their concrete scalar type, and products by :class:`TupleT`,
-    recursively."""
+def normalise(t: T.Type, given: str = "int", shapes: Shapes = _PLAIN, within: tuple | None = None,
+              path: tuple = ()) -> T.Type:
+    """Replace given types by their concrete scalar type, products by :class:`TupleT`, function
+    types by :class:`FunMapT`, enumerations with arguments by :class:`TaggedT`, recursively;
+    recursive types unrolled by ``shapes`` (``within``: the cycle and level of the recursive
+    type whose parts these are; ``path``: the named types being normalised, outermost first)."""
     t = T.single(t)
+    if isinstance(t, (TupleT, TaggedT, FunMapT, Unshaped)):
+        return t  # already normalised
     if isinstance(t, T.Given):
         return T.PRIMITIVES[given]
+    if isinstance(t, (T.EnumT, T.RecordT)):
+        return _named_type(t, given, shapes, within, path)
+
+    def norm(x: T.Type) -> T.Type:
+        return normalise(x, given, shapes, within, path)
+
     if isinstance(t, T.ProductT):
-        return tuple_type(tuple(normalise(x, given) for x in t.items))
+        return tuple_type(tuple(norm(x) for x in t.items))
     if isinstance(t, T.SetT):
-        return T.SetT(normalise(t.element, given))
+        return T.SetT(norm(t.element))
     if isinstance(t, T.SeqT):
-        return T.SeqT(normalise(t.element, given))
+        return T.SeqT(norm(t.element))
     if isinstance(t, T.FunctionT) and t.relation:  # a relation is the set of its pairs
-        return T.SetT(tuple_type((normalise(t.domain, given), normalise(t.range, given))))
-    if isinstance(t, T.FunctionT):
-        return T.FunctionT(normalise(t.domain, given), normalise(t.range, given), t.relation)
-    if isinstance(t, T.RecordT):
-        return T.RecordT(t.qname, tuple((n, normalise(ft, given)) for n, ft in t.fields))
+        return T.SetT(tuple_type((norm(t.domain), norm(t.range))))
+    if isinstance(t, T.FunctionT):  # a function value: its finite part and its default (FunMapT)
+        return fun_map_type(norm(t.domain), norm(t.range))
     if isinstance(t, T.VectorT):
-        return T.VectorT(normalise(t.element, given), t.size)
+        return T.VectorT(norm(t.element), t.size)
     if isinstance(t, T.MatrixT):
-        return T.MatrixT(normalise(t.element, given), t.rows, t.columns)
-    if isinstance(t, T.EnumT) and any(t.literal_args):
-        return tagged_type(t, given)
-    if isinstance(t, T.EnumT) and t.literal_args:
-        return T.EnumT(t.qname, t.literals)
+        return T.MatrixT(norm(t.element), t.rows, t.columns)
     return t
 
 
-def _holds_enum(t: T.Type, qname: str, skip_tag: bool = False) -> bool:
-    """Whether a value of ``t`` contains one of enumeration ``qname`` (not counting the tag)."""
-    if isinstance(t, T.EnumT):
-        return t.qname == qname
-    if isinstance(t, T.RecordT):
-        return any(_holds_enum(ft, qname) for _, ft in (t.fields[1:] if skip_tag else t.fields))
-    inner = getattr(t, "element", None)
-    return inner is not None and _holds_enum(inner, qname)
+def _named_type(t: T.EnumT | T.RecordT, given: str, shapes: Shapes, within: tuple | None, path: tuple) -> T.Type:
+    """An enumeration or record (see :func:`normalise`)."""
+    full = shapes.full(t)
+    assert isinstance(full, (T.EnumT, T.RecordT))
+    level = within[1] if within is not None and full.qname in within[0] else shapes.depth
+    if (full.qname, level) in path:  # back to itself with no enumeration literal between
+        return Unshaped(full.qname)
+    path = path + ((full.qname, level),)
+    if isinstance(full, T.EnumT):
+        if any(full.literal_args):
+            return tagged_type(full, given, shapes, level, path)
+        return T.EnumT(full.qname, full.literals)
+    cycle = shapes.cycle(full.qname)
+    return T.RecordT(shapes.named(full.qname, level, cycle), tuple(
+        (n, normalise(ft, given, shapes, (cycle, level) if cycle & _named_in([ft]) else None, path)) for n, ft in full.fields))
 
 
 SCALARS = (T.NAT, T.INT, T.REAL, T.BOOLEAN)
@@ -123,9 +273,13 @@ def check_codegen_type(t: T.Type, span: Span | None, what: str) -> None:
     representation in generated code: scalars, records of them, sized vectors and matrices."""
     if is_scalar(t) or t == T.STRING:  # a string: one of the model's string literals
         return
-    if isinstance(t, TaggedT) and _holds_enum(t, t.qname, skip_tag=True):
-        raise not_supported(f"{what}: enumeration {t.qname} whose literal's argument holds a {t.qname} "
-                            "(a recursive enumeration)", span)
+    if isinstance(t, Unshaped):
+        raise not_supported(f"{what}: {t.qname} holds itself with no enumeration literal between (a value of it "
+                            "would be infinite, or a tree of collections: give the recursion an enumeration literal "
+                            "to end it)", span)
+    if isinstance(t, FunMapT):
+        check_codegen_type(t.pairs, span, f"the pairs of {what}")
+        return
     if isinstance(t, T.RecordT):
         for n, ft in t.fields:
             check_codegen_type(ft, span, f"field '{n}' of {what}")
@@ -138,11 +292,9 @@ def check_codegen_type(t: T.Type, span: Span | None, what: str) -> None:
         if t.rows is None or t.columns is None:
             raise not_supported(f"{what}: a matrix whose size is not given by integer literals", span)
         return
-    if isinstance(t, T.FunctionT) and not t.relation:  # stored as the number of a function value
-        check_codegen_type(t.domain, span, f"the domain of {what}")
-        check_codegen_type(t.range, span, f"the range of {what}")
-        return
     if isinstance(t, (T.SetT, T.SeqT)):
+        if isinstance(t.element, Unshaped):
+            check_codegen_type(t.element, span, f"the elements of {what}")
         if not (is_scalar(t.element) or isinstance(t.element, T.RecordT)):
             raise not_supported(f"{what}: a {T.form(t)[2:]} of {t.element.show()} (elements of collections are "
                                 "numbers, booleans, enumerations, records or tuples)", span)
@@ -155,5 +307,5 @@ def is_collection(t: T.Type) -> bool:
     return isinstance(t, (T.SetT, T.SeqT))
 
 
-__all__ = ["not_supported", "normalise", "is_scalar", "is_collection", "check_codegen_type", "SCALARS", "TupleT",
+__all__ = ["ENUM_DEPTH", "Shapes", "base_name", "FunMapT", "fun_map_type", "not_supported", "normalise", "is_scalar", "is_collection", "check_codegen_type", "SCALARS", "TupleT",
            "tuple_type"]

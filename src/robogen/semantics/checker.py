@@ -154,6 +154,8 @@ class Checker:
         else:  # pragma: no cover
             result = T.UNKNOWN
         self._decl_types[id(node)] = result
+        if isinstance(result, (T.EnumT, T.RecordT)):
+            self.tables.declared[decl.qname] = result
         return result
 
     def file_literals(self, f: ast.File) -> dict[str, EnumLitSym]:

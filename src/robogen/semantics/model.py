@@ -381,6 +381,9 @@ class Tables:
     type_exprs: dict[int, tuple[ast.TypeExpr, Type]] = field(default_factory=dict)
     # comparisons whose value the operands' types decide: id(node) -> value (robogen.semantics.limits)
     comparisons: dict[int, bool] = field(default_factory=dict)
+    # the enumerations and records declared, by qualified name, in full: inside a recursive one
+    # the checker refers to it by a stand-in without literals' arguments or fields
+    declared: dict[str, Type] = field(default_factory=dict)
 
     def type_of(self, e: ast.Expr) -> Type:
         return self.types.get(id(e), UNKNOWN)
@@ -390,6 +393,9 @@ class Tables:
 
     def bound_var(self, node: ast.Node):
         return self.refs.get(("bind", id(node)))
+
+    def sender_var(self, node: ast.Node):
+        return self.refs.get(("from", id(node)))
 
 
 @dataclass(frozen=True, eq=False)
@@ -439,6 +445,10 @@ class SemanticModel:
     def bound_var(self, node: ast.Node) -> VarSym | None:
         """The variable an input ``e?x`` or ``$e?x`` stores the event's value in."""
         return self.tables.bound_var(node)
+
+    def sender_var(self, node: ast.Communication) -> VarSym | None:
+        """The variable a filter ``e[| x = from |]`` stores the sender in."""
+        return self.tables.sender_var(node)
 
     def communications(self, body: MachineScope) -> Iterator[EventUse]:
         """The RoboChart communications of a machine's or operation's body, each with its event,

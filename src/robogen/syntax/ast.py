@@ -698,6 +698,9 @@ class File(Node):
     package: Name | None
     imports: tuple[Import, ...]
     items: tuple[Node, ...]
+    # warnings about the text (an obsolete form read as its current one: robogen.syntax.transform_obsolete);
+    # like spans, not part of the tree's equality
+    notices: tuple = field(default=(), compare=False, hash=False, repr=False, kw_only=True)
 
 
 # Containers whose members are state-machine bodies.

@@ -8,7 +8,7 @@
 #include <stdint.h>
 
 #define RG_MODEL_IDENTIFIER "Fun"
-#define RG_INSTANTIATION_TOKEN "{b134820e-b2f1-93db-6341-759de3dcd345}"
+#define RG_INSTANTIATION_TOKEN "{3d55a4d7-c34b-0c1e-2c0f-c801ddf67096}"
 #define RG_NUM_VARIABLES 14
 #define RG_NUM_CLOCKS 5
 #define RG_MIGHT_RETURN_EARLY 0
@@ -22,6 +22,20 @@
 #define RG_HAS_UPDATE  /* a stepwise cycle, or an event waiting, needs another instant */
 
 /* ---- types of the model ---------------------------------------------------------------- */
+
+/* datatype tuple(nat,int) */
+typedef struct {
+    uint64_t _1;
+    int64_t _2;
+} rg_tup2_u_i;
+
+typedef struct { uint64_t n; rg_tup2_u_i a[32]; } rg_set_tup2_u_i;  /* Set(nat * int): a set (ascending, no duplicates) of at most 32 elements */
+
+/* a function value nat -> int: its pairs and its default */
+typedef struct {
+    rg_set_tup2_u_i pairs;
+    int64_t base;
+} rg_fun_tup2_u_i;
 
 /* ---- memory of each state machine ------------------------------------------------------ */
 
@@ -58,7 +72,7 @@ typedef struct {
     uint64_t reg_e_use, smp_e_use;  /* the value of use */
     int64_t reg_e_applied, smp_e_applied;  /* the value of applied */
     int64_t reg_e_product, smp_e_product;  /* the value of product */
-    int64_t v_f;  /* var f */
+    rg_fun_tup2_u_i v_f;  /* var f */
     uint64_t v_n;  /* var n */
 } rg_machine_0;
 

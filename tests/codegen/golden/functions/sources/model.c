@@ -14,12 +14,110 @@
 /* The run-time errors of the set and sequence operations: two per operation (its result would
  * exceed the capacity of 32 elements; it needs an element of an empty collection). */
 static const char *const rg_sites[] = {
-    "function variable 'f' applied before it has a value at functions.rct:30",
+    "more than 32 elements (the capacity) in {} at functions.rct:26",
+    "",
+    "more than 32 elements (the capacity) in {} at functions.rct:27",
+    "",
+    "more than 32 elements (the capacity) in {} at functions.rct:28",
+    "",
+    "more than 32 elements (the capacity) in {(| 2, 100 |), (| 3, -3 |)} at functions.rct:28",
+    "",
+    "more than 32 elements (the capacity) in override(lambda x: nat @ x + 1, {(| 2, 100 |), (| 3, -3 |)}) at functions.rct:28",
+    "",
+    "",
+    "",
+    "",
+    "f(n) outside the function's domain at functions.rct:30",
+    "function variable 'f' applied outside its domain (or before it has a value) at functions.rct:30",
+    "",
+    "more than 32 elements (the capacity) in {} at functions.rct:21",
     "",
 };
 #define RG_FAULT_MESSAGE(d) ((d)->fault == RG_FAULT_COLLECTION ? rg_sites[(d)->fault_site] : rg_fault_text((d)->fault))
 
 /* ---- the set and sequence operations of the model (robogen.ir.collections) ---------------- */
+
+static int rg_cmp_u(uint64_t a, uint64_t b) RG_MAYBE_UNUSED;
+static int rg_cmp_u(uint64_t a, uint64_t b)
+{
+    return (a > b) - (a < b);
+}
+
+static int rg_cmp_i(int64_t a, int64_t b) RG_MAYBE_UNUSED;
+static int rg_cmp_i(int64_t a, int64_t b)
+{
+    return (a > b) - (a < b);
+}
+
+static int rg_cmp_tup2_u_i(rg_tup2_u_i a, rg_tup2_u_i b) RG_MAYBE_UNUSED;
+static int rg_cmp_tup2_u_i(rg_tup2_u_i a, rg_tup2_u_i b)
+{
+    int c;
+    if ((c = rg_cmp_u(a._1, b._1)) != 0) return c;
+    if ((c = rg_cmp_i(a._2, b._2)) != 0) return c;
+    return 0;
+}
+
+static void rg_insert_set_tup2_u_i(rg_model_data *d, int32_t site, rg_set_tup2_u_i *s, rg_tup2_u_i x) RG_MAYBE_UNUSED;
+static void rg_insert_set_tup2_u_i(rg_model_data *d, int32_t site, rg_set_tup2_u_i *s, rg_tup2_u_i x)
+{
+    uint64_t i, j;
+    int c = 1;
+    for (i = 0; i < s->n; i++)
+        if ((c = rg_cmp_tup2_u_i(s->a[i], x)) >= 0) break;
+    if (i < s->n && c == 0) return;
+    if (s->n >= 32) { d->fault = RG_FAULT_COLLECTION; d->fault_site = site; return; }
+    for (j = s->n; j > i; j--) s->a[j] = s->a[j - 1];
+    s->a[i] = x;
+    s->n++;
+}
+
+static rg_set_tup2_u_i rg_make_set_tup2_u_i(rg_model_data *d, int32_t site, uint64_t n, const rg_tup2_u_i *items) RG_MAYBE_UNUSED;
+static rg_set_tup2_u_i rg_make_set_tup2_u_i(rg_model_data *d, int32_t site, uint64_t n, const rg_tup2_u_i *items)
+{
+    uint64_t i;
+    rg_set_tup2_u_i s;
+    memset(&s, 0, sizeof s);
+    for (i = 0; i < n; i++) rg_insert_set_tup2_u_i(d, site, &s, items[i]);
+    return s;
+}
+
+static rg_set_tup2_u_i rg_roverride_set_tup2_u_i_set_tup2_u_i(rg_model_data *d, int32_t site, rg_set_tup2_u_i a, rg_set_tup2_u_i b) RG_MAYBE_UNUSED;
+static rg_set_tup2_u_i rg_roverride_set_tup2_u_i_set_tup2_u_i(rg_model_data *d, int32_t site, rg_set_tup2_u_i a, rg_set_tup2_u_i b)
+{
+    uint64_t i, j;
+    rg_set_tup2_u_i r;
+    memset(&r, 0, sizeof r);
+    (void)d; (void)site; (void)j;
+    for (i = 0; i < b.n && !d->fault; i++) rg_insert_set_tup2_u_i(d, site, &r, b.a[i]);
+    for (i = 0; i < a.n && !d->fault; i++) {
+        for (j = 0; j < b.n; j++) if (rg_cmp_u(b.a[j]._1, a.a[i]._1) == 0) break;
+        if (j == b.n) rg_insert_set_tup2_u_i(d, site, &r, a.a[i]);
+    }
+    return r;
+}
+
+static bool rg_haskey_set_tup2_u_i_u(rg_model_data *d, int32_t site, rg_set_tup2_u_i a, uint64_t b) RG_MAYBE_UNUSED;
+static bool rg_haskey_set_tup2_u_i_u(rg_model_data *d, int32_t site, rg_set_tup2_u_i a, uint64_t b)
+{
+    uint64_t i;
+    bool r;
+    memset(&r, 0, sizeof r);
+    for (i = 0; i < a.n; i++) if (rg_cmp_u(a.a[i]._1, b) == 0) return true;
+    (void)d; (void)site;
+    return r;
+}
+
+static int64_t rg_at_set_tup2_u_i_u(rg_model_data *d, int32_t site, rg_set_tup2_u_i a, uint64_t b) RG_MAYBE_UNUSED;
+static int64_t rg_at_set_tup2_u_i_u(rg_model_data *d, int32_t site, rg_set_tup2_u_i a, uint64_t b)
+{
+    uint64_t i;
+    int64_t r;
+    memset(&r, 0, sizeof r);
+    for (i = 0; i < a.n; i++) if (rg_cmp_u(a.a[i]._1, b) == 0) return a.a[i]._2;
+    d->fault = RG_FAULT_COLLECTION; d->fault_site = site + 1;
+    return r;
+}
 
 static int64_t rg_undefined_i(rg_model_data *d, int32_t site) RG_MAYBE_UNUSED;
 static int64_t rg_undefined_i(rg_model_data *d, int32_t site)
@@ -133,12 +231,15 @@ static int rg_run_0(rg_instance *inst)
             m->smp_present[Fun_Event_set] = false;
             RG_TRACE(inst, "Fun: t1: Idle -> Idle");
             if (m->v_n == UINT64_C(0)) {
-                m->v_f = INT64_C(2);
+                m->v_f = ((rg_fun_tup2_u_i){ .pairs = rg_make_set_tup2_u_i(d, 0, 0, NULL), .base = INT64_C(2) });
+                if (d->fault) return rg_fault_0(inst);
             } else {
                 if (m->v_n == UINT64_C(1)) {
-                    m->v_f = INT64_C(3);
+                    m->v_f = ((rg_fun_tup2_u_i){ .pairs = rg_make_set_tup2_u_i(d, 2, 0, NULL), .base = INT64_C(3) });
+                    if (d->fault) return rg_fault_0(inst);
                 } else {
-                    m->v_f = INT64_C(4);
+                    m->v_f = ((rg_fun_tup2_u_i){ .pairs = rg_roverride_set_tup2_u_i_set_tup2_u_i(d, 8, rg_make_set_tup2_u_i(d, 4, 0, NULL), rg_make_set_tup2_u_i(d, 6, 2, (const rg_tup2_u_i[]){ ((rg_tup2_u_i){ ._1 = UINT64_C(2), ._2 = INT64_C(100) }), ((rg_tup2_u_i){ ._1 = UINT64_C(3), ._2 = rg_u_to_i(((uint64_t)rg_i_neg(INT64_C(3)))) }) })), .base = INT64_C(2) });
+                    if (d->fault) return rg_fault_0(inst);
                 }
             }
             RG_ENTER(Fun_Node_Idle);
@@ -149,7 +250,7 @@ static int rg_run_0(rg_instance *inst)
             m->smp_present[Fun_Event_use] = false;
             RG_TRACE(inst, "Fun: t2: Idle -> Idle");
             {
-                int64_t a0_ = ((m->v_f == INT64_C(1)) ? rg_u_to_i(m->v_n) : ((m->v_f == INT64_C(2)) ? rg_u_to_i(rg_u_add(m->v_n, UINT64_C(1))) : ((m->v_f == INT64_C(3)) ? rg_i_sub(rg_u_to_i(rg_u_mul(m->v_n, UINT64_C(10))), INT64_C(5)) : ((m->v_f == INT64_C(4)) ? rg_u_to_i(((rg_u_to_i(m->v_n) == INT64_C(2)) ? UINT64_C(100) : ((rg_u_to_i(m->v_n) == INT64_C(3)) ? ((uint64_t)rg_i_neg(INT64_C(3))) : rg_u_add(m->v_n, UINT64_C(1))))) : rg_undefined_i(d, 0)))));
+                int64_t a0_ = (rg_haskey_set_tup2_u_i_u(d, 10, m->v_f.pairs, m->v_n) ? rg_at_set_tup2_u_i_u(d, 12, m->v_f.pairs, m->v_n) : ((m->v_f.base == INT64_C(1)) ? rg_u_to_i(m->v_n) : ((m->v_f.base == INT64_C(2)) ? rg_u_to_i(rg_u_add(m->v_n, UINT64_C(1))) : ((m->v_f.base == INT64_C(3)) ? rg_i_sub(rg_u_to_i(rg_u_mul(m->v_n, UINT64_C(10))), INT64_C(5)) : rg_undefined_i(d, 14)))));
                 if (d->fault) return rg_fault_0(inst);
                 d->out_applied_value = a0_;
                 rg_activate_output_clock(inst, CLOCK_applied);
@@ -178,7 +279,11 @@ static fmi3Status rg_model_exit_initialization(rg_instance *inst)
     rg_model_data *d = &inst->s.data;
     {
         rg_machine_0 *m = &d->m0;
-        m->v_f = INT64_C(1);  /* initial value of f */
+        m->v_f = ((rg_fun_tup2_u_i){ .pairs = rg_make_set_tup2_u_i(d, 16, 0, NULL), .base = INT64_C(1) });  /* initial value of f */
+        if (d->fault) {
+            rg_log(inst, RG_LOG_ERROR, fmi3Error, "initial value of f: %s", RG_FAULT_MESSAGE(d));
+            return fmi3Error;
+        }
         m->v_n = UINT64_C(0);  /* initial value of n */
     }
     return fmi3OK;
