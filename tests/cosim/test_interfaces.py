@@ -262,3 +262,22 @@ def test_a_triggered_partition_runs_at_its_clocks_tick_first_by_priority(write_s
     seqs = {t: (r["s.kick_seq"], r["s.slow_seq"], r["s.fast_seq"]) for t, r in rows.items()}
     assert seqs == {0.0: (1, 2, 3), 0.1: (1, 2, 4), 0.2: (1, 2, 5), 0.25: (6, 2, 5), 0.3: (6, 7, 8), 0.4: (6, 7, 9),
                     0.5: (10, 7, 11)}
+
+
+@pytest.mark.parametrize("loop", ["Python", "C"])
+def test_a_countdown_partition_runs_when_its_interval_runs_out(write_system, monkeypatch, loop):
+    # delay = 0.05: each activation of slow (t = 0, 0.3, 0.6) announces later's interval (clockUpdate,
+    # then fmi3GetIntervalDecimal: 0.05), so later ticks at 0.05 and 0.35 (0.65 is past the stop),
+    # between the communication points. By hand: at 0 slow 1, fast 2; at 0.05 later 3; at 0.1, 0.2
+    # fast 4, 5; at 0.3 slow 6, fast 7; at 0.35 later 8; at 0.4, 0.5 fast 9, 10; at 0.6 slow 11, fast 12.
+    if loop == "Python":
+        monkeypatch.setenv("ROBOGEN_REFERENCE_LOOP", "1")
+    result = simulate_system(write_system(system("sched3", 0.6, 0.1, tolerance=None, extra="start = { delay = 0.05 }\n",
+                                                 record='["p.slow_seq", "p.fast_seq", "p.later_seq", "p.later_at"]')))
+    assert result.stats.loop == loop
+    rows = by_time(result)
+    seqs = {t: (r["p.slow_seq"], r["p.fast_seq"], r["p.later_seq"]) for t, r in rows.items()}
+    assert seqs == {0.0: (1, 2, 0), 0.05: (1, 2, 3), 0.1: (1, 4, 3), 0.2: (1, 5, 3), 0.3: (6, 7, 3), 0.35: (6, 7, 8),
+                    0.4: (6, 9, 8), 0.5: (6, 10, 8), 0.6: (11, 12, 8)}
+    later = sorted({r["p.later_at"] for r in rows.values() if r["p.later_at"] > 0})
+    assert later == pytest.approx([0.05, 0.35], abs=1e-12)

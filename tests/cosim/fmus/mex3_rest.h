@@ -259,8 +259,19 @@ FMI3_Export fmi3Status fmi3ExitConfigurationMode(fmi3Instance i) { return fail((
 FMI3_Export fmi3Status fmi3GetIntervalDecimal(fmi3Instance i, const fmi3ValueReference v[], size_t n, fmi3Float64 x[],
                                               fmi3IntervalQualifier q[])
 {
+#ifdef MODEL_INTERVALS
+    Instance *c = (Instance *)i;
+    size_t k;
+    for (k = 0; k < n; k++) {
+        int known = model_interval(&c->m, v[k], &x[k]);
+        if (known < 0) return fail(c, "fmi3GetIntervalDecimal: not a countdown clock");
+        q[k] = known ? fmi3IntervalChanged : fmi3IntervalNotYetKnown;
+    }
+    return fmi3OK;
+#else
     (void)v; (void)n; (void)x; (void)q;
     return fail((Instance *)i, "no clock with an interval to ask for");
+#endif
 }
 FMI3_Export fmi3Status fmi3GetIntervalFraction(fmi3Instance i, const fmi3ValueReference v[], size_t n, fmi3UInt64 c[],
                                                fmi3UInt64 r[], fmi3IntervalQualifier q[])

@@ -11,6 +11,9 @@
  *   model_step_event(m, t)       after an integrator step: whether to enter Event Mode
  *   model_partition(m, vr, t)    Scheduled Execution: the partition of input clock vr at t
  *   model_outputs(m, t)          (optional, #define MODEL_OUTPUTS) the outputs, before they are read
+ *   model_interval(m, vr, &x)    (optional, #define MODEL_INTERVALS) FMI 3.0: a countdown clock's
+ *                                interval, once announced (1: x set, the interval changed; 0: not
+ *                                known; -1: vr is not a countdown clock)
  *   model_async_polls(m)         (optional, #define MODEL_ASYNC) FMI 2.0 Co-Simulation: fmi2DoStep
  *                                returns fmi2Pending, fmi2GetStatus says so this many times more
  *   CS_STEP                      Co-Simulation: the internal step (classic Runge-Kutta; an event

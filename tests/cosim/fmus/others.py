@@ -44,7 +44,9 @@ SCHED = [("Clock", "fast", 1, "input", "discrete", ("0.1", 2)), ("Clock", "slow"
          integer("seq", 3, "output"), integer("fast_seq", 4, "output"), integer("slow_seq", 5, "output"),
          integer("fast_n", 6, "output"), integer("slow_n", 7, "output"), ("Float64", "y_fast", 8, "output", "discrete", 1),
          ("Int64", "y_slow", 9, "output", "discrete", 2), ("Clock", "kick", 10, "input", "discrete", (None, 0)),
-         integer("kick_seq", 11, "output")]
+         integer("kick_seq", 11, "output"), ("Clock", "later", 12, "input", "discrete", ("countdown", 3)),
+         real("delay", 13, "parameter", "0", "fixed"), integer("later_seq", 14, "output"),
+         ("Float64", "later_at", 15, "output", "discrete", None)]
 
 ARRAYS = [real("x", 1, "output", "0"), Variable("n", 2, "UInt64", "structuralParameter", "fixed", start=("3",)),
           Variable("y", 3, "Float64", "output", "continuous", dimensions=(Dimension(value_reference=2),))]
@@ -88,8 +90,9 @@ def _variable3(spec) -> Variable:
     fmi_type = "Float64" if kind == "Real" else kind
     if fmi_type == "Clock":
         interval, priority = extra
-        if interval is None:
-            return Variable(name, vr, "Clock", causality, "discrete", interval_variability="triggered", priority=priority)
+        if interval is None or interval == "countdown":
+            return Variable(name, vr, "Clock", causality, "discrete", interval_variability=interval or "triggered",
+                            priority=priority)
         return Variable(name, vr, "Clock", causality, "discrete", interval_variability="constant", interval_decimal=interval,
                         shift_decimal="0", priority=priority)
     clocked = fmi_type != "Enumeration" and isinstance(extra, int) and variability == "discrete"
