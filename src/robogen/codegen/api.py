@@ -21,8 +21,9 @@ from typing import Iterable, Mapping, Sequence
 
 from robogen.codegen import binary
 from robogen.codegen.generate import CodegenOptions, Generated, generate
-from robogen.diagnostics import RobogenError, Span, error
+from robogen.diagnostics import RobogenError, error
 from robogen.fmu.archive import write_fmu
+from robogen.fmu.builddesc import read_build_description_file
 from robogen.fmu.platforms import HOST, Platform
 from robogen.ir import model as ir
 from robogen.ir.boundary import Boundary, select_boundary
@@ -114,21 +115,10 @@ def _inputs(paths: Sequence[str | os.PathLike], codegen: CodegenOptions | None) 
 def model_identifier_of(folder: Path) -> str:
     """The modelIdentifier of an unpacked FMU folder written earlier (`robogen package
     SOURCE_DIR`), from its buildDescription.xml."""
-    from xml.etree import ElementTree
-
     path = folder / "sources" / "buildDescription.xml"
     if not path.is_file():
         raise RobogenError(error(f"{folder} is not an FMU source folder: sources/buildDescription.xml is missing", None))
-    try:
-        root = ElementTree.parse(path).getroot()
-        config = root.find("BuildConfiguration")
-        ident = config.get("modelIdentifier") if config is not None else None
-    except ElementTree.ParseError as exc:
-        line, col = exc.position
-        raise RobogenError(error(f"malformed XML: {exc}", Span.point(str(path), line, col + 1))) from None
-    if not ident:
-        raise RobogenError(error("no BuildConfiguration with a modelIdentifier", Span.whole_file(str(path))))
-    return ident
+    return read_build_description_file(path).model_identifier
 
 
 def build_fmu(folder: str | os.PathLike, output: str | os.PathLike, *, model_identifier: str | None = None,

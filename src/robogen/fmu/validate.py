@@ -21,6 +21,7 @@ from lxml import etree
 
 from robogen.diagnostics import Diagnostic, DiagnosticSink, RobogenError, Span, _sort_key
 from robogen.fmu.binaries import BinaryError, read_binary
+from robogen.fmu.builddesc import read_build_description
 from robogen.fmu.extract import check_archive, extract_fmu
 from robogen.fmu.headers import include_dir, schema_dir
 from robogen.fmu.platforms import HOST, Platform, parse_tuple
@@ -329,30 +330,28 @@ def _article(word: str) -> str:
 
 def _check_build_description(data: bytes, display: str, md: ModelDescription, folder: Path, sink: DiagnosticSink) -> None:
     _check_xsd(data, display, "fmi3BuildDescription.xsd", sink)
-    root = parse_xml(data, display).getroot()
-    at = lambda el: Span.point(display, el.sourceline or 1)  # noqa: E731
-    if root.get("fmiVersion") != md.fmi_version:
-        sink.error(f"buildDescription fmiVersion=\"{root.get('fmiVersion')}\" differs from the model description's \"{md.fmi_version}\"", at(root))
-    configs = root.findall("BuildConfiguration")
+    bd = read_build_description(data, display)
+    if bd.fmi_version != md.fmi_version:
+        sink.error(f"buildDescription fmiVersion=\"{bd.fmi_version}\" differs from the model description's \"{md.fmi_version}\"", bd.at(bd.line))
+    configs = bd.configurations
     if not configs:
-        sink.error("no <BuildConfiguration>", at(root))
-    if sum(1 for c in configs if c.get("platform") is None) > 1:
-        sink.error("more than one <BuildConfiguration> without platform=", at(root))
+        sink.error("no <BuildConfiguration>", bd.at(bd.line))
+    if sum(1 for c in configs if c.platform is None) > 1:
+        sink.error("more than one <BuildConfiguration> without platform=", bd.at(bd.line))
     if len(configs) > 1:
-        sink.warning("several <BuildConfiguration>s: fmpy compile reads only the first", at(configs[1]))
+        sink.warning("several <BuildConfiguration>s: fmpy compile reads only the first", bd.at(configs[1].line))
     idents = {md.co_simulation.model_identifier} if md.co_simulation else set()
     for c in configs:
-        if idents and c.get("modelIdentifier") not in idents:
-            sink.error(f"<BuildConfiguration modelIdentifier=\"{c.get('modelIdentifier')}\"> matches no interface's modelIdentifier", at(c))
-        sets = c.findall("SourceFileSet")
-        if len(sets) > 1:
-            sink.warning("several <SourceFileSet>s: fmpy compile reads only the first", at(sets[1]))
-        for s in sets:
-            for f in s.findall("SourceFile"):
-                if not (folder / "sources" / (f.get("name") or "")).is_file():
-                    sink.error(f"<SourceFile name=\"{f.get('name')}\"> is not in sources/", at(f))
-            for d in s.findall("PreprocessorDefinition"):
-                if d.get("name") == "FMI3_FUNCTION_PREFIX":
-                    sink.error("FMI3_FUNCTION_PREFIX must not be defined: a shared object exports unprefixed names", at(d))
-                elif d.get("value") is None:
-                    sink.warning(f"<PreprocessorDefinition name=\"{d.get('name')}\"> has no value (fmpy passes it as {d.get('name')}=None)", at(d))
+        if idents and c.model_identifier not in idents:
+            sink.error(f"<BuildConfiguration modelIdentifier=\"{c.model_identifier}\"> matches no interface's modelIdentifier", bd.at(c.line))
+        if len(c.source_sets) > 1:
+            sink.warning("several <SourceFileSet>s: fmpy compile reads only the first", bd.at(c.source_sets[1].line))
+        for s in c.source_sets:
+            for name, line in s.files:
+                if not (folder / "sources" / (name or "")).is_file():
+                    sink.error(f"<SourceFile name=\"{name}\"> is not in sources/", bd.at(line))
+            for d in s.definitions:
+                if d.name == "FMI3_FUNCTION_PREFIX":
+                    sink.error("FMI3_FUNCTION_PREFIX must not be defined: a shared object exports unprefixed names", bd.at(d.line))
+                elif d.value is None:
+                    sink.warning(f"<PreprocessorDefinition name=\"{d.name}\"> has no value (fmpy passes it as {d.name}=None)", bd.at(d.line))

@@ -302,12 +302,6 @@ class Workspace:
         names += [d.name for _, d in singles if d.is_a(kinds)]
         return names
 
-    def file_of(self, node: ast.Node) -> ast.File | None:
-        for f in self.files:
-            if any(item is node for item in f.items):
-                return f
-        return None
-
     def decls(self, kinds: tuple[type, ...]) -> list[Decl]:
         out = []
         for f in self.files:
