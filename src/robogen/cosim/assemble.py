@@ -25,7 +25,7 @@ from robogen.cosim.proxy import ProxyBinding
 from robogen.cosim.recorder import Recorder
 from robogen.cosim.system import Link, System, load_system, record_list, resolve
 from robogen.diagnostics import Diagnostic, DiagnosticSink, Note, RobogenError, SourceMap, Span, render, warning
-from robogen.fmu.extract import extract_fmu
+from robogen.fmu.extract import extract_fmu, needed_to_run
 from robogen.cosim.clocks import PERIODIC
 from robogen.fmu.fmi import TIME_ULPS, resolvable, time_resolution
 from robogen.fmu.headers import FMI2_PLATFORM, PLATFORM_TUPLE
@@ -155,7 +155,7 @@ class FmuCache:
         if key not in self.folders:
             if not fmu.is_file():
                 raise RobogenError.at(f"FMU file not found: {fmu}", span)
-            folder = extract_fmu(fmu, self.root / str(len(self.folders)))
+            folder = extract_fmu(fmu, self.root / str(len(self.folders)), wanted=needed_to_run)
             self.folders[key] = folder
             self.models[key] = load_model_description(folder, f"{fmu}/modelDescription.xml")
         return self.folders[key], self.models[key]

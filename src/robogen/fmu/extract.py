@@ -7,7 +7,8 @@ member count and the total unpacked size are capped, and the bytes actually writ
 (a ZIP header can lie about sizes). Files are created with ``O_EXCL`` below the destination
 folder only, so nothing is ever written outside it. A member that the ZIP directory lists twice
 (as some zip writers do, CMake's among them) is accepted when both copies hold the same bytes and
-refused when they differ.
+refused when they differ. The master extracts only what it runs an FMU from (:func:`needed_to_run`:
+the description, ``binaries/`` and ``resources/``), not the sources or documentation.
 """
 
 from __future__ import annotations
@@ -19,6 +20,7 @@ import tempfile
 import zipfile
 from dataclasses import dataclass
 from pathlib import Path
+from typing import Callable
 
 from robogen.diagnostics import RobogenError, Span, error
 
@@ -83,8 +85,20 @@ def check_archive(path: str | Path, limits: Limits = Limits()) -> list:
     return problems
 
 
-def extract_fmu(path: str | Path, destination: str | Path | None = None, limits: Limits = Limits()) -> Path:
-    """Unpack the FMU at ``path`` into ``destination`` (a new temporary folder when None).
+#: The members an importer runs an FMU from: its description, binaries and resources (not its
+#: sources, documentation, icons or extra files).
+RUN_FOLDERS = ("binaries/", "resources/")
+
+
+def needed_to_run(name: str) -> bool:
+    """Whether an importer that runs the FMU needs the archive member ``name``."""
+    return name == "modelDescription.xml" or name.startswith(RUN_FOLDERS)
+
+
+def extract_fmu(path: str | Path, destination: str | Path | None = None, limits: Limits = Limits(),
+                wanted: Callable[[str], bool] | None = None) -> Path:
+    """Unpack the FMU at ``path`` into ``destination`` (a new temporary folder when None): every
+    member, or those ``wanted`` accepts (all are checked; see :func:`needed_to_run`).
 
     Raises RobogenError naming the archive and the offending member; on failure the partially
     written destination is left for the caller to remove (it only holds checked members).
@@ -102,6 +116,8 @@ def extract_fmu(path: str | Path, destination: str | Path | None = None, limits:
     written = 0
     with zipfile.ZipFile(path) as z:
         for info in z.infolist():
+            if wanted is not None and not wanted(info.filename):
+                continue
             target = root.joinpath(*info.filename.rstrip("/").split("/"))
             if root not in target.resolve().parents and target.resolve() != root:
                 raise RobogenError.at(f"unsafe archive member '{info.filename}': resolves outside the extraction folder", Span.whole_file(display))
