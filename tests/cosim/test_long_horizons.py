@@ -65,9 +65,14 @@ def test_robogen_simulate_runs_a_long_horizon_until_interrupted(write_system, pu
     (tmp_path / "tmp").mkdir(exist_ok=True)
     proc = subprocess.Popen([sys.executable, "-m", "robogen", "simulate", str(path), "-o", "r.csv"], cwd=tmp_path, text=True,
                             stdout=subprocess.PIPE, stderr=subprocess.PIPE, env={**os.environ, "TMPDIR": str(tmp_path / "tmp")})
-    deadline = time.monotonic() + 60
-    while time.monotonic() < deadline and not any(p.stat().st_size > 4096 for p in tmp_path.glob(".r.csv.*.tmp")):
+    # interrupted once it has recorded rows (about 2 s after it starts; a loaded machine may take
+    # over a minute to start the process, so the wait is for the rows, not for a fixed time)
+    deadline = time.monotonic() + 300
+    while not any(p.stat().st_size > 4096 for p in tmp_path.glob(".r.csv.*.tmp")):
         assert proc.poll() is None, proc.communicate()  # accepted: it runs
+        if time.monotonic() > deadline:
+            proc.kill()
+            pytest.fail(f"no rows recorded in 300 s: {proc.communicate()}")
         time.sleep(0.1)
     proc.send_signal(signal.SIGINT)
     _, err = proc.communicate(timeout=60)
