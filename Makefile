@@ -5,7 +5,9 @@ PYTHON ?= python3
 VENV   := .venv
 PY     := $(VENV)/bin/python
 STAMP  := $(VENV)/.robogen-installed
-PYTEST_ARGS ?=
+# The suite runs on every core (pytest-xdist), each test file whole on one worker so that its
+# module fixtures (built FMUs) are built once; PYTEST_ARGS= runs it in one process.
+PYTEST_ARGS ?= -n auto --dist loadfile
 
 .PHONY: all venv test demo bench campaign clean golden runners
 

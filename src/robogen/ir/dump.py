@@ -34,7 +34,7 @@ def dump(fmu: ir.Fmu) -> str:
         out.append(machine(m))
     text = "\n".join(out) + "\n"
     if "Set(" in text or "Seq(" in text:  # the capacity of collections is part of the model's meaning
-        text = text.replace("\n", f"\n  capacity {fmu.capacity}\n", 1)
+        text = text.replace("\n", f"\n  capacity {','.join(map(str, fmu.levels))}\n", 1)
     return text
 
 
@@ -185,4 +185,15 @@ def expr(e: ir.Expr | None) -> str:
         return f"{e.name}({', '.join(expr(a) for a in e.args)})"
     if isinstance(e, ir.Coll):
         return f"{e.op}<{e.type.show()}>({', '.join(expr(a) for a in e.args)}) @{_line(e.span)}"
+    if isinstance(e, ir.Quant):
+        domains = ", ".join(_domain(d) for d in e.domains)
+        return f"({e.kind} {domains} | {expr(e.pred) if e.pred is not None else 'true'} @ {expr(e.body)}) @{_line(e.span)}"
     return f"<{type(e).__name__}>"
+
+
+def _domain(d: ir.Domain) -> str:
+    if d.kind == "set":
+        return f"{d.var.name} in{' nat' if d.natural else ''} {expr(d.set)}"
+    if d.kind == "range":
+        return f"{d.var.name} in {expr(d.low)}..{expr(d.high)}"
+    return f"{d.var.name}: every {d.var.type.show()}"

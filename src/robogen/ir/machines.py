@@ -16,8 +16,10 @@ from typing import Any, Generator
 
 from robogen.diagnostics import DiagnosticSink, Note, RobogenError, Span, did_you_mean
 from robogen.ir import model as ir
+from robogen.ir.binders import BinderLowering
 from robogen.ir.bindings import BindingLowering, sender_events, sender_type
 from robogen.ir.boundary import Boundary
+from robogen.ir.derived import DerivedLowering
 from robogen.ir.constants import constant_value, default_value, parse_setting, shown
 from robogen.ir.expressions import ExpressionLowering
 from robogen.ir.region_tree import Graph, place_of, state_action
@@ -98,7 +100,8 @@ def drive(steps: Steps):
     return value
 
 
-class MachineLowering(StatementLowering, BindingLowering, ExpressionLowering, FunctionValues, DeclaredFunctions):
+class MachineLowering(StatementLowering, BindingLowering, BinderLowering, DerivedLowering, ExpressionLowering, FunctionValues,
+                      DeclaredFunctions):
     def __init__(self, ctx: FmuContext, scope: MachineScope, ctrl: Controller | None, index: int, used_name: str,
                  name: str | None = None):
         """``name``: the machine's name in the FMU (its own, or its instance path where two

@@ -335,6 +335,40 @@ class Coll(Expr):
 
 
 @dataclass(frozen=True)
+class Domain:
+    """The values a bound variable ``var`` of a quantifier or set comprehension takes, in order
+    (robogen.ir.finite): ``set``, the elements of a set (``natural``: only those not negative, for
+    a ``nat`` variable over integers); ``range``, the integers ``low`` to ``high`` (both ``int``);
+    ``values``, every value of the variable's finite type (an enumeration's literals, false then
+    true)."""
+
+    var: Var
+    kind: str  # set, range, values
+    set: Expr | None = None
+    low: Expr | None = None
+    high: Expr | None = None
+    natural: bool = False
+
+
+@dataclass(frozen=True)
+class Quant(Expr):
+    """``forall``, ``exists``, ``exists1``, ``the`` (``the x: T | p @ e``: ``e`` for the one x for
+    which ``p`` holds) or ``set`` (``{x: T | p @ e}``) over the finite ``domains`` of its bound
+    variables (nested loops, the first outermost), ``pred`` its predicate (None: true) and
+    ``body`` its expression (a comprehension without one: its variable, or the tuple of them).
+    Run-time errors: a comprehension of more elements than the capacity, a range of more than
+    robogen.ir.collections.LOOP_LIMIT integers, ``the`` without exactly one value; each names
+    ``text`` and ``span``."""
+
+    kind: str
+    domains: tuple[Domain, ...]
+    pred: Expr | None
+    body: Expr | None
+    text: str = ""
+    span: Span | None = None
+
+
+@dataclass(frozen=True)
 class UserFunction:
     """A function the model declares by its contract only, whose result no postcondition pins
     (:mod:`robogen.ir.declared`); the code generator takes its body from the user
@@ -543,6 +577,9 @@ class Fmu:
     user_functions: list[UserFunction] = field(default_factory=list)
     max_steps: int = 1000  # transitions per cycle before a runaway cycle is reported
     capacity: int = 32  # the most elements a set or sequence holds (robogen compile --capacity)
+    # the capacity of each nesting level of collections, outermost first (the last for every deeper
+    # level; ``--capacity 32,8``); empty: ``capacity`` at every level
+    capacities: tuple[int, ...] = ()
     root: str = ""  # the workspace root (absolute), to which generated files name model files
     # what lowering warns about (constants that become parameters without a value, renamed
     # ports); the front end prints them. Not in the dump: they restate the model's meaning.
@@ -560,6 +597,16 @@ class Fmu:
     @property
     def source_names(self) -> list[str]:
         return sorted(self.source_name(p) for p in self.sources)
+
+    @property
+    def levels(self) -> tuple[int, ...]:
+        """The capacity of each nesting level of collections (see ``capacities``)."""
+        return self.capacities or (self.capacity,)
+
+    def capacity_of(self, t: Type) -> int:
+        """The most elements a set or sequence of type ``t`` holds: that of its nesting level
+        (robogen.ir.supported.InnerSetT), else the outermost level's."""
+        return getattr(t, "capacity", None) or self.capacity
 
     @property
     def clock_name(self) -> str:

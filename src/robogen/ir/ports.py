@@ -16,7 +16,8 @@ from typing import Protocol
 from robogen.diagnostics import Span, warning
 from robogen.ir import model as ir
 from robogen.ir.boundary import Boundary
-from robogen.ir.supported import FunMapT, TaggedT, check_codegen_type, is_scalar, not_supported
+from robogen.ir.layout import leaves
+from robogen.ir.supported import FunMapT, check_codegen_type, not_supported
 from robogen.semantics import types as T
 from robogen.semantics.model import Controller, MachineScope, Module, OpSym
 from robogen.syntax import ast
@@ -175,7 +176,7 @@ class Ports:
             if p.source == name:
                 return p
         clock = self._clock_name(name, "input-event", span)
-        fields = tuple(_flatten(clock + ".value" if not isinstance(t, T.RecordT) else clock, t, (), span, fmu.capacity)) \
+        fields = tuple(_flatten(clock + ".value" if not isinstance(t, T.RecordT) else clock, t, (), span, fmu.capacity_of)) \
             if t is not None else ()
         port = ir.Port(clock, "input-event", t, fields, span=span, index=len(fmu.inputs), model_name=_renamed(name, clock))
         fmu.inputs.append(port)
@@ -191,11 +192,11 @@ class Ports:
         if kind == "operation":
             fields: list[ir.Field_] = []
             for pname, ptype in params:
-                fields += _flatten(f"{clock}.{pname}", ptype, (pname,), span, fmu.capacity)
+                fields += _flatten(f"{clock}.{pname}", ptype, (pname,), span, fmu.capacity_of)
             port = ir.Port(clock, kind, None, tuple(fields), tuple(params), span=span, index=len(fmu.outputs),
                            model_name=_renamed(name, clock), abstract=abstract)
         else:
-            fields = _flatten(clock + ".value" if not isinstance(t, T.RecordT) else clock, t, (), span, fmu.capacity) if t is not None else []
+            fields = _flatten(clock + ".value" if not isinstance(t, T.RecordT) else clock, t, (), span, fmu.capacity_of) if t is not None else []
             port = ir.Port(clock, kind, t, tuple(fields), span=span, index=len(fmu.outputs), model_name=_renamed(name, clock))
         fmu.outputs.append(port)
         return port
@@ -290,43 +291,27 @@ def event_uses(scope: MachineScope) -> tuple[set[str], set[str]]:
     return ins, outs
 
 
-def _flatten(prefix: str, t: T.Type | None, path: tuple[str, ...], span: Span | None, capacity: int = 0) -> list[ir.Field_]:
-    """The scalar FMI variables of a payload of type ``t`` named ``prefix``. A set or sequence of
-    scalars is two: its elements (an array of the capacity, zeros after the last; path element
-    ``#elements``) and its size (``#size``). One of records has an array per scalar field of the
-    records instead of the elements (``prefix.elements.f``; path ``#elements``, then the field's)."""
+def _flatten(prefix: str, t: T.Type | None, path: tuple[str, ...], span: Span | None, capacity_of) -> list[ir.Field_]:
+    """The FMI variables of a payload of type ``t`` named ``prefix``: its leaves
+    (robogen.ir.layout), each a scalar or an array."""
     assert t is not None
     check_codegen_type(t, span, f"'{prefix}'")
+    function = _function_part(t, prefix)
+    if function is not None:
+        raise not_supported(f"'{function}': a function value as an FMU port (its default is a lambda of the model, which "
+                            "an FMI variable cannot carry)", span)
+    return [ir.Field_(".".join((prefix,) + leaf.name), leaf.type, path + leaf.path) for leaf in leaves(t, capacity_of)]
+
+
+def _function_part(t: T.Type, name: str) -> str | None:
+    """The name of the first part of a value of ``t`` (named ``name``) that is a function value."""
     if isinstance(t, FunMapT):
-        raise not_supported(f"'{prefix}': a function value as an FMU port (its default is a lambda of the model, which an "
-                            "FMI variable cannot carry)", span)
+        return name
     if isinstance(t, T.RecordT):
-        out: list[ir.Field_] = []
-        for n, ft in t.fields:
-            out += _flatten(f"{prefix}.{n}", ft, path + (n,), span, capacity)
-        return out
+        return next((p for n, ft in t.fields if (p := _function_part(ft, f"{name}.{n}")) is not None), None)
     if isinstance(t, (T.SetT, T.SeqT)):
-        size = ir.Field_(f"{prefix}.size", T.NAT, path + ("#size",))
-        if not isinstance(t.element, T.RecordT):
-            return [ir.Field_(f"{prefix}.elements", T.VectorT(t.element, capacity), path + ("#elements",)), size]
-        return [ir.Field_(".".join((f"{prefix}.elements",) + at), T.VectorT(ft, capacity), path + ("#elements",) + at)
-                for at, ft in _element_leaves(t.element, (), prefix, t, span)] + [size]
-    return [ir.Field_(prefix, t, path)]  # a scalar; a vector or matrix is one FMI array variable
-
-
-def _element_leaves(t: T.RecordT, at: tuple[str, ...], prefix: str, coll: T.Type, span: Span | None):
-    """(field path, type) of each scalar part of the records a set or sequence at the FMU boundary
-    holds: each is one FMI array of the capacity (the field of element 1, 2, ...)."""
-    if isinstance(t, TaggedT):
-        raise not_supported(f"'{prefix}': a {T.form(coll)[2:]} of enumerations with arguments as an FMU port", span)
-    for n, ft in t.fields:
-        if isinstance(ft, T.RecordT):
-            yield from _element_leaves(ft, at + (n,), prefix, coll, span)
-        elif is_scalar(ft):
-            yield at + (n,), ft
-        else:
-            raise not_supported(f"'{prefix}': a {T.form(coll)[2:]} of records with a field of type {ft.show()} "
-                                "as an FMU port (fields of its elements are numbers, booleans, enumerations or records)", span)
+        return _function_part(t.element, f"{name}.elements")
+    return None
 
 
 __all__ = ["Ports", "MachinePorts", "Way", "directed", "event_uses"]
