@@ -138,8 +138,11 @@ class Engine:
             if self.flat.plan.fd >= 0:
                 recorder.flush()  # the lines Python wrote first
             deadline = min(time.monotonic() + FLUSH_SECONDS, recorder.flush_due)
-            end = End(self.lib.rg_engine_run(e, CHUNK, deadline, self._status))
-            recorder.wrote_rows(e.written)
+            e.written = 0
+            try:
+                end = End(self.lib.rg_engine_run(e, CHUNK, deadline, self._status))
+            finally:  # a signal is raised as the call returns: the rows it wrote to the file count
+                recorder.wrote_rows(e.written)
             self._record(e.rows.rows - e.written)
             self._sync()
             if e.event_ended:
