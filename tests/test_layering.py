@@ -111,10 +111,10 @@ def test_no_import_cycle_between_robogen_modules():
 #: The modules of robogen.cosim in layers, lowest first: a module imports only modules of the
 #: layers below its own (docs/architecture.md draws the same picture).
 COSIM_LAYERS = (
-    ("signals", "clocks", "columnar", "tomlspan", "watch"),  # no other module of cosim
+    ("signals", "clocks", "columnar", "tomlspan", "watch", "cbuild"),  # no other module of cosim
     ("fmi3", "system", "scenario"),  # the FMI 3.0 binding; the system file; scenario files
     ("instances", "recorder", "proxy", "worker", "crash", "schema", "adapters", "player"),  # one instance, one row
-    ("wiring",),  # who reads what, which clock goes where
+    ("wiring", "interfaces"),  # who reads what, which clock goes where; the interface adapters
     ("plan",),  # the run's plan: what both loops execute
     ("flat",),  # the plan as rg_plan (engine.h)
     ("engine",),  # the plan run in C
