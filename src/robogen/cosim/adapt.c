@@ -174,8 +174,16 @@ static void step_finished(fmi2ComponentEnvironment environment, fmi2Status statu
     (void)status; /* the adapter asks fmi2GetStatus whether the step is still pending */
 }
 
+/* An FMI 3.0 FMU's messages, to the host's callback with the host's environment: the inner FMU
+ * is given the adapter as its instance environment (clockUpdate below needs it). */
+static void log_fmi3(fmi3InstanceEnvironment environment, fmi3Status status, fmi3String category, fmi3String message)
+{
+    const rga *a = (const rga *)environment;
+    if (a->log != NULL) a->log(a->environment, status, category, message);
+}
+
 /* FMI 3.0's clockUpdate (Scheduled Execution): an output clock ticked, or a countdown clock's
- * interval is known. */
+ * interval is known. Its environment is the adapter (never the host's). */
 static void clock_update(fmi3InstanceEnvironment environment) { ((rga *)environment)->clock_update = true; }
 static void no_lock(void) {}
 
@@ -334,9 +342,9 @@ static void *instantiate_inner(rga *a, const char *token, const char *resources,
         free(uri);
         return inner;
     case RGA_FMI3_ME:
-        return a->f3.instantiate_me(a->name, token, resources, visible, logging, a->environment, a->log);
+        return a->f3.instantiate_me(a->name, token, resources, visible, logging, a, log_fmi3);
     default:
-        return a->f3.instantiate_se(a->name, token, resources, visible, logging, a->environment, a->log,
+        return a->f3.instantiate_se(a->name, token, resources, visible, logging, a, log_fmi3,
                                     clock_update, no_lock, no_lock);
     }
 }
