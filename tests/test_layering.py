@@ -111,7 +111,7 @@ def test_no_import_cycle_between_robogen_modules():
 #: The modules of robogen.cosim in layers, lowest first: a module imports only modules of the
 #: layers below its own (docs/architecture.md draws the same picture).
 COSIM_LAYERS = (
-    ("signals", "clocks", "columnar", "tomlspan", "watch"),  # no other module of cosim
+    ("signals", "clocks", "columnar", "tomlspan", "watch", "units"),  # no other module of cosim
     ("fmi3", "system"),  # the FMI 3.0 binding; the system file
     ("instances", "recorder", "proxy", "worker", "crash", "schema", "adapters"),  # around one instance, one row
     ("wiring",),  # who reads what, which clock goes where

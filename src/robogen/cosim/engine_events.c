@@ -136,6 +136,24 @@ static void wake(rg_engine *r, int w, int edge)
     r->woken_edge[w] = edge;
 }
 
+/* Value i of batch b, a real as its C type in raw, converted on its way: factor * value + offset. */
+static uint64_t converted(const rg_engine *r, int b, int i, int kind, uint64_t raw)
+{
+    int at = r->p->batch_first[b] + i;
+    double v;
+    float f;
+    if (kind == K_F32) {
+        memcpy(&f, &raw, 4);
+        f = (float)(r->p->batch_factor[at] * (double)f + r->p->batch_offset[at]);
+        memcpy(&raw, &f, 4);
+    } else {
+        memcpy(&v, &raw, 8);
+        v = r->p->batch_factor[at] * v + r->p->batch_offset[at];
+        memcpy(&raw, &v, 8);
+    }
+    return raw;
+}
+
 /* Route q of an active output clock: its target clock (unless active already), then the clocked
  * values it carries, one Set call per type. */
 static int forward_route(rg_engine *r, int u, int q)
@@ -159,6 +177,7 @@ static int forward_route(rg_engine *r, int u, int q)
         const uint32_t *vrs = r->p->batch_vr + r->p->batch_first[b];
         for (i = 0; i < n; i++) {
             uint64_t raw = r->cell_raw[r->p->batch_cell[r->p->batch_first[b] + i]];
+            if (r->p->batch_scaled != NULL && r->p->batch_scaled[r->p->batch_first[b] + i]) raw = converted(r, b, i, kind, raw);
             if (is_bytes(kind)) { /* the copy's bytes (a C string) and size */
                 ((const char **)r->set_scratch)[i] = r->arena.data + raw + sizeof(size_t);
                 memcpy(&r->get_sizes[i], r->arena.data + raw, sizeof(size_t));

@@ -347,9 +347,12 @@ static bool changed(rg_engine *s, int g, int link, int j, bool *no_memory)
     rg_value *last = s->last + link;
     if (kind == K_F64 || kind == K_F32) {
         double v = real_of(kind, s->p->buffer[r], i);
+        float f;
+        if (s->p->link_scaled != NULL && s->p->link_scaled[link]) v = s->p->link_factor[link] * v + s->p->link_offset[link];
         if (s->last_valid[link] && !(v != last->d)) return false;
         last->d = v;
-        if (kind == K_F32) memcpy((char *)s->set_values + 4 * (size_t)j, &((const float *)s->p->buffer[r])[i], 4);
+        f = (float)v;
+        if (kind == K_F32) memcpy((char *)s->set_values + 4 * (size_t)j, &f, 4);
         else s->set_values[j].d = v;
     } else if (!is_bytes(kind)) {
         uint64_t v = integer_of(kind, s->p->buffer[r], i);

@@ -50,6 +50,7 @@ from robogen.cosim.instances import FmuInstance
 from robogen.cosim.plan import Plan
 from robogen.cosim.recorder import Pacer, Progress, Recorder
 from robogen.cosim.system import Link, System
+from robogen.cosim.units import apply
 from robogen.cosim.wiring import CLOCK, VALUE, find_cycle, plain
 from robogen.diagnostics import Note, RobogenError
 from robogen.fmu.fmi import DISCARD, status_name, tolerance
@@ -413,8 +414,8 @@ class Master:
                     target.set_clocks([target_clock])
                 if sources:
                     values = u.clocked_values(sources)
-                    for fmi_type, vrs, indices in batches:
-                        target.set_values(fmi_type, vrs, [values[i] for i in indices])
+                    for fmi_type, vrs, indices, scales in batches:
+                        target.set_values(fmi_type, vrs, [apply(scale, values[i]) for i, scale in zip(indices, scales)])
                 woken.add(target.name)
         return woken
 

@@ -63,17 +63,18 @@ def make_plan(instances: list[FmuInstance], links: list[Link], record: list[tupl
 
 def _routes(wiring: Wiring) -> dict[tuple[str, int], list[tuple]]:
     """Each clock route as (target, target clock, the source variables it carries, and per type
-    (type, target value references, indices into the sources))."""
+    (type, target value references, indices into the sources, the values' scales or None))."""
     plans: dict[tuple[str, int], list[tuple]] = {}
     for key, routes in wiring.clock_routes.items():
         for route in routes:
             sources = [value.source for value in route.values]
-            by_type: dict[str, tuple[list[int], list[int]]] = {}
+            by_type: dict[str, tuple[list[int], list[int], list]] = {}
             for i, value in enumerate(route.values):
-                vrs, indices = by_type.setdefault(value.target.type, ([], []))
+                vrs, indices, scales = by_type.setdefault(value.target.type, ([], [], []))
                 vrs.append(value.target.value_reference)
                 indices.append(i)
-            batches = [(fmi_type, vrs, indices) for fmi_type, (vrs, indices) in by_type.items()]
+                scales.append(value.scale)
+            batches = [(fmi_type, vrs, indices, scales) for fmi_type, (vrs, indices, scales) in by_type.items()]
             plans.setdefault(key, []).append((route.target, route.target_clock, sources, batches))
     return plans
 
