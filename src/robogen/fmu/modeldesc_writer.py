@@ -97,7 +97,8 @@ def _co_simulation(cs: CoSimulation | None) -> _Element | None:
 
 
 def _unit(unit: Unit) -> _Element:
-    base = [] if unit.base_unit is None else [_Element("BaseUnit", [(k, str(e)) for k, e in unit.base_unit])]
+    scale = [(k, v) for k, v in (("factor", unit.factor), ("offset", unit.offset)) if v is not None]
+    base = [] if unit.base_unit is None else [_Element("BaseUnit", [(k, str(e)) for k, e in unit.base_unit] + scale)]
     return _Element("Unit", [("name", unit.name)], base)
 
 
