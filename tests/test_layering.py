@@ -111,15 +111,16 @@ def test_no_import_cycle_between_robogen_modules():
 #: The modules of robogen.cosim in layers, lowest first: a module imports only modules of the
 #: layers below its own (docs/architecture.md draws the same picture).
 COSIM_LAYERS = (
-    ("signals", "clocks", "columnar", "tomlspan", "watch", "units"),  # no other module of cosim
-    ("fmi3", "system"),  # the FMI 3.0 binding; the system file
-    ("instances", "recorder", "proxy", "worker", "crash", "schema", "adapters"),  # around one instance, one row
-    ("wiring",),  # who reads what, which clock goes where
-    ("plan",),  # the run's plan: what both loops execute
-    ("flat",),  # the plan as rg_plan (engine.h)
-    ("engine",),  # the plan run in C
+    ("signals", "clocks", "columnar", "tomlspan", "watch", "xmltree", "units"),  # no other module of cosim
+    ("fmi3", "system", "ssp_schema"),  # the FMI 3.0 binding; the system file; the SSP schemas' rules
+    ("instances", "recorder", "proxy", "worker", "crash", "schema", "adapters",  # around one instance, one row
+     "ssp_model", "ssp_package"),  # an SSD's elements; an SSP's files
+    ("wiring", "ssp_params"),  # who reads what, which clock goes where; SSP parameter sets and mappings
+    ("plan", "ssp_flatten"),  # the run's plan: what both loops execute; an SSP hierarchy flattened
+    ("flat", "ssp_components", "ssp_start"),  # the plan as rg_plan (engine.h); SSP components, start values
+    ("engine", "ssp_read"),  # the plan run in C; an SSP read into a system
     ("master",),  # the reference loop, setup and errors; runs the engine
-    ("assemble",),  # from a system file to a master
+    ("assemble",),  # from a system file (or an SSP) to a master
     ("__init__", "plot"),  # the API (simulate_system), plots of results
     ("cli",),  # the commands
 )

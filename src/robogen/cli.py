@@ -28,7 +28,7 @@ COMMANDS: dict[str, tuple[str, str]] = {
     "package": ("robogen.codegen.package_cli", "compile and zip a model (or generated sources) into an .fmu"),
     "validate": ("robogen.fmu.validate_cli", "check an .fmu against the FMI 3.0 schema and robogen's clock rules"),
     "package-py": ("robogen.pyfmu.cli", "package a Python class as an FMI 3.0 FMU (cffi embedding)"),
-    "simulate": ("robogen.cosim.cli", "co-simulate a system of FMI 3.0 FMUs described in TOML"),
+    "simulate": ("robogen.cosim.cli", "co-simulate a system of FMI 3.0 FMUs described in TOML or SSP"),
     "plot": ("robogen.cosim.plot", "plot a results CSV written by 'robogen simulate'"),
     "campaign": ("robogen.campaign.cli", "run many co-simulations over a parameter space on Dask"),
 }

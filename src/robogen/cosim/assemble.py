@@ -22,6 +22,7 @@ from robogen.cosim.master import Master, RunOptions
 from robogen.cosim.plan import make_plan
 from robogen.cosim.proxy import ProxyBinding
 from robogen.cosim.recorder import Recorder
+from robogen.cosim.ssp_read import is_ssp, load_ssp
 from robogen.cosim.system import Link, System, load_system, record_list, resolve
 from robogen.diagnostics import Diagnostic, DiagnosticSink, Note, RobogenError, SourceMap, Span, render, warning
 from robogen.fmu.extract import extract_fmu
@@ -41,12 +42,12 @@ def build_master(path: Path, *, stop=None, step=None, output=None, events=None, 
     into (close it after the run). ``isolate``: every instance in a worker process (else those
     with ``isolate = true``); ``notes``: where the bindings note their calls; ``warn`` receives
     the warnings found before the run (default: printed on stderr)."""
-    system = load_system(path)
-    output, events = _outputs(system, output, events)
-    options = _options(system, stop, step, realtime, progress, warn or _print_warning)
     cache = cache if cache is not None else FmuCache()
     notes = notes if notes is not None else CallNotes()
     try:
+        system = read_system(path, cache, warn or _print_warning)
+        output, events = _outputs(system, output, events)
+        options = _options(system, stop, step, realtime, progress, warn or _print_warning)
         loaded = _load_fmus(system, cache)
         models = {n: md for n, (_folder, md) in loaded.items()}
         links = resolve(system, models)
@@ -67,6 +68,14 @@ def build_master(path: Path, *, stop=None, step=None, output=None, events=None, 
     except BaseException:
         cache.close()
         raise
+
+
+def read_system(path: Path, cache: FmuCache, warn: Callable[[Diagnostic], None]) -> System:
+    """The system at ``path``: a system file (TOML), or an SSP (``.ssp`` archive, ``.ssd`` file)
+    whose archive and FMUs ``cache`` unpacks."""
+    if is_ssp(path):
+        return load_ssp(path, cache.root / "ssp", lambda fmu, span: cache.load(fmu, span)[1], warn)
+    return load_system(path)
 
 
 def _outputs(system: System, output, events) -> tuple[Path | None, Path | None]:
@@ -172,9 +181,9 @@ def _options(system: System, stop, step, realtime, progress, warn: Callable[[Dia
     stop = system.stop if stop is None else float(stop)
     step = system.step if step is None else float(step)
     if stop is None:
-        raise RobogenError.at("no stop time: give [experiment] stop = ... or --stop", system.span("experiment"))
+        raise RobogenError.at(f"no stop time: give {_setting(system, 'stop')} or --stop", system.span("experiment"))
     if step is None:
-        raise RobogenError.at("no communication step: give [experiment] step = ... or --step", system.span("experiment"))
+        raise RobogenError.at(f"no communication step: give {_setting(system, 'step')} or --step", system.span("experiment"))
     if not (math.isfinite(step) and step > 0):
         raise RobogenError.at(f"the communication step must be positive, not {step}", step_span)
     if not math.isfinite(stop) or stop < system.start:
@@ -183,6 +192,14 @@ def _options(system: System, stop, step, realtime, progress, warn: Callable[[Dia
         raise RobogenError.at(f"the real-time factor must be positive, not {realtime}", None)
     _check_step(system, stop, step, step_span, warn)
     return RunOptions(system.start, stop, step, realtime, progress)
+
+
+def _setting(system: System, name: str) -> str:
+    """Where the system's file gives the setting ``name`` (stop or step)."""
+    if not is_ssp(system.path):
+        return f"[experiment] {name} = ..."
+    return ("<ssd:DefaultExperiment stopTime=...>" if name == "stop"
+            else '<rg:Experiment step=...> in a robogen annotation of <ssd:DefaultExperiment> (docs/ssp.md)')
 
 
 def _check_step(system: System, stop: float, step: float, where: Span | None, warn: Callable[[Diagnostic], None]) -> None:
