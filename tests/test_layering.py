@@ -121,8 +121,8 @@ COSIM_LAYERS = (
     ("engine", "ssp_read"),  # the plan run in C; an SSP read into a system
     ("master",),  # the reference loop, setup and errors; runs the engine
     ("assemble",),  # from a system file (or an SSP) to a master
-    ("__init__", "plot"),  # the API (simulate_system), plots of results
-    ("cli",),  # the commands
+    ("__init__", "plot", "ssp_write"),  # the API (simulate_system), plots of results, SSP export
+    ("cli", "ssp_cli"),  # the commands
 )
 
 

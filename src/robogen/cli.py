@@ -29,6 +29,7 @@ COMMANDS: dict[str, tuple[str, str]] = {
     "validate": ("robogen.fmu.validate_cli", "check an .fmu against the FMI 3.0 schema and robogen's clock rules"),
     "package-py": ("robogen.pyfmu.cli", "package a Python class as an FMI 3.0 FMU (cffi embedding)"),
     "simulate": ("robogen.cosim.cli", "co-simulate a system of FMI 3.0 FMUs described in TOML or SSP"),
+    "export-ssp": ("robogen.cosim.ssp_cli", "write a system as an SSP 2.0 archive with its FMUs"),
     "plot": ("robogen.cosim.plot", "plot a results CSV written by 'robogen simulate'"),
     "campaign": ("robogen.campaign.cli", "run many co-simulations over a parameter space on Dask"),
 }

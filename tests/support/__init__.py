@@ -10,8 +10,10 @@
 
 from __future__ import annotations
 
+import os
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[2]
-SHARED = ROOT.parent / "shared"
+#: ../shared beside the repository (ROBOGEN_SHARED names it elsewhere, e.g. for a git worktree)
+SHARED = Path(os.environ.get("ROBOGEN_SHARED") or ROOT.parent / "shared")
 REFERENCE_MODELS = SHARED / "reference-models"

@@ -192,8 +192,8 @@ class Flattener:
         return (node, edges) if edges else None
 
     def links(self, unit_of) -> list[Link]:
-        """Every FMU input traced to its FMU output: robogen's connections (``unit_of(node)``: the
-        unit of a connector, or None)."""
+        """Every FMU input traced to its FMU output: robogen's connections, in the order of the
+        connections into the inputs in the file (``unit_of(node)``: the unit of a connector, or None)."""
         for (path, name), leaf in self.flat.leaves.items():
             for connector in leaf.component.connectors:
                 node = (path, name, connector)
@@ -211,6 +211,7 @@ class Flattener:
                 src_leaf = self.flat.leaves[origin[0], origin[1]]
                 self.flat.links.append(Link(Endpoint(src_leaf.instance, origin[2], span), Endpoint(leaf.instance, connector, span),
                                             span, scale or None))
+        self.flat.links.sort(key=lambda link: (link.span.line, link.span.column))  # in the file's order
         return self.flat.links
 
     def scale(self, edges: list[Edge], unit: UnitDef | None, unit_of) -> Scale | None | bool:
