@@ -197,7 +197,8 @@ class SourceMap:
         lines = self._lines.get(path)
         if lines is None:
             data = _read_source(path)
-            lines = _lines(data.decode("utf-8", errors="replace")) if data is not None else []
+            binary = data is not None and b"\x00" in data[:8192]  # an archive, a binary: no excerpt
+            lines = _lines(data.decode("utf-8", errors="replace")) if data is not None and not binary else []
             self._lines[path] = lines
         if 1 <= number <= len(lines):
             return lines[number - 1]

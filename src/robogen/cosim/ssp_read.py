@@ -69,14 +69,15 @@ def load_ssp(path: str | Path, folder: Path, model_of: Callable[[Path, Span], Mo
     leaves = instance_names(doc, sink)
     flattener = Flattener(doc, leaves, sink)
     flattener.fmus = _load(leaves, package, model_of, sink)
-    sink.raise_if_errors()
     unit_of = _units(doc, flattener)
-    instances = {leaf.instance: instance_spec(leaf, flattener.fmus[leaf.instance], doc.units, sink) for leaf in leaves.values()}
+    instances = {leaf.instance: instance_spec(leaf, flattener.fmus[leaf.instance], doc.units, sink)
+                 for leaf in leaves.values() if leaf.md is not None}  # the others' problems are reported
     links = flattener.links(unit_of)
     starts = StartValues(flattener, package, sink, unit_of)
     starts.collect(doc.root)
     for name, values in starts.start_values().items():
-        instances[name].start.update(values)
+        if name in instances:
+            instances[name].start.update(values)
     spans = _spans(doc, leaves, instances)
     system = System(path, data.decode("utf-8", "replace"), 0.0, None, None, None, 1000, [], instances, links, None, spans)
     _experiment(doc, system, spans, sink)
@@ -145,9 +146,10 @@ def _spans(doc: Document, leaves: dict, instances: dict) -> PathSpans:
         s["instances", leaf.instance] = el.span
         s["instances", leaf.instance, "fmu"] = el.at("source")
         s["instances", leaf.instance, "interface"] = el.at("implementation")
-        for var, (_value, span) in instances[leaf.instance].start.items():
+        spec = instances.get(leaf.instance)
+        for var, (_value, span) in spec.start.items() if spec is not None else ():
             s["instances", leaf.instance, "start", var] = span
-        for clock, (_timing, span) in instances[leaf.instance].clocks.items():
+        for clock, (_timing, span) in spec.clocks.items() if spec is not None else ():
             s["instances", leaf.instance, "clocks", clock] = span
     return table
 

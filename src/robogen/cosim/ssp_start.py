@@ -101,6 +101,8 @@ class StartValues:
         starts: dict[str, dict[str, tuple[object, Span]]] = {}
         for (key, var), (value, origin, edges) in final.items():
             leaf = self.leaves[key]
+            if leaf.md is None or var not in leaf.md.by_name():
+                continue  # its FMU, or its variable, is missing: reported already
             converted = self._converted(value, leaf, var, origin, edges)
             if converted is not None:
                 starts.setdefault(leaf.instance, {})[var] = (converted, value.span)

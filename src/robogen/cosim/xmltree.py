@@ -106,8 +106,10 @@ class _Builder:
         return Span(self.display, line, column, line, column + max(length, 1))
 
     def doctype(self, *_args) -> None:
+        at = self.parser.CurrentByteIndex
+        start = self.data.rfind(b"<!DOCTYPE", 0, at + 1)
         raise _Refused("a document type declaration (<!DOCTYPE ...>) is not allowed in an SSP file",
-                       self.position(self.parser.CurrentByteIndex))
+                       self.position(start if start >= 0 else at, len("<!DOCTYPE")))
 
     def start(self, name: str, attrs: dict[str, str]) -> None:
         ns, tag = _split(name)
