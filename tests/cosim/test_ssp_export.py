@@ -14,15 +14,14 @@ from pathlib import Path
 
 import pytest
 import ssp_samples
-from lxml import etree
 
 from robogen.cosim import simulate_system
 from robogen.cosim.assemble import FmuCache, read_system
 from robogen.cosim.ssp_write import export_ssp
 from robogen.diagnostics import RobogenError
-from support import ROOT, SHARED
+from support import ROOT
+from support.ssp import SCHEMAS, validate
 
-SCHEMAS = SHARED / "ssp-2.0" / "schema"
 HERE = Path(__file__).resolve().parent
 
 
@@ -65,16 +64,6 @@ SYSTEMS = {**{f"engine-{k}": v for k, v in ENGINE.SYSTEMS.items()},
            **{f"stretch-{k}": v for k, v in ENGINE.STRETCH_SYSTEMS.items()},
            "alltypes": ENGINE.alltypes(0.1, connected=False), "alltypes-connected": ENGINE.alltypes(0.7, connected=True),
            "scaled": SCALE.SCALED, "settings": SETTINGS}
-
-
-def validate(ssp: Path) -> None:
-    """The archive's SSD against the SSP 2.0 schema, and its parameter sets against the SSV schema."""
-    ssd_schema = etree.XMLSchema(etree.parse(str(SCHEMAS / "SystemStructureDescription.xsd")))
-    ssv_schema = etree.XMLSchema(etree.parse(str(SCHEMAS / "SystemStructureParameterValues.xsd")))
-    root = etree.fromstring(zipfile.ZipFile(ssp).read("SystemStructure.ssd"))
-    assert ssd_schema.validate(root), ssd_schema.error_log
-    for parameter_set in root.iter("{http://ssp-standard.org/SSP1/SystemStructureParameterValues}ParameterSet"):
-        assert ssv_schema.validate(etree.ElementTree(parameter_set)), ssv_schema.error_log
 
 
 def outcome(path: Path, folder: Path, tag: str):

@@ -5,7 +5,8 @@
 - :mod:`support.pyfmu`: driving FMUs through fmpy, and the C host (pyfmu, platforms);
 - :mod:`support.harness`: the C programs on tests/harness/misuse_harness.h (runtime, pyfmu);
 - :mod:`support.wheel`: building robogen's wheel from a copy of the sources;
-- :mod:`support.campaign`: campaign folders and campaign processes (campaign).
+- :mod:`support.campaign`: campaign folders and campaign processes (campaign);
+- :mod:`support.ssp`: SSP archives checked against the SSP 2.0 schemas (cosim, examples).
 """
 
 from __future__ import annotations
