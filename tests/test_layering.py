@@ -114,7 +114,7 @@ COSIM_LAYERS = (
     ("signals", "clocks", "columnar", "tomlspan", "watch", "xmltree", "units"),  # no other module of cosim
     ("fmi3", "system", "ssp_schema"),  # the FMI 3.0 binding; the system file; the SSP schemas' rules
     ("instances", "recorder", "proxy", "worker", "crash", "schema", "adapters",  # around one instance, one row
-     "ssp_model", "ssp_package"),  # an SSD's elements; an SSP's files
+     "ssp_model", "ssp_package", "system_data"),  # an SSD's elements; an SSP's files; a system as TOML data
     ("wiring", "ssp_params"),  # who reads what, which clock goes where; SSP parameter sets and mappings
     ("plan", "ssp_flatten"),  # the run's plan: what both loops execute; an SSP hierarchy flattened
     ("flat", "ssp_components", "ssp_start"),  # the plan as rg_plan (engine.h); SSP components, start values
