@@ -168,3 +168,37 @@ def test_robogen_simulate_runs_an_archive_from_the_command_line(tmp_path, fmus, 
     lines = (tmp_path / "out.csv").read_text().splitlines()
     assert lines[0] == "time,superdense,plant__a.y,b.y,clock.counter"
     assert lines[-1].startswith("0.5,1,2.5,")
+
+
+def test_ecos_runs_the_ecos_style_archive_to_robogens_values(tmp_path, fmus):
+    """The peer itself (the bench extra: make bench installs it): ECOS runs the ECOS-style archive
+    with its parameter set, and its CSV (six decimals) holds robogen's values."""
+    import csv
+    import importlib.util
+    import subprocess
+    import sys
+
+    from support import ROOT
+
+    if importlib.util.find_spec("ecospy") is None:
+        pytest.skip("ECOS (ecospy, the bench extra) is not installed")
+    sys.path.insert(0, str(ROOT / "bench"))
+    try:
+        from ecos_peer import Ecos
+    finally:
+        sys.path.remove(str(ROOT / "bench"))
+    ecos = Ecos.find(tmp_path)
+    if isinstance(ecos, str):
+        pytest.skip(ecos)
+    ssp = ssp_samples.ecos(tmp_path / "bouncing.ssp", fmus)
+    done = subprocess.run([str(ecos.program), "simulate", "--path", str(ssp), "--stopTime", "0.5", "--stepSize", "0.05",
+                           "--parameterSet", "initialValues", "--logLevel", "warn"], cwd=tmp_path, env=ecos.env,
+                          capture_output=True, text=True, timeout=120)
+    assert done.returncode == 0, done.stderr
+    theirs = [{k.strip(): v.strip() for k, v in row.items()} for row in csv.DictReader(open(tmp_path / "bouncing.csv"))]
+    ours = [r for r in rows_of(simulate_system(ssp, step=0.05)) if r["superdense"] == 0]
+    assert len(theirs) == len(ours) == 11
+    for a, b in zip(theirs, ours):
+        assert float(a["time"]) == pytest.approx(b["time"])
+        assert float(a["ball::h[REAL]"]) == pytest.approx(b["ball.h"], abs=1e-6)
+        assert float(a["lift::y[REAL]"]) == pytest.approx(b["lift.y"], abs=1e-6)

@@ -229,6 +229,10 @@ class _Reader:
         return found
 
     def connection(self, el: Element) -> Connection:
+        for attr in ("startIndices", "endIndices"):
+            if attr in el.attrib:
+                self.sink.error("connections of single array elements are not supported: robogen connects whole "
+                                "variables", el.at(attr))
         transform = transformation(el)
         return Connection((el.get("startElement"), el.get("startConnector", "")), (el.get("endElement"), el.get("endConnector", "")),
                           el, transform, el.get("suppressUnitConversion") in ("true", "1"))
