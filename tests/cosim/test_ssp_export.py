@@ -169,3 +169,20 @@ def test_robogen_export_ssp_writes_the_archive(write_system, tmp_path, robogen_p
     assert done.stderr == "wrote out/ticker.ssp\n"
     assert sorted(zipfile.ZipFile(tmp_path / "out" / "ticker.ssp").namelist()) == [
         "SystemStructure.ssd", "resources/ticker.fmu", "resources/trivial.fmu"]
+
+
+def test_a_tunable_clocks_timing_travels_both_ways(fmu_builder, tmp_path, write_system):
+    """A fixed or tunable input clock's interval and shift ([instances.X] clocks) become the
+    Clock connector's intervalDecimal and shiftDecimal, and come back (the system only: the test
+    FMUs cannot be given an interval, fmi3SetIntervalDecimal)."""
+    spec = dict(fmu_builder.MODELS["ticker"])
+    spec["vars"] = [fmu_builder.clock("tick", 1, "input", "tunable", interval="0.25"), *spec["vars"][1:]]
+    fmu = fmu_builder.build("ticker", tmp_path / "tunable", spec=spec)
+    toml = tmp_path / "tunable.toml"
+    toml.write_text(f'[experiment]\nstop = 1.0\nstep = 0.1\n[instances.k]\nfmu = "{fmu}"\n'
+                    'clocks = { tick = { interval = 0.5, shift = 0.125 } }\n')
+    ssp = export_ssp(toml, tmp_path / "tunable.ssp")
+    text = zipfile.ZipFile(ssp).read("SystemStructure.ssd").decode()
+    assert '<ssc:Clock intervalVariability="tunable" intervalDecimal="0.5" shiftDecimal="0.125"/>' in text
+    assert model(ssp) == model(toml)
+    assert model(ssp)[6]["k"][2] == {"tick": {"interval": 0.5, "shift": 0.125}}
