@@ -186,3 +186,13 @@ def test_a_tunable_clocks_timing_travels_both_ways(fmu_builder, tmp_path, write_
     assert '<ssc:Clock intervalVariability="tunable" intervalDecimal="0.5" shiftDecimal="0.125"/>' in text
     assert model(ssp) == model(toml)
     assert model(ssp)[6]["k"][2] == {"tick": {"interval": 0.5, "shift": 0.125}}
+
+
+def test_a_system_that_would_not_run_is_not_written(write_system, tmp_path):
+    toml = write_system('connections = ["a.y -> b.v"]\n[experiment]\nstop = 1.0\nstep = 0.1\n'
+                        '[instances.a]\nfmu = "{trivial}"\n[instances.b]\nfmu = "{trivial}"\nstart = { w = 1 }\n')
+    with pytest.raises(RobogenError) as exc:
+        export_ssp(toml, tmp_path / "bad.ssp")
+    assert sorted((d.span.line, d.message.split(" (")[0]) for d in exc.value.diagnostics) == [
+        (1, "FMU instance 'b' has no variable 'v'"), (9, "FMU instance 'b' has no variable 'w'")]
+    assert not (tmp_path / "bad.ssp").exists()

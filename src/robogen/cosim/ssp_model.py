@@ -97,7 +97,6 @@ class Document:
     el: Element
     experiment: Element | None  # <ssd:DefaultExperiment>
     settings: list[Element]  # the content of its robogen annotations
-    others: list[str] = field(default_factory=list)  # the types of its other annotations
 
 
 def read_document(root: Element, sink: DiagnosticSink) -> Document:
@@ -106,8 +105,8 @@ def read_document(root: Element, sink: DiagnosticSink) -> Document:
     reader = _Reader(sink, units)
     system = reader.system(root.find(SSD, "System"))
     experiment = root.find(SSD, "DefaultExperiment")
-    settings, others = robogen_annotations(experiment.find(SSD, "Annotations") if experiment is not None else None)
-    return Document(root.get("version", ""), root.get("name", ""), system, units, root, experiment, settings, others)
+    settings = robogen_annotations(experiment.find(SSD, "Annotations") if experiment is not None else None)
+    return Document(root.get("version", ""), root.get("name", ""), system, units, root, experiment, settings)
 
 
 def read_units(el: Element | None, sink: DiagnosticSink) -> dict[str, UnitDef]:
@@ -125,16 +124,11 @@ def read_units(el: Element | None, sink: DiagnosticSink) -> dict[str, UnitDef]:
     return units
 
 
-def robogen_annotations(el: Element | None) -> tuple[list[Element], list[str]]:
-    """The content elements of the robogen annotations under ``el`` (an ``<Annotations>``), and
-    the types of the others."""
-    mine, others = [], []
-    for annotation in el.findall(SSC, "Annotation") if el is not None else ():
-        if annotation.get("type") == ROBOGEN_TYPE:
-            mine += annotation.children
-        else:
-            others.append(annotation.get("type", ""))
-    return mine, others
+def robogen_annotations(el: Element | None) -> list[Element]:
+    """The content elements of the robogen annotations under ``el`` (an ``<Annotations>``); other
+    tools' annotations are theirs (docs/ssp.md)."""
+    return [child for annotation in (el.findall(SSC, "Annotation") if el is not None else ())
+            if annotation.get("type") == ROBOGEN_TYPE for child in annotation.children]
 
 
 def transformation(el: Element) -> Transformation | None:
@@ -184,7 +178,7 @@ class _Reader:
             self.sink.error(f"component '{el.get('name')}' has no source: a component without an FMU describes an "
                             "architecture, which cannot be simulated", el.span)
             return None
-        annotations, _others = robogen_annotations(el.find(SSD, "Annotations"))
+        annotations = robogen_annotations(el.find(SSD, "Annotations"))
         return Component(el.get("name", ""), el, el.get("source", ""), el.get("implementation", "any"),
                          self.connectors(el), self.bindings(el), annotations)
 

@@ -38,7 +38,7 @@ from robogen.cosim.ssp_model import ROBOGEN_NS, Document, read_document
 from robogen.cosim.ssp_package import Package
 from robogen.cosim.ssp_schema import assumed_prefixes
 from robogen.cosim.ssp_start import StartValues
-from robogen.cosim.system import System
+from robogen.cosim.system import MAX_EVENT_ITERATIONS, System
 from robogen.cosim.tomlspan import PathSpans
 from robogen.cosim.units import UnitDef
 from robogen.cosim.xmltree import Element, parse
@@ -79,7 +79,8 @@ def load_ssp(path: str | Path, folder: Path, model_of: Callable[[Path, Span], Mo
         if name in instances:
             instances[name].start.update(values)
     spans = _spans(doc, leaves, instances)
-    system = System(path, data.decode("utf-8", "replace"), 0.0, None, None, None, 1000, [], instances, links, None, spans)
+    system = System(path, data.decode("utf-8", "replace"), 0.0, None, None, None, MAX_EVENT_ITERATIONS, [], instances, links,
+                    None, spans)
     _experiment(doc, system, spans, sink)
     sink.raise_if_errors()
     for w in sink.sorted():
@@ -115,7 +116,8 @@ def _load(leaves: dict, package: Package, model_of, sink: DiagnosticSink) -> dic
 
 
 def _units(doc: Document, flattener: Flattener) -> Callable[[Node], UnitDef | None]:
-    """The unit of a connector (a node of the flattener): its own, else its FMU variable's."""
+    """The unit of a connector (a node of the flattener): its own, else its FMU variable's (which
+    the SSD defines where the FMU names a unit without defining it)."""
 
     def unit_of(node: Node) -> UnitDef | None:
         path, component, name = node
@@ -127,7 +129,10 @@ def _units(doc: Document, flattener: Flattener) -> Callable[[Node], UnitDef | No
         if connector is not None and connector.unit is not None:
             return doc.units[connector.unit]
         var = leaf.md.by_name().get(name) if leaf.md is not None else None
-        return fmu_unit(leaf.md, var) if var is not None else None
+        unit = fmu_unit(leaf.md, var) if var is not None else None
+        if unit is not None and unit.exponents is None and unit.name in doc.units:
+            return doc.units[unit.name]  # a unit the FMU names without defining it: the SSD's of that name
+        return unit
 
     return unit_of
 

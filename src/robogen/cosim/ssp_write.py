@@ -29,7 +29,7 @@ from robogen.cosim.assemble import FmuCache, read_system
 from robogen.cosim.ssp_flatten import fmu_unit
 from robogen.cosim.ssp_model import ROBOGEN_NS, ROBOGEN_TYPE
 from robogen.cosim.ssp_schema import SSC, SSD, SSV
-from robogen.cosim.system import Connection, System
+from robogen.cosim.system import Connection, System, resolve
 from robogen.cosim.units import SI_BASE_UNITS, UnitDef, UnitMismatch, conversion
 from robogen.diagnostics import DiagnosticSink, RobogenError
 from robogen.fmu.archive import write_fmu
@@ -55,6 +55,7 @@ def export_ssp(path: str | Path, output: str | Path, warn=None) -> Path:
             except RobogenError as exc:
                 sink.extend(exc.diagnostics)
         sink.raise_if_errors()
+        resolve(system, models)  # a system that would not run is not written: the same checks, located
         writer = _Writer(system, models)
         ssd = writer.document()
         return write_fmu(target, {"SystemStructure.ssd": ssd, **writer.resources})

@@ -32,6 +32,8 @@ EXPERIMENT_KEYS = ("start", "stop", "step", "tolerance", "max_event_iterations",
 INSTANCE_KEYS = ("fmu", "start", "clocks", "isolate")
 CLOCK_KEYS = ("interval", "shift")
 RECORD_KEYS = ("variables", "every")
+#: [experiment] max_event_iterations unless given: super-dense instants of one event iteration
+MAX_EVENT_ITERATIONS = 1000
 #: A connection written as a table: { from = "a.y", to = "b.u", factor = 1000.0, offset = 0.0 }
 CONNECTION_KEYS = ("from", "to", "factor", "offset")
 
@@ -189,10 +191,10 @@ def _experiment(exp: dict, check: _SchemaCheck) -> tuple[float, float | None, fl
     tol = check.number(exp["tolerance"], "experiment", "tolerance", positive=True) if "tolerance" in exp else None
     if stop is not None and stop < start:
         check.error(f"stop time {stop} is before the start time {start}", "experiment", "stop")
-    max_iter = exp.get("max_event_iterations", 1000)
+    max_iter = exp.get("max_event_iterations", MAX_EVENT_ITERATIONS)
     if isinstance(max_iter, bool) or not isinstance(max_iter, int) or max_iter < 1:
         check.error("'max_event_iterations' must be a positive integer", "experiment", "max_event_iterations")
-        max_iter = 1000
+        max_iter = MAX_EVENT_ITERATIONS
     return start, stop, step, tol, max_iter
 
 
