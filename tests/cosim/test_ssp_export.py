@@ -221,3 +221,28 @@ def test_a_system_that_would_not_run_is_not_written(write_system, tmp_path):
     assert sorted((d.span.line, d.message.split(" (")[0]) for d in exc.value.diagnostics) == [
         (1, "FMU instance 'b' has no variable 'v'"), (9, "FMU instance 'b' has no variable 'w'")]
     assert not (tmp_path / "bad.ssp").exists()
+
+
+def test_the_fmus_units_are_written_and_a_system_files_connections_stay_unconverted(unit_fmus, tmp_path):
+    """An FMU's units (defined with a base unit) go into <ssd:Units> and onto its connectors; a
+    system file converts only what it asks for, so its connections between different units say
+    suppressUnitConversion, and the SSP runs as the file: b.u = a.y (m into mm, unconverted), c.u
+    = 100 a.y (asked for), and c's unit 'cm', which its FMU does not define, is left off."""
+    toml = tmp_path / "units.toml"
+    toml.write_text('connections = ["a.y -> b.u", { from = "a.y", to = "c.u", factor = 100.0, offset = 0.0 }]\n'
+                    '[experiment]\nstop = 0.5\nstep = 0.1\n' + "".join(
+                        f'[instances.{i}]\nfmu = "{unit_fmus[u]}"\n' for i, u in (("a", "m"), ("b", "mm"), ("c", "cm"))))
+    ssp = export_ssp(toml, tmp_path / "units.ssp")
+    if SCHEMAS.is_dir():
+        validate(ssp)
+    text = zipfile.ZipFile(ssp).read("SystemStructure.ssd").decode()
+    units = [line.strip() for line in text.splitlines() if "<ssc:Float64" in line]
+    assert units == ['<ssc:Float64 unit="m"/>'] * 2 + ["<ssc:Float64/>"] + ['<ssc:Float64 unit="mm"/>'] * 2 + [
+        "<ssc:Float64/>"] * 4  # a's u, y and stop_at; b's; c's ('cm' is not defined)
+    assert '<ssc:Unit name="mm">\n      <ssc:BaseUnit m="1" factor="0.001"/>' in text
+    assert text.count('suppressUnitConversion="true"') == 2
+    assert model(ssp) == model(toml)
+    expected = outcome(toml, tmp_path, "toml")
+    assert outcome(ssp, tmp_path, "ssp") == expected
+    last = dict(zip(["time", "superdense", "a.y", "b.y", "c.y"], expected[0][-1]))
+    assert last == pytest.approx({"time": 0.5, "superdense": 0, "a.y": 0.5, "b.y": 0.4 + 0.5, "c.y": 40 + 0.5})

@@ -202,3 +202,52 @@ def test_ecos_runs_the_ecos_style_archive_to_robogens_values(tmp_path, fmus):
         assert float(a["time"]) == pytest.approx(b["time"])
         assert float(a["ball::h[REAL]"]) == pytest.approx(b["ball.h"], abs=1e-6)
         assert float(a["lift::y[REAL]"]) == pytest.approx(b["lift.y"], abs=1e-6)
+
+
+UNITS_SSD = """<?xml version="1.0" encoding="UTF-8"?>
+<ssd:SystemStructureDescription xmlns:ssd="http://ssp-standard.org/SSP1/SystemStructureDescription"
+    xmlns:ssc="http://ssp-standard.org/SSP1/SystemStructureCommon" version="2.0" name="units">
+  <ssd:System name="units">
+    <ssd:Elements>
+      <ssd:Component name="a" source="resources/m.fmu">
+        <ssd:Connectors><ssd:Connector name="y" kind="output"><ssc:Float64/></ssd:Connector></ssd:Connectors>
+      </ssd:Component>
+      <ssd:Component name="b" source="resources/mm.fmu">
+        <ssd:Connectors><ssd:Connector name="u" kind="input"><ssc:Float64/></ssd:Connector></ssd:Connectors>
+      </ssd:Component>
+      <ssd:Component name="c" source="resources/cm.fmu">
+        <ssd:Connectors><ssd:Connector name="u" kind="input"><ssc:Float64/></ssd:Connector></ssd:Connectors>
+      </ssd:Component>
+    </ssd:Elements>
+    <ssd:Connections>
+      <ssd:Connection startElement="a" startConnector="y" endElement="b" endConnector="u"/>
+      <ssd:Connection startElement="a" startConnector="y" endElement="c" endConnector="u"/>
+    </ssd:Connections>
+  </ssd:System>
+  <ssd:Units>
+    <ssc:Unit name="cm"><ssc:BaseUnit m="1" factor="0.01"/></ssc:Unit>
+  </ssd:Units>
+  <ssd:DefaultExperiment startTime="0" stopTime="0.5"/>
+</ssd:SystemStructureDescription>
+"""
+
+
+def test_units_from_the_fmus_convert_connected_values(tmp_path, unit_fmus):
+    """Connectors without a unit take their FMU variable's: a.y in m (defined by a's FMU) reaches
+    b.u in mm (defined by b's) times 1000, and c.u in cm (which c's FMU names without defining it:
+    the SSD's <ssd:Units> defines it) times 100. trivial: y(t_k) = u(t_(k-1)) + t_k, a.u = 0."""
+    fmus = {f"{name}.fmu": path for name, path in unit_fmus.items()}
+    ssp = ssp_samples.write_ssp(tmp_path / "units.ssp", UNITS_SSD, fmus)
+    rows = [r for r in rows_of(simulate_system(ssp, step=0.1)) if r["superdense"] == 0]
+    assert [r["time"] for r in rows] == pytest.approx([0.1 * k for k in range(6)])
+    for before, now in zip(rows, rows[1:]):
+        assert now["a.y"] == pytest.approx(now["time"])
+        assert now["b.y"] == pytest.approx(1000 * before["a.y"] + now["time"])
+        assert now["c.y"] == pytest.approx(100 * before["a.y"] + now["time"])
+    assert rows[-1]["b.y"] == pytest.approx(400.5) and rows[-1]["c.y"] == pytest.approx(40.5)
+    undefined = ssp_samples.write_ssp(tmp_path / "undefined.ssp", UNITS_SSD.replace('name="cm"', 'name="dm"'), fmus)
+    with pytest.raises(RobogenError) as exc:
+        simulate_system(undefined, step=0.1)
+    assert [(d.span.line, d.message) for d in exc.value.diagnostics] == [  # the connection into c.u
+        (18, "cannot convert 'm' (m) to 'cm' (no base unit): a unit without a base unit converts only to itself "
+             "(connection 'a.y -> c.u')")]
