@@ -5,9 +5,11 @@ PYTHON ?= python3
 VENV   := .venv
 PY     := $(VENV)/bin/python
 STAMP  := $(VENV)/.robogen-installed
-PYTEST_ARGS ?=
+# The suite runs on every core (pytest-xdist), each test file whole on one worker so that its
+# module fixtures (built FMUs) are built once; PYTEST_ARGS= runs it in one process.
+PYTEST_ARGS ?= -n auto --dist loadfile
 
-.PHONY: all venv test demo bench campaign clean golden
+.PHONY: all venv test demo bench campaign clean golden runners
 
 all: test
 
@@ -15,10 +17,24 @@ $(PY):
 	$(PYTHON) -m venv $(VENV)
 	$(PY) -m pip install --quiet --upgrade pip
 
-# Reinstall when the project metadata changes.
+# Reinstall when the project metadata changes. The cross extra brings zig, which builds the
+# binaries of the platforms other than the host's (robogen package --platforms).
 $(STAMP): pyproject.toml | $(PY)
-	$(PY) -m pip install --quiet -e '.[test]'
+	$(PY) -m pip install --quiet -e '.[test,cross]'
 	touch $(STAMP)
+
+# What runs the cross-built binaries in tests/toolchain: wine (Windows) and qemu-user with
+# Debian's aarch64 C library (aarch64 Linux). apt-get installs them where it can (root on Debian,
+# as in CI); elsewhere, or if apt-get fails, those tests skip and say what is missing.
+RUNNERS := wine64 qemu-user libc6-arm64-cross
+APT := DEBIAN_FRONTEND=noninteractive apt-get -y -qq --no-install-recommends
+runners:
+	@if command -v qemu-aarch64 >/dev/null && test -x /usr/lib/wine/wine64 && test -f /usr/aarch64-linux-gnu/lib/libc.so.6; then :; \
+	elif [ "$$(id -u)" = 0 ] && command -v apt-get >/dev/null; then \
+	  echo "installing $(RUNNERS) with apt-get, for the tests that run Windows and aarch64 binaries"; \
+	  { $(APT) install $(RUNNERS) >/dev/null 2>&1 || { apt-get -qq update >/dev/null 2>&1 && $(APT) install $(RUNNERS) >/dev/null 2>&1; }; } \
+	    || echo "apt-get could not install $(RUNNERS): the tests that run Windows and aarch64 binaries will skip"; \
+	else echo "not root or no apt-get: the tests that run Windows and aarch64 binaries will skip (they need $(RUNNERS))"; fi
 
 venv: $(STAMP)
 
@@ -28,7 +44,7 @@ $(BENCH_STAMP): pyproject.toml | $(STAMP)
 	$(PY) -m pip install --quiet -e '.[test,bench]'
 	touch $(BENCH_STAMP)
 
-test: $(STAMP)
+test: $(STAMP) runners
 	$(PY) -m pytest -q $(PYTEST_ARGS)
 
 demo: $(STAMP)

@@ -112,8 +112,8 @@ def test_no_import_cycle_between_robogen_modules():
 #: layers below its own (docs/architecture.md draws the same picture).
 COSIM_LAYERS = (
     ("signals", "clocks", "columnar", "tomlspan", "watch", "xmltree", "units"),  # no other module of cosim
-    ("fmi3", "system", "ssp_schema"),  # the FMI 3.0 binding; the system file; the SSP schemas' rules
-    ("instances", "recorder", "proxy", "worker", "crash", "schema", "adapters",  # around one instance, one row
+    ("fmi3", "system", "scenario", "ssp_schema"),  # the FMI 3.0 binding; the system file; scenario files; the SSP schemas' rules
+    ("instances", "recorder", "proxy", "worker", "crash", "schema", "adapters", "player",  # one instance, one row
      "ssp_model", "ssp_package", "system_data"),  # an SSD's elements; an SSP's files; a system as TOML data
     ("wiring", "ssp_params"),  # who reads what, which clock goes where; SSP parameter sets and mappings
     ("plan", "ssp_flatten"),  # the run's plan: what both loops execute; an SSP hierarchy flattened

@@ -43,8 +43,13 @@ class Span:
     def whole_file(cls, path: str) -> "Span":
         return cls(path, 1, 1, 1, 1)
 
+    @classmethod
+    def of_path(cls, path: str) -> "Span":
+        """A path as a whole, with no text to point into (a folder): line and column 0."""
+        return cls(path, 0, 0, 0, 0)
+
     def __str__(self) -> str:
-        return f"{self.path}:{self.line}:{self.column}"
+        return f"{self.path}:{self.line}:{self.column}" if self.line else self.path
 
 
 class Severity(enum.Enum):
@@ -147,8 +152,8 @@ class DiagnosticSink:
 
 def _sort_key(d: Diagnostic) -> tuple:
     s = d.span
-    # problems without a location (paths on the command line) keep the order they were found in
-    return (s.path, s.line, s.column, d.message) if s else ("", 0, 0, "")
+    # problems without a place in a text (paths on the command line) keep the order they were found in
+    return (s.path, s.line, s.column, d.message) if s and s.line else ("", 0, 0, "")
 
 
 def did_you_mean(name: str, candidates: Iterable[str]) -> str:
@@ -249,7 +254,8 @@ def render(diagnostic: Diagnostic, sources: SourceMap | None = None) -> str:
     if span is None:
         out.append(head)
     else:
-        out.append(f"{_display(span.path)}:{span.line}:{span.column}: {head}")
+        where = f"{_display(span.path)}:{span.line}:{span.column}" if span.line else _display(span.path)
+        out.append(f"{where}: {head}")
         out.extend(_excerpt(span, sources))
     for note in diagnostic.notes:
         if note.span is None:

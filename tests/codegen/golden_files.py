@@ -36,11 +36,12 @@ class Case:
     semantics: str = "exhaustive"
     settings: dict[str, str] = field(default_factory=dict)
     functions: str | None = None  # the C file of the model's user functions, relative to the root
+    capacities: tuple[int, ...] = ()  # of collections, per nesting level (default: 32 at every level)
 
 
 def _fixture(name: str, semantics: str = "exhaustive") -> Case:
     m = TEST_MODELS[name]
-    return Case(m.path.relative_to(REPOSITORY).as_posix(), semantics, dict(m.settings))
+    return Case(m.path.relative_to(REPOSITORY).as_posix(), semantics, dict(m.settings), capacities=m.capacities)
 
 
 #: case name -> what it compiles
@@ -63,7 +64,10 @@ def render(case: str, root: Path) -> dict[str, str]:
     """The generated files of ``case`` by relative path (the sources of the FMU, no binary)."""
     c = CASES[case]
     model, boundary = front_end([root / c.model])
-    fmu = lower(model, boundary, LoweringOptions(semantics=c.semantics, settings=dict(c.settings)))
+    options = LoweringOptions(semantics=c.semantics, settings=dict(c.settings))
+    if c.capacities:
+        options.capacity, options.capacities = c.capacities[0], c.capacities
+    fmu = lower(model, boundary, options)
     codegen = CodegenOptions(functions=root / c.functions if c.functions else None)
     return dict(generate(fmu, codegen, diagrams=diagrams_of(boundary)).files)
 

@@ -4,11 +4,8 @@ and its model line, and never corrupts memory), function values, and strings."""
 
 from __future__ import annotations
 
-import pytest
-
-from support.codegen_driver import FmuRunner, Instant, Scenario, Tick, build, interpret
+from support.codegen_driver import FmuRunner, Instant, Scenario, Tick, build_text, interpret
 from support.codegen_models import MODELS
-from robogen.diagnostics import RobogenError
 from robogen.ir.lower import LoweringOptions
 
 MODEL = """\
@@ -29,13 +26,7 @@ stm Grow {
 
 def _run(tmp_path, name: str, text: str, scenario: Scenario, options: LoweringOptions | None = None,
          c_functions: str | None = None, functions: dict | None = None):
-    path = tmp_path / f"{name}.rct"
-    path.write_text(text)
-    c_file = None
-    if c_functions is not None:
-        c_file = tmp_path / f"{name}.c"
-        c_file.write_text(c_functions)
-    built = build([path], tmp_path / name, options=options, functions=c_file)
+    built = build_text(tmp_path, name, text, options, c_functions)
     runner = FmuRunner(built.folder)
     try:
         got = runner.run(scenario)
@@ -115,17 +106,6 @@ def test_strings_are_literals_compared_for_equality(tmp_path):
     scenario = Scenario([Instant(True, early=(Tick("flip", {}),)) for _ in range(3)], half=False)
     got, _ = _run(tmp_path, "strings", STRINGS, scenario)
     assert [s.outputs["eq"]["eq.value"] for s in got.steps if "eq" in s.outputs] == [True, False, True]
-
-
-def test_a_sequence_of_strings_is_not_supported_at_the_fmu_boundary(tmp_path):
-    # a string event is an FMI String (test_string_ports.py); collections hold no strings
-    path = tmp_path / "say.rct"
-    path.write_text('import sequence_toolkit::*\nstm Say {\n\tevent said: Seq(string)\n\tinitial i\n'
-                    '\tstate S { entry said!<"hi"> }\n\ttransition t0 { from i to S }\n}\n')
-    with pytest.raises(RobogenError) as info:
-        build([path], tmp_path / "say")
-    assert "event 'said': a sequence of string (elements of collections are numbers" in str(info.value)
-    assert "say.rct:3:" in str(info.value)
 
 
 EXTRACT = """\

@@ -56,9 +56,10 @@ from pathlib import Path
 from robogen.codegen.api import lower_paths
 from robogen.codegen.generate import generate
 from robogen.ir.lower import LoweringOptions
-for path, settings in json.loads(sys.argv[1]):
+for path, settings, capacities in json.loads(sys.argv[1]):
     for semantics in ("exhaustive", "stepwise"):
-        fmu, _ = lower_paths([path], options=LoweringOptions(semantics=semantics, settings=settings))
+        options = LoweringOptions(semantics=semantics, settings=settings, capacity=capacities[0], capacities=tuple(capacities))
+        fmu, _ = lower_paths([path], options=options)
         for rel, text in sorted(generate(fmu).files.items()):
             print(path, semantics, rel, hashlib.sha256(text.encode()).hexdigest())
 """
@@ -67,7 +68,7 @@ for path, settings in json.loads(sys.argv[1]):
 def test_generated_sources_are_byte_identical_across_processes():
     """Two processes with different hash seeds (set and dict orders that depend on hashing would
     show) generate the same bytes for every test model, in both semantics."""
-    paths = [(str(m.path.relative_to(ROOT)), m.settings) for m in TEST_MODELS.values()]
+    paths = [(str(m.path.relative_to(ROOT)), m.settings, m.capacities or [m.capacity]) for m in TEST_MODELS.values()]
     outputs = []
     for seed in ("1", "2"):
         env = dict(os.environ, PYTHONHASHSEED=seed)

@@ -9,7 +9,6 @@ import pytest
 
 from support.codegen_driver import FmuRunner, Instant, Scenario, Tick, build, interpret
 from support.codegen_models import MODELS
-from robogen.diagnostics import RobogenError
 from robogen.ir.lower import LoweringOptions
 
 CO2, NH3 = 0, 1  # the items of the FMI EnumerationType records.Chem, in the order written
@@ -67,14 +66,3 @@ def test_a_set_of_records_is_taken_in_canonical_order_without_duplicates(records
     assert [o["distinct.value"] for o in _outputs(got, "distinct")] == [3]
     (members,) = _outputs(got, "members")
     assert members == _readings("members", [(CO2, 9, -1.5, 0.0), (CO2, 9, 1.5, 0.0), (NH3, 1, 0.0, 0.0)])
-
-
-def test_a_sequence_of_records_holding_a_collection_is_not_supported_at_the_fmu_boundary(tmp_path):
-    path = tmp_path / "nest.rct"
-    path.write_text("import set_toolkit::*\ndatatype R {\n\tm: Set(nat)\n}\nstm Nest {\n\tevent e: Seq(R)\n"
-                    "\tvar q: Seq(R)\n\tinitial i\n\tstate S { }\n\ttransition t0 { from i to S }\n"
-                    "\ttransition t1 { from S to S trigger e?q }\n}\n")
-    with pytest.raises(RobogenError) as info:
-        build([path], tmp_path / "nest")
-    assert "'e.value': a sequence of records with a field of type Set(nat) as an FMU port" in str(info.value)
-    assert "nest.rct:6:" in str(info.value)

@@ -246,3 +246,13 @@ def test_the_fmus_units_are_written_and_a_system_files_connections_stay_unconver
     assert outcome(ssp, tmp_path, "ssp") == expected
     last = dict(zip(["time", "superdense", "a.y", "b.y", "c.y"], expected[0][-1]))
     assert last == pytest.approx({"time": 0.5, "superdense": 0, "a.y": 0.5, "b.y": 0.4 + 0.5, "c.y": 40 + 0.5})
+
+
+def test_an_instance_driven_by_a_scenario_is_not_exported(write_system, tmp_path):
+    toml = write_system('[experiment]\nstop = 1.0\nstep = 0.1\n[instances.t]\nfmu = "{trivial}"\nscenario = "s.toml"\n')
+    with pytest.raises(RobogenError) as exc:
+        export_ssp(toml, tmp_path / "player.ssp")
+    assert [(d.span.line, d.span.column, d.message) for d in exc.value.diagnostics] == [
+        (6, 1, "instance 't' is driven by a scenario (docs/scenarios.md), which an SSP cannot hold: export the system "
+                "without it")]
+    assert not (tmp_path / "player.ssp").exists()

@@ -110,3 +110,38 @@ def test_cli_exit_codes_and_location(built, tmp_path, capsys):
     err = capsys.readouterr().err
     assert f"{bad}/modelDescription.xml:12:1: error: constant clock 'tick' needs intervalDecimal" in err
     assert '<Clock name="tick"' in err  # the excerpt of the line inside the archive
+
+
+def test_every_platform_folder_is_checked(built, tmp_path):
+    """An empty platform folder, a folder that is no platform tuple, and a Linux library exporting
+    more than the FMI functions; the host's binary is intact."""
+    from robogen import toolchain
+
+    (tmp_path / "leak.c").write_text('__attribute__((visibility("default"))) int helper(void);\nint helper(void) { return 1; }\n')
+    with zipfile.ZipFile(built["trivial"]) as z:
+        host = z.read("binaries/x86_64-linux/trivial.so")
+    leak = toolchain.compile_shared([tmp_path / "leak.c"], tmp_path / "leak.so")
+    fmu = rewrite(built["trivial"], tmp_path / "folders.fmu", **{
+        "binaries__aarch64-linux__README_DOT_txt": b"no library here",
+        "binaries__amd64-freebsd__trivial_DOT_so": host,
+        "binaries__x86_64-linux__trivial_DOT_so": leak.read_bytes(),
+    })
+    found = messages(fmu)
+    assert ("error", 1, "'binaries/aarch64-linux' holds no trivial.so, the library of modelIdentifier 'trivial' for aarch64-linux") in found
+    assert ("warning", 1, "'binaries/amd64-freebsd' is not an FMI 3.0 platform tuple (<arch>-<sys>, such as 'x86_64-linux'); "
+                          "its files are not checked") in found
+    assert ("warning", 1, "the binary exports 1 name(s) besides the FMI 3.0 functions (helper); they can clash with other "
+                          "libraries in the importer's process") in found
+
+
+def test_a_program_is_not_a_library(built, tmp_path):
+    """A position-independent executable is an ELF file of the library's type (DYN): its PIE flag
+    tells it apart, as the dynamic loader itself does."""
+    from robogen import toolchain
+
+    (tmp_path / "main.c").write_text("int main(void) { return 0; }\n")
+    program = toolchain.compile_program([tmp_path / "main.c"], tmp_path / "main", extra=["-fPIE", "-pie"])
+    fmu = rewrite(built["trivial"], tmp_path / "program.fmu", **{"binaries__x86_64-linux__trivial_DOT_so": program.read_bytes()})
+    assert ("error", 1, "the binary is an executable, not a shared library: an importer cannot load it") in messages(fmu)
+    fmu = rewrite(built["trivial"], tmp_path / "text.fmu", **{"binaries__x86_64-linux__trivial_DOT_so": b"#!/bin/sh\n"})
+    assert ("error", 1, "cannot read the binary: not an ELF, PE or Mach-O file") in messages(fmu)

@@ -5,9 +5,9 @@ from __future__ import annotations
 
 from robogen.cli import main
 
-ABSTRACT = """interface I { event go }
+NO_INITIAL = """interface I { event go }
 interface Ops { act(x: nat) }
-operation act(x: nat) { }
+operation act(x: nat) { state A { } }
 stm M {
 \tuses I
 \trequires Ops
@@ -19,14 +19,14 @@ stm M {
 """
 
 
-def test_a_call_of_an_operation_without_nodes_is_not_supported(tmp_path, capsys):
-    """RoboChart gives an operation definition without nodes no behaviour (it is abstract): a
-    call of it cannot be generated, and is not a no-op."""
-    model = tmp_path / "abstract.rct"
-    model.write_text(ABSTRACT)
+def test_a_call_of_an_operation_with_nodes_but_no_initial_node_is_not_supported(tmp_path, capsys):
+    """An operation definition with nodes but none to start from (RoboTool warns) has no behaviour
+    to generate; unlike an abstract one (no nodes: its call is an output clock, see
+    tests/codegen/test_abstract_operations.py) it does not terminate at once either."""
+    model = tmp_path / "noinitial.rct"
+    model.write_text(NO_INITIAL)
     assert main(["check", str(model)]) == 0
     capsys.readouterr()
     assert main(["compile", str(model), "-o", str(tmp_path / "out")]) == 1
-    assert (f"{model}:10:48: error: a call of operation 'act', whose definition has no initial node (an abstract "
-            "operation: the model gives it no behaviour to generate) is not supported for code generation"
-            in capsys.readouterr().err)
+    assert (f"{model}:10:48: error: a call of operation 'act', whose definition has nodes but no initial node "
+            "is not supported for code generation" in capsys.readouterr().err)

@@ -12,7 +12,7 @@ import pytest
 from fmpy.validation import validate_fmu as fmpy_validate
 
 from robogen.cli import main
-from robogen.fmu.elf import exported_symbols
+from robogen.fmu.binaries import read_binary
 from robogen.fmu.validate import fmi3_function_names, validate_fmu
 from robogen.pyfmu.build import collect_python, package
 
@@ -52,7 +52,7 @@ def test_import_scan_follows_first_party_imports_only():
 
 
 def test_the_binary_exports_the_75_fmi3_functions_and_the_module_init_only(fmus):
-    exported = exported_symbols(read(fmus["counter"], "binaries/x86_64-linux/counter.so"))
+    exported = set(read_binary(read(fmus["counter"], "binaries/x86_64-linux/counter.so")).exports)
     fmi3 = {name for name in exported if name.startswith("fmi3")}
     assert fmi3 == set(fmi3_function_names()) and len(fmi3) == 75
     others = exported - fmi3

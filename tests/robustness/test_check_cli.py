@@ -52,8 +52,8 @@ CASES = [
     # ---- paths that are not models
     Case("missing file", ["check", "missing.rct"], 1, "err", "error: no such file or directory: missing.rct"),
     Case("dangling link", ["check", "gone.rct"], 1, "err", "error: no such file or directory: gone.rct", setup=_dangling),
-    Case("folder without models", ["check", "--werror", "empty"], 1, "err",
-         "warning: no model files (.rct, .rst, .rsim) in directory empty", files={"empty/notes.txt": "hello"}),
+    Case("folder without models", ["check", "empty"], 1, "err",
+         "empty: error: no model files (.rct, .rst, .rsim) in directory empty", files={"empty/notes.txt": "hello"}),
     Case("not a model file", ["check", "notes.txt"], 1, "err", "error: not a model file: notes.txt", files={"notes.txt": GOOD}),
     Case("a named pipe", ["check", "pipe.rct"], 1, "err", "error: pipe.rct is neither a file nor a directory", setup=_fifo),
     Case("unreadable file", ["check", "memory.rct"], 1, "err", "error: cannot read memory.rct: Input/output error", setup=_device),

@@ -53,6 +53,13 @@ CASES = [
     Case("--functions for a model without functions", ["package", "m.rst", "--functions", "f.c", "-o", "m.fmu"], 0, "err",
          "warning: --functions f.c: the model calls no user function; the file is not used",
          files={"m.rst": GOOD, "f.c": "/* nothing the model calls */\n"}),
+    Case("--capacity of no element", ["compile", "m.rst", "--capacity", "0", "-o", "out"], 1, "err",
+         "error: --capacity 0: give a number between 1 and 1048576, or one per nesting level separated by commas (32,8,4)",
+         files={"m.rst": GOOD}),
+    Case("--capacity of a level that is no number", ["compile", "m.rst", "--capacity", "8,x", "-o", "out"], 1, "err",
+         "error: --capacity 8,x: give a number", files={"m.rst": GOOD}),
+    Case("--capacity per nesting level", ["compile", "m.rst", "--capacity", "32,8,4", "-o", "out"], 0, "err", "wrote out/",
+         files={"m.rst": GOOD}),
     Case("package-py output is a folder", ["package-py", "robogen.platforms.controller:PlanController", "-o", "c.fmu"], 1, "err",
          "error: -o c.fmu is a folder; name a file", files={"c.fmu/": ""}),
 ]

@@ -85,8 +85,9 @@ def test_house_flags():
 
 
 def test_include_order_puts_the_sources_first(tmp_path):
-    assert binary.include_dirs(tmp_path) == [tmp_path, binary.runtime_dir(), include_dir()]
-    assert toolchain.include_args(binary.include_dirs(tmp_path)) == ["-I", str(tmp_path), "-I", str(binary.runtime_dir()), "-I", str(include_dir())]
+    assert binary.include_dirs(tmp_path) == [tmp_path, binary.runtime_dir()]
+    assert toolchain.include_args(binary.include_dirs(tmp_path)) == ["-I", str(tmp_path), "-I", str(binary.runtime_dir())]
+    assert toolchain.include_args([include_dir()], "-isystem") == ["-isystem", str(include_dir())]
 
 
 def test_a_compile_error_is_a_robogen_error_with_the_compiler_output(tmp_path):

@@ -89,10 +89,10 @@ def test_paths_that_are_not_models(tmp_path):
     assert result.returncode == 1
     assert result.stderr == (
         "error: no such file or directory: missing.rct\n"
-        "warning: no model files (.rct, .rst, .rsim) in directory empty-folder\n"
+        "empty-folder: error: no model files (.rct, .rst, .rsim) in directory empty-folder\n"
         "error: not a model file: notes.txt (expected a .rct (RoboChart), .rst or .rsim (RoboSim) file)\n"
     )
-    assert result.stdout == "checked 0 files: 2 errors, 1 warning\n"
+    assert result.stdout == "checked 0 files: 3 errors, 0 warnings\n"
 
 
 def test_usage_errors_exit_with_2():

@@ -69,7 +69,7 @@ def test_operators_check_their_operands():
         error(text, "n == b", "cannot compare nat with boolean"),
         error(text, "b < 1", "'<' needs numbers, not boolean"),
         error(text, "b in s", "boolean cannot be a member of Set(nat)"),
-        error(text, "n ; s", "'cat' concatenates sequences, not nat"),
+        error(text, "n ; s", "'cat' concatenates sequences or strings, not nat"),
         error(text, "s + s", "'+' is not defined on sets; use union, inter or diff"),
     ]
 

@@ -6,7 +6,7 @@ from __future__ import annotations
 import pytest
 from support.frontend import at, brief
 
-from robogen.diagnostics import RobogenError
+from robogen.diagnostics import RobogenError, Span
 from robogen.semantics import check_paths, check_texts
 from robogen.semantics.workspace import collect_model_paths, load
 
@@ -107,21 +107,72 @@ def test_unknown_names_of_every_kind():
 
 
 def test_duplicate_top_level_declarations():
+    """RoboTool's UniqueQualifiedName check (RoboChartValidator.checkUniqueness) warns "... is not
+    unique" when the project exports two objects of one class under one qualified name, in a
+    package or not, in one file or two; declarations of other kinds (a machine and a type S)
+    do not clash, since every lookup asks for a kind."""
     texts = {
-        "a.rct": f"package p\nstm S {{ {MACHINE_BODY} }}\ntype S",
-        "b.rct": "package p\ninterface S { }",
+        "a.rct": f"package p\nstm S {{ {MACHINE_BODY} }}\ntype S\ninterface J {{ }}",
+        "b.rct": "package p\ninterface S { }\ninterface J { }",
         "c.rct": "type Free",
         "d.rct": "type Free",
     }
     assert check(texts) == [
-        ("a.rct", "error", 3, 6, "duplicate declaration of 'S' in package 'p'"),
-        ("b.rct", "error", 2, 11, "duplicate declaration of 'S' in package 'p'"),
-        # RoboTool: "Free is not unique", a warning; the first declaration is used (K12)
-        ("d.rct", "warning", 1, 6, "'Free' is not unique: the files without a package declare it twice; robogen uses the first"),
+        ("b.rct", "warning", 3, 11, "'J' is not unique: an interface of that name is declared twice in package 'p'; "
+                                    "a file that declares one uses its own, the other files the first"),
+        ("d.rct", "warning", 1, 6, "'Free' is not unique: a type of that name is declared twice in the files without a "
+                                   "package; a file that declares one uses its own, the other files the first"),
     ]
     first = check_texts(texts).diagnostics[0].notes[0]
-    assert first.message == "'S' is first declared here as a state machine"
-    assert (first.span.path, first.span.line, first.span.column) == ("a.rct", 2, 5)
+    assert first.message == "'J' is first declared here"
+    assert (first.span.path, first.span.line, first.span.column) == ("a.rct", 4, 11)
+
+
+SHADOW_A = """interface I {
+\tevent go
+}
+stm A {
+\tuses I
+\tinitial i
+\tstate S { }
+\ttransition t0 { from i to S }
+\ttransition t1 { from S to S trigger go }
+}
+"""
+SHADOW_B = """interface I {
+\tevent stop
+}
+stm B {
+\tuses I
+\tinitial i
+\tstate S { }
+\ttransition t0 { from i to S }
+\ttransition t1 { from S to S trigger stop }
+}
+controller C {
+\tuses I
+\tsref b = B
+\tconnection C on stop to b on stop
+}
+"""
+
+
+@pytest.mark.parametrize("package", ["", "package p\n"])
+def test_a_name_declared_in_the_same_file_shadows_its_declaration_in_another_file(package):
+    """Xtext links a name to the resource's own elements before the global index: b.rct's machine
+    and controller use b.rct's interface I (with event stop), not a.rct's (with go), though
+    a.rct comes first; the duplicate stays a warning. A file that does not declare I uses the
+    first (c.rct: a.rct's, so stop is unknown there)."""
+    c = package + "stm M {\n\tuses I\n\tinitial i\n\tstate S { }\n\ttransition t0 { from i to S }\n" \
+                  "\ttransition t1 { from S to S trigger stop }\n}\n"
+    texts = {"a.rct": package + SHADOW_A, "b.rct": package + SHADOW_B, "c.rct": c}
+    shift = 1 if package else 0
+    assert [d[:4] for d in check(texts)] == [
+        ("b.rct", "warning", 1 + shift, 11),  # 'I' is not unique
+        ("c.rct", "error", 6 + shift, 38),  # unknown event 'stop'
+    ]
+    model = check_texts({"a.rct": package + SHADOW_A, "b.rct": package + SHADOW_B})
+    assert not model.errors
 
 
 def test_a_function_does_not_hide_a_type_of_the_same_name():
@@ -169,14 +220,22 @@ def test_paths_that_hold_no_model_are_reported(tmp_path, name, message):
     assert [brief(d) for d in model.diagnostics] == [("error", message.format(path=path))]
 
 
-def test_an_empty_folder_is_a_warning(tmp_path):
-    """RoboTool loads an empty project folder without complaint (K14)."""
+def test_an_empty_folder_is_an_empty_project_or_for_robogen_check_an_error(tmp_path):
+    """RoboTool loads an empty project folder without complaint (K14): a warning, located at the
+    folder (a span of the path alone); but a script that runs `robogen check` on a folder would
+    believe its models checked, so there (empty_is_error) it is an error."""
     (tmp_path / "empty-folder").mkdir()
     path = tmp_path / "empty-folder"
+    message = f"no model files (.rct, .rst, .rsim) in directory {path}"
     assert collect_model_paths([path]) == []
     model = check_paths([path])
-    assert [brief(d) for d in model.diagnostics] == [("warning", f"no model files (.rct, .rst, .rsim) in directory {path}")]
+    assert [brief(d) for d in model.diagnostics] == [("warning", 0, 0, message)]
     assert model.files == ()
+    with pytest.raises(RobogenError) as exc:
+        collect_model_paths([path], empty_is_error=True)
+    (d,) = exc.value.diagnostics
+    assert (d.message, d.span) == (message, Span.of_path(str(path)))
+    assert [brief(d) for d in check_paths([path], empty_is_error=True).diagnostics] == [("error", 0, 0, message)]
 
 
 def test_a_file_with_a_syntax_error_is_left_out_and_the_others_still_checked(tmp_path):
@@ -209,3 +268,8 @@ def test_a_byte_order_mark_is_allowed(tmp_path):
 def test_an_empty_file_is_a_warning(tmp_path):
     (tmp_path / "empty.rct").write_text("// nothing here\n")
     assert [brief(d) for d in check_paths([tmp_path]).diagnostics] == [("warning", 1, 1, "the file is empty: it declares nothing")]
+
+
+def test_a_qualified_name_also_finds_the_declaration_of_the_same_file_first():
+    b = "package p\n" + SHADOW_B.replace("uses I", "uses p::I")
+    assert [d[:4] for d in check({"a.rct": "package p\n" + SHADOW_A, "b.rct": b})] == [("b.rct", "warning", 2, 11)]

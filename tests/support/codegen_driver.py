@@ -464,4 +464,17 @@ def build(paths: list[Path], work: Path, *, module: str | None = None, machine: 
     return Built(compiled.fmu, archive, folder, dict(compiled.generated.files))
 
 
-__all__ = ["Tick", "Instant", "Scenario", "canonical", "Step", "Trace", "Description", "FmuRunner", "interpret", "run_checked", "random_scenario", "build", "Built"]
+def build_text(work: Path, name: str, text: str, options: LoweringOptions | None = None,
+               c_functions: str | None = None) -> Built:
+    """:func:`build` of a model written to ``work/<name>.rct`` (and its user functions' C, if
+    given, to ``work/<name>.c``)."""
+    path = work / f"{name}.rct"
+    path.write_text(text)
+    c_file = None
+    if c_functions is not None:
+        c_file = work / f"{name}.c"
+        c_file.write_text(c_functions)
+    return build([path], work / name, options=options, functions=c_file)
+
+
+__all__ = ["Tick", "Instant", "Scenario", "canonical", "Step", "Trace", "Description", "FmuRunner", "interpret", "run_checked", "random_scenario", "build", "build_text", "Built"]

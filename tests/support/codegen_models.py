@@ -18,12 +18,27 @@ class ModelCase:
     path: Path
     max_steps: int = 1000
     capacity: int = 32  # of sets and sequences (--capacity)
+    capacities: tuple[int, ...] = ()  # one per nesting level, outermost first (--capacity 4,3,2)
     settings: dict[str, str] = field(default_factory=dict)  # constants without a value (--set)
     # payload choices for the random scenarios (FMI name -> values), to keep run-time errors rare
     choices: dict[str, list] = field(default_factory=dict)
 
 
 NONZERO = [-7, -3, -2, -1, 1, 2, 3, 5, 9]
+# nesting.rct (capacities 6, 3, 2): small sizes, so that flattening rarely overflows, now and then
+# one beyond the capacity (clipped); few distinct texts (the FMU keeps at most 6 of the importer's)
+_SIZES = [0, 1, 1, 2, 2, 1, 0, 9]
+NESTING = {
+    **{f"{p}.size": _SIZES for p in ("cube.value", "cube.value.elements", "cube.value.elements.elements", "words.value",
+                                      "words.value.elements", "frames.value", "frames.value.elements.img", "names.value",
+                                      "cmds.value")},
+    "cube.value.elements.elements.elements": [-1, 0, 1, 2, 7], "words.value.elements.elements": [0, 1, 2, 3],
+    "frames.value.elements.name": ["", "a", "cam"], "frames.value.elements.v": [-1.0, 0.0, 0.5],
+    "frames.value.elements.img.elements._1": [0, 1, 2], "frames.value.elements.img.elements._2": [0, 3],
+    "frames.value.elements.img.elements._3": [1, 2], "names.value.elements": ["a", "b", "m"],
+    "cmds.value.elements.tag": [0, 1, 2], "cmds.value.elements.Move_1": [1.5, 0.0],
+    "cmds.value.elements.Turn_1": [0, 2], "power.value": [-4, -3, -1, 0, 1, 2, 3, 5, 6],
+}
 
 TEST_MODELS = {
     m.name: m
@@ -73,12 +88,19 @@ TEST_MODELS = {
             "gas.value.elements.i": [0, 1, 2, 7], "seen.value.elements.i": [0, 1, 1, 2],
             "seen.value.elements.at.x": [0.0, 0.5, 0.5], "seen.value.elements.at.y": [0.0, -1.0],
         }),
+        ModelCase("nesting", MODELS / "nesting.rct", capacity=6, capacities=(6, 3, 2), choices=NESTING),
         ModelCase("strings", MODELS / "strings.rct", choices={"name.value": ["hello", "bye", "", "bob", "amy", "\u00e9lan"]}),
         ModelCase("fmaps", MODELS / "fmaps.rct", choices={
             # 1 is never dropped: asking for it never leaves the domain (test_function_maps.py does)
             "ask.value": [1], "put.value": [1, 2, 3, 4], "drop.value": [2, 3, 5], "bump.value": [0, 1, 2],
             "turn.value": [0, 3],
         }),
+        ModelCase("typeuses", MODELS / "typeuses.rct"),
+        ModelCase("abstract", MODELS / "abstract.rct"),
+        ModelCase("abstractsim", MODELS / "abstractsim.rst"),
+        ModelCase("senders", MODELS / "senders.rct"),
+        ModelCase("widen", MODELS / "widen.rct", choices={"r.value": [-2.75, 0.5, 2.75, 1e10]}),
+        ModelCase("typeusessim", MODELS / "typeusessim.rst"),
         ModelCase("tagged", MODELS / "tagged.rct", choices={
             "cmd.tag": [0, 1, 2], "cmd.Move_1": [1.5, 2.5, 0.0], "cmd.Turn_1": [2, 0, 2], "cmd.Turn_2": [True, False],
         }),

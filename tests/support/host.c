@@ -15,32 +15,15 @@
  */
 #define _POSIX_C_SOURCE 200809L
 
-#include <dlfcn.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
-#include "fmi3Functions.h"
+#include "fmi3_library.h"
 
 #define MAX_INSTANCES 8
 
-static struct {
-    fmi3InstantiateCoSimulationTYPE *instantiate;
-    fmi3FreeInstanceTYPE *free_instance;
-    fmi3EnterInitializationModeTYPE *enter_init;
-    fmi3ExitInitializationModeTYPE *exit_init;
-    fmi3EnterEventModeTYPE *enter_event_mode;
-    fmi3EnterStepModeTYPE *enter_step_mode;
-    fmi3TerminateTYPE *terminate;
-    fmi3SetClockTYPE *set_clock;
-    fmi3GetClockTYPE *get_clock;
-    fmi3SetInt64TYPE *set_i64;
-    fmi3GetInt64TYPE *get_i64;
-    fmi3SetFloat64TYPE *set_f64;
-    fmi3GetFloat64TYPE *get_f64;
-    fmi3UpdateDiscreteStatesTYPE *update;
-    fmi3DoStepTYPE *do_step;
-} api;
+static fmi3_api api;
 
 static fmi3Instance instances[MAX_INSTANCES];
 static int n_instances;
@@ -52,45 +35,11 @@ static void log_message(fmi3InstanceEnvironment env, fmi3Status status, fmi3Stri
     fflush(stdout);
 }
 
-static void *resolve(void *library, const char *name)
-{
-    void *symbol = dlsym(library, name);
-    if (symbol == NULL) {
-        printf("missing %s\n", name);
-        exit(2);
-    }
-    return symbol;
-}
-
 static void load(const char *path)
 {
-    void *library = dlopen(path, RTLD_NOW | RTLD_LOCAL);
-    if (library == NULL) {
-        printf("dlopen failed: %s\n", dlerror());
-        exit(2);
-    }
-    /* Object-to-function pointer conversion through memcpy keeps -Wpedantic quiet. */
-#define RESOLVE(field, name)                       \
-    do {                                           \
-        void *p = resolve(library, name);          \
-        memcpy(&api.field, &p, sizeof api.field);  \
-    } while (0)
-    RESOLVE(instantiate, "fmi3InstantiateCoSimulation");
-    RESOLVE(free_instance, "fmi3FreeInstance");
-    RESOLVE(enter_init, "fmi3EnterInitializationMode");
-    RESOLVE(exit_init, "fmi3ExitInitializationMode");
-    RESOLVE(enter_event_mode, "fmi3EnterEventMode");
-    RESOLVE(enter_step_mode, "fmi3EnterStepMode");
-    RESOLVE(terminate, "fmi3Terminate");
-    RESOLVE(set_clock, "fmi3SetClock");
-    RESOLVE(get_clock, "fmi3GetClock");
-    RESOLVE(set_i64, "fmi3SetInt64");
-    RESOLVE(get_i64, "fmi3GetInt64");
-    RESOLVE(set_f64, "fmi3SetFloat64");
-    RESOLVE(get_f64, "fmi3GetFloat64");
-    RESOLVE(update, "fmi3UpdateDiscreteStates");
-    RESOLVE(do_step, "fmi3DoStep");
-#undef RESOLVE
+    void *library = fmi3_library_open(path);
+    if (library == NULL) exit(2);
+    fmi3_api_load(library, &api);
     printf("loaded\n");
 }
 
@@ -160,20 +109,20 @@ int main(void)
         } else if (strcmp(words[0], "set_i64") == 0 && n == 4) {
             fmi3ValueReference vr = (fmi3ValueReference)atol(words[2]);
             fmi3Int64 value = strtoll(words[3], NULL, 10);
-            status = api.set_i64(instance(words[1]), &vr, 1, &value, 1);
+            status = api.set_int64(instance(words[1]), &vr, 1, &value, 1);
         } else if (strcmp(words[0], "get_i64") == 0 && n == 3) {
             fmi3ValueReference vr = (fmi3ValueReference)atol(words[2]);
             fmi3Int64 value = 0;
-            status = api.get_i64(instance(words[1]), &vr, 1, &value, 1);
+            status = api.get_int64(instance(words[1]), &vr, 1, &value, 1);
             printf("int64 %lld\n", (long long)value);
         } else if (strcmp(words[0], "set_f64") == 0 && n == 4) {
             fmi3ValueReference vr = (fmi3ValueReference)atol(words[2]);
             fmi3Float64 value = atof(words[3]);
-            status = api.set_f64(instance(words[1]), &vr, 1, &value, 1);
+            status = api.set_float64(instance(words[1]), &vr, 1, &value, 1);
         } else if (strcmp(words[0], "get_f64") == 0 && n == 3) {
             fmi3ValueReference vr = (fmi3ValueReference)atol(words[2]);
             fmi3Float64 value = 0.0;
-            status = api.get_f64(instance(words[1]), &vr, 1, &value, 1);
+            status = api.get_float64(instance(words[1]), &vr, 1, &value, 1);
             printf("float64 %.17g\n", value);
         } else if (strcmp(words[0], "update") == 0) {
             fmi3Boolean need = fmi3False, term = fmi3False, nominals = fmi3False, values = fmi3False;

@@ -5,10 +5,13 @@ compiled and packaged once per session.
 packaged as a validated ``.fmu`` and unzipped for loading (a :class:`codegen_driver.Built`). The
 builds run two at a time (the C compiler is a separate process) and are cached for the session:
 the conftest of each folder that uses them imports these fixtures, and both share one cache.
+Run in one process, the session starts every build at once so that they overlap the first tests;
+under pytest-xdist each worker builds only what its tests ask for (the workers are the overlap).
 """
 
 from __future__ import annotations
 
+import os
 import threading
 from concurrent.futures import ThreadPoolExecutor
 from pathlib import Path
@@ -25,7 +28,7 @@ class Builds:
 
     def __init__(self, folder: Path):
         self.folder = folder
-        self.pool = ThreadPoolExecutor(max_workers=2)
+        self.pool = ThreadPoolExecutor(max_workers=1 if _XDIST else 2)
         self.futures: dict[tuple[str, str, str], object] = {}
         self.lock = threading.Lock()
 
@@ -35,7 +38,8 @@ class Builds:
             if key not in self.futures:
                 model = TEST_MODELS[name]
                 options = LoweringOptions(semantics=semantics, trigger=trigger, max_steps=model.max_steps,
-                                          settings=dict(model.settings), capacity=model.capacity)
+                                          settings=dict(model.settings), capacity=model.capacity,
+                                          capacities=model.capacities)
                 work = self.folder / f"{name}-{semantics}-{trigger}"
                 self.futures[key] = self.pool.submit(build, [model.path], work, options=options)
             return self.futures[key]
@@ -44,6 +48,7 @@ class Builds:
         return self.submit(name, semantics, trigger).result()  # type: ignore[attr-defined]
 
 
+_XDIST = "PYTEST_XDIST_WORKER" in os.environ
 _session: list[Builds] = []  # the one cache of the session, whichever folder's tests ask first
 
 
@@ -54,7 +59,7 @@ def builds(tmp_path_factory) -> Builds:
         return
     cache = Builds(tmp_path_factory.mktemp("codegen"))
     _session.append(cache)
-    for name in TEST_MODELS:  # start every build now: they run while the first tests wait
+    for name in () if _XDIST else TEST_MODELS:  # start every build now: they run while the first tests wait
         for semantics in SEMANTICS:
             cache.submit(name, semantics)
     yield cache

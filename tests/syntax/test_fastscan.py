@@ -135,3 +135,14 @@ def test_without_the_analysis_every_ignored_terminal_is_guarded_and_no_terminal_
     for text in TEXTS.values():
         retyped = [(keywords.get(kind, {}).get(value, kind), value) for kind, value in scan(scanner, text)]
         assert retyped[:-1] == lark_root_tokens(ROBOCHART, text)
+
+
+@pytest.mark.parametrize("language", [ROBOCHART, ROBOSIM])
+def test_the_alternation_the_fast_driver_builds_is_the_one_lark_matches_with(language):
+    """FastLALR builds its root regex from the scanner's public terminals; Lark's own (one
+    compiled alternation: Python's re has no group limit since 3.11) must be the same text."""
+    root = _fast_parser(language)._lexer.root_lexer
+    mres = root.scanner._mres
+    assert len(mres) == 1
+    alternation = "|".join(f"(?P<{t.name}>{t.pattern.to_regexp()})" for t in root.scanner.terminals)
+    assert mres[0].pattern == alternation and mres[0].flags == re.compile(alternation, root.g_regex_flags).flags

@@ -54,7 +54,10 @@ def test_objects_the_program_froze_stay_frozen():
         count = gc.get_freeze_count()
         with without_gc():
             Box()
-        assert gc.get_freeze_count() == count
+        # An unfreeze (the defect this guards against) empties the permanent generation. It is
+        # not compared for equality: frozen objects that other threads of the session free
+        # meanwhile (background model builds) leave it (247777 -> 247290 once, under load).
+        assert count > 1000 and gc.get_freeze_count() > count // 2
     finally:
         gc.unfreeze()
     assert frozen is not None

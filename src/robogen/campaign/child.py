@@ -46,6 +46,11 @@ def derived_system(context: Context, fmus: dict[str, Path], start: dict[str, dic
         instance["fmu"] = str(fmus[name])
         if start.get(name):
             instance["start"] = {**instance.get("start", {}), **start[name]}
+        player = f"{name}_scenario"  # the instance that plays its scenario (robogen.cosim.player)
+        if "scenario" in instance and player in fmus:
+            instance["scenario"] = str(fmus[player])
+            if start.get(player):
+                instance["scenario_parameters"] = {**instance.get("scenario_parameters", {}), **start[player]}
     return tomlwrite.dumps(data)
 
 

@@ -214,8 +214,10 @@ def _apply(campaign: Campaign, rule: FileRule, values: dict[str, Value], files: 
 
 def _check_instance(campaign: Campaign, instance: str, path: Path, start: dict[str, Value], files: _Files,
                     sink: DiagnosticSink) -> bool:
-    md = files.model(path)
     span = campaign.system.instances[instance].fmu_span
+    if campaign.system.instances[instance].player_of is not None:
+        return _check_scenario(campaign, instance, path, start, sink)
+    md = files.model(path)
     if isinstance(md, str):
         sink.error(md, span)
         return False
@@ -225,6 +227,24 @@ def _check_instance(campaign: Campaign, instance: str, path: Path, start: dict[s
         problem = _start_problem(variables.get(name), name, value, variables)
         if problem:
             sink.error(problem, _param_span(campaign, f"{instance}.{name}"), Note(f"variables are declared in {md.path}"))
+            ok = False
+    return ok
+
+
+def _check_scenario(campaign: Campaign, instance: str, path: Path, start: dict[str, Value], sink: DiagnosticSink) -> bool:
+    """The parameters a campaign gives the instance that plays a scenario: the scenario's own."""
+    from robogen.cosim.scenario import load_scenario
+
+    try:
+        declared = load_scenario(path).parameters
+    except RobogenError as exc:
+        sink.extend(exc.diagnostics)
+        return False
+    ok = True
+    for name, value in start.items():
+        if name not in declared:
+            sink.error(f"unknown parameter: the scenario {path} has no parameter '{name}'{did_you_mean(name, declared)}",
+                       _param_span(campaign, f"{instance}.{name}"))
             ok = False
     return ok
 

@@ -8,64 +8,22 @@ machine's run function turns into ``fmi3Error`` after the statement. ``&&`` and 
 left-to-right evaluation the interpreter uses, so the side effects of ``$e?x`` bindings happen in
 the same order.
 
-This module is also the one place that makes C names from model names (:func:`mangle`,
-:class:`CNames`): the IR keeps the model's names.
+This module and :mod:`robogen.codegen.cnames` (the C types, :func:`mangle`) are the one place
+that makes C names from model names (:class:`CNames`): the IR keeps the model's names.
 """
 
 from __future__ import annotations
 
-import re
 from dataclasses import dataclass
 
+from robogen.codegen.cnames import ctype, elem_tag, literal, mangle, tag
+from robogen.codegen.layout_code import write
+from robogen.codegen.quantifiers import quantifier
 from robogen.ir import model as ir
-from robogen.ir.supported import FunMapT, TupleT
-from robogen.ir.collections import CAN_OVERFLOW, NO_ELEMENT, empty_message, overflow_message
+from robogen.ir.layout import nested
+from robogen.ir.supported import holds_string
+from robogen.ir.collections import CAN_OVERFLOW, SECOND_FAULTS, empty_message, overflow_message, site_capacity
 from robogen.semantics import types as T
-
-
-def ctype(t: T.Type) -> str:
-    # a string: its number among the model's strings
-    if t == T.INT or t == T.STRING or isinstance(t, T.EnumT):
-        return "int64_t"
-    if t == T.NAT:
-        return "uint64_t"
-    if t == T.REAL:
-        return "double"
-    if t == T.BOOLEAN:
-        return "bool"
-    if isinstance(t, FunMapT):  # a function value: its pairs and its default (robogen.ir.functions)
-        return f"rg_fun_{elem_tag(t.pair)}"
-    if isinstance(t, TupleT):  # by its arity and components: a prefix code, one name per tuple type
-        return f"rg_tup{len(t.fields)}_" + "_".join(elem_tag(ft) for _, ft in t.fields)
-    if isinstance(t, T.RecordT):
-        return "rg_rec_" + mangle(t.qname)
-    if isinstance(t, T.VectorT):
-        return f"rg_vec_{tag(t.element)}_{t.size}"
-    if isinstance(t, T.MatrixT):
-        return f"rg_mat_{tag(t.element)}_{t.rows}_{t.columns}"
-    if isinstance(t, (T.SetT, T.SeqT)):
-        return f"rg_{'set' if isinstance(t, T.SetT) else 'seq'}_{elem_tag(t.element)}"
-    raise TypeError(f"no C type for {t.show()}")
-
-
-def tag(t: T.Type) -> str:
-    if t == T.NAT:
-        return "u"
-    if t == T.REAL:
-        return "r"
-    if t == T.BOOLEAN:
-        return "b"
-    return "i"  # int and enumerations
-
-
-def elem_tag(t: T.Type) -> str:
-    """The part of a collection's C names that names its element type."""
-    return ctype(t)[3:] if isinstance(t, T.RecordT) else tag(t)
-
-
-def mangle(name: str) -> str:
-    """A C identifier part for a model name (qualified names, '#', '.' become '_')."""
-    return re.sub(r"[^A-Za-z0-9_]", "_", name.replace("::", "_"))
 
 
 class Identifiers:
@@ -137,10 +95,48 @@ class CNames:
         return cls(var_identifiers(fmu), tuple(machines), clocks)
 
 
+def integral_cast(a: str, source: T.Type, target: T.Type) -> str:
+    """C converting ``a`` from number type ``source`` to ``target``, but a real to an integer
+    (which may fail): nat to int wraps (rg_u_to_i), as the interpreter's convert does."""
+    if source == T.NAT and target == T.INT:
+        return f"rg_u_to_i({a})"
+    return f"(({ctype(target)}){a})"
+
+
+def deliver(target: MachineNames, event: ir.Event, value: str | None, source: T.Type | None, sender: int,
+            indent: str) -> list[str]:
+    """The C that delivers an occurrence of ``event`` of the machine named ``target``, carrying the
+    C variable ``value`` (None: no value) of type ``source`` (a connection may widen a number to
+    the event's type: converted), from sender number ``sender`` (0: the FMU's boundary, k: its
+    k-th machine) to its register; an event that keeps its sender gets it with the value
+    (robogen.ir.bindings)."""
+    slot = f"&{target.event_table}[{target.events[event.index]}]"
+    lines = []
+    if value is not None and source in T.NUMERIC and event.value_type in T.NUMERIC and source != event.value_type:
+        lines.append(f"{ctype(event.value_type)} conv_ = {integral_cast(value, source, event.value_type)};")
+        value = "conv_"
+    if not event.sender:
+        lines.append(f"rg_deliver(d, {slot}, {'&' + value if value else 'NULL'});")
+    else:
+        fields = ([f".value = {value}"] if value else []) + [f".from = {sender}"]
+        lines.append(f"{ctype(event.type)} sent_ = {{ {', '.join(fields)} }}; rg_deliver(d, {slot}, &sent_);")  # type: ignore[arg-type]
+    plain = len(lines) == 1 and not event.sender  # no declaration: no block of its own
+    return [indent + (lines[0] if plain else "{ " + " ".join(lines) + " }")]
+
+
 def user_function_prototype(u: ir.UserFunction) -> str:
-    """The C declaration of a user function, as the --functions file must define it."""
-    args = ", ".join(f"{ctype(t)} {n}" for n, t in u.params) or "void"
-    return f"static {ctype(u.result)} rg_user_{u.cname}({args})"
+    """The C declaration of a user function, as the --functions file must define it (a generic
+    one per instantiation): a string parameter is its text; where a record or collection
+    parameter holds strings (their numbers), the model data comes first, for ``rg_text(d, number)``."""
+    args = [f"const char *{n}" if t == T.STRING else f"{ctype(t)} {n}" for n, t in u.params]
+    if strings_inside(u):
+        args.insert(0, "const rg_model_data *d")
+    return f"static {ctype(u.result)} rg_user_{u.cname}({', '.join(args) or 'void'})"
+
+
+def strings_inside(u: ir.UserFunction) -> bool:
+    """Whether a parameter of user function ``u`` holds strings inside a record or collection."""
+    return any(t != T.STRING and holds_string(t) for _, t in u.params)
 
 
 def c_string(text: str) -> str:
@@ -167,22 +163,6 @@ def string_literal(strings: list[str], text: str) -> str:
 
 def c_comment(text: str) -> str:
     return text.replace("*/", "* /").replace("/*", "/ *")
-
-
-def literal(value: object, t: T.Type) -> str:
-    if t == T.BOOLEAN:
-        return "true" if value else "false"
-    if t == T.REAL:
-        f = float(value)  # type: ignore[arg-type]
-        text = repr(f)
-        return text if ("." in text or "e" in text or "inf" in text or "nan" in text) else text + ".0"
-    v = int(value)  # type: ignore[arg-type]
-    if t == T.NAT:
-        return f"UINT64_C({v & ((1 << 64) - 1)})"
-    v &= (1 << 64) - 1
-    if v >> 63:
-        return f"(int64_t)UINT64_C({v})"
-    return f"INT64_C({v})"
 
 
 def truth(e: ir.Expr) -> bool | None:
@@ -235,6 +215,8 @@ class Emitter:
         self.collections = None  # the CollectionCode of the FMU (robogen.codegen.collections)
         self.sites: list[str] = []  # run-time messages of collection operations (model.c's rg_sites)
         self.strings: list[str] = [""]  # the model's strings, numbered: a string is its number in C
+        self.texts = False  # a string is passed by its text (rg_text)
+        self.helpers: list[str] = []  # the functions of its quantifiers (robogen.codegen.quantifiers)
 
     @property
     def fault_return(self) -> str:
@@ -328,9 +310,7 @@ class Emitter:
         if source == T.REAL and target in (T.INT, T.NAT):  # out of range is a run-time error, not UB
             self.fallible = True
             return f"rg_r_to_{tag(target)}(d, {a})"
-        if source == T.NAT and target == T.INT:
-            return f"rg_u_to_i({a})"
-        return f"(({ctype(target)}){a})"
+        return integral_cast(a, source, target)
 
     def _Cond(self, e: ir.Cond) -> str:
         return f"({self.expr(e.cond)} ? {self.expr(e.then)} : {self.expr(e.otherwise)})"
@@ -348,7 +328,8 @@ class Emitter:
         return self._value(e.event)
 
     def _BindIn(self, e: ir.BindIn) -> str:
-        return f"({self._present(e.event)} ? ({self.expr(e.target)} = {self._value(e.event)}, true) : false)"
+        value = self._value(e.event) if e.value is None else self.expr(e.value)
+        return f"({self._present(e.event)} ? ({self.expr(e.target)} = {value}, true) : false)"
 
     def _since(self, elapsed: str, t: T.Type) -> str:
         p = self.fmu.period
@@ -395,12 +376,24 @@ class Emitter:
             if e.op == "undefined":
                 self.sites += [f"{e.text} at {where}", ""]
             else:
-                    self.sites += [overflow_message(e.text, where, self.fmu.capacity) if e.op in CAN_OVERFLOW else "",
-                               empty_message(e.op, e.text, where) if e.op in NO_ELEMENT else ""]
+                capacity = site_capacity(e.op, [a.type for a in e.args], e.type, self.fmu.capacity_of)
+                self.sites += [overflow_message(e.text, where, capacity) if e.op in CAN_OVERFLOW else "",
+                               empty_message(e.op, e.text, where) if e.op in SECOND_FAULTS else ""]
         return self.collections.call(e, args, site)  # type: ignore[attr-defined]
 
+    def _Quant(self, e: ir.Quant) -> str:
+        return quantifier(self, e)
+
     def _CallU(self, e: ir.CallU) -> str:
-        return f"rg_user_{e.instance or e.name}({', '.join(self.expr(a) for a in e.args)})"
+        """A user function's call (of the instantiation of a generic one): a string argument as
+        its text, the model data first where a record or collection argument holds strings
+        (user_function_prototype)."""
+        args = [f"rg_text(d, {self.expr(a)})" if a.type == T.STRING else self.expr(a) for a in e.args]
+        if any(holds_string(a.type) for a in e.args):
+            self.texts = True
+        if any(a.type != T.STRING and holds_string(a.type) for a in e.args):
+            args.insert(0, "d")
+        return f"rg_user_{e.instance or e.name}({', '.join(args)})"
 
     def _CallB(self, e: ir.CallB) -> str:
         args = [self.expr(a) for a in e.args]
@@ -495,12 +488,10 @@ class Emitter:
                 read.add(0)
                 _, mi, ei = route
                 self.delivers_to.add(mi)
-                target = self.names.machines[mi]
                 event = self.fmu.machines[mi].events[ei]
-                assert [ctype(a.type) for a in s.args] == ([ctype(event.type)] if event.type is not None else []), \
-                    f"{s.name} sends a value of another type than event {event.name} carries"  # rg_deliver copies bytes
-                value = "&a0_" if s.args else "NULL"
-                lines.append(f"{inner}rg_deliver(d, &{target.event_table}[{target.events[ei]}], {value});")
+                assert len(s.args) == (event.value_type is not None), f"{s.name} sends another value than event {event.name} carries"
+                source = s.args[0].type if s.args else None
+                lines += deliver(self.names.machines[mi], event, "a0_" if s.args else None, source, self.m.index + 1, inner)
         if not s.routes:
             lines.append(f"{inner}/* {c_comment(s.name)} is connected to nothing: evaluated, sent nowhere */")
         lines += [f"{inner}(void){t};" for k, t in enumerate(temporaries) if k not in read]
@@ -520,6 +511,21 @@ class Emitter:
 
     def _to_port(self, index: int, values: list[str], indent: str) -> list[str]:
         """Write ``values`` (C expressions of the arguments) to output port ``index`` and activate its clock."""
+        port = self.fmu.outputs[index]
+        lines: list[str] = []
+        if port.kind == "operation" and any(nested(t) for _, t in port.params):
+            for k, (pname, t) in enumerate(port.params):
+                mine = [(c, f) for c, f in self.port_fields[index] if f.path[0] == pname]
+                lines += write(t, values[k], mine, self.fmu.capacity_of, indent, skip=1)
+        elif port.kind != "operation" and port.type is not None and nested(port.type):
+            lines += write(port.type, values[0], self.port_fields[index], self.fmu.capacity_of, indent)
+        else:
+            lines += self._flat_to_port(index, values, indent)
+        clock = self.names.clocks[port.name]
+        return lines + [f"{indent}rg_activate_output_clock(inst, {clock});"]
+
+    def _flat_to_port(self, index: int, values: list[str], indent: str) -> list[str]:
+        """The writes of ``_to_port`` where every collection holds scalars or records of scalars."""
         lines = []
         for (cname, _), (k, access) in zip(self.port_fields[index], self._port_reads(index)):
             if access.endswith(".#elements"):  # a collection's elements: an array, copied
@@ -535,8 +541,7 @@ class Emitter:
                           f"{indent}}}"]
             else:
                 lines.append(f"{indent}d->{cname} = {values[k]}{access.replace('.#size', '.n')};")
-        clock = self.names.clocks[self.fmu.outputs[index].name]
-        return lines + [f"{indent}rg_activate_output_clock(inst, {clock});"]
+        return lines
 
     def step(self, indent: str) -> list[str]:
         """The start of a transition segment (a block marked step)."""

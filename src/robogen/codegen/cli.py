@@ -31,12 +31,14 @@ def add_model_options(p: argparse.ArgumentParser) -> None:
     p.add_argument("--given-type", choices=("int", "nat", "real"), default="int", help="the scalar type of given types (default int)")
     p.add_argument("--max-transitions", type=int, default=1000, metavar="N",
                    help="transitions per cycle before a runaway cycle is reported (default 1000)")
-    p.add_argument("--capacity", type=int, default=32, metavar="N",
+    p.add_argument("--capacity", default="32", metavar="N[,N...]",
                    help="the most elements a set or sequence holds (default 32); a result with more is a run-time "
-                        "fmi3Error naming the expression and its model line (docs/collections.md)")
-    p.add_argument("--enum-depth", type=int, default=ENUM_DEPTH, metavar="N",
-                   help=f"the levels a value of a recursive enumeration holds (default {ENUM_DEPTH}); a deeper one is a run-time "
-                        "fmi3Error naming the expression and its model line (docs/collections.md)")
+                        "fmi3Error naming the expression and its model line. One number for every nesting level of "
+                        "collections, or one per level, outermost first, the last for deeper levels (32,8,4: a "
+                        "Seq(Seq(int)) holds 32 sequences of at most 8 numbers; docs/collections.md)")
+    p.add_argument("--enum-depth", default=str(ENUM_DEPTH), metavar="N",
+                   help=f"the levels a value of a recursive enumeration holds (default {ENUM_DEPTH}, at most 16); a deeper "
+                        "one is a run-time fmi3Error naming the expression and its model line (docs/collections.md)")
     p.add_argument("--functions", metavar="FILE.c",
                    help="C file implementing the model's functions whose result no postcondition pins, each as static <type> "
                         "rg_user_<name>(...) (a generic one per instantiation: rg_user_<name>__<type>)")
@@ -52,10 +54,8 @@ def options_from(args: argparse.Namespace) -> LoweringOptions:
         settings[name.strip()] = value
     if args.max_transitions < 1:
         raise RobogenError(error("--max-transitions must be at least 1", None))
-    if not 1 <= args.capacity <= 1 << 20:
-        raise RobogenError(error("--capacity must be between 1 and 1048576", None))
-    if not 0 <= args.enum_depth <= 16:
-        raise RobogenError(error("--enum-depth must be between 0 and 16", None))
+    capacities = _bounds("--capacity", args.capacity, 1, 1 << 20, several=True)
+    (enum_depth,) = _bounds("--enum-depth", args.enum_depth, 0, 16, several=False)
     return LoweringOptions(
         semantics=args.semantics,
         trigger=args.trigger,
@@ -63,9 +63,24 @@ def options_from(args: argparse.Namespace) -> LoweringOptions:
         settings=settings,
         given=args.given_type,
         max_steps=args.max_transitions,
-        capacity=args.capacity,
-        enum_depth=args.enum_depth,
+        capacity=capacities[0],
+        capacities=capacities if len(capacities) > 1 else (),
+        enum_depth=enum_depth,
     )
+
+
+def _bounds(option: str, text: object, low: int, high: int, several: bool) -> tuple[int, ...]:
+    """The bounds of the finite shape of values an option gives (robogen.ir.supported.Shapes):
+    ``--capacity N[,N...]`` (one per nesting level: ``several``), ``--enum-depth N``, each
+    between ``low`` and ``high``."""
+    try:
+        values = tuple(int(x) for x in str(text).split(","))
+    except ValueError:
+        values = ()
+    if not values or (len(values) > 1 and not several) or not all(low <= v <= high for v in values):
+        levels = ", or one per nesting level separated by commas (32,8,4)" if several else ""
+        raise RobogenError(error(f"{option} {text}: give a number between {low} and {high}{levels}", None))
+    return values
 
 
 def codegen_options_from(args: argparse.Namespace) -> CodegenOptions:

@@ -21,6 +21,7 @@ from robogen.codegen.c import (
     c_comment,
     c_string,
     ctype,
+    deliver,
     literal,
     mangle,
     string_literal,
@@ -28,12 +29,15 @@ from robogen.codegen.c import (
 )
 from robogen.codegen.collections import CollectionCode, typedef as collection_typedef
 from robogen.codegen.description import model_description
+from robogen.codegen.layout_code import read, views as write_views
 from robogen.diagnostics import DiagnosticSink, Note, RobogenError, Span, error
 from robogen.fmu.modeldesc import Dimension, Variable, instantiation_token
 from robogen.fmu.modeldesc_writer import write_model_description
 from robogen.ir import model as ir
 from robogen.ir.dump import dump
-from robogen.ir.supported import FunMapT, literal_conditions
+from robogen.ir.layout import leaves, nested
+from robogen.ir.supported import ArrayT, FunMapT, literal_conditions
+from robogen.ir.walk import value_types
 from robogen.semantics import types as T
 
 FMI_TYPE = {"int64_t": "Int64", "uint64_t": "UInt64", "double": "Float64", "bool": "Boolean"}
@@ -105,8 +109,11 @@ class FmiVar:
             return Variable(self.name, self.vr, "Clock", self.causality, "discrete", description=self.description,
                             interval_variability=self.interval_variability, interval_decimal=self.interval or None,
                             shift_decimal=self.shift if self.interval else None)
+        start: tuple[str, ...] = () if self.start is None else (self.start,)
+        if self.fmi_type == "String" and self.dims and self.start is not None:  # one <Start> per entry: the empty string
+            start = ("",) * (self.size or 0)
         return Variable(self.name, self.vr, self.fmi_type, self.causality, self.variability, description=self.description,
-                        initial=self.initial, start=() if self.start is None else (self.start,),
+                        initial=self.initial, start=start,
                         declared_type=self.declared_type, clocks=() if self.clock is None else (self.clock,),
                         dimensions=tuple(Dimension(start=d) for d in self.dims))
 
@@ -175,30 +182,26 @@ def generate(fmu: ir.Fmu, options: CodegenOptions | None = None, *, diagrams: Se
     token = instantiation_token(ir_text)  # a hash of the path-free IR: changes with the model's meaning only
     gen = Generated(fmu, fmu.model_identifier, token, variables=layout.variables)
     env = _env()
-    collections = CollectionCode(fmu.capacity)
+    collections = CollectionCode(fmu)
     machines, sites, strings = _machines_code(fmu, layout, names, line_comments, collections)
     latch = {p.index: _latch(p, layout.port_fields_in.get(p.index, []), collections) for p in fmu.inputs}
-    for t in collections.types:
-        layout._type(t)
-    for u in fmu.user_functions:  # the C types a --functions file receives and returns
-        for t in (*(pt for _, pt in u.params), u.result):
-            layout._type(t)
-    needed = {name: t for mc in machines for name, t in mc["equalities"].items()}
-    for t in needed.values():  # a type compared only inside an expression (a tuple key) is declared too
-        layout._type(t)
+    deliveries = {p.index: _deliveries(fmu, p, names) for p in fmu.inputs}
+    needed = _declare_types(fmu, layout, collections, machines)
     equalities, bodies = _equalities(layout.types, set(needed))
     param_starts = {p.fmi_name: _param_starts(p, strings) for p in fmu.params}  # before the strings are written
     hooks = _hooks(fmu, machines)
+    collection_code = collections.text()
     context = dict(
         user_functions=[(u, user_function_prototype(u)) for u in fmu.user_functions],
         names=names,
         cname=names.vars,
-        typedefs=[_typedef(t, fmu.capacity) for t in layout.types],
+        typedefs=[_typedef(t, fmu.capacity_of(t)) for t in layout.types],
         sites=sites,
-        strings=strings if any(v.fmi_type == "String" for v in layout.variables) else None,
-        string_bytes=STRING_BYTES,
+        **_strings(layout, strings, collections.texts or any(mc["texts"] for mc in machines)),
+        views=write_views(fmu, layout.views),
         latch=latch,
-        collection_code=collections.text(),
+        deliveries=deliveries,
+        collection_code=collection_code,
         equality_bodies=bodies,
         param_starts=param_starts,
         diagrams={m.index: diagrams[m.index] if m.index < len(diagrams) else "stateDiagram-v2\n  %% (no diagram)" for m in fmu.machines},
@@ -233,6 +236,74 @@ def generate(fmu: ir.Fmu, options: CodegenOptions | None = None, *, diagrams: Se
     gen.files["documentation/externalDependencies.txt"] = "none beyond libc and libm\n"
     gen.files["documentation/ir.txt"] = ir_text
     return gen
+
+
+def _declare_types(fmu: ir.Fmu, layout: _Layout, collections: CollectionCode, machines: list) -> dict:
+    """Declare in ``layout`` every C type the code uses, check their sizes, and return the types
+    compared by name in the machines' code."""
+    for t in collections.types:
+        layout.declare(t)
+    for u in fmu.user_functions:  # the C types a --functions file receives and returns
+        for t in (*(pt for _, pt in u.params), u.result):
+            layout.declare(t)
+    needed = {name: t for mc in machines for name, t in mc["equalities"].items()}
+    for t in needed.values():  # a type compared only inside an expression (a tuple key) is declared too
+        layout.declare(t)
+    for t in value_types(fmu):  # every other use: a literal, an operation's parameter, a local, ...
+        layout.declare(t, enums=False)
+    _check_sizes(fmu, layout.types)
+    return needed
+
+
+# The largest C value of a model type: values are passed and returned on the C stack (a set
+# operation holds about four), which the host's thread gives (8 MiB by default on Linux, less in
+# some hosts' threads); a larger one is an error at generation that names it.
+VALUE_BYTES = 1 << 18
+
+
+def value_bytes(t: T.Type, capacity_of) -> int:
+    """The size of a C value of type ``t`` (members of 8 bytes aligned to 8)."""
+    if t == T.BOOLEAN:
+        return 1
+    if isinstance(t, T.RecordT):
+        sizes = [value_bytes(ft, capacity_of) for _, ft in t.fields]
+        total = 0
+        for n in sizes:
+            total = (total + 7) // 8 * 8 + n if n >= 8 else total + n
+        return (total + 7) // 8 * 8 if any(n >= 8 for n in sizes) else total
+    if isinstance(t, (T.VectorT, T.MatrixT, ArrayT)):
+        element, dims = _shape(t)
+        count = 1
+        for n in dims:
+            count *= n
+        return count * value_bytes(element, capacity_of)
+    if isinstance(t, (T.SetT, T.SeqT)):
+        return 8 + capacity_of(t) * max(value_bytes(t.element, capacity_of), 1)
+    return 8
+
+
+def _check_sizes(fmu: ir.Fmu, types: list[T.Type]) -> None:
+    """Every C value of the model is below :data:`VALUE_BYTES` (the error names the first
+    variable or event of a type that holds a larger one)."""
+    for t in types:
+        size = value_bytes(t, fmu.capacity_of)
+        if size <= VALUE_BYTES:
+            continue
+        holders = [(v.span, v.type) for m in fmu.machines for v in m.vars] + \
+                  [(e.span, e.type) for m in fmu.machines for e in m.events if e.type is not None]
+        span = next((sp for sp, ht in holders if ht == t or t.show() in ht.show()), fmu.span)
+        levels = ", ".join(map(str, fmu.levels))
+        raise RobogenError.at(f"a value of type {t.show()} takes {size} bytes in C at capacities {levels}, more than the "
+                              f"{VALUE_BYTES} bytes robogen gives one value (values are passed on the C stack): give the "
+                              "inner levels of collections smaller capacities (--capacity 32,8)", span)
+
+
+def _strings(layout: "_Layout", strings: list[str], texts: bool) -> dict:
+    """What the templates need of the model's strings: the table of their texts (``strings``,
+    None without String variables or a string compared or passed by its text: ``texts``)."""
+    variables = any(v.fmi_type == "String" for v in layout.variables)
+    return dict(strings=strings if variables or texts else None, string_variables=variables, texts=texts,
+                string_bytes=STRING_BYTES)
 
 
 def _functions_file(fmu: ir.Fmu, path: Path | None) -> str | None:
@@ -273,6 +344,8 @@ def _typedef(t: T.Type, capacity: int) -> str:
         return f"/* {what} */\ntypedef struct {{\n{fields}\n}} {ctype(t)};"
     if isinstance(t, T.VectorT):
         return f"typedef struct {{ {ctype(t.element)} a[{t.size}]; }} {ctype(t)};  /* {t.show()} */"
+    if isinstance(t, ArrayT):
+        return f"typedef struct {{ {ctype(t.element)} a[{t.size}]; }} {ctype(t)};  /* {t.show()}, row-major */"
     assert isinstance(t, T.MatrixT)
     return f"typedef struct {{ {ctype(t.element)} a[{(t.rows or 0) * (t.columns or 0)}]; }} {ctype(t)};  /* {t.show()}, row-major */"
 
@@ -322,6 +395,10 @@ def _latch(port: ir.Port, fields: list[tuple[str, ir.Field_]], collections: Coll
     """The statements of rg_model_latch that assemble the value ``v`` of input port ``port`` from
     its clocked inputs. A set or sequence takes the array's first ``size`` elements (at most the
     capacity), a set then in canonical order (robogen.ir.collections.received)."""
+    if nested(port.type):  # collections of collections, vectors or tagged values: a loop per level
+        by_path = {f.path: member for member, f in fields}
+        return ["memset(&v, 0, sizeof v);", *read(port.type, "v", by_path, collections.capacity_of,
+                                                  lambda t: collections.need("canon", t), "")]
     lines, made = [], []
     for member, f in fields:
         *inner, last = f.path or ("",)
@@ -346,6 +423,14 @@ def _latch(port: ir.Port, fields: list[tuple[str, ir.Field_]], collections: Coll
     for at, t in made:
         lines.append(f"{at} = {collections.need('canon', t)}(d, {at});")
     return lines
+
+
+def _deliveries(fmu: ir.Fmu, port: ir.Port, names: CNames) -> list[str]:
+    """The statements of rg_model_latch that deliver the value ``v`` of input port ``port`` (if
+    it carries one) to the machine events it reaches; its sender is the boundary, number 0."""
+    value = "v" if port.type is not None else None
+    return [line for mi, ei in port.routes
+            for line in deliver(names.machines[mi], fmu.machines[mi].events[ei], value, port.type, 0, " " * 8)]
 
 
 def _type_at(t, path: tuple[str, ...]) -> T.Type:
@@ -386,6 +471,8 @@ class _Layout:
         self.enums: list[EnumType] = []
         self.types: list[T.Type] = []  # struct types, dependencies first
         self.names = names  # machine variable -> C member name
+        # locals shown through a view: (C access of the variable, view member, its type, leaf)
+        self.views: list[tuple[str, str, T.Type, ir.Field_]] = []
         self._vr = 0
         self._build()
 
@@ -399,15 +486,16 @@ class _Layout:
             self.enums.append(EnumType(name, [(lit, i) for i, lit in enumerate(t.literals)]))
         return name
 
-    def _type(self, t: T.Type) -> None:
-        """Register a struct type (and what it contains) in dependency order."""
+    def declare(self, t: T.Type, enums: bool = True) -> None:
+        """Register a struct type (and what it contains) in dependency order; with ``enums``,
+        the enumerations it holds as FMI types too."""
         if isinstance(t, T.RecordT):
             for _, ft in t.fields:
-                self._type(ft)
-        elif isinstance(t, (T.VectorT, T.MatrixT, T.SetT, T.SeqT)):
-            self._type(t.element)
+                self.declare(ft, enums)
+        elif isinstance(t, (T.VectorT, T.MatrixT, T.SetT, T.SeqT, ArrayT)):
+            self.declare(t.element, enums)
         else:
-            if isinstance(t, T.EnumT):
+            if isinstance(t, T.EnumT) and enums:
                 self._enum(t)
             return
         if not any(ctype(x) == ctype(t) for x in self.types):
@@ -422,11 +510,14 @@ class _Layout:
         return FMI_TYPE[ctype(t)], None
 
     def _start(self, t: T.Type, value: object = None) -> str:
-        if isinstance(t, (T.VectorT, T.MatrixT)):
+        if isinstance(t, (T.VectorT, T.MatrixT, ArrayT)):
             element, dims = _shape(t)
             if isinstance(value, list):
                 return " ".join(self._start(element, x) for x in value)
-            return " ".join([self._start(element)] * (dims[0] * (dims[1] if len(dims) > 1 else 1)))
+            count = 1
+            for n in dims:
+                count *= n
+            return " ".join([self._start(element)] * count)
         if t == T.BOOLEAN:
             return "true" if value else "false"
         if t == T.REAL:
@@ -441,7 +532,8 @@ class _Layout:
         if inward:
             what = f"input event {port.source}"
         else:
-            what = ("call of platform operation " if port.kind == "operation" else "output event ") + port.source
+            what = ("output event " if port.kind != "operation" else
+                    "call of abstract operation " if port.abstract else "call of platform operation ") + port.source
         if port.model_name:
             what += f" (renamed: the FMU has another variable named {port.source})"
         c = FmiVar(port.name, self._next_vr(), "Clock", causality, "discrete", interval_variability="triggered",
@@ -455,7 +547,7 @@ class _Layout:
             if inward:
                 description = f"value of input event {port.source}"
             elif port.kind == "operation":
-                description = f"argument {f.path[0]} of platform operation {port.source}"
+                description = f"argument {f.path[0]} of {'abstract' if port.abstract else 'platform'} operation {port.source}"
             else:
                 description = f"value of output event {port.source}"
             self.variables.append(FmiVar(
@@ -477,7 +569,7 @@ class _Layout:
             self._port(port, "output")
         for p in fmu.params:
             member = f"m{p.machine}.v_{self.names[p.var]}"
-            for name, t, access in _flat(p.fmi_name, p.var.type, "", fmu.capacity):
+            for name, t, access, _ in _flat(p.fmi_name, p.var.type, "", fmu.capacity_of):
                 fmi_type, declared = self._scalar(_shape(t)[0])
                 value = p.value if not access else None
                 self.variables.append(FmiVar(
@@ -502,18 +594,23 @@ class _Layout:
         parameters = {id(p.var) for p in fmu.params}
         for m in fmu.machines:
             for v in m.vars:
-                self._type(v.type)
+                self.declare(v.type)
                 if v.kind not in ("var", "const") or id(v) in parameters:
                     continue  # constants are parameters, but those computed from an initialiser (sets, ...)
-                for name, t, access in _flat(f"{m.name}.{v.name}", v.type, "", fmu.capacity):
+                for name, t, access, leaf in _flat(f"{m.name}.{v.name}", v.type, "", fmu.capacity_of):
+                    member = f"m{m.index}.v_{self.names[v]}{access}"
+                    if access is None:  # not contiguous in memory: a view, written after each instant
+                        member = "view_" + mangle(name)
+                        self._data(t, member, f"local {name}: a view of variable {v.name}")
+                        self.views.append((f"d->m{m.index}.v_{self.names[v]}", member, v.type, ir.Field_(name, t, leaf)))
                     fmi_type, declared = self._scalar(_shape(t)[0])
                     self.variables.append(FmiVar(
-                        name, self._next_vr(), fmi_type, "local", "discrete", f"m{m.index}.v_{self.names[v]}{access}",
+                        name, self._next_vr(), fmi_type, "local", "discrete", member,
                         initial="calculated", declared_type=declared, dims=_shape(t)[1],
                         description=f"variable {v.name} of {m.name}", span=v.span))
             for e in m.events:
                 if e.type is not None:
-                    self._type(e.type)
+                    self.declare(e.type)
         self._check_names()
 
     def _check_names(self) -> None:
@@ -543,7 +640,7 @@ class _Layout:
         self.variables.append(c)
 
     def _data(self, t: T.Type, member: str, comment: str) -> None:
-        self._type(t)
+        self.declare(t)
         self.data_fields.append((ctype(t), member, comment))
 
 
@@ -553,24 +650,22 @@ def _shape(t: T.Type) -> tuple[T.Type, tuple[int, ...]]:
         return t.element, (t.size or 0,)
     if isinstance(t, T.MatrixT):
         return t.element, (t.rows or 0, t.columns or 0)
+    if isinstance(t, ArrayT):
+        return t.element, t.dims
     return t, ()
 
 
-def _flat(name: str, t: T.Type, access: str, capacity: int = 0):
-    """(FMI name, scalar or array type, C member access) of each scalar part of a value. A set or
-    sequence of scalars is two: its elements, an array of the capacity (zeros after the last),
-    and its size; one of records has none (its elements are not contiguous in memory)."""
-    if isinstance(t, FunMapT):
-        return  # a function value (robogen.ir.functions): not an FMI variable
-    if isinstance(t, T.RecordT):
-        for n, ft in t.fields:
-            yield from _flat(f"{name}.{n}", ft, f"{access}.{n}", capacity)
-    elif isinstance(t, (T.SetT, T.SeqT)):
-        if not isinstance(t.element, T.RecordT):
-            yield f"{name}.elements", T.VectorT(t.element, capacity), f"{access}.a"
-            yield f"{name}.size", T.NAT, f"{access}.n"
-    else:
-        yield name, t, access
+def _flat(name: str, t: T.Type, access: str, capacity_of):
+    """(FMI name, scalar or array type, C member access, path) of each leaf of a value
+    (robogen.ir.layout). The access is None for a leaf that is not contiguous in memory (a field
+    of the elements of a collection, the elements of a collection of collections): it is shown
+    through a view."""
+    for leaf in leaves(t, capacity_of):
+        path = leaf.path
+        inner = path[:-1] if path and path[-1] == "#elements" else path
+        direct = "#elements" not in inner
+        at = "".join(".n" if p == "#size" else ".a" if p == "#elements" else "." + p for p in path)
+        yield ".".join((name,) + leaf.name), leaf.type, (access + at) if direct else None, path
 
 
 # ---------------------------------------------------------------------------- machines
@@ -622,7 +717,7 @@ def _machine_code(fmu: ir.Fmu, em: Emitter, line_comments: bool) -> dict:
     labels = [c_string(f"b{b.id}: {b.label}" + (f" ({fmu.place(b.span)})" if b.span else "")) for b in m.blocks]
     parts = [cases[k:k + PART_SIZE] for k in range(0, len(cases), PART_SIZE)]
     return dict(machine=m, names=em.own, cases=cases, parts=parts, part_size=PART_SIZE, inits=inits, labels=labels,
-                equalities=em.equalities,
+                equalities=em.equalities, texts=em.texts, helpers=em.helpers,
                 event_types=[(e.index, ctype(e.type) if e.type is not None else None) for e in m.events])
 
 

@@ -20,11 +20,13 @@ from robogen.cosim.fmi3 import Binding, CallNotes, Library, LoadError
 from robogen.cosim.instances import FmuInstance
 from robogen.cosim.master import Master, RunOptions
 from robogen.cosim.plan import make_plan
+from robogen.cosim.player import ScenarioBinding, player_description, player_links
 from robogen.cosim.proxy import ProxyBinding
 from robogen.cosim.recorder import Recorder
 from robogen.cosim.ssp_read import is_ssp, load_ssp
+from robogen.cosim.scenario import load_scenario, timeline
 from robogen.cosim.system import Link, System, load_system, record_list, resolve
-from robogen.diagnostics import Diagnostic, DiagnosticSink, Note, RobogenError, SourceMap, Span, render, warning
+from robogen.diagnostics import Diagnostic, DiagnosticSink, Note, RobogenError, SourceMap, Span, did_you_mean, render, warning
 from robogen.fmu.extract import extract_fmu
 from robogen.fmu.fmi import tolerance
 from robogen.fmu.headers import PLATFORM_TUPLE
@@ -37,11 +39,14 @@ MANY_ROWS = 10**8
 
 def build_master(path: Path, *, stop=None, step=None, output=None, events=None, realtime=None,
                  progress=False, trace=None, keep_rows=True, isolate=False, cache: FmuCache | None = None,
-                 notes: CallNotes | None = None, warn: Callable[[Diagnostic], None] | None = None) -> tuple[Master, FmuCache]:
+                 notes: CallNotes | None = None, warn: Callable[[Diagnostic], None] | None = None,
+                 bindings: dict[str, Callable] | None = None) -> tuple[Master, FmuCache]:
     """The master of one run of the system file at ``path`` and the cache it loaded the FMUs
     into (close it after the run). ``isolate``: every instance in a worker process (else those
     with ``isolate = true``); ``notes``: where the bindings note their calls; ``warn`` receives
-    the warnings found before the run (default: printed on stderr)."""
+    the warnings found before the run (default: printed on stderr); ``bindings``: instances the
+    caller binds itself, by name, ``make(name, model_description, notes)`` giving an object with
+    the binding's methods in place of the FMU's binary (the reference interpreter of a model)."""
     cache = cache if cache is not None else FmuCache()
     notes = notes if notes is not None else CallNotes()
     try:
@@ -49,16 +54,26 @@ def build_master(path: Path, *, stop=None, step=None, output=None, events=None, 
         output, events = _outputs(system, output, events)
         options = _options(system, stop, step, realtime, progress, warn or _print_warning)
         loaded = _load_fmus(system, cache)
+        players = _players(system, {n: md for n, (_folder, md) in loaded.items()}, options, notes)
+        loaded.update({n: (binding.scenario.path.parent, binding.md) for n, binding in players.items()})
         models = {n: md for n, (_folder, md) in loaded.items()}
         links = resolve(system, models)
+        links += _player_links(system, players, models, links)
         _check_event_mode(system, models)
         instances = []
         for name in dependency_order(system, links):
             folder, md = loaded[name]
             spec = system.instances[name]
-            binding = cache.bind(folder, md, spec.fmu_span, name, trace, notes, isolate or spec.isolate)
+            if name in players:
+                binding = players[name]
+            elif bindings and name in bindings:
+                binding = bindings[name](name, md, notes)
+            else:
+                binding = cache.bind(folder, md, spec.fmu_span, name, trace, notes, isolate or spec.isolate)
             instances.append(FmuInstance(name, md, folder, binding, spec.span))
         by_name = {u.name: u for u in instances}
+        for name, player in players.items():
+            player.attach(by_name[system.instances[name].player_of].binding)
         record = [(by_name[n], v) for n, v in record_list(system, models)]
         recorder = Recorder([f"{u.name}.{v.name}" for u, v in record], output, events, keep_rows, [v.type for _u, v in record],
                             every=system.record_every, start=options.start)
@@ -99,6 +114,8 @@ def _load_fmus(system: System, cache: FmuCache) -> dict[str, tuple[Path, ModelDe
     loaded = {}
     sink = DiagnosticSink()
     for name, spec in system.instances.items():
+        if spec.player_of is not None:
+            continue
         try:
             loaded[name] = cache.load(spec.fmu, spec.fmu_span)
         except RobogenError as exc:
@@ -106,6 +123,52 @@ def _load_fmus(system: System, cache: FmuCache) -> dict[str, tuple[Path, ModelDe
                 sink.add(d.with_note(f"while loading the FMU of instance '{name}'", spec.fmu_span) if d.span != spec.fmu_span else d)
     sink.raise_if_errors()
     return loaded
+
+
+def _players(system: System, models: dict[str, ModelDescription], options: RunOptions,
+             notes: CallNotes) -> dict[str, ScenarioBinding]:
+    """The binding of each instance that plays a scenario (robogen.cosim.player), its scenario
+    checked against the FMU it drives; every problem, located, at once."""
+    players = {}
+    sink = DiagnosticSink()
+    for name, spec in system.instances.items():
+        target = spec.player_of
+        if target is None or target not in models:
+            continue
+        if not spec.fmu.is_file():
+            sink.error(f"scenario file not found: {spec.fmu}", spec.fmu_span)
+            continue
+        try:
+            scenario = load_scenario(spec.fmu)
+            plan = timeline(scenario, models[target], options.start, options.stop)
+            md = player_description(name, scenario, plan, models[target])
+        except RobogenError as exc:
+            sink.extend(d.with_note(f"in the scenario of instance '{target}'", spec.fmu_span) for d in exc.diagnostics)
+            continue
+        for key, (_value, span) in spec.start.items():
+            if key not in scenario.parameters:
+                sink.error(f"the scenario has no parameter '{key}'{did_you_mean(key, scenario.parameters)}", span,
+                           Note("its parameters are declared in its [parameters]", scenario.span("parameters")))
+        players[name] = ScenarioBinding(name, scenario, models[target], md, notes)
+    sink.raise_if_errors()
+    return players
+
+
+def _player_links(system: System, players: dict[str, ScenarioBinding], models: dict[str, ModelDescription],
+                  links: list[Link]) -> list[Link]:
+    """The connections of each player to the instance it drives; an input the system connects
+    too is an error (an input has one source)."""
+    made = []
+    connected = {(k.target, k.dst.name): k.span for k in links}
+    for name, player in players.items():
+        spec = system.instances[name]
+        for link in player_links(name, player.md, spec.player_of, models[spec.player_of], spec.fmu_span):
+            other = connected.get((link.target, link.dst.name))
+            if other is not None:
+                raise RobogenError.at(f"'{link.target}.{link.dst.name}' is driven by its scenario and by a connection",
+                                      other, Note("the scenario", spec.fmu_span))
+            made.append(link)
+    return made
 
 
 def _check_event_mode(system: System, models: dict[str, ModelDescription]) -> None:
@@ -222,7 +285,9 @@ def dependency_order(system: System, links: list[Link]) -> list[str]:
     of the connection graph, ties and cycles broken by declaration order."""
     names = list(system.instances)
     if system.order:
-        return list(system.order) + [n for n in names if n not in system.order]
+        order = list(system.order) + [n for n in names if n not in system.order and system.instances[n].player_of is None]
+        players = {spec.player_of: n for n, spec in system.instances.items() if spec.player_of is not None}
+        return [m for n in order for m in ([players[n]] if n in players else []) + [n]]
     succ: dict[str, set[str]] = {n: set() for n in names}
     indeg = {n: 0 for n in names}
     for link in links:

@@ -448,6 +448,12 @@ class Binding:
         buffer, sizes, _keep = encode(fmi_type, values)
         self.set(fmi_type, vr_array(vrs), len(vrs), buffer, sizes)
 
+    def set_array(self, fmi_type: str, vr: int, values: Sequence) -> None:
+        """Set the array variable ``vr`` (of ``fmi_type``, not String or Binary) to ``values``,
+        its elements in row-major order: one value reference, ``len(values)`` values."""
+        buffer, _sizes, _keep = encode(fmi_type, values)
+        self._call("fmi3Set" + ACCESSOR[fmi_type], vr_array([vr]), 1, buffer, len(values))
+
     def fmi3GetFloat64(self, vrs, n: int, values) -> int:
         if self.trace is not None:
             return self._call("fmi3GetFloat64", vrs, n, values, n)

@@ -90,8 +90,9 @@ def _clocked_columns(wiring: Wiring) -> list[tuple[FmuInstance, list[tuple[int, 
 
 
 def _event_values(instances: list[FmuInstance]) -> dict[str, dict[int, list[Variable]]]:
-    """Per instance and clock: the clocked inputs and outputs the events log shows with it."""
+    """Per instance and clock: the clocked inputs and outputs the events log shows with it (scalars:
+    the master carries no FMI arrays; a set's or sequence's size is shown)."""
     return {u.name: {c.value_reference: [v for v in u.md.variables if c.value_reference in v.clocks and not v.is_clock
-                                         and v.causality in ("input", "output")]
+                                         and v.causality in ("input", "output") and not v.dimensions]
                      for c in u.md.variables if c.is_clock}
             for u in instances}

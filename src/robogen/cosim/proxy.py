@@ -180,6 +180,9 @@ class ProxyBinding:
     def set_values(self, fmi_type: str, vrs: Sequence[int], values: Sequence) -> None:
         self._call(f"fmi3Set{fmi_type}", "set_values", fmi_type, list(vrs), list(values))
 
+    def set_array(self, fmi_type: str, vr: int, values: Sequence) -> None:
+        self._call(f"fmi3Set{fmi_type}", "set_array", fmi_type, vr, list(values))
+
     def fmi3GetClock(self, vrs, n: int, values) -> int:
         active = self._call("fmi3GetClock", "get_clocks", ffi.unpack(vrs, n))
         values[0:n] = active

@@ -31,7 +31,7 @@ from robogen.cosim.ssp_model import ROBOGEN_NS, ROBOGEN_TYPE
 from robogen.cosim.ssp_schema import SSC, SSD, SSV
 from robogen.cosim.system import Connection, System, resolve
 from robogen.cosim.units import SI_BASE_UNITS, UnitDef, UnitMismatch, conversion
-from robogen.diagnostics import DiagnosticSink, RobogenError
+from robogen.diagnostics import DiagnosticSink, RobogenError, error
 from robogen.fmu.archive import write_fmu
 from robogen.fmu.modeldesc import ModelDescription, Variable
 from robogen.outputs import output_file
@@ -46,6 +46,11 @@ def export_ssp(path: str | Path, output: str | Path, warn=None) -> Path:
     cache = FmuCache()
     try:
         system = read_system(path, cache, warn or (lambda d: None))
+        players = [spec for spec in system.instances.values() if spec.scenario is not None]
+        if players:  # robogen's own kind of instance: no FMU to put into the archive
+            raise RobogenError([error(f"instance '{spec.name}' is driven by a scenario (docs/scenarios.md), which an "
+                                      "SSP cannot hold: export the system without it", spec.scenario_span)
+                                for spec in players])
         target = output_file(output, inputs=[path, *(spec.fmu for spec in system.instances.values())])
         models = {}
         sink = DiagnosticSink()

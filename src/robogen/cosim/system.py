@@ -18,18 +18,17 @@ from __future__ import annotations
 import fnmatch
 import math
 import re
-import tomllib
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from robogen.diagnostics import DiagnosticSink, Note, RobogenError, Span, did_you_mean
+from robogen.diagnostics import DiagnosticSink, Note, Span, did_you_mean
 from robogen.fmu.modeldesc import ModelDescription, Variable
-from robogen.cosim.tomlspan import PathSpans, SpanIndex
+from robogen.cosim.tomlspan import PathSpans, SpanIndex, read_toml
 
 _ARROW = re.compile(r"^\s*(\S+)\s*->\s*(\S+)\s*$")
 TOP_KEYS = ("experiment", "instances", "connections", "record")
 EXPERIMENT_KEYS = ("start", "stop", "step", "tolerance", "max_event_iterations", "order")
-INSTANCE_KEYS = ("fmu", "start", "clocks", "isolate")
+INSTANCE_KEYS = ("fmu", "start", "clocks", "isolate", "scenario", "scenario_parameters")
 CLOCK_KEYS = ("interval", "shift")
 RECORD_KEYS = ("variables", "every")
 #: [experiment] max_event_iterations unless given: super-dense instants of one event iteration
@@ -67,6 +66,9 @@ class InstanceSpec:
     start: dict[str, tuple[object, Span]] = field(default_factory=dict)
     clocks: dict[str, tuple[dict, Span]] = field(default_factory=dict)
     isolate: bool = False  # run the instance in a worker process of its own (robogen.cosim.proxy)
+    scenario: Path | None = None  # a scenario file that drives it (robogen.cosim.scenario, .player)
+    scenario_span: Span | None = None
+    player_of: str | None = None  # this instance plays the scenario of that one (no FMU file)
 
 
 @dataclass
@@ -106,7 +108,7 @@ def matching(pattern: str, names: list[str]) -> list[str]:
 
 def load_system(path: str | Path) -> System:
     path = Path(path)
-    text, data = _read_toml(path)
+    text, data = read_toml(path, "system file")
     check = _SchemaCheck(SpanIndex(text, str(path)))
     check.unknown_keys(data, TOP_KEYS)
     exp = check.table(data, "experiment", "'experiment' must be a table")
@@ -119,29 +121,14 @@ def load_system(path: str | Path) -> System:
     for name, spec in raw_instances.items():
         inst = _instance(name, spec, path, check)
         if inst is not None:
+            if inst.scenario is not None:
+                _player(inst, raw_instances, instances, check)
             instances[name] = inst
     connections = _connections(data, check)
     order = _order(exp, raw_instances, check)
     record, every = _record(data, check)
     check.sink.raise_if_errors()
     return System(path, text, start, stop, step, tol, max_iter, order, instances, connections, record, check.idx, every)
-
-
-def _read_toml(path: Path) -> tuple[str, dict]:
-    display = str(path)
-    try:
-        text = path.read_text(encoding="utf-8")
-    except OSError as exc:
-        raise RobogenError.at(f"cannot read system file: {exc.strerror}", Span.whole_file(display)) from None
-    except UnicodeDecodeError:
-        raise RobogenError.at("system file is not UTF-8 text", Span.whole_file(display)) from None
-    try:
-        return text, tomllib.loads(text)
-    except tomllib.TOMLDecodeError as exc:
-        m = re.search(r"\(at line (\d+), column (\d+)\)", str(exc))
-        msg = re.sub(r"\s*\(at line \d+, column \d+\)", "", str(exc))
-        span = Span.point(display, int(m.group(1)), int(m.group(2))) if m else Span.whole_file(display)
-        raise RobogenError.at(f"invalid TOML: {msg}", span) from None
 
 
 class _SchemaCheck:
@@ -217,6 +204,15 @@ def _instance(name: str, spec, path: Path, check: _SchemaCheck) -> InstanceSpec 
     if not isinstance(isolate, bool):
         check.error("'isolate' must be true or false", *where, "isolate")
     inst.isolate = isolate is True
+    scenario = spec.get("scenario")
+    if scenario is None and "scenario_parameters" in spec:
+        check.error("'scenario_parameters' sets parameters of a scenario: give scenario = \"S.toml\" too", *where,
+                    "scenario_parameters")
+    if scenario is not None:
+        if not isinstance(scenario, str) or not scenario:
+            check.error("'scenario' must be the path of a scenario file (TOML)", *where, "scenario")
+        else:
+            inst.scenario, inst.scenario_span = path.parent / scenario, check.idx.span(*where, "scenario")
     starts = spec.get("start", {})
     if not isinstance(starts, dict):
         check.error("'start' must be a table of variable = value", *where, "start")
@@ -235,6 +231,28 @@ def _instance(name: str, spec, path: Path, check: _SchemaCheck) -> InstanceSpec 
         if checked is not None:
             inst.clocks[clock] = (checked, check.idx.span(*where, "clocks", clock))
     return inst
+
+
+def _player(inst: InstanceSpec, raw_instances: dict, instances: dict[str, InstanceSpec], check: _SchemaCheck) -> None:
+    """The instance that plays ``inst``'s scenario, ``<name>_scenario``, declared just before it
+    (robogen.cosim.player); its "FMU" is the scenario file."""
+    name = f"{inst.name}_scenario"
+    if name in raw_instances:
+        check.error(f"instance '{name}' plays the scenario of '{inst.name}': choose another name for it",
+                    "instances", name)
+        return
+    player = InstanceSpec(name, inst.scenario, inst.scenario_span, inst.scenario_span, player_of=inst.name)
+    values = raw_instances[inst.name].get("scenario_parameters", {})
+    where = ("instances", inst.name, "scenario_parameters")
+    if not isinstance(values, dict):
+        check.error("'scenario_parameters' must be a table of parameter = value", *where)
+        values = {}
+    for key, value in values.items():
+        if isinstance(value, (dict, list)):
+            check.error(f"scenario parameter '{key}' must be a number, boolean or string", *where, key)
+        else:
+            player.start[key] = (value, check.idx.span(*where, key))
+    instances[name] = player
 
 
 def _clock_timing(timing, where: tuple, check: _SchemaCheck) -> dict | None:
@@ -343,7 +361,8 @@ def resolve(system: System, models: dict[str, ModelDescription]) -> list[Link]:
     """Check every connection, start value and recorded name against the FMUs; collect all problems."""
     check = _ModelCheck(system, models)
     for name in models:
-        check.instance(name)
+        if system.instances[name].player_of is None:
+            check.instance(name)
     links = [link for c in system.connections if (link := check.connection(c)) is not None]
     for link in links:
         check.clocks_connected(link, links)

@@ -10,11 +10,32 @@ inline tables and arrays (nested arbitrarily), strings of all four kinds, commen
 from __future__ import annotations
 
 import re
+import tomllib
+from pathlib import Path
 
-from robogen.diagnostics import Span
+from robogen.diagnostics import RobogenError, Span
 
 _BARE = re.compile(r"[A-Za-z0-9_-]+")
 KeyPath = tuple  # a key's path in the document: ("instances", "ball", "fmu"), ("connections", 3)
+
+
+def read_toml(path: Path, what: str) -> tuple[str, dict]:
+    """The text and the data of the TOML file ``path`` (a ``what``: "system file", ...); a file
+    that cannot be read, is not UTF-8 or not TOML is an error at its place."""
+    display = str(path)
+    try:
+        text = path.read_text(encoding="utf-8")
+    except OSError as exc:
+        raise RobogenError.at(f"cannot read {what}: {exc.strerror}", Span.whole_file(display)) from None
+    except UnicodeDecodeError:
+        raise RobogenError.at(f"{what} is not UTF-8 text", Span.whole_file(display)) from None
+    try:
+        return text, tomllib.loads(text)
+    except tomllib.TOMLDecodeError as exc:
+        m = re.search(r"\(at line (\d+), column (\d+)\)", str(exc))
+        msg = re.sub(r"\s*\(at line \d+, column \d+\)", "", str(exc))
+        span = Span.point(display, int(m.group(1)), int(m.group(2))) if m else Span.whole_file(display)
+        raise RobogenError.at(f"invalid TOML: {msg}", span) from None
 
 
 class PathSpans:

@@ -10,9 +10,10 @@ import importlib.resources
 from pathlib import Path
 
 from robogen.diagnostics import RobogenError
+from robogen.fmu.platforms import HOST
 
 HEADER_NAMES = ("fmi3Functions.h", "fmi3FunctionTypes.h", "fmi3PlatformTypes.h")
-PLATFORM_TUPLE = "x86_64-linux"
+PLATFORM_TUPLE = HOST.name  # the host's folder of binaries/ (robogen.fmu.platforms)
 
 
 def _fmpy_root() -> Path:

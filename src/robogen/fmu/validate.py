@@ -1,6 +1,8 @@
-"""Checking an .fmu: archive safety and layout, the FMI 3.0 XSD, fmpy's checks, and the clock
-rules of the FMI 3.0 standard (clocks and their kinds, clocked variables, ModelStructure, the
-Co-Simulation API's exports) that neither fmpy nor fmutool check.
+"""Checking an .fmu: archive safety and layout, the FMI 3.0 XSD, fmpy's checks, the clock
+rules of the FMI 3.0 standard (clocks and their kinds, clocked variables, ModelStructure) that
+neither fmpy nor fmutool check, and every binary the FMU carries: in ``binaries/<tuple>/`` a
+shared library of the tuple's format (ELF, PE, Mach-O) and architecture that exports the 75
+FMI 3.0 functions, and nothing else (read with :mod:`robogen.fmu.binaries`, never loaded).
 
 ``validate_fmu(path) -> list[Diagnostic]`` returns errors and warnings, each located in a file
 inside the archive (``NAME.fmu/modelDescription.xml:LINE``) where a line is known.
@@ -18,15 +20,18 @@ from pathlib import Path
 from lxml import etree
 
 from robogen.diagnostics import Diagnostic, DiagnosticSink, RobogenError, Span, _sort_key
-from robogen.fmu.elf import ElfError, exported_symbols
+from robogen.fmu.binaries import BinaryError, read_binary
+from robogen.fmu.builddesc import read_build_description
 from robogen.fmu.extract import check_archive, extract_fmu
-from robogen.fmu.headers import PLATFORM_TUPLE, include_dir, schema_dir
+from robogen.fmu.headers import include_dir, schema_dir
+from robogen.fmu.platforms import HOST, Platform, parse_tuple
 from robogen.fmu.modeldesc import STRUCTURE_ORDER, ModelDescription, Variable, parse_xml, read_model_description
 
 TOP_LEVEL = {"modelDescription.xml", "binaries", "sources", "resources", "documentation", "extra", "terminalsAndIcons", "icons"}
 TIME_BASED = ("constant", "fixed", "tunable", "changing", "countdown")
 KINDS = TIME_BASED + ("triggered",)
 FRACTION_ATTRS = ("resolution", "intervalCounter", "shiftCounter")
+FMI2_PLATFORMS = ("linux64", "linux32", "win64", "win32", "darwin64")
 
 
 def fmi3_function_names() -> list[str]:
@@ -70,7 +75,7 @@ def validate_fmu_texts(path: str | Path) -> tuple[list[Diagnostic], dict[str, st
         _check_xsd(data, display, "fmi3ModelDescription.xsd", sink)
         _check_fmpy(folder, display, sink)
         check_model_description(md, sink)
-        _check_binary(folder, md, path, sink)
+        _check_binaries(folder, md, path, sink)
         bd = folder / "sources" / "buildDescription.xml"
         if bd.is_file():
             bd_display = f"{path}/sources/buildDescription.xml"
@@ -101,8 +106,8 @@ def _check_layout(infos: list[zipfile.ZipInfo], sink: DiagnosticSink, whole: Spa
         if info.extract_version > 20:
             sink.error(f"'{info.filename}' needs ZIP version {info.extract_version / 10:.1f} to extract; FMI allows at most 2.0", whole)
         parts = info.filename.split("/")
-        if parts[0] == "binaries" and len(parts) > 2 and parts[1] in ("linux64", "linux32", "win64", "win32", "darwin64"):
-            sink.error(f"'binaries/{parts[1]}' is an FMI 2.0 platform name; FMI 3.0 uses tuples such as '{PLATFORM_TUPLE}'", whole)
+        if parts[0] == "binaries" and len(parts) > 2 and parts[1] in FMI2_PLATFORMS:
+            sink.error(f"'binaries/{parts[1]}' is an FMI 2.0 platform name; FMI 3.0 uses tuples such as '{HOST.name}'", whole)
 
 
 # ----------------------------------------------------------------------------------------
@@ -263,56 +268,90 @@ def _check_structure(md: ModelDescription, sink: DiagnosticSink) -> None:
 # Binary (§5) and build description (§4)
 
 
-def _check_binary(folder: Path, md: ModelDescription, fmu: Path, sink: DiagnosticSink) -> None:
-    if md.co_simulation is None:
+def _check_binaries(folder: Path, md: ModelDescription, fmu: Path, sink: DiagnosticSink) -> None:
+    """Each platform folder of ``binaries/`` holds the FMU's library for that platform."""
+    base = folder / "binaries"
+    if md.co_simulation is None or not base.is_dir():
         return
     ident = md.co_simulation.model_identifier
-    so = folder / "binaries" / PLATFORM_TUPLE / f"{ident}.so"
-    display = f"{fmu}/binaries/{PLATFORM_TUPLE}/{ident}.so"
-    if not so.is_file():
-        if (folder / "binaries").is_dir():
-            sink.warning(f"no binary for {PLATFORM_TUPLE}: binaries/{PLATFORM_TUPLE}/{ident}.so is missing", Span.whole_file(str(fmu)))
-        return
+    names = sorted(p.name for p in base.iterdir() if p.is_dir())
+    if HOST.name not in names:
+        sink.warning(f"no binary for {HOST.name}: {HOST.binary(ident)} is missing", Span.whole_file(str(fmu)))
+    for name in names:
+        platform = parse_tuple(name)
+        if platform is None:
+            if name not in FMI2_PLATFORMS:  # those the layout check reports
+                sink.warning(f"'binaries/{name}' is not an FMI 3.0 platform tuple (<arch>-<sys>, such as "
+                             f"'{HOST.name}'); its files are not checked", Span.whole_file(str(fmu)))
+            continue
+        library = folder / platform.binary(ident)
+        if not library.is_file():
+            sink.error(f"'binaries/{name}' holds no {library.name}, the library of modelIdentifier '{ident}' "
+                       f"for {name}", Span.whole_file(str(fmu)))
+            continue
+        check_binary(library.read_bytes(), platform, ident, sink, Span.whole_file(f"{fmu}/{platform.binary(ident)}"))
+
+
+def check_binary(data: bytes, platform: Platform, model_identifier: str, sink: DiagnosticSink, where: Span) -> None:
+    """The library ``data`` of ``model_identifier``, found in ``binaries/<platform>``: its
+    format, architecture, kind and exports."""
     try:
-        symbols = exported_symbols(so.read_bytes())
-    except ElfError as exc:
-        sink.error(f"cannot read the binary: {exc}", Span.whole_file(display))
+        info = read_binary(data, platform.arch)
+    except BinaryError as exc:
+        sink.error(f"cannot read the binary: {exc}", where)
         return
-    missing = [f for f in fmi3_function_names() if f not in symbols]
+    if info.format != platform.format or info.arch != platform.arch:
+        sink.error(f"the binary is {_article(info.format)} {info.format} file for {info.arch}; binaries/{platform} "
+                   f"needs {_article(platform.format)} {platform.format} shared library for {platform.arch}", where)
+        return
+    if not info.shared:
+        sink.error(f"the binary is {_article(info.kind)} {info.kind}, not a shared library: an importer cannot load it", where)
+        return
+    functions = fmi3_function_names()
+    missing = [f for f in functions if f not in info.exports]
     if missing:
         shown = ", ".join(missing[:8]) + (f" and {len(missing) - 8} more" if len(missing) > 8 else "")
-        sink.error(f"the binary exports {75 - len(missing)} of the 75 FMI 3.0 functions; missing: {shown}", Span.whole_file(display))
-    prefixed = sorted(s for s in symbols if s.startswith(f"{ident}_fmi3"))
+        sink.error(f"the binary exports {len(functions) - len(missing)} of the {len(functions)} FMI 3.0 functions; "
+                   f"missing: {shown}", where)
+    prefixed = sorted(s for s in info.exports if s.startswith(f"{model_identifier}_fmi3"))
     if prefixed:
-        sink.error(f"the binary exports prefixed names ({prefixed[0]}, ...): FMI3_FUNCTION_PREFIX must not be defined for a shared object", Span.whole_file(display))
+        sink.error(f"the binary exports prefixed names ({prefixed[0]}, ...): FMI3_FUNCTION_PREFIX must not be defined "
+                   "for a shared library", where)
+    others = sorted(info.exports - set(functions) - set(prefixed))
+    if others:
+        shown = ", ".join(others[:5]) + (f" and {len(others) - 5} more" if len(others) > 5 else "")
+        sink.warning(f"the binary exports {len(others)} name(s) besides the FMI 3.0 functions ({shown}); they can clash "
+                     "with other libraries in the importer's process", where)
+
+
+def _article(word: str) -> str:
+    return "an" if word[0].lower() in "aeiou" else "a"
 
 
 def _check_build_description(data: bytes, display: str, md: ModelDescription, folder: Path, sink: DiagnosticSink) -> None:
     _check_xsd(data, display, "fmi3BuildDescription.xsd", sink)
-    root = parse_xml(data, display).getroot()
-    at = lambda el: Span.point(display, el.sourceline or 1)  # noqa: E731
-    if root.get("fmiVersion") != md.fmi_version:
-        sink.error(f"buildDescription fmiVersion=\"{root.get('fmiVersion')}\" differs from the model description's \"{md.fmi_version}\"", at(root))
-    configs = root.findall("BuildConfiguration")
+    bd = read_build_description(data, display)
+    if bd.fmi_version != md.fmi_version:
+        sink.error(f"buildDescription fmiVersion=\"{bd.fmi_version}\" differs from the model description's \"{md.fmi_version}\"", bd.at(bd.line))
+    configs = bd.configurations
     if not configs:
-        sink.error("no <BuildConfiguration>", at(root))
-    if sum(1 for c in configs if c.get("platform") is None) > 1:
-        sink.error("more than one <BuildConfiguration> without platform=", at(root))
+        sink.error("no <BuildConfiguration>", bd.at(bd.line))
+    if sum(1 for c in configs if c.platform is None) > 1:
+        sink.error("more than one <BuildConfiguration> without platform=", bd.at(bd.line))
     if len(configs) > 1:
-        sink.warning("several <BuildConfiguration>s: fmpy compile reads only the first", at(configs[1]))
+        sink.warning("several <BuildConfiguration>s: fmpy compile reads only the first", bd.at(configs[1].line))
     idents = {md.co_simulation.model_identifier} if md.co_simulation else set()
     for c in configs:
-        if idents and c.get("modelIdentifier") not in idents:
-            sink.error(f"<BuildConfiguration modelIdentifier=\"{c.get('modelIdentifier')}\"> matches no interface's modelIdentifier", at(c))
-        sets = c.findall("SourceFileSet")
-        if len(sets) > 1:
-            sink.warning("several <SourceFileSet>s: fmpy compile reads only the first", at(sets[1]))
-        for s in sets:
-            for f in s.findall("SourceFile"):
-                if not (folder / "sources" / (f.get("name") or "")).is_file():
-                    sink.error(f"<SourceFile name=\"{f.get('name')}\"> is not in sources/", at(f))
-            for d in s.findall("PreprocessorDefinition"):
-                if d.get("name") == "FMI3_FUNCTION_PREFIX":
-                    sink.error("FMI3_FUNCTION_PREFIX must not be defined: a shared object exports unprefixed names", at(d))
-                elif d.get("value") is None:
-                    sink.warning(f"<PreprocessorDefinition name=\"{d.get('name')}\"> has no value (fmpy passes it as {d.get('name')}=None)", at(d))
+        if idents and c.model_identifier not in idents:
+            sink.error(f"<BuildConfiguration modelIdentifier=\"{c.model_identifier}\"> matches no interface's modelIdentifier", bd.at(c.line))
+        if len(c.source_sets) > 1:
+            sink.warning("several <SourceFileSet>s: fmpy compile reads only the first", bd.at(c.source_sets[1].line))
+        for s in c.source_sets:
+            for name, line in s.files:
+                if not (folder / "sources" / (name or "")).is_file():
+                    sink.error(f"<SourceFile name=\"{name}\"> is not in sources/", bd.at(line))
+            for d in s.definitions:
+                if d.name == "FMI3_FUNCTION_PREFIX":
+                    sink.error("FMI3_FUNCTION_PREFIX must not be defined: a shared object exports unprefixed names", bd.at(d.line))
+                elif d.value is None:
+                    sink.warning(f"<PreprocessorDefinition name=\"{d.name}\"> has no value (fmpy passes it as {d.name}=None)", bd.at(d.line))

@@ -9,7 +9,7 @@ from fractions import Fraction
 
 from robogen.diagnostics import RobogenError, Span
 from robogen.ir import model as ir
-from robogen.ir.supported import is_scalar, not_supported
+from robogen.ir.supported import ArrayT, is_scalar, not_supported
 from robogen.semantics import types as T
 from robogen.semantics.model import EnumLitSym, SemanticModel, VarSym
 from robogen.syntax import ast
@@ -59,6 +59,8 @@ def default_value(t: T.Type, real_zero: object = Fraction(0)) -> object:
         return [default_value(t.element, real_zero) for _ in range(size or 0)]
     if isinstance(t, (T.SetT, T.SeqT)):
         return []  # the empty set or sequence
+    if isinstance(t, ArrayT):  # an FMI array variable
+        return [default_value(t.element, real_zero) for _ in range(t.size)]
     return 0  # nat, int, and the first literal of an enumeration
 
 

@@ -27,7 +27,7 @@ from __future__ import annotations
 from robogen.diagnostics import RobogenError
 from robogen.ir import model as ir
 from robogen.ir.region_tree import Graph
-from robogen.ir.supported import FunMapT, TupleT, check_codegen_type, is_scalar, not_supported
+from robogen.ir.supported import TupleT, check_codegen_type, holds_function, holds_string, is_scalar, not_supported
 from robogen.semantics import types as T
 from robogen.semantics.model import FuncSym
 from robogen.syntax import ast
@@ -174,12 +174,19 @@ class DeclaredFunctions:
 
     def _user_value(self, sym: FuncSym, args: list[ir.Expr], params, result: T.Type, e: ast.Expr,
                     bindings: dict[str, T.Type]) -> ir.Expr:
-        """The call of the user's C function of this instantiation."""
-        for n, t in params + (("result", result),):
-            if not is_scalar(t):
-                if isinstance(t, FunMapT) or t == T.STRING or "string" in t.show():
-                    raise not_supported(f"function '{sym.name}': {n} of type {t.show()}", e.span)
-                check_codegen_type(t, e.span, f"function '{sym.name}': {n}")
+        """The call of the user's C function of this instantiation. Its parameters and result
+        are numbers, booleans, enumerations, strings (parameters only), records, tuples, sets or
+        sequences (the C file receives and returns the C types of config.h)."""
+        if holds_string(result):  # RoboChart builds no string: every string is one the FMU knows
+            raise not_supported(f"function '{sym.name}': a result of type {result.show()} (the FMU holds the model's "
+                                "strings and those the importer sets, not a text a C function makes)", e.span)
+        for k, (n, t) in enumerate(params + (("result", result),)):
+            what = f"parameter {n}" if k < len(params) else "result"
+            if not is_scalar(t) and t != T.STRING:
+                if holds_function(t):
+                    raise not_supported(f"function '{sym.name}': {what} of type {t.show()} (a function value's default "
+                                        "is robogen's numbering of the model's lambdas, which the user's C cannot apply)", e.span)
+                check_codegen_type(t, e.span, f"function '{sym.name}': {what}")
         names = type_variables([t for _, t in sym.params] + [sym.result])
         instance = "__".join([sym.name] + [type_word(bindings[n]) for n in names])
         shown = ", ".join(f"?{n} = {bindings[n].show()}" for n in names)

@@ -27,14 +27,14 @@ def dump(fmu: ir.Fmu) -> str:
     for p in fmu.inputs:
         out.append(f"  input {p.name}" + _fields(p) + "".join(f" -> m{m}.e{e}" for m, e in p.routes))
     for p in fmu.outputs:
-        out.append(f"  output {p.kind} {p.name}" + _fields(p))
+        out.append(f"  output {'abstract ' if p.abstract else ''}{p.kind} {p.name}" + _fields(p))
     for p in fmu.params:
         out.append(f"  parameter {p.fmi_name}: {p.var.type.show()} = {_value(p.value)}" + (" (no value in the model)" if p.free else ""))
     for m in fmu.machines:
         out.append(machine(m))
     text = "\n".join(out) + "\n"
     if "Set(" in text or "Seq(" in text:  # the capacity of collections is part of the model's meaning
-        text = text.replace("\n", f"\n  capacity {fmu.capacity}\n", 1)
+        text = text.replace("\n", f"\n  capacity {','.join(map(str, fmu.levels))}\n", 1)
     return text
 
 
@@ -163,7 +163,7 @@ def expr(e: ir.Expr | None) -> str:
     if isinstance(e, ir.Payload):
         return f"value(e{e.event})"
     if isinstance(e, ir.BindIn):
-        return f"bind(e{e.event} -> {expr(e.target)})"
+        return f"bind(e{e.event} -> {expr(e.target)})" if e.value is None else f"bind(e{e.event}: {expr(e.value)} -> {expr(e.target)})"
     if isinstance(e, ir.Since):
         return f"since(c{e.clock})"
     if isinstance(e, ir.SinceEntry):
@@ -185,4 +185,15 @@ def expr(e: ir.Expr | None) -> str:
         return f"{e.name}({', '.join(expr(a) for a in e.args)})"
     if isinstance(e, ir.Coll):
         return f"{e.op}<{e.type.show()}>({', '.join(expr(a) for a in e.args)}) @{_line(e.span)}"
+    if isinstance(e, ir.Quant):
+        domains = ", ".join(_domain(d) for d in e.domains)
+        return f"({e.kind} {domains} | {expr(e.pred) if e.pred is not None else 'true'} @ {expr(e.body)}) @{_line(e.span)}"
     return f"<{type(e).__name__}>"
+
+
+def _domain(d: ir.Domain) -> str:
+    if d.kind == "set":
+        return f"{d.var.name} in{' nat' if d.natural else ''} {expr(d.set)}"
+    if d.kind == "range":
+        return f"{d.var.name} in {expr(d.low)}..{expr(d.high)}"
+    return f"{d.var.name}: every {d.var.type.show()}"

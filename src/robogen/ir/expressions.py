@@ -7,6 +7,7 @@ a form without a step has no code-generation meaning yet and is reported as not 
 
 from __future__ import annotations
 
+from dataclasses import replace
 from fractions import Fraction
 from typing import TYPE_CHECKING
 
@@ -15,8 +16,10 @@ from robogen.ir import linear
 from robogen.ir import model as ir
 from robogen.ir.collections import RELATION_OPS
 from robogen.ir.constants import default_expr
+from robogen.ir.derived import FUNCTIONAL, RELATIONAL, identity
 from robogen.ir.region_tree import Graph
-from robogen.ir.supported import FunMapT, TaggedT, TupleT, base_name, check_codegen_type, is_collection, is_scalar, not_supported, tuple_type
+from robogen.ir.supported import (FunMapT, TaggedT, TupleT, base_name, check_codegen_type, convertible, fits, is_collection,
+                                  is_scalar, not_supported, tuple_type)
 from robogen.semantics import types as T
 from robogen.semantics.model import EnumLitSym, EventSym, FuncSym, VarSym
 from robogen.syntax import ast
@@ -26,10 +29,6 @@ if TYPE_CHECKING:  # the attributes MachineLowering provides
     from robogen.semantics.model import SemanticModel
 
 _UNSUPPORTED = {
-    ast.Binder: "a quantifier, lambda or definite description",
-    ast.SetRange: "a set range",
-    ast.SetComprehension: "a set comprehension",
-    ast.Range: "a range",
     ast.MatrixOp: "inverse/transpose",
 }
 
@@ -40,18 +39,20 @@ _BINARY = {
 }
 
 
+_KINDS = ("value", "pair", "set", "seq")  # the forms of arguments (a set or sequence may hold anything)
+
 # toolkit functions code generation implements: (name, the forms of the arguments) -> operation
 # of robogen.ir.collections (first, second and maplet are tuple operations)
 TOOLKIT: dict[str, dict[tuple[str, tuple[str, ...]], str]] = {
     "set_toolkit": {
-        ("notin", ("value", "set")): "notin", ("notin", ("pair", "set")): "notin",
+        **{("notin", (a, "set")): "notin" for a in _KINDS},
         ("subseteq", ("set", "set")): "subseteq", ("subset", ("set", "set")): "subset",
         ("union", ("set", "set")): "union", ("inter", ("set", "set")): "inter", ("diff", ("set", "set")): "diff",
-        ("symetric_diff", ("set", "set")): "symdiff",
+        ("symetric_diff", ("set", "set")): "symdiff", ("Union", ("set",)): "Union", ("Inter", ("set",)): "Inter",
     },
     "relation_toolkit": {
         ("first", ("pair",)): "first", ("second", ("pair",)): "second",
-        **{("maplet", (a, b)): "maplet" for a in ("value", "pair") for b in ("value", "pair")},
+        **{("maplet", (a, b)): "maplet" for a in _KINDS for b in _KINDS},
         ("dom", ("seq",)): "indices", ("ran", ("seq",)): "elems",
         # relations: sets of pairs
         ("dom", ("set",)): "dom", ("ran", ("set",)): "ran", ("rinv", ("set",)): "rinv",
@@ -66,6 +67,7 @@ TOOLKIT: dict[str, dict[tuple[str, tuple[str, ...]], str]] = {
         ("reverse", ("seq",)): "reverse", ("head", ("seq",)): "head", ("last", ("seq",)): "last",
         ("tail", ("seq",)): "tail", ("front", ("seq",)): "front", ("filter", ("seq", "set")): "filter",
         ("extract", ("set", "seq")): "extract",
+        ("dconcat", ("seq",)): "dconcat", ("iter", ("value", "set")): "iter", ("isInjectiveSequence", ("seq",)): "injective",
         ("squash", ("set",)): "squash", ("prefix", ("seq", "seq")): "prefix", ("suffix", ("seq", "seq")): "suffix", ("infix", ("seq", "seq")): "infix",
     },
 }
@@ -85,8 +87,6 @@ class ExpressionLowering:
 
     def expr(self, e: ast.Expr, graph: Graph) -> ir.Expr:
         with working_on(e.span):
-            if isinstance(e, ast.Binder) and e.kind == "lambda":  # a function value (robogen.ir.functions)
-                return self.fvalue(e, self._type(e), graph)  # type: ignore[attr-defined]
             step = getattr(self, "_e_" + type(e).__name__, None)
             if step is None:
                 raise not_supported(_UNSUPPORTED.get(type(e), type(e).__name__), e.span)
@@ -98,7 +98,7 @@ class ExpressionLowering:
         if isinstance(e, ast.Field):
             base = self.lvalue(e.obj, graph)
             assert isinstance(base.type, T.RecordT)
-            return ir.FieldOf(self._norm(base.type.field(e.field)), base, e.field)  # type: ignore[arg-type]
+            return ir.FieldOf(base.type.field(e.field), base, e.field)  # type: ignore[arg-type]
         if isinstance(e, ast.Index):
             return self._index(self.lvalue(e.obj, graph), e, graph)
         raise not_supported("this assignment target", e.span)
@@ -136,12 +136,14 @@ class ExpressionLowering:
             return self._reshape(e, t, span)  # a recursive type at another level (robogen.ir.supported.Shapes)
         if isinstance(t, T.RecordT) and isinstance(e, ir.RecordLit):
             return ir.RecordLit(t, tuple((n, self.conv(v, t.field(n), span)) for n, v in e.values))
-        if isinstance(e.type, FunMapT) and t == e.type.pairs:  # a function as the set of its pairs
-            return self.pairs_of(e, "this function", span)  # type: ignore[attr-defined]
+        if isinstance(e.type, FunMapT) and isinstance(t, T.SetT) and convertible(e.type.pairs, t):  # a function as its pairs
+            return self.conv(self.pairs_of(e, "this function", span), t, span)  # type: ignore[attr-defined]
         if isinstance(t, FunMapT) and isinstance(e.type, T.SetT):  # a set of pairs as a function
             return self.map_of_pairs(self.conv(e, t.pairs, span), t)  # type: ignore[attr-defined]
-        if is_collection(t) and type(t) is type(e.type):
+        if is_collection(t) and is_collection(e.type) and isinstance(t, T.SetT) == isinstance(e.type, T.SetT):
             return self._conv_collection(e, t, span)  # type: ignore[arg-type]
+        if isinstance(t, (T.RecordT, T.VectorT, T.MatrixT)) and not isinstance(e, ir.VectorLit) and convertible(e.type, t):
+            return ir.Coll(t, "conv", (e,), self._conv_text(e.type, t), span)  # collections of other capacities inside
         return e
 
     def _reshape(self, e: ir.Expr, t: T.RecordT, span: Span | None) -> ir.Expr:
@@ -173,17 +175,36 @@ class ExpressionLowering:
         return ir.Cond(t, deep, fault, value)
 
     def _conv_collection(self, e: ir.Expr, t: T.SetT | T.SeqT, span: Span | None) -> ir.Expr:
-        """A set or sequence as one of another element type: an enumeration's elements are
-        converted (``{}`` takes the type it is used as); other values only where the
-        representation does not change."""
+        """A set or sequence as one of another element type or capacity: an enumeration's
+        elements are converted (``{}`` takes the type it is used as); another value element by
+        element (a set re-ordered), a run-time error if it holds more than ``t``'s capacity."""
         if isinstance(e, ir.Coll) and e.op in ("set", "seq"):
             return ir.Coll(t, e.op, tuple(self.conv(x, t.element, span) for x in e.args), e.text, e.span)
+        if isinstance(e, ir.Coll) and e.op == "identity":  # id(): the identity relation of the type it is used as
+            return identity(t, "id", e.text, e.span)
         source = e.type.element  # type: ignore[attr-defined]
-        if isinstance(source, T.UnknownT) or source == t.element:
+        if isinstance(source, T.UnknownT):
             return e
-        if source in T.NUMERIC and t.element in T.NUMERIC:  # each element converted (a set re-ordered)
-            return ir.Coll(t, "conv", (e,), f"{e.type.show()} as {t.show()}", span)
+        if convertible(e.type, t):
+            return ir.Coll(t, "conv", (e,), self._conv_text(e.type, t), span)
         raise not_supported(f"using a {e.type.show()} as a {t.show()}", span)
+
+    @staticmethod
+    def _conv_text(source: T.Type, target: T.Type) -> str:
+        """What a conversion's run-time error calls it."""
+        if source.show() != target.show():
+            return f"{source.show()} as {target.show()}"
+        return f"a {source.show()} stored at a nesting level of another capacity"
+
+    def common(self, a: ir.Expr, b: ir.Expr, spans) -> tuple[ir.Expr, ir.Expr]:
+        """``a`` and ``b`` (collections of one form whose capacities may differ) in one type, the
+        one into which the other converts without overflowing (equality, membership)."""
+        of = self.ctx.fmu.capacity_of  # type: ignore[attr-defined]
+        if a.type == b.type:
+            return a, b
+        if fits(b.type, a.type, of):
+            return a, self.conv(b, a.type, spans[1])
+        return self.conv(a, b.type, spans[0]), b
 
     def since_type(self) -> T.Type:
         """The type of clock readings: nat when the period is whole, real otherwise."""
@@ -285,10 +306,22 @@ class ExpressionLowering:
     def _collection_binary(self, e: ast.Binary, a: ir.Expr, b: ir.Expr) -> ir.Expr:
         if e.op == "in":
             b = self._as_relation(b, e.right)
-            assert isinstance(b.type, (T.SetT, T.SeqT))
-            return self.coll(T.BOOLEAN, "in", (self.conv(a, b.type.element, e.left.span), b), e)
+            return self.coll(T.BOOLEAN, "in", self.member(a, b, e.left.span, e.right.span), e)
         t = self._type(e)
+        if t == T.STRING:  # two strings: only literals, joined here (a string is a number at run time)
+            if isinstance(a, ir.Lit) and isinstance(b, ir.Lit):
+                return ir.Lit(T.STRING, str(a.value) + str(b.value))
+            raise not_supported("joining strings that are not literals (a string is one of the model's or an importer's "
+                                "at run time, never a new one)", e.span)
         return self.coll(t, "cat", (self.conv(a, t, e.left.span), self.conv(b, t, e.right.span)), e)
+
+    def member(self, x: ir.Expr, s: ir.Expr, x_span: Span | None, s_span: Span | None) -> tuple[ir.Expr, ir.Expr]:
+        """The operands of ``x in s``: ``x`` as an element of ``s``, or, where it might not fit
+        (a collection of a greater capacity than the elements'), ``s`` as a collection of its type."""
+        assert isinstance(s.type, (T.SetT, T.SeqT))
+        if fits(x.type, s.type.element, self.ctx.fmu.capacity_of) or not convertible(x.type, s.type.element):  # type: ignore[attr-defined]
+            return self.conv(x, s.type.element, x_span), s
+        return x, self.conv(s, replace(s.type, element=x.type), s_span)
 
     def _comparison(self, e: ast.Binary, op: str, a: ir.Expr, b: ir.Expr) -> ir.Expr:
         known = self.model.constant_comparison(e)  # k >= 0 for a nat k: C compilers reject the test (-Wtype-limits)
@@ -301,6 +334,8 @@ class ExpressionLowering:
             raise not_supported(f"'{e.op}' on {a.type.show()}", e.span)
         if not (is_scalar(a.type) or isinstance(a.type, (T.RecordT, T.VectorT, T.MatrixT, T.SetT, T.SeqT)) or a.type == T.STRING):
             raise not_supported(f"comparing values of type {a.type.show()}", e.span)
+        if a.type != b.type and isinstance(a.type, (T.SetT, T.SeqT, T.RecordT)) and convertible(a.type, b.type):
+            a, b = self.common(a, b, (e.left.span, e.right.span))  # into the one of the greater capacities
         if a.type != b.type:  # a literal takes the type of the other side: [| 0, 0 |] is vector(nat, 2)
             if self.conv(b, a.type, e.right.span).type == a.type:
                 b = self.conv(b, a.type, e.right.span)
@@ -339,7 +374,7 @@ class ExpressionLowering:
         base = self.expr(e.obj, graph)
         if not isinstance(base.type, T.RecordT):
             raise not_supported(f"field selection on {base.type.show()}", e.span)
-        return ir.FieldOf(self._norm(base.type.field(e.field)), base, e.field)  # type: ignore[arg-type]
+        return ir.FieldOf(base.type.field(e.field), base, e.field)  # type: ignore[arg-type]  # (already concrete)
 
     def _e_Index(self, e: ast.Index, graph: Graph) -> ir.Expr:
         return self._index(self.expr(e.obj, graph), e, graph)
@@ -420,6 +455,10 @@ class ExpressionLowering:
             return ir.CallB(t, sym.name, tuple(self.conv(self.expr(a, graph), t, a.span) for a in e.args))
         if isinstance(sym, FuncSym) and sym.builtin is None and sym.decl is not None:
             return self._user_call(sym, e, graph)
+        if isinstance(sym, FuncSym) and sym.builtin is not None and sym.name in RELATIONAL + FUNCTIONAL and \
+                getattr(sym.builtin, "package", None) in ("relation_toolkit", "function_toolkit"):
+            args = [self._as_relation(self.expr(a, graph), a) for a in e.args]
+            return self.derived_call(sym.name, args, e)  # type: ignore[attr-defined]
         if isinstance(sym, FuncSym) and getattr(sym.builtin, "package", None) in TOOLKIT:
             return self._toolkit_call(sym, e, graph)
         if sym is None or isinstance(sym, VarSym):  # a function value: a lambda, override, a variable
@@ -450,6 +489,15 @@ class ExpressionLowering:
         if op == "maplet":
             pair = tuple_type((args[0].type, args[1].type))
             return ir.RecordLit(pair, (("_1", args[0]), ("_2", args[1])))
+        if op in ("head", "last", "min", "max") and not isinstance(args[0].type.element, T.UnknownT):  # type: ignore[union-attr]
+            return self.coll(args[0].type.element, op, args, e)  # an element, of the collection's own type  # type: ignore[union-attr]
+        if op in ("Union", "Inter", "dconcat"):  # of the elements' elements: the outermost level's capacity
+            inner = args[0].type.element  # type: ignore[union-attr]
+            if op != "dconcat" and isinstance(inner, T.SeqT):  # sequences, as sets of (index, element) pairs
+                args, inner = self.as_pair_sets(args[0], e.args[0])
+            outer = (T.SetT if op != "dconcat" else T.SeqT)(inner.element)  # type: ignore[union-attr]
+            check_codegen_type(outer, e.span, f"the result of '{sym.name}'")
+            return self.conv(self.coll(outer, op, args, e), t, e.span)
         if op == "range":
             args = [self.conv(a, T.INT, x.span) for a, x in zip(args, e.args)]
         elif op == "extract":  # extract(a, q): the sequence first in the IR, as for filter(q, a)
@@ -457,11 +505,11 @@ class ExpressionLowering:
         elif is_collection(t) and op not in ("elems", "indices"):
             # the collections the result is made from have its type ({} and <> take it)
             args = [self.conv(a, t, x.span) if is_collection(a.type) else a for a, x in zip(args, e.args)]
+        elif op == "notin":  # an element (of any form) and a set
+            args[0], args[1] = self.member(args[0], args[1], e.args[0].span, e.args[1].span)
         elif len(args) == 2 and all(is_collection(a.type) for a in args):
             common = args[1].type if isinstance(args[0].type.element, T.UnknownT) else args[0].type  # type: ignore[union-attr]
-            args = [self.conv(a, type(a.type)(common.element), x.span) for a, x in zip(args, e.args)]  # type: ignore[union-attr, call-arg]
-        elif op == "notin":
-            args[0] = self.conv(args[0], args[1].type.element, e.args[0].span)  # type: ignore[union-attr]
+            args = [self.conv(a, replace(a.type, element=common.element), x.span) for a, x in zip(args, e.args)]  # type: ignore[union-attr, call-arg]
         if isinstance(t, (T.SetT, T.SeqT)):
             check_codegen_type(t, e.span, f"the result of '{sym.name}'")
         return self.coll(t, op, args, e)
@@ -474,11 +522,13 @@ class ExpressionLowering:
 
     def _relation_call(self, sym: FuncSym, op: str, args: list[ir.Expr], t: T.Type, e: ast.Call) -> ir.Expr:
         """A relation operation: every relation is a set of pairs (robogen.ir.collections)."""
-        at = 1 if op in ("dres", "dsub") else 0
+        at = 1 if op in ("dres", "dsub", "iter") else 0
         pair = args[at].type.element  # type: ignore[attr-defined]
         if not (isinstance(pair, TupleT) and len(pair.fields) == 2):
             raise not_supported(f"'{sym.name}' of {args[at].type.show()} (a relation is a set of pairs)", e.span)
         x, y = pair.field("_1"), pair.field("_2")
+        if op == "iter":  # iter(n, r)
+            return self.coll(args[1].type, op, (self.conv(args[0], T.INT, e.args[0].span), args[1]), e)
         wanted = {"dres": (T.SetT(x), None), "dsub": (T.SetT(x), None), "rres": (None, T.SetT(y)),
                   "rsub": (None, T.SetT(y)), "rimage": (None, T.SetT(x)), "roverride": (None, args[0].type)}.get(op, (None, None))
         args = [self.conv(a, w, x_.span) if w is not None else a for a, w, x_ in zip(args, wanted, e.args)]
@@ -506,7 +556,7 @@ class ExpressionLowering:
         if ev is None:
             raise not_supported(f"'${e.event}?{e.var}'", e.span)
         var = self.model.bound_var(e)
-        guard: ir.Expr = ir.BindIn(T.BOOLEAN, ev.index, self.var_ref(graph, var, e.var_span))
+        guard: ir.Expr = self.bind_in(ev, self.var_ref(graph, var, e.var_span), e.span)
         if e.predicate is not None:
             guard = ir.Bin(T.BOOLEAN, "and", guard, self.expr(e.predicate, graph))
         return guard

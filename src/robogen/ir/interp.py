@@ -33,9 +33,11 @@ import math
 from dataclasses import dataclass, field
 
 from robogen.ir import collections as C
+from robogen.ir import finite
 from robogen.ir import model as ir
 from robogen.ir.constants import default_value
-from robogen.ir.supported import FunMapT, literal_conditions
+from robogen.ir.layout import build, gather, leaves
+from robogen.ir.supported import ArrayT
 from robogen.semantics import types as T
 
 MASK = (1 << 64) - 1
@@ -172,50 +174,39 @@ class Interpreter:
             raise KeyError(f"no input clock {clock!r}")
         value = self._assemble(port, payload or {})
         for mi, ei in port.routes:
-            self._deliver(mi, ei, value)
+            self._deliver(mi, ei, value, port.type, 0)
 
     def _assemble(self, port: ir.Port, payload: dict[str, object]):
+        """The value an input port's clocked variables give (robogen.ir.layout.build)."""
         if port.type is None:
             return None
-        value = _zero(port.type)
-        collections: dict[tuple[str, ...], list] = {}  # path of a collection -> [elements, size]
-        for f in port.fields:
-            if f.path and (f.path[-1] == "#size" or "#elements" in f.path):
-                given = payload.get(f.fmi_name, _zero(f.type))
-                k = len(f.path) - 1 if f.path[-1] == "#size" else f.path.index("#elements")
-                slot = collections.setdefault(f.path[:k], [[], 0])
-                if f.path[-1] == "#size":
-                    slot[1] = int(given)  # type: ignore[call-overload]
-                elif k == len(f.path) - 1:
-                    slot[0] = [python_value(x, f.type.element) for x in given]  # type: ignore[union-attr, attr-defined]
-                else:  # one field of the records: the array of its values, element by element
-                    column = [python_value(x, f.type.element) for x in given]  # type: ignore[union-attr, attr-defined]
-                    if not slot[0]:
-                        slot[0] = [_zero(_type_at(port.type, f.path[:k]).element) for _ in column]  # type: ignore[attr-defined]
-                    for record, x in zip(slot[0], column):
-                        _set_path(record, f.path[k + 1:], x)
-                continue
-            if isinstance(f.type, (T.VectorT, T.MatrixT)):  # an FMI array (a matrix row by row)
-                v = [python_value(x, f.type.element) for x in payload.get(f.fmi_name, _zero(f.type))]  # type: ignore[union-attr]
-            else:
-                v = python_value(payload.get(f.fmi_name, _zero(f.type)), f.type)
-            if not f.path:
-                value = v
-            elif all(_get_path(value, at) == index for at, index in literal_conditions(port.type, f.path)):
-                _set_path(value, f.path, v)
-        for path, (elements, size) in collections.items():
-            t = _type_at(port.type, path)
-            v = C.received(elements, size, t, self.fmu.capacity)  # type: ignore[arg-type]
-            if not path:
-                value = v
-            else:
-                _set_path(value, path, v)
-        return value
+        fields = {f.path: f for f in port.fields}
 
-    def _deliver(self, mi: int, ei: int, value) -> None:
+        def read(path: tuple[str, ...], pos: int, n: int) -> list:
+            f = fields[path]
+            element = f.type.element if isinstance(f.type, (T.VectorT, T.MatrixT, ArrayT)) else f.type  # type: ignore[attr-defined]
+            given = payload.get(f.fmi_name, _zero(f.type))
+            entries = list(given) if isinstance(given, (list, tuple)) else [given]  # type: ignore[arg-type]
+            return [python_value(x, element) for x in entries[pos * n:(pos + 1) * n]]
+
+        def received(items: list, t: T.Type) -> list:
+            return C.received(items, len(items), t, self.fmu.capacity_of(t))
+
+        return build(port.type, (), 0, read, self.fmu.capacity_of, received, _zero)
+
+    def _deliver(self, mi: int, ei: int, value, source: T.Type | None, sender: int) -> None:
+        """An occurrence of event ``ei`` of machine ``mi`` carrying ``value`` of type ``source``
+        (a number the connection widens to the event's type: converted) from sender number
+        ``sender`` (0: the boundary, k: the k-th machine), kept with the value by an event that
+        keeps its sender."""
         ms = self.machines[mi]
+        event = self.fmu.machines[mi].events[ei]
         if ei in ms.register:
             self.dropped += 1  # several occurrences before they are used: the last one wins
+        if value is not None and source in T.NUMERIC and event.value_type in T.NUMERIC and source != event.value_type:
+            value = convert(value, source, event.value_type)
+        if event.sender:
+            value = ({"value": value} if value is not None else {}) | {"from": sender}
         ms.register[ei] = copy.deepcopy(value)
         ms.new_input = True
 
@@ -312,7 +303,7 @@ class Interpreter:
         for m, ms in zip(self.fmu.machines, self.machines):
             for v in m.vars:
                 if v.kind in ("var", "const"):
-                    _flatten_value(params.get(id(v), f"{m.name}.{v.name}"), v.type, ms.vars[v.name], out, self.fmu.capacity)
+                    _flatten_value(params.get(id(v), f"{m.name}.{v.name}"), v.type, ms.vars[v.name], out, self.fmu.capacity_of)
         return out
 
     # ------------------------------------------------------------------ execution
@@ -367,7 +358,7 @@ class Interpreter:
                     port = self.fmu.outputs[route[1]]
                     self.active[port.name] = self._payload(port, args)
                 else:
-                    self._deliver(route[1], route[2], args[0] if args else None)
+                    self._deliver(route[1], route[2], args[0] if args else None, s.args[0].type if s.args else None, m.index + 1)
         elif isinstance(s, ir.If):
             for x in s.then if self._eval(s.cond, m, ms) else s.otherwise:
                 self._exec(x, m, ms)
@@ -394,14 +385,11 @@ class Interpreter:
         for f in port.fields:
             if port.kind == "operation":
                 pi = [n for n, _ in port.params].index(f.path[0])
-                value = _get_path(args[pi], f.path[1:])
+                value, t, path = args[pi], port.params[pi][1], f.path[1:]
             else:
-                value = _get_path(args[0], f.path)
-            if isinstance(f.type, T.VectorT) and "#elements" in f.path:
-                value = list(value) + [_zero(f.type.element)] * ((f.type.size or 0) - len(value))
-            out[f.fmi_name] = copy.deepcopy(value)
+                value, t, path = args[0], port.type, f.path
+            out[f.fmi_name] = _leaf_value(value, t, path, f.type, self.fmu.capacity_of)
         return out
-
 
     def _store(self, target: ir.Expr, value, m: ir.Machine, ms: MachineState) -> None:
         if isinstance(target, ir.Ref):
@@ -479,7 +467,8 @@ class Interpreter:
         if isinstance(e, ir.BindIn):
             if e.event not in ms.sample:
                 return False
-            self._store(e.target, copy.deepcopy(ms.sample[e.event]), m, ms)
+            value = ms.sample[e.event] if e.value is None else self._eval(e.value, m, ms)
+            self._store(e.target, copy.deepcopy(value), m, ms)
             return True
         if isinstance(e, ir.Since):
             return self._since(ms.ticks - ms.clocks[e.clock], e.type)
@@ -504,6 +493,8 @@ class Interpreter:
             return args[0] if args[0] >= args[1] else args[1]
         if isinstance(e, ir.Coll):
             return self._collection(e, m, ms)
+        if isinstance(e, ir.Quant):
+            return self._quantifier(e, m, ms)
         if isinstance(e, ir.CallU):  # an instantiation of a generic function by its own name, or by the function's
             f = self.functions.get(e.instance) if e.instance else None
             f = f if f is not None else self.functions.get(e.name)
@@ -517,14 +508,23 @@ class Interpreter:
         where = self.fmu.place(e.span)
         if e.op == "undefined":
             raise RuntimeFault(f"machine {m.name}: {e.text} at {where}")
-        if e.op == "conv":  # numbers converted one by one, as Conv converts them
-            source, target = e.args[0].type.element, e.type.element  # type: ignore[attr-defined]
-            items = [convert(x, source, target) for x in args[0]]
-            return C.received(items, len(items), e.type, self.fmu.capacity)
+        capacity = C.site_capacity(e.op, [a.type for a in e.args], e.type, self.fmu.capacity_of)
+        overflow = C.overflow_message(e.text, where, capacity)
         try:
-            return copy.deepcopy(C.apply(e.op, args, [a.type for a in e.args], self.fmu.capacity,
-                                         C.overflow_message(e.text, where, self.fmu.capacity),
+            if e.op == "conv":  # numbers converted one by one, as Conv converts them; capacities checked
+                return C.convert(args[0], e.args[0].type, e.type, convert, self.fmu.capacity_of, overflow)
+            return copy.deepcopy(C.apply(e.op, args, [a.type for a in e.args], self.fmu.capacity_of(e.type), overflow,
                                          C.empty_message(e.op, e.text, where), e.type))
+        except C.CollectionFault as fault:
+            raise RuntimeFault(f"machine {m.name}: {fault}") from None
+
+    def _quantifier(self, e: ir.Quant, m: ir.Machine, ms: MachineState):
+        def store(var: ir.Var, value) -> None:
+            self._memory(var, ms)[var.name] = copy.deepcopy(value)
+
+        try:
+            return finite.evaluate(e, lambda x: self._eval(x, m, ms), store, convert, self.fmu.capacity_of(e.type),
+                                   self.fmu.place(e.span))
         except C.CollectionFault as fault:
             raise RuntimeFault(f"machine {m.name}: {fault}") from None
 
@@ -641,23 +641,11 @@ def arith(op: str, a, b, t: T.Type):
     return wrap(a - q * b)  # remainder with the sign of the dividend, as C's %
 
 
-def _get_path(value, path: tuple[str, ...]):
-    """The part of a value at ``path`` (record fields; ``#size``/``#elements`` of a collection,
-    its elements as the FMU's array of the capacity, zeros after the last; after ``#elements``,
-    the path of a field of its records: that field of each element)."""
-    for i, p in enumerate(path):
-        if p == "#size":
-            return len(value)
-        if p == "#elements":  # padded by the caller, which knows the array's size
-            return [_get_path(x, path[i + 1:]) for x in value] if path[i + 1:] else value
-        value = value[p]
-    return value
-
-
-def _type_at(t: T.Type, path: tuple[str, ...]) -> T.Type:
-    for p in path:
-        t = t.field(p)  # type: ignore[attr-defined, assignment]
-    return t
+def _leaf_value(value, t: T.Type, path: tuple[str, ...], leaf: T.Type, capacity_of):
+    """What the FMI variable of type ``leaf`` at ``path`` of a value of ``t`` shows."""
+    element = leaf.element if isinstance(leaf, (T.VectorT, T.MatrixT, ArrayT)) else leaf  # type: ignore[attr-defined]
+    entries = gather(value, t, path, capacity_of, _zero(element))
+    return copy.deepcopy(entries if isinstance(leaf, (T.VectorT, T.MatrixT, ArrayT)) else entries[0])
 
 
 def _set_path(value, path: tuple[str, ...], v) -> None:
@@ -666,18 +654,10 @@ def _set_path(value, path: tuple[str, ...], v) -> None:
     value[path[-1]] = v
 
 
-def _flatten_value(prefix: str, t: T.Type, v, out: dict[str, object], capacity: int) -> None:
-    if isinstance(t, FunMapT):
-        pass  # a function value: not an FMI variable
-    elif isinstance(t, T.RecordT):
-        for n, ft in t.fields:
-            _flatten_value(f"{prefix}.{n}", ft, v[n], out, capacity)
-    elif isinstance(t, (T.SetT, T.SeqT)):  # as the FMU shows it: elements padded with zeros, and size
-        if not isinstance(t.element, T.RecordT):
-            out[f"{prefix}.elements"] = copy.deepcopy(v) + [_zero(t.element)] * (capacity - len(v))
-            out[f"{prefix}.size"] = len(v)
-    else:
-        out[prefix] = copy.deepcopy(v)
+def _flatten_value(prefix: str, t: T.Type, v, out: dict[str, object], capacity_of) -> None:
+    """A machine variable as its local FMI variables show it (robogen.ir.layout)."""
+    for leaf in leaves(t, capacity_of):
+        out[".".join((prefix,) + leaf.name)] = _leaf_value(v, t, leaf.path, leaf.type, capacity_of)
 
 
 __all__ = ["Interpreter", "Instant", "RuntimeFault", "arith", "convert", "random_next", "wrap_int", "wrap_nat"]

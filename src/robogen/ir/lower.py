@@ -35,6 +35,7 @@ class LoweringOptions:
     given: str = "int"  # the scalar type of given types
     max_steps: int = 1000
     capacity: int = 32  # the most elements a set or sequence holds
+    capacities: tuple[int, ...] = ()  # per nesting level, outermost first (--capacity 32,8); empty: capacity at every level
     enum_depth: int = ENUM_DEPTH  # the levels of a recursive enumeration's values (robogen.ir.supported.Shapes)
 
 
@@ -45,7 +46,7 @@ def lower(model: SemanticModel, boundary: Boundary, options: LoweringOptions | N
     options = options or LoweringOptions()
     fmu = _header(model, boundary, options)
     lowerings: list[MachineLowering] = []
-    shapes = Shapes(model.tables.declared, options.enum_depth)
+    shapes = Shapes(model.tables.declared, options.enum_depth, fmu.levels)
     ports = Ports(fmu, boundary, lowerings, lambda t: normalise(t, options.given, shapes))  # type: ignore[arg-type]
     ctx = FmuContext(model, boundary, fmu, options.given, options.settings, ports, shapes)
     for i, ((used_name, scope, ctrl), name) in enumerate(zip(boundary.machines, boundary.machine_names)):
@@ -76,7 +77,8 @@ def _header(model: SemanticModel, b: Boundary, options: LoweringOptions) -> ir.F
         sources=tuple(sorted({f.path for f in model.files})),
         span=getattr(b.node, "name_span", None),
         max_steps=options.max_steps,
-        capacity=options.capacity,
+        capacity=options.capacities[0] if options.capacities else options.capacity,
+        capacities=options.capacities if len(set(options.capacities)) > 1 else (),
         root=model.root,
     )
 

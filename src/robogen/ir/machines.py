@@ -16,13 +16,15 @@ from typing import Any, Generator
 
 from robogen.diagnostics import DiagnosticSink, Note, RobogenError, Span, did_you_mean
 from robogen.ir import model as ir
-from robogen.ir.bindings import BindingLowering
+from robogen.ir.binders import BinderLowering
+from robogen.ir.bindings import BindingLowering, sender_events, sender_type
 from robogen.ir.boundary import Boundary
+from robogen.ir.derived import DerivedLowering
 from robogen.ir.constants import constant_value, default_value, parse_setting, shown
 from robogen.ir.expressions import ExpressionLowering
 from robogen.ir.region_tree import Graph, place_of, state_action
 from robogen.ir.ports import Ports
-from robogen.ir.statements import StatementLowering
+from robogen.ir.statements import StatementLowering, is_abstract
 from robogen.ir.declared import DeclaredFunctions
 from robogen.ir.functions import FunctionValues
 from robogen.ir.supported import FunMapT, Shapes, check_codegen_type, is_scalar, normalise, not_supported
@@ -98,7 +100,8 @@ def drive(steps: Steps):
     return value
 
 
-class MachineLowering(StatementLowering, BindingLowering, ExpressionLowering, FunctionValues, DeclaredFunctions):
+class MachineLowering(StatementLowering, BindingLowering, BinderLowering, DerivedLowering, ExpressionLowering, FunctionValues,
+                      DeclaredFunctions):
     def __init__(self, ctx: FmuContext, scope: MachineScope, ctrl: Controller | None, index: int, used_name: str,
                  name: str | None = None):
         """``name``: the machine's name in the FMU (its own, or its instance path where two
@@ -127,12 +130,15 @@ class MachineLowering(StatementLowering, BindingLowering, ExpressionLowering, Fu
         self.inlining: list[tuple[ast.FunctionDef, str]] = []  # the defined functions being inlined, outermost first
         for name, v in scope.vars.items():
             self._declare_var(v, name)
+        senders = sender_events(ctx.model, scope)
         for name, e in scope.events.items():
             if e.input:
                 t = self._norm(e.type) if e.type is not None else None
                 if t is not None:
                     check_codegen_type(t, e.span, f"event '{name}'")
-                self.machine.events.append(ir.Event(name, t, len(self.machine.events), e.span))
+                if name in senders:  # its register keeps the sender too
+                    t = sender_type(t)
+                self.machine.events.append(ir.Event(name, t, len(self.machine.events), e.span, sender=name in senders))
 
     # -- storage
 
@@ -245,6 +251,14 @@ class MachineLowering(StatementLowering, BindingLowering, ExpressionLowering, Fu
         if self.robosim:
             return op.platform
         return self.software_operation(op.name) is None
+
+    def is_abstract_operation(self, op: OpSym) -> bool:
+        """A software operation the machine requires whose definition has no nodes (see
+        robogen.ir.statements.is_abstract)."""
+        if self.robosim and op.platform:
+            return False
+        definition = self.software_operation(op.name)
+        return definition is not None and is_abstract(definition)
 
     def event_type(self, name: str) -> T.Type | None:
         sym = self.scope.events.get(name)
@@ -493,10 +507,8 @@ class MachineLowering(StatementLowering, BindingLowering, ExpressionLowering, Fu
         self.node_now = graph.node_ids[id(leaf)]
         cur = b
         if consume is not None:
-            if t.trigger is not None and t.trigger.kind == "?":  # bound as the transition is taken
-                var = self.model.bound_var(t.trigger)
-                cur.stmts.append(ir.Assign(t.trigger.span, self.var_ref(graph, var, t.trigger.var_span),
-                                           ir.Payload(self.machine.event(t.trigger.event).type, consume)))
+            if t.trigger is not None:  # bound as the transition is taken
+                cur.stmts += self.bindings(t.trigger, self.machine.events[consume], graph)
             cur.stmts.append(ir.Consume(t.span, consume))
         cur.stmts.append(ir.Trace(t.span, f"{t.name}: {src.name} -> {t.target}"))  # type: ignore[attr-defined]
         chain = self._chain(graph, leaf)

@@ -104,6 +104,9 @@ class Port:
     # the event or operation of the model, when the FMI name differs from it (a name FMI or
     # robogen already uses, or the name of another port: :class:`robogen.ir.ports.Ports`)
     model_name: str = ""
+    # operations: an abstract operation (a definition without nodes), whose call leaves the FMU
+    # as a platform operation's does; False for an operation the platform provides
+    abstract: bool = False
 
     @property
     def source(self) -> str:
@@ -113,12 +116,23 @@ class Port:
 
 @dataclass(eq=False)
 class Event:
-    """An event a machine reads (its input register and sample)."""
+    """An event a machine reads (its input register and sample). ``type`` is what the register
+    holds: the event's value, or with ``sender`` (a filter ``e[| x = from |]`` of the machine reads
+    the sender) a record of the value (field ``value``, if the event carries one) and the sender's
+    number (field ``from``, see :mod:`robogen.ir.bindings`), which every delivery fills in."""
 
     name: str
     type: Type | None
     index: int
     span: Span | None = None
+    sender: bool = False
+
+    @property
+    def value_type(self) -> Type | None:
+        """The type of the value the event carries (None: it carries none)."""
+        if not self.sender:
+            return self.type
+        return self.type.field("value")  # type: ignore[union-attr]
 
 
 @dataclass(eq=False)
@@ -237,10 +251,12 @@ class Payload(Expr):
 @dataclass(frozen=True)
 class BindIn(Expr):
     """``$e?x`` / ``e?x``: true if event ``event`` is present, and then its value is stored in
-    ``target`` (as a side effect of evaluating the guard)."""
+    ``target`` (as a side effect of evaluating the guard): the value itself, or ``value`` (an
+    expression of it: converted to the target's type)."""
 
     event: int
     target: Expr
+    value: "Expr | None" = None
 
 
 @dataclass(frozen=True)
@@ -314,6 +330,40 @@ class Coll(Expr):
 
     op: str
     args: tuple[Expr, ...]
+    text: str = ""
+    span: Span | None = None
+
+
+@dataclass(frozen=True)
+class Domain:
+    """The values a bound variable ``var`` of a quantifier or set comprehension takes, in order
+    (robogen.ir.finite): ``set``, the elements of a set (``natural``: only those not negative, for
+    a ``nat`` variable over integers); ``range``, the integers ``low`` to ``high`` (both ``int``);
+    ``values``, every value of the variable's finite type (an enumeration's literals, false then
+    true)."""
+
+    var: Var
+    kind: str  # set, range, values
+    set: Expr | None = None
+    low: Expr | None = None
+    high: Expr | None = None
+    natural: bool = False
+
+
+@dataclass(frozen=True)
+class Quant(Expr):
+    """``forall``, ``exists``, ``exists1``, ``the`` (``the x: T | p @ e``: ``e`` for the one x for
+    which ``p`` holds) or ``set`` (``{x: T | p @ e}``) over the finite ``domains`` of its bound
+    variables (nested loops, the first outermost), ``pred`` its predicate (None: true) and
+    ``body`` its expression (a comprehension without one: its variable, or the tuple of them).
+    Run-time errors: a comprehension of more elements than the capacity, a range of more than
+    robogen.ir.collections.LOOP_LIMIT integers, ``the`` without exactly one value; each names
+    ``text`` and ``span``."""
+
+    kind: str
+    domains: tuple[Domain, ...]
+    pred: Expr | None
+    body: Expr | None
     text: str = ""
     span: Span | None = None
 
@@ -527,6 +577,9 @@ class Fmu:
     user_functions: list[UserFunction] = field(default_factory=list)
     max_steps: int = 1000  # transitions per cycle before a runaway cycle is reported
     capacity: int = 32  # the most elements a set or sequence holds (robogen compile --capacity)
+    # the capacity of each nesting level of collections, outermost first (the last for every deeper
+    # level; ``--capacity 32,8``); empty: ``capacity`` at every level
+    capacities: tuple[int, ...] = ()
     root: str = ""  # the workspace root (absolute), to which generated files name model files
     # what lowering warns about (constants that become parameters without a value, renamed
     # ports); the front end prints them. Not in the dump: they restate the model's meaning.
@@ -544,6 +597,16 @@ class Fmu:
     @property
     def source_names(self) -> list[str]:
         return sorted(self.source_name(p) for p in self.sources)
+
+    @property
+    def levels(self) -> tuple[int, ...]:
+        """The capacity of each nesting level of collections (see ``capacities``)."""
+        return self.capacities or (self.capacity,)
+
+    def capacity_of(self, t: Type) -> int:
+        """The most elements a set or sequence of type ``t`` holds: that of its nesting level
+        (robogen.ir.supported.InnerSetT), else the outermost level's."""
+        return getattr(t, "capacity", None) or self.capacity
 
     @property
     def clock_name(self) -> str:

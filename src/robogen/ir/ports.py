@@ -16,7 +16,8 @@ from typing import Protocol
 from robogen.diagnostics import Span, warning
 from robogen.ir import model as ir
 from robogen.ir.boundary import Boundary
-from robogen.ir.supported import FunMapT, TaggedT, check_codegen_type, is_scalar, not_supported
+from robogen.ir.layout import leaves
+from robogen.ir.supported import FunMapT, check_codegen_type, not_supported
 from robogen.semantics import types as T
 from robogen.semantics.model import Controller, MachineScope, Module, OpSym
 from robogen.syntax import ast
@@ -32,6 +33,7 @@ class MachinePorts(Protocol):
     def event_type(self, name: str) -> T.Type | None: ...
     def op_params(self, name: str) -> tuple[tuple[str, T.Type], ...]: ...
     def is_platform_operation(self, op: OpSym) -> bool: ...
+    def is_abstract_operation(self, op: OpSym) -> bool: ...
 
 
 class Ports:
@@ -55,6 +57,7 @@ class Ports:
             if conn.source == platform:
                 port = self.input_port(conn.source_event, self._platform_event_type(info, conn.source_event), conn.span)
                 for r in self._routes_into_controller(conn.target, conn.target_event, info):
+                    self._deliverable(port.type, r, conn.span)
                     if r not in port.routes:
                         port.routes.append(r)
         for conn in directed(info.connections):
@@ -69,16 +72,20 @@ class Ports:
         for ev in ml.machine.events:
             sym = ml.scope.events[ev.name]
             if ml.scope.robosim or ev.name in used_in:
-                self.input_port(ev.name, ev.type, sym.span).routes.append((0, ev.index))
+                self.input_port(ev.name, ev.value_type, sym.span).routes.append((0, ev.index))
         for name, sym in ml.scope.events.items():
             if sym.output and (ml.scope.robosim or name in used_out):
                 self.output_port(name, "output-event", ml.event_type(name), (), sym.span)
         self._operation_ports(ml)
 
     def _operation_ports(self, ml: MachinePorts) -> None:
+        """The output clocks of the operations a machine calls that leave the FMU: those of the
+        platform and the abstract ones (definitions without nodes)."""
         for name, op in ml.scope.ops.items():
             if ml.is_platform_operation(op):
                 self.output_port(name, "operation", None, ml.op_params(name), op.span)
+            elif ml.is_abstract_operation(op):
+                self.output_port(name, "operation", None, ml.op_params(name), op.span, abstract=True)
 
     def _platform_event_type(self, info: Module, name: str) -> T.Type | None:
         sym = info.platform.events.get(name) if info.platform is not None else None
@@ -106,14 +113,15 @@ class Ports:
         return routes
 
     def output_routes(self, ml: MachinePorts, name: str, kind: str, span: Span | None,
-                      params: tuple[tuple[str, T.Type], ...] | None = None) -> tuple[tuple, ...]:
-        """Where a machine's output event or platform operation call goes: ("port", index) or
-        ("machine", machine index, event index). ``params``: the parameters of the operation
-        called (a call inside a software operation names an operation the machine itself may
-        not declare)."""
+                      params: tuple[tuple[str, T.Type], ...] | None = None, abstract: bool = False) -> tuple[tuple, ...]:
+        """Where a machine's output event or operation call (of a platform or an ``abstract``
+        operation) goes: ("port", index) or ("machine", machine index, event index). ``params``:
+        the parameters of the operation called (a call inside a software operation names an
+        operation the machine itself may not declare)."""
         if kind == "operation" or self.b.module is None:
             t = None if kind == "operation" else ml.event_type(name)
-            return (("port", self.output_port(name, kind, t, ml.op_params(name) if params is None else params, span).index),)
+            params = ml.op_params(name) if params is None else params
+            return (("port", self.output_port(name, kind, t, params, span, abstract).index),)
         info = self.b.module
         ctrl = ml.ctrl
         if ctrl is None:
@@ -126,7 +134,22 @@ class Ports:
                 routes += self._from_controller(ml, info, ctrl, conn.target_event, name, span)
             else:  # machine -> machine of the same controller
                 routes += [("machine", mi, me) for mi, me in self._machine_event(ctrl, conn.target, conn.target_event)]
+        for route in routes:
+            if route[0] == "machine":
+                self._deliverable(ml.event_type(name), route[1:], span)
         return tuple(routes)
+
+    def _deliverable(self, source: T.Type | None, route: tuple[int, int], span: Span | None) -> None:
+        """A value of type ``source`` can reach the machine event of ``route``: the same type, or
+        a number the delivery converts without a run-time error (connections may widen a number,
+        RoboChart's nat to int or real; a bidirectional one carries it back too, narrowed)."""
+        event = self.fmu.machines[route[0]].events[route[1]]
+        target = event.value_type
+        if source is None or target is None or source == target or (T.same(source, target) and source not in T.NUMERIC):
+            return  # the same values (two declarations of one record or enumeration: the same layout)
+        if not (source in T.NUMERIC and target in T.NUMERIC) or source == T.REAL:
+            raise not_supported(f"a connection that delivers {source.show()} values to event '{event.name}' of "
+                                f"{self.fmu.machines[route[0]].name}, which carries {target.show()}", span)
 
     def _from_controller(self, ml: MachinePorts, info: Module, ctrl: Controller, event: str, name: str,
                          span: Span | None) -> list[tuple]:
@@ -139,6 +162,9 @@ class Ports:
             if mconn.source == ctrl_used and mconn.source_event == event:
                 if mconn.target == platform:
                     port = self.output_port(mconn.target_event, "output-event", ml.event_type(name), (), span)
+                    if port.type != ml.event_type(name) and port.type in T.NUMERIC:  # the first sender's number type is the port's
+                        raise not_supported(f"sending {_shown(ml.event_type(name))} values on '{port.source}', whose "
+                                            f"FMI variables another machine sends {_shown(port.type)} values on", span)
                     routes.append(("port", port.index))
                 else:
                     routes += [("machine", mi, me) for mi, me in self._routes_into_controller(mconn.target, mconn.target_event, info)]
@@ -150,26 +176,27 @@ class Ports:
             if p.source == name:
                 return p
         clock = self._clock_name(name, "input-event", span)
-        fields = tuple(_flatten(clock + ".value" if not isinstance(t, T.RecordT) else clock, t, (), span, fmu.capacity)) \
+        fields = tuple(_flatten(clock + ".value" if not isinstance(t, T.RecordT) else clock, t, (), span, fmu.capacity_of)) \
             if t is not None else ()
         port = ir.Port(clock, "input-event", t, fields, span=span, index=len(fmu.inputs), model_name=_renamed(name, clock))
         fmu.inputs.append(port)
         return port
 
-    def output_port(self, name: str, kind: str, t: T.Type | None, params, span: Span | None) -> ir.Port:
+    def output_port(self, name: str, kind: str, t: T.Type | None, params, span: Span | None,
+                    abstract: bool = False) -> ir.Port:
         fmu = self.fmu
         for p in fmu.outputs:
             if p.source == name and p.kind == kind:
                 return p
-        clock = self._clock_name(name, kind, span)
+        clock = self._clock_name(name, "abstract operation" if abstract else kind, span)
         if kind == "operation":
             fields: list[ir.Field_] = []
             for pname, ptype in params:
-                fields += _flatten(f"{clock}.{pname}", ptype, (pname,), span, fmu.capacity)
+                fields += _flatten(f"{clock}.{pname}", ptype, (pname,), span, fmu.capacity_of)
             port = ir.Port(clock, kind, None, tuple(fields), tuple(params), span=span, index=len(fmu.outputs),
-                           model_name=_renamed(name, clock))
+                           model_name=_renamed(name, clock), abstract=abstract)
         else:
-            fields = _flatten(clock + ".value" if not isinstance(t, T.RecordT) else clock, t, (), span, fmu.capacity) if t is not None else []
+            fields = _flatten(clock + ".value" if not isinstance(t, T.RecordT) else clock, t, (), span, fmu.capacity_of) if t is not None else []
             port = ir.Port(clock, kind, t, tuple(fields), span=span, index=len(fmu.outputs), model_name=_renamed(name, clock))
         fmu.outputs.append(port)
         return port
@@ -185,11 +212,12 @@ class Ports:
         taken = {"time", fmu.clock_name, *RESERVED} | {p.name for p in fmu.inputs + fmu.outputs}
         if name not in taken:
             return name
-        base = f"{name}_call" if kind == "operation" else f"{name}_event"
+        base = f"{name}_call" if kind.endswith("operation") else f"{name}_event"
         clock, n = base, 2
         while clock in taken:
             clock, n = f"{base}{n}", n + 1
-        what = {"operation": "platform operation", "input-event": "input event", "output-event": "output event"}[kind]
+        what = {"operation": "platform operation", "abstract operation": "abstract operation", "input-event": "input event",
+                "output-event": "output event"}[kind]
         why = "FMI's independent variable" if name == "time" else (
             "one of robogen's own FMI variables" if name in RESERVED or name == fmu.clock_name else "the clock of another port")
         fmu.warnings.append(warning(f"{what} '{name}' becomes the FMI clock '{clock}': '{name}' is {why}", span))
@@ -198,6 +226,10 @@ class Ports:
 
 #: FMI variables robogen adds to every FMU (besides ``time`` and the periodic clock)
 RESERVED = ("cycles", "dropped_events", "deadline_misses")
+
+
+def _shown(t: T.Type | None) -> str:
+    return t.show() if t is not None else "no"
 
 
 def _renamed(name: str, clock: str) -> str:
@@ -259,43 +291,27 @@ def event_uses(scope: MachineScope) -> tuple[set[str], set[str]]:
     return ins, outs
 
 
-def _flatten(prefix: str, t: T.Type | None, path: tuple[str, ...], span: Span | None, capacity: int = 0) -> list[ir.Field_]:
-    """The scalar FMI variables of a payload of type ``t`` named ``prefix``. A set or sequence of
-    scalars is two: its elements (an array of the capacity, zeros after the last; path element
-    ``#elements``) and its size (``#size``). One of records has an array per scalar field of the
-    records instead of the elements (``prefix.elements.f``; path ``#elements``, then the field's)."""
+def _flatten(prefix: str, t: T.Type | None, path: tuple[str, ...], span: Span | None, capacity_of) -> list[ir.Field_]:
+    """The FMI variables of a payload of type ``t`` named ``prefix``: its leaves
+    (robogen.ir.layout), each a scalar or an array."""
     assert t is not None
     check_codegen_type(t, span, f"'{prefix}'")
+    function = _function_part(t, prefix)
+    if function is not None:
+        raise not_supported(f"'{function}': a function value as an FMU port (its default is a lambda of the model, which "
+                            "an FMI variable cannot carry)", span)
+    return [ir.Field_(".".join((prefix,) + leaf.name), leaf.type, path + leaf.path) for leaf in leaves(t, capacity_of)]
+
+
+def _function_part(t: T.Type, name: str) -> str | None:
+    """The name of the first part of a value of ``t`` (named ``name``) that is a function value."""
     if isinstance(t, FunMapT):
-        raise not_supported(f"'{prefix}': a function value as an FMU port (its default is a lambda of the model, which an "
-                            "FMI variable cannot carry)", span)
+        return name
     if isinstance(t, T.RecordT):
-        out: list[ir.Field_] = []
-        for n, ft in t.fields:
-            out += _flatten(f"{prefix}.{n}", ft, path + (n,), span, capacity)
-        return out
+        return next((p for n, ft in t.fields if (p := _function_part(ft, f"{name}.{n}")) is not None), None)
     if isinstance(t, (T.SetT, T.SeqT)):
-        size = ir.Field_(f"{prefix}.size", T.NAT, path + ("#size",))
-        if not isinstance(t.element, T.RecordT):
-            return [ir.Field_(f"{prefix}.elements", T.VectorT(t.element, capacity), path + ("#elements",)), size]
-        return [ir.Field_(".".join((f"{prefix}.elements",) + at), T.VectorT(ft, capacity), path + ("#elements",) + at)
-                for at, ft in _element_leaves(t.element, (), prefix, t, span)] + [size]
-    return [ir.Field_(prefix, t, path)]  # a scalar; a vector or matrix is one FMI array variable
-
-
-def _element_leaves(t: T.RecordT, at: tuple[str, ...], prefix: str, coll: T.Type, span: Span | None):
-    """(field path, type) of each scalar part of the records a set or sequence at the FMU boundary
-    holds: each is one FMI array of the capacity (the field of element 1, 2, ...)."""
-    if isinstance(t, TaggedT):
-        raise not_supported(f"'{prefix}': a {T.form(coll)[2:]} of enumerations with arguments as an FMU port", span)
-    for n, ft in t.fields:
-        if isinstance(ft, T.RecordT):
-            yield from _element_leaves(ft, at + (n,), prefix, coll, span)
-        elif is_scalar(ft):
-            yield at + (n,), ft
-        else:
-            raise not_supported(f"'{prefix}': a {T.form(coll)[2:]} of records with a field of type {ft.show()} "
-                                "as an FMU port (fields of its elements are numbers, booleans, enumerations or records)", span)
+        return _function_part(t.element, f"{name}.elements")
+    return None
 
 
 __all__ = ["Ports", "MachinePorts", "Way", "directed", "event_uses"]

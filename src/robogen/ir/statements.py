@@ -198,10 +198,31 @@ class StatementLowering:
         wait = self.block(f"wait for {c.event}", s.span)
         nxt = self.block(f"after {c.event}?{c.var}", s.span)
         cur.term = ir.Goto(wait.id)
+        if ev.sender:  # bound when it comes, from the register, with the sender
+            nxt.stmts += self.bindings(c, ev, graph)
         nxt.stmts.append(ir.Consume(s.span, ev.index))
-        guard = self.receive(c, ev, graph)
+        guard = self.receive(c, ev, graph, bind=not ev.sender)
         wait.term = ir.Branch((ir.Case(guard, nxt.id, f"{c.event}?{c.var}", s.span),), ir.Suspend(wait.id))
         return nxt
+
+    def bindings(self, c: ast.Communication, ev: ir.Event, graph: Graph) -> list[ir.Stmt]:
+        """The assignments of a communication that takes the occurrence of ``ev`` in the buffer:
+        the sender to the variable of ``[| x = from |]``, then the value to ``x`` of ``e?x``."""
+        out: list[ir.Stmt] = []
+        sender = self.sender_binding(c, ev)  # type: ignore[attr-defined]
+        if sender is not None:
+            var, value = sender
+            out.append(ir.Assign(c.span, self.var_ref(graph, var, c.filter.span), value))  # type: ignore[attr-defined, union-attr]
+        if c.kind == "?":
+            target = self.var_ref(graph, self.model.bound_var(c), c.var_span)  # type: ignore[attr-defined]
+            out.append(ir.Assign(c.span, target, self.conv(self.event_value(ev), target.type, c.span)))  # type: ignore[attr-defined]
+        return out
+
+    def bind_in(self, ev: ir.Event, target: ir.Expr, span: Span | None) -> ir.BindIn:
+        """``e?x`` in a guard: the value stored in x as its type holds it (RoboChart lets a real
+        event be received into an int variable, and an int into a nat one)."""
+        value = self.conv(ir.Payload(ev.type, ev.index), target.type, span)  # type: ignore[arg-type, attr-defined]
+        return ir.BindIn(T.BOOLEAN, ev.index, target, None if isinstance(value, ir.Payload) else value)
 
     def receive(self, c: ast.Communication, ev: ir.Event, graph: Graph, bind: bool = True) -> ir.Expr:
         """The test that ``c`` (``e``, ``e?x``, with a filter or not) can take event ``ev`` now;
@@ -213,7 +234,7 @@ class StatementLowering:
             offered = ir.Bin(T.BOOLEAN, "and", offered, condition)
         if c.kind != "?" or not bind:
             return offered
-        bind_in = ir.BindIn(T.BOOLEAN, ev.index, self.var_ref(graph, self.model.bound_var(c), c.var_span))  # type: ignore[attr-defined]
+        bind_in = self.bind_in(ev, self.var_ref(graph, self.model.bound_var(c), c.var_span), c.span)  # type: ignore[attr-defined]
         return bind_in if condition is None else ir.Bin(T.BOOLEAN, "and", offered, bind_in)
 
     # -- operation calls
@@ -225,11 +246,15 @@ class StatementLowering:
         return self._call(self.model.symbol(s), s.args, cur, graph, s.span)
 
     def _call(self, op: OpSym, args, cur: ir.Block, graph: Graph, span: Span | None) -> ir.Block:
+        """A call of a platform operation, or of an abstract operation (a definition without
+        nodes: the model leaves its behaviour to the environment), leaves the FMU through the
+        operation's output clock; a software operation's body is inlined."""
         values = tuple(self.conv(self.expr(a, graph), self._norm(pt), a.span) for a, (_, pt) in zip(args, op.params))
         definition = self.software_operation(op.name, graph.scope) if not op.platform else None
-        if definition is None:
+        if definition is None or is_abstract(definition):
             params = tuple((p, self._norm(t)) for p, t in op.params)
-            cur.stmts.append(ir.Emit(span, op.name, values, self.ports.output_routes(self, op.name, "operation", span, params)))  # type: ignore[arg-type]
+            routes = self.ports.output_routes(self, op.name, "operation", span, params, abstract=definition is not None)  # type: ignore[arg-type]
+            cur.stmts.append(ir.Emit(span, op.name, values, routes))
             return cur
         return self._inline(definition, values, cur, graph, span)
 
@@ -254,9 +279,8 @@ class StatementLowering:
         the block where the caller goes on when the operation reaches its final node."""
         if op.name in self.inline_stack:
             raise not_supported(f"the recursive call of operation '{op.name}'", span)
-        if op.region is None or not op.region.initials():
-            raise not_supported(f"a call of operation '{op.name}', whose definition has no initial node (an abstract "
-                                "operation: the model gives it no behaviour to generate)", span)
+        if op.region is None or not op.region.initials():  # nodes, but none to start from (RoboTool warns)
+            raise not_supported(f"a call of operation '{op.name}', whose definition has nodes but no initial node", span)
         self.site += 1
         site = self.site
         after = self.block(f"after {op.name}()", span)
@@ -305,6 +329,13 @@ class StatementLowering:
         return env
 
 
+def is_abstract(op: MachineScope) -> bool:
+    """An operation definition without nodes (only its signature, requirements or ``terminates``):
+    abstract, valid in RoboTool, and an operation that terminates at once. Its call is an output
+    of the FMU, as a platform operation's (README: The FMI mapping)."""
+    return op.region is None or not op.region.nodes
+
+
 def has_control(s: ast.Stmt | None) -> bool:
     """Does ``s`` need blocks of its own (exec, wait, operation calls, inputs)?"""
     if s is None:
@@ -322,4 +353,4 @@ def has_control(s: ast.Stmt | None) -> bool:
     return False
 
 
-__all__ = ["StatementLowering", "has_control"]
+__all__ = ["StatementLowering", "has_control", "is_abstract"]

@@ -36,6 +36,7 @@ from robogen import toolchain
 from robogen.diagnostics import RobogenError, Span, did_you_mean
 from robogen.fmu.archive import write_fmu
 from robogen.fmu.headers import PLATFORM_TUPLE, include_dir
+from robogen.fmu.platforms import HOST, Platform
 from robogen.fmu.modeldesc_writer import write_model_description
 from robogen.outputs import output_file
 from robogen.pyfmu.description import model_description
@@ -315,6 +316,19 @@ def build_binary(model_identifier: str, token: str, workdir: Path, *, promote_li
 # The archive
 
 
+def _host_only(platforms: Sequence[Platform]) -> None:
+    """A Python FMU runs its model in the CPython that built it: the binary links that
+    interpreter's libpython and finds its standard library and site-packages by the paths of
+    this machine, so it exists for this machine's platform only."""
+    others = [p.name for p in platforms if p != HOST]
+    if others:
+        raise RobogenError.at(
+            f"a Python FMU is built for {HOST.name} only, not {', '.join(others)}: its binary embeds this machine's "
+            f"CPython (it links {sysconfig.get_config_var('LDLIBRARY') or 'libpython'} and loads the model's "
+            "packages from this machine's site-packages), which no other platform has. Package a RoboChart/RoboSim "
+            "model with `robogen package --platforms` for binaries of every platform", None)
+
+
 def external_dependencies(info: Mapping[str, str]) -> str:
     def version(dist: str) -> str:
         try:
@@ -347,8 +361,10 @@ def external_dependencies(info: Mapping[str, str]) -> str:
 
 
 def package(spec: str, output: str | os.PathLike, assignments: Iterable[str] = (),
-            model_identifier: str | None = None, *, promote_libpython: bool = True) -> Packaged:
-    """Write the FMU for ``spec`` (``module:Class``) to ``output``."""
+            model_identifier: str | None = None, *, promote_libpython: bool = True,
+            platforms: Sequence[Platform] = (HOST,)) -> Packaged:
+    """Write the FMU for ``spec`` (``module:Class``) to ``output``, for the host only."""
+    _host_only(platforms)
     output = Path(output)
     if output.suffix != ".fmu":
         raise RobogenError.at(f"the output '{output}' must end in .fmu", None)

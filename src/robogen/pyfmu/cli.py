@@ -1,4 +1,4 @@
-"""``robogen package-py MODULE:CLASS -o NAME.fmu [--set NAME=VALUE ...]``."""
+"""``robogen package-py MODULE:CLASS -o NAME.fmu [--set NAME=VALUE ...] [--platforms LIST]``."""
 
 from __future__ import annotations
 
@@ -6,6 +6,7 @@ import argparse
 import sys
 import time
 
+from robogen.fmu.platforms import HOST, select
 from robogen.pyfmu.build import package
 
 
@@ -17,11 +18,14 @@ def configure(parser: argparse.ArgumentParser) -> None:
                         help="a packaging-time setting of the class (repeatable), e.g. sample_period=0.5")
     parser.add_argument("--model-identifier", metavar="ID",
                         help="the modelIdentifier (default: the class's model_identifier, else the output's stem)")
+    parser.add_argument("--platforms", metavar="LIST", default=HOST.name,
+                        help=f"platform tuples to build for; a Python FMU embeds this machine's CPython, so only "
+                             f"{HOST.name} (the default)")
 
 
 def run(args: argparse.Namespace) -> int:
     started = time.perf_counter()
-    result = package(args.spec, args.output, args.settings, args.model_identifier)
+    result = package(args.spec, args.output, args.settings, args.model_identifier, platforms=select(args.platforms))
     print(f"wrote {result.path} (modelIdentifier {result.model_identifier}, "
           f"{time.perf_counter() - started:.2f} s)", file=sys.stderr)
     return 0

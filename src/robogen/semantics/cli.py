@@ -19,12 +19,13 @@ def configure(p: argparse.ArgumentParser) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
-    model = check_paths(args.paths)
+    model = check_paths(args.paths, empty_is_error=True)  # a script would believe an empty folder's models checked
     sources = SourceMap()
     shown = [d for d in model.diagnostics if d.is_error or not args.no_warnings]
     for d in shown:
         print(render(d, sources), file=sys.stderr)
-    n_files = len(model.files) + len({d.span.path for d in model.errors if d.span} - {f.path for f in model.files})
+    # files that did not load count too; a folder (a span of the path alone, line 0) does not
+    n_files = len(model.files) + len({d.span.path for d in model.errors if d.span and d.span.line} - {f.path for f in model.files})
     errors, warnings = len(model.errors), len(model.warnings)
     print(
         f"checked {n_files} file{'s' if n_files != 1 else ''}: "

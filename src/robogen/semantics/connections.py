@@ -90,8 +90,11 @@ def _end(conn: ast.Connection, role: str, owner: str, ends: dict[str, _End], use
 
 
 def _compatible(conn: ast.Connection, a: EventSym, b: EventSym, sink: DiagnosticSink) -> None:
-    """Connected events carry the same type (or none), and are both broadcast or neither."""
-    if (a.type is None) != (b.type is None) or (a.type is not None and b.type is not None and not T.same(a.type, b.type)):
+    """Connected events carry the same type (or none), or the source's number widens to the
+    target's (RoboChartValidator, RPConnectionIncompatibleType: ``typeCompatible(efrom.type,
+    eto.type)``: nat to int, nat or int to real), and are both broadcast or neither."""
+    if (a.type is None) != (b.type is None) or (a.type is not None and b.type is not None and not T.same(a.type, b.type)
+                                                 and not T.widens(a.type, b.type)):
         sink.error(
             f"connected events have different types: '{a.name}' of '{conn.source}' carries {_show(a.type)}, "
             f"'{b.name}' of '{conn.target}' carries {_show(b.type)}",

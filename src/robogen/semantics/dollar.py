@@ -91,7 +91,7 @@ class DollarForms:
         elif ev is not None:
             if ev.type is None:
                 self.sink.error(f"event '{e.event}' carries no value to bind to '{e.var}'", e.event_span or e.span, Note("declared here", ev.span))
-            elif not T.assignable(ev.type, var.type):
+            elif not T.receivable(ev.type, var.type):
                 self.sink.error(
                     f"cannot bind a value of event '{e.event}' ({ev.type.show()}) to '{e.var}' ({var.type.show()})",
                     e.var_span or e.span,

@@ -269,9 +269,11 @@ class ExprChecker(Calls, DollarForms):
                 self._err(f"{a.show()} cannot be a member of {b.show()}", e.left)
             return T.BOOLEAN
         if op in ("cat", "^"):
+            if a == T.STRING and b == T.STRING:  # RoboCalcTypeProvider, Cat: two strings give a string
+                return T.STRING
             for side, t in ((e.left, a), (e.right, b)):
                 if not isinstance(t, (T.SeqT, T.UnknownT, T.TypeVarT)):
-                    self._err(f"'{op}' concatenates sequences, not {t.show()}", side)
+                    self._err(f"'{op}' concatenates sequences or strings, not {t.show()}", side)
             return a if isinstance(a, T.SeqT) else b
         # + - * / %
         if isinstance(a, T.SetT) or isinstance(b, T.SetT):
@@ -472,11 +474,13 @@ class ExprChecker(Calls, DollarForms):
         return T.SetT(self._element(e.items, "set"))
 
     def _e_SetRange(self, e: ast.SetRange) -> T.Type:
-        for x in (e.low, e.high):
-            t = self.expr(x)
-            if not T.is_integral(t):
-                self._err(f"a set range needs integer bounds, not {t.show()}", x)
-        return T.SetT(T.INT)
+        """``{a .. b}``: RoboCalcTypeProvider (SetRange) types it by its bounds, integers or reals."""
+        bounds = [self.expr(x) for x in (e.low, e.high)]
+        for x, t in zip((e.low, e.high), bounds):
+            if not T.is_numeric(t):
+                self._err(f"a set range needs numeric bounds, not {t.show()}", x)
+                return T.SetT(T.INT)
+        return T.SetT(T.REAL if T.REAL in bounds else T.INT)
 
     def _e_Range(self, e: ast.Range) -> T.Type:
         for x in (e.low, e.high):
@@ -491,7 +495,11 @@ class ExprChecker(Calls, DollarForms):
         try:
             if e.such_that is not None:
                 self.expr(e.such_that)
-            body = self.expr(e.body) if e.body is not None else next(iter(frame.values())).type
+            if e.body is not None:
+                body = self.expr(e.body)
+            else:  # RoboCalcTypeProvider (SetComp): the variable's type, the product of several
+                types = tuple(v.type for v in frame.values())
+                body = types[0] if len(types) == 1 else T.ProductT(types)
         finally:
             self.locals.pop()
         return T.SetT(body)
@@ -537,6 +545,8 @@ class ExprChecker(Calls, DollarForms):
 
     def _e_MatrixOp(self, e: ast.MatrixOp) -> T.Type:
         t = self.expr(e.operand)
+        if e.op == "transpose" and isinstance(t, T.VectorT):  # RoboCalcTypeProvider (TransposeExp): a matrix of one row
+            return T.MatrixT(t.element, 1, t.size)
         if not isinstance(t, (T.MatrixT, T.UnknownT)):
             return self._err(f"'{e.op}' needs a matrix, not {t.show()}", e.operand)
         if e.op == "transpose" and isinstance(t, T.MatrixT):

@@ -394,6 +394,9 @@ class Tables:
     def bound_var(self, node: ast.Node):
         return self.refs.get(("bind", id(node)))
 
+    def sender_var(self, node: ast.Node):
+        return self.refs.get(("from", id(node)))
+
 
 @dataclass(frozen=True, eq=False)
 class SemanticModel:
@@ -442,6 +445,10 @@ class SemanticModel:
     def bound_var(self, node: ast.Node) -> VarSym | None:
         """The variable an input ``e?x`` or ``$e?x`` stores the event's value in."""
         return self.tables.bound_var(node)
+
+    def sender_var(self, node: ast.Communication) -> VarSym | None:
+        """The variable a filter ``e[| x = from |]`` stores the sender in."""
+        return self.tables.sender_var(node)
 
     def communications(self, body: MachineScope) -> Iterator[EventUse]:
         """The RoboChart communications of a machine's or operation's body, each with its event,

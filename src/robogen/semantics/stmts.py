@@ -174,8 +174,8 @@ class StmtChecker(ExprChecker):
             return None
         self.tables.refs[id(c)] = ev
         if c.filter is not None:
-            if c.filter.bind_value is not None:
-                self.expr(c.filter.bind_value)
+            if c.filter.bind is not None:
+                self._sender(c)
             if c.filter.predicate is not None:
                 self.expr(c.filter.predicate)
         if c.kind == "":
@@ -196,7 +196,7 @@ class StmtChecker(ExprChecker):
                 pass  # reported
             elif not var.assignable:
                 self.sink.error(f"cannot receive into {KIND_WORDS[var.kind]} '{var.name}'", c.var_span or c.span, Note("declared here", var.span))
-            elif not T.assignable(ev.type, var.type):
+            elif not T.receivable(ev.type, var.type):
                 self.sink.error(
                     f"cannot receive a value of event '{c.event}' ({ev.type.show()}) into '{var.name}' ({var.type.show()})",
                     c.var_span or c.span,
@@ -211,6 +211,21 @@ class StmtChecker(ExprChecker):
             if c.kind == "!":
                 self.outputs_used.append((c.event, c))
         return ev
+
+    def _sender(self, c: ast.Communication) -> None:
+        """``e[| x = from |]``: the variable x receives the sender of the event (RoboTool's grammar:
+        ``_from=[Variable] '=' 'from'``; what the sender is: robogen.ir.bindings)."""
+        f = c.filter
+        assert f is not None and f.bind is not None
+        if not (isinstance(f.bind_value, ast.Keyword) and f.bind_value.word == "from"):
+            self.sink.error(f"a filter binds a variable to the sender only: write '{f.bind} = from'", f.bind_value.span if f.bind_value else f.span)
+        var = self.lookup_var(f.bind)
+        if var is None:
+            self.sink.error(f"unknown variable '{f.bind}'" + did_you_mean(f.bind, self._visible_value_names()), f.span)
+        elif not var.assignable:
+            self.sink.error(f"cannot bind the sender to {KIND_WORDS[var.kind]} '{var.name}'", f.span, Note("declared here", var.span))
+        else:
+            self.tables.refs[("from", id(c))] = var
 
     def _s_StmtDeadline(self, s: ast.StmtDeadline) -> None:
         if self.robosim:

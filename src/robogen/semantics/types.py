@@ -244,6 +244,19 @@ def assignable(value: Type, target: Type) -> bool:
     return False
 
 
+def widens(a: Type, b: Type) -> bool:
+    """Is number type ``a`` a part of number type ``b`` (nat of int, nat and int of real)?"""
+    return a in NUMERIC and b in NUMERIC and a != b and (b == REAL or (a == NAT and b == INT))
+
+
+def receivable(event: Type, variable: Type) -> bool:
+    """May ``e?x`` receive a value of ``event``'s type into a variable of type ``variable``? If
+    it may be stored there, and also (RoboChartValidator, InputCommunicationTypeError:
+    ``typeCompatible(parameter.type, event.type)``) if the variable's type fits the event's: a
+    real event into an int variable (the value converted, an out-of-range one a run-time error)."""
+    return assignable(event, variable) or assignable(variable, event)
+
+
 def comparable(a: Type, b: Type) -> bool:
     """May ``a == b`` be asked?"""
     if a in NUMERIC and b in NUMERIC:

@@ -2,7 +2,9 @@
 project. Imports and package-qualified names resolve across all its files.
 
 Global name lookup for a simple name ``N`` used in a file of package ``P`` tries, in order:
-the declarations of ``P`` (in any file), the file's explicit imports (``import Q::N``), its
+the declarations of the file itself (Xtext resolves a resource's own elements before the global
+index, so a name declared in the same file shadows its declarations in other files), those of
+``P`` (in any file), the file's explicit imports (``import Q::N``), its
 wildcard imports (``import Q::*``), declarations of files without a package (visible everywhere,
 as in RoboTool), the built-in ``core`` package. As a last resort, a declaration of that simple
 name anywhere in the workspace is used with a warning naming the import that is missing
@@ -13,8 +15,8 @@ Each lookup asks for declarations of some kinds (a type, an interface, a functio
 sees only those, as RoboTool's scopes do: a function ``real`` does not hide the type ``real``.
 Functions and the other declarations are separate name spaces, so a function and a type of
 one package may share a name. Like RoboTool, robogen only warns about an import that finds
-nothing and about two declarations of one name in the files without a package (it uses the
-first).
+nothing and about two declarations of one qualified name and kind (RoboTool's "is not unique",
+which counts the declarations of one kind); a use takes the one of its own file, else the first.
 """
 
 from __future__ import annotations
@@ -134,21 +136,23 @@ class Workspace:
                             self.by_simple.setdefault(m.name, []).append(Decl(m.name, pkg_name, m, f))
 
     def _check_duplicates(self) -> None:
-        """Two declarations of one name and name space in a package are an error; in the files
-        without a package, a warning (RoboTool's "is not unique"; lookups use the first)."""
+        """Two declarations of one qualified name and kind (two interfaces ``p::I``, in one file or
+        two): a warning, as RoboTool's UniqueQualifiedName check gives (it counts the exported
+        objects of one class; declarations of other kinds, a machine and a type of one name, do
+        not clash there, and lookups ask for a kind). A use takes the one declared in its own
+        file, else the first (see :meth:`lookup`)."""
         for pkg in self.packages.values():
             for name, decls in pkg.decls.items():
-                for space in (True, False):
-                    same_space = [d for d in decls if d.node is not None and _is_function(d) is space]
-                    for d in same_space[1:]:
-                        self._duplicate(pkg, name, d, same_space[0])
-
-    def _duplicate(self, pkg: Package, name: str, d: Decl, first: Decl) -> None:
-        note = Note(f"'{name}' is first declared here as a {first.kind}", first.span)
-        if pkg.name is None:
-            self.sink.warning(f"'{name}' is not unique: the files without a package declare it twice; robogen uses the first", d.span, note)
-        else:
-            self.sink.error(f"duplicate declaration of '{name}' in {_pkg_text(pkg.name)}", d.span, note)
+                by_kind: dict[type, list[Decl]] = {}
+                for d in decls:
+                    if d.node is not None:
+                        by_kind.setdefault(type(d.node), []).append(d)
+                for same in by_kind.values():
+                    for d in same[1:]:
+                        self.sink.warning(
+                            f"'{name}' is not unique: {_article(d.kind)} of that name is declared twice in {_pkg_text(pkg.name)}; "
+                            "a file that declares one uses its own, the other files the first", d.span,
+                            Note(f"'{name}' is first declared here", same[0].span))
 
     def _resolve_imports(self, f: ast.File) -> None:
         singles: list[tuple[ast.Import, Decl]] = []
@@ -185,7 +189,7 @@ class Workspace:
                     imp.name.span,
                 )
                 continue
-            singles.append((imp, decls[0]))
+            singles += [(imp, d) for d in decls]  # each kind of that name: a lookup asks for one
         self._imports[id(f)] = (singles, wildcards)
 
     def _package_names(self) -> list[str]:
@@ -211,7 +215,7 @@ class Workspace:
                 if report:
                     sink.error(f"unknown package '{pkg_name}' in '{name.text}'" + did_you_mean(pkg_name, self._package_names()), name.span)
                 return None
-            found = [d for d in pkg.decls.get(simple, ()) if d.is_a(kinds)]
+            found = sorted((d for d in pkg.decls.get(simple, ()) if d.is_a(kinds)), key=lambda d: d.file is not file)
             if not found:
                 if report:
                     other = pkg.decls.get(simple)
@@ -276,7 +280,9 @@ class Workspace:
 
     def _visible(self, simple: str, file: ast.File) -> Iterable[list[Decl]]:
         pkg_name = file.package.text if file.package else None
-        yield list(self.packages[pkg_name].decls.get(simple, ())) if pkg_name in self.packages else []
+        own = list(self.packages[pkg_name].decls.get(simple, ())) if pkg_name in self.packages else []
+        yield [d for d in own if d.file is file]  # the file's own declarations shadow the others (Xtext's local scope)
+        yield own
         singles, wildcards = self._imports.get(id(file), ([], []))
         yield [d for imp, d in singles if d.name == simple]
         yield [d for imp, pkg in wildcards for d in pkg.decls.get(simple, ())]
@@ -295,12 +301,6 @@ class Workspace:
                 names += [n for n, ds in pkg.decls.items() if any(d.is_a(kinds) for d in ds)]
         names += [d.name for _, d in singles if d.is_a(kinds)]
         return names
-
-    def file_of(self, node: ast.Node) -> ast.File | None:
-        for f in self.files:
-            if any(item is node for item in f.items):
-                return f
-        return None
 
     def decls(self, kinds: tuple[type, ...]) -> list[Decl]:
         out = []
@@ -343,13 +343,9 @@ def _closest_package(decls: list[Decl], file: ast.File) -> Decl | None:
 
 
 def _one_name(decls: list[Decl]) -> bool:
-    """Are these one name declared more than once in the files without a package? (a warning at
-    the declarations; lookups use the first, as RoboTool links one of them)"""
-    return all(d.package is None and d.node is not None for d in decls)
-
-
-def _is_function(d: Decl) -> bool:
-    return d.builtin is not None or isinstance(d.node, ast.FunctionDef)
+    """Are these one qualified name declared more than once? (a warning at the declarations of
+    one kind; lookups use the first, as RoboTool links one of them)"""
+    return all(d.node is not None for d in decls) and len({d.package for d in decls}) == 1
 
 
 def _article(what: str) -> str:
@@ -363,9 +359,13 @@ def _pkg_text(pkg: str | None) -> str:
 # ---------------------------------------------------------------------------- loading
 
 
-def collect_model_paths(paths: Sequence[str | os.PathLike], problems: DiagnosticSink | None = None) -> list[str]:
+def collect_model_paths(paths: Sequence[str | os.PathLike], problems: DiagnosticSink | None = None, *,
+                        empty_is_error: bool = False) -> list[str]:
     """Files given directly, plus every .rct/.rst/.rsim file below each directory (sorted).
-    Missing paths and non-model files are reported to ``problems`` (raised if not given)."""
+    Missing paths and non-model files are reported to ``problems`` (raised if not given). A
+    directory without a model file is an empty project, which RoboTool loads without complaint:
+    a warning, located at the directory; ``empty_is_error``: an error (``robogen check``, whose
+    caller would otherwise believe its models checked)."""
     found: list[str] = []
     own = problems is None
     problems = problems if problems is not None else DiagnosticSink()
@@ -373,8 +373,9 @@ def collect_model_paths(paths: Sequence[str | os.PathLike], problems: Diagnostic
         path = Path(p)
         if path.is_dir():
             inside = sorted(str(q) for q in path.rglob("*") if q.suffix.lower() in EXTENSIONS and q.is_file())
-            if not inside:  # RoboTool loads an empty project without complaint
-                problems.warning(f"no model files (.rct, .rst, .rsim) in directory {path}", None)
+            if not inside:
+                (problems.error if empty_is_error else problems.warning)(
+                    f"no model files (.rct, .rst, .rsim) in directory {path}", Span.of_path(str(path)))
             found += inside
         elif path.is_file():
             if language_of(path) is None:
@@ -407,16 +408,19 @@ def workspace_root(paths: Sequence[str | os.PathLike]) -> str:
     return os.path.commonpath(folders) if folders else os.path.abspath(os.curdir)
 
 
-def load(paths: Sequence[str | os.PathLike], sink: DiagnosticSink | None = None) -> Workspace:
+def load(paths: Sequence[str | os.PathLike], sink: DiagnosticSink | None = None, *, empty_is_error: bool = False) -> Workspace:
     """Parse every model under ``paths`` into one workspace; syntax errors of a file are recorded
-    in the sink and that file is left out, so the other files are still checked."""
+    in the sink and that file is left out, so the other files are still checked
+    (``empty_is_error``: see :func:`collect_model_paths`)."""
     sink = sink or DiagnosticSink()
     files = []
-    for path in collect_model_paths(paths, sink):
+    for path in collect_model_paths(paths, sink, empty_is_error=empty_is_error):
         try:
             files.append(parse_file(path))
         except RobogenError as exc:
             sink.extend(exc.diagnostics)
+        else:
+            sink.extend(files[-1].notices)
     return Workspace(files, sink, workspace_root(paths))
 
 
@@ -431,6 +435,8 @@ def from_texts(texts: dict[str, str], sink: DiagnosticSink | None = None) -> Wor
             files.append(parse_text(text, path))
         except RobogenError as exc:
             sink.extend(exc.diagnostics)
+        else:
+            sink.extend(files[-1].notices)
     return Workspace(files, sink, workspace_root(list(texts)))
 
 

@@ -10,7 +10,7 @@ the ``members_of`` helpers select them by class.
 
 from __future__ import annotations
 
-from dataclasses import _FIELD, MISSING, dataclass, field, fields, is_dataclass  # type: ignore[attr-defined]
+from dataclasses import MISSING, dataclass, field, fields, is_dataclass
 from typing import Container, Iterator, TypeVar
 
 from robogen.diagnostics import Span
@@ -698,6 +698,9 @@ class File(Node):
     package: Name | None
     imports: tuple[Import, ...]
     items: tuple[Node, ...]
+    # warnings about the text (an obsolete form read as its current one: robogen.syntax.transform_obsolete);
+    # like spans, not part of the tree's equality
+    notices: tuple = field(default=(), compare=False, hash=False, repr=False, kw_only=True)
 
 
 # Containers whose members are state-machine bodies.
@@ -718,7 +721,7 @@ def _quick_init(cls: type) -> None:
     namespace: dict = {}
     positional, keywords, body = [], [], []
     for f in fields(cls):
-        if f.default_factory is not MISSING or not f.init or f._field_type is not _FIELD:  # type: ignore[attr-defined]
+        if f.default_factory is not MISSING or not f.init:  # fields() lists neither ClassVars nor InitVars
             return
         namespace[f"_set_{f.name}"] = getattr(cls, f.name).__set__  # the slot's member descriptor
         param = f.name

@@ -136,8 +136,12 @@ class FastLALR:
             return
         root = lexer.root_lexer
         scanner = root.scanner
-        if len(scanner._mres) != 1 or not all(type(cb) is UnlessCallback for cb in root.callback.values()):
+        if scanner.use_bytes or not all(type(cb) is UnlessCallback for cb in root.callback.values()):
             return
+        # The scanner's one alternation of named groups, in its terminals' order (the order Lark
+        # gives them: priority, then longest), compiled with its flags: the regex Lark matches with.
+        alternation = "|".join(f"(?P<{t.name}>{t.pattern.to_regexp()})" for t in scanner.terminals)
+        regex = scanner.re_.compile(alternation, scanner.g_regex_flags)
         parser = frontend.parser.parser
         table = parser.parse_table
         callbacks = parser.callbacks
@@ -145,7 +149,6 @@ class FastLALR:
             return  # terminal callbacks: not handled here
         start = lark.options.start[0]
         self._lexer = lexer
-        regex = scanner._mres[0]
         patterns = {t.name: t.pattern.to_regexp() for t in root.terminals if t.name in regex.groupindex}
         self._scanner = whole_text_scanner(regex, patterns, root.ignore_types)
         if self._scanner is None:

@@ -274,6 +274,13 @@ def _hints(text: str, start: int, word: str, expected: str) -> list[str]:
     before = text[:start].rstrip()
     if before.endswith(";") and "'skip'" in expected:
         hints.append("';' separates statements: there is none after the last one")
+    # forms of RoboTool's older grammars that have no current form (robogen.syntax.transform_obsolete)
+    if word == "@" and re.search(r"\btrigger\b[^{}]*$", before):
+        hints.append("the time binding '@ t' of a trigger was removed from RoboChart (RoboTool's grammar of 2020-11) and "
+                     "has no current form: measure time with a clock, reset on the transition ('#C') and read with 'since(C)'")
+    elif word == "{" and re.match(r"\{[^{}]*\}>", text[start:]):
+        hints.append("start deadlines '{ d }>' were removed from RoboChart (RoboTool's grammar of 2020-10) and have no "
+                     "current form: a deadline '<{ d }' after a trigger or a statement bounds when it ends")
     return hints
 
 
@@ -295,6 +302,8 @@ def _expected(exc: UnexpectedInput, names: dict[str, str]) -> str:
         expected = {t for t in expected - _EXPRESSION_STARTERS if not _starts_expression(names.get(t, ""))}
         shown.append("an expression")
     words = sorted({names.get(t, t.lower()) for t in expected})
+    if "'->'" in words:  # after a type: the vector type T^n of 2020-02 is read, never proposed
+        words.remove("'^'")
     words.sort(key=lambda s: (s not in _CLOSERS, s.startswith("a ") or s.startswith("an "), s))
     shown = words + shown if shown else words
     if not shown:

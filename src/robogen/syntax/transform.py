@@ -14,11 +14,12 @@ from robogen.syntax.transform_base import MAX_NESTING, SpanBuilder
 from robogen.syntax.transform_declarations import Declarations
 from robogen.syntax.transform_expressions import Expressions
 from robogen.syntax.transform_machines import Machines
+from robogen.syntax.transform_obsolete import Obsolete
 from robogen.syntax.transform_robosim import RoboSim
 from robogen.syntax.transform_statements import Statements
 
 
-class ToAst(SpanBuilder, Declarations, Machines, Statements, Expressions, RoboSim):
+class ToAst(SpanBuilder, Declarations, Machines, Statements, Expressions, RoboSim, Obsolete):
     """Builds AST nodes bottom-up (see :class:`~robogen.syntax.transform_base.SpanBuilder`)."""
 
 
@@ -45,7 +46,7 @@ for _callback in ("iff", "implies", "or_", "and_", "compare", "member", "arith")
 # The callbacks of other recursive constructs, whose nodes _nest measures.
 for _callback in (
     # types
-    "function_type", "relation_type", "product_type", "set_type", "seq_type", "vector_type", "matrix_type",
+    "function_type", "relation_type", "product_type", "set_type", "seq_type", "vector_type", "matrix_type", "power_type",
     # states (only nested states count: transitions and actions have no depth entry)
     "state",
     # statements (seq and paren keep their own accounts)

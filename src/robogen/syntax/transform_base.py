@@ -158,6 +158,7 @@ class SpanBuilder(Transformer):
         self.path = path
         self.text = text
         self.problems: list[Diagnostic] = []
+        self.notices: list[Diagnostic] = []  # warnings about the text (obsolete forms), kept in the File
         self._line_starts = [0] + [m.end() for m in re.finditer("\n", text)]
         # nesting depth of the nodes of recursive constructs, by id (see _nest)
         self._depth: dict[int, int] = {}

@@ -9,6 +9,7 @@ from lark import Token
 
 from robogen.syntax import ast
 from robogen.syntax.transform_base import Flag, Package, first_child, make_span, pos, span_pos
+from robogen.syntax.transform_obsolete import Dropped
 
 _Name = ast.Name
 
@@ -26,7 +27,8 @@ class Declarations:
                 imports.append(x)
             else:
                 items.append(x)
-        return ast.File(self.path, self.language, package, tuple(imports), tuple(items), span=self._span(c))
+        return ast.File(self.path, self.language, package, tuple(imports), tuple(items), span=self._span(c),
+                        notices=tuple(self.notices))
 
     def package(self, c):
         package = Package(c[0])
@@ -156,7 +158,8 @@ class Declarations:
 
     def _container(self, cls, c, keyword: tuple[str, ...]):
         right = ("}",) if len(c) > 1 else ("{", "}")
-        return cls(self._name(c[0]), tuple(c[1:]), span=self._span(c, left=keyword, right=right), name_span=self._tspan(c[0]))
+        members = tuple(m for m in c[1:] if type(m) is not Dropped)
+        return cls(self._name(c[0]), members, span=self._span(c, left=keyword, right=right), name_span=self._tspan(c[0]))
 
     def interface(self, c):
         return self._container(ast.Interface, c, ("interface",))

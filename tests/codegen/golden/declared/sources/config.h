@@ -9,7 +9,7 @@
 
 #define RG_MODEL_IDENTIFIER "Calls"
 #define RG_INSTANTIATION_TOKEN "{df3eb0ea-25d4-523d-09cd-7b289b0681e2}"
-#define RG_NUM_VARIABLES 20
+#define RG_NUM_VARIABLES 26
 #define RG_NUM_CLOCKS 8
 #define RG_MIGHT_RETURN_EARLY 0
 #define RG_STEPWISE 0  /* 1: stepwise semantics, one transition per fmi3UpdateDiscreteStates */
@@ -31,6 +31,10 @@ typedef struct {
 
 typedef struct { uint64_t n; rg_tup2_i_u a[32]; } rg_set_tup2_i_u;  /* Set(int * nat): a set (ascending, no duplicates) of at most 32 elements */
 
+typedef struct { int64_t a[32]; } rg_vec_i_32;  /* vector(int, 32) */
+
+typedef struct { uint64_t a[32]; } rg_vec_u_32;  /* vector(nat, 32) */
+
 /* datatype tuple(boolean,nat) */
 typedef struct {
     bool _1;
@@ -38,6 +42,8 @@ typedef struct {
 } rg_tup2_b_u;
 
 typedef struct { uint64_t n; rg_tup2_b_u a[32]; } rg_set_tup2_b_u;  /* Set(boolean * nat): a set (ascending, no duplicates) of at most 32 elements */
+
+typedef struct { bool a[32]; } rg_vec_b_32;  /* vector(boolean, 32) */
 
 /* ---- memory of each state machine ------------------------------------------------------ */
 
@@ -93,6 +99,10 @@ typedef struct {
     bool out_flip_value;  /* clocked output flip.value */
     uint64_t out_twice_value;  /* clocked output twice.value */
     uint64_t out_half_value;  /* clocked output half.value */
+    rg_vec_i_32 view_Calls_a_elements__1;  /* local Calls.a.elements._1: a view of variable a */
+    rg_vec_u_32 view_Calls_a_elements__2;  /* local Calls.a.elements._2: a view of variable a */
+    rg_vec_b_32 view_Calls_b_elements__1;  /* local Calls.b.elements._1: a view of variable b */
+    rg_vec_u_32 view_Calls_b_elements__2;  /* local Calls.b.elements._2: a view of variable b */
     uint64_t cycles;          /* FMI output cycles */
     uint64_t dropped_events;  /* FMI output dropped_events */
     uint64_t deadline_misses; /* FMI output deadline_misses */

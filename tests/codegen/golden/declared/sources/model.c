@@ -217,7 +217,13 @@ static const rg_variable rg_variables[RG_NUM_VARIABLES] = {
     { 17, "cycles", RG_UINT64, RG_OUTPUT, RG_DISCRETE, -1, offsetof(rg_model_data, cycles), 1, false },
     { 18, "dropped_events", RG_UINT64, RG_OUTPUT, RG_DISCRETE, -1, offsetof(rg_model_data, dropped_events), 1, false },
     { 19, "deadline_misses", RG_UINT64, RG_OUTPUT, RG_DISCRETE, -1, offsetof(rg_model_data, deadline_misses), 1, false },
-    { 20, "Calls.n", RG_UINT64, RG_LOCAL, RG_DISCRETE, -1, offsetof(rg_model_data, m0.v_n), 1, false },
+    { 20, "Calls.a.elements._1", RG_INT64, RG_LOCAL, RG_DISCRETE, -1, offsetof(rg_model_data, view_Calls_a_elements__1), 32, false },
+    { 21, "Calls.a.elements._2", RG_UINT64, RG_LOCAL, RG_DISCRETE, -1, offsetof(rg_model_data, view_Calls_a_elements__2), 32, false },
+    { 22, "Calls.a.size", RG_UINT64, RG_LOCAL, RG_DISCRETE, -1, offsetof(rg_model_data, m0.v_a.n), 1, false },
+    { 23, "Calls.b.elements._1", RG_BOOLEAN, RG_LOCAL, RG_DISCRETE, -1, offsetof(rg_model_data, view_Calls_b_elements__1), 32, false },
+    { 24, "Calls.b.elements._2", RG_UINT64, RG_LOCAL, RG_DISCRETE, -1, offsetof(rg_model_data, view_Calls_b_elements__2), 32, false },
+    { 25, "Calls.b.size", RG_UINT64, RG_LOCAL, RG_DISCRETE, -1, offsetof(rg_model_data, m0.v_b.n), 1, false },
+    { 26, "Calls.n", RG_UINT64, RG_LOCAL, RG_DISCRETE, -1, offsetof(rg_model_data, m0.v_n), 1, false },
 };
 
 /* ======== state machine declared::Calls (declared.rct:40) ======== */
@@ -316,6 +322,41 @@ static int rg_run_0(rg_instance *inst)
 
 /* ---- the hooks the runtime calls ---------------------------------------------------------- */
 
+/* The local FMI variables of machine variables whose parts are not contiguous in memory (fields
+ * of a collection's elements, collections of collections): views, written after each instant
+ * and after initialization (robogen.ir.layout). */
+static void rg_model_views(rg_model_data *d)
+{
+    memset(&d->view_Calls_a_elements__1, 0, sizeof d->view_Calls_a_elements__1);
+    {
+        uint64_t i0;
+        for (i0 = 0; i0 < d->m0.v_a.n; i0++) {
+            d->view_Calls_a_elements__1.a[i0] = d->m0.v_a.a[i0]._1;
+        }
+    }
+    memset(&d->view_Calls_a_elements__2, 0, sizeof d->view_Calls_a_elements__2);
+    {
+        uint64_t i0;
+        for (i0 = 0; i0 < d->m0.v_a.n; i0++) {
+            d->view_Calls_a_elements__2.a[i0] = d->m0.v_a.a[i0]._2;
+        }
+    }
+    memset(&d->view_Calls_b_elements__1, 0, sizeof d->view_Calls_b_elements__1);
+    {
+        uint64_t i0;
+        for (i0 = 0; i0 < d->m0.v_b.n; i0++) {
+            d->view_Calls_b_elements__1.a[i0] = d->m0.v_b.a[i0]._1;
+        }
+    }
+    memset(&d->view_Calls_b_elements__2, 0, sizeof d->view_Calls_b_elements__2);
+    {
+        uint64_t i0;
+        for (i0 = 0; i0 < d->m0.v_b.n; i0++) {
+            d->view_Calls_b_elements__2.a[i0] = d->m0.v_b.a[i0]._2;
+        }
+    }
+}
+
 static void rg_model_reset(rg_instance *inst)
 {
     rg_model_data *d = &inst->s.data;
@@ -340,6 +381,7 @@ static fmi3Status rg_model_exit_initialization(rg_instance *inst)
         }
         m->v_n = UINT64_C(0);  /* initial value of n */
     }
+    rg_model_views(d);
     return fmi3OK;
 }
 
@@ -383,6 +425,7 @@ static fmi3Status rg_model_evaluate(rg_instance *inst)
             if (rg_run_failed(rg_run_0(inst), &m->in_cycle)) return fmi3Error;
         }
     }
+    rg_model_views(d);
     return fmi3OK;
 }
 

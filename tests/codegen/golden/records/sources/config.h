@@ -9,7 +9,7 @@
 
 #define RG_MODEL_IDENTIFIER "Sensor"
 #define RG_INSTANTIATION_TOKEN "{773fc3f7-9a2a-3ad5-d253-9ace1a1d4347}"
-#define RG_NUM_VARIABLES 34
+#define RG_NUM_VARIABLES 44
 #define RG_NUM_CLOCKS 7
 #define RG_MIGHT_RETURN_EARLY 0
 #define RG_STEPWISE 0  /* 1: stepwise semantics, one transition per fmi3UpdateDiscreteStates */
@@ -113,6 +113,14 @@ typedef struct {
     rg_vec_r_32 out_members_value_elements_at_y;  /* clocked output members.value.elements.at.y */
     uint64_t out_members_value_size;  /* clocked output members.value.size */
     uint64_t out_distinct_value;  /* clocked output distinct.value */
+    rg_vec_i_32 view_Sensor_gs_elements_c;  /* local Sensor.gs.elements.c: a view of variable gs */
+    rg_vec_u_32 view_Sensor_gs_elements_i;  /* local Sensor.gs.elements.i: a view of variable gs */
+    rg_vec_r_32 view_Sensor_gs_elements_at_x;  /* local Sensor.gs.elements.at.x: a view of variable gs */
+    rg_vec_r_32 view_Sensor_gs_elements_at_y;  /* local Sensor.gs.elements.at.y: a view of variable gs */
+    rg_vec_i_32 view_Sensor_ss_elements_c;  /* local Sensor.ss.elements.c: a view of variable ss */
+    rg_vec_u_32 view_Sensor_ss_elements_i;  /* local Sensor.ss.elements.i: a view of variable ss */
+    rg_vec_r_32 view_Sensor_ss_elements_at_x;  /* local Sensor.ss.elements.at.x: a view of variable ss */
+    rg_vec_r_32 view_Sensor_ss_elements_at_y;  /* local Sensor.ss.elements.at.y: a view of variable ss */
     uint64_t cycles;          /* FMI output cycles */
     uint64_t dropped_events;  /* FMI output dropped_events */
     uint64_t deadline_misses; /* FMI output deadline_misses */

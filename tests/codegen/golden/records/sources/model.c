@@ -159,7 +159,17 @@ static const rg_variable rg_variables[RG_NUM_VARIABLES] = {
     { 31, "cycles", RG_UINT64, RG_OUTPUT, RG_DISCRETE, -1, offsetof(rg_model_data, cycles), 1, false },
     { 32, "dropped_events", RG_UINT64, RG_OUTPUT, RG_DISCRETE, -1, offsetof(rg_model_data, dropped_events), 1, false },
     { 33, "deadline_misses", RG_UINT64, RG_OUTPUT, RG_DISCRETE, -1, offsetof(rg_model_data, deadline_misses), 1, false },
-    { 34, "Sensor.best", RG_UINT64, RG_LOCAL, RG_DISCRETE, -1, offsetof(rg_model_data, m0.v_best), 1, false },
+    { 34, "Sensor.gs.elements.c", RG_INT64, RG_LOCAL, RG_DISCRETE, -1, offsetof(rg_model_data, view_Sensor_gs_elements_c), 32, false },
+    { 35, "Sensor.gs.elements.i", RG_UINT64, RG_LOCAL, RG_DISCRETE, -1, offsetof(rg_model_data, view_Sensor_gs_elements_i), 32, false },
+    { 36, "Sensor.gs.elements.at.x", RG_FLOAT64, RG_LOCAL, RG_DISCRETE, -1, offsetof(rg_model_data, view_Sensor_gs_elements_at_x), 32, false },
+    { 37, "Sensor.gs.elements.at.y", RG_FLOAT64, RG_LOCAL, RG_DISCRETE, -1, offsetof(rg_model_data, view_Sensor_gs_elements_at_y), 32, false },
+    { 38, "Sensor.gs.size", RG_UINT64, RG_LOCAL, RG_DISCRETE, -1, offsetof(rg_model_data, m0.v_gs.n), 1, false },
+    { 39, "Sensor.ss.elements.c", RG_INT64, RG_LOCAL, RG_DISCRETE, -1, offsetof(rg_model_data, view_Sensor_ss_elements_c), 32, false },
+    { 40, "Sensor.ss.elements.i", RG_UINT64, RG_LOCAL, RG_DISCRETE, -1, offsetof(rg_model_data, view_Sensor_ss_elements_i), 32, false },
+    { 41, "Sensor.ss.elements.at.x", RG_FLOAT64, RG_LOCAL, RG_DISCRETE, -1, offsetof(rg_model_data, view_Sensor_ss_elements_at_x), 32, false },
+    { 42, "Sensor.ss.elements.at.y", RG_FLOAT64, RG_LOCAL, RG_DISCRETE, -1, offsetof(rg_model_data, view_Sensor_ss_elements_at_y), 32, false },
+    { 43, "Sensor.ss.size", RG_UINT64, RG_LOCAL, RG_DISCRETE, -1, offsetof(rg_model_data, m0.v_ss.n), 1, false },
+    { 44, "Sensor.best", RG_UINT64, RG_LOCAL, RG_DISCRETE, -1, offsetof(rg_model_data, m0.v_best), 1, false },
 };
 
 /* ======== state machine records::Sensor (records.rct:24) ======== */
@@ -307,6 +317,69 @@ static int rg_run_0(rg_instance *inst)
 
 /* ---- the hooks the runtime calls ---------------------------------------------------------- */
 
+/* The local FMI variables of machine variables whose parts are not contiguous in memory (fields
+ * of a collection's elements, collections of collections): views, written after each instant
+ * and after initialization (robogen.ir.layout). */
+static void rg_model_views(rg_model_data *d)
+{
+    memset(&d->view_Sensor_gs_elements_c, 0, sizeof d->view_Sensor_gs_elements_c);
+    {
+        uint64_t i0;
+        for (i0 = 0; i0 < d->m0.v_gs.n; i0++) {
+            d->view_Sensor_gs_elements_c.a[i0] = d->m0.v_gs.a[i0].c;
+        }
+    }
+    memset(&d->view_Sensor_gs_elements_i, 0, sizeof d->view_Sensor_gs_elements_i);
+    {
+        uint64_t i0;
+        for (i0 = 0; i0 < d->m0.v_gs.n; i0++) {
+            d->view_Sensor_gs_elements_i.a[i0] = d->m0.v_gs.a[i0].i;
+        }
+    }
+    memset(&d->view_Sensor_gs_elements_at_x, 0, sizeof d->view_Sensor_gs_elements_at_x);
+    {
+        uint64_t i0;
+        for (i0 = 0; i0 < d->m0.v_gs.n; i0++) {
+            d->view_Sensor_gs_elements_at_x.a[i0] = d->m0.v_gs.a[i0].at.x;
+        }
+    }
+    memset(&d->view_Sensor_gs_elements_at_y, 0, sizeof d->view_Sensor_gs_elements_at_y);
+    {
+        uint64_t i0;
+        for (i0 = 0; i0 < d->m0.v_gs.n; i0++) {
+            d->view_Sensor_gs_elements_at_y.a[i0] = d->m0.v_gs.a[i0].at.y;
+        }
+    }
+    memset(&d->view_Sensor_ss_elements_c, 0, sizeof d->view_Sensor_ss_elements_c);
+    {
+        uint64_t i0;
+        for (i0 = 0; i0 < d->m0.v_ss.n; i0++) {
+            d->view_Sensor_ss_elements_c.a[i0] = d->m0.v_ss.a[i0].c;
+        }
+    }
+    memset(&d->view_Sensor_ss_elements_i, 0, sizeof d->view_Sensor_ss_elements_i);
+    {
+        uint64_t i0;
+        for (i0 = 0; i0 < d->m0.v_ss.n; i0++) {
+            d->view_Sensor_ss_elements_i.a[i0] = d->m0.v_ss.a[i0].i;
+        }
+    }
+    memset(&d->view_Sensor_ss_elements_at_x, 0, sizeof d->view_Sensor_ss_elements_at_x);
+    {
+        uint64_t i0;
+        for (i0 = 0; i0 < d->m0.v_ss.n; i0++) {
+            d->view_Sensor_ss_elements_at_x.a[i0] = d->m0.v_ss.a[i0].at.x;
+        }
+    }
+    memset(&d->view_Sensor_ss_elements_at_y, 0, sizeof d->view_Sensor_ss_elements_at_y);
+    {
+        uint64_t i0;
+        for (i0 = 0; i0 < d->m0.v_ss.n; i0++) {
+            d->view_Sensor_ss_elements_at_y.a[i0] = d->m0.v_ss.a[i0].at.y;
+        }
+    }
+}
+
 static void rg_model_reset(rg_instance *inst)
 {
     rg_model_data *d = &inst->s.data;
@@ -321,6 +394,7 @@ static fmi3Status rg_model_exit_initialization(rg_instance *inst)
         rg_machine_0 *m = &d->m0;
         m->v_best = UINT64_C(0);  /* initial value of best */
     }
+    rg_model_views(d);
     return fmi3OK;
 }
 
@@ -380,6 +454,7 @@ static fmi3Status rg_model_evaluate(rg_instance *inst)
             if (rg_run_failed(rg_run_0(inst), &m->in_cycle)) return fmi3Error;
         }
     }
+    rg_model_views(d);
     return fmi3OK;
 }
 

@@ -9,7 +9,7 @@
 
 #define RG_MODEL_IDENTIFIER "Lists"
 #define RG_INSTANTIATION_TOKEN "{e2213ee5-c5e0-167f-b940-e779dbbee9ca}"
-#define RG_NUM_VARIABLES 41
+#define RG_NUM_VARIABLES 51
 #define RG_NUM_CLOCKS 6
 #define RG_MIGHT_RETURN_EARLY 0
 #define RG_STEPWISE 0  /* 1: stepwise semantics, one transition per fmi3UpdateDiscreteStates */
@@ -57,6 +57,10 @@ typedef struct {
 } rg_rec_recursive_List;
 
 typedef struct { uint64_t n; rg_rec_recursive_List a[32]; } rg_set_rec_recursive_List;  /* Set(recursive::List): a set (ascending, no duplicates) of at most 32 elements */
+
+typedef struct { int64_t a[32]; } rg_vec_i_32;  /* vector(recursive::List, 32) */
+
+typedef struct { uint64_t a[32]; } rg_vec_u_32;  /* vector(nat, 32) */
 
 /* ---- memory of each state machine ------------------------------------------------------ */
 
@@ -113,6 +117,15 @@ typedef struct {
     uint64_t out_out_Cons_2_Cons_2_Cons_2_Cons_1;  /* clocked output out.Cons_2.Cons_2.Cons_2.Cons_1 */
     int64_t out_out_Cons_2_Cons_2_Cons_2_Cons_2_tag;  /* clocked output out.Cons_2.Cons_2.Cons_2.Cons_2.tag */
     uint64_t out_seen_value;  /* clocked output seen.value */
+    rg_vec_i_32 view_Lists_all_elements_tag;  /* local Lists.all.elements.tag: a view of variable all */
+    rg_vec_u_32 view_Lists_all_elements_Cons_1;  /* local Lists.all.elements.Cons_1: a view of variable all */
+    rg_vec_i_32 view_Lists_all_elements_Cons_2_tag;  /* local Lists.all.elements.Cons_2.tag: a view of variable all */
+    rg_vec_u_32 view_Lists_all_elements_Cons_2_Cons_1;  /* local Lists.all.elements.Cons_2.Cons_1: a view of variable all */
+    rg_vec_i_32 view_Lists_all_elements_Cons_2_Cons_2_tag;  /* local Lists.all.elements.Cons_2.Cons_2.tag: a view of variable all */
+    rg_vec_u_32 view_Lists_all_elements_Cons_2_Cons_2_Cons_1;  /* local Lists.all.elements.Cons_2.Cons_2.Cons_1: a view of variable all */
+    rg_vec_i_32 view_Lists_all_elements_Cons_2_Cons_2_Cons_2_tag;  /* local Lists.all.elements.Cons_2.Cons_2.Cons_2.tag: a view of variable all */
+    rg_vec_u_32 view_Lists_all_elements_Cons_2_Cons_2_Cons_2_Cons_1;  /* local Lists.all.elements.Cons_2.Cons_2.Cons_2.Cons_1: a view of variable all */
+    rg_vec_i_32 view_Lists_all_elements_Cons_2_Cons_2_Cons_2_Cons_2_tag;  /* local Lists.all.elements.Cons_2.Cons_2.Cons_2.Cons_2.tag: a view of variable all */
     uint64_t cycles;          /* FMI output cycles */
     uint64_t dropped_events;  /* FMI output dropped_events */
     uint64_t deadline_misses; /* FMI output deadline_misses */

@@ -228,7 +228,17 @@ static const rg_variable rg_variables[RG_NUM_VARIABLES] = {
     { 38, "Lists.l.Cons_2.Cons_2.Cons_2.tag", RG_INT64, RG_LOCAL, RG_DISCRETE, -1, offsetof(rg_model_data, m0.v_l.Cons_2.Cons_2.Cons_2.tag), 1, false },
     { 39, "Lists.l.Cons_2.Cons_2.Cons_2.Cons_1", RG_UINT64, RG_LOCAL, RG_DISCRETE, -1, offsetof(rg_model_data, m0.v_l.Cons_2.Cons_2.Cons_2.Cons_1), 1, false },
     { 40, "Lists.l.Cons_2.Cons_2.Cons_2.Cons_2.tag", RG_INT64, RG_LOCAL, RG_DISCRETE, -1, offsetof(rg_model_data, m0.v_l.Cons_2.Cons_2.Cons_2.Cons_2.tag), 1, false },
-    { 41, "Lists.n", RG_UINT64, RG_LOCAL, RG_DISCRETE, -1, offsetof(rg_model_data, m0.v_n), 1, false },
+    { 41, "Lists.all.elements.tag", RG_INT64, RG_LOCAL, RG_DISCRETE, -1, offsetof(rg_model_data, view_Lists_all_elements_tag), 32, false },
+    { 42, "Lists.all.elements.Cons_1", RG_UINT64, RG_LOCAL, RG_DISCRETE, -1, offsetof(rg_model_data, view_Lists_all_elements_Cons_1), 32, false },
+    { 43, "Lists.all.elements.Cons_2.tag", RG_INT64, RG_LOCAL, RG_DISCRETE, -1, offsetof(rg_model_data, view_Lists_all_elements_Cons_2_tag), 32, false },
+    { 44, "Lists.all.elements.Cons_2.Cons_1", RG_UINT64, RG_LOCAL, RG_DISCRETE, -1, offsetof(rg_model_data, view_Lists_all_elements_Cons_2_Cons_1), 32, false },
+    { 45, "Lists.all.elements.Cons_2.Cons_2.tag", RG_INT64, RG_LOCAL, RG_DISCRETE, -1, offsetof(rg_model_data, view_Lists_all_elements_Cons_2_Cons_2_tag), 32, false },
+    { 46, "Lists.all.elements.Cons_2.Cons_2.Cons_1", RG_UINT64, RG_LOCAL, RG_DISCRETE, -1, offsetof(rg_model_data, view_Lists_all_elements_Cons_2_Cons_2_Cons_1), 32, false },
+    { 47, "Lists.all.elements.Cons_2.Cons_2.Cons_2.tag", RG_INT64, RG_LOCAL, RG_DISCRETE, -1, offsetof(rg_model_data, view_Lists_all_elements_Cons_2_Cons_2_Cons_2_tag), 32, false },
+    { 48, "Lists.all.elements.Cons_2.Cons_2.Cons_2.Cons_1", RG_UINT64, RG_LOCAL, RG_DISCRETE, -1, offsetof(rg_model_data, view_Lists_all_elements_Cons_2_Cons_2_Cons_2_Cons_1), 32, false },
+    { 49, "Lists.all.elements.Cons_2.Cons_2.Cons_2.Cons_2.tag", RG_INT64, RG_LOCAL, RG_DISCRETE, -1, offsetof(rg_model_data, view_Lists_all_elements_Cons_2_Cons_2_Cons_2_Cons_2_tag), 32, false },
+    { 50, "Lists.all.size", RG_UINT64, RG_LOCAL, RG_DISCRETE, -1, offsetof(rg_model_data, m0.v_all.n), 1, false },
+    { 51, "Lists.n", RG_UINT64, RG_LOCAL, RG_DISCRETE, -1, offsetof(rg_model_data, m0.v_n), 1, false },
 };
 
 /* ======== state machine recursive::Lists (recursive.rct:23) ======== */
@@ -336,6 +346,76 @@ static int rg_run_0(rg_instance *inst)
 
 /* ---- the hooks the runtime calls ---------------------------------------------------------- */
 
+/* The local FMI variables of machine variables whose parts are not contiguous in memory (fields
+ * of a collection's elements, collections of collections): views, written after each instant
+ * and after initialization (robogen.ir.layout). */
+static void rg_model_views(rg_model_data *d)
+{
+    memset(&d->view_Lists_all_elements_tag, 0, sizeof d->view_Lists_all_elements_tag);
+    {
+        uint64_t i0;
+        for (i0 = 0; i0 < d->m0.v_all.n; i0++) {
+            d->view_Lists_all_elements_tag.a[i0] = d->m0.v_all.a[i0].tag;
+        }
+    }
+    memset(&d->view_Lists_all_elements_Cons_1, 0, sizeof d->view_Lists_all_elements_Cons_1);
+    {
+        uint64_t i0;
+        for (i0 = 0; i0 < d->m0.v_all.n; i0++) {
+            d->view_Lists_all_elements_Cons_1.a[i0] = d->m0.v_all.a[i0].Cons_1;
+        }
+    }
+    memset(&d->view_Lists_all_elements_Cons_2_tag, 0, sizeof d->view_Lists_all_elements_Cons_2_tag);
+    {
+        uint64_t i0;
+        for (i0 = 0; i0 < d->m0.v_all.n; i0++) {
+            d->view_Lists_all_elements_Cons_2_tag.a[i0] = d->m0.v_all.a[i0].Cons_2.tag;
+        }
+    }
+    memset(&d->view_Lists_all_elements_Cons_2_Cons_1, 0, sizeof d->view_Lists_all_elements_Cons_2_Cons_1);
+    {
+        uint64_t i0;
+        for (i0 = 0; i0 < d->m0.v_all.n; i0++) {
+            d->view_Lists_all_elements_Cons_2_Cons_1.a[i0] = d->m0.v_all.a[i0].Cons_2.Cons_1;
+        }
+    }
+    memset(&d->view_Lists_all_elements_Cons_2_Cons_2_tag, 0, sizeof d->view_Lists_all_elements_Cons_2_Cons_2_tag);
+    {
+        uint64_t i0;
+        for (i0 = 0; i0 < d->m0.v_all.n; i0++) {
+            d->view_Lists_all_elements_Cons_2_Cons_2_tag.a[i0] = d->m0.v_all.a[i0].Cons_2.Cons_2.tag;
+        }
+    }
+    memset(&d->view_Lists_all_elements_Cons_2_Cons_2_Cons_1, 0, sizeof d->view_Lists_all_elements_Cons_2_Cons_2_Cons_1);
+    {
+        uint64_t i0;
+        for (i0 = 0; i0 < d->m0.v_all.n; i0++) {
+            d->view_Lists_all_elements_Cons_2_Cons_2_Cons_1.a[i0] = d->m0.v_all.a[i0].Cons_2.Cons_2.Cons_1;
+        }
+    }
+    memset(&d->view_Lists_all_elements_Cons_2_Cons_2_Cons_2_tag, 0, sizeof d->view_Lists_all_elements_Cons_2_Cons_2_Cons_2_tag);
+    {
+        uint64_t i0;
+        for (i0 = 0; i0 < d->m0.v_all.n; i0++) {
+            d->view_Lists_all_elements_Cons_2_Cons_2_Cons_2_tag.a[i0] = d->m0.v_all.a[i0].Cons_2.Cons_2.Cons_2.tag;
+        }
+    }
+    memset(&d->view_Lists_all_elements_Cons_2_Cons_2_Cons_2_Cons_1, 0, sizeof d->view_Lists_all_elements_Cons_2_Cons_2_Cons_2_Cons_1);
+    {
+        uint64_t i0;
+        for (i0 = 0; i0 < d->m0.v_all.n; i0++) {
+            d->view_Lists_all_elements_Cons_2_Cons_2_Cons_2_Cons_1.a[i0] = d->m0.v_all.a[i0].Cons_2.Cons_2.Cons_2.Cons_1;
+        }
+    }
+    memset(&d->view_Lists_all_elements_Cons_2_Cons_2_Cons_2_Cons_2_tag, 0, sizeof d->view_Lists_all_elements_Cons_2_Cons_2_Cons_2_Cons_2_tag);
+    {
+        uint64_t i0;
+        for (i0 = 0; i0 < d->m0.v_all.n; i0++) {
+            d->view_Lists_all_elements_Cons_2_Cons_2_Cons_2_Cons_2_tag.a[i0] = d->m0.v_all.a[i0].Cons_2.Cons_2.Cons_2.Cons_2.tag;
+        }
+    }
+}
+
 static void rg_model_reset(rg_instance *inst)
 {
     rg_model_data *d = &inst->s.data;
@@ -357,6 +437,7 @@ static fmi3Status rg_model_exit_initialization(rg_instance *inst)
         }
         m->v_n = UINT64_C(0);  /* initial value of n */
     }
+    rg_model_views(d);
     return fmi3OK;
 }
 
@@ -403,6 +484,7 @@ static fmi3Status rg_model_evaluate(rg_instance *inst)
             if (rg_run_failed(rg_run_0(inst), &m->in_cycle)) return fmi3Error;
         }
     }
+    rg_model_views(d);
     return fmi3OK;
 }
 
