@@ -26,10 +26,27 @@ def fmu_builder():
     return _builder()
 
 
+def _others():
+    spec = importlib.util.spec_from_file_location("robogen_test_fmus_others", FMUS_DIR / "others.py")
+    module = importlib.util.module_from_spec(spec)
+    sys.modules[spec.name] = module
+    spec.loader.exec_module(module)
+    return module
+
+
 @pytest.fixture(scope="session")
-def fmus(tmp_path_factory, fmu_builder) -> dict[str, Path]:
-    """name -> path of every test FMU (ball, stair, ticker, relay, zeno, failer, trivial, alltypes)."""
-    return fmu_builder.build_all(tmp_path_factory.mktemp("fmus"))
+def other_builder():
+    """The builder of the test FMUs of other interfaces (tests/cosim/fmus/others.py)."""
+    return _others()
+
+
+@pytest.fixture(scope="session")
+def fmus(tmp_path_factory, fmu_builder, other_builder) -> dict[str, Path]:
+    """name -> path of every test FMU: FMI 3.0 Co-Simulation (ball, stair, ticker, relay, zeno,
+    failer, trivial, alltypes) and the other interfaces (bounce3, bounce2, vdp2, vdp3, stiff3, lag2,
+    lag2me, sched3)."""
+    folder = tmp_path_factory.mktemp("fmus")
+    return {**fmu_builder.build_all(folder), **other_builder.build_all(folder)}
 
 
 @pytest.fixture

@@ -48,7 +48,7 @@ class Target:
     """What a parameter name sets: a start value, an instance's FMU, a file in its resources,
     or a campaign variable (a bare name, used by [files] templates)."""
 
-    kind: str  # "start" | "fmu" | "resource" | "variable"
+    kind: str  # "start" | "fmu" | "resource" | "setting" (interface, solver, solver_step) | "variable"
     instance: str | None
     name: str  # the variable, "fmu", the member path "resources/...", or the variable's name
 
@@ -371,6 +371,10 @@ def _distribution(c: _Checker, raw: object, *where) -> Distribution | None:
     return Distribution(kind, (a, b))
 
 
+#: The keys of an [instances.X] table a campaign may vary (how the instance uses its FMU).
+INSTANCE_SETTINGS = ("interface", "solver", "solver_step")
+
+
 def target_of(name: str, system: System) -> tuple[Target | None, str]:
     """The :class:`Target` a parameter name denotes, or None and why not."""
     if _IDENT.fullmatch(name):
@@ -383,6 +387,8 @@ def target_of(name: str, system: System) -> tuple[Target | None, str]:
         return None, f"unknown instance '{instance}'{did_you_mean(instance, system.instances)} in '{name}'"
     if rest == "fmu":
         return Target("fmu", instance, "fmu"), ""
+    if rest in INSTANCE_SETTINGS:
+        return Target("setting", instance, rest), ""
     if rest.startswith("resources/"):
         member = rest.split("/")
         if any(p in ("", ".", "..") for p in member[1:]) or len(member) < 2 or "\\" in rest:

@@ -23,7 +23,7 @@ from robogen.cosim.fmi3 import ffi as fmi_ffi
 from robogen.cosim.instances import FmuInstance, Reader
 from robogen.cosim.plan import Plan
 from robogen.cosim.wiring import CLOCK, CLOCKED, VALUE
-from robogen.fmu.fmi import TIME_TOLERANCE
+from robogen.fmu.fmi import TIME_TOLERANCE, TIME_ULPS
 
 _COLUMN_KINDS = {VALUE: ColumnKind.VALUE, CLOCK: ColumnKind.CLOCK, CLOCKED: ColumnKind.CLOCKED}
 
@@ -156,7 +156,7 @@ class Flat:
     def _run(self, p, plan: Plan, master, store: int) -> None:
         recorder = master.recorder
         p.start, p.step, p.stop, p.stop_limit = plan.start, plan.step, plan.stop, plan.stop_limit
-        p.time_tolerance = TIME_TOLERANCE
+        p.time_tolerance, p.resolution, p.time_ulps = TIME_TOLERANCE, plan.resolution or 0.0, TIME_ULPS
         p.max_iterations = plan.max_iterations
         p.early, p.rollback, p.paced = plan.early, plan.rollback, bool(master.options.realtime)
         p.store = store
@@ -210,6 +210,7 @@ class Flat:
         p.read_instance = self.pointers("void *[]", [self.handle(owner[id(r)]) for r in reads])
         p.vrs = self.pointers("uint32_t *[]", [r.c_vrs for r in reads])
         p.count = self.array("size_t[]", [r.count for r in reads])
+        p.n_values = self.array("size_t[]", [r.n_values for r in reads])
         p.kind = self.array("int[]", [kind(r.fmi_type) for r in reads])
         p.buffer = self.pointers("void *[]", [r.buffer for r in reads])
         p.sizes = self.pointers("size_t *[]", [r.sizes if r.sizes is not None else fmi_ffi.NULL for r in reads])
@@ -245,7 +246,7 @@ class Flat:
         p.link_index = self.array("int[]", [i for _r, i, _vr, _s in links])
         p.link_vr = self.array("uint32_t[]", [vr for _r, _i, vr, _s in links])
         p.link_scaled, p.link_factor, p.link_offset = self.scales([s for _r, _i, _vr, s in links])
-        p.connected = bool(plan.routes) or plan.values.connected
+        p.connected = bool(plan.routes) or bool(plan.domain_routes) or plan.values.connected
 
     def scales(self, scales: list) -> tuple:
         """Whether each value is converted on its way, and its factor and offset (three NULLs
@@ -323,6 +324,10 @@ class Flat:
             for _target, _clock, sources, _batches in routes:
                 for var in sources:
                     self.cell(by_name[source], var)
+        for routes in plan.domain_routes.values():
+            for source, _target, _clock, sources, _batches in routes:
+                for var in sources:
+                    self.cell(source, var)
         for u in plan.instances if plan.event_values is not None else ():
             for variables in plan.event_values[u.name].values():
                 for var in variables:
@@ -357,13 +362,21 @@ class Flat:
         p.group_cell = self.array("int[]", [c for g in self.groups for c in g])
 
     def _routes(self, p, plan: Plan) -> None:
-        """The clock routes of each watched output clock, and their Set batches."""
+        """The clock routes of each watched output clock, then the routes between clock domains of
+        each clock (the target clock -1 where the input is not clocked), and their Set batches."""
         index, instances = self.index, plan.instances
         routes = [(index[u.name], route) for u in instances for vr in u.out_clocks for route in plan.routes.get((u.name, vr), ())]
         counts = [len(plan.routes.get((u.name, vr), ())) for u in instances for vr in u.out_clocks]
         p.route_first, p.route_count = self.array("int[]", _starts(counts)[:-1]), self.array("int[]", counts)
+        keys = [(u.name, vr) for i, u in enumerate(instances) for vr in self.clocks[i]]
+        domain = [plan.domain_routes.get(key, ()) for key in keys]
+        p.croute_first = self.array("int[]", [len(routes) + f for f in _starts([len(d) for d in domain])[:-1]])
+        p.croute_count = self.array("int[]", [len(d) for d in domain])
+        routes += [(index[source.name], (target, clock, sources, batches))
+                   for of_clock in domain for source, target, clock, sources, batches in of_clock]
+        p.route_source_instance = self.array("int[]", [u for u, _route in routes])
         p.route_target = self.array("int[]", [index[t.name] for _u, (t, _c, _s, _b) in routes])
-        p.route_clock = self.array("int[]", [self.clock_index[t.name, c] for _u, (t, c, _s, _b) in routes])
+        p.route_clock = self.array("int[]", [-1 if c is None else self.clock_index[t.name, c] for _u, (t, c, _s, _b) in routes])
         p.route_edge = self.array("int[]", [self.edge(u, index[t.name]) for u, (t, _c, _s, _b) in routes])
         sources = [[self.cell_of[instances[u].name, v.value_reference] for v in s] for u, (_t, _c, s, _b) in routes]
         p.route_source_first = self.array("int[]", _starts([len(x) for x in sources])[:-1])

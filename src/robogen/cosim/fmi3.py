@@ -225,6 +225,8 @@ def encode(fmi_type: str, values: Sequence) -> tuple[object, object, list]:
 class Library:
     """An FMU's shared object, opened once per path (several instances share it)."""
 
+    required = REQUIRED  # the functions it must export
+
     def __init__(self, path: str):
         self.path = path
         try:
@@ -232,7 +234,7 @@ class Library:
         except OSError as exc:
             raise LoadError(f"cannot load the FMU binary {path}: {exc}") from None
         missing = []
-        for name in REQUIRED:
+        for name in self.required:
             try:
                 getattr(self.lib, name)
             except AttributeError:
@@ -260,6 +262,11 @@ def _log_message(env, status, category, message):
         inst.receive_log(status, text)
     except Exception:  # a logger must never raise into C
         pass
+
+
+def log_message_callback():
+    """The fmi3LogMessageCallback every binding gives its instance (its environment: the binding)."""
+    return _log_message
 
 
 class StepResult(NamedTuple):
@@ -415,14 +422,15 @@ class Binding:
         return self._call("fmi3Reset")
 
     # -- values ----------------------------------------------------------------------------
-    def get(self, fmi_type: str, vrs, n: int, values, sizes=None) -> None:
-        """fmi3Get<Type>(vrs, n, values, n) into a caller-owned buffer (Binary: and ``sizes``)."""
+    def get(self, fmi_type: str, vrs, n: int, values, sizes=None, n_values: int | None = None) -> None:
+        """fmi3Get<Type>(vrs, n, values, n_values) into a caller-owned buffer (Binary: and ``sizes``);
+        ``n_values`` is n unless arrays are read."""
         if fmi_type == "Clock":
             self._call("fmi3GetClock", vrs, n, values)
         elif fmi_type == "Binary":
             self._call("fmi3GetBinary", vrs, n, sizes, values, n)
         else:
-            self._call("fmi3Get" + ACCESSOR[fmi_type], vrs, n, values, n)
+            self._call("fmi3Get" + ACCESSOR[fmi_type], vrs, n, values, n if n_values is None else n_values)
 
     def set(self, fmi_type: str, vrs, n: int, values, sizes=None) -> None:
         if fmi_type == "Clock":
@@ -432,16 +440,18 @@ class Binding:
         else:
             self._call("fmi3Set" + ACCESSOR[fmi_type], vrs, n, values, n)
 
-    def get_values(self, fmi_type: str, vrs: Sequence[int]) -> list:
-        """The values of ``vrs`` (all of ``fmi_type``) as a Python list."""
+    def get_values(self, fmi_type: str, vrs: Sequence[int], n_values: int | None = None) -> list:
+        """The values of ``vrs`` (all of ``fmi_type``) as a Python list (``n_values`` of them where
+        arrays are read: their elements in order)."""
         n = len(vrs)
-        values, sizes = value_array(fmi_type, n), size_array(n) if fmi_type == "Binary" else None
-        self.get(fmi_type, vr_array(vrs), n, values, sizes)
+        m = n if n_values is None else n_values
+        values, sizes = value_array(fmi_type, m), size_array(n) if fmi_type == "Binary" else None
+        self.get(fmi_type, vr_array(vrs), n, values, sizes, m)
         if fmi_type == "String":
             return decode_strings(values, n)
         if fmi_type == "Binary":
             return decode_binaries(sizes, values, n)
-        return ffi.unpack(values, n)
+        return ffi.unpack(values, m)
 
     def set_values(self, fmi_type: str, vrs: Sequence[int], values: Sequence) -> None:
         """Set ``vrs`` (all of ``fmi_type``) to ``values``."""

@@ -174,8 +174,8 @@ class ProxyBinding:
         return self._call("fmi3Reset", "fmi3Reset")
 
     # -- values ----------------------------------------------------------------------------------
-    def get_values(self, fmi_type: str, vrs: Sequence[int]) -> list:
-        return self._call(f"fmi3Get{fmi_type}", "get_values", fmi_type, list(vrs))
+    def get_values(self, fmi_type: str, vrs: Sequence[int], n_values: int | None = None) -> list:
+        return self._call(f"fmi3Get{fmi_type}", "get_values", fmi_type, list(vrs), n_values)
 
     def set_values(self, fmi_type: str, vrs: Sequence[int], values: Sequence) -> None:
         self._call(f"fmi3Set{fmi_type}", "set_values", fmi_type, list(vrs), list(values))

@@ -28,7 +28,12 @@ from robogen.cosim.tomlspan import PathSpans, SpanIndex, read_toml
 _ARROW = re.compile(r"^\s*(\S+)\s*->\s*(\S+)\s*$")
 TOP_KEYS = ("experiment", "instances", "connections", "record")
 EXPERIMENT_KEYS = ("start", "stop", "step", "tolerance", "max_event_iterations", "order")
-INSTANCE_KEYS = ("fmu", "start", "clocks", "isolate", "scenario", "scenario_parameters")
+INSTANCE_KEYS = ("fmu", "start", "clocks", "isolate", "scenario", "scenario_parameters", "interface", "solver",
+                 "solver_step")
+#: The interfaces an instance may use its FMU through ([instances.X] interface) ...
+INTERFACES = ("co-simulation", "model-exchange", "scheduled-execution")
+#: ... and the integrators of a Model Exchange FMU ([instances.X] solver).
+SOLVERS = ("cvode", "euler")
 CLOCK_KEYS = ("interval", "shift")
 RECORD_KEYS = ("variables", "every")
 #: [experiment] max_event_iterations unless given: super-dense instants of one event iteration
@@ -69,6 +74,9 @@ class InstanceSpec:
     scenario: Path | None = None  # a scenario file that drives it (robogen.cosim.scenario, .player)
     scenario_span: Span | None = None
     player_of: str | None = None  # this instance plays the scenario of that one (no FMU file)
+    interface: str | None = None  # None: co-simulation where the FMU offers it, else the first it offers
+    solver: str = "cvode"  # Model Exchange: the integrator
+    solver_step: float | None = None  # Euler's step (None: the communication step)
 
 
 @dataclass
@@ -213,6 +221,7 @@ def _instance(name: str, spec, path: Path, check: _SchemaCheck) -> InstanceSpec 
             check.error("'scenario' must be the path of a scenario file (TOML)", *where, "scenario")
         else:
             inst.scenario, inst.scenario_span = path.parent / scenario, check.idx.span(*where, "scenario")
+    _interface(spec, inst, where, check)
     starts = spec.get("start", {})
     if not isinstance(starts, dict):
         check.error("'start' must be a table of variable = value", *where, "start")
@@ -253,6 +262,19 @@ def _player(inst: InstanceSpec, raw_instances: dict, instances: dict[str, Instan
         else:
             player.start[key] = (value, check.idx.span(*where, key))
     instances[name] = player
+def _interface(spec: dict, inst: InstanceSpec, where: tuple, check: _SchemaCheck) -> None:
+    """[instances.NAME] interface, solver and solver_step."""
+    for key, allowed in (("interface", INTERFACES), ("solver", SOLVERS)):
+        if key not in spec:
+            continue
+        value = spec[key]
+        if value not in allowed:
+            check.error(f"'{key}' must be one of {', '.join(repr(a) for a in allowed)}, not {value!r}"
+                        f"{did_you_mean(str(value), allowed)}", *where, key)
+        else:
+            setattr(inst, key, value)
+    if "solver_step" in spec:
+        inst.solver_step = check.number(spec["solver_step"], *where, "solver_step", positive=True)
 
 
 def _clock_timing(timing, where: tuple, check: _SchemaCheck) -> dict | None:
@@ -444,13 +466,15 @@ class _ModelCheck:
             sink.error(f"'{c.source}' is not an output (causality {src.causality})", c.span)
         if dst.causality != "input":
             sink.error(f"'{c.target}' is not an input (causality {dst.causality})", c.span)
+        if src.dimensions or dst.dimensions:
+            sink.error(f"'{c.source if src.dimensions else c.target}' is an array: the master records arrays, element "
+                       "by element, but does not connect them", c.span)
+            return False
         if src.is_clock != dst.is_clock:
             sink.error(f"a clock connects only to a clock: '{c.source}' is {_kind(src)}, '{c.target}' is {_kind(dst)}", c.span)
             return False
-        if _base_type(src) != _base_type(dst):
+        if _base_type(src) != _base_type(dst) and not convertible(src.type, dst.type):
             sink.error(f"type mismatch: '{c.source}' is {src.type}, '{c.target}' is {dst.type}", c.span)
-        if src.is_clocked != dst.is_clocked:
-            sink.error(f"'{c.source}' is {'clocked' if src.is_clocked else 'not clocked'} but '{c.target}' is {'clocked' if dst.is_clocked else 'not clocked'}", c.span)
         for inst_name, var in ((c.source.instance, src), (c.target.instance, dst)):
             cs = self.models[inst_name].co_simulation
             if (var.is_clock or var.is_clocked) and cs is not None and not cs.has_event_mode:
@@ -467,8 +491,10 @@ class _ModelCheck:
         by_vr_s, by_vr_d = self.models[link.source].by_vr(), self.models[link.target].by_vr()
         sc = " or ".join(f"{link.source}.{by_vr_s[a].name}" if a in by_vr_s else str(a) for a in link.src.clocks)
         dc = " or ".join(f"{link.target}.{by_vr_d[b].name}" if b in by_vr_d else str(b) for b in link.dst.clocks)
-        self.sink.error(f"clocked connection '{link.source}.{link.src.name} -> {link.target}.{link.dst.name}' "
-                        f"needs its clocks connected: add \"{sc} -> {dc}\"", link.span)
+        self.sink.error(f"'{link.source}.{link.src.name}' is clocked by {sc} and '{link.target}.{link.dst.name}' by {dc}: "
+                        "a clocked value crosses only to a clock it drives", link.span,
+                        Note(f"connect the clocks (\"{sc.split(' or ')[0]} -> {dc.split(' or ')[0]}\"), or connect the "
+                             "value to an input that is not clocked (sample and hold)"))
 
     def recorded(self, name: str, span: Span) -> None:
         """A [record] entry: an exact variable name (any causality), or a pattern that matches
@@ -520,6 +546,29 @@ def record_list(system: System, models: dict[str, ModelDescription]) -> list[tup
 
 def _kind(v: Variable) -> str:
     return "a clock" if v.is_clock else f"a variable of type {v.type}"
+
+
+#: The types a connected value is converted between (FMI 2.0's Integer is Int32, its Enumeration
+#: Int64): the master converts a value between two integer types or two real types, and stops the
+#: run with an error naming the connection where a value does not fit its input's type.
+INTEGER_TYPES = ("Int8", "UInt8", "Int16", "UInt16", "Int32", "UInt32", "Int64", "UInt64", "Enumeration")
+REAL_TYPES = ("Float32", "Float64")
+
+
+def convertible(source: str, target: str) -> bool:
+    return (source in INTEGER_TYPES and target in INTEGER_TYPES) or (source in REAL_TYPES and target in REAL_TYPES)
+
+
+def fits(fmi_type: str, value) -> bool:
+    """Whether a value converted to ``fmi_type`` keeps its value (a finite real within Float32's range)."""
+    if fmi_type == "Float32":
+        return not math.isfinite(value) or abs(value) <= 3.4028234663852886e38
+    if fmi_type not in INTEGER_TYPES or isinstance(value, bool):
+        return True
+    if fmi_type.startswith("UInt"):
+        return 0 <= value < 2 ** int(fmi_type[4:])
+    bits = _INT_RANGES.get(fmi_type, 64)
+    return -(2 ** (bits - 1)) <= value < 2 ** (bits - 1)
 
 
 def _base_type(v: Variable) -> str:
