@@ -105,7 +105,8 @@ def model(path: Path):
     try:
         s = read_system(path, cache, lambda d: None)
         instances = {n: (i.fmu.read_bytes(), {k: "NaN" if v != v else v for k, (v, _s) in i.start.items()},  # NaN != NaN
-                         {k: t for k, (t, _s) in i.clocks.items()}, i.isolate) for n, i in s.instances.items()}
+                         {k: t for k, (t, _s) in i.clocks.items()}, i.isolate, i.interface, i.solver, i.solver_step)
+                     for n, i in s.instances.items()}
         connections = [(str(c.source), str(c.target), c.scale) for c in s.connections]
         record = [n for n, _s in s.record] if s.record is not None else None
         return (s.start, s.stop, s.step, s.tolerance, s.max_event_iterations, s.order, instances, connections, record, s.record_every)

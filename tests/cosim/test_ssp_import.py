@@ -5,6 +5,7 @@ SSP 2.0 file with clocks by hand. Expected values come from the test FMUs' equat
 
 from __future__ import annotations
 
+import math
 import zipfile
 
 import pytest
@@ -251,3 +252,87 @@ def test_units_from_the_fmus_convert_connected_values(tmp_path, unit_fmus):
     assert [(d.span.line, d.message) for d in exc.value.diagnostics] == [  # the connection into c.u
         (18, "cannot convert 'm' (m) to 'cm' (no base unit): a unit without a base unit converts only to itself "
              "(connection 'a.y -> c.u')")]
+
+
+#: SSP 1.0 as the other tools write it around FMI 2.0 FMUs: a lag (lag2me) through its Model
+#: Exchange interface, feeding an FMI 2.0 Co-Simulation lag (lag2), feeding an FMI 3.0 trivial; a
+#: Model Exchange ball (bounce2) integrated by explicit Euler (robogen's annotation), falling from
+#: 1 m at g = 1: no bounce before sqrt(2) s
+INTERFACES_SSD = f"""<?xml version="1.0" encoding="UTF-8"?>
+<ssd:SystemStructureDescription {ssp_samples.NS} version="1.0" name="interfaces">
+  <ssd:System name="interfaces">
+    <ssd:Elements>
+      <ssd:Component name="me" source="resources/lag2me.fmu" implementation="ModelExchange">
+        <ssd:Connectors><ssd:Connector name="x" kind="output"><ssc:Real/></ssd:Connector></ssd:Connectors>
+        <ssd:ParameterBindings><ssd:ParameterBinding><ssd:ParameterValues><ssv:ParameterSet version="1.0" name="p">
+          <ssv:Parameters><ssv:Parameter name="tau"><ssv:Real value="0.25"/></ssv:Parameter></ssv:Parameters>
+        </ssv:ParameterSet></ssd:ParameterValues></ssd:ParameterBinding></ssd:ParameterBindings>
+      </ssd:Component>
+      <ssd:Component name="cs" source="resources/lag2.fmu">
+        <ssd:Connectors>
+          <ssd:Connector name="u" kind="input"><ssc:Real/></ssd:Connector>
+          <ssd:Connector name="x" kind="output"><ssc:Real/></ssd:Connector>
+        </ssd:Connectors>
+      </ssd:Component>
+      <ssd:Component name="t" source="resources/trivial.fmu">
+        <ssd:Connectors><ssd:Connector name="u" kind="input"><ssc:Real/></ssd:Connector></ssd:Connectors>
+      </ssd:Component>
+      <ssd:Component name="b" source="resources/bounce2.fmu">
+        <ssd:ParameterBindings><ssd:ParameterBinding><ssd:ParameterValues><ssv:ParameterSet version="1.0" name="p">
+          <ssv:Parameters><ssv:Parameter name="g"><ssv:Real value="1"/></ssv:Parameter></ssv:Parameters>
+        </ssv:ParameterSet></ssd:ParameterValues></ssd:ParameterBinding></ssd:ParameterBindings>
+        <ssd:Annotations><ssc:Annotation type="robogen">
+          <rg:Instance xmlns:rg="urn:robogen:ssp" solver="euler" solverStep="0.01"/>
+        </ssc:Annotation></ssd:Annotations>
+      </ssd:Component>
+    </ssd:Elements>
+    <ssd:Connections>
+      <ssd:Connection startElement="me" startConnector="x" endElement="cs" endConnector="u"/>
+      <ssd:Connection startElement="cs" startConnector="x" endElement="t" endConnector="u"/>
+    </ssd:Connections>
+  </ssd:System>
+  <ssd:DefaultExperiment startTime="0" stopTime="1"/>
+</ssd:SystemStructureDescription>
+"""
+
+INTERFACES_TOML = """connections = ["me.x -> cs.u", "cs.x -> t.u"]
+[experiment]
+stop = 1.0
+step = 0.1
+[instances.me]
+fmu = "{lag2me}"
+interface = "model-exchange"
+start = { tau = 0.25 }
+[instances.cs]
+fmu = "{lag2}"
+[instances.t]
+fmu = "{trivial}"
+[instances.b]
+fmu = "{bounce2}"
+solver = "euler"
+solver_step = 0.01
+start = { g = 1.0 }
+"""
+
+
+def test_fmi_2_fmus_and_their_interfaces_run_from_an_ssp_1_archive_as_from_its_system_file(tmp_path, fmus, write_system):
+    """A component's implementation is the instance's interface, robogen's annotation its solver:
+    the same rows as the system file; the ME lag by CVode: x = 1 - exp(-t / 0.25) (u = 1)."""
+    names = ("lag2me", "lag2", "trivial", "bounce2")
+    ssp = ssp_samples.write_ssp(tmp_path / "interfaces.ssp", INTERFACES_SSD, {f"{n}.fmu": fmus[n] for n in names})
+    from_ssp = simulate_system(ssp, step=0.1, output=tmp_path / "ssp.csv")
+    simulate_system(write_system(INTERFACES_TOML), output=tmp_path / "toml.csv")
+    assert (tmp_path / "ssp.csv").read_bytes() == (tmp_path / "toml.csv").read_bytes()
+    for r in rows_of(from_ssp):
+        assert r["me.x"] == pytest.approx(1 - math.exp(-r["time"] / 0.25), rel=1e-4, abs=1e-6)
+        assert r["b.h"] == pytest.approx(1 - r["time"] ** 2 / 2, abs=0.01 * r["time"])  # Euler's error: h t / 2
+    fmu_files = {f"{n}.fmu": fmus[n] for n in names}
+    for case, (before, after) in {"solver": ('solver="euler"', 'solver="rk4"'), "interface": (
+            'source="resources/lag2.fmu"', 'source="resources/lag2.fmu" implementation="ModelExchange"')}.items():
+        bad = ssp_samples.write_ssp(tmp_path / f"{case}.ssp", INTERFACES_SSD.replace(before, after), fmu_files)
+        with pytest.raises(RobogenError) as exc:
+            simulate_system(bad, step=0.1)
+        line = INTERFACES_SSD.count("\n", 0, INTERFACES_SSD.index(before)) + 1
+        message = {"solver": "'solver' must be one of cvode, euler, not 'rk4'",
+                   "interface": "the FMU does not offer FMI 2.0 model exchange"}[case]
+        assert [(d.span.line, d.message) for d in exc.value.diagnostics] == [(line, message)]

@@ -6,7 +6,9 @@ integer or enumeration type), in their unit where both give one; a Clock connect
 clock of the FMU, of its interval variability, and a connector's ``<ssd:Clock>`` associations
 must be the clocks that clock it. A fixed or tunable input clock's ``intervalDecimal`` and
 ``shiftDecimal`` set its timing, as ``[instances.X] clocks`` does in a system file; robogen's own
-instance settings (``isolate``) come from a robogen annotation of the component.
+instance settings (``isolate``, a Model Exchange FMU's ``solver`` and ``solverStep``) come from a
+robogen annotation of the component. Its ``implementation`` chooses the interface the FMU is used
+through, as ``[instances.X] interface`` does (``any``: co-simulation where the FMU offers it).
 """
 
 from __future__ import annotations
@@ -16,7 +18,7 @@ from pathlib import Path
 
 from robogen.cosim.ssp_flatten import Leaf
 from robogen.cosim.ssp_model import ROBOGEN_NS, Connector
-from robogen.cosim.system import InstanceSpec
+from robogen.cosim.system import SOLVERS, InstanceSpec
 from robogen.cosim.units import UnitDef
 from robogen.diagnostics import DiagnosticSink, Note, did_you_mean
 from robogen.fmu.modeldesc import ModelDescription, Variable
@@ -25,8 +27,10 @@ REALS = ("Float32", "Float64")
 INTEGERS = ("Int8", "UInt8", "Int16", "UInt16", "Int32", "UInt32", "Int64", "UInt64")
 #: SSP 1.0's generic types: the FMI types each stands for
 GENERIC = {"Real": REALS, "Integer": INTEGERS, "Enumeration": ("Enumeration",)}
-IMPLEMENTATIONS = ("any", "CoSimulation")
-INSTANCE_ATTRS = ("isolate",)
+#: a component's implementation: the interface its instance uses ([instances.X] interface; None: the default)
+IMPLEMENTATIONS = {"any": None, "CoSimulation": "co-simulation", "ModelExchange": "model-exchange",
+                   "ScheduledExecution": "scheduled-execution"}
+INSTANCE_ATTRS = ("isolate", "solver", "solverStep")
 
 
 def type_fits(ssp_type: str, fmi_type: str) -> bool:
@@ -38,9 +42,7 @@ def instance_spec(leaf: Leaf, fmu: Path, units: dict[str, UnitDef], sink: Diagno
     problem of its connectors and settings into ``sink``."""
     c = leaf.component
     spec = InstanceSpec(leaf.instance, fmu, c.el.span, c.el.at("source"))
-    if c.implementation not in IMPLEMENTATIONS:
-        sink.error(f"component '{c.name}' asks for the FMU's {c.implementation} interface: robogen runs FMI 3.0 "
-                   "Co-Simulation", c.el.at("implementation"))
+    spec.interface = IMPLEMENTATIONS.get(c.implementation)  # the schema's rules hold it to these
     md = leaf.md
     names = md.by_name()
     for connector in c.connectors.values():
@@ -114,7 +116,8 @@ def _clock_timing(connector: Connector, var: Variable, spec: InstanceSpec, sink:
 
 
 def _settings(leaf: Leaf, spec: InstanceSpec, sink: DiagnosticSink) -> None:
-    """robogen's settings of an instance: <rg:Instance isolate="true"/> in a robogen annotation."""
+    """robogen's settings of an instance, in a robogen annotation: <rg:Instance isolate="true"
+    solver="euler" solverStep="0.001"/> ([instances.X] isolate, solver, solver_step)."""
     for el in leaf.component.annotations:
         if el.ns != ROBOGEN_NS or el.tag != "Instance":
             sink.error(f"a robogen annotation of a component holds <rg:Instance> (namespace {ROBOGEN_NS}), not <{el.tag}>", el.span)
@@ -122,7 +125,24 @@ def _settings(leaf: Leaf, spec: InstanceSpec, sink: DiagnosticSink) -> None:
         for name, value in el.attrib.items():
             if name not in INSTANCE_ATTRS:
                 sink.error(f"<rg:Instance> has no attribute '{name}'{did_you_mean(name, INSTANCE_ATTRS)}", el.at(name))
-            elif value not in ("true", "false"):
-                sink.error(f"'{name}' must be true or false", el.at(name))
-            else:
+            elif name == "isolate" and value not in ("true", "false"):
+                sink.error("'isolate' must be true or false", el.at(name))
+            elif name == "isolate":
                 spec.isolate = value == "true"
+            elif name == "solver" and value not in SOLVERS:
+                sink.error(f"'solver' must be one of {', '.join(SOLVERS)}, not '{value}'{did_you_mean(value, SOLVERS)}",
+                           el.at(name))
+            elif name == "solver":
+                spec.solver = value
+            elif (step := _positive(value)) is None:
+                sink.error(f"'solverStep' must be a positive number, not '{value}'", el.at(name))
+            else:
+                spec.solver_step = step
+
+
+def _positive(text: str) -> float | None:
+    try:
+        value = float(text)
+    except ValueError:
+        return None
+    return value if math.isfinite(value) and value > 0 else None

@@ -25,11 +25,12 @@ from pathlib import Path
 from lxml import etree
 
 from robogen import __version__
-from robogen.cosim.assemble import FmuCache, read_system
+from robogen.cosim.assemble import FmuCache, check_system, read_system
 from robogen.cosim.ssp_flatten import fmu_unit
 from robogen.cosim.ssp_model import ROBOGEN_NS, ROBOGEN_TYPE
 from robogen.cosim.ssp_schema import SSC, SSD, SSV
-from robogen.cosim.system import Connection, System, resolve
+from robogen.cosim.ssp_components import IMPLEMENTATIONS
+from robogen.cosim.system import SOLVERS, Connection, System
 from robogen.cosim.units import SI_BASE_UNITS, UnitDef, UnitMismatch, conversion
 from robogen.diagnostics import DiagnosticSink, RobogenError, error
 from robogen.fmu.archive import write_fmu
@@ -52,15 +53,7 @@ def export_ssp(path: str | Path, output: str | Path, warn=None) -> Path:
                                       "SSP cannot hold: export the system without it", spec.scenario_span)
                                 for spec in players])
         target = output_file(output, inputs=[path, *(spec.fmu for spec in system.instances.values())])
-        models = {}
-        sink = DiagnosticSink()
-        for name, spec in system.instances.items():
-            try:
-                models[name] = cache.load(spec.fmu, spec.fmu_span)[1]
-            except RobogenError as exc:
-                sink.extend(exc.diagnostics)
-        sink.raise_if_errors()
-        resolve(system, models)  # a system that would not run is not written: the same checks, located
+        models = check_system(system, cache, warn or (lambda d: None))  # a system that would not run is not written
         writer = _Writer(system, models)
         ssd = writer.document()
         return write_fmu(target, {"SystemStructure.ssd": ssd, **writer.resources})
@@ -135,8 +128,12 @@ class _Writer:
         spec, md = self.system.instances[name], self.models[name]
         connectors = [self.connector(name, md, v) for v in md.variables if v.causality in CONNECTOR_KINDS]
         bindings = self.start_values(name, md)
-        settings = (_annotations(_rg("Instance", {"isolate": "true"})) if spec.isolate else None)
-        return _el(SSD, "Component", {"name": name, "type": "application/x-fmu-sharedlibrary", "source": source},
+        attrs = {"isolate": "true" if spec.isolate else None, "solver": spec.solver if spec.solver != SOLVERS[0] else None,
+                 "solverStep": decimal(spec.solver_step) if spec.solver_step is not None else None}
+        settings = _annotations(_rg("Instance", attrs)) if any(v is not None for v in attrs.values()) else None
+        implementation = next((k for k, v in IMPLEMENTATIONS.items() if v == spec.interface), None)
+        return _el(SSD, "Component", {"name": name, "type": "application/x-fmu-sharedlibrary", "source": source,
+                                      "implementation": implementation if spec.interface is not None else None},
                    _el(SSD, "Connectors", {}, *connectors) if connectors else None, bindings, settings)
 
     def connector(self, instance: str, md: ModelDescription, var: Variable) -> etree._Element:

@@ -2,7 +2,7 @@
 describes it (docs/system-toml.md), whatever file the system was read from.
 
 An SSP's system (:mod:`robogen.cosim.ssp_read`) written this way runs as the SSP does: its
-flattened instances, their start values and clock timings, its connections (a converting one as
+flattened instances, their start values, clock timings and interfaces, its connections (a converting one as
 a connection table with its factor and offset), its experiment and robogen's settings. Campaigns
 over an SSP derive each run's system file from it (:mod:`robogen.campaign`).
 """
@@ -11,7 +11,7 @@ from __future__ import annotations
 
 from typing import Callable
 
-from robogen.cosim.system import InstanceSpec, System
+from robogen.cosim.system import SOLVERS, InstanceSpec, System
 
 
 def toml_data(system: System, fmu: Callable[[InstanceSpec], str] = lambda spec: str(spec.fmu)) -> dict:
@@ -42,4 +42,7 @@ def _instance(spec: InstanceSpec, fmu: Callable[[InstanceSpec], str]) -> dict:
         instance["clocks"] = {name: dict(timing) for name, (timing, _span) in spec.clocks.items()}
     if spec.isolate:
         instance["isolate"] = True
+    settings = {"interface": spec.interface, "solver": spec.solver if spec.solver != SOLVERS[0] else None,
+                "solver_step": spec.solver_step}
+    instance.update((k, v) for k, v in settings.items() if v is not None)
     return instance
