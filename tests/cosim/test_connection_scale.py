@@ -95,3 +95,49 @@ def test_factor_one_and_offset_zero_is_no_conversion(write_system):
 
     assert load_system(path).connections[0].scale is None
     assert simulate_system(path).rows[-1] == [0.3, 0, pytest.approx(0.3), pytest.approx(0.5)]
+
+
+#: one conversion step per connection: the factor and offset, then the input's type (issue 19's
+#: conversions between real types, and between clock domains)
+ONE_STEP = """connections = [
+  { from = "a.y_f64", to = "b.u_f32", factor = FACTOR },
+  { from = "a.c_f64", to = "t.u", factor = 2.0, offset = 1.0 },
+]
+[experiment]
+stop = 1.0
+step = 0.1
+[instances.a]
+fmu = "{alltypes}"
+[instances.b]
+fmu = "{alltypes}"
+[instances.t]
+fmu = "{trivial}"
+[record]
+variables = ["a.y_f64", "b.u_f32", "a.c_f64", "t.y"]
+"""
+
+
+def test_a_connection_converts_in_one_step_in_both_loops(write_system, monkeypatch):
+    """A Float64 scaled into a Float32 input (the product rounded once), and a clocked value scaled
+    into an input that is not clocked (held between a's ticks): the same rows in both loops; a
+    product past the largest Float32 stops both runs alike, at the connection, with that product."""
+    path = write_system(ONE_STEP.replace("FACTOR", "-0.5"))
+    python, c = run(path, "Python", monkeypatch), run(path, "C", monkeypatch)
+    assert c.rows == python.rows
+    rows = [dict(zip(c.columns, r)) for r in c.rows]
+    for r in rows:
+        assert r["b.u_f32"] == f32(-0.5 * r["a.y_f64"])
+    held, plain = None, [r for r in rows if r["superdense"] == 0]
+    for before, now in zip(plain, plain[1:]):
+        held = next((r["a.c_f64"] for r in reversed(rows) if r["a.c_f64"] is not None and r["time"] <= before["time"]), held)
+        assert now["t.y"] == pytest.approx(2.0 * held + 1.0 + now["time"])  # trivial: y = u + t
+    overflow = write_system(ONE_STEP.replace("FACTOR", "1e39"), name="overflow.toml")
+    errors = []
+    for loop in ("Python", "C"):
+        with pytest.raises(RobogenError) as exc:
+            run(overflow, loop, monkeypatch)
+        d = exc.value.diagnostics[0]
+        errors.append((d.span.line, d.message))
+    assert errors[0] == errors[1]
+    assert errors[0] == (2, "connection 'a.y_f64 -> b.u_f32': the value 1.6e+39 of Float64 'a.y_f64' does not fit the "
+                            "input's type Float32 at t=0; the results recorded so far are kept")  # y_f64 = u_f64 + 0.1 = 1.6
