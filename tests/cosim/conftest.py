@@ -83,3 +83,23 @@ def robogen_process(tmp_path):
                               text=True, timeout=timeout, env={**os.environ, "TMPDIR": str(tmp), **(env or {})})
 
     return run
+
+
+@pytest.fixture(scope="session")
+def unit_fmus(tmp_path_factory, fmu_builder) -> dict[str, Path]:
+    """The trivial FMU (y = u + t) in units: 'm' (u and y in metres, defined: BaseUnit m=1),
+    'mm' (in millimetres, defined: m=1, factor 0.001) and 'cm' (in centimetres, named by the
+    variables but not defined by the model description)."""
+    import dataclasses
+
+    from robogen.fmu.modeldesc import Unit
+
+    folder = tmp_path_factory.mktemp("unit-fmus")
+    definitions = {"m": Unit("m", (("m", 1),)), "mm": Unit("mm", (("m", 1),), factor="0.001"), "cm": None}
+    built = {}
+    for name, unit in definitions.items():
+        spec = dict(fmu_builder.MODELS["trivial"])
+        spec["vars"] = [dataclasses.replace(v, unit=name) if v.name in ("u", "y") else v for v in spec["vars"]]
+        spec["units"] = () if unit is None else (unit,)
+        built[name] = fmu_builder.build("trivial", folder / name, spec=spec, source=fmu_builder.HERE / "trivial.c")
+    return built

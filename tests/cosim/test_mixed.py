@@ -1,6 +1,7 @@
 """The mixed system of examples/mixed/system.toml: the UR5e d-model (FMI 3.0, generated, clocks)
 commanding an FMI 2.0 Model Exchange gantry, its target cell held in the gantry's Integer inputs;
-run as its comment says, checked against the gantry's response by hand, and plotted."""
+run as its comment says, checked against the gantry's response by hand, plotted, and run again
+from its SSP 2.0 export (robogen export-ssp) to the same bytes."""
 
 from __future__ import annotations
 
@@ -38,3 +39,12 @@ def test_the_ur5e_d_model_commands_an_fmi2_model_exchange_plant(tmp_path, other_
     figure = build / "results.png"
     assert main(["plot", str(build / "results.csv"), "--vars", "plant.*", "dmodel.movediscrete*", "-o", str(figure)]) == 0
     assert figure.stat().st_size > 10_000
+    # the same system as SSP 2.0 (FMI 2.0 ME, a generated FMU with clocks, a Python FMU): the same results
+    from robogen.cosim.ssp_write import export_ssp
+    from support.ssp import SCHEMAS, validate
+
+    ssp = export_ssp(system, build / "mixed.ssp")
+    if SCHEMAS.is_dir():
+        validate(ssp)
+    simulate_system(ssp, output=build / "ssp.csv")
+    assert (build / "ssp.csv").read_bytes() == (build / "results.csv").read_bytes()

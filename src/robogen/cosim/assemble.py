@@ -24,6 +24,7 @@ from robogen.cosim.plan import make_plan
 from robogen.cosim.player import ScenarioBinding, player_description, player_links
 from robogen.cosim.proxy import ProxyBinding
 from robogen.cosim.recorder import Recorder
+from robogen.cosim.ssp_read import is_ssp, load_ssp
 from robogen.cosim.scenario import load_scenario, timeline
 from robogen.cosim.system import Link, System, load_system, record_list, resolve
 from robogen.cosim.clocks import PERIODIC
@@ -48,20 +49,14 @@ def build_master(path: Path, *, stop=None, step=None, output=None, events=None, 
     the warnings found before the run (default: printed on stderr); ``bindings``: instances the
     caller binds itself, by name, ``make(name, model_description, notes)`` giving an object with
     the binding's methods in place of the FMU's binary (the reference interpreter of a model)."""
-    system = load_system(path)
-    output, events = _outputs(system, output, events)
-    options = _options(system, stop, step, realtime, progress, warn or _print_warning)
     cache = cache if cache is not None else FmuCache()
     notes = notes if notes is not None else CallNotes()
     try:
-        loaded = _load_fmus(system, cache)
-        choices = _interfaces(system, loaded, options.step, warn or _print_warning)
-        players = _players(system, {n: md for n, (_folder, md) in loaded.items()}, options, notes)
-        loaded.update({n: (binding.scenario.path.parent, binding.md) for n, binding in players.items()})
+        system = read_system(path, cache, warn or _print_warning)
+        output, events = _outputs(system, output, events)
+        options = _options(system, stop, step, realtime, progress, warn or _print_warning)
+        loaded, choices, players, links = _checked(system, cache, warn or _print_warning, options, notes)
         models = {n: md for n, (_folder, md) in loaded.items()}
-        links = resolve(system, models)
-        links += _player_links(system, players, models, links)
-        _check_event_mode(system, models)
         instances = []
         for name in dependency_order(system, links):
             folder, md = loaded[name]
@@ -87,6 +82,37 @@ def build_master(path: Path, *, stop=None, step=None, output=None, events=None, 
     except BaseException:
         cache.close()
         raise
+
+
+def check_system(system: System, cache: FmuCache, warn: Callable[[Diagnostic], None]) -> dict[str, ModelDescription]:
+    """The checks of a run that need the FMUs (loaded into ``cache``) of a system without scenario
+    players: each instance's FMU and interface, the connections, Event Mode; the model description
+    the master works with per instance (the interface's view). A located error for every problem."""
+    loaded, _choices, _players, _links = _checked(system, cache, warn, None, CallNotes())
+    return {n: md for n, (_folder, md) in loaded.items()}
+
+
+def _checked(system: System, cache: FmuCache, warn: Callable[[Diagnostic], None], options: RunOptions | None,
+             notes: CallNotes) -> tuple[dict, dict, dict, list[Link]]:
+    """The FMUs loaded (each as the master sees it through its interface), the interfaces chosen,
+    the scenario players and the connections, all checked."""
+    loaded = _load_fmus(system, cache)
+    choices = _interfaces(system, loaded, warn)
+    players = _players(system, {n: md for n, (_folder, md) in loaded.items()}, options, notes)
+    loaded.update({n: (binding.scenario.path.parent, binding.md) for n, binding in players.items()})
+    models = {n: md for n, (_folder, md) in loaded.items()}
+    links = resolve(system, models)
+    links += _player_links(system, players, models, links)
+    _check_event_mode(system, models)
+    return loaded, choices, players, links
+
+
+def read_system(path: Path, cache: FmuCache, warn: Callable[[Diagnostic], None]) -> System:
+    """The system at ``path``: a system file (TOML), or an SSP (``.ssp`` archive, ``.ssd`` file)
+    whose archive and FMUs ``cache`` unpacks."""
+    if is_ssp(path):
+        return load_ssp(path, cache.root / "ssp", lambda fmu, span: cache.load(fmu, span)[1], warn)
+    return load_system(path)
 
 
 def _outputs(system: System, output, events) -> tuple[Path | None, Path | None]:
@@ -167,7 +193,7 @@ def _player_links(system: System, players: dict[str, ScenarioBinding], models: d
     return made
 
 
-def _interfaces(system: System, loaded: dict[str, tuple[Path, ModelDescription]], step: float,
+def _interfaces(system: System, loaded: dict[str, tuple[Path, ModelDescription]],
                 warn: Callable[[Diagnostic], None]) -> dict[str, tuple[ModelDescription, interfaces.Choice]]:
     """Each instance's interface (``[instances.X] interface``, else co-simulation where offered):
     its description replaced in ``loaded`` by the one the master works with (the adapter's, where
@@ -281,9 +307,9 @@ def _options(system: System, stop, step, realtime, progress, warn: Callable[[Dia
     stop = system.stop if stop is None else float(stop)
     step = system.step if step is None else float(step)
     if stop is None:
-        raise RobogenError.at("no stop time: give [experiment] stop = ... or --stop", system.span("experiment"))
+        raise RobogenError.at(f"no stop time: give {_setting(system, 'stop')} or --stop", system.span("experiment"))
     if step is None:
-        raise RobogenError.at("no communication step: give [experiment] step = ... or --step", system.span("experiment"))
+        raise RobogenError.at(f"no communication step: give {_setting(system, 'step')} or --step", system.span("experiment"))
     if not (math.isfinite(step) and step > 0):
         raise RobogenError.at(f"the communication step must be positive, not {step}", step_span)
     if not math.isfinite(stop) or stop < system.start:
@@ -292,6 +318,14 @@ def _options(system: System, stop, step, realtime, progress, warn: Callable[[Dia
         raise RobogenError.at(f"the real-time factor must be positive, not {realtime}", None)
     _check_step(system, stop, step, step_span, warn)
     return RunOptions(system.start, stop, step, realtime, progress)
+
+
+def _setting(system: System, name: str) -> str:
+    """Where the system's file gives the setting ``name`` (stop or step)."""
+    if not is_ssp(system.path):
+        return f"[experiment] {name} = ..."
+    return ("<ssd:DefaultExperiment stopTime=...>" if name == "stop"
+            else '<rg:Experiment step=...> in a robogen annotation of <ssd:DefaultExperiment> (docs/ssp.md)')
 
 
 def _resolution(system: System, models: dict[str, ModelDescription], step: float) -> float | None:

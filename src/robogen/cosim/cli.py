@@ -1,4 +1,4 @@
-"""``robogen simulate SYSTEM.toml [--stop T] [--step H] [-o RESULTS.csv|RESULTS.parquet] [--events E.jsonl] [--realtime[=FACTOR]] [--isolate]``.
+"""``robogen simulate SYSTEM.toml|SYSTEM.ssp|SYSTEM.ssd [--stop T] [--step H] [-o RESULTS.csv|RESULTS.parquet] [--events E.jsonl] [--realtime[=FACTOR]] [--isolate]``.
 
 Exit status: 0 the run reached its stop time; 1 a problem in the input or an FMU that failed (or
 crashed in its worker process, with ``--isolate``); 4 an FMU asked to terminate before the stop
@@ -42,9 +42,10 @@ def _number(text: str) -> float:
 
 
 def configure(parser: argparse.ArgumentParser) -> None:
-    parser.add_argument("system", metavar="SYSTEM.toml|MODEL|S.toml",
-                        help="the system description (TOML, see docs/system-toml.md); with --scenario, the model (or its "
-                             "FMU); or a scenario that names its model (docs/scenarios.md)")
+    parser.add_argument("system", metavar="SYSTEM.toml|SYSTEM.ssp|MODEL|S.toml",
+                        help="the system description: a system file (TOML, docs/system-toml.md) or an SSP (an .ssp "
+                             "archive or an .ssd file, docs/ssp.md); with --scenario, the model (or its FMU); or a "
+                             "scenario that names its model (docs/scenarios.md)")
     parser.add_argument("--stop", type=_number, help="stop time (overrides [experiment] stop)")
     parser.add_argument("--step", type=_number, help="communication step (overrides [experiment] step)")
     parser.add_argument("-o", "--output", default=str(DEFAULT_OUTPUT),

@@ -145,6 +145,8 @@ typedef struct {
     const int *link_read;    /* per link: the read and the index in it of the source's value */
     const int *link_index;
     const uint32_t *link_vr; /* the target input */
+    const bool *link_scaled; /* a real converted on its way: factor * value + offset (NULL: no link is) */
+    const double *link_factor, *link_offset;
     bool connected;          /* any value link or clock route */
     int n_edges;             /* connections between two instances (for naming an algebraic loop) */
     /* -- clocks ---------------------------------------------------------------------------- */
@@ -189,6 +191,8 @@ typedef struct {
     const int *batch_kind, *batch_first, *batch_count;
     const int *batch_cell;   /* per value of a batch: the source cell, the target's value reference */
     const uint32_t *batch_vr;
+    const bool *batch_scaled; /* per value of a batch, as link_scaled */
+    const double *batch_factor, *batch_offset;
     /* -- record slots ---------------------------------------------------------------------- */
     int n_columns;           /* the recorded columns after time and superdense */
     const int *column_kind;  /* enum rg_column */

@@ -136,18 +136,19 @@ static void wake(rg_engine *r, int w, int edge)
     r->woken_edge[w] = edge;
 }
 
-/* Cell c's value as slot i of a Set call of kind `kind` (its own, or converted: a connection
- * between clock domains, or between FMI 2.0 and 3.0): 0, or -7 where it does not fit input vr of w. */
-static int carried(rg_engine *r, int c, int kind, int i, int w, uint32_t vr)
+/* Value `at` of the batches (its source cell's) as slot i of a Set call of kind `kind`: its own,
+ * or converted in one step (the connection's factor and offset, then the input's type: between
+ * clock domains, between FMI 2.0 and 3.0); 0, or -7 where it does not fit input vr of w. */
+static int carried(rg_engine *r, int at, int kind, int i, int w, uint32_t vr)
 {
+    int c = r->p->batch_cell[at], from = r->p->cell_kind[c];
     uint64_t raw = r->cell_raw[c];
-    int from = r->p->cell_kind[c];
     rg_value value;
     if (is_bytes(kind)) { /* the copy's bytes (a C string) and size */
         ((const char **)r->set_scratch)[i] = r->arena.data + raw + sizeof(size_t);
         memcpy(&r->get_sizes[i], r->arena.data + raw, sizeof(size_t));
     } else if (kind == K_F64 || kind == K_F32) {
-        double d = real_of(from, &raw, 0);
+        double d = converted(r->p->batch_scaled, r->p->batch_factor, r->p->batch_offset, at, real_of(from, &raw, 0));
         float f = (float)d;
         if (kind == K_F32 && isfinite(d) && fabs(d) > FLT_MAX) {
             value.d = d;
@@ -189,8 +190,7 @@ static int forward_route(rg_engine *r, int q)
         int n = r->p->batch_count[b], kind = r->p->batch_kind[b];
         const uint32_t *vrs = r->p->batch_vr + r->p->batch_first[b];
         for (i = 0; i < n; i++) {
-            int c = r->p->batch_cell[r->p->batch_first[b] + i];
-            if ((st = carried(r, c, kind, i, w, vrs[i])) != 0) return st;
+            if ((st = carried(r, r->p->batch_first[b] + i, kind, i, w, vrs[i])) != 0) return st;
         }
         *r->p->note_call = r->p->batch_note[b];
         if (kind == K_BINARY)

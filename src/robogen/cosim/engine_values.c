@@ -356,6 +356,13 @@ static bool narrowed(rg_engine *s, int g, int link, int from, rg_value value, bo
     return false;
 }
 
+/* A real on its way along connection k of a table (the value links', or the clocked batches'):
+ * factor * v + offset where k converts it (Link.scale; scaled NULL: no connection converts). */
+static double converted(const bool *scaled, const double *factor, const double *offset, int k, double v)
+{
+    return scaled != NULL && scaled[k] ? factor[k] * v + offset[k] : v;
+}
+
 /* Whether an integer of kind `from` (widened by integer_of) fits kind `to`. */
 static bool fits(int from, int to, uint64_t v)
 {
@@ -393,8 +400,9 @@ static void put_integer(void *values, int to, int j, uint64_t v)
 
 /* Whether a link's source value differs from the value last set (as Python's != compares them:
  * NaN differs from itself, -0.0 equals 0.0); if it does, it becomes the value last set, and goes
- * into slot j of the Set call's arrays, converted to the input's type (a connection between FMI
- * 2.0 and 3.0, or between integer types). False with *no_memory when a copy cannot be made, with
+ * into slot j of the Set call's arrays, converted in one step: a real by the connection's factor
+ * and offset (Link.scale), then to the input's type (a connection between FMI 2.0 and 3.0, or
+ * between integer or real types). False with *no_memory when a copy cannot be made, with
  * *narrowing when the value does not fit the input's type (s->range_link says which link). */
 static bool changed(rg_engine *s, int g, int link, int j, bool *no_memory)
 {
@@ -402,7 +410,8 @@ static bool changed(rg_engine *s, int g, int link, int j, bool *no_memory)
     size_t i = (size_t)s->p->link_index[link], size;
     rg_value *last = s->last + link;
     if (kind == K_F64 || kind == K_F32) {
-        double v = real_of(from, s->p->buffer[r], i);
+        double v = converted(s->p->link_scaled, s->p->link_factor, s->p->link_offset, link,
+                             real_of(from, s->p->buffer[r], i));
         float f;
         if (s->last_valid[link] && !(v != last->d)) return false;
         if (kind == K_F32 && isfinite(v) && fabs(v) > FLT_MAX) {

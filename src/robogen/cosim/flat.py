@@ -42,7 +42,7 @@ class _Group(NamedTuple):
 
     target: FmuInstance
     fmi_type: str
-    links: list  # (read, index in the read, target value reference) of each link
+    links: list  # (read, index in the read, target value reference, its scale or None) of each link
 
 
 class _Exchange(NamedTuple):
@@ -69,7 +69,7 @@ def _exchange(plan: Plan) -> _Exchange:
         ops += [number[id(r)] for r in u.readers]
         owners += [i] * len(u.readers)
         mine: dict[tuple[str, str], _Group] = {}
-        for vr, target, variable in links[u.name]:
+        for vr, target, variable, scale in links[u.name]:
             reader, index = u.reader_of[vr]
             key = (target.name, ACCESSOR[variable.type])
             if key not in mine:
@@ -77,7 +77,7 @@ def _exchange(plan: Plan) -> _Exchange:
                 ops.append(-1 - len(groups))
                 owners.append(i)
                 groups.append(mine[key])
-            mine[key].links.append((number[id(reader)], index, variable.value_reference))
+            mine[key].links.append((number[id(reader)], index, variable.value_reference, scale))
     return _Exchange(reads, ops + [number[id(r)] for r in recorded], groups, owners)
 
 
@@ -106,7 +106,7 @@ class Flat:
         self.columns = [(_COLUMN_KINDS[c.kind], kind(c.variable.type) if c.kind != CLOCK else None)
                         for c in plan.wiring.columns]
         #: per link: the exchange's key of its input and its kind
-        self.inputs = [((g.target.name, vr), kind(g.fmi_type)) for g in self.exchange.groups for _r, _i, vr in g.links]
+        self.inputs = [((g.target.name, vr), kind(g.fmi_type)) for g in self.exchange.groups for _r, _i, vr, _s in g.links]
 
     # -- arrays ---------------------------------------------------------------------------------
     def new(self, ctype: str, init):
@@ -242,10 +242,19 @@ class Flat:
         p.set_edge = self.array("int[]", [self.edge(group_owner[i], index[g.target.name]) for i, g in enumerate(groups)])
         links = [link for g in groups for link in g.links]
         p.n_links = len(links)
-        p.link_read = self.array("int[]", [r for r, _i, _vr in links])
-        p.link_index = self.array("int[]", [i for _r, i, _vr in links])
-        p.link_vr = self.array("uint32_t[]", [vr for _r, _i, vr in links])
+        p.link_read = self.array("int[]", [r for r, _i, _vr, _s in links])
+        p.link_index = self.array("int[]", [i for _r, i, _vr, _s in links])
+        p.link_vr = self.array("uint32_t[]", [vr for _r, _i, vr, _s in links])
+        p.link_scaled, p.link_factor, p.link_offset = self.scales([s for _r, _i, _vr, s in links])
         p.connected = bool(plan.routes) or bool(plan.domain_routes) or plan.values.connected
+
+    def scales(self, scales: list) -> tuple:
+        """Whether each value is converted on its way, and its factor and offset (three NULLs
+        where none is: the engine then converts nothing)."""
+        if not any(scales):
+            return self.ffi.NULL, self.ffi.NULL, self.ffi.NULL
+        return (self.array("bool[]", [s is not None for s in scales]), self.array("double[]", [(s or (1.0, 0.0))[0] for s in scales]),
+                self.array("double[]", [(s or (1.0, 0.0))[1] for s in scales]))
 
     def edge(self, source: int, target: int) -> int:
         return self.edges.setdefault((source, target), len(self.edges))
@@ -377,17 +386,18 @@ class Flat:
         per_route = [len(bs) for _u, (_t, _c, _s, bs) in routes]
         p.route_batch_first = self.array("int[]", _starts(per_route)[:-1])
         p.route_batch_count = self.array("int[]", per_route)
-        setters = ["fmi3Set" + ACCESSOR[fmi_type] for _t, (fmi_type, _v, _i), _c in batches]
+        setters = ["fmi3Set" + ACCESSOR[fmi_type] for _t, (fmi_type, _v, _i, _s), _c in batches]
         functions = [self.function(t, f) for (t, _b, _c), f in zip(batches, setters)]
-        binary = [fmi_type == "Binary" for _t, (fmi_type, _v, _i), _c in batches]
+        binary = [fmi_type == "Binary" for _t, (fmi_type, _v, _i, _s), _c in batches]
         p.batch_set = self.pointers("rg_set_fn[]", [fmi_ffi.NULL if b else f for f, b in zip(functions, binary)])
         p.batch_set_binary = self.pointers("rg_set_binary_fn[]", [f if b else fmi_ffi.NULL for f, b in zip(functions, binary)])
         p.batch_note = self.array("int32_t[]", [t.binding.note_code(f) for (t, _b, _c), f in zip(batches, setters)])
-        p.batch_kind = self.array("int[]", [kind(fmi_type) for _t, (fmi_type, _v, _i), _c in batches])
-        sizes = [len(vrs) for _t, (_f, vrs, _i), _c in batches]
+        p.batch_kind = self.array("int[]", [kind(fmi_type) for _t, (fmi_type, _v, _i, _s), _c in batches])
+        sizes = [len(vrs) for _t, (_f, vrs, _i, _s), _c in batches]
         p.batch_first, p.batch_count = self.array("int[]", _starts(sizes)[:-1]), self.array("int[]", sizes)
-        p.batch_cell = self.array("int[]", [cells[i] for _t, (_f, _v, indices), cells in batches for i in indices])
-        p.batch_vr = self.array("uint32_t[]", [vr for _t, (_f, vrs, _i), _c in batches for vr in vrs])
+        p.batch_cell = self.array("int[]", [cells[i] for _t, (_f, _v, indices, _s), cells in batches for i in indices])
+        p.batch_vr = self.array("uint32_t[]", [vr for _t, (_f, vrs, _i, _s), _c in batches for vr in vrs])
+        p.batch_scaled, p.batch_factor, p.batch_offset = self.scales([s for _t, (_f, _v, _i, ss), _c in batches for s in ss])
 
     def _columns(self, p, plan: Plan) -> None:
         """The record slots: per column its kind, its read (a value) or its clock or cell."""

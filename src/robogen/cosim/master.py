@@ -50,6 +50,7 @@ from robogen.cosim.instances import FmuInstance
 from robogen.cosim.plan import Plan
 from robogen.cosim.recorder import Pacer, Progress, Recorder
 from robogen.cosim.system import Link, System, fits
+from robogen.cosim.units import apply
 from robogen.cosim.wiring import CLOCK, VALUE, Narrowing, find_cycle, plain
 from robogen.diagnostics import Note, RobogenError
 from robogen.fmu.fmi import DISCARD, status_name, tolerance
@@ -438,16 +439,18 @@ class Master:
 
     @staticmethod
     def _forward(source: FmuInstance, target: FmuInstance, target_clock: int | None, sources, batches) -> None:
-        """One route: the target clock set (unless active, or none), the values it carries."""
+        """One route: the target clock set (unless active, or none), the values it carries, each
+        converted in one step as the engine converts it (its scale, then the input's type)."""
         if target_clock is not None and target_clock not in target.active:
             target.set_clocks([target_clock])
         if sources:
             values = source.clocked_values(sources)
-            for fmi_type, vrs, indices in batches:
-                for vr, i in zip(vrs, indices):
-                    if not fits(fmi_type, values[i]):
-                        raise Narrowing((target.name, vr), values[i])
-                target.set_values(fmi_type, vrs, [values[i] for i in indices])
+            for fmi_type, vrs, indices, scales in batches:
+                carried = [apply(scale, values[i]) for i, scale in zip(indices, scales)]
+                for vr, value in zip(vrs, carried):
+                    if not fits(fmi_type, value):
+                        raise Narrowing((target.name, vr), value)
+                target.set_values(fmi_type, vrs, carried)
 
     def zeno(self, t: float, k: int, needs: list[FmuInstance], ticked: dict) -> None:
         active = [f"{n}.{self.by_name[n].by_vr[vr].name}" for n, vrs in ticked.items() for vr in sorted(vrs)]

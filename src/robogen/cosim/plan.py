@@ -68,7 +68,7 @@ def make_plan(instances: list[FmuInstance], links: list[Link], record: list[tupl
 
 def _routes(wiring: Wiring) -> dict[tuple[str, int], list[tuple]]:
     """Each clock route as (target, target clock, the source variables it carries, and per type
-    (type, target value references, indices into the sources))."""
+    (type, target value references, indices into the sources, the values' scales or None))."""
     plans: dict[tuple[str, int], list[tuple]] = {}
     for key, routes in wiring.clock_routes.items():
         for route in routes:
@@ -78,13 +78,15 @@ def _routes(wiring: Wiring) -> dict[tuple[str, int], list[tuple]]:
 
 
 def _batches(values) -> list[tuple]:
-    """(type, target value references, indices into the values) per target type: one Set call each."""
-    by_type: dict[str, tuple[list[int], list[int]]] = {}
+    """(type, target value references, indices into the values, the values' scales or None) per
+    target type: one Set call each."""
+    by_type: dict[str, tuple[list[int], list[int], list]] = {}
     for i, value in enumerate(values):
-        vrs, indices = by_type.setdefault(value.target.type, ([], []))
+        vrs, indices, scales = by_type.setdefault(value.target.type, ([], [], []))
         vrs.append(value.target.value_reference)
         indices.append(i)
-    return [(fmi_type, vrs, indices) for fmi_type, (vrs, indices) in by_type.items()]
+        scales.append(value.scale)
+    return [(fmi_type, vrs, indices, scales) for fmi_type, (vrs, indices, scales) in by_type.items()]
 
 
 def _domain_routes(wiring: Wiring) -> dict[tuple[str, int], list[tuple]]:

@@ -23,7 +23,7 @@ from pathlib import Path
 
 from robogen.diagnostics import DiagnosticSink, Note, Span, did_you_mean
 from robogen.fmu.modeldesc import ModelDescription, Variable
-from robogen.cosim.tomlspan import SpanIndex, read_toml
+from robogen.cosim.tomlspan import PathSpans, SpanIndex, read_toml
 
 _ARROW = re.compile(r"^\s*(\S+)\s*->\s*(\S+)\s*$")
 TOP_KEYS = ("experiment", "instances", "connections", "record")
@@ -36,6 +36,10 @@ INTERFACES = ("co-simulation", "model-exchange", "scheduled-execution")
 SOLVERS = ("cvode", "euler")
 CLOCK_KEYS = ("interval", "shift")
 RECORD_KEYS = ("variables", "every")
+#: [experiment] max_event_iterations unless given: super-dense instants of one event iteration
+MAX_EVENT_ITERATIONS = 1000
+#: A connection written as a table: { from = "a.y", to = "b.u", factor = 1000.0, offset = 0.0 }
+CONNECTION_KEYS = ("from", "to", "factor", "offset")
 
 
 @dataclass(frozen=True)
@@ -53,6 +57,9 @@ class Connection:
     source: Endpoint
     target: Endpoint
     span: Span
+    #: a linear conversion of a real value on its way, target = factor * source + offset (a
+    #: connection table's factor and offset, an SSP file's units and LinearTransformation); None: none
+    scale: tuple[float, float] | None = None
 
 
 @dataclass
@@ -85,7 +92,7 @@ class System:
     instances: dict[str, InstanceSpec]
     connections: list[Connection]
     record: list[tuple[str, Span]] | None
-    spans: SpanIndex
+    spans: PathSpans  # where its parts are in its file (a SpanIndex of a TOML file)
     record_every: float | None = None  # [record] every: plain rows at most this often (event rows all kept)
 
     def span(self, *path) -> Span:
@@ -179,10 +186,10 @@ def _experiment(exp: dict, check: _SchemaCheck) -> tuple[float, float | None, fl
     tol = check.number(exp["tolerance"], "experiment", "tolerance", positive=True) if "tolerance" in exp else None
     if stop is not None and stop < start:
         check.error(f"stop time {stop} is before the start time {start}", "experiment", "stop")
-    max_iter = exp.get("max_event_iterations", 1000)
+    max_iter = exp.get("max_event_iterations", MAX_EVENT_ITERATIONS)
     if isinstance(max_iter, bool) or not isinstance(max_iter, int) or max_iter < 1:
         check.error("'max_event_iterations' must be a positive integer", "experiment", "max_event_iterations")
-        max_iter = 1000
+        max_iter = MAX_EVENT_ITERATIONS
     return start, stop, step, tol, max_iter
 
 
@@ -291,6 +298,9 @@ def _connections(data: dict, check: _SchemaCheck) -> list[Connection]:
         raw_conn = []
     for i, item in enumerate(raw_conn):
         span = check.idx.span("connections", i)
+        if isinstance(item, dict):
+            connections += _connection_table(item, i, check)
+            continue
         m = _ARROW.match(item) if isinstance(item, str) else None
         ends = (split_name(m.group(1)), split_name(m.group(2))) if m else (None, None)
         if not m or None in ends:
@@ -299,6 +309,25 @@ def _connections(data: dict, check: _SchemaCheck) -> list[Connection]:
         (si, sv), (ti, tv) = ends
         connections.append(Connection(Endpoint(si, sv, span), Endpoint(ti, tv, span), span))
     return connections
+
+
+def _connection_table(item: dict, i: int, check: _SchemaCheck) -> list[Connection]:
+    """{ from = "a.y", to = "b.u", factor = F, offset = O }: a connection converting a real value
+    on its way (target = F * source + O; factor 1 and offset 0 unless given)."""
+    where = ("connections", i)
+    check.unknown_keys(item, CONNECTION_KEYS, *where)
+    ends = [split_name(item[k]) if isinstance(item.get(k), str) else None for k in ("from", "to")]
+    for key, end in zip(("from", "to"), ends):
+        if end is None:
+            check.error(f"'{key}' must be \"instance.variable\"", *where, key)
+    factor = check.number(item.get("factor", 1.0), *where, "factor")
+    offset = check.number(item.get("offset", 0.0), *where, "offset")
+    if None in ends or factor is None or offset is None:
+        return []
+    span = check.idx.span(*where)
+    (si, sv), (ti, tv) = ends
+    scale = None if (factor, offset) == (1.0, 0.0) else (factor, offset)
+    return [Connection(Endpoint(si, sv, span), Endpoint(ti, tv, span), span, scale)]
 
 
 def _order(exp: dict, raw_instances: dict, check: _SchemaCheck) -> list[str]:
@@ -347,6 +376,7 @@ class Link:
     target: str
     dst: Variable
     span: Span
+    scale: tuple[float, float] | None = None  # target = factor * source + offset (Connection.scale)
 
 
 def resolve(system: System, models: dict[str, ModelDescription]) -> list[Link]:
@@ -424,7 +454,10 @@ class _ModelCheck:
         self.targets[key] = c.span
         if not self.compatible(c, src, dst):
             return None
-        return Link(c.source.instance, src, c.target.instance, dst, c.span)
+        if c.scale is not None and not (src.type in ("Float32", "Float64") and dst.type in ("Float32", "Float64")):
+            self.sink.error(f"'{c.source} -> {c.target}' converts its value (factor and offset), which only a real "
+                            f"(Float32, Float64) can be: '{c.source}' is {_kind(src)}", c.span)
+        return Link(c.source.instance, src, c.target.instance, dst, c.span, c.scale)
 
     def compatible(self, c: Connection, src: Variable, dst: Variable) -> bool:
         """Causalities, types, clocks and Event Mode fit (False only where the link makes no sense)."""

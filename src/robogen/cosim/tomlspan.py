@@ -38,10 +38,28 @@ def read_toml(path: Path, what: str) -> tuple[str, dict]:
         raise RobogenError.at(f"invalid TOML: {msg}", span) from None
 
 
-class SpanIndex:
-    def __init__(self, text: str, path: str):
-        self.text, self.path = text, path
+class PathSpans:
+    """Spans by key path; a path not recorded has its longest recorded prefix's, else ``fallback``'s.
+    What a system's spans answer, whichever file the system was read from."""
+
+    def __init__(self, fallback: Span):
+        self.fallback = fallback
         self.spans: dict[KeyPath, Span] = {}
+
+    def span(self, *path) -> Span:
+        """The span of ``path``, or of its longest recorded prefix, or the fallback (the whole file)."""
+        p = tuple(path)
+        while p:
+            if p in self.spans:
+                return self.spans[p]
+            p = p[:-1]
+        return self.fallback
+
+
+class SpanIndex(PathSpans):
+    def __init__(self, text: str, path: str):
+        super().__init__(Span.whole_file(path))
+        self.text, self.path = text, path
         self._aot_count: dict[KeyPath, int] = {}
         self.i = 0
         self._line_starts = [0] + [m.end() for m in re.finditer("\n", text)]
@@ -49,16 +67,6 @@ class SpanIndex:
             self._document()
         except (IndexError, ValueError):  # best effort: keep what was found
             pass
-
-    # -- lookup ----------------------------------------------------------------------------
-    def span(self, *path) -> Span:
-        """The span of ``path``, or of its longest recorded prefix, or of the whole file."""
-        p = tuple(path)
-        while p:
-            if p in self.spans:
-                return self.spans[p]
-            p = p[:-1]
-        return Span.whole_file(self.path)
 
     # -- scanning ----------------------------------------------------------------------------
     def _pos(self, i: int, length: int = 1) -> Span:

@@ -23,6 +23,7 @@ from typing import NamedTuple
 
 from robogen.cosim.instances import FmuInstance, Reader
 from robogen.cosim.system import Link, fits
+from robogen.cosim.units import apply
 from robogen.fmu.modeldesc import Variable
 
 #: Column kinds: a non-clocked value, a clock (1 while active, else 0), a clocked value (empty
@@ -52,11 +53,13 @@ class ValueLink(NamedTuple):
     source_vr: int
     target: FmuInstance
     target_variable: Variable
+    scale: tuple[float, float] | None = None  # a linear conversion on the way (Link.scale)
 
 
 class ClockedValue(NamedTuple):
     source: Variable
     target: Variable
+    scale: tuple[float, float] | None = None  # a linear conversion on the way (Link.scale)
 
 
 @dataclass
@@ -120,12 +123,12 @@ def _routes(instances, links, observe, watch):
                 ClockRoute(target, link.dst.value_reference))
         elif not link.src.is_clocked:
             observe[source.name].append(link.src)
-            value_links[source.name].append(ValueLink(link.src.value_reference, target, link.dst))
+            value_links[source.name].append(ValueLink(link.src.value_reference, target, link.dst, link.scale))
     for link in links:  # clocked values ride on their clock's route
         if link.src.is_clocked and not link.src.is_clock:
             for route in (r for c in link.src.clocks for r in clock_routes.get((link.source, c), [])):
                 if route.target.name == link.target and route.target_clock in link.dst.clocks:
-                    route.values.append(ClockedValue(link.src, link.dst))
+                    route.values.append(ClockedValue(link.src, link.dst, link.scale))
     return value_links, clock_routes
 
 
@@ -140,7 +143,7 @@ def _domain_routes(instances, links, watch) -> dict[tuple[str, int], list[Domain
         if not link.src.is_clocked:
             for c in link.dst.clocks:
                 routes.setdefault((link.target, c), []).append(
-                    DomainRoute(by_name[link.source], by_name[link.target], c, [ClockedValue(link.src, link.dst)]))
+                    DomainRoute(by_name[link.source], by_name[link.target], c, [ClockedValue(link.src, link.dst, link.scale)]))
     for link in crossing:  # sample and hold
         if link.src.is_clocked:
             source = by_name[link.source]
@@ -148,7 +151,7 @@ def _domain_routes(instances, links, watch) -> dict[tuple[str, int], list[Domain
                 if c in source.by_vr and source.by_vr[c].causality == "output":
                     watch[source.name].append(c)
                 routes.setdefault((source.name, c), []).append(
-                    DomainRoute(source, by_name[link.target], None, [ClockedValue(link.src, link.dst)]))
+                    DomainRoute(source, by_name[link.target], None, [ClockedValue(link.src, link.dst, link.scale)]))
     return routes
 
 
@@ -184,8 +187,8 @@ class ValueExchange:
             return set()  # nothing to forward: recording reads what it records
         u.read_outputs()
         woken = set()
-        for vr, target, variable in links:
-            value = u.value(vr)
+        for vr, target, variable, scale in links:
+            value = apply(scale, u.value(vr))  # as the engine converts it
             key = (target.name, variable.value_reference)
             if self.last_set.get(key, UNSET) != value:
                 if not fits(variable.type, value):

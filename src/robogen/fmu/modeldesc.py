@@ -101,11 +101,13 @@ class ScheduledExecution:
 @dataclass(frozen=True)
 class Unit:
     """A ``<Unit>`` of ``<UnitDefinitions>``: its name and SI base-unit exponents (None: no
-    ``<BaseUnit>``), e.g. ``Unit("m/s", (("m", 1), ("s", -1)))``. A base unit's factor and
-    offset, and display units, are not read (robogen declares SI units only)."""
+    ``<BaseUnit>``), e.g. ``Unit("m/s", (("m", 1), ("s", -1)))``, and the base unit's factor and
+    offset as decimal text (None: absent, 1 and 0). Display units are not read."""
 
     name: str
     base_unit: tuple[tuple[str, int], ...] | None = None
+    factor: str | None = None
+    offset: str | None = None
 
 
 @dataclass(frozen=True)
@@ -444,7 +446,8 @@ def _unit(el: etree._Element, source: _Source) -> Unit:
     base = el.find("BaseUnit")
     if base is None:
         return Unit(el.get("name", ""))
-    return Unit(el.get("name", ""), tuple((name, source.integer(base, name)) for name in SI_BASE_UNITS if name in base.attrib))
+    return Unit(el.get("name", ""), tuple((name, source.integer(base, name)) for name in SI_BASE_UNITS if name in base.attrib),
+                source.decimal(base, "factor"), source.decimal(base, "offset"))
 
 
 def _enumeration_type(el: etree._Element, source: _Source) -> EnumerationType:

@@ -109,7 +109,8 @@ def _interface(tag: str, interface: ModelExchange | ScheduledExecution | None) -
 
 
 def _unit(unit: Unit) -> _Element:
-    base = [] if unit.base_unit is None else [_Element("BaseUnit", [(k, str(e)) for k, e in unit.base_unit])]
+    scale = [(k, v) for k, v in (("factor", unit.factor), ("offset", unit.offset)) if v is not None]
+    base = [] if unit.base_unit is None else [_Element("BaseUnit", [(k, str(e)) for k, e in unit.base_unit] + scale)]
     return _Element("Unit", [("name", unit.name)], base)
 
 
