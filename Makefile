@@ -44,8 +44,12 @@ $(BENCH_STAMP): pyproject.toml | $(STAMP)
 	$(PY) -m pip install --quiet -e '.[test,bench]'
 	touch $(BENCH_STAMP)
 
+# The campaign tests run after, in a pytest process of their own: their Dask workers are
+# processes started from the test process, and started from an xdist worker that had run other
+# test files they failed to import robogen.fmu.modeldesc (tests/campaign alone: 44 passed).
 test: $(STAMP) runners
-	$(PY) -m pytest -q $(PYTEST_ARGS)
+	@rc=0; $(PY) -m pytest -q $(PYTEST_ARGS) --ignore=tests/campaign || rc=$$?; \
+	$(PY) -m pytest -q tests/campaign || rc=$$?; exit $$rc
 
 demo: $(STAMP)
 	$(PY) -m examples.ur5e.demo

@@ -14,7 +14,8 @@ Prints medians and ratios (never asserted anywhere), then the table of the targe
   5. isolation (robogen.cosim.proxy): one call through a worker process vs in process, a whole
      run isolated vs in process; the start of the crash watcher
   6. ECOS (bench extra, bench/ecos_peer.py): 100 chained trivial FMUs, 10,000 steps, every
-     output to a CSV file and without recording; robogen in process, ECOS's program in its own
+     output to a CSV file and without recording; robogen in process, ECOS's program in its own;
+     robogen also runs ECOS's SSP file of the chain, which must give its TOML twin's rows
 
     python bench/bench_master.py [--quick]
 """
@@ -266,13 +267,17 @@ def bench_isolation(fmus: dict[str, Path], folder: Path) -> None:
 
 def bench_ecos(fmus: dict[str, Path], folder: Path) -> None:
     n, steps, h = 100, (1_000 if QUICK else 10_000), 0.01
+    ssp = chain_ssp(fmus["trivial"], n, folder / "chain.ssp")
+    paths = {count: system(folder, f"ecos-chain-{count}", chain_system(fmus["trivial"], n, count * h, h))
+             for count in (MIN_STEPS, steps)}
+    # robogen reads the SSP 1.0 file ECOS runs (docs/ssp.md): the same rows as from its TOML twin
+    same = simulate_system(ssp, stop=MIN_STEPS * h, step=h).rows == simulate_system(paths[MIN_STEPS]).rows
+    assert same, "robogen's run of chain.ssp differs from its run of the TOML twin"
+    print("6. robogen simulate chain.ssp (the SSP 1.0 file ECOS runs): rows identical to its TOML twin's")
     ecos = Ecos.find(folder)
     if isinstance(ecos, str):
         print(f"6. ECOS: not measured: {ecos}")
         return
-    ssp = chain_ssp(fmus["trivial"], n, folder / "chain.ssp")
-    paths = {count: system(folder, f"ecos-chain-{count}", chain_system(fmus["trivial"], n, count * h, h))
-             for count in (MIN_STEPS, steps)}
     results = {}
 
     def ours(count: int, csv: bool) -> float:

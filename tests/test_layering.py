@@ -119,17 +119,18 @@ def test_no_import_cycle_between_robogen_modules():
 #: The modules of robogen.cosim in layers, lowest first: a module imports only modules of the
 #: layers below its own (docs/architecture.md draws the same picture).
 COSIM_LAYERS = (
-    ("signals", "clocks", "columnar", "tomlspan", "watch"),  # no other module of cosim
-    ("fmi3", "system"),  # the FMI 3.0 binding; the system file
-    ("instances", "recorder", "proxy", "worker", "crash", "schema", "adapters"),  # around one instance, one row
-    ("wiring",),  # who reads what, which clock goes where
-    ("plan",),  # the run's plan: what both loops execute
-    ("flat",),  # the plan as rg_plan (engine.h)
-    ("engine",),  # the plan run in C
+    ("signals", "clocks", "columnar", "tomlspan", "watch", "cbuild", "xmltree", "units"),  # no other module of cosim
+    ("fmi3", "system", "scenario", "ssp_schema"),  # the FMI 3.0 binding; the system file; scenario files; the SSP schemas' rules
+    ("instances", "recorder", "proxy", "worker", "crash", "schema", "adapters", "player",  # one instance, one row
+     "ssp_model", "ssp_package", "system_data"),  # an SSD's elements; an SSP's files; a system as TOML data
+    ("wiring", "interfaces", "ssp_params"),  # who reads what, which clock goes where; the interface adapters; SSP parameters
+    ("plan", "ssp_flatten"),  # the run's plan: what both loops execute; an SSP hierarchy flattened
+    ("flat", "ssp_components", "ssp_start"),  # the plan as rg_plan (engine.h); SSP components, start values
+    ("engine", "ssp_read"),  # the plan run in C; an SSP read into a system
     ("master",),  # the reference loop, setup and errors; runs the engine
-    ("assemble",),  # from a system file to a master
-    ("__init__", "plot"),  # the API (simulate_system), plots of results
-    ("cli",),  # the commands
+    ("assemble",),  # from a system file (or an SSP) to a master
+    ("__init__", "plot", "ssp_write"),  # the API (simulate_system), plots of results, SSP export
+    ("cli", "ssp_cli"),  # the commands
 )
 
 

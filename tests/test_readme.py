@@ -29,8 +29,9 @@ from support import ROOT, SHARED
 
 README = ROOT / "README.md"
 NOT_RUN_HERE = {"make test": "the suite itself (CI runs it)"}
-LINKED = ("Makefile", "pyproject.toml", ".venv", "examples", "src", "grammar", "docs")
-MIRRORED = ("models",)  # real folders of linked files: the README saves a file there
+LINKED = ("Makefile", "pyproject.toml", ".venv", "src", "grammar", "docs")
+# real folders of linked files: the README saves a file there, or a file there names one in build/
+MIRRORED = ("models", "examples")
 
 
 @dataclass
@@ -96,7 +97,7 @@ def sandbox(tmp_path_factory) -> Path:
             (repo / name).symlink_to(ROOT / name)
     for name in MIRRORED:
         for path in (ROOT / name).rglob("*"):
-            if path.is_file():
+            if path.is_file() and "__pycache__" not in path.parts:
                 (repo / path.relative_to(ROOT)).parent.mkdir(parents=True, exist_ok=True)
                 (repo / path.relative_to(ROOT)).symlink_to(path)
     if SHARED.is_dir():

@@ -28,7 +28,11 @@ COMMANDS: dict[str, tuple[str, str]] = {
     "package": ("robogen.codegen.package_cli", "compile and zip a model (or generated sources) into an .fmu"),
     "validate": ("robogen.fmu.validate_cli", "check an .fmu against the FMI 3.0 schema and robogen's clock rules"),
     "package-py": ("robogen.pyfmu.cli", "package a Python class as an FMI 3.0 FMU (cffi embedding)"),
-    "simulate": ("robogen.cosim.cli", "co-simulate a system of FMI 3.0 FMUs described in TOML"),
+    "simulate": ("robogen.scenarios.simulate_cli", "co-simulate a system of FMI 3.0 FMUs described in TOML or SSP, "
+                 "or a model driven by a scenario"),
+    "export-ssp": ("robogen.cosim.ssp_cli", "write a system as an SSP 2.0 archive with its FMUs"),
+    "scenario": ("robogen.scenarios.template", "write a commented skeleton of a scenario for a model or an FMU"),
+    "test": ("robogen.scenarios.runner", "run scenarios with expectations as tests (pass/fail lines, JUnit XML)"),
     "plot": ("robogen.cosim.plot", "plot a results CSV written by 'robogen simulate'"),
     "campaign": ("robogen.campaign.cli", "run many co-simulations over a parameter space on Dask"),
 }

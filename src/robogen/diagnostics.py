@@ -201,15 +201,35 @@ class SourceMap:
     def line(self, path: str, number: int) -> str | None:
         lines = self._lines.get(path)
         if lines is None:
-            try:
-                with open(path, "rb") as f:
-                    lines = _lines(f.read().decode("utf-8", errors="replace"))
-            except OSError:
-                lines = []
+            data = _read_source(path)
+            binary = data is not None and b"\x00" in data[:8192]  # an archive, a binary: no excerpt
+            lines = _lines(data.decode("utf-8", errors="replace")) if data is not None and not binary else []
             self._lines[path] = lines
         if 1 <= number <= len(lines):
             return lines[number - 1]
         return None
+
+
+def _read_source(path: str) -> bytes | None:
+    """The bytes of ``path``: a file, or a member of a ZIP archive named ``ARCHIVE/MEMBER`` (the
+    model description of an FMU, the SSD of an SSP archive); None if neither can be read."""
+    try:
+        with open(path, "rb") as f:
+            return f.read()
+    except OSError:
+        pass
+    import zipfile
+
+    parts = path.split("/")
+    for i in range(len(parts) - 1, 0, -1):
+        archive = "/".join(parts[:i])
+        if os.path.isfile(archive):
+            try:
+                with zipfile.ZipFile(archive) as z:
+                    return z.read("/".join(parts[i:]))
+            except (OSError, KeyError, zipfile.BadZipFile):
+                return None
+    return None
 
 
 def _lines(text: str) -> list[str]:

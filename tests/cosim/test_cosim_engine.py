@@ -63,6 +63,24 @@ SYSTEMS = {
     # instances in worker processes and traced: called through adapters
     "isolated": '[experiment]\nstop = 1.0\nstep = 0.1\n[instances.k]\nfmu = "{ticker}"\nisolate = true\n'
                 '[instances.s]\nfmu = "{stair}"\nisolate = true\nstart = { period = 0.25 }\n',
+    # the adapters (robogen.cosim.interfaces): a Model Exchange ball integrated by CVode returning
+    # early at its bounces, beside a co-simulation FMU ...
+    "me-bounce": '[experiment]\nstop = 2.0\nstep = 0.1\ntolerance = 1e-6\n[instances.b]\nfmu = "{bounce3}"\n'
+                 'interface = "model-exchange"\n[instances.t]\nfmu = "{trivial}"\n',
+    # ... by explicit Euler, with a time event, a step event and a terminate request (FMI 2.0)
+    "me-euler": '[experiment]\nstop = 3.0\nstep = 0.1\n[instances.b]\nfmu = "{bounce2}"\nsolver = "euler"\n'
+                'solver_step = 0.01\nstart = { kick_time = 0.25, kick = 1.0, step_event_at = 0.5, max_bounces = 3 }\n',
+    # FMI 2.0 co-simulation connected to FMI 3.0 (an Integer into an Int64 input), with a ticker's events
+    "fmi2-cs": 'connections = ["l.x -> t.u", "l.crossings -> s.u"]\n[experiment]\nstop = 2.0\nstep = 0.1\n'
+               '[instances.l]\nfmu = "{lag2}"\n[instances.t]\nfmu = "{trivial}"\n[instances.s]\nfmu = "{setcount}"\n'
+               '[instances.k]\nfmu = "{ticker}"\n',
+    # scheduled execution: two partitions at their clocks' ticks, in priority order
+    "scheduled": '[experiment]\nstop = 1.0\nstep = 0.1\n[instances.s]\nfmu = "{sched3}"\n',
+    # clock domains: sampled into a clocked input, held from a clocked output (the supervisory-control example)
+    "supervisory": 'connections = ["controller.ur -> plant.u", "plant.x -> controller.xr", "plant.x -> supervisor.x", '
+                   '"supervisor.s -> controller.s", "supervisor.as -> controller.as"]\n[experiment]\nstop = 0.8\n'
+                   'step = 0.025\n[instances.controller]\nfmu = "{controller3}"\n[instances.plant]\nfmu = "{plant2}"\n'
+                   '[instances.supervisor]\nfmu = "{supervisor3}"\n',
     # decimation: the plain rows thinned, every event row kept
     "ticker-every": '[experiment]\nstop = 3.0\nstep = 0.01\n[instances.k]\nfmu = "{ticker}"\n'
                     '[record]\nvariables = ["k.tick", "k.count", "k.phase"]\nevery = 0.3\n',
@@ -110,7 +128,7 @@ def test_the_c_run_gives_the_python_loops_results(monkeypatch, write_system, tmp
     assert c == python
     assert text[1:] == python[1:]
     assert quiet[2:] == python[2:]
-    if name not in ("stair", "stair-every-step", "stair-terminate", "ball", "rollback"):  # they have no clocks
+    if name not in ("stair", "stair-every-step", "stair-terminate", "ball", "rollback", "me-bounce", "me-euler"):  # no clocks
         assert python[3].count(b"\n") >= 10 and b'"clock": ' in python[3]
     assert python[2][1] > 0  # event iterations happened
     stats = dict(zip(STATS, python[2]))

@@ -117,3 +117,21 @@ def test_realtime_pacing_reports_lag(runs, tmp_path):
                           capture_output=True, text=True, cwd=ROOT)
     assert proc.returncode == 0, proc.stderr
     assert "lag" in proc.stderr and "overrun" in proc.stderr
+
+
+def test_the_system_exported_to_ssp_2_runs_byte_for_byte_alike(runs, tmp_path):
+    """models/ur5e/system.toml as an SSP 2.0 archive (robogen export-ssp): valid against the SSP
+    2.0 schemas, and the same results, events and statistics from the archive as from the file."""
+    from robogen.cosim.ssp_write import export_ssp
+    from support.ssp import SCHEMAS, validate
+
+    ssp = export_ssp(ROOT / "models/ur5e/system.toml", tmp_path / "ur5e.ssp")
+    if SCHEMAS.is_dir():
+        validate(ssp)
+    outcomes = []
+    for name, path in (("toml", ROOT / "models/ur5e/system.toml"), ("ssp", ssp)):
+        result = simulate_system(path, output=tmp_path / f"{name}.csv", events=tmp_path / f"{name}.jsonl", keep_rows=False)
+        outcomes.append(((tmp_path / f"{name}.csv").read_bytes(), (tmp_path / f"{name}.jsonl").read_bytes(),
+                         result.stats.steps, result.stats.event_iterations, result.stats.instants))
+    assert outcomes[1] == outcomes[0]
+    assert outcomes[0][0].count(b"\n") > 400

@@ -10,7 +10,7 @@ import pytest
 
 from robogen.cli import main
 from robogen.diagnostics import RobogenError
-from robogen.fmu.extract import Limits, extract_fmu
+from robogen.fmu.extract import Limits, extract_fmu, needed_to_run
 
 
 def make_zip(path, members):
@@ -91,3 +91,32 @@ def test_simulate_and_validate_reject_a_zip_slip_fmu(tmp_path, capsys):
     err = capsys.readouterr().err
     assert err.count("unsafe archive member '../../slip.txt': member path contains '..'") == 2
     assert not (tmp_path.parent / "slip.txt").exists() and not (tmp_path / "slip.txt").exists()
+
+
+def test_a_member_listed_twice_is_accepted_when_both_copies_are_the_same_and_refused_when_they_differ(tmp_path):
+    # as CMake's zip writer lists a member twice (the Reference FMUs' Roberts model)
+    import warnings
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")  # zipfile warns of the duplicate name it is asked to write
+        same = make_zip(tmp_path / "same.fmu", [("modelDescription.xml", MD, None), ("resources/a.txt", b"one", None),
+                                                ("resources/a.txt", b"one", None)])
+        different = make_zip(tmp_path / "different.fmu", [("modelDescription.xml", MD, None), ("resources/a.txt", b"one", None),
+                                                          ("resources/a.txt", b"two", None)])
+    dest = extract_fmu(same, tmp_path / "s")
+    assert (dest / "resources" / "a.txt").read_bytes() == b"one"
+    with pytest.raises(RobogenError) as exc:
+        extract_fmu(different, tmp_path / "d")
+    assert exc.value.diagnostics[0].message == "archive member 'resources/a.txt' appears twice with different contents"
+
+
+def test_the_master_extracts_only_what_it_runs_an_fmu_from_and_checks_every_member(tmp_path):
+    members = [("modelDescription.xml", MD, None), ("binaries/x86_64-linux/m.so", b"elf", None),
+               ("resources/data.txt", b"1", None), ("sources/m.c", b"int x;", None), ("documentation/index.html", b"", None)]
+    folder = extract_fmu(make_zip(tmp_path / "m.fmu", members), tmp_path / "m", wanted=needed_to_run)
+    assert sorted(str(p.relative_to(folder)) for p in folder.rglob("*") if p.is_file()) == [
+        "binaries/x86_64-linux/m.so", "modelDescription.xml", "resources/data.txt"]
+    bad = make_zip(tmp_path / "bad.fmu", [*members, ("sources/../../evil.c", b"", None)])
+    with pytest.raises(RobogenError) as exc:
+        extract_fmu(bad, tmp_path / "bad", wanted=needed_to_run)
+    assert exc.value.diagnostics[0].message == "unsafe archive member 'sources/../../evil.c': member path contains '..'"

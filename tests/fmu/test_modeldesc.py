@@ -82,7 +82,7 @@ def test_elements_are_located_at_the_line_where_they_open():
     ('intervalDecimal="0.25"', 'intervalDecimal="quarter"', 46, "intervalDecimal: 'quarter' is not a number"),
     ('dependencies="14 11"', 'dependencies="14 b"', 55, "dependencies: '14 b' is not a list of value references"),
     ('<Item name="On" value="7"', '<Item name="On" value="seven"', 13, "value: 'seven' is not an integer"),
-    ('fmiVersion="3.0"', 'fmiVersion="2.0"', 2, "fmiVersion is '2.0': robogen imports FMI 3.0 only"),
+    ('fmiVersion="3.0"', 'fmiVersion="1.0"', 2, "fmiVersion is '1.0': robogen imports FMI 2.0 and 3.0 only"),
 ])
 def test_bad_values_are_reported_where_the_element_opens(old, new, line, message):
     with pytest.raises(RobogenError) as exc:

@@ -39,13 +39,21 @@ def derived_fmu(base: Path, replaced: dict[str, bytes], target: Path) -> Path:
     return target
 
 
-def derived_system(context: Context, fmus: dict[str, Path], start: dict[str, dict]) -> str:
-    """The base system file with these FMU paths and start values (merged over the base's)."""
+def derived_system(context: Context, fmus: dict[str, Path], start: dict[str, dict],
+                   settings: dict[str, dict] | None = None) -> str:
+    """The base system file with these FMU paths, start values (merged over the base's) and
+    instance settings (interface, solver, solver_step)."""
     data = tomllib.loads(context.system_text)
     for name, instance in data.get("instances", {}).items():
         instance["fmu"] = str(fmus[name])
         if start.get(name):
             instance["start"] = {**instance.get("start", {}), **start[name]}
+        player = f"{name}_scenario"  # the instance that plays its scenario (robogen.cosim.player)
+        if "scenario" in instance and player in fmus:
+            instance["scenario"] = str(fmus[player])
+            if start.get(player):
+                instance["scenario_parameters"] = {**instance.get("scenario_parameters", {}), **start[player]}
+        instance.update((settings or {}).get(name, {}))
     return tomlwrite.dumps(data)
 
 
@@ -74,7 +82,7 @@ def simulate(context: Context, spec: RunSpec, fmus: dict[str, Path], folder: Pat
     for instance, replaced in spec.resources.items():
         local[instance] = derived_fmu(fmus[instance], replaced, folder / f"{instance}.fmu")
     system = folder / "system.toml"
-    system.write_text(derived_system(context, local, spec.start), encoding="utf-8")
+    system.write_text(derived_system(context, local, spec.start, spec.settings), encoding="utf-8")
     result = simulate_system(system, stop=context.stop, step=context.step, keep_rows=True, progress=False)
     terminated = result.stats.terminated_by
     row = {"status": "terminated" if terminated else "ok", "error": terminated or "",

@@ -26,6 +26,7 @@ from robogen import __version__
 from robogen.campaign.space import expand
 from robogen.campaign.templates import render
 from robogen.campaign.spec import Campaign, FileRule, Metric, Value, is_number
+from robogen.cosim.system import INTERFACES, SOLVERS
 from robogen.diagnostics import DiagnosticSink, Note, RobogenError, Span, did_you_mean
 from robogen.fmu.modeldesc import ModelDescription, Variable, read_model_description
 
@@ -55,6 +56,8 @@ class RunSpec:
     fmus: dict[str, str]  # instance -> SHA-256 of its .fmu
     resources: dict[str, dict[str, bytes]] = field(default_factory=dict)  # instance -> member -> content
     start: dict[str, dict[str, Value]] = field(default_factory=dict)  # instance -> variable -> value
+    #: instance -> [instances.X] key (interface, solver, solver_step) -> value
+    settings: dict[str, dict[str, Value]] = field(default_factory=dict)
 
 
 @dataclass
@@ -124,13 +127,13 @@ def make_plan(campaign: Campaign) -> CampaignPlan:
         resolved = _resolve(campaign, values, files, sink)
         if resolved is None:
             continue
-        paths, resources, start = resolved
+        paths, resources, start, settings = resolved
         hashes = {}
         for instance, path in paths.items():
             hashes[instance] = files.digest(path)
             fmu_files.setdefault(hashes[instance], path)
-        key = _key(context, hashes, resources, start)
-        runs.append(Run(index, values, RunSpec(key, hashes, resources, start)))
+        key = _key(context, hashes, resources, start, settings)
+        runs.append(Run(index, values, RunSpec(key, hashes, resources, start, settings)))
     _check_metrics(campaign, _models_by_instance(runs, fmu_files, files), sink)
     sink.raise_if_errors()
     return CampaignPlan(campaign, runs, context, fmu_files)
@@ -143,10 +146,13 @@ def _resolve(campaign: Campaign, values: dict[str, Value], files: _Files, sink: 
     paths = {name: spec.fmu for name, spec in system.instances.items()}
     resources: dict[str, dict[str, bytes]] = {}
     start: dict[str, dict[str, Value]] = {}
+    settings: dict[str, dict[str, Value]] = {}
     ok = True
     for name, value in values.items():
         target, span = campaign.targets[name], _param_span(campaign, name)
-        if target.kind == "fmu":
+        if target.kind == "setting":
+            settings.setdefault(target.instance, {})[target.name] = value
+        elif target.kind == "fmu":
             paths[target.instance] = _existing(campaign.folder / str(value), span, sink, f"FMU for '{name}'")
         elif target.kind == "resource":
             data = _read(campaign.folder / str(value), span, sink, f"file for '{name}'")
@@ -165,7 +171,27 @@ def _resolve(campaign: Campaign, values: dict[str, Value], files: _Files, sink: 
         return None
     for instance, path in paths.items():
         ok = _check_instance(campaign, instance, path, start.get(instance, {}), files, sink) and ok
-    return (paths, resources, start) if ok else None
+        ok = _check_settings(campaign, instance, path, settings.get(instance, {}), files, sink) and ok
+    return (paths, resources, start, settings) if ok else None
+
+
+def _check_settings(campaign: Campaign, instance: str, path: Path, settings: dict[str, Value], files: _Files,
+                    sink: DiagnosticSink) -> bool:
+    """The interface (one the FMU offers), the solver (a known one), Euler's step (positive)."""
+    md = files.model(path)
+    ok = True
+    for name, value in settings.items():
+        span = _param_span(campaign, f"{instance}.{name}")
+        offered = md.interfaces() if not isinstance(md, str) else INTERFACES
+        allowed = {"interface": offered, "solver": SOLVERS}.get(name)
+        if allowed is not None and value not in allowed:
+            sink.error(f"'{instance}.{name}' must be one of {', '.join(repr(a) for a in allowed)}, not {value!r}"
+                       + (" (the FMU offers those interfaces)" if name == "interface" else ""), span)
+            ok = False
+        elif name == "solver_step" and not (is_number(value) and value > 0):
+            sink.error(f"'{instance}.solver_step' must be a positive number, not {value!r}", span)
+            ok = False
+    return ok
 
 
 def _param_span(campaign: Campaign, name: str) -> Span:
@@ -214,8 +240,10 @@ def _apply(campaign: Campaign, rule: FileRule, values: dict[str, Value], files: 
 
 def _check_instance(campaign: Campaign, instance: str, path: Path, start: dict[str, Value], files: _Files,
                     sink: DiagnosticSink) -> bool:
-    md = files.model(path)
     span = campaign.system.instances[instance].fmu_span
+    if campaign.system.instances[instance].player_of is not None:
+        return _check_scenario(campaign, instance, path, start, sink)
+    md = files.model(path)
     if isinstance(md, str):
         sink.error(md, span)
         return False
@@ -225,6 +253,24 @@ def _check_instance(campaign: Campaign, instance: str, path: Path, start: dict[s
         problem = _start_problem(variables.get(name), name, value, variables)
         if problem:
             sink.error(problem, _param_span(campaign, f"{instance}.{name}"), Note(f"variables are declared in {md.path}"))
+            ok = False
+    return ok
+
+
+def _check_scenario(campaign: Campaign, instance: str, path: Path, start: dict[str, Value], sink: DiagnosticSink) -> bool:
+    """The parameters a campaign gives the instance that plays a scenario: the scenario's own."""
+    from robogen.cosim.scenario import load_scenario
+
+    try:
+        declared = load_scenario(path).parameters
+    except RobogenError as exc:
+        sink.extend(exc.diagnostics)
+        return False
+    ok = True
+    for name, value in start.items():
+        if name not in declared:
+            sink.error(f"unknown parameter: the scenario {path} has no parameter '{name}'{did_you_mean(name, declared)}",
+                       _param_span(campaign, f"{instance}.{name}"))
             ok = False
     return ok
 
@@ -328,7 +374,7 @@ def _function_problem_installed(module: str, function: str) -> str | None:
 
 
 def _key(context: Context, fmus: dict[str, str], resources: dict[str, dict[str, bytes]],
-         start: dict[str, dict[str, Value]]) -> str:
+         start: dict[str, dict[str, Value]], instance_settings: dict[str, dict[str, Value]]) -> str:
     spec = {
         "robogen": __version__,
         "system": sha256(context.system_text.encode("utf-8")),
@@ -336,6 +382,7 @@ def _key(context: Context, fmus: dict[str, str], resources: dict[str, dict[str, 
         "resources": {i: {m: sha256(data) for m, data in files.items()} for i, files in resources.items()},
         "start": start,
         "settings": [context.stop, context.step, context.timeout, context.keep],
+        **({"instances": instance_settings} if instance_settings else {}),  # (runs without them keep their keys)
         "metrics": [[m.name, m.kind, m.source, sorted(m.options.items())] for m in context.metrics],
         "modules": {name: sha256(source.encode("utf-8")) for name, source in context.modules.items()},
     }

@@ -63,7 +63,7 @@ def _summary(plan: CampaignPlan, records: list[dict], params: list[str], metrics
     for name in params:
         target = c.targets[name]
         sets = {"start": "start value", "fmu": "the FMU file", "resource": "a file in the FMU's resources",
-                "variable": "a variable of [files]"}[target.kind]
+                "variable": "a variable of [files]", "setting": f"how the instance uses its FMU ({target.name})"}[target.kind]
         values = figures.sorted_values(records, name)
         shown = ", ".join(_fmt(v) for v in values[:6]) + (f", … ({len(values)} values)" if len(values) > 6 else "")
         lines.append(f"| `{name}` | {sets} | {shown} |")

@@ -2,13 +2,14 @@
 
 :func:`load_campaign` checks the file against its schema and returns a :class:`Campaign` whose
 every element carries its :class:`Span`; every problem is collected before failing, as the
-system file does. The base system is loaded with :func:`robogen.cosim.system.load_system`, so a
-bad system file is reported where it is wrong. Checks that need the FMUs (parameter names, files
+system file does. The base system is loaded with :func:`robogen.cosim.system.load_system` (an SSP
+with :func:`robogen.cosim.ssp_read.load_ssp`), so a bad system file is reported where it is wrong. Checks that need the FMUs (parameter names, files
 that templates name) come later, in :mod:`robogen.campaign.plan`, once the space is expanded.
 """
 
 from __future__ import annotations
 
+import atexit
 import math
 import os
 import re
@@ -16,8 +17,12 @@ import tomllib
 from dataclasses import dataclass, field
 from pathlib import Path
 
+from robogen.campaign import tomlwrite
 from robogen.campaign.templates import template_of
+from robogen.cosim.assemble import FmuCache
+from robogen.cosim.ssp_read import is_ssp, load_ssp
 from robogen.cosim.system import System, load_system, split_name
+from robogen.cosim.system_data import toml_data
 from robogen.cosim.tomlspan import SpanIndex
 from robogen.diagnostics import DiagnosticSink, RobogenError, Span, did_you_mean
 
@@ -43,7 +48,7 @@ class Target:
     """What a parameter name sets: a start value, an instance's FMU, a file in its resources,
     or a campaign variable (a bare name, used by [files] templates)."""
 
-    kind: str  # "start" | "fmu" | "resource" | "variable"
+    kind: str  # "start" | "fmu" | "resource" | "setting" (interface, solver, solver_step) | "variable"
     instance: str | None
     name: str  # the variable, "fmu", the member path "resources/...", or the variable's name
 
@@ -220,9 +225,27 @@ def _system(c: _Checker) -> tuple[Path, System]:
         c.error(f"system file not found: {system_path}", "system")
         c.sink.raise_if_errors()
     try:
-        return system_path, load_system(system_path)
+        return system_path, _base_system(system_path)
     except RobogenError as exc:  # the system file's problems, with what this file had so far
         raise RobogenError([*c.sink.sorted(), *exc.diagnostics]) from None
+
+
+def _base_system(path: Path) -> System:
+    """The base system: a system file, or an SSP (docs/ssp.md), unpacked for as long as this
+    process runs; an SSP's system file text is derived from it, as each run's is from a system file."""
+    if not is_ssp(path):
+        return load_system(path)
+    cache = FmuCache()
+    owner = os.getpid()
+    atexit.register(lambda: os.getpid() == owner and cache.close())  # not in a forked worker
+    system = load_ssp(path, cache.root / "ssp", lambda fmu, span: cache.load(fmu, span)[1])
+    package = cache.root / "ssp"
+
+    def named(spec) -> str:  # as the archive names it: the text does not depend on where it was unpacked
+        return f"{path}/{spec.fmu.relative_to(package).as_posix()}" if spec.fmu.is_relative_to(package) else str(spec.fmu)
+
+    system.text = tomlwrite.dumps(toml_data(system, named))
+    return system
 
 
 def _declare(c: _Checker, names: dict[str, Span], name: str, *where) -> bool:
@@ -348,6 +371,10 @@ def _distribution(c: _Checker, raw: object, *where) -> Distribution | None:
     return Distribution(kind, (a, b))
 
 
+#: The keys of an [instances.X] table a campaign may vary (how the instance uses its FMU).
+INSTANCE_SETTINGS = ("interface", "solver", "solver_step")
+
+
 def target_of(name: str, system: System) -> tuple[Target | None, str]:
     """The :class:`Target` a parameter name denotes, or None and why not."""
     if _IDENT.fullmatch(name):
@@ -360,6 +387,8 @@ def target_of(name: str, system: System) -> tuple[Target | None, str]:
         return None, f"unknown instance '{instance}'{did_you_mean(instance, system.instances)} in '{name}'"
     if rest == "fmu":
         return Target("fmu", instance, "fmu"), ""
+    if rest in INSTANCE_SETTINGS:
+        return Target("setting", instance, rest), ""
     if rest.startswith("resources/"):
         member = rest.split("/")
         if any(p in ("", ".", "..") for p in member[1:]) or len(member) < 2 or "\\" in rest:

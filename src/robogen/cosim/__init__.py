@@ -11,7 +11,8 @@ Python API::
                             # stretch (the quiet stretches' loop: "C", "Python" or None)
 
 ``simulate_system(system_toml_path, *, stop=None, step=None, output=None, events=None,
-realtime=None, progress=False, trace=None, keep_rows=True, isolate=False, watch=False, warn=None)
+realtime=None, progress=False, trace=None, keep_rows=True, isolate=False, watch=False, warn=None,
+bindings=None)
 -> SimulationResult``
 
 - ``stop``/``step`` override ``[experiment] stop``/``step`` of the file.
@@ -26,6 +27,8 @@ realtime=None, progress=False, trace=None, keep_rows=True, isolate=False, watch=
   ``isolate = true`` in the file always are): a crash becomes an error (:mod:`robogen.cosim.proxy`).
 - ``watch``: a watching process reports a crash of this process (:mod:`robogen.cosim.crash`).
 - ``warn``: receives the warnings found before the run (default: printed on stderr).
+- ``bindings``: instances bound by the caller, ``{name: make(name, model_description, notes)}``
+  (``robogen test --reference`` binds the model to the reference interpreter).
 
 Bad input (system file, FMUs) and failing FMUs raise :class:`robogen.diagnostics.RobogenError`
 with located diagnostics; once the run has started, a :class:`RunError` whose ``results`` is the
@@ -71,7 +74,7 @@ def simulate_system(system_toml_path: str | Path, *, stop: float | None = None, 
                     output: str | Path | None = None, events: str | Path | None = None,
                     realtime: float | None = None, progress: bool | None = False,
                     trace: Callable[[str], None] | None = None, keep_rows: bool = True, isolate: bool = False,
-                    watch: bool = False, warn: Callable | None = None) -> SimulationResult:
+                    watch: bool = False, warn: Callable | None = None, bindings: dict | None = None) -> SimulationResult:
     from robogen.cosim.assemble import FmuCache, build_master
     from robogen.cosim.crash import watch_run
     from robogen.cosim.signals import Interrupted, deferred
@@ -82,7 +85,7 @@ def simulate_system(system_toml_path: str | Path, *, stop: float | None = None, 
         watcher.publish(temp=cache.root)
         master, cache = build_master(Path(system_toml_path), stop=stop, step=step, output=output, events=events,
                                      realtime=realtime, progress=progress, trace=trace, keep_rows=keep_rows,
-                                     isolate=isolate, cache=cache, notes=watcher.notes, warn=warn)
+                                     isolate=isolate, cache=cache, notes=watcher.notes, warn=warn, bindings=bindings)
         recorder = master.recorder
         watcher.publish(temp=cache.root, files=recorder.files, output=output)
         try:

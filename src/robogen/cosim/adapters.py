@@ -138,15 +138,15 @@ def _values(ffi, callback, fmi_type: str) -> None:
     pointer = C_TYPES[fmi_type] + " *"
 
     @callback("rg_get_fn", f"fmi3Get{accessor}")
-    def get(adapter, vrs, n, values, _n):
-        got = adapter.binding.get_values(fmi_type, ffi.unpack(vrs, n))
+    def get(adapter, vrs, n, values, n_values):
+        got = adapter.binding.get_values(fmi_type, ffi.unpack(vrs, n), *((n_values,) if n_values != n else ()))
         if fmi_type == "String":
             kept = adapter.kept["String"] = [ffi.new("char[]", v.encode()) for v in got]
             out = ffi.cast("const char **", values)
             for i, data in enumerate(kept):
                 out[i] = data
         else:
-            ffi.cast(pointer, values)[0:n] = got
+            ffi.cast(pointer, values)[0:n_values] = got
         return 0
 
     @callback("rg_set_fn", f"fmi3Set{accessor}")

@@ -1,4 +1,4 @@
-"""``robogen simulate SYSTEM.toml [--stop T] [--step H] [-o RESULTS.csv|RESULTS.parquet] [--events E.jsonl] [--realtime[=FACTOR]] [--isolate]``.
+"""``robogen simulate SYSTEM.toml|SYSTEM.ssp|SYSTEM.ssd [--stop T] [--step H] [-o RESULTS.csv|RESULTS.parquet] [--events E.jsonl] [--realtime[=FACTOR]] [--isolate]``.
 
 Exit status: 0 the run reached its stop time; 1 a problem in the input or an FMU that failed (or
 crashed in its worker process, with ``--isolate``); 4 an FMU asked to terminate before the stop
@@ -42,7 +42,10 @@ def _number(text: str) -> float:
 
 
 def configure(parser: argparse.ArgumentParser) -> None:
-    parser.add_argument("system", help="the system description (TOML, see docs/system-toml.md)")
+    parser.add_argument("system", metavar="SYSTEM.toml|SYSTEM.ssp|MODEL|S.toml",
+                        help="the system description: a system file (TOML, docs/system-toml.md) or an SSP (an .ssp "
+                             "archive or an .ssd file, docs/ssp.md); with --scenario, the model (or its FMU); or a "
+                             "scenario that names its model (docs/scenarios.md)")
     parser.add_argument("--stop", type=_number, help="stop time (overrides [experiment] stop)")
     parser.add_argument("--step", type=_number, help="communication step (overrides [experiment] step)")
     parser.add_argument("-o", "--output", default=str(DEFAULT_OUTPUT),
@@ -70,16 +73,16 @@ def run(args: argparse.Namespace) -> int:
                                      trace=trace, keep_rows=False, isolate=args.isolate, watch=True)
     except RobogenError as exc:
         print(render_all(exc.diagnostics, SourceMap()), file=sys.stderr)
-        _say_where_results_are("stopped", getattr(exc, "results", None))
+        say_where_results_are("stopped", getattr(exc, "results", None))
         return 1
     except Interrupted as exc:
-        _say_where_results_are(f"interrupted ({exc.name})", exc.results)
+        say_where_results_are(f"interrupted ({exc.name})", exc.results)
         return exc.exit_status
     _report(args, result.stats)
     return EXIT_TERMINATED if result.stats.terminated_by else 0
 
 
-def _say_where_results_are(what: str, results: Path | None) -> None:
+def say_where_results_are(what: str, results: Path | None) -> None:
     kept = f"; results recorded so far are in {results}" if results is not None else "; no results were written"
     print(f"robogen simulate: {what}{kept}", file=sys.stderr)
 

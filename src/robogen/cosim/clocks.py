@@ -2,7 +2,9 @@
 
 A point of a grid ``origin + k * period`` is computed from its index, never by adding up
 periods, so the thousandth tick is where it should be. :func:`grid_index` finds the index of
-the last point at or before a time, a point within the time tolerance counting as reached.
+the last point at or before a time, a point within the time tolerance counting as reached: from
+the integer index, checked against the points themselves, so that it is exact on any horizon
+(elapsed / period may be off by more than the tolerance when elapsed / period is 1e9).
 """
 
 from __future__ import annotations
@@ -10,7 +12,6 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
-from robogen.fmu.fmi import TIME_TOLERANCE
 from robogen.fmu.modeldesc import Variable
 
 #: intervalVariability of the input clocks the master ticks on a fixed grid ...
@@ -19,10 +20,15 @@ PERIODIC = ("constant", "fixed", "tunable")
 APERIODIC = ("changing", "countdown")
 
 
-def grid_index(elapsed: float, period: float) -> int:
-    """k of the last grid point k * period at or before ``elapsed`` (time since the grid's
-    origin), a point within the tolerance counting as reached."""
-    return math.floor(elapsed / period + TIME_TOLERANCE)
+def grid_index(origin: float, period: float, t: float, close: float) -> int:
+    """k of the last grid point origin + k * period at or before ``t``, a point within ``close``
+    of it (the time tolerance at t) counting as reached (the engine's grid_index does the same)."""
+    k = math.floor((t - origin) / period)
+    while origin + (k + 1) * period <= t + close:
+        k += 1
+    while origin + k * period > t + close:
+        k -= 1
+    return k
 
 
 @dataclass
@@ -38,9 +44,9 @@ class Periodic:
     def next_time(self) -> float:
         return self.start + self.shift + self.k * self.interval
 
-    def ticked(self, t: float) -> None:
-        """It ticked at t: the next tick is the first grid point after t."""
-        self.k = max(self.k + 1, grid_index(t - self.start - self.shift, self.interval) + 1)
+    def ticked(self, t: float, close: float) -> None:
+        """It ticked at t: the next tick is the first grid point after t (``close``: the time tolerance at t)."""
+        self.k = max(self.k + 1, grid_index(self.start + self.shift, self.interval, t, close) + 1)
 
 
 @dataclass
@@ -53,6 +59,6 @@ class Aperiodic:
     def next_time(self) -> float:
         return math.inf if self.next is None else self.next
 
-    def ticked(self, t: float) -> None:
+    def ticked(self, t: float, close: float) -> None:
         """It ticked at t: unknown until the FMU announces the next interval."""
         self.next = None

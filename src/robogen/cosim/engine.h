@@ -33,8 +33,9 @@ enum rg_end {
     END_LOOP,       /* connected values did not settle in an instant (woke says where) */
     END_WRITE,      /* the results file or the events log cannot be written */
     END_PACE,       /* paced: a communication point was reached (t); Python waits for the wall clock */
-    END_STEP        /* Python steps the FMUs from t to step_to (they roll back with FMU state) and
+    END_STEP,       /* Python steps the FMUs from t to step_to (they roll back with FMU state) and
                      * tells the engine with rg_engine_stepped */
+    END_RANGE       /* a connected value does not fit its input's type (range_link says which link) */
 };
 
 /* The call that asked to terminate the run. */
@@ -87,7 +88,9 @@ typedef struct {
 typedef struct {
     /* -- the grid and the run ------------------------------------------------------------ */
     double start, step, stop, stop_limit;
-    double time_tolerance;   /* robogen.fmu.fmi.TIME_TOLERANCE: times this close (relatively) are the same */
+    double time_tolerance;   /* robogen.fmu.fmi.TIME_TOLERANCE: times this close (relatively) are the same ... */
+    double resolution;       /* ... but never a quarter of the run's time resolution or more (0: none) ... */
+    int time_ulps;           /* ... and never fewer than this many units in the last place (robogen.fmu.fmi.TIME_ULPS) */
     int max_iterations;
     bool early;              /* an FMU may return early: every step a general one */
     bool rollback;           /* several may: Python steps them (END_STEP), rolling back with FMU state */
@@ -120,6 +123,7 @@ typedef struct {
     void *const *read_instance;
     const uint32_t *const *vrs;
     const size_t *count;
+    const size_t *n_values;  /* the values it reads (count, or more where arrays are read: their elements) */
     const int *kind;
     void *const *buffer;     /* where each fmi3Get writes (the master's Readers' buffers) */
     size_t *const *sizes;    /* fmi3GetBinary's valueSizes (K_BINARY only) */
@@ -141,6 +145,8 @@ typedef struct {
     const int *link_read;    /* per link: the read and the index in it of the source's value */
     const int *link_index;
     const uint32_t *link_vr; /* the target input */
+    const bool *link_scaled; /* a real converted on its way: factor * value + offset (NULL: no link is) */
+    const double *link_factor, *link_offset;
     bool connected;          /* any value link or clock route */
     int n_edges;             /* connections between two instances (for naming an algebraic loop) */
     /* -- clocks ---------------------------------------------------------------------------- */
@@ -174,7 +180,9 @@ typedef struct {
     const int *cell_dep_first, *cell_dep_count;
     /* -- clock routes: an active output clock sets its target clocks and the values they carry */
     const int *route_first, *route_count; /* per watched output clock */
-    const int *route_target, *route_clock, *route_edge;
+    const int *croute_first, *croute_count; /* per clock: the routes between clock domains its ticks forward */
+    const int *route_source_instance; /* per route: the instance whose cells it reads */
+    const int *route_target, *route_clock, *route_edge; /* route_clock -1: an input that is not clocked */
     const int *route_source_first, *route_source_count, *route_source; /* the cells it carries */
     const int *route_batch_first, *route_batch_count; /* one Set call per target type */
     rg_set_fn const *batch_set;
@@ -183,6 +191,8 @@ typedef struct {
     const int *batch_kind, *batch_first, *batch_count;
     const int *batch_cell;   /* per value of a batch: the source cell, the target's value reference */
     const uint32_t *batch_vr;
+    const bool *batch_scaled; /* per value of a batch, as link_scaled */
+    const double *batch_factor, *batch_offset;
     /* -- record slots ---------------------------------------------------------------------- */
     int n_columns;           /* the recorded columns after time and superdense */
     const int *column_kind;  /* enum rg_column */
@@ -220,6 +230,11 @@ typedef struct {
     int term_who, term_by;
     double term_t;
     int zeno_k;
+    int range_link;          /* END_RANGE: a value did not fit its input (else -1): the input (instance, */
+    int range_target;        /* value reference), the value as the source's kind holds it */
+    uint32_t range_vr;
+    int range_kind;
+    rg_value range_value;
     bool *ticked;            /* per clock: active in the instant before the last allowed (Zeno) */
     long *woke;              /* per edge: how often its source set its target's inputs (algebraic loops) */
     bool event_ended;        /* an event iteration (or the start) ended since Python last looked */
@@ -246,6 +261,7 @@ typedef struct {
     bool *out_on;            /* per watched output clock: what fmi3GetClock said in this instant */
     bool *out_fresh;         /* read in this instant, unchanged since */
     bool *forwarded;         /* forwarded in this instant */
+    bool *clock_forwarded;   /* per clock: its routes between clock domains forwarded in this instant */
     uint32_t *clock_scratch; /* one fmi3SetClock call's value references */
     uint64_t *cell_raw;      /* the value as its C type, at the start of 8 bytes (Strings and
                               * Binaries: the offset of a copy in the arena) */

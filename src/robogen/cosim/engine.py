@@ -20,21 +20,18 @@ The library is compiled once with the system C compiler and cached under ``$XDG_
 from __future__ import annotations
 
 import functools
-import hashlib
 import os
-import re
 import struct
-import tempfile
 import time
 from pathlib import Path
 
+from robogen.cosim.cbuild import cached_library, package_source
 from robogen.cosim.fmi3 import FUNCTIONS
 from robogen.cosim.flat import flatten
 from robogen.cosim.recorder import FLUSH_SECONDS
 from robogen.cosim.schema import SIGNED, SLOT_FORMAT, By, ColumnKind, End, Kind, Store, ffi, package_file
 from robogen.cosim.wiring import UNSET
 
-_INCLUDE = re.compile(r'#include "(\w+\.h)"')
 #: The engine's C files, compiled as one unit in this order (the first includes the header).
 SOURCES = ("engine_values.c", "engine_run.c", "engine_events.c")
 
@@ -48,50 +45,23 @@ def load():
     return _library()
 
 
-def _cache_dir() -> Path:
-    base = os.environ.get("XDG_CACHE_HOME") or os.path.join(os.path.expanduser("~"), ".cache")
-    return Path(base) / "robogen"
-
-
 def source() -> bytes:
     """The engine's C source: its files, each from its own line 1 for the compiler's messages,
     with the header in place of its #include line."""
-    parts = []
-    for name in SOURCES:
-        parts.append(f'#line 1 "{name}"\n')
-        for number, line in enumerate(package_file(name).splitlines(keepends=True), 1):
-            included = _INCLUDE.fullmatch(line.strip())
-            if included:
-                parts += [f'#line 1 "{included[1]}"\n', package_file(included[1]), f'#line {number + 1} "{name}"\n']
-            else:
-                parts.append(line)
-    return "".join(parts).encode()
+    return package_source(SOURCES, package_file)
 
 
 @functools.cache
 def _library():
-    source_ = source()
-    name = f"engine-{hashlib.sha256(source_).hexdigest()[:16]}.so"
-    fallback = Path(tempfile.gettempdir()) / f"robogen-{os.getuid() if hasattr(os, 'getuid') else 'user'}"
-    for folder in (_cache_dir(), fallback):  # a read-only home still gets the engine
-        try:
-            return ffi.dlopen(str(_build(source_, folder / name)))
-        except Exception:  # no compiler, folder not writable, ...: the reference loop does the same work
-            continue
-    return None
-
-
-def _build(source: bytes, target: Path) -> Path:
-    if not target.is_file():
+    def compile_to(c_file: Path, so: Path) -> None:
         from robogen import toolchain
 
-        target.parent.mkdir(parents=True, exist_ok=True)
-        with tempfile.TemporaryDirectory(dir=target.parent) as tmp:
-            c_file, so = Path(tmp) / "engine.c", Path(tmp) / "engine.so"
-            c_file.write_bytes(source)
-            toolchain.compile_shared([c_file], so, libs=(), what="the master's C engine")
-            os.replace(so, target)  # atomic: concurrent runs never load a half-written file
-    return target
+        toolchain.compile_shared([c_file], so, libs=(), what="the master's C engine")
+
+    try:
+        return ffi.dlopen(str(cached_library("engine", source(), compile_to)))
+    except Exception:  # no compiler, no folder to write, ...: the reference loop does the same work
+        return None
 
 
 class Engine:
@@ -168,8 +138,11 @@ class Engine:
             if self.flat.plan.fd >= 0:
                 recorder.flush()  # the lines Python wrote first
             deadline = min(time.monotonic() + FLUSH_SECONDS, recorder.flush_due)
-            end = End(self.lib.rg_engine_run(e, CHUNK, deadline, self._status))
-            recorder.wrote_rows(e.written)
+            e.written = 0
+            try:
+                end = End(self.lib.rg_engine_run(e, CHUNK, deadline, self._status))
+            finally:  # a signal is raised as the call returns: the rows it wrote to the file count
+                recorder.wrote_rows(e.written)
             self._record(e.rows.rows - e.written)
             self._sync()
             if e.event_ended:
@@ -222,6 +195,10 @@ class Engine:
             raise MemoryError("no memory left for the recorded Strings and Binaries")
         if end == End.WRITE:
             raise OSError(f"cannot write the results file: {os.strerror(ffi.errno)}")
+        if end == End.RANGE:
+            kind_ = Kind(e.range_kind)
+            value = e.range_value.d if kind_ in (Kind.F64, Kind.F32) else e.range_value.i if kind_ in SIGNED else e.range_value.u
+            raise m.narrowing((m.instances[e.range_target].name, e.range_vr), value)
         if end == End.LOOP:
             names = [u.name for u in m.instances]
             woke = {(names[a], names[b]): e.woke[k] for (a, b), k in self.flat.edges.items() if e.woke[k] > 0}

@@ -62,7 +62,7 @@ static int activate_due_clocks(rg_engine *r, double t, double limit)
                 r->a_next[q - p->n_periodic] = INFINITY;
                 continue;
             }
-            k = grid_index(r, t - p->p_start[q] - p->p_shift[q], p->p_interval[q]) + 1;
+            k = grid_index(r, p->p_start[q] + p->p_shift[q], p->p_interval[q], t) + 1;
             r->p_k[q] = r->p_k[q] + 1 > k ? r->p_k[q] + 1 : k;
         }
     }
@@ -136,14 +136,46 @@ static void wake(rg_engine *r, int w, int edge)
     r->woken_edge[w] = edge;
 }
 
-/* Route q of an active output clock: its target clock (unless active already), then the clocked
- * values it carries, one Set call per type. */
-static int forward_route(rg_engine *r, int u, int q)
+/* Value `at` of the batches (its source cell's) as slot i of a Set call of kind `kind`: its own,
+ * or converted in one step (the connection's factor and offset, then the input's type: between
+ * clock domains, between FMI 2.0 and 3.0); 0, or -7 where it does not fit input vr of w. */
+static int carried(rg_engine *r, int at, int kind, int i, int w, uint32_t vr)
 {
-    int w = r->p->route_target[q], b, i, st;
+    int c = r->p->batch_cell[at], from = r->p->cell_kind[c];
+    uint64_t raw = r->cell_raw[c];
+    rg_value value;
+    if (is_bytes(kind)) { /* the copy's bytes (a C string) and size */
+        ((const char **)r->set_scratch)[i] = r->arena.data + raw + sizeof(size_t);
+        memcpy(&r->get_sizes[i], r->arena.data + raw, sizeof(size_t));
+    } else if (kind == K_F64 || kind == K_F32) {
+        double d = converted(r->p->batch_scaled, r->p->batch_factor, r->p->batch_offset, at, real_of(from, &raw, 0));
+        float f = (float)d;
+        if (kind == K_F32 && isfinite(d) && fabs(d) > FLT_MAX) {
+            value.d = d;
+            out_of_range(r, w, vr, from, value);
+            return -7;
+        }
+        if (kind == K_F32) memcpy((char *)r->set_scratch + 4 * (size_t)i, &f, 4);
+        else memcpy((char *)r->set_scratch + 8 * (size_t)i, &d, 8);
+    } else {
+        uint64_t v = integer_of(from, &raw, 0);
+        if (!fits(from, kind, v)) {
+            value.u = v;
+            out_of_range(r, w, vr, from, value);
+            return -7;
+        }
+        put_integer(r->set_scratch, kind, i, v);
+    }
+    return 0;
+}
+
+/* Route q of an active clock: its target clock (unless active already, or none: an input that is
+ * not clocked), then the values it carries (read from the route's source), one Set call per type. */
+static int forward_route(rg_engine *r, int q)
+{
+    int w = r->p->route_target[q], u = r->p->route_source_instance[q], b, i, st;
     uint32_t vr;
-    if (!r->p->event_mode[w]) return 0;
-    if (!r->active[r->p->route_clock[q]]) {
+    if (r->p->route_clock[q] >= 0 && !r->active[r->p->route_clock[q]]) {
         vr = r->p->clock_vr[r->p->route_clock[q]];
         *r->p->note_call = r->p->set_clock_note[w];
         if ((st = r->p->set_clock[w](r->p->instance[w], &vr, 1, r->p->on)) > 1) return st;
@@ -155,16 +187,10 @@ static int forward_route(rg_engine *r, int u, int q)
         if (st != 0) return st;
     }
     for (b = r->p->route_batch_first[q]; b < r->p->route_batch_first[q] + r->p->route_batch_count[q]; b++) {
-        int n = r->p->batch_count[b], kind = r->p->batch_kind[b], width = value_width(kind);
+        int n = r->p->batch_count[b], kind = r->p->batch_kind[b];
         const uint32_t *vrs = r->p->batch_vr + r->p->batch_first[b];
         for (i = 0; i < n; i++) {
-            uint64_t raw = r->cell_raw[r->p->batch_cell[r->p->batch_first[b] + i]];
-            if (is_bytes(kind)) { /* the copy's bytes (a C string) and size */
-                ((const char **)r->set_scratch)[i] = r->arena.data + raw + sizeof(size_t);
-                memcpy(&r->get_sizes[i], r->arena.data + raw, sizeof(size_t));
-            } else {
-                memcpy((char *)r->set_scratch + (size_t)width * (size_t)i, &raw, (size_t)width);
-            }
+            if ((st = carried(r, r->p->batch_first[b] + i, kind, i, w, vrs[i])) != 0) return st;
         }
         *r->p->note_call = r->p->batch_note[b];
         if (kind == K_BINARY)
@@ -179,16 +205,23 @@ static int forward_route(rg_engine *r, int u, int q)
     return 0;
 }
 
-/* u's active output clocks, each forwarded once per instant along its routes. */
+/* u's active output clocks, each forwarded once per instant along its routes (to instances in
+ * Event Mode); then the routes between clock domains of u's active clocks, once per instant. */
 static int forward_clocks(rg_engine *r, int u)
 {
-    int j, q, st;
+    int j, q, c, st;
     if ((st = read_clocks(r, u)) != 0) return st;
     for (j = r->p->out_first[u]; j < r->p->out_first[u] + r->p->out_count[u]; j++) {
         if (!r->out_on[j] || r->forwarded[j]) continue;
         r->forwarded[j] = true;
         for (q = r->p->route_first[j]; q < r->p->route_first[j] + r->p->route_count[j]; q++)
-            if ((st = forward_route(r, u, q)) != 0) return st;
+            if (r->p->event_mode[r->p->route_target[q]] && (st = forward_route(r, q)) != 0) return st;
+    }
+    for (c = r->p->clock_first[u]; c < r->p->clock_first[u] + r->p->clock_count[u]; c++) {
+        if (!r->active[c] || r->clock_forwarded[c] || r->p->croute_count[c] == 0) continue;
+        r->clock_forwarded[c] = true;
+        for (q = r->p->croute_first[c]; q < r->p->croute_first[c] + r->p->croute_count[c]; q++)
+            if ((st = forward_route(r, q)) != 0) return st;
     }
     return 0;
 }
@@ -229,6 +262,7 @@ static int propagate(rg_engine *r)
         return 0;
     }
     for (w = 0; w < r->p->out_first[n]; w++) r->forwarded[w] = false;
+    for (w = 0; w < r->p->clock_first[n]; w++) r->clock_forwarded[w] = false;
     for (e = 0; e < r->p->n_edges; e++) r->woke[e] = 0;
     for (e = 0; e < r->p->n_event; e++) r->queued[r->p->event_instance[e]] = true;
     for (;;) {

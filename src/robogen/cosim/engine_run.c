@@ -22,7 +22,7 @@
 
 
 enum { STAGE_ADVANCE = 0, STAGE_STRETCH, STAGE_STEP, STAGE_AFTER_STEP, STAGE_IN_PYTHON };
-enum { ST_NO_MEMORY = -1, ST_ZENO = -2, ST_LOOP = -3, ST_WRITE = -4, ST_PACE = -5, ST_PYTHON_STEP = -6 };
+enum { ST_NO_MEMORY = -1, ST_ZENO = -2, ST_LOOP = -3, ST_WRITE = -4, ST_PACE = -5, ST_PYTHON_STEP = -6, ST_RANGE = -7 };
 
 RG_EXPORT rg_engine *rg_engine_new(const rg_plan *p);
 RG_EXPORT void rg_engine_free(rg_engine *e);
@@ -31,18 +31,25 @@ RG_EXPORT void rg_engine_stepped(rg_engine *r, double t, bool event);
 static int event_iteration(rg_engine *r, rg_rows *out, double t); /* engine_events.c */
 static int event_mode(rg_engine *r, rg_rows *out, double t);
 
-/* How close to t counts as t (robogen.fmu.fmi.tolerance, with the plan's tolerance). */
+/* How close to t counts as t (robogen.fmu.fmi.tolerance, with the plan's tolerance and resolution). */
 static double tol(const rg_engine *r, double t)
 {
-    double a = fabs(t);
-    return r->p->time_tolerance * (a > 1.0 ? a : 1.0);
+    double scale = fabs(t) > 1.0 ? fabs(t) : 1.0, close = r->p->time_tolerance * scale;
+    double floor_ = (double)r->p->time_ulps * (nextafter(scale, INFINITY) - scale);
+    if (r->p->resolution > 0.0 && close > r->p->resolution / 4) close = r->p->resolution / 4;
+    return close > floor_ ? close : floor_;
 }
 
-/* k of the last grid point k * period at or before `elapsed`, one within the tolerance counting
- * as reached (robogen.cosim.clocks.grid_index). */
-static long grid_index(const rg_engine *r, double elapsed, double period)
+/* k of the last grid point origin + k * period at or before t, one within the tolerance at t
+ * counting as reached: from the integer index, checked against the points themselves
+ * (robogen.cosim.clocks.grid_index). */
+static long grid_index(const rg_engine *r, double origin, double period, double t)
 {
-    return (long)floor(elapsed / period + r->p->time_tolerance);
+    double close = tol(r, t);
+    long k = (long)floor((t - origin) / period);
+    while (origin + (double)(k + 1) * period <= t + close) k++;
+    while (origin + (double)k * period > t + close) k--;
+    return k;
 }
 
 static void terminated(rg_engine *r, int u, int by, double t)
@@ -271,7 +278,7 @@ static int write_events(rg_engine *r) { return r->p->events_fd >= 0 ? write_all(
 /* The next grid point, clock tick or nextEventTime after t (the stop time within its tolerance). */
 static double next_point(const rg_engine *r, double t)
 {
-    long n = grid_index(r, t - r->p->start, r->p->step);
+    long n = grid_index(r, r->p->start, r->p->step, t);
     double grid = r->p->start + (double)(n + 1) * r->p->step, point;
     if (grid <= t + tol(r, t)) grid = r->p->start + (double)(n + 2) * r->p->step;
     point = r->p->stop < grid ? r->p->stop : grid;
@@ -409,7 +416,7 @@ static int advance(rg_engine *r, rg_rows *out)
         }
         horizon = r->next_time < r->p->stop ? r->next_time : r->p->stop;
         r->limit = horizon - tol(r, horizon);
-        r->n = grid_index(r, r->t - r->p->start, r->p->step);
+        r->n = grid_index(r, r->p->start, r->p->step, r->t);
         r->stage = STAGE_STRETCH;
         return 0;
     }
@@ -439,6 +446,7 @@ RG_EXPORT int rg_engine_run(rg_engine *r, long max_rows, double deadline, int *s
     *status = 0;
     if (r->phase == 0) {
         r->phase = 1;
+        r->t = r->p->start;
         all_at(r, r->p->start);
         st = r->p->n_event > 0 ? event_iteration(r, out, r->p->start) : record(r, out, r->p->start, 0, false);
         r->event_ended = true; /* the start's rows are flushed as an event iteration's */
@@ -453,7 +461,7 @@ RG_EXPORT int rg_engine_run(rg_engine *r, long max_rows, double deadline, int *s
     *status = st;
     if (write_events(r) != 0 && st == 0) st = ST_WRITE; /* what an event iteration that failed logged */
     return st == 0 ? END_DONE : st == ST_NO_MEMORY ? END_NO_MEMORY : st == ST_ZENO ? END_ZENO : st == ST_LOOP ? END_LOOP
-         : st == ST_WRITE ? END_WRITE : END_FAILED;
+         : st == ST_WRITE ? END_WRITE : st == ST_RANGE ? END_RANGE : END_FAILED;
 }
 
 /* ---------------------------------------------------------------------------------------------
@@ -477,6 +485,7 @@ RG_EXPORT rg_engine *rg_engine_new(const rg_plan *p)
     if (r == NULL) return NULL;
     r->p = p;
     r->term_who = -1;
+    r->range_link = -1;
     r->next_time = INFINITY;
     for (k = 0; k < (size_t)p->n_sets; k++)
         if ((size_t)p->set_count[k] > widest) widest = (size_t)p->set_count[k];
@@ -506,6 +515,7 @@ RG_EXPORT rg_engine *rg_engine_new(const rg_plan *p)
     r->out_on = (bool *)zeroed(outs, sizeof(bool), &ok);
     r->out_fresh = (bool *)zeroed(outs, sizeof(bool), &ok);
     r->forwarded = (bool *)zeroed(outs, sizeof(bool), &ok);
+    r->clock_forwarded = (bool *)zeroed(clocks, sizeof(bool), &ok);
     r->clock_scratch = (uint32_t *)zeroed(clocks, sizeof(uint32_t), &ok);
     r->cell_raw = (uint64_t *)zeroed(cells, sizeof(uint64_t), &ok);
     r->cell_fresh = (bool *)zeroed(cells, sizeof(bool), &ok);
@@ -540,7 +550,7 @@ RG_EXPORT void rg_engine_free(rg_engine *r)
     free(r->a_ticked); free(r->ticked); free(r->woke); free(r->last); free(r->last_valid); free(r->last_bytes);
     free(r->last_size); free(r->flags); free(r->last_time); free(r->copies); free(r->set_vrs); free(r->set_values);
     free((void *)r->set_pointers); free(r->set_sizes); free(r->active); free(r->out_on); free(r->out_fresh);
-    free(r->forwarded); free(r->clock_scratch); free(r->cell_raw); free(r->cell_fresh); free(r->cell_live);
+    free(r->forwarded); free(r->clock_forwarded); free(r->clock_scratch); free(r->cell_raw); free(r->cell_fresh); free(r->cell_live);
     free(r->cell_need); free(r->get_vrs); free(r->get_buffer); free(r->get_sizes); free(r->get_cells);
     free(r->route_scratch); free(r->set_scratch); free(r->queued); free(r->woken); free(r->woken_edge);
     free(r->rows.times); free(r->rows.index); free(r->rows.event); free(r->rows.slots); free(r->rows.present);

@@ -327,7 +327,7 @@ static int get_values(rg_engine *s, int r, bool *no_memory)
         st = s->p->get_binary[r](s->p->read_instance[r], s->p->vrs[r], s->p->count[r], s->p->sizes[r],
                               (const uint8_t **)s->p->buffer[r], s->p->count[r]);
     else
-        st = s->p->get[r](s->p->read_instance[r], s->p->vrs[r], s->p->count[r], s->p->buffer[r], s->p->count[r]);
+        st = s->p->get[r](s->p->read_instance[r], s->p->vrs[r], s->p->count[r], s->p->buffer[r], s->p->n_values[r]);
     if (st > 1 || !is_bytes(s->p->kind[r]) || s->p->store == STORE_NONE) return st > 1 ? st : 0;
     for (i = 0; i < s->p->count[r]; i++) {
         const char *data = bytes_of(s, r, i, &size);
@@ -337,27 +337,102 @@ static int get_values(rg_engine *s, int r, bool *no_memory)
     return 0;
 }
 
+/* A value that does not fit its input (instance w, value reference vr): the run stops (END_RANGE). */
+static void out_of_range(rg_engine *s, int w, uint32_t vr, int kind, rg_value value)
+{
+    s->range_link = 0;
+    s->range_target = w;
+    s->range_vr = vr;
+    s->range_kind = kind;
+    s->range_value = value;
+}
+
+/* A linked value that does not fit its input: stops the exchange (forward() tells it from a lack
+ * of memory by range_link). */
+static bool narrowed(rg_engine *s, int g, int link, int from, rg_value value, bool *no_memory)
+{
+    out_of_range(s, s->p->set_target[g], s->p->link_vr[link], from, value);
+    *no_memory = true;
+    return false;
+}
+
+/* A real on its way along connection k of a table (the value links', or the clocked batches'):
+ * factor * v + offset where k converts it (Link.scale; scaled NULL: no connection converts). */
+static double converted(const bool *scaled, const double *factor, const double *offset, int k, double v)
+{
+    return scaled != NULL && scaled[k] ? factor[k] * v + offset[k] : v;
+}
+
+/* Whether an integer of kind `from` (widened by integer_of) fits kind `to`. */
+static bool fits(int from, int to, uint64_t v)
+{
+    bool negative = (from == K_I64 || from == K_I32 || from == K_I16 || from == K_I8) && (int64_t)v < 0;
+    int64_t i = (int64_t)v;
+    switch (to) {
+    case K_I64: return negative || v <= (uint64_t)INT64_MAX;
+    case K_U64: return !negative;
+    case K_I32: return negative ? i >= INT32_MIN : v <= (uint64_t)INT32_MAX;
+    case K_U32: return !negative && v <= UINT32_MAX;
+    case K_I16: return negative ? i >= INT16_MIN : v <= (uint64_t)INT16_MAX;
+    case K_U16: return !negative && v <= UINT16_MAX;
+    case K_I8: return negative ? i >= INT8_MIN : v <= (uint64_t)INT8_MAX;
+    case K_U8: return !negative && v <= UINT8_MAX;
+    default: return true;
+    }
+}
+
+/* An integer (widened) as a value of kind `to`, into slot j of `values`. */
+static void put_integer(void *values, int to, int j, uint64_t v)
+{
+    char *out = (char *)values;
+    int64_t i = (int64_t)v;
+    switch (to) {
+    case K_I32: { int32_t x = (int32_t)i; memcpy(out + 4 * (size_t)j, &x, 4); break; }
+    case K_U32: { uint32_t x = (uint32_t)v; memcpy(out + 4 * (size_t)j, &x, 4); break; }
+    case K_I16: { int16_t x = (int16_t)i; memcpy(out + 2 * (size_t)j, &x, 2); break; }
+    case K_U16: { uint16_t x = (uint16_t)v; memcpy(out + 2 * (size_t)j, &x, 2); break; }
+    case K_I8: { int8_t x = (int8_t)i; memcpy(out + (size_t)j, &x, 1); break; }
+    case K_U8: { uint8_t x = (uint8_t)v; memcpy(out + (size_t)j, &x, 1); break; }
+    case K_BOOL: { bool x = v != 0; memcpy(out + sizeof(bool) * (size_t)j, &x, sizeof(bool)); break; }
+    default: memcpy(out + 8 * (size_t)j, &v, 8); break;
+    }
+}
+
 /* Whether a link's source value differs from the value last set (as Python's != compares them:
  * NaN differs from itself, -0.0 equals 0.0); if it does, it becomes the value last set, and goes
- * into slot j of the Set call's arrays. False with *no_memory when a copy cannot be made. */
+ * into slot j of the Set call's arrays, converted in one step: a real by the connection's factor
+ * and offset (Link.scale), then to the input's type (a connection between FMI 2.0 and 3.0, or
+ * between integer or real types). False with *no_memory when a copy cannot be made, with
+ * *narrowing when the value does not fit the input's type (s->range_link says which link). */
 static bool changed(rg_engine *s, int g, int link, int j, bool *no_memory)
 {
-    int r = s->p->link_read[link], kind = s->p->set_kind[g];
+    int r = s->p->link_read[link], kind = s->p->set_kind[g], from = s->p->kind[r];
     size_t i = (size_t)s->p->link_index[link], size;
     rg_value *last = s->last + link;
     if (kind == K_F64 || kind == K_F32) {
-        double v = real_of(kind, s->p->buffer[r], i);
+        double v = converted(s->p->link_scaled, s->p->link_factor, s->p->link_offset, link,
+                             real_of(from, s->p->buffer[r], i));
+        float f;
         if (s->last_valid[link] && !(v != last->d)) return false;
+        if (kind == K_F32 && isfinite(v) && fabs(v) > FLT_MAX) {
+            rg_value value;
+            value.d = v;
+            return narrowed(s, g, link, from, value, no_memory);
+        }
         last->d = v;
-        if (kind == K_F32) memcpy((char *)s->set_values + 4 * (size_t)j, &((const float *)s->p->buffer[r])[i], 4);
+        f = (float)v;
+        if (kind == K_F32) memcpy((char *)s->set_values + 4 * (size_t)j, &f, 4);
         else s->set_values[j].d = v;
     } else if (!is_bytes(kind)) {
-        uint64_t v = integer_of(kind, s->p->buffer[r], i);
-        size_t width = kind == K_I64 || kind == K_U64 ? 8 : kind == K_I32 || kind == K_U32 ? 4
-                     : kind == K_I16 || kind == K_U16 ? 2 : 1;
+        uint64_t v = integer_of(from, s->p->buffer[r], i);
         if (s->last_valid[link] && v == last->u) return false;
+        if (!fits(from, kind, v)) {
+            rg_value value;
+            value.u = v;
+            return narrowed(s, g, link, from, value, no_memory);
+        }
         last->u = v;
-        memcpy((char *)s->set_values + width * (size_t)j, (const char *)s->p->buffer[r] + width * i, width);
+        put_integer(s->set_values, kind, j, v);
     } else {
         const char *data = bytes_of(s, r, i, &size);
         if (s->last_valid[link] && size == s->last_size[link] && memcmp(data, s->last_bytes[link], size) == 0)
@@ -382,7 +457,7 @@ static int forward(rg_engine *s, int g, int *count)
     for (k = 0; k < s->p->set_count[g]; k++) {
         int link = s->p->set_first[g] + k;
         if (changed(s, g, link, n, &no_memory)) s->set_vrs[n++] = s->p->link_vr[link];
-        if (no_memory) return -1;
+        if (no_memory) return s->range_link >= 0 ? -7 : -1;
     }
     *count = n;
     if (n == 0) return 0;
@@ -467,7 +542,7 @@ static int run_ops(rg_engine *s, int first, int last)
         int op = s->p->op[k];
         st = op >= 0 ? get_values(s, op, &no_memory) : forward(s, -1 - op, &count);
         if (st > 0) return st;
-        if (no_memory || st < 0) return -1;
+        if (no_memory || st < 0) return st == -7 ? -7 : -1;
     }
     return 0;
 }

@@ -23,7 +23,7 @@ from robogen.cosim.fmi3 import ffi as fmi_ffi
 from robogen.cosim.instances import FmuInstance, Reader
 from robogen.cosim.plan import Plan
 from robogen.cosim.wiring import CLOCK, CLOCKED, VALUE
-from robogen.fmu.fmi import TIME_TOLERANCE
+from robogen.fmu.fmi import TIME_TOLERANCE, TIME_ULPS
 
 _COLUMN_KINDS = {VALUE: ColumnKind.VALUE, CLOCK: ColumnKind.CLOCK, CLOCKED: ColumnKind.CLOCKED}
 
@@ -42,7 +42,7 @@ class _Group(NamedTuple):
 
     target: FmuInstance
     fmi_type: str
-    links: list  # (read, index in the read, target value reference) of each link
+    links: list  # (read, index in the read, target value reference, its scale or None) of each link
 
 
 class _Exchange(NamedTuple):
@@ -69,7 +69,7 @@ def _exchange(plan: Plan) -> _Exchange:
         ops += [number[id(r)] for r in u.readers]
         owners += [i] * len(u.readers)
         mine: dict[tuple[str, str], _Group] = {}
-        for vr, target, variable in links[u.name]:
+        for vr, target, variable, scale in links[u.name]:
             reader, index = u.reader_of[vr]
             key = (target.name, ACCESSOR[variable.type])
             if key not in mine:
@@ -77,7 +77,7 @@ def _exchange(plan: Plan) -> _Exchange:
                 ops.append(-1 - len(groups))
                 owners.append(i)
                 groups.append(mine[key])
-            mine[key].links.append((number[id(reader)], index, variable.value_reference))
+            mine[key].links.append((number[id(reader)], index, variable.value_reference, scale))
     return _Exchange(reads, ops + [number[id(r)] for r in recorded], groups, owners)
 
 
@@ -106,7 +106,7 @@ class Flat:
         self.columns = [(_COLUMN_KINDS[c.kind], kind(c.variable.type) if c.kind != CLOCK else None)
                         for c in plan.wiring.columns]
         #: per link: the exchange's key of its input and its kind
-        self.inputs = [((g.target.name, vr), kind(g.fmi_type)) for g in self.exchange.groups for _r, _i, vr in g.links]
+        self.inputs = [((g.target.name, vr), kind(g.fmi_type)) for g in self.exchange.groups for _r, _i, vr, _s in g.links]
 
     # -- arrays ---------------------------------------------------------------------------------
     def new(self, ctype: str, init):
@@ -156,7 +156,7 @@ class Flat:
     def _run(self, p, plan: Plan, master, store: int) -> None:
         recorder = master.recorder
         p.start, p.step, p.stop, p.stop_limit = plan.start, plan.step, plan.stop, plan.stop_limit
-        p.time_tolerance = TIME_TOLERANCE
+        p.time_tolerance, p.resolution, p.time_ulps = TIME_TOLERANCE, plan.resolution or 0.0, TIME_ULPS
         p.max_iterations = plan.max_iterations
         p.early, p.rollback, p.paced = plan.early, plan.rollback, bool(master.options.realtime)
         p.store = store
@@ -210,6 +210,7 @@ class Flat:
         p.read_instance = self.pointers("void *[]", [self.handle(owner[id(r)]) for r in reads])
         p.vrs = self.pointers("uint32_t *[]", [r.c_vrs for r in reads])
         p.count = self.array("size_t[]", [r.count for r in reads])
+        p.n_values = self.array("size_t[]", [r.n_values for r in reads])
         p.kind = self.array("int[]", [kind(r.fmi_type) for r in reads])
         p.buffer = self.pointers("void *[]", [r.buffer for r in reads])
         p.sizes = self.pointers("size_t *[]", [r.sizes if r.sizes is not None else fmi_ffi.NULL for r in reads])
@@ -241,10 +242,19 @@ class Flat:
         p.set_edge = self.array("int[]", [self.edge(group_owner[i], index[g.target.name]) for i, g in enumerate(groups)])
         links = [link for g in groups for link in g.links]
         p.n_links = len(links)
-        p.link_read = self.array("int[]", [r for r, _i, _vr in links])
-        p.link_index = self.array("int[]", [i for _r, i, _vr in links])
-        p.link_vr = self.array("uint32_t[]", [vr for _r, _i, vr in links])
-        p.connected = bool(plan.routes) or plan.values.connected
+        p.link_read = self.array("int[]", [r for r, _i, _vr, _s in links])
+        p.link_index = self.array("int[]", [i for _r, i, _vr, _s in links])
+        p.link_vr = self.array("uint32_t[]", [vr for _r, _i, vr, _s in links])
+        p.link_scaled, p.link_factor, p.link_offset = self.scales([s for _r, _i, _vr, s in links])
+        p.connected = bool(plan.routes) or bool(plan.domain_routes) or plan.values.connected
+
+    def scales(self, scales: list) -> tuple:
+        """Whether each value is converted on its way, and its factor and offset (three NULLs
+        where none is: the engine then converts nothing)."""
+        if not any(scales):
+            return self.ffi.NULL, self.ffi.NULL, self.ffi.NULL
+        return (self.array("bool[]", [s is not None for s in scales]), self.array("double[]", [(s or (1.0, 0.0))[0] for s in scales]),
+                self.array("double[]", [(s or (1.0, 0.0))[1] for s in scales]))
 
     def edge(self, source: int, target: int) -> int:
         return self.edges.setdefault((source, target), len(self.edges))
@@ -314,6 +324,10 @@ class Flat:
             for _target, _clock, sources, _batches in routes:
                 for var in sources:
                     self.cell(by_name[source], var)
+        for routes in plan.domain_routes.values():
+            for source, _target, _clock, sources, _batches in routes:
+                for var in sources:
+                    self.cell(source, var)
         for u in plan.instances if plan.event_values is not None else ():
             for variables in plan.event_values[u.name].values():
                 for var in variables:
@@ -348,13 +362,21 @@ class Flat:
         p.group_cell = self.array("int[]", [c for g in self.groups for c in g])
 
     def _routes(self, p, plan: Plan) -> None:
-        """The clock routes of each watched output clock, and their Set batches."""
+        """The clock routes of each watched output clock, then the routes between clock domains of
+        each clock (the target clock -1 where the input is not clocked), and their Set batches."""
         index, instances = self.index, plan.instances
         routes = [(index[u.name], route) for u in instances for vr in u.out_clocks for route in plan.routes.get((u.name, vr), ())]
         counts = [len(plan.routes.get((u.name, vr), ())) for u in instances for vr in u.out_clocks]
         p.route_first, p.route_count = self.array("int[]", _starts(counts)[:-1]), self.array("int[]", counts)
+        keys = [(u.name, vr) for i, u in enumerate(instances) for vr in self.clocks[i]]
+        domain = [plan.domain_routes.get(key, ()) for key in keys]
+        p.croute_first = self.array("int[]", [len(routes) + f for f in _starts([len(d) for d in domain])[:-1]])
+        p.croute_count = self.array("int[]", [len(d) for d in domain])
+        routes += [(index[source.name], (target, clock, sources, batches))
+                   for of_clock in domain for source, target, clock, sources, batches in of_clock]
+        p.route_source_instance = self.array("int[]", [u for u, _route in routes])
         p.route_target = self.array("int[]", [index[t.name] for _u, (t, _c, _s, _b) in routes])
-        p.route_clock = self.array("int[]", [self.clock_index[t.name, c] for _u, (t, c, _s, _b) in routes])
+        p.route_clock = self.array("int[]", [-1 if c is None else self.clock_index[t.name, c] for _u, (t, c, _s, _b) in routes])
         p.route_edge = self.array("int[]", [self.edge(u, index[t.name]) for u, (t, _c, _s, _b) in routes])
         sources = [[self.cell_of[instances[u].name, v.value_reference] for v in s] for u, (_t, _c, s, _b) in routes]
         p.route_source_first = self.array("int[]", _starts([len(x) for x in sources])[:-1])
@@ -364,17 +386,18 @@ class Flat:
         per_route = [len(bs) for _u, (_t, _c, _s, bs) in routes]
         p.route_batch_first = self.array("int[]", _starts(per_route)[:-1])
         p.route_batch_count = self.array("int[]", per_route)
-        setters = ["fmi3Set" + ACCESSOR[fmi_type] for _t, (fmi_type, _v, _i), _c in batches]
+        setters = ["fmi3Set" + ACCESSOR[fmi_type] for _t, (fmi_type, _v, _i, _s), _c in batches]
         functions = [self.function(t, f) for (t, _b, _c), f in zip(batches, setters)]
-        binary = [fmi_type == "Binary" for _t, (fmi_type, _v, _i), _c in batches]
+        binary = [fmi_type == "Binary" for _t, (fmi_type, _v, _i, _s), _c in batches]
         p.batch_set = self.pointers("rg_set_fn[]", [fmi_ffi.NULL if b else f for f, b in zip(functions, binary)])
         p.batch_set_binary = self.pointers("rg_set_binary_fn[]", [f if b else fmi_ffi.NULL for f, b in zip(functions, binary)])
         p.batch_note = self.array("int32_t[]", [t.binding.note_code(f) for (t, _b, _c), f in zip(batches, setters)])
-        p.batch_kind = self.array("int[]", [kind(fmi_type) for _t, (fmi_type, _v, _i), _c in batches])
-        sizes = [len(vrs) for _t, (_f, vrs, _i), _c in batches]
+        p.batch_kind = self.array("int[]", [kind(fmi_type) for _t, (fmi_type, _v, _i, _s), _c in batches])
+        sizes = [len(vrs) for _t, (_f, vrs, _i, _s), _c in batches]
         p.batch_first, p.batch_count = self.array("int[]", _starts(sizes)[:-1]), self.array("int[]", sizes)
-        p.batch_cell = self.array("int[]", [cells[i] for _t, (_f, _v, indices), cells in batches for i in indices])
-        p.batch_vr = self.array("uint32_t[]", [vr for _t, (_f, vrs, _i), _c in batches for vr in vrs])
+        p.batch_cell = self.array("int[]", [cells[i] for _t, (_f, _v, indices, _s), cells in batches for i in indices])
+        p.batch_vr = self.array("uint32_t[]", [vr for _t, (_f, vrs, _i, _s), _c in batches for vr in vrs])
+        p.batch_scaled, p.batch_factor, p.batch_offset = self.scales([s for _t, (_f, _v, _i, ss), _c in batches for s in ss])
 
     def _columns(self, p, plan: Plan) -> None:
         """The record slots: per column its kind, its read (a value) or its clock or cell."""

@@ -225,6 +225,8 @@ def encode(fmi_type: str, values: Sequence) -> tuple[object, object, list]:
 class Library:
     """An FMU's shared object, opened once per path (several instances share it)."""
 
+    required = REQUIRED  # the functions it must export
+
     def __init__(self, path: str):
         self.path = path
         try:
@@ -232,7 +234,7 @@ class Library:
         except OSError as exc:
             raise LoadError(f"cannot load the FMU binary {path}: {exc}") from None
         missing = []
-        for name in REQUIRED:
+        for name in self.required:
             try:
                 getattr(self.lib, name)
             except AttributeError:
@@ -267,6 +269,11 @@ def _log_message(env, status, category, message):
         inst.receive_log(status, text)
     except Exception:  # a logger must never raise into C
         pass
+
+
+def log_message_callback():
+    """The fmi3LogMessageCallback every binding gives its instance (its environment: the binding)."""
+    return _log_message
 
 
 class StepResult(NamedTuple):
@@ -440,21 +447,29 @@ class Binding:
         else:
             self._call("fmi3Set" + ACCESSOR[fmi_type], vrs, n, values, n if n_values is None else n_values)
 
-    def get_values(self, fmi_type: str, vrs: Sequence[int]) -> list:
-        """The values of ``vrs`` (all of ``fmi_type``) as a Python list."""
+    def get_values(self, fmi_type: str, vrs: Sequence[int], n_values: int | None = None) -> list:
+        """The values of ``vrs`` (all of ``fmi_type``) as a Python list (``n_values`` of them where
+        arrays are read: their elements in order)."""
         n = len(vrs)
-        values, sizes = value_array(fmi_type, n), size_array(n) if fmi_type == "Binary" else None
-        self.get(fmi_type, vr_array(vrs), n, values, sizes)
+        m = n if n_values is None else n_values
+        values, sizes = value_array(fmi_type, m), size_array(n) if fmi_type == "Binary" else None
+        self.get(fmi_type, vr_array(vrs), n, values, sizes, m)
         if fmi_type == "String":
             return decode_strings(values, n)
         if fmi_type == "Binary":
             return decode_binaries(sizes, values, n)
-        return ffi.unpack(values, n)
+        return ffi.unpack(values, m)
 
     def set_values(self, fmi_type: str, vrs: Sequence[int], values: Sequence) -> None:
         """Set ``vrs`` (all of ``fmi_type``) to ``values``."""
         buffer, sizes, _keep = encode(fmi_type, values)
         self.set(fmi_type, vr_array(vrs), len(vrs), buffer, sizes)
+
+    def set_array(self, fmi_type: str, vr: int, values: Sequence) -> None:
+        """Set the array variable ``vr`` (of ``fmi_type``, not String or Binary) to ``values``,
+        its elements in row-major order: one value reference, ``len(values)`` values."""
+        buffer, _sizes, _keep = encode(fmi_type, values)
+        self._call("fmi3Set" + ACCESSOR[fmi_type], vr_array([vr]), 1, buffer, len(values))
 
     def fmi3GetFloat64(self, vrs, n: int, values) -> int:
         if self.trace is not None:

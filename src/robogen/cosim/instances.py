@@ -41,28 +41,31 @@ class Reader:
     binding without raw C access (a trace, a worker process) is read through its list API.
     """
 
-    def __init__(self, binding: Binding, fmi_type: str, vrs: list[int]):
+    def __init__(self, binding: Binding, fmi_type: str, vrs: list[int], counts: list[int] | None = None):
         self.binding, self.fmi_type, self.vrs = binding, fmi_type, vrs
-        self.index = {vr: i for i, vr in enumerate(vrs)}
+        counts = counts or [1] * len(vrs)  # the values of each (an array's elements, row-major)
+        self.index = dict(zip(vrs, [sum(counts[:i]) for i in range(len(vrs))]))  # where each one's values start
         self.count = len(vrs)
+        self.n_values = sum(counts)
         self.c_vrs = vr_array(vrs)
-        self.buffer = value_array(fmi_type, self.count)
+        self.buffer = value_array(fmi_type, self.n_values)
         self.sizes = size_array(self.count) if fmi_type == "Binary" else None
         self.decodes = fmi_type in ("String", "Binary")  # values holds the buffer's contents decoded
         self.function = "fmi3Get" + ACCESSOR[fmi_type]
         self.c_function = binding.raw(self.function)  # None while tracing or out of process
-        self.values = [None] * self.count if self.decodes or self.c_function is None else self.buffer
+        self.values = [None] * self.n_values if self.decodes or self.c_function is None else self.buffer
         self.note_code = binding.note_code(self.function) if self.c_function is not None else 0
 
     def read(self) -> None:
         if self.c_function is None:
-            self.values[:] = self.binding.get_values(self.fmi_type, self.vrs)
+            arrays = (self.n_values,) if self.n_values != self.count else ()  # a binding's list API takes scalars alone too
+            self.values[:] = self.binding.get_values(self.fmi_type, self.vrs, *arrays)
             return
         self.binding.notes.call[0] = self.note_code
         if self.sizes is not None:
             status = self.c_function(self.binding.handle, self.c_vrs, self.count, self.sizes, self.buffer, self.count)
         else:
-            status = self.c_function(self.binding.handle, self.c_vrs, self.count, self.buffer, self.count)
+            status = self.c_function(self.binding.handle, self.c_vrs, self.count, self.buffer, self.n_values)
         if status > WARNING:
             raise self.binding.error(self.function, status)
         if self.sizes is not None:
@@ -122,6 +125,7 @@ class FmuInstance:
         self.binding = binding
         self.vars = md.by_name()
         self.by_vr = md.by_vr()
+        self.clock_vrs = sorted(v.value_reference for v in md.variables if v.is_clock)
         self.time = 0.0  # where this instance is: the communication point of its last step
         self.periodic: list[Periodic] = []
         self.aperiodic: list[Aperiodic] = []
@@ -203,13 +207,15 @@ class FmuInstance:
             raise RobogenError.at(f"instance '{self.name}': periodic clock '{var.name}' has no positive interval", self.span)
         return Periodic(var, start, float(interval), float(shift or 0.0))
 
-    def activate_due_clocks(self, t: float, limit: float) -> None:
-        """Set every input clock due by ``limit`` (first instant at t) and move it past t."""
+    def activate_due_clocks(self, t: float, close: float) -> None:
+        """Set every input clock due by t (a tick within ``close`` of it counting: first instant at
+        t) and move it past t."""
+        limit = t + close
         due = [p for p in self.periodic if p.next_time() <= limit] + [a for a in self.aperiodic if a.next_time() <= limit]
         if due:
             self.set_clocks(sorted(c.var.value_reference for c in due))
             for c in due:
-                c.ticked(t)
+                c.ticked(t, close)
 
     def read_intervals(self, t: float, ticked: set[int]) -> None:
         """After an event iteration at t: the next tick of each countdown clock and of each changing
@@ -230,8 +236,12 @@ class FmuInstance:
         by_type: dict[str, list[int]] = {}
         for v in variables:
             if not v.is_clock and not v.is_clocked and v.value_reference not in by_type.get(v.type, []):
+                if v.dimensions and v.type in ("String", "Binary"):
+                    raise RobogenError.at(f"instance '{self.name}': '{v.name}' is an array of {v.type}s, which the master "
+                                          "does not read", self.span)
                 by_type.setdefault(v.type, []).append(v.value_reference)
-        self.readers = [Reader(self.binding, t, vrs) for t, vrs in sorted(by_type.items())]
+        self.readers = [Reader(self.binding, t, vrs, [self.md.element_count(self.by_vr[vr]) for vr in vrs])
+                        for t, vrs in sorted(by_type.items())]
         self.reader_of = {vr: (r, i) for r in self.readers for vr, i in r.index.items()}
 
     def watch_clocks(self, vrs: list[int]) -> None:

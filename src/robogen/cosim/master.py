@@ -49,8 +49,9 @@ from robogen.cosim.fmi3 import CallNotes, FMI3Error, FMUCrashed, StepResult
 from robogen.cosim.instances import FmuInstance
 from robogen.cosim.plan import Plan
 from robogen.cosim.recorder import Pacer, Progress, Recorder
-from robogen.cosim.system import Link, System
-from robogen.cosim.wiring import CLOCK, VALUE, find_cycle, plain
+from robogen.cosim.system import Link, System, fits
+from robogen.cosim.units import apply
+from robogen.cosim.wiring import CLOCK, VALUE, Narrowing, find_cycle, plain
 from robogen.diagnostics import Note, RobogenError
 from robogen.fmu.fmi import DISCARD, status_name, tolerance
 
@@ -120,6 +121,8 @@ class Master:
                 else:
                     self.stats.loop = "Python"
                     self.stats.end_time = self._run_in_python(progress)
+            except Narrowing as exc:
+                raise self.narrowing(exc.key, exc.value) from None
             except FMI3Error as exc:
                 if signals.caught() is not None:  # the FMU failed because the signal interrupted it
                     raise signals.Interrupted(signals.caught()) from None
@@ -157,6 +160,10 @@ class Master:
             progress.update(t)
         return t
 
+    def _tol(self, t: float) -> float:
+        """How close to t counts as t (robogen.fmu.fmi.tolerance at the run's resolution)."""
+        return tolerance(t, self.plan.resolution)
+
     def _finished(self, t: float) -> bool:
         return t >= self._stop_limit or self.stats.terminated_by is not None
 
@@ -189,16 +196,16 @@ class Master:
         """The next grid point, clock tick or nextEventTime after t; one within the time tolerance
         of the stop time is the stop time (an event there is handled there)."""
         opt = self.options
-        n = grid_index(t - opt.start, opt.step)
+        n = grid_index(opt.start, opt.step, t, self._tol(t))
         grid = opt.start + (n + 1) * opt.step
-        if grid <= t + tolerance(t):
+        if grid <= t + self._tol(t):
             grid = opt.start + (n + 2) * opt.step
         point = min(grid, opt.stop, self._next_event)
         return opt.stop if point >= self._stop_limit else point
 
     def _refresh_timing(self, t: float) -> None:
         """The earliest clock tick or nextEventTime after t, over all FMUs (after setup and each Event Mode)."""
-        limit = t + tolerance(t)
+        limit = t + self._tol(t)
         earliest = math.inf
         for u in self._timed:
             tick = u.next_tick()
@@ -225,7 +232,7 @@ class Master:
         self.stats.steps += 1
         if pacer is not None:
             pacer.wait(t)
-        if event or self._next_event <= t + tolerance(t):
+        if event or self._next_event <= t + self._tol(t):
             return t, True
         self.notes.time[0] = t
         self.values.exchange(self.instances)
@@ -252,7 +259,7 @@ class Master:
         system whose FMUs roll back."""
         results: dict[str, StepResult] = {}  # of those that stepped
         stepped: list[tuple[FmuInstance, object, float]] = []  # (instance, its saved state, its time before)
-        reached = end - tolerance(end)  # an instance at or after this time is at end
+        reached = end - self._tol(end)  # an instance at or after this time is at end
         rollback = self.plan.rollback
         for u in self.plan.step_order:
             if u.time >= reached:
@@ -262,10 +269,10 @@ class Master:
             results[u.name] = self._do_step(u, end)
             if u.time < reached:  # early return: nobody goes past lastSuccessfulTime
                 end = u.time
-                reached = end - tolerance(end)
+                reached = end - self._tol(end)
                 self.stats.early_returns += 1
                 for v, v_saved, t_v in stepped:
-                    if v.time > end + tolerance(end) and v_saved is not None:
+                    if v.time > end + self._tol(end) and v_saved is not None:
                         v.binding.fmi3SetFMUState(v_saved)
                         v.time = t_v
                         self.stats.rollbacks += 1
@@ -296,9 +303,9 @@ class Master:
     def _event_iteration(self, t: float) -> None:
         self.stats.event_iterations += 1
         self.notes.time[0] = t
-        limit = t + tolerance(t)
+        close = self._tol(t)
         for u in self._timed:
-            u.activate_due_clocks(t, limit)
+            u.activate_due_clocks(t, close)
         k = 0
         ticked_all: dict[str, set[int]] = {u.name: set() for u in self._aperiodic}  # for the changing clocks' intervals
         last = self.system.max_event_iterations - 1
@@ -343,7 +350,7 @@ class Master:
         """Forward clocks and values in dependency order until nothing new happens at this instant
         (without connections: read each instance's output clocks, nothing to forward)."""
         instances = self.plan.event_instances if event_mode else self.instances
-        if not self.plan.routes and not self.values.connected:
+        if not self.plan.routes and not self.plan.domain_routes and not self.values.connected:
             if clocks:
                 for u in instances:
                     if u.out_clocks:
@@ -387,6 +394,15 @@ class Master:
                                "(each instance's output changes the next one's input)",
                                loop[0].span if loop else self.system.span("connections"), *notes)
 
+    def narrowing(self, key: tuple[str, int], value) -> RobogenError:
+        """The error for a connected value that does not fit its input's type, at the connection."""
+        target, vr = key
+        link = next(k for k in self.links if k.target == target and k.dst.value_reference == vr)
+        return RobogenError.at(f"connection '{link.source}.{link.src.name} -> {link.target}.{link.dst.name}': the value "
+                               f"{value!r} of {link.src.type} '{link.source}.{link.src.name}' does not fit the input's type "
+                               f"{link.dst.type} at t={_when(self.notes.time[0])}; the results recorded so far are kept",
+                               link.span)
+
     def _connections_around(self, cycle: list[str], clocks: bool) -> list[Link]:
         """One connection (of clocks, or of values) for each step a -> b of an instance cycle."""
         loop = []
@@ -396,10 +412,12 @@ class Master:
                 loop.append(link)
         return loop
 
-    def _forward_clocks(self, u: FmuInstance, forwarded: set[tuple[str, int]]) -> set[str]:
+    def _forward_clocks(self, u: FmuInstance, forwarded: set[tuple]) -> set[str]:
         """Note u's active output clocks; set the clocks (and clocked values) they drive, once per
         instant: the values a clock carries read with one Get call per type, and set with one
-        Set call per type on each target. The names of the instances set."""
+        Set call per type on each target. Then the values crossing clock domains at u's active
+        clocks (in the order of their value references): held into inputs that are not clocked,
+        sampled into u's clocked inputs. The names of the instances set."""
         woken = set()
         for vr in u.read_clocks():
             u.active.add(vr)
@@ -407,16 +425,32 @@ class Master:
                 continue
             forwarded.add((u.name, vr))
             for target, target_clock, sources, batches in self.plan.routes.get((u.name, vr), ()):
-                if not target.event_mode:
-                    continue
-                if target_clock not in target.active:
-                    target.set_clocks([target_clock])
-                if sources:
-                    values = u.clocked_values(sources)
-                    for fmi_type, vrs, indices in batches:
-                        target.set_values(fmi_type, vrs, [values[i] for i in indices])
+                if target.event_mode:
+                    self._forward(u, target, target_clock, sources, batches)
+                    woken.add(target.name)
+        for vr in u.clock_vrs:
+            if vr not in u.active or (u.name, vr, "domains") in forwarded or (u.name, vr) not in self.plan.domain_routes:
+                continue
+            forwarded.add((u.name, vr, "domains"))
+            for source, target, target_clock, sources, batches in self.plan.domain_routes[u.name, vr]:
+                self._forward(source, target, target_clock, sources, batches)
                 woken.add(target.name)
         return woken
+
+    @staticmethod
+    def _forward(source: FmuInstance, target: FmuInstance, target_clock: int | None, sources, batches) -> None:
+        """One route: the target clock set (unless active, or none), the values it carries, each
+        converted in one step as the engine converts it (its scale, then the input's type)."""
+        if target_clock is not None and target_clock not in target.active:
+            target.set_clocks([target_clock])
+        if sources:
+            values = source.clocked_values(sources)
+            for fmi_type, vrs, indices, scales in batches:
+                carried = [apply(scale, values[i]) for i, scale in zip(indices, scales)]
+                for vr, value in zip(vrs, carried):
+                    if not fits(fmi_type, value):
+                        raise Narrowing((target.name, vr), value)
+                target.set_values(fmi_type, vrs, carried)
 
     def zeno(self, t: float, k: int, needs: list[FmuInstance], ticked: dict) -> None:
         active = [f"{n}.{self.by_name[n].by_vr[vr].name}" for n, vrs in ticked.items() for vr in sorted(vrs)]

@@ -29,6 +29,7 @@ class Plan:
     step: float
     stop: float
     stop_limit: float  # a point at or after this is the stop time
+    resolution: float | None  # the time resolution (robogen.fmu.fmi.time_resolution): caps the time tolerance
     max_iterations: int  # super-dense instants of one event iteration
     instances: tuple[FmuInstance, ...]  # in dependency order
     step_order: tuple[FmuInstance, ...]  # the early returners first
@@ -38,6 +39,8 @@ class Plan:
     wiring: Wiring
     values: ValueExchange
     routes: dict[tuple[str, int], list[tuple]]  # by (source instance, output clock)
+    #: by (instance, clock): (source, target, target clock or None, the source variables, batches)
+    domain_routes: dict[tuple[str, int], list[tuple]]
     clocked_columns: list[tuple[FmuInstance, list[tuple[int, Variable, frozenset[int]]]]]
     event_values: dict[str, dict[int, list[Variable]]] | None  # None: no events log
 
@@ -51,31 +54,44 @@ class Plan:
 
 
 def make_plan(instances: list[FmuInstance], links: list[Link], record: list[tuple[FmuInstance, Variable]], *,
-              start: float, step: float, stop: float, max_iterations: int, events_logged: bool) -> Plan:
+              start: float, step: float, stop: float, max_iterations: int, events_logged: bool,
+              resolution: float | None = None) -> Plan:
     """The plan of a run of ``instances`` (in dependency order); sets up their readers and watched clocks."""
     wiring = wire(instances, links, record)
     early = [u for u in instances if u.early]
-    return Plan(start, step, stop, stop - tolerance(stop), max_iterations, tuple(instances),
+    return Plan(start, step, stop, stop - tolerance(stop, resolution), resolution, max_iterations, tuple(instances),
                 tuple(early + [u for u in instances if not u.early]), tuple(u for u in instances if u.event_mode),
                 bool(early), len(early) > 1, wiring, ValueExchange(wiring.value_links), _routes(wiring),
+                _domain_routes(wiring),
                 _clocked_columns(wiring), _event_values(instances) if events_logged else None)
 
 
 def _routes(wiring: Wiring) -> dict[tuple[str, int], list[tuple]]:
     """Each clock route as (target, target clock, the source variables it carries, and per type
-    (type, target value references, indices into the sources))."""
+    (type, target value references, indices into the sources, the values' scales or None))."""
     plans: dict[tuple[str, int], list[tuple]] = {}
     for key, routes in wiring.clock_routes.items():
         for route in routes:
             sources = [value.source for value in route.values]
-            by_type: dict[str, tuple[list[int], list[int]]] = {}
-            for i, value in enumerate(route.values):
-                vrs, indices = by_type.setdefault(value.target.type, ([], []))
-                vrs.append(value.target.value_reference)
-                indices.append(i)
-            batches = [(fmi_type, vrs, indices) for fmi_type, (vrs, indices) in by_type.items()]
-            plans.setdefault(key, []).append((route.target, route.target_clock, sources, batches))
+            plans.setdefault(key, []).append((route.target, route.target_clock, sources, _batches(route.values)))
     return plans
+
+
+def _batches(values) -> list[tuple]:
+    """(type, target value references, indices into the values, the values' scales or None) per
+    target type: one Set call each."""
+    by_type: dict[str, tuple[list[int], list[int], list]] = {}
+    for i, value in enumerate(values):
+        vrs, indices, scales = by_type.setdefault(value.target.type, ([], [], []))
+        vrs.append(value.target.value_reference)
+        indices.append(i)
+        scales.append(value.scale)
+    return [(fmi_type, vrs, indices, scales) for fmi_type, (vrs, indices, scales) in by_type.items()]
+
+
+def _domain_routes(wiring: Wiring) -> dict[tuple[str, int], list[tuple]]:
+    return {key: [(r.source, r.target, r.target_clock, [v.source for v in r.values], _batches(r.values)) for r in routes]
+            for key, routes in wiring.domain_routes.items()}
 
 
 def _clocked_columns(wiring: Wiring) -> list[tuple[FmuInstance, list[tuple[int, Variable, frozenset[int]]]]]:
@@ -89,8 +105,9 @@ def _clocked_columns(wiring: Wiring) -> list[tuple[FmuInstance, list[tuple[int, 
 
 
 def _event_values(instances: list[FmuInstance]) -> dict[str, dict[int, list[Variable]]]:
-    """Per instance and clock: the clocked inputs and outputs the events log shows with it."""
+    """Per instance and clock: the clocked inputs and outputs the events log shows with it (scalars:
+    the master carries no FMI arrays; a set's or sequence's size is shown)."""
     return {u.name: {c.value_reference: [v for v in u.md.variables if c.value_reference in v.clocks and not v.is_clock
-                                         and v.causality in ("input", "output")]
+                                         and v.causality in ("input", "output") and not v.dimensions]
                      for c in u.md.variables if c.is_clock}
             for u in instances}

@@ -118,7 +118,10 @@ def _groups(cols: _Columns) -> list[tuple[str, list[str]]]:
     return groups + [(n, [n]) for n in cols.values if n not in cols.clocks]
 
 
-def plot(results: Path, output: Path, patterns: list[str] | None = None) -> Path:
+def plot(results: Path, output: Path, patterns: list[str] | None = None,
+         labels: dict[str, dict[int, str]] | None = None) -> Path:
+    """Draw the chosen columns of ``results`` into ``output``; ``labels`` names the values of
+    step-plotted columns on their axis (an Enumeration's items: a state machine's states)."""
     import matplotlib
 
     matplotlib.use("Agg")
@@ -136,7 +139,7 @@ def plot(results: Path, output: Path, patterns: list[str] | None = None) -> Path
     try:
         fmt = _format(fig, output)
         for ax, (title, members) in zip(axes[:, 0], groups):
-            _draw(ax, title, members, cols)
+            _draw(ax, title, members, cols, (labels or {}).get(title))
         axes[-1, 0].set_xlabel("time [s]")
         fig.tight_layout()
         with replacing(output) as tmp:
@@ -154,7 +157,7 @@ def _format(fig, output: Path) -> str:
     return fmt
 
 
-def _draw(ax, title: str, members: list[str], cols: _Columns) -> None:
+def _draw(ax, title: str, members: list[str], cols: _Columns, names: dict[int, str] | None = None) -> None:
     times = cols.times
     if title.startswith("clocks of"):
         for level, n in enumerate(members):
@@ -169,6 +172,8 @@ def _draw(ax, title: str, members: list[str], cols: _Columns) -> None:
             ax.plot([t for t, y in zip(times, ys) if not math.isnan(y)], [y for y in ys if not math.isnan(y)], "o", ms=3)
         elif all(float(y).is_integer() for y in ys):
             ax.step(times, ys, where="post")
+            if names:
+                ax.set_yticks(sorted(names), [names[k] for k in sorted(names)])
         else:
             ax.plot(times, ys)
     ax.set_title(title, fontsize=9, loc="left")

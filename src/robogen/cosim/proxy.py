@@ -174,11 +174,14 @@ class ProxyBinding:
         return self._call("fmi3Reset", "fmi3Reset")
 
     # -- values ----------------------------------------------------------------------------------
-    def get_values(self, fmi_type: str, vrs: Sequence[int]) -> list:
-        return self._call(f"fmi3Get{fmi_type}", "get_values", fmi_type, list(vrs))
+    def get_values(self, fmi_type: str, vrs: Sequence[int], n_values: int | None = None) -> list:
+        return self._call(f"fmi3Get{fmi_type}", "get_values", fmi_type, list(vrs), n_values)
 
     def set_values(self, fmi_type: str, vrs: Sequence[int], values: Sequence) -> None:
         self._call(f"fmi3Set{fmi_type}", "set_values", fmi_type, list(vrs), list(values))
+
+    def set_array(self, fmi_type: str, vr: int, values: Sequence) -> None:
+        self._call(f"fmi3Set{fmi_type}", "set_array", fmi_type, vr, list(values))
 
     def fmi3GetClock(self, vrs, n: int, values) -> int:
         active = self._call("fmi3GetClock", "get_clocks", ffi.unpack(vrs, n))

@@ -43,6 +43,7 @@ from pathlib import Path
 from typing import Callable, Sequence
 
 from robogen.cosim.clocks import grid_index
+from robogen.fmu.fmi import tolerance
 from robogen.cosim.columnar import ParquetSink, is_parquet
 from robogen.outputs import replacing
 
@@ -134,7 +135,7 @@ class Recorder:
 
     def _decimated(self, t: float) -> bool:
         """Whether the plain row at t is dropped (see the module docstring); notes the next one kept."""
-        n = grid_index(t - self.start, self.every)
+        n = grid_index(self.start, self.every, t, tolerance(t, self.every))
         if n < self._next_kept:
             return True
         self._next_kept = n + 1
@@ -151,7 +152,8 @@ class Recorder:
         """A row of an event iteration: always kept."""
         self._held = None
         if self.every is not None:  # a row in this decimation interval is kept: no plain one needed
-            self._next_kept = max(self._next_kept, grid_index(row[0] - self.start, self.every) + 1)
+            t = row[0]
+            self._next_kept = max(self._next_kept, grid_index(self.start, self.every, t, tolerance(t, self.every)) + 1)
         self.recorded += 1
         if self.keep_rows:
             self.rows.append(row)

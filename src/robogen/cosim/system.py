@@ -18,20 +18,28 @@ from __future__ import annotations
 import fnmatch
 import math
 import re
-import tomllib
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from robogen.diagnostics import DiagnosticSink, Note, RobogenError, Span, did_you_mean
+from robogen.diagnostics import DiagnosticSink, Note, Span, did_you_mean
 from robogen.fmu.modeldesc import ModelDescription, Variable
-from robogen.cosim.tomlspan import SpanIndex
+from robogen.cosim.tomlspan import PathSpans, SpanIndex, read_toml
 
 _ARROW = re.compile(r"^\s*(\S+)\s*->\s*(\S+)\s*$")
 TOP_KEYS = ("experiment", "instances", "connections", "record")
 EXPERIMENT_KEYS = ("start", "stop", "step", "tolerance", "max_event_iterations", "order")
-INSTANCE_KEYS = ("fmu", "start", "clocks", "isolate")
+INSTANCE_KEYS = ("fmu", "start", "clocks", "isolate", "scenario", "scenario_parameters", "interface", "solver",
+                 "solver_step")
+#: The interfaces an instance may use its FMU through ([instances.X] interface) ...
+INTERFACES = ("co-simulation", "model-exchange", "scheduled-execution")
+#: ... and the integrators of a Model Exchange FMU ([instances.X] solver).
+SOLVERS = ("cvode", "euler")
 CLOCK_KEYS = ("interval", "shift")
 RECORD_KEYS = ("variables", "every")
+#: [experiment] max_event_iterations unless given: super-dense instants of one event iteration
+MAX_EVENT_ITERATIONS = 1000
+#: A connection written as a table: { from = "a.y", to = "b.u", factor = 1000.0, offset = 0.0 }
+CONNECTION_KEYS = ("from", "to", "factor", "offset")
 
 
 @dataclass(frozen=True)
@@ -49,6 +57,9 @@ class Connection:
     source: Endpoint
     target: Endpoint
     span: Span
+    #: a linear conversion of a real value on its way, target = factor * source + offset (a
+    #: connection table's factor and offset, an SSP file's units and LinearTransformation); None: none
+    scale: tuple[float, float] | None = None
 
 
 @dataclass
@@ -60,6 +71,12 @@ class InstanceSpec:
     start: dict[str, tuple[object, Span]] = field(default_factory=dict)
     clocks: dict[str, tuple[dict, Span]] = field(default_factory=dict)
     isolate: bool = False  # run the instance in a worker process of its own (robogen.cosim.proxy)
+    scenario: Path | None = None  # a scenario file that drives it (robogen.cosim.scenario, .player)
+    scenario_span: Span | None = None
+    player_of: str | None = None  # this instance plays the scenario of that one (no FMU file)
+    interface: str | None = None  # None: co-simulation where the FMU offers it, else the first it offers
+    solver: str = "cvode"  # Model Exchange: the integrator
+    solver_step: float | None = None  # Euler's step (None: the communication step)
 
 
 @dataclass
@@ -75,7 +92,7 @@ class System:
     instances: dict[str, InstanceSpec]
     connections: list[Connection]
     record: list[tuple[str, Span]] | None
-    spans: SpanIndex
+    spans: PathSpans  # where its parts are in its file (a SpanIndex of a TOML file)
     record_every: float | None = None  # [record] every: plain rows at most this often (event rows all kept)
 
     def span(self, *path) -> Span:
@@ -99,7 +116,7 @@ def matching(pattern: str, names: list[str]) -> list[str]:
 
 def load_system(path: str | Path) -> System:
     path = Path(path)
-    text, data = _read_toml(path)
+    text, data = read_toml(path, "system file")
     check = _SchemaCheck(SpanIndex(text, str(path)))
     check.unknown_keys(data, TOP_KEYS)
     exp = check.table(data, "experiment", "'experiment' must be a table")
@@ -112,29 +129,14 @@ def load_system(path: str | Path) -> System:
     for name, spec in raw_instances.items():
         inst = _instance(name, spec, path, check)
         if inst is not None:
+            if inst.scenario is not None:
+                _player(inst, raw_instances, instances, check)
             instances[name] = inst
     connections = _connections(data, check)
     order = _order(exp, raw_instances, check)
     record, every = _record(data, check)
     check.sink.raise_if_errors()
     return System(path, text, start, stop, step, tol, max_iter, order, instances, connections, record, check.idx, every)
-
-
-def _read_toml(path: Path) -> tuple[str, dict]:
-    display = str(path)
-    try:
-        text = path.read_text(encoding="utf-8")
-    except OSError as exc:
-        raise RobogenError.at(f"cannot read system file: {exc.strerror}", Span.whole_file(display)) from None
-    except UnicodeDecodeError:
-        raise RobogenError.at("system file is not UTF-8 text", Span.whole_file(display)) from None
-    try:
-        return text, tomllib.loads(text)
-    except tomllib.TOMLDecodeError as exc:
-        m = re.search(r"\(at line (\d+), column (\d+)\)", str(exc))
-        msg = re.sub(r"\s*\(at line \d+, column \d+\)", "", str(exc))
-        span = Span.point(display, int(m.group(1)), int(m.group(2))) if m else Span.whole_file(display)
-        raise RobogenError.at(f"invalid TOML: {msg}", span) from None
 
 
 class _SchemaCheck:
@@ -184,10 +186,10 @@ def _experiment(exp: dict, check: _SchemaCheck) -> tuple[float, float | None, fl
     tol = check.number(exp["tolerance"], "experiment", "tolerance", positive=True) if "tolerance" in exp else None
     if stop is not None and stop < start:
         check.error(f"stop time {stop} is before the start time {start}", "experiment", "stop")
-    max_iter = exp.get("max_event_iterations", 1000)
+    max_iter = exp.get("max_event_iterations", MAX_EVENT_ITERATIONS)
     if isinstance(max_iter, bool) or not isinstance(max_iter, int) or max_iter < 1:
         check.error("'max_event_iterations' must be a positive integer", "experiment", "max_event_iterations")
-        max_iter = 1000
+        max_iter = MAX_EVENT_ITERATIONS
     return start, stop, step, tol, max_iter
 
 
@@ -210,6 +212,16 @@ def _instance(name: str, spec, path: Path, check: _SchemaCheck) -> InstanceSpec 
     if not isinstance(isolate, bool):
         check.error("'isolate' must be true or false", *where, "isolate")
     inst.isolate = isolate is True
+    scenario = spec.get("scenario")
+    if scenario is None and "scenario_parameters" in spec:
+        check.error("'scenario_parameters' sets parameters of a scenario: give scenario = \"S.toml\" too", *where,
+                    "scenario_parameters")
+    if scenario is not None:
+        if not isinstance(scenario, str) or not scenario:
+            check.error("'scenario' must be the path of a scenario file (TOML)", *where, "scenario")
+        else:
+            inst.scenario, inst.scenario_span = path.parent / scenario, check.idx.span(*where, "scenario")
+    _interface(spec, inst, where, check)
     starts = spec.get("start", {})
     if not isinstance(starts, dict):
         check.error("'start' must be a table of variable = value", *where, "start")
@@ -228,6 +240,41 @@ def _instance(name: str, spec, path: Path, check: _SchemaCheck) -> InstanceSpec 
         if checked is not None:
             inst.clocks[clock] = (checked, check.idx.span(*where, "clocks", clock))
     return inst
+
+
+def _player(inst: InstanceSpec, raw_instances: dict, instances: dict[str, InstanceSpec], check: _SchemaCheck) -> None:
+    """The instance that plays ``inst``'s scenario, ``<name>_scenario``, declared just before it
+    (robogen.cosim.player); its "FMU" is the scenario file."""
+    name = f"{inst.name}_scenario"
+    if name in raw_instances:
+        check.error(f"instance '{name}' plays the scenario of '{inst.name}': choose another name for it",
+                    "instances", name)
+        return
+    player = InstanceSpec(name, inst.scenario, inst.scenario_span, inst.scenario_span, player_of=inst.name)
+    values = raw_instances[inst.name].get("scenario_parameters", {})
+    where = ("instances", inst.name, "scenario_parameters")
+    if not isinstance(values, dict):
+        check.error("'scenario_parameters' must be a table of parameter = value", *where)
+        values = {}
+    for key, value in values.items():
+        if isinstance(value, (dict, list)):
+            check.error(f"scenario parameter '{key}' must be a number, boolean or string", *where, key)
+        else:
+            player.start[key] = (value, check.idx.span(*where, key))
+    instances[name] = player
+def _interface(spec: dict, inst: InstanceSpec, where: tuple, check: _SchemaCheck) -> None:
+    """[instances.NAME] interface, solver and solver_step."""
+    for key, allowed in (("interface", INTERFACES), ("solver", SOLVERS)):
+        if key not in spec:
+            continue
+        value = spec[key]
+        if value not in allowed:
+            check.error(f"'{key}' must be one of {', '.join(repr(a) for a in allowed)}, not {value!r}"
+                        f"{did_you_mean(str(value), allowed)}", *where, key)
+        else:
+            setattr(inst, key, value)
+    if "solver_step" in spec:
+        inst.solver_step = check.number(spec["solver_step"], *where, "solver_step", positive=True)
 
 
 def _clock_timing(timing, where: tuple, check: _SchemaCheck) -> dict | None:
@@ -251,6 +298,9 @@ def _connections(data: dict, check: _SchemaCheck) -> list[Connection]:
         raw_conn = []
     for i, item in enumerate(raw_conn):
         span = check.idx.span("connections", i)
+        if isinstance(item, dict):
+            connections += _connection_table(item, i, check)
+            continue
         m = _ARROW.match(item) if isinstance(item, str) else None
         ends = (split_name(m.group(1)), split_name(m.group(2))) if m else (None, None)
         if not m or None in ends:
@@ -259,6 +309,25 @@ def _connections(data: dict, check: _SchemaCheck) -> list[Connection]:
         (si, sv), (ti, tv) = ends
         connections.append(Connection(Endpoint(si, sv, span), Endpoint(ti, tv, span), span))
     return connections
+
+
+def _connection_table(item: dict, i: int, check: _SchemaCheck) -> list[Connection]:
+    """{ from = "a.y", to = "b.u", factor = F, offset = O }: a connection converting a real value
+    on its way (target = F * source + O; factor 1 and offset 0 unless given)."""
+    where = ("connections", i)
+    check.unknown_keys(item, CONNECTION_KEYS, *where)
+    ends = [split_name(item[k]) if isinstance(item.get(k), str) else None for k in ("from", "to")]
+    for key, end in zip(("from", "to"), ends):
+        if end is None:
+            check.error(f"'{key}' must be \"instance.variable\"", *where, key)
+    factor = check.number(item.get("factor", 1.0), *where, "factor")
+    offset = check.number(item.get("offset", 0.0), *where, "offset")
+    if None in ends or factor is None or offset is None:
+        return []
+    span = check.idx.span(*where)
+    (si, sv), (ti, tv) = ends
+    scale = None if (factor, offset) == (1.0, 0.0) else (factor, offset)
+    return [Connection(Endpoint(si, sv, span), Endpoint(ti, tv, span), span, scale)]
 
 
 def _order(exp: dict, raw_instances: dict, check: _SchemaCheck) -> list[str]:
@@ -307,13 +376,15 @@ class Link:
     target: str
     dst: Variable
     span: Span
+    scale: tuple[float, float] | None = None  # target = factor * source + offset (Connection.scale)
 
 
 def resolve(system: System, models: dict[str, ModelDescription]) -> list[Link]:
     """Check every connection, start value and recorded name against the FMUs; collect all problems."""
     check = _ModelCheck(system, models)
     for name in models:
-        check.instance(name)
+        if system.instances[name].player_of is None:
+            check.instance(name)
     links = [link for c in system.connections if (link := check.connection(c)) is not None]
     for link in links:
         check.clocks_connected(link, links)
@@ -383,7 +454,10 @@ class _ModelCheck:
         self.targets[key] = c.span
         if not self.compatible(c, src, dst):
             return None
-        return Link(c.source.instance, src, c.target.instance, dst, c.span)
+        if c.scale is not None and not (src.type in ("Float32", "Float64") and dst.type in ("Float32", "Float64")):
+            self.sink.error(f"'{c.source} -> {c.target}' converts its value (factor and offset), which only a real "
+                            f"(Float32, Float64) can be: '{c.source}' is {_kind(src)}", c.span)
+        return Link(c.source.instance, src, c.target.instance, dst, c.span, c.scale)
 
     def compatible(self, c: Connection, src: Variable, dst: Variable) -> bool:
         """Causalities, types, clocks and Event Mode fit (False only where the link makes no sense)."""
@@ -392,13 +466,15 @@ class _ModelCheck:
             sink.error(f"'{c.source}' is not an output (causality {src.causality})", c.span)
         if dst.causality != "input":
             sink.error(f"'{c.target}' is not an input (causality {dst.causality})", c.span)
+        if src.dimensions or dst.dimensions:
+            sink.error(f"'{c.source if src.dimensions else c.target}' is an array: the master records arrays, element "
+                       "by element, but does not connect them", c.span)
+            return False
         if src.is_clock != dst.is_clock:
             sink.error(f"a clock connects only to a clock: '{c.source}' is {_kind(src)}, '{c.target}' is {_kind(dst)}", c.span)
             return False
-        if _base_type(src) != _base_type(dst):
+        if _base_type(src) != _base_type(dst) and not convertible(src.type, dst.type):
             sink.error(f"type mismatch: '{c.source}' is {src.type}, '{c.target}' is {dst.type}", c.span)
-        if src.is_clocked != dst.is_clocked:
-            sink.error(f"'{c.source}' is {'clocked' if src.is_clocked else 'not clocked'} but '{c.target}' is {'clocked' if dst.is_clocked else 'not clocked'}", c.span)
         for inst_name, var in ((c.source.instance, src), (c.target.instance, dst)):
             cs = self.models[inst_name].co_simulation
             if (var.is_clock or var.is_clocked) and cs is not None and not cs.has_event_mode:
@@ -415,8 +491,10 @@ class _ModelCheck:
         by_vr_s, by_vr_d = self.models[link.source].by_vr(), self.models[link.target].by_vr()
         sc = " or ".join(f"{link.source}.{by_vr_s[a].name}" if a in by_vr_s else str(a) for a in link.src.clocks)
         dc = " or ".join(f"{link.target}.{by_vr_d[b].name}" if b in by_vr_d else str(b) for b in link.dst.clocks)
-        self.sink.error(f"clocked connection '{link.source}.{link.src.name} -> {link.target}.{link.dst.name}' "
-                        f"needs its clocks connected: add \"{sc} -> {dc}\"", link.span)
+        self.sink.error(f"'{link.source}.{link.src.name}' is clocked by {sc} and '{link.target}.{link.dst.name}' by {dc}: "
+                        "a clocked value crosses only to a clock it drives", link.span,
+                        Note(f"connect the clocks (\"{sc.split(' or ')[0]} -> {dc.split(' or ')[0]}\"), or connect the "
+                             "value to an input that is not clocked (sample and hold)"))
 
     def recorded(self, name: str, span: Span) -> None:
         """A [record] entry: an exact variable name (any causality), or a pattern that matches
@@ -468,6 +546,29 @@ def record_list(system: System, models: dict[str, ModelDescription]) -> list[tup
 
 def _kind(v: Variable) -> str:
     return "a clock" if v.is_clock else f"a variable of type {v.type}"
+
+
+#: The types a connected value is converted between (FMI 2.0's Integer is Int32, its Enumeration
+#: Int64): the master converts a value between two integer types or two real types, and stops the
+#: run with an error naming the connection where a value does not fit its input's type.
+INTEGER_TYPES = ("Int8", "UInt8", "Int16", "UInt16", "Int32", "UInt32", "Int64", "UInt64", "Enumeration")
+REAL_TYPES = ("Float32", "Float64")
+
+
+def convertible(source: str, target: str) -> bool:
+    return (source in INTEGER_TYPES and target in INTEGER_TYPES) or (source in REAL_TYPES and target in REAL_TYPES)
+
+
+def fits(fmi_type: str, value) -> bool:
+    """Whether a value converted to ``fmi_type`` keeps its value (a finite real within Float32's range)."""
+    if fmi_type == "Float32":
+        return not math.isfinite(value) or abs(value) <= 3.4028234663852886e38
+    if fmi_type not in INTEGER_TYPES or isinstance(value, bool):
+        return True
+    if fmi_type.startswith("UInt"):
+        return 0 <= value < 2 ** int(fmi_type[4:])
+    bits = _INT_RANGES.get(fmi_type, 64)
+    return -(2 ** (bits - 1)) <= value < 2 ** (bits - 1)
 
 
 def _base_type(v: Variable) -> str:

@@ -10,17 +10,56 @@ inline tables and arrays (nested arbitrarily), strings of all four kinds, commen
 from __future__ import annotations
 
 import re
+import tomllib
+from pathlib import Path
 
-from robogen.diagnostics import Span
+from robogen.diagnostics import RobogenError, Span
 
 _BARE = re.compile(r"[A-Za-z0-9_-]+")
 KeyPath = tuple  # a key's path in the document: ("instances", "ball", "fmu"), ("connections", 3)
 
 
-class SpanIndex:
-    def __init__(self, text: str, path: str):
-        self.text, self.path = text, path
+def read_toml(path: Path, what: str) -> tuple[str, dict]:
+    """The text and the data of the TOML file ``path`` (a ``what``: "system file", ...); a file
+    that cannot be read, is not UTF-8 or not TOML is an error at its place."""
+    display = str(path)
+    try:
+        text = path.read_text(encoding="utf-8")
+    except OSError as exc:
+        raise RobogenError.at(f"cannot read {what}: {exc.strerror}", Span.whole_file(display)) from None
+    except UnicodeDecodeError:
+        raise RobogenError.at(f"{what} is not UTF-8 text", Span.whole_file(display)) from None
+    try:
+        return text, tomllib.loads(text)
+    except tomllib.TOMLDecodeError as exc:
+        m = re.search(r"\(at line (\d+), column (\d+)\)", str(exc))
+        msg = re.sub(r"\s*\(at line \d+, column \d+\)", "", str(exc))
+        span = Span.point(display, int(m.group(1)), int(m.group(2))) if m else Span.whole_file(display)
+        raise RobogenError.at(f"invalid TOML: {msg}", span) from None
+
+
+class PathSpans:
+    """Spans by key path; a path not recorded has its longest recorded prefix's, else ``fallback``'s.
+    What a system's spans answer, whichever file the system was read from."""
+
+    def __init__(self, fallback: Span):
+        self.fallback = fallback
         self.spans: dict[KeyPath, Span] = {}
+
+    def span(self, *path) -> Span:
+        """The span of ``path``, or of its longest recorded prefix, or the fallback (the whole file)."""
+        p = tuple(path)
+        while p:
+            if p in self.spans:
+                return self.spans[p]
+            p = p[:-1]
+        return self.fallback
+
+
+class SpanIndex(PathSpans):
+    def __init__(self, text: str, path: str):
+        super().__init__(Span.whole_file(path))
+        self.text, self.path = text, path
         self._aot_count: dict[KeyPath, int] = {}
         self.i = 0
         self._line_starts = [0] + [m.end() for m in re.finditer("\n", text)]
@@ -28,16 +67,6 @@ class SpanIndex:
             self._document()
         except (IndexError, ValueError):  # best effort: keep what was found
             pass
-
-    # -- lookup ----------------------------------------------------------------------------
-    def span(self, *path) -> Span:
-        """The span of ``path``, or of its longest recorded prefix, or of the whole file."""
-        p = tuple(path)
-        while p:
-            if p in self.spans:
-                return self.spans[p]
-            p = p[:-1]
-        return Span.whole_file(self.path)
 
     # -- scanning ----------------------------------------------------------------------------
     def _pos(self, i: int, length: int = 1) -> Span:

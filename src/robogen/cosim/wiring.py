@@ -6,6 +6,10 @@ From the resolved connections and the record list, :func:`wire` derives
   instance, and the :class:`ValueExchange` that forwards them;
 - the clock routes (:class:`ClockRoute`): an output clock to the input clocks it drives, with the
   clocked values that ride on it;
+- the routes between clock domains (:class:`DomainRoute`), keyed by an instance's clock: a clocked
+  output into an input that is not clocked, forwarded at each tick of the output's clock and held
+  until the next (sample and hold); an output that is not clocked into a clocked input, sampled
+  when the input's clock ticks;
 - the recorded columns (:class:`Column`);
 
 and tells every instance which outputs to read after a step (its readers) and which output
@@ -18,7 +22,8 @@ from dataclasses import dataclass, field
 from typing import NamedTuple
 
 from robogen.cosim.instances import FmuInstance, Reader
-from robogen.cosim.system import Link
+from robogen.cosim.system import Link, fits
+from robogen.cosim.units import apply
 from robogen.fmu.modeldesc import Variable
 
 #: Column kinds: a non-clocked value, a clock (1 while active, else 0), a clocked value (empty
@@ -48,11 +53,13 @@ class ValueLink(NamedTuple):
     source_vr: int
     target: FmuInstance
     target_variable: Variable
+    scale: tuple[float, float] | None = None  # a linear conversion on the way (Link.scale)
 
 
 class ClockedValue(NamedTuple):
     source: Variable
     target: Variable
+    scale: tuple[float, float] | None = None  # a linear conversion on the way (Link.scale)
 
 
 @dataclass
@@ -65,9 +72,22 @@ class ClockRoute:
 
 
 @dataclass
+class DomainRoute:
+    """A value crossing clock domains, forwarded while the clock it is keyed by is active: from
+    ``source`` to ``target``'s input; ``target_clock`` is the clocked input's clock (sampling, the
+    clock it is keyed by) or None (sample and hold into an input that is not clocked)."""
+
+    source: FmuInstance
+    target: FmuInstance
+    target_clock: int | None
+    values: list[ClockedValue] = field(default_factory=list)
+
+
+@dataclass
 class Wiring:
     value_links: dict[str, list[ValueLink]]  # by source instance
     clock_routes: dict[tuple[str, int], list[ClockRoute]]  # by (source instance, output clock)
+    domain_routes: dict[tuple[str, int], list[DomainRoute]]  # by (instance, the clock whose ticks forward them)
     columns: list[Column]
     record_reads: list[FmuInstance]  # recorded instances that no value link reads: read to record
 
@@ -77,15 +97,18 @@ def wire(instances: list[FmuInstance], links: list[Link], record: list[tuple[Fmu
     observe: dict[str, list[Variable]] = {u.name: [] for u in instances}
     watch: dict[str, list[int]] = {u.name: [] for u in instances}
     value_links, clock_routes = _routes(instances, links, observe, watch)
+    domain_routes = _domain_routes(instances, links, watch)
     kinds = [_column_kind(u, var, observe, watch) for u, var in record]
     for u in instances:
         u.observe(observe[u.name])
         u.watch_clocks(watch[u.name])
-    columns = [Column(kind, u, var, *u.reader_of.get(var.value_reference, (None, 0)))
-               for kind, (u, var) in zip(kinds, record)]
+    columns = [Column(kind, u, var, reader, index + k)
+               for kind, (u, var) in zip(kinds, record)
+               for reader, index in [u.reader_of.get(var.value_reference, (None, 0))]
+               for k in range(u.md.element_count(var) if kind == VALUE else 1)]
     recorded = {c.instance.name for c in columns if c.kind == VALUE}
     record_reads = [u for u in instances if u.name in recorded and not value_links[u.name]]
-    return Wiring(value_links, clock_routes, columns, record_reads)
+    return Wiring(value_links, clock_routes, domain_routes, columns, record_reads)
 
 
 def _routes(instances, links, observe, watch):
@@ -100,13 +123,36 @@ def _routes(instances, links, observe, watch):
                 ClockRoute(target, link.dst.value_reference))
         elif not link.src.is_clocked:
             observe[source.name].append(link.src)
-            value_links[source.name].append(ValueLink(link.src.value_reference, target, link.dst))
+            value_links[source.name].append(ValueLink(link.src.value_reference, target, link.dst, link.scale))
     for link in links:  # clocked values ride on their clock's route
         if link.src.is_clocked and not link.src.is_clock:
             for route in (r for c in link.src.clocks for r in clock_routes.get((link.source, c), [])):
                 if route.target.name == link.target and route.target_clock in link.dst.clocks:
-                    route.values.append(ClockedValue(link.src, link.dst))
+                    route.values.append(ClockedValue(link.src, link.dst, link.scale))
     return value_links, clock_routes
+
+
+def _domain_routes(instances, links, watch) -> dict[tuple[str, int], list[DomainRoute]]:
+    """The connections between a clocked and a non-clocked variable, keyed by the clock whose
+    ticks forward them: the source's clocks (sample and hold; an output clock is watched) or the
+    target's (sampling)."""
+    by_name = {u.name: u for u in instances}
+    routes: dict[tuple[str, int], list[DomainRoute]] = {}
+    crossing = [k for k in links if not k.src.is_clock and k.src.is_clocked != k.dst.is_clocked]
+    for link in crossing:  # sampling first: what an instance puts out at a tick follows what it sampled
+        if not link.src.is_clocked:
+            for c in link.dst.clocks:
+                routes.setdefault((link.target, c), []).append(
+                    DomainRoute(by_name[link.source], by_name[link.target], c, [ClockedValue(link.src, link.dst, link.scale)]))
+    for link in crossing:  # sample and hold
+        if link.src.is_clocked:
+            source = by_name[link.source]
+            for c in link.src.clocks:
+                if c in source.by_vr and source.by_vr[c].causality == "output":
+                    watch[source.name].append(c)
+                routes.setdefault((source.name, c), []).append(
+                    DomainRoute(source, by_name[link.target], None, [ClockedValue(link.src, link.dst, link.scale)]))
+    return routes
 
 
 def _column_kind(u: FmuInstance, var: Variable, observe, watch) -> str:
@@ -141,10 +187,12 @@ class ValueExchange:
             return set()  # nothing to forward: recording reads what it records
         u.read_outputs()
         woken = set()
-        for vr, target, variable in links:
-            value = u.value(vr)
+        for vr, target, variable, scale in links:
+            value = apply(scale, u.value(vr))  # as the engine converts it
             key = (target.name, variable.value_reference)
             if self.last_set.get(key, UNSET) != value:
+                if not fits(variable.type, value):
+                    raise Narrowing(key, value)
                 self.last_set[key] = value
                 target.set_values(variable.type, [variable.value_reference], [value])
                 woken.add(target.name)
@@ -160,6 +208,15 @@ class ValueExchange:
 
 
 UNSET = object()  # an input not set yet
+
+
+class Narrowing(Exception):
+    """A connected value that does not fit its input's type: the input (target instance, value
+    reference) and the value."""
+
+    def __init__(self, key: tuple[str, int], value):
+        super().__init__(key, value)
+        self.key, self.value = key, value
 
 
 def find_cycle(edges: dict[str, set[str]]) -> list[str]:

@@ -27,6 +27,7 @@ METHODS = frozenset({
     "fmi3EnterEventMode", "fmi3EnterStepMode", "fmi3Terminate", "fmi3Reset", "fmi3DoStep", "fmi3UpdateDiscreteStates",
     "fmi3GetIntervalDecimal", "fmi3GetShiftDecimal", "fmi3SetIntervalDecimal", "fmi3SetShiftDecimal",
     "fmi3GetFMUState", "fmi3SetFMUState", "fmi3FreeFMUState", "get_values", "set_values", "get_clocks", "set_clocks",
+    "set_array",
 })
 
 _TAKE_VRS = frozenset({"fmi3GetIntervalDecimal", "fmi3GetShiftDecimal", "fmi3SetIntervalDecimal", "fmi3SetShiftDecimal"})

@@ -5,17 +5,22 @@ path, no drive letter, no ``..`` component, no backslash, no symbolic link or de
 Unix mode bits in the ZIP's external attributes), no encryption, only store or deflate. The
 member count and the total unpacked size are capped, and the bytes actually written are counted
 (a ZIP header can lie about sizes). Files are created with ``O_EXCL`` below the destination
-folder only, so nothing is ever written outside it.
+folder only, so nothing is ever written outside it. A member that the ZIP directory lists twice
+(as some zip writers do, CMake's among them) is accepted when both copies hold the same bytes and
+refused when they differ. The master extracts only what it runs an FMU from (:func:`needed_to_run`:
+the description, ``binaries/`` and ``resources/``), not the sources or documentation.
 """
 
 from __future__ import annotations
 
+import hashlib
 import os
 import stat
 import tempfile
 import zipfile
 from dataclasses import dataclass
 from pathlib import Path
+from typing import Callable
 
 from robogen.diagnostics import RobogenError, Span, error
 
@@ -80,8 +85,20 @@ def check_archive(path: str | Path, limits: Limits = Limits()) -> list:
     return problems
 
 
-def extract_fmu(path: str | Path, destination: str | Path | None = None, limits: Limits = Limits()) -> Path:
-    """Unpack the FMU at ``path`` into ``destination`` (a new temporary folder when None).
+#: The members an importer runs an FMU from: its description, binaries and resources (not its
+#: sources, documentation, icons or extra files).
+RUN_FOLDERS = ("binaries/", "resources/")
+
+
+def needed_to_run(name: str) -> bool:
+    """Whether an importer that runs the FMU needs the archive member ``name``."""
+    return name == "modelDescription.xml" or name.startswith(RUN_FOLDERS)
+
+
+def extract_fmu(path: str | Path, destination: str | Path | None = None, limits: Limits = Limits(),
+                wanted: Callable[[str], bool] | None = None) -> Path:
+    """Unpack the FMU at ``path`` into ``destination`` (a new temporary folder when None): every
+    member, or those ``wanted`` accepts (all are checked; see :func:`needed_to_run`).
 
     Raises RobogenError naming the archive and the offending member; on failure the partially
     written destination is left for the caller to remove (it only holds checked members).
@@ -99,6 +116,8 @@ def extract_fmu(path: str | Path, destination: str | Path | None = None, limits:
     written = 0
     with zipfile.ZipFile(path) as z:
         for info in z.infolist():
+            if wanted is not None and not wanted(info.filename):
+                continue
             target = root.joinpath(*info.filename.rstrip("/").split("/"))
             if root not in target.resolve().parents and target.resolve() != root:
                 raise RobogenError.at(f"unsafe archive member '{info.filename}': resolves outside the extraction folder", Span.whole_file(display))
@@ -113,14 +132,34 @@ def extract_fmu(path: str | Path, destination: str | Path | None = None, limits:
             try:
                 fd = os.open(target, flags, 0o755 if executable else 0o644)
             except FileExistsError:
-                raise RobogenError.at(f"archive member '{info.filename}' appears twice", Span.whole_file(display)) from None
+                written += _same_copy(z, info, target, limits.max_bytes - written, display)
+                continue
             with os.fdopen(fd, "wb") as out, z.open(info) as src:
-                while True:
-                    chunk = src.read(_CHUNK)
-                    if not chunk:
-                        break
-                    written += len(chunk)
-                    if written > limits.max_bytes:
-                        raise RobogenError.at(f"archive unpacks to more than the limit of {limits.max_bytes} bytes", Span.whole_file(display))
-                    out.write(chunk)
+                written += _copy(src, out.write, limits.max_bytes - written, limits.max_bytes, display)
     return dest
+
+
+def _copy(src, sink, room: int, limit: int, display: str) -> int:
+    """The member's bytes to ``sink``, at most ``room`` of them; how many."""
+    count = 0
+    while True:
+        chunk = src.read(_CHUNK)
+        if not chunk:
+            return count
+        count += len(chunk)
+        if count > room:
+            raise RobogenError.at(f"archive unpacks to more than the limit of {limit} bytes", Span.whole_file(display))
+        sink(chunk)
+
+
+def _same_copy(z: zipfile.ZipFile, info: zipfile.ZipInfo, target: Path, room: int, display: str) -> int:
+    """A member listed again: accepted if its bytes are those already extracted (how many), else refused."""
+    again, first = hashlib.sha256(), hashlib.sha256()
+    with z.open(info) as src:
+        count = _copy(src, again.update, room, room, display)
+    with open(target, "rb") as written:
+        for chunk in iter(lambda: written.read(_CHUNK), b""):
+            first.update(chunk)
+    if again.digest() != first.digest():
+        raise RobogenError.at(f"archive member '{info.filename}' appears twice with different contents", Span.whole_file(display))
+    return count

@@ -1,9 +1,9 @@
-"""The model description of an FMI 3.0 Co-Simulation FMU: frozen dataclasses, the reader, the token.
+"""The model description of an FMU: frozen dataclasses, the reader, the token.
 
 One set of dataclasses serves both directions: :func:`read_model_description` returns a
 :class:`ModelDescription` and :func:`robogen.fmu.modeldesc_writer.write_model_description` takes
 one. They cover what robogen writes and what its master and validator read: the
-Co-Simulation interface, units, enumeration types, log categories, the default experiment,
+interfaces (Co-Simulation, Model Exchange, Scheduled Execution), units, enumeration types, log categories, the default experiment,
 variables of every FMI 3.0 type (arrays with their dimensions, clocks with their timing,
 clocked variables) and the model structure.
 
@@ -11,6 +11,11 @@ Decimal attributes (``start``, ``intervalDecimal``, ``shiftDecimal``, the defaul
 are kept as the text the producer wrote: a float cannot tell ``0`` from ``0.0``, and the text
 lets a description be read and written back byte for byte. Properties give the numbers where
 robogen computes with them.
+
+FMI 2.0 descriptions are read into the same classes (:func:`read_fmi2`: Real as Float64, Integer
+as Int32), so that the master sees one kind of description; a pre-release of FMI
+3.0 (``3.0-beta.3``, ``3.0-rc.1``) is read as FMI 3.0 (:attr:`ModelDescription.prerelease` tells
+it, for the master's warning).
 """
 
 from __future__ import annotations
@@ -75,13 +80,34 @@ class CoSimulation:
 
 
 @dataclass(frozen=True)
+class ModelExchange:
+    """The ``<ModelExchange>`` interface (FMI 2.0's or 3.0's)."""
+
+    model_identifier: str
+    needs_completed_integrator_step: bool = False
+    can_get_and_set_state: bool = False
+    line: int = field(default=0, compare=False)
+
+
+@dataclass(frozen=True)
+class ScheduledExecution:
+    """The ``<ScheduledExecution>`` interface (FMI 3.0)."""
+
+    model_identifier: str
+    can_get_and_set_state: bool = False
+    line: int = field(default=0, compare=False)
+
+
+@dataclass(frozen=True)
 class Unit:
     """A ``<Unit>`` of ``<UnitDefinitions>``: its name and SI base-unit exponents (None: no
-    ``<BaseUnit>``), e.g. ``Unit("m/s", (("m", 1), ("s", -1)))``. A base unit's factor and
-    offset, and display units, are not read (robogen declares SI units only)."""
+    ``<BaseUnit>``), e.g. ``Unit("m/s", (("m", 1), ("s", -1)))``, and the base unit's factor and
+    offset as decimal text (None: absent, 1 and 0). Display units are not read."""
 
     name: str
     base_unit: tuple[tuple[str, int], ...] | None = None
+    factor: str | None = None
+    offset: str | None = None
 
 
 @dataclass(frozen=True)
@@ -151,6 +177,7 @@ class Variable:
     interval_decimal: str | None = None
     shift_decimal: str | None = None
     can_be_deactivated: bool = False
+    priority: int | None = None  # a clock's priority (Scheduled Execution: a lower number first)
     attributes: Mapping[str, str] = field(default_factory=dict, compare=False, hash=False, repr=False)
     line: int = field(default=0, compare=False)
 
@@ -198,7 +225,56 @@ class ModelDescription:
     type_definitions: tuple[EnumerationType, ...] = ()
     log_categories: tuple[LogCategory, ...] = ()
     default_experiment: DefaultExperiment | None = None
+    model_exchange: ModelExchange | None = None
+    scheduled_execution: ScheduledExecution | None = None
+    event_indicators: int | None = None  # FMI 2.0's numberOfEventIndicators (FMI 3.0: <EventIndicator>s)
     path: str = field(default="modelDescription.xml", compare=False)
+
+    @property
+    def prerelease(self) -> bool:
+        """A pre-release of FMI 3.0 (``3.0-beta.3``, ``3.0-rc.1``), read as FMI 3.0."""
+        return self.fmi_version.startswith("3.0-")
+
+    @property
+    def is_fmi2(self) -> bool:
+        return self.fmi_version.startswith("2.")
+
+    def interfaces(self) -> tuple[str, ...]:
+        """The interfaces the FMU offers, in the order the master prefers them."""
+        offered = (("co-simulation", self.co_simulation), ("model-exchange", self.model_exchange),
+                   ("scheduled-execution", self.scheduled_execution))
+        return tuple(name for name, element in offered if element is not None)
+
+    def element_count(self, var: Variable) -> int:
+        """How many values the variable holds: 1 for a scalar; for an array the product of its
+        dimensions, each a fixed size or the start value of the structural parameter named by its
+        value reference (the master does not change structural parameters)."""
+        count = 1
+        by_vr = None
+        for d in var.dimensions:
+            if d.start is not None:
+                count *= d.start
+                continue
+            by_vr = by_vr or self.by_vr()
+            parameter = by_vr.get(d.value_reference)
+            if parameter is None or len(parameter.start) != 1 or not parameter.start[0].isdigit():
+                raise RobogenError.at(f"array '{var.name}': its dimension names value reference {d.value_reference}, "
+                                      "which is not a structural parameter with an integer start value", self.span(var.line))
+            count *= int(parameter.start[0])
+        return count
+
+    def element_names(self, var: Variable) -> list[str]:
+        """The names of a variable's values: its name, or for an array name[1], name[2], ... (row-major)."""
+        count = self.element_count(var)
+        return [var.name] if not var.dimensions else [f"{var.name}[{k}]" for k in range(1, count + 1)]
+
+    def number_of_states(self) -> int:
+        return sum(1 for u in self.unknowns if u.kind == "ContinuousStateDerivative")
+
+    def number_of_event_indicators(self) -> int:
+        if self.event_indicators is not None:
+            return self.event_indicators
+        return sum(1 for u in self.unknowns if u.kind == "EventIndicator")
 
     def by_name(self) -> dict[str, Variable]:
         return {v.name: v for v in self.variables}
@@ -243,6 +319,8 @@ def read_model_description(data: bytes, display_path: str = "modelDescription.xm
     root = parse_xml(data, display_path).getroot()
     source = _Source(data, display_path)
     _check_root(root, source)
+    if root.get("fmiVersion", "").startswith("2."):
+        return read_fmi2(root, source)
     return ModelDescription(
         model_name=root.get("modelName", ""),
         instantiation_token=root.get("instantiationToken", ""),
@@ -259,6 +337,8 @@ def read_model_description(data: bytes, display_path: str = "modelDescription.xm
         log_categories=tuple(LogCategory(el.get("name", ""), el.get("description", ""))
                              for el in _children(root.find("LogCategories"), ("Category",))),
         default_experiment=_default_experiment(root.find("DefaultExperiment"), source),
+        model_exchange=_model_exchange(root.find("ModelExchange"), source),
+        scheduled_execution=_scheduled_execution(root.find("ScheduledExecution"), source),
         path=display_path,
     )
 
@@ -337,8 +417,8 @@ def _check_root(root: etree._Element, source: _Source) -> None:
     if root.tag != "fmiModelDescription":
         raise RobogenError.at(f"root element is <{root.tag}>, expected <fmiModelDescription>", source.at(root))
     version = root.get("fmiVersion", "")
-    if not version.startswith("3."):
-        raise RobogenError.at(f"fmiVersion is '{version}': robogen imports FMI 3.0 only", source.at(root))
+    if not version.startswith(("2.", "3.")):
+        raise RobogenError.at(f"fmiVersion is '{version}': robogen imports FMI 2.0 and 3.0 only", source.at(root))
 
 
 def _co_simulation(el: etree._Element | None, source: _Source) -> CoSimulation | None:
@@ -349,11 +429,25 @@ def _co_simulation(el: etree._Element | None, source: _Source) -> CoSimulation |
                         fixed_internal_step=source.decimal(el, "fixedInternalStepSize"), line=source.line(el))
 
 
+def _model_exchange(el: etree._Element | None, source: _Source) -> ModelExchange | None:
+    if el is None:
+        return None
+    return ModelExchange(el.get("modelIdentifier", ""), _bool(el.get("needsCompletedIntegratorStep")),
+                         _bool(el.get("canGetAndSetFMUState")), source.line(el))
+
+
+def _scheduled_execution(el: etree._Element | None, source: _Source) -> ScheduledExecution | None:
+    if el is None:
+        return None
+    return ScheduledExecution(el.get("modelIdentifier", ""), _bool(el.get("canGetAndSetFMUState")), source.line(el))
+
+
 def _unit(el: etree._Element, source: _Source) -> Unit:
     base = el.find("BaseUnit")
     if base is None:
         return Unit(el.get("name", ""))
-    return Unit(el.get("name", ""), tuple((name, source.integer(base, name)) for name in SI_BASE_UNITS if name in base.attrib))
+    return Unit(el.get("name", ""), tuple((name, source.integer(base, name)) for name in SI_BASE_UNITS if name in base.attrib),
+                source.decimal(base, "factor"), source.decimal(base, "offset"))
 
 
 def _enumeration_type(el: etree._Element, source: _Source) -> EnumerationType:
@@ -394,6 +488,7 @@ def _variable(el: etree._Element, source: _Source) -> Variable:
         interval_decimal=source.decimal(el, "intervalDecimal"),
         shift_decimal=source.decimal(el, "shiftDecimal"),
         can_be_deactivated=_bool(a.get("canBeDeactivated")),
+        priority=source.optional_integer(el, "priority"),
         attributes=dict(a),
         line=source.line(el),
     )
@@ -404,7 +499,106 @@ def _unknown(el: etree._Element, source: _Source) -> Unknown:
                    dependencies=source.vr_list(el, "dependencies"), line=source.line(el))
 
 
+# --------------------------------------------------------------------------------------------
+# FMI 2.0
+# FMI 2.0 model descriptions, read into the classes of :mod:`robogen.fmu.modeldesc`.
+#
+#The master sees one kind of description: an FMI 2.0 ``<ScalarVariable>`` becomes a
+#:class:`~robogen.fmu.modeldesc.Variable` of the FMI 3.0 type its values travel as (Real as
+#Float64, Integer as Int32, Boolean, String, Enumeration as Enumeration: Int64 in connections), the
+#GUID the instantiation token, ``<CoSimulation>`` and ``<ModelExchange>`` the interfaces (FMI 2.0
+#Co-Simulation has no Event Mode and never returns early; ``canGetAndSetFMUstate`` as FMI 3.0's
+#flag; ``completedIntegratorStepNotNeeded`` as the negation of FMI 3.0's
+#``needsCompletedIntegratorStep``), and ``<ModelStructure>``'s indices (1-based positions in
+#``<ModelVariables>``) value references: ``<Outputs>`` as ``Output``, ``<Derivatives>`` as
+#``ContinuousStateDerivative``, ``<InitialUnknowns>`` as ``InitialUnknown``.
+
+#: FMI 2.0's variable types, as the FMI 3.0 types their values travel as.
+TYPES = {"Real": "Float64", "Integer": "Int32", "Boolean": "Boolean", "String": "String", "Enumeration": "Enumeration"}
+#: <ModelStructure>'s lists, as FMI 3.0's elements.
+STRUCTURE = {"Outputs": "Output", "Derivatives": "ContinuousStateDerivative", "InitialUnknowns": "InitialUnknown"}
+
+
+def read_fmi2(root: etree._Element, source) -> ModelDescription:
+    """The description of an FMI 2.0 FMU (``source``: modeldesc's located reader of the file)."""
+    elements = _children(root.find("ModelVariables"), ("ScalarVariable",))
+    variables = tuple(_variable2(el, source) for el in elements)
+    cs, me = root.find("CoSimulation"), root.find("ModelExchange")
+    return ModelDescription(
+        model_name=root.get("modelName", ""),
+        instantiation_token=root.get("guid", ""),
+        co_simulation=None if cs is None else CoSimulation(
+            cs.get("modelIdentifier", ""), can_handle_variable_step=_bool(cs.get("canHandleVariableCommunicationStepSize")),
+            can_get_and_set_state=_bool(cs.get("canGetAndSetFMUstate")), line=source.line(cs)),
+        model_exchange=None if me is None else ModelExchange(
+            me.get("modelIdentifier", ""), not _bool(me.get("completedIntegratorStepNotNeeded")),
+            _bool(me.get("canGetAndSetFMUstate")), source.line(me)),
+        variables=variables,
+        unknowns=tuple(_structure2(root.find("ModelStructure"), variables, source)),
+        fmi_version=root.get("fmiVersion", ""),
+        description=root.get("description", ""),
+        generation_tool=root.get("generationTool", ""),
+        variable_naming_convention=root.get("variableNamingConvention"),
+        unit_definitions=tuple(Unit(el.get("name", "")) for el in _children(root.find("UnitDefinitions"), ("Unit",))),
+        type_definitions=tuple(_enumeration_type2(el, source) for el in _children(root.find("TypeDefinitions"), ("SimpleType",))
+                               if el.find("Enumeration") is not None),
+        log_categories=tuple(LogCategory(el.get("name", ""), el.get("description", ""))
+                             for el in _children(root.find("LogCategories"), ("Category",))),
+        default_experiment=_default_experiment(root.find("DefaultExperiment"), source),
+        event_indicators=source.optional_integer(root, "numberOfEventIndicators") or 0,
+        path=source.path,
+    )
+
+
+def _variable2(el: etree._Element, source) -> Variable:
+    a = el.attrib
+    typed = _children(el, tuple(TYPES))
+    if not typed:
+        raise RobogenError.at(f"ScalarVariable '{a.get('name', '')}' has no type element (Real, Integer, Boolean, String "
+                              "or Enumeration)", source.at(el))
+    kind = typed[0]
+    fmi_type = TYPES[kind.tag]
+    start = kind.get("start")
+    return Variable(
+        name=a.get("name", ""),
+        value_reference=source.integer(el, "valueReference"),
+        type=fmi_type,
+        causality=a.get("causality", "local"),
+        variability=a.get("variability", "continuous" if fmi_type == "Float64" else "discrete"),
+        description=a.get("description", ""),
+        initial=a.get("initial"),
+        start=() if start is None else (start,),
+        declared_type=kind.get("declaredType"),
+        unit=kind.get("unit"),
+        attributes=dict(a),
+        line=source.line(el),
+    )
+
+
+def _structure2(el, variables: tuple[Variable, ...], source) -> list[Unknown]:
+    """<ModelStructure>'s unknowns, their indices as value references."""
+    out = []
+    for tag, kind in STRUCTURE.items():
+        for unknown in _children(el.find(tag) if el is not None else None, ("Unknown",)):
+            index = source.integer(unknown, "index")
+            dependencies = source.vr_list(unknown, "dependencies")
+            positions = [index, *(dependencies or ())]
+            if any(not 1 <= i <= len(variables) for i in positions):
+                raise RobogenError.at(f"<Unknown index=\"{index}\">: an index is not the position of a ScalarVariable "
+                                      f"(1 to {len(variables)})", source.at(unknown))
+            out.append(Unknown(kind, variables[index - 1].value_reference,
+                               None if dependencies is None else tuple(variables[i - 1].value_reference for i in dependencies),
+                               source.line(unknown)))
+    return out
+
+
+def _enumeration_type2(el: etree._Element, source) -> EnumerationType:
+    items = _children(el.find("Enumeration"), ("Item",))
+    return EnumerationType(el.get("name", ""), tuple(Item(i.get("name", ""), source.integer(i, "value"), i.get("description", ""))
+                                                     for i in items))
+
+
 __all__ = ["TYPE_TAGS", "START_ELEMENT_TYPES", "FLOAT_TYPES", "SI_BASE_UNITS", "STRUCTURE_ORDER", "MAX_XML_BYTES", "safe_parser",
            "parse_xml", "read_model_description", "load_model_description", "instantiation_token", "CoSimulation", "Unit",
            "Item", "EnumerationType", "LogCategory", "DefaultExperiment", "Dimension", "Variable", "Unknown",
-           "ModelDescription"]
+           "ModelDescription", "ModelExchange", "ScheduledExecution", "read_fmi2"]

@@ -13,8 +13,8 @@ from __future__ import annotations
 from dataclasses import dataclass, field, fields, replace
 
 from robogen.fmu.modeldesc import (
-    START_ELEMENT_TYPES, STRUCTURE_ORDER, CoSimulation, DefaultExperiment, EnumerationType, ModelDescription, Unit,
-    Unknown, Variable, instantiation_token,
+    START_ELEMENT_TYPES, STRUCTURE_ORDER, CoSimulation, DefaultExperiment, EnumerationType, ModelDescription,
+    ModelExchange, ScheduledExecution, Unit, Unknown, Variable, instantiation_token,
 )
 
 XML_DECLARATION = '<?xml version="1.0" encoding="UTF-8"?>'
@@ -33,7 +33,9 @@ def write_model_description(md: ModelDescription) -> str:
         ("variableNamingConvention", md.variable_naming_convention),
     ], wrap=True)
     root.children = [element for element in (
+        _interface("ModelExchange", md.model_exchange),
         _co_simulation(md.co_simulation),
+        _interface("ScheduledExecution", md.scheduled_execution),
         _list("UnitDefinitions", [_unit(u) for u in md.unit_definitions]),
         _list("TypeDefinitions", [_enumeration_type(t) for t in md.type_definitions]),
         _list("LogCategories", [_Element("Category", [("name", c.name), ("description", c.description or None)])
@@ -96,8 +98,19 @@ def _co_simulation(cs: CoSimulation | None) -> _Element | None:
                                      ("fixedInternalStepSize", cs.fixed_internal_step)], wrap=True)
 
 
+def _interface(tag: str, interface: ModelExchange | ScheduledExecution | None) -> _Element | None:
+    """``<ModelExchange>`` or ``<ScheduledExecution>``: its identifier and its true flags."""
+    if interface is None:
+        return None
+    flags = [("needsCompletedIntegratorStep", getattr(interface, "needs_completed_integrator_step", False)),
+             ("canGetAndSetFMUState", interface.can_get_and_set_state)]
+    return _Element(tag, [("modelIdentifier", interface.model_identifier), *((n, "true") for n, on in flags if on)],
+                    wrap=True)
+
+
 def _unit(unit: Unit) -> _Element:
-    base = [] if unit.base_unit is None else [_Element("BaseUnit", [(k, str(e)) for k, e in unit.base_unit])]
+    scale = [(k, v) for k, v in (("factor", unit.factor), ("offset", unit.offset)) if v is not None]
+    base = [] if unit.base_unit is None else [_Element("BaseUnit", [(k, str(e)) for k, e in unit.base_unit] + scale)]
     return _Element("Unit", [("name", unit.name)], base)
 
 
@@ -125,6 +138,7 @@ def _variable(v: Variable) -> _Element:
         ("intervalDecimal", v.interval_decimal),
         ("shiftDecimal", v.shift_decimal),
         ("canBeDeactivated", "true" if v.can_be_deactivated else None),
+        ("priority", _number(v.priority)),
         ("declaredType", v.declared_type),
         ("clocks", _value_references(v.clocks or None)),
         ("previous", _number(v.previous)),

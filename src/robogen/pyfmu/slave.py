@@ -21,7 +21,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any, Callable, Iterable, Sequence
 
-from robogen.fmu.fmi import INTERVAL_UNCHANGED, PYTHON_FMU_LOG_CATEGORIES, same_time
+from robogen.fmu.fmi import INTERVAL_UNCHANGED, PYTHON_FMU_LOG_CATEGORIES, same_time, time_resolution
 from robogen.pyfmu.model import Clock, FmiUsageError, Model, Step, Update, Var
 
 #: How many different Get calls (function and value references) a slave keeps checked.
@@ -76,6 +76,9 @@ class Slave:
         self.logger = logger
         self._by_vr: dict[int, Var] = {v.vr: v for v in model_class.variables()}
         self._clocks = [v for v in model_class.variables() if isinstance(v, Clock)]
+        #: the time resolution of its periodic clocks (robogen.fmu.fmi.time_resolution): caps the time tolerance
+        self._resolution = time_resolution(model_class.clock_seconds(x) for c in self._clocks if c.periodic
+                                           for x in (c.interval, c.shift) if x)
         self._get_plans: dict[tuple, tuple[Callable[[Model], list[Any]], bool, list[Var]]] = {}
         self._plain_get = model_class.get is Model.get  # values read from the model's dict directly
         if self._clocks and not event_mode_used:
@@ -293,7 +296,7 @@ class Slave:
         origin = self.model.start_time + self.model_class.clock_seconds(clock.shift)
         interval = self.model_class.clock_seconds(clock.interval)  # type: ignore[arg-type]
         k = max(0, round((self.model.time - origin) / interval))
-        if not same_time(self.model.time, origin + k * interval):
+        if not same_time(self.model.time, origin + k * interval, self._resolution):
             raise FmiUsageError(f"fmi3SetClock: periodic clock '{clock.name}' is not due at t={self.model.time!r}: "
                                 f"it ticks at {origin!r} + k * {interval!r}")
 
@@ -349,21 +352,21 @@ class Slave:
     def do_step(self, t: float, h: float) -> StepResult:
         self._require("fmi3DoStep", State.STEP)
         model = self.model
-        if not same_time(t, model.time):
+        if not same_time(t, model.time, self._resolution):
             raise FmiUsageError(f"fmi3DoStep: currentCommunicationPoint {t!r} is not the FMU's time {model.time!r}")
         if not h > 0:
             raise FmiUsageError(f"fmi3DoStep: communicationStepSize must be > 0, got {h!r}")
         target = t + h
-        if model.stop_time is not None and target > model.stop_time and not same_time(target, model.stop_time):
+        if model.stop_time is not None and target > model.stop_time and not same_time(target, model.stop_time, self._resolution):
             raise FmiUsageError(f"fmi3DoStep: t + h = {target!r} is past stopTime {model.stop_time!r}")
         model.time = t  # snap to the FMU's own representation of t
         result = model.do_step(t, h) or Step(target)
         if not isinstance(result, Step):
             raise TypeError(f"{type(model).__name__}.do_step must return Step or None")
         reached = result.time
-        if reached > target and not same_time(reached, target):
+        if reached > target and not same_time(reached, target, self._resolution):
             raise RuntimeError(f"{type(model).__name__}.do_step went past t + h ({reached!r} > {target!r})")
-        early = not same_time(reached, target) and reached < target
+        early = not same_time(reached, target, self._resolution) and reached < target
         if early and not self.early_return_allowed:
             raise RuntimeError(f"{type(model).__name__}.do_step returned early although earlyReturnAllowed is false")
         model.time = reached if early else target

@@ -42,6 +42,7 @@
 #ifndef ROBOGEN_RUNTIME_H
 #define ROBOGEN_RUNTIME_H
 
+#include <math.h>
 #include <stdbool.h>
 #include <stddef.h>
 #include <stdint.h>
@@ -58,20 +59,30 @@
 
 /* ---- time ------------------------------------------------------------------------------- */
 
-/* The one relative tolerance with which the runtime (and robogen's master) decides that two
- * time instants are the same: a periodic tick t_k = t_start + shift + k * interval is "due" at
- * time t when rg_time_equal(t, t_k). The master must use the same value and the same formula. */
+/* The one rule by which the runtime (and robogen's master, robogen.fmu.fmi.tolerance) decides that
+ * two time instants are the same: |a - b| within RG_TIME_RELATIVE_TOLERANCE of the larger (1e-9 s
+ * absolute below 1 s), but never a quarter of the FMU's time resolution or more (the greatest
+ * common divisor of its constant clocks' intervals and shifts, read as the decimals they were
+ * written as: rg_time_resolution), so that on a long horizon two ticks are never taken for one,
+ * and never less than RG_TIME_ULPS units in the last place. A periodic tick
+ * t_k = t_start + shift + k * interval is "due" at time t when rg_time_equal(t, t_k); tick indices
+ * are integers. The master uses the same values and the same formula. */
 #define RG_TIME_RELATIVE_TOLERANCE 1e-9
+#define RG_TIME_ULPS 4
 
 static inline double rg_abs(double x) { return x < 0.0 ? -x : x; }
 
-/* |a - b| <= tol * max(1, |a|, |b|): relative for large times, 1e-9 s absolute near zero. */
+static double rg_time_resolution(void); /* robogen_runtime_clocks.c; 0: no constant clock */
+
 static inline bool rg_time_equal(double a, double b)
 {
-    double scale = 1.0;
+    double scale = 1.0, close, least, resolution = rg_time_resolution();
     if (rg_abs(a) > scale) scale = rg_abs(a);
     if (rg_abs(b) > scale) scale = rg_abs(b);
-    return rg_abs(a - b) <= RG_TIME_RELATIVE_TOLERANCE * scale;
+    close = RG_TIME_RELATIVE_TOLERANCE * scale;
+    if (resolution > 0.0 && close > resolution / 4) close = resolution / 4;
+    least = RG_TIME_ULPS * (nextafter(scale, HUGE_VAL) - scale);
+    return rg_abs(a - b) <= (close > least ? close : least);
 }
 
 /* ---- variables -------------------------------------------------------------------------- */

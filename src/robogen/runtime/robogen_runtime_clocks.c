@@ -9,6 +9,59 @@
 #endif
 
 /* ============================================================================================
+ * Time resolution
+ * ============================================================================================ */
+
+/* x > 0 as the decimal it was written as, n / 10^d with the fewest digits d <= 15 that read back
+ * as x (robogen.fmu.fmi.decimal_fraction); false where there is none (or n would not be exact). */
+static bool rg_decimal(double x, int64_t *n, int *d)
+{
+    double scale = 1.0;
+    for (*d = 0; *d <= 15; ++*d, scale *= 10.0) {
+        double scaled = floor(x * scale + 0.5);
+        if (scaled > 9007199254740992.0) return false;
+        if (scaled / scale == x) {
+            *n = (int64_t)scaled;
+            return true;
+        }
+    }
+    return false;
+}
+
+static int64_t rg_gcd(int64_t a, int64_t b)
+{
+    while (b != 0) {
+        int64_t r = a % b;
+        a = b;
+        b = r;
+    }
+    return a;
+}
+
+/* The greatest common divisor of the constant clocks' intervals and shifts (robogen.fmu.fmi.
+ * time_resolution), computed once; 0 without any (or where they are not decimals). */
+static double rg_time_resolution(void)
+{
+    static double resolution = -1.0;
+    int64_t g = 0, n;
+    int c, k, d, digits = 0;
+    double values[2];
+    if (resolution >= 0.0) return resolution;
+    for (c = 0; c < RG_NUM_CLOCKS; ++c) /* the most decimal digits first */
+        for (k = 0, values[0] = rg_clocks[c].interval, values[1] = rg_clocks[c].shift; k < 2; ++k)
+            if (rg_clocks[c].kind == RG_CLOCK_INPUT_CONSTANT && values[k] > 0.0 && rg_decimal(values[k], &n, &d) && d > digits)
+                digits = d;
+    for (c = 0; c < RG_NUM_CLOCKS; ++c)
+        for (k = 0, values[0] = rg_clocks[c].interval, values[1] = rg_clocks[c].shift; k < 2; ++k) {
+            if (rg_clocks[c].kind != RG_CLOCK_INPUT_CONSTANT || !(values[k] > 0.0)) continue;
+            if (!rg_decimal(values[k], &n, &d)) return resolution = 0.0;
+            for (; d < digits; ++d) n *= 10;
+            g = rg_gcd(n, g);
+        }
+    return resolution = g > 0 ? (double)g / pow(10.0, digits) : 0.0;
+}
+
+/* ============================================================================================
  * Clocks
  * ============================================================================================ */
 

@@ -141,7 +141,7 @@ def model_description(name: str, spec: dict) -> ModelDescription:
                                    might_return_early=spec.get("early", False),
                                    can_get_and_set_state=spec.get("state", False)),
         variables=(Variable("time", 0, "Float64", "independent", "continuous"), *spec["vars"]),
-        unknowns=tuple(structure), type_definitions=spec.get("types", ())))
+        unknowns=tuple(structure), type_definitions=spec.get("types", ()), unit_definitions=spec.get("units", ())))
 
 
 def build(name: str, outdir: Path, *, xml: str | None = None, spec: dict | None = None,
