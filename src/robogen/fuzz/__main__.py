@@ -34,6 +34,9 @@ def _parser() -> argparse.ArgumentParser:
     p.add_argument("--no-validate", action="store_true", help="do not validate the FMUs (faster)")
     p.add_argument("--optimise-all", action="store_true", help="build both semantics' FMUs with the product's -O2 "
                    "(by default one of them, in turn, the other at -O0)")
+    p.add_argument("--optimise-every", type=int, default=1, metavar="K",
+                   help="build with the product's -O2 and validate on one model in K only (the others: both "
+                   "semantics at -O0 with the same warning flags; faster)")
     p.add_argument("--shrink-seconds", type=float, default=300.0, help="time to shrink a failure (0: do not shrink)")
     p.add_argument("--regressions", type=Path, default=Path("tests/fuzz/regressions"),
                    help="where shrunk failures are written")
@@ -64,7 +67,8 @@ def main(argv: list[str] | None = None) -> int:
     from robogen.fuzz.runner import Settings, check_one, run
 
     settings = Settings(args.seed, args.count, on, args.jobs, args.sanitize_every, args.sanitize, args.shrink_seconds,
-                        args.regressions, budget=budget, work=args.work, optimise_all=args.optimise_all)
+                        args.regressions, budget=budget, work=args.work, optimise_all=args.optimise_all,
+                        optimise_every=args.optimise_every)
     if args.model:
         outcome = check_one(args.model, settings, budget)
         print(f"model {args.model} ({outcome.language}): passed {', '.join(outcome.passed) or 'nothing'}"

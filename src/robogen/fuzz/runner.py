@@ -42,14 +42,22 @@ class Settings:
     budget: Budget = field(default_factory=Budget)
     work: Path | None = None  # where models are built (default: a temporary folder)
     optimise_all: bool = False  # both semantics at -O2 (else one of them, in turn)
+    optimise_every: int = 1  # the product's -O2 build (one semantics, in turn) on one model in this many
 
 
 def budget_for(settings: Settings, index: int) -> Budget:
     """Model ``index``'s budget: the sanitizers on a sample; the product's -O2 (and validation)
-    for one semantics, the other built at -O0, in turn (unless ``settings.optimise_all``)."""
+    for one semantics, the other built at -O0, in turn (unless ``settings.optimise_all``), on one
+    model in ``settings.optimise_every`` (the others: both semantics at -O0, same warnings)."""
     b = settings.budget
     sample = settings.sanitize_all or (settings.sanitize_every > 0 and index % settings.sanitize_every == 0)
-    optimise = b.optimise if settings.optimise_all else (SEMANTICS[index % 2],)
+    every = max(1, settings.optimise_every)
+    if settings.optimise_all:
+        optimise = b.optimise
+    elif index % every == 0:
+        optimise = (SEMANTICS[(index // every) % 2],)
+    else:
+        optimise = ()
     return replace(b, sanitize=sample, optimise=optimise)
 
 
@@ -221,7 +229,9 @@ def print_table(report: Report, out: TextIO) -> None:
     off = sorted(f.name for f in FEATURES if f.name not in s.on)
     n = len(report.outcomes)
     print(f"fuzz: seed {s.seed}, {n} models, jobs {s.jobs}, {s.budget.scenarios} scenarios x {s.budget.instants} "
-          f"instants per semantics, sanitizers on {'every' if s.sanitize_all else f'1 in {s.sanitize_every}'} model(s)", file=out)
+          f"instants per semantics, sanitizers on {'every' if s.sanitize_all else f'1 in {s.sanitize_every}'} model(s), "
+          f"-O2 and validation on {'both semantics of every' if s.optimise_all else f'one semantics of 1 in {max(1, s.optimise_every)}'} "
+          "model(s)", file=out)
     if report.interrupted:
         print(f"interrupted: {n} of {s.count} models checked (the table counts those)", file=out)
     print(f"features off: {', '.join(off) or 'none'}", file=out)
