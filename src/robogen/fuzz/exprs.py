@@ -15,7 +15,7 @@ import random
 from dataclasses import dataclass, field, replace
 
 from robogen.fuzz.toolkit import ToolkitForms
-from robogen.fuzz.typegen import NUMBERS, TypeEnv, is_collection, is_tagged, name, type_ast
+from robogen.fuzz.typegen import NUMBERS, SCALARS, TypeEnv, is_collection, is_tagged, name, type_ast
 from robogen.semantics import limits
 from robogen.semantics import types as T
 from robogen.syntax import ast
@@ -493,8 +493,8 @@ class Exprs(ToolkitForms):
         rng = self.rng
         r = rng.random()
         if r < 0.4 or "sets" not in self.on:
-            items = tuple(self.expr(t.element, sc, d)[0] for _ in range(rng.choice((0, 1, 2, 3))))
-            return ast.SetLit(items), t
+            items, element = self._enumeration(t.element, sc, d, self.expr)
+            return ast.SetLit(items), T.SetT(element)
         if r < 0.8:
             self.toolkits.add("set_toolkit")
             op = rng.choice(("union", "inter", "diff", "symetric_diff"))
@@ -506,8 +506,8 @@ class Exprs(ToolkitForms):
         rng = self.rng
         r = rng.random()
         if r < 0.35 or "sequences" not in self.on:
-            items = tuple(self._seq_item(t.element, sc, d) for _ in range(rng.choice((0, 1, 2, 3))))
-            return ast.SeqLit(items), t
+            items, element = self._enumeration(t.element, sc, d, self._seq_item)
+            return ast.SeqLit(items), T.SeqT(element)
         self.toolkits.add("sequence_toolkit")
         if r < 0.6:
             op = rng.choice(("^", "cat", "concat"))
@@ -529,10 +529,58 @@ class Exprs(ToolkitForms):
             return type(e)((self.literal(t.element, sc),))
         return e
 
-    def _seq_item(self, t: T.Type, sc: Scope, d: int) -> ast.Expr:
+    def _seq_item(self, t: T.Type, sc: Scope, d: int) -> tuple[ast.Expr, T.Type]:
         """An element of a sequence literal: an additive expression (a comparison or a binder
         there would need the parentheses the printer adds)."""
-        return self.expr(t, sc, d)[0]
+        return self.expr(t, sc, d)
+
+    def _enumeration(self, t: T.Type, sc: Scope, d: int, item) -> tuple[tuple[ast.Expr, ...], T.Type]:
+        """The elements of a set or sequence enumeration asked for elements of type ``t``, and the
+        type the checker gives its elements. As RoboTool's type provider (``typeFor(SetExp)``),
+        the checker takes the first element's type and, element by element, the wider of it and
+        the next, and rejects an element of neither a wider nor a narrower type: ``(| 2.0, 0 |)``
+        (``real * nat``) beside ``(| -1, 0.5 |)`` (``int * real``). Such an element is written again
+        as a copy of the first one (found by the fuzzer: 1.281)."""
+        items: list[ast.Expr] = []
+        element: T.Type = t
+        for _ in range(self.rng.choice((0, 1, 2, 3))):
+            e, et = item(t, sc, d)
+            if items:
+                wider = enumeration_join(element, et)
+                if wider is None:
+                    e, wider = items[0], element
+                element = wider
+            else:
+                element = et
+            items.append(e)
+        return tuple(items), element
+
+    def exact_set(self, e: T.Type, sc: Scope, d: int) -> ast.Expr:
+        """A set whose type is exactly ``Set(e)``, for ``x in s`` with ``x: e`` (RoboTool's type
+        provider asks the member's type to fit in the set's element type, so a ``real`` member of
+        a ``Set(int)`` is an error): a variable of that type, or an enumeration with one literal
+        of type ``e`` (its elements' type is then ``e``; found by the fuzzer: 1.316)."""
+        syms = [s for s in sc.syms if s.type == T.SetT(e)]
+        if e in SCALARS and e not in NUMBERS and self.chance(0.5):  # (a set of pairs may be a relation: not for 'in')
+            return self.operand(T.SetT(e), sc, d)
+        if syms and self.chance(0.5):
+            return ast.Name((self.rng.choice(syms).name,))
+        items, element = self._enumeration(e, sc, d, self.expr)
+        if enumeration_join(element, e) != e:
+            items = ()
+        return ast.SetLit(items + (self.exact_literal(e, sc),))
+
+    def exact_literal(self, t: T.Type, sc: Scope) -> ast.Expr:
+        """A literal the checker types as exactly ``t`` (``-1`` for an int, ``0.5`` for a real)."""
+        if t == T.INT:
+            return ast.Unary("-", ast.IntLit(self.rng.randint(1, 3)))
+        if t == T.REAL:
+            return ast.RealLit(self.rng.choice(("0.5", "1.5", "2.0")))
+        if isinstance(t, T.ProductT):
+            return ast.TupleLit(tuple(self.exact_literal(x, sc) for x in t.items))
+        if isinstance(t, (T.SetT, T.SeqT)):
+            return (ast.SetLit if isinstance(t, T.SetT) else ast.SeqLit)((self.exact_literal(t.element, sc),))
+        return self.literal(t, sc)
 
     def _named(self, t: T.Type, sc: Scope) -> ast.Expr | None:
         syms = sc.of_type(t)
@@ -628,6 +676,21 @@ def _number_literal(e: ast.Expr) -> bool:
 def fits_bind(event: T.Type, var: T.Type) -> bool:
     """May an input of type ``event`` be bound to a variable of type ``var``?"""
     return fits(event, var) and not isinstance(event, T.FunctionT)
+
+
+def enumeration_join(t: T.Type, it: T.Type) -> T.Type | None:
+    """The checker's type of the elements of an enumeration whose elements so far have type
+    ``t`` and whose next one has type ``it`` (numbers widen; other types must fit one in the
+    other), or None where the checker rejects the enumeration."""
+    if t in NUMBERS and it in NUMBERS:
+        return join(t, it)
+    if T.assignable(t, it, narrow=False):
+        return it
+    if T.assignable(it, t):
+        return t
+    if T.assignable(t, it):
+        return it
+    return None
 
 
 def join(a: T.Type, *others: T.Type) -> T.Type:

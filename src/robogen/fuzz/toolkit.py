@@ -149,11 +149,12 @@ class ToolkitForms:
         """``{x: T | x in s @ e}`` over a set ``s`` (switch comprehensions)."""
         x = self.fresh("c")  # type: ignore[attr-defined]
         domain = t.element if self.rng.random() < 0.5 else self.env.scalar("elem")  # type: ignore[attr-defined]
-        s = self.operand(T.SetT(domain), sc, d)  # type: ignore[attr-defined]
+        s = self.exact_set(domain, sc, d)  # type: ignore[attr-defined]
         inner = sc.with_syms(self.sym(x, domain))  # type: ignore[attr-defined]
-        body = self.expr(t.element, inner, d)[0] if domain != t.element or self.rng.random() < 0.5 else None  # type: ignore[attr-defined]
+        body, bt = self.expr(t.element, inner, d) if domain != t.element or self.rng.random() < 0.5 else (None, domain)  # type: ignore[attr-defined]
         such = ast.Binary("in", ast.Name((x,)), s)
-        return ast.SetComprehension((ast.Decl(x, type_ast(domain)),), such, body), t
+        # its type is the body's (a Set(int) for an int body asked for a Set(real)), else the domain's
+        return ast.SetComprehension((ast.Decl(x, type_ast(domain)),), such, body), T.SetT(bt)
 
     # ---------------------------------------------------------------- sequences
 
@@ -215,7 +216,7 @@ class ToolkitForms:
             body = self.boolean(sc.with_syms(self.sym(x, e)), d)  # type: ignore[attr-defined]
             return ast.Binder(kind, (ast.Decl(x, type_ast(e)),), None, body)
         e = self.env.scalar("elem")  # type: ignore[attr-defined]
-        s = self.operand(T.SetT(e), sc, d)  # type: ignore[attr-defined]
+        s = self.exact_set(e, sc, d)  # type: ignore[attr-defined]
         body = self.boolean(sc.with_syms(self.sym(x, e)), d)  # type: ignore[attr-defined]
         return ast.Binder(kind, (ast.Decl(x, type_ast(e)),), ast.Binary("in", ast.Name((x,)), s), body)
 

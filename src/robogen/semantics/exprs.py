@@ -473,10 +473,14 @@ class ExprChecker(Calls, DollarForms):
     def _wider(self, t: T.Type, it: T.Type, at: ast.Node, what: str) -> T.Type:
         """The type of the elements of an enumeration whose elements so far are of type ``t``,
         and the next of type ``it``: numbers widen (<0, -1> is a Seq(int), not a Seq(nat) that
-        would wrap -1), other types must fit one in the other."""
+        would wrap -1), other types must fit one in the other: as RoboTool's type provider
+        (``typeFor(SetExp)``), the next element's type where the type so far widens to it
+        (``{ {1}, {-1} }`` is a Set(Set(int))), else the type so far where the next fits in it."""
         if t in T.NUMERIC and it in T.NUMERIC:
             return T.numeric_join(t, it)
         if _untyped_empty(t) and T.assignable(t, it):  # { {}, {1} }: the elements' type is the typed one's
+            return it
+        if T.assignable(t, it, narrow=False):
             return it
         if T.assignable(it, t):
             return t
