@@ -9,7 +9,7 @@ import random
 
 from support.frontend import at, diagnostics
 
-from robogen.fuzz.exprs import Exprs, Scope, enumeration_join
+from robogen.fuzz.exprs import Exprs, Scope
 from robogen.fuzz.features import DEFAULT
 from robogen.fuzz.typegen import TypeEnv
 from robogen.semantics import types as T
@@ -49,14 +49,14 @@ def test_a_real_member_of_a_set_of_ints_is_an_error():
     assert errors == ["real cannot be a member of Set(int)"]
 
 
-def test_the_generator_joins_enumeration_elements_as_the_checker_does():
+def test_enumeration_elements_join_as_robotool_types_them():
     real_nat, int_real = T.ProductT((T.REAL, T.NAT)), T.ProductT((T.INT, T.REAL))
-    assert enumeration_join(real_nat, int_real) is None
-    assert enumeration_join(int_real, real_nat) is None
-    assert enumeration_join(T.NAT, T.REAL) == T.REAL
-    assert enumeration_join(T.INT, T.NAT) == T.INT
-    assert enumeration_join(real_nat, real_nat) == real_nat
-    assert enumeration_join(T.SetT(T.NAT), T.SetT(T.INT)) == T.SetT(T.INT)
+    assert T.element_join(real_nat, int_real) is None
+    assert T.element_join(int_real, real_nat) is None
+    assert T.element_join(T.NAT, T.REAL) == T.REAL
+    assert T.element_join(T.INT, T.NAT) == T.INT
+    assert T.element_join(real_nat, real_nat) == real_nat
+    assert T.element_join(T.SetT(T.NAT), T.SetT(T.INT)) == T.SetT(T.INT)
 
 
 def test_the_sets_a_bound_variable_ranges_over_have_exactly_its_type():

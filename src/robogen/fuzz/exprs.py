@@ -546,7 +546,7 @@ class Exprs(ToolkitForms):
         for _ in range(self.rng.choice((0, 1, 2, 3))):
             e, et = item(t, sc, d)
             if items:
-                wider = enumeration_join(element, et)
+                wider = T.element_join(element, et)
                 if wider is None:
                     e, wider = items[0], element
                 element = wider
@@ -566,7 +566,7 @@ class Exprs(ToolkitForms):
         if syms and self.chance(0.5):
             return ast.Name((self.rng.choice(syms).name,))
         items, element = self._enumeration(e, sc, d, self.expr)
-        if enumeration_join(element, e) != e:
+        if T.element_join(element, e) != e:
             items = ()
         return ast.SetLit(items + (self.exact_literal(e, sc),))
 
@@ -676,21 +676,6 @@ def _number_literal(e: ast.Expr) -> bool:
 def fits_bind(event: T.Type, var: T.Type) -> bool:
     """May an input of type ``event`` be bound to a variable of type ``var``?"""
     return fits(event, var) and not isinstance(event, T.FunctionT)
-
-
-def enumeration_join(t: T.Type, it: T.Type) -> T.Type | None:
-    """The checker's type of the elements of an enumeration whose elements so far have type
-    ``t`` and whose next one has type ``it`` (numbers widen; other types must fit one in the
-    other), or None where the checker rejects the enumeration."""
-    if t in NUMBERS and it in NUMBERS:
-        return join(t, it)
-    if T.assignable(t, it, narrow=False):
-        return it
-    if T.assignable(it, t):
-        return t
-    if T.assignable(t, it):
-        return it
-    return None
 
 
 def join(a: T.Type, *others: T.Type) -> T.Type:

@@ -476,16 +476,11 @@ class ExprChecker(Calls, DollarForms):
         would wrap -1), other types must fit one in the other: as RoboTool's type provider
         (``typeFor(SetExp)``), the next element's type where the type so far widens to it
         (``{ {1}, {-1} }`` is a Set(Set(int))), else the type so far where the next fits in it."""
-        if t in T.NUMERIC and it in T.NUMERIC:
-            return T.numeric_join(t, it)
         if _untyped_empty(t) and T.assignable(t, it):  # { {}, {1} }: the elements' type is the typed one's
             return it
-        if T.assignable(t, it, narrow=False):
-            return it
-        if T.assignable(it, t):
-            return t
-        if T.assignable(t, it):
-            return it
+        joined = T.element_join(t, it)
+        if joined is not None:
+            return joined
         self._err(f"the elements of a {what} must have one type: {t.show()} and {it.show()}", at)
         return t
 

@@ -245,6 +245,23 @@ def assignable(value: Type, target: Type, narrow: bool = True) -> bool:
     return False
 
 
+def element_join(t: Type, it: Type) -> Type | None:
+    """The type of the elements of an enumeration (``{a, b}``, ``<a, b>``) whose elements so far
+    have type ``t`` and whose next one has type ``it``, or None if they have none: numbers join
+    (``<0, -1>`` is a Seq(int), not a Seq(nat) that would wrap -1); other types as RoboTool's type
+    provider (``typeFor(SetExp)``): the next element's type where the type so far widens to it
+    (``{ {1}, {-1} }`` is a Set(Set(int))), else the type so far where the next fits in it."""
+    if t in NUMERIC and it in NUMERIC:
+        return numeric_join(t, it)
+    if assignable(t, it, narrow=False):
+        return it
+    if assignable(it, t):
+        return t
+    if assignable(t, it):
+        return it
+    return None
+
+
 def widens(a: Type, b: Type) -> bool:
     """Is number type ``a`` a part of number type ``b`` (nat of int, nat and int of real)?"""
     return a in NUMERIC and b in NUMERIC and a != b and (b == REAL or (a == NAT and b == INT))
