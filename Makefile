@@ -87,7 +87,7 @@ SEED ?= 1
 JOBS ?= 2
 FUZZ_ARGS ?=
 fuzz: $(STAMP)
-	@$(PY) -m robogen.fuzz --count $(N) --seed $(SEED) --jobs $(JOBS) $(FUZZ_ARGS)
+	@$(PY) -m robogen.fuzz --count $(N) --seed $(SEED) --jobs $(JOBS) --regressions tests/fuzz/regressions $(FUZZ_ARGS)
 
 # Refresh the golden files of the generated sources (review the diff afterwards).
 golden: $(STAMP)

@@ -38,8 +38,8 @@ def _parser() -> argparse.ArgumentParser:
                    help="build with the product's -O2 and validate on one model in K only (the others: both "
                    "semantics at -O0 with the same warning flags; faster)")
     p.add_argument("--shrink-seconds", type=float, default=300.0, help="time to shrink a failure (0: do not shrink)")
-    p.add_argument("--regressions", type=Path, default=Path("tests/fuzz/regressions"),
-                   help="where shrunk failures are written")
+    p.add_argument("--regressions", type=Path, default=Path("fuzz-regressions"),
+                   help="where shrunk failures are written (make fuzz: the repository's regression tests)")
     p.add_argument("--work", type=Path, default=None, help="where models are built (default: a temporary folder)")
     p.add_argument("--print", dest="print_seed", metavar="SEED.I", help="print the text of one model and exit")
     p.add_argument("--model", metavar="SEED.I", help="check one model and exit")
