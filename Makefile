@@ -9,7 +9,7 @@ STAMP  := $(VENV)/.robogen-installed
 # module fixtures (built FMUs) are built once; PYTEST_ARGS= runs it in one process.
 PYTEST_ARGS ?= -n auto --dist loadfile
 
-.PHONY: all venv test demo bench campaign clean golden runners
+.PHONY: all venv test demo bench campaign clean golden runners fuzz
 
 all: test
 
@@ -79,6 +79,15 @@ $(CAMPAIGN_FMUS)/platform-sample-%.fmu: | $(STAMP)
 
 bench: $(BENCH_STAMP)
 	@set -e; for b in bench/bench_*.py; do echo "== $$b"; $(PY) $$b; done
+
+# The model fuzzer (docs/fuzzing.md): N random models from SEED through every property; the table,
+# then the line `fuzz: N models, C compile failures A, ...`; exit 1 when a model fails a property.
+N ?= 200
+SEED ?= 1
+JOBS ?= 2
+FUZZ_ARGS ?=
+fuzz: $(STAMP)
+	@$(PY) -m robogen.fuzz --count $(N) --seed $(SEED) --jobs $(JOBS) --regressions tests/fuzz/regressions $(FUZZ_ARGS)
 
 # Refresh the golden files of the generated sources (review the diff afterwards).
 golden: $(STAMP)

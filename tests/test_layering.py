@@ -104,6 +104,14 @@ def test_the_master_does_not_import_the_code_generator():
     assert wrong == set()
 
 
+def test_nothing_imports_the_model_fuzzer():
+    """robogen.fuzz is the top of the layering: it drives every stage, and no stage depends on it."""
+    wrong = {(name, target) for name, targets in import_graph().items() if not name.startswith("robogen.fuzz")
+             for target in targets if target.startswith("robogen.fuzz")}
+    assert wrong == set()
+    assert "robogen.differential" in import_graph()["robogen.fuzz.properties"]
+
+
 def test_no_import_cycle_between_robogen_modules():
     assert cycles(import_graph()) == []
 

@@ -53,6 +53,7 @@ CASES: dict[str, Case] = {
     "userfun": Case("tests/codegen/models/userfun.rst", functions="tests/codegen/models/userfun.c"),
     "declared": Case("tests/codegen/models/declared.rct", functions="tests/codegen/models/declared.c"),
     "recursive": Case("tests/codegen/models/recursive.rct"),
+    "mixed": Case("tests/codegen/models/mixed.rct"),
 }
 
 

@@ -4,6 +4,8 @@ and its model line, and never corrupts memory), function values, and strings."""
 
 from __future__ import annotations
 
+from pathlib import Path
+
 from support.codegen_driver import FmuRunner, Instant, Scenario, Tick, build_text, interpret
 from support.codegen_models import MODELS
 from robogen.ir.lower import LoweringOptions
@@ -85,6 +87,196 @@ def test_function_values_give_the_hand_calculated_results(tmp_path):
     applied = [(s.outputs["applied"]["applied.value"], s.outputs["product"]["product.value"])
                for s in got.steps if "applied" in s.outputs]
     assert applied == [(2, 3), (25, 5), (100, 3), (-3, 5), (5, 7), (3, 3)]
+
+
+COPIES = """\
+stm Copy {
+	var f: nat -> int = lambda x: nat @ x + 1
+	var g: nat -> int = lambda x: nat @ x * 10
+	var n: nat = 0
+	event go: nat
+	event first: int
+	event second: int
+	event third: int
+	initial i
+	state Idle { }
+	transition t0 { from i to Idle }
+	transition t1 { from Idle to Idle trigger go?n
+		action f = g ; g = lambda x: nat @ x + 100 ; first!f(n) ; second!g(n) ; f = f ; third!f(n) }
+}
+"""
+
+
+def test_a_function_variable_assigned_another_takes_the_value_it_holds(tmp_path):
+    """Found by the model fuzzer: `f = f` (a function variable stored in itself) made code
+    generation recurse without end. `f = g` copies the function g holds then: go(2) gives
+    f = x * 10 (20), g = x + 100 (102), f unchanged by f = f (20); go(3): f takes g's x + 100."""
+    scenario = Scenario([Instant(True, early=(Tick("go", {"go.value": v}),)) for v in (2, 3)], half=False)
+    got, _ = _run(tmp_path, "copies", COPIES, scenario)
+    outputs = {}
+    for s in got.steps:
+        for clock, values in s.outputs.items():
+            outputs.setdefault(clock, []).append(values[f"{clock}.value"])
+    assert outputs == {"first": [20, 103], "second": [102, 103], "third": [20, 103]}
+
+
+OPERATION_FUNCTIONS = """\
+interface Ops { twice(n: int) }
+operation twice(n: int) {
+	event first: int
+	event second: int
+	var f: int -> int = lambda x: int @ x * 2
+	var g: int -> int
+	initial i
+	final F
+	transition t { from i to F action first!f(n) ; g = f ; f = lambda x: int @ x + 1 ; second!(f(n) + g(n)) }
+}
+stm S {
+	requires Ops
+	event go: int
+	event first: int
+	event second: int
+	var k: int = 0
+	initial i
+	state A { }
+	transition t0 { from i to A }
+	transition t1 { from A to A trigger go?k action twice(k) }
+}
+"""
+
+
+def test_an_operation_has_function_variables_of_its_own(tmp_path):
+    """Found by the model fuzzer: a function variable declared by an operation was "not supported"
+    (its initial lambda, its assignments). Each call starts f as x * 2: go(5) sends f(5) = 10,
+    then (g = the old f, f = x + 1) 6 + 10; go(3) sends 6, then 4 + 6."""
+    scenario = Scenario([Instant(True, early=(Tick("go", {"go.value": v}),)) for v in (5, 3)], half=False)
+    got, _ = _run(tmp_path, "opfun", OPERATION_FUNCTIONS, scenario)
+    sent = [(c, v[f"{c}.value"]) for s in got.steps for c, v in sorted(s.outputs.items())]
+    assert sent == [("first", 10), ("second", 16), ("first", 6), ("second", 10)]
+
+
+MIXED = (Path(__file__).resolve().parent / "models" / "mixed.rct")
+
+
+def test_tuples_of_structures_relations_of_collections_and_a_folded_zero(tmp_path):
+    """Found by the model fuzzer, each a C compiler error: a tuple whose component is a matrix
+    or a set had the C name of one whose component is an int; a conditional of tuple literals
+    (nat * int * Set) as an int * int * Set; a tuple field of a record given a tuple of nats;
+    min of a Set(nat) compared as an int; `x < (let z == 0 @ z)` of a nat (-Wtype-limits);
+    maplet of a vector and a sequence ("not supported"). cell = t[2][2, 1] = 3;
+    low = min({1, 100}) + p[1] + r.f2[1] = 1 + 2 + 7 % 5 = 5; decided = 0 < 0."""
+    scenario = Scenario([Instant(True, early=(Tick("go", {}),))], half=False)
+    got, _ = _run(tmp_path, "mixed", MIXED.read_text(), scenario)
+    sent = {k: v for s in got.steps for c, values in s.outputs.items() for k, v in values.items()}
+    assert sent["cell.value"] == 3 and sent["low.value"] == 5 and sent["decided.value"] is False
+    assert sent["pair._1"] == [2, 2] and sent["pair._2.size"] == 1 and sent["pair._2.elements"][0] == 7
+
+
+KNOWN = """\
+import sequence_toolkit::*
+import relation_toolkit::*
+stm U {
+	var q: Seq(boolean)
+	var b: boolean = true
+	event go
+	event n: nat
+	event fresh: boolean
+	event grown: nat
+	event kept: nat
+	event keys: nat
+	event picked: nat
+	event imaged: nat
+	event overridden: nat
+	initial i
+	state A { }
+	transition t0 { from i to A }
+	transition t1 { from A to A trigger go action q = (if b then <> else <true> end) ^ (<> ^ <false, true>) ; n!size(q) ;
+		fresh!prefix((lambda x: boolean @ <>)(b), extract({1}, <false>)) ; grown!size(if b then <> else <true> end) ;
+		kept!size(filter(<-100, 5>, {0, 5})) ; keys!size(dom(if b then {} else {(| 2, 0 |)} end)) ; b = not b ;
+		q = extract({1}, let l == 1 @ <>) ; picked!size(q) ;
+		imaged!size(rimage((lambda x: nat @ {})(1), {1})) ; overridden!size(dom(override({}, {(| 1, 2 |), (| 3, 4 |)}))) }
+}
+"""
+
+
+def test_an_empty_branch_or_operand_takes_the_type_of_the_other(tmp_path):
+    """Found by the model fuzzer: `if b then <> else <true> end` and `<> ^ <false, true>` have, for
+    the checker, elements of no known type; `prefix((lambda x: boolean @ <>)(b), extract(...))` was "not
+    supported" (a Seq(boolean) as a Seq(int)). They are sequences of booleans: q holds 2, then 3
+    elements; <> is a prefix of <false>; the conditional holds 0, then 1 element. A Seq(int)
+    filtered by a Set(nat) did not compile (the set was made a sequence): 5 is kept. The domain of
+    `if b then {} else {(| 2, 0 |)} end` was "a set of ?X" (the checker typed the conditional by
+    its empty branch): it has 0, then 1 key. `extract({1}, let l == 1 @ <>)` stored in the
+    Seq(boolean) q was "using a Seq(int) as a Seq(boolean)": it is empty. The image of the empty
+    relation a lambda gives was "'rimage' of Set(int)": empty; override({}, r) is r, 2 keys."""
+    scenario = Scenario([Instant(True, early=(Tick("go", {}),)) for _ in range(2)], half=False)
+    got, _ = _run(tmp_path, "known", KNOWN, scenario)
+    sent = [{c: v[f"{c}.value"] for c, v in s.outputs.items()} for s in got.steps if s.outputs]
+    assert sent == [{"n": 2, "fresh": True, "grown": 0, "kept": 1, "keys": 0, "picked": 0, "imaged": 0, "overridden": 2},
+                    {"n": 3, "fresh": True, "grown": 1, "kept": 1, "keys": 1, "picked": 0, "imaged": 0, "overridden": 2}]
+
+
+EMPTY = """\
+import set_toolkit::*
+import sequence_toolkit::*
+datatype P { x: nat }
+stm Empty {
+	event go
+	event seq: Seq(P)
+	event count: nat
+	event same: boolean
+	var s: Set(int) = {5}
+	var b: boolean = true
+	initial i
+	state Idle { }
+	transition t0 { from i to Idle }
+	transition t1 { from Idle to Idle trigger go action seq!(let q == if b then <> else <> end @ reverse(q)) ;
+		s = union({}, inter({}, {})) ; count!(size(union({}, {})) + 7) ; same!({} != {}) ; b = not b }
+}
+"""
+
+
+def test_empty_enumerations_that_nothing_types_are_empty_sets_and_sequences(tmp_path):
+    """Found by the model fuzzer: `{} != {}` and `if b then <> else <> end` (elements of no known
+    type) crashed code generation (no C type for <unknown>). They are empty: seq sends no
+    element, count is 0 + 7, the two empty sets are equal, s becomes empty."""
+    scenario = Scenario([Instant(True, early=(Tick("go", {}),)) for _ in range(2)], half=False)
+    got, _ = _run(tmp_path, "empty", EMPTY, scenario)
+    sent = [s.outputs for s in got.steps if s.outputs]
+    assert [o["seq"]["seq.value.size"] for o in sent] == [0, 0]
+    assert [o["count"]["count.value"] for o in sent] == [7, 7]
+    assert [o["same"]["same.value"] for o in sent] == [False, False]
+    assert got.steps[-1].variables["Empty.s.size"] == 0
+
+
+PAIRS = """\
+import sequence_toolkit::*
+stm Pairs {
+	var p: Seq(nat * nat) = <(| 1, 2 |), (| 3, 4 |)>
+	var q: Seq(int * int)
+	var s: Set(nat * real) = {(| 2, 0.5 |), (| 1, 1.5 |)}
+	var u: Set(real * real)
+	event go
+	event first: int
+	event count: nat
+	event member: boolean
+	initial i
+	state Idle { }
+	transition t0 { from i to Idle }
+	transition t1 { from Idle to Idle trigger go
+		action q = reverse(p) ; first!(q[1][1] - 10) ; u = s ; count!size(u) ; member!((| 1.0, 1.5 |) in u) }
+}
+"""
+
+
+def test_a_collection_of_tuples_is_used_as_one_of_wider_numbers(tmp_path):
+    """Found by the model fuzzer: a Seq(nat * nat) used as a Seq(int * int) was "not supported"; its
+    tuples are converted field by field: q[1] is (| 3, 4 |), so first is 3 - 10; u holds the two
+    pairs of s as reals, (| 1.0, 1.5 |) among them."""
+    scenario = Scenario([Instant(True, early=(Tick("go", {}),))], half=False)
+    got, _ = _run(tmp_path, "pairs", PAIRS, scenario)
+    sent = {c: v[f"{c}.value"] for s in got.steps for c, v in s.outputs.items()}
+    assert sent == {"first": -7, "count": 2, "member": True}
 
 
 STRINGS = """\
@@ -280,3 +472,32 @@ def test_a_function_overridden_at_a_pair_compares_the_arguments_as_a_tuple(tmp_p
     scenario = Scenario([Instant(True, early=(Tick("go", {"go.value": k}),)) for k in (1, 2)], half=False)
     got, _ = _run(tmp_path, "overridden", OVERRIDDEN, scenario, c_functions=ADD_C, functions={"add": lambda x, y: x + y})
     assert [s.outputs["out"]["out.value"] for s in got.steps if "out" in s.outputs] == [7, 1]
+
+
+UNTYPED_NESTED = """\
+import sequence_toolkit::*
+import set_toolkit::*
+stm Flat {
+	var qq: Seq(Seq(nat)) = <<1>>
+	var ss: Set(Set(int)) = {{1}}
+	event go
+	event deep: nat
+	event sets: nat
+	event joined: nat
+	initial i
+	state A { }
+	transition t0 { from i to A }
+	transition t1 { from A to A trigger go action qq = dconcat(<<>, (let l == 1 @ <>)>) ; deep!size(qq) ;
+		ss = Union({{}, (let l == 2 @ {})}) ; sets!size(ss) ; qq = <<2>> ^ dconcat(<<>>) ; joined!size(qq) }
+}
+"""
+
+
+def test_dconcat_and_union_of_collections_nothing_typed_take_the_type_they_are_used_as(tmp_path):
+    """Found by the model fuzzer: `dconcat(<<>, (let l == 1 @ <>)>)` stored in a Seq(Seq(nat)) was
+    "using a Seq(int) as a Seq(Seq(int))" (its elements nothing typed); likewise Union of empty
+    sets. Both are empty: 0 and 0; `<<2>> ^ dconcat(<<>>)` holds one sequence: 1."""
+    scenario = Scenario([Instant(True, early=(Tick("go", {}),))], half=False)
+    got, _ = _run(tmp_path, "flat", UNTYPED_NESTED, scenario, LoweringOptions(capacities=(8, 4, 2)))
+    sent = [(c, v[f"{c}.value"]) for s in got.steps for c, v in s.outputs.items()]
+    assert sorted(sent) == [("deep", 0), ("joined", 1), ("sets", 0)]

@@ -11,6 +11,7 @@ operations in the same instants as the case study's own d-model (models/ur5e/ur5
 from __future__ import annotations
 
 import re
+from fractions import Fraction
 
 import pytest
 
@@ -193,3 +194,21 @@ def test_a_record_constant_without_a_value_is_a_parameter_per_field(tmp_path):
     given = {"Arm.home.x": 1.5, "Arm.home.y": 2.0, "Arm.home.label": "dock", "Arm.first.tag": 1, "Arm.first.Move_1": 0.5}
     outputs = run_checked(b, go, parameters=given).steps[0].outputs
     assert (outputs["at"]["at.value"], outputs["moving"]["moving.value"], outputs["named"]["named.value"]) == (3.5, True, "dock")
+
+
+def test_constant_values_are_computed_as_the_model_writes_them(tmp_path):
+    """Found by the model fuzzer: `[| -2.0 + 0.0, 3.75 |]` was "not computable" (the evaluator
+    computed a / b for every operator, and 0.0 divides nothing); vector arithmetic and negation
+    were not computed at all, and integers did not wrap as they do at run time."""
+    model = tmp_path / "k.rct"
+    model.write_text("stm K {\n"
+                     "\tconst a: vector(real, 2) = [| -2.0 + 0.0, 3.75 |]\n"
+                     "\tconst b: vector(int, 2) = [| 1, 2 |] + 2 * [| 3, -4 |]\n"
+                     "\tconst c: vector(int, 2) = -b - [| 1, 1 |]\n"
+                     "\tconst d: int = -(3 - 10) * 2\n"
+                     "\tconst e: nat = 0 - 1\n"
+                     "\tconst f: int = 4611686018427387904 * 2\n"
+                     "\tinitial i\n\tstate A { }\n\ttransition t0 { from i to A }\n}\n")
+    fmu, _ = lower_paths([model])
+    values = {p.var.name: p.value for p in fmu.params}
+    assert values == {"a": [-2, Fraction(15, 4)], "b": [7, -6], "c": [-8, 5], "d": 14, "e": 2**64 - 1, "f": -(2**63)}

@@ -97,3 +97,23 @@ def test_every_function_the_file_lacks_is_reported(tmp_path):
     assert d.message == f"function 'even' has no implementation: {part} does not define it"
     assert (d.span.line, d.span.column) == (27, 45)
     assert d.notes[0].message == "the file must define: static bool rg_user_even(int64_t n) { ... }"
+
+
+def test_the_functions_file_may_define_functions_the_model_does_not_call(tmp_path):
+    """Found by the model fuzzer: a model that declares two functions and calls one, with a file
+    that implements both, failed to compile (`'rg_user_spare' defined but not used`)."""
+    model = tmp_path / "spare.rst"
+    model.write_text("function used(n: int): boolean { }\nfunction spare(x: real): real { }\n"
+                     "stm S { cycleDef cycle == 1 var n: int = 0 output context { event even: boolean } initial i\n"
+                     "state A { entry $even!used(n) ; n = n + 1 } transition t0 { from i to A } transition t1 { from A to A exec } }\n")
+    functions = tmp_path / "spare.c"
+    functions.write_text("static bool rg_user_used(int64_t n) { return n % 2 == 0; }\nstatic double rg_user_spare(double x) { return x; }\n")
+    built = build([model], tmp_path / "w", functions=functions)
+    runner = FmuRunner(built.folder)
+    try:
+        scenario = random_scenario(random.Random(3), runner.desc, 6, every_instant=True)
+        got = runner.run(scenario)
+        assert got.comparable() == interpret(built.fmu, scenario, runner.desc, functions={"used": lambda n: n % 2 == 0}).comparable()
+        assert [s.outputs["even"]["even.value"] for s in got.steps if "even" in s.outputs][:3] == [True, False, True]
+    finally:
+        runner.close()

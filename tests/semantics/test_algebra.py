@@ -59,3 +59,14 @@ def test_vector_arithmetic_in_a_model():
     assert diagnostics(text) == [
         error(text, "v + w", "'+' needs two vectors or two matrices of the same size, not vector(int, 2) and vector(int, 3)"),
     ]
+
+
+def test_the_elements_of_an_enumeration_take_the_widest_number_type():
+    """Every row of a matrix literal counts, not the first row's alone: [| 1, 2; 2.5, 1 |] is a
+    matrix(real) (it was a matrix(nat), accepted as the initial value of a matrix(nat) whose 2.5
+    was lost), and <0, -1> a Seq(int) (it was a Seq(nat), where -1 wraps)."""
+    text = machine("var m: matrix(nat, 2, 2) = [| 1, 2; 2.5, 1 |]", "var r: matrix(real, 2, 2) = [| 1, 2; 2.5, 1 |]",
+                   "var s: Set(real) = { 1, 2.5 }", "var q: Seq(int) = <0, -1>", "var b: boolean = <0, -1> == <0, -1>")
+    assert diagnostics(text) == [
+        error(text, "[| 1, 2; 2.5, 1 |]", "the initial value of 'm' must be matrix(nat, 2, 2), but this is matrix(real, 2, 2)"),
+    ]

@@ -318,3 +318,19 @@ def test_a_qualified_literal_whose_enumeration_is_not_imported_is_reported_at_ea
         ("b.rct", *at(uses, "E::a /\\"), message),
     ]
     assert sorted(calls) == ["E::a", "E::a", "E::b", "F::c"]  # F::c, which reports nothing, once
+
+
+def test_an_empty_collection_takes_the_type_of_the_typed_one_beside_it():
+    """Found by the model fuzzer: `{}` and `<>` have elements of no type; in a conditional or a
+    set literal beside a typed collection they take its type (the conditional was typed by its
+    empty branch, so `dom(if b then {} else {(| 2, 0 |)} end)` was a set of ?X, and
+    `Inter({{}, {R(...)}})` a set of sets of ?X; code generation refused both)."""
+    text = machine("var b: boolean", "var r: Set(nat)", "var q: Seq(boolean)",
+                   action="r = dom(if b then {} else {(| 2, 0 |)} end) ; q = if b then <> else <true> end ; "
+                          "r = Union({{}, {3}})", path="m.rct")
+    model = check_texts({"m.rct": "import relation_toolkit::*\nimport set_toolkit::*\n" + text})
+    assert model.diagnostics == ()
+    first, second, third = model.files[0].items[0].members[-1].action.stmts
+    assert model.type_of(first.value.args[0]).show() == "Set(nat * nat)"
+    assert model.type_of(second.value).show() == "Seq(boolean)"
+    assert model.type_of(third.value.args[0]).show() == "Set(Set(nat))"

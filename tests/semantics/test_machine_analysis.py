@@ -76,6 +76,26 @@ def test_a_guard_that_no_value_satisfies_never_fires():
     ]
 
 
+def test_a_guard_against_a_negative_literal_is_sampled_below_it():
+    """Found by the model fuzzer: `not x > -10.0` holds for x = -11, so t1 can fire; the samples
+    of x came from the literal 10.0 without its sign and never went below -10."""
+    text = lines(
+        "stm S {",
+        "\tvar x: real, n: int",
+        "\tconst k: int = 4",
+        "\tinitial i",
+        "\tstate A { }",
+        "\ttransition t0 { from i to A }",
+        "\ttransition t1 { from A to A condition not x > -10.0 }",
+        "\ttransition t2 { from A to A condition n < -k /\\ n < -5 }",
+        "\ttransition t3 { from A to A condition x < -2.5 /\\ x > -2.5 }",
+        "}",
+    )
+    assert [d for d in diagnostics(text) if "never fire" in d[-1]] == [
+        ("warning", *at(text, "x < -2.5"), "transition 't3' can never fire: its condition is always false"),
+    ]
+
+
 def test_guards_the_analysis_cannot_decide_are_left_alone():
     # x + y > 3 /\ x + y < 2 is unsatisfiable, but arithmetic of two unknowns is beyond the
     # exhaustive sampling, so nothing is claimed; x > 3 /\ x < 5 is satisfiable (x = 4)

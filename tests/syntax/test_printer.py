@@ -86,6 +86,17 @@ def test_calls_through_dollar_and_filters_without_send():
     assert parse_text(printer.file(f)) == f
 
 
+def test_a_synchronisation_without_send_keeps_its_value():
+    """Found by the model fuzzer: `e.R(| f = 1 |)` and `e.r.f` do not parse back as the
+    synchronisation `e.v` (after `e.`, the grammar reads a name, a call or an atom that does not
+    start with a name); such values are printed in parentheses, the others as they were."""
+    f = parse_text("stm S { transition t { from a to b action e.(R(| f = 1 |)) ; e.(r.f) ; e.(q[1]) ; "
+                   "e.v ; e.E::l ; e.f(1) ; e.3 ; e.(| 1, 2 |) ; send e.R(| f = 1 |) } }")
+    assert printer.stmt(f.items[0].members[0].action) == (
+        "e.(R(| f = 1 |)) ; e.(r.f) ; e.(q[1]) ; e.v ; e.E::l ; e.f(1) ; e.3 ; e.(| 1, 2 |) ; send e.R(| f = 1 |)")
+    assert parse_text(printer.file(f)) == f
+
+
 def test_a_flat_expression_of_a_thousand_operands_prints_in_a_loop():
     text = " \\/ ".join(f"(x{i} + 1) * 2 - y > {i} /\\ b{i}" for i in range(1000))
     with shallow_stack():

@@ -76,11 +76,20 @@ def compile_model(paths: Sequence[str | os.PathLike], output: str | os.PathLike 
     model, boundary = front_end(paths, module=module, machine=machine)
     if output is not None:
         check_not_input(Path(output), [f.path for f in model.files])  # a model file found in a folder given
+    return compile_checked(model, boundary, output, options=options, codegen=codegen, inputs=_inputs(paths, codegen))
+
+
+def compile_checked(model: SemanticModel, boundary: Boundary, output: str | os.PathLike | None = None, *,
+                    options: LoweringOptions | None = None, codegen: CodegenOptions | None = None,
+                    inputs: Sequence[str | os.PathLike] = ()) -> Compiled:
+    """:func:`compile_model` of a model already checked, with its boundary chosen (``inputs``: the
+    files the output may not overwrite). Lowering the model twice, for two semantics, checks it
+    once."""
     fmu, generated = _generate(model, boundary, options, codegen)
     folder = Path(output) if output is not None else Path("build") / fmu.model_identifier
     # A new or empty folder, or one robogen wrote before: replace what a previous compile wrote
     # there, keep anything else (e.g. a user's notes).
-    output_folder(folder, command="compile", inputs=_inputs(paths, codegen))
+    output_folder(folder, command="compile", inputs=list(inputs))
     for sub in ("sources", "documentation"):
         if (folder / sub).is_dir():
             shutil.rmtree(folder / sub)
@@ -185,5 +194,5 @@ def parse_time_unit(text: str) -> Fraction:
     return value
 
 
-__all__ = ["Compiled", "compile_model", "fmu_files", "build_fmu", "package_model", "front_end", "lower_paths", "diagrams_of",
-           "LoweringOptions", "CodegenOptions", "parse_time_unit"]
+__all__ = ["Compiled", "compile_model", "compile_checked", "fmu_files", "build_fmu", "package_model", "front_end", "lower_paths",
+           "diagrams_of", "LoweringOptions", "CodegenOptions", "parse_time_unit"]

@@ -26,6 +26,43 @@ from robogen.ir.collections import CAN_OVERFLOW, SECOND_FAULTS, empty_message, o
 from robogen.semantics import types as T
 
 
+_COMPARISONS = ("eq", "ne", "lt", "le", "gt", "ge")
+
+
+def _binds(e: ir.Expr) -> bool:
+    """Does evaluating ``e`` bind a variable (RoboSim ``$e?x``)?"""
+    todo: list = [e]
+    while todo:
+        x = todo.pop()
+        if isinstance(x, ir.BindIn):
+            return True
+        if isinstance(x, ir.Expr):
+            todo.extend(getattr(x, f) for f in x.__dataclass_fields__)
+        elif isinstance(x, tuple):
+            todo.extend(x)
+    return False
+
+
+def _against_zero(op: str, t: T.Type, a: str, b: str) -> str | None:
+    """``a op b`` of nats when one side is the literal 0 and the types decide it (``n < 0``,
+    ``n >= 0``, ``0 > n``, ``0 <= n``; the checker gives the value of those it can see, this
+    is for a 0 that lowering made, ``let z == 0 @ z``): the other side still evaluated (it may
+    stop the cycle with a run-time error)."""
+    zero = "UINT64_C(0)"
+    if t != T.NAT or zero not in (a, b):
+        return None
+    if b == zero and op in ("lt", "ge"):
+        return f"((void)({a}), {'false' if op == 'lt' else 'true'})"
+    if a == zero and op in ("gt", "le"):
+        return f"((void)({b}), {'false' if op == 'gt' else 'true'})"
+    return None
+
+
+def _exact(t: T.Type) -> bool:
+    """Is every value of ``t`` equal to itself (unlike a NaN, or a record holding one)?"""
+    return t in (T.INT, T.NAT, T.BOOLEAN, T.STRING) or isinstance(t, T.EnumT)
+
+
 class Identifiers:
     """Unique C identifiers made from model names: each name mangled, and numbered (``_2``,
     ``_3``, ...) where it would clash with one made before."""
@@ -180,6 +217,8 @@ def bare(text: str) -> str:
             depth += {"(": 1, ")": -1}.get(ch, 0)
             if depth == 0 and i < len(text) - 1:
                 return text  # the first parenthesis closes before the end: (a) && (b)
+            if depth == 1 and ch == ",":
+                return text  # a comma expression: ((void)(x), true)
         text = text[1:-1]
     return text
 
@@ -282,8 +321,16 @@ class Emitter:
             return f"({a} || {b})"
         if op == "implies":
             return f"(!{a} || {b})"
+        if op in ("iff", "eq", "ne") and e.left.type == T.BOOLEAN and (_binds(e.left) or _binds(e.right)):
+            # `$e?x iff $f?y`: the binding on the left before the right's, as the interpreter reads
+            # them (C does not order the operands of ==: gcc's -Wsequence-point)
+            return f"({a} ? {b} : !{b})" if op != "ne" else f"({a} ? !{b} : {b})"
         if op == "iff":
             return f"(!{a} == !{b})"
+        if op in _COMPARISONS and a == b and "(" not in a and _exact(e.left.type):
+            # a variable compared with itself (`x == x`): its value, as C's -Wtautological-compare
+            # rejects the comparison (reals are compared: a NaN differs from itself)
+            return "true" if op in ("eq", "le", "ge") else "false"
         if op in ("eq", "ne"):
             t = e.left.type
             if isinstance(t, (T.RecordT, T.VectorT, T.MatrixT, T.SetT, T.SeqT)):
@@ -292,6 +339,9 @@ class Emitter:
                 return test if op == "eq" else f"(!{test})"
             return f"({a} {'==' if op == 'eq' else '!='} {b})"
         if op in ("lt", "le", "gt", "ge"):
+            decided = _against_zero(op, e.left.type, a, b)
+            if decided is not None:  # a nat against 0: C's -Wtype-limits rejects the test; its value
+                return decided
             return f"({a} {dict(lt='<', le='<=', gt='>', ge='>=')[op]} {b})"
         t = e.type
         if t == T.REAL:

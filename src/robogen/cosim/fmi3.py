@@ -249,6 +249,13 @@ class Library:
         except AttributeError:
             return False
 
+    def close(self) -> None:
+        """Unload the shared object (every instance of it must be freed first). A process that
+        loads thousands of FMUs one after the other (the model fuzzer) keeps its memory bounded."""
+        if self.lib is not None:
+            ffi.dlclose(self.lib)
+            self.lib = None
+
     def fmi3GetVersion(self) -> str:
         return ffi.string(self.lib.fmi3GetVersion()).decode("utf-8", "replace")
 
@@ -423,22 +430,22 @@ class Binding:
 
     # -- values ----------------------------------------------------------------------------
     def get(self, fmi_type: str, vrs, n: int, values, sizes=None, n_values: int | None = None) -> None:
-        """fmi3Get<Type>(vrs, n, values, n_values) into a caller-owned buffer (Binary: and ``sizes``);
-        ``n_values`` is n unless arrays are read."""
+        """fmi3Get<Type>(vrs, n, values, nValues) into a caller-owned buffer (Binary: and ``sizes``);
+        ``n_values`` is ``n`` unless array variables are among ``vrs``."""
         if fmi_type == "Clock":
             self._call("fmi3GetClock", vrs, n, values)
         elif fmi_type == "Binary":
-            self._call("fmi3GetBinary", vrs, n, sizes, values, n)
+            self._call("fmi3GetBinary", vrs, n, sizes, values, n if n_values is None else n_values)
         else:
             self._call("fmi3Get" + ACCESSOR[fmi_type], vrs, n, values, n if n_values is None else n_values)
 
-    def set(self, fmi_type: str, vrs, n: int, values, sizes=None) -> None:
+    def set(self, fmi_type: str, vrs, n: int, values, sizes=None, n_values: int | None = None) -> None:
         if fmi_type == "Clock":
             self._call("fmi3SetClock", vrs, n, values)
         elif fmi_type == "Binary":
-            self._call("fmi3SetBinary", vrs, n, sizes, values, n)
+            self._call("fmi3SetBinary", vrs, n, sizes, values, n if n_values is None else n_values)
         else:
-            self._call("fmi3Set" + ACCESSOR[fmi_type], vrs, n, values, n)
+            self._call("fmi3Set" + ACCESSOR[fmi_type], vrs, n, values, n if n_values is None else n_values)
 
     def get_values(self, fmi_type: str, vrs: Sequence[int], n_values: int | None = None) -> list:
         """The values of ``vrs`` (all of ``fmi_type``) as a Python list (``n_values`` of them where

@@ -105,6 +105,26 @@ def constant_value(e: ast.Expr, t: T.Type, model: SemanticModel, known: dict[str
         return None
 
 
+def _arith(op: str, a, b):
+    """``a op b`` of numbers, or elementwise of vectors and matrices (row-major lists) of one size
+    and of a number and a vector or matrix (a product of two vectors or matrices is not a
+    constant: TypeError)."""
+    if isinstance(a, list) or isinstance(b, list):
+        if isinstance(a, list) and isinstance(b, list):
+            if op not in ("+", "-") or len(a) != len(b):
+                raise TypeError("not an elementwise operation")
+            return [_arith(op, x, y) for x, y in zip(a, b)]
+        if op != "*":
+            raise TypeError("a number and a vector")
+        return [_arith(op, x, b) for x in a] if isinstance(a, list) else [_arith(op, a, y) for y in b]
+    if op == "/" and isinstance(a, int) and isinstance(b, int):
+        q = abs(a) // abs(b)
+        return q if (a >= 0) == (b >= 0) else -q
+    if op == "/":
+        return Fraction(a) / Fraction(b)
+    return a + b if op == "+" else a - b if op == "-" else a * b
+
+
 def _typed(v: object, t: T.Type) -> object:
     """A computed value as a value of ``t`` (numbers of a real type exact fractions, vectors and
     matrices row-major lists of their elements)."""
@@ -114,6 +134,9 @@ def _typed(v: object, t: T.Type) -> object:
         return [_typed(x, t.element) for x in v]
     if t == T.REAL and isinstance(v, (int, Fraction)) and not isinstance(v, bool):
         return Fraction(v)
+    if t in (T.INT, T.NAT) and isinstance(v, int) and not isinstance(v, bool):  # wrapping, as the C arithmetic
+        v &= (1 << 64) - 1
+        return v - (1 << 64) if t == T.INT and v >> 63 else v
     return v
 
 
@@ -135,13 +158,11 @@ def _evaluate(e: ast.Expr, model: SemanticModel, known: dict[str, object]):
         return [_evaluate(x, model, known) for row in e.rows for x in row]
     if isinstance(e, ast.Unary):
         v = _evaluate(e.operand, model, known)
-        return (not v) if e.op == "not" else -v
+        if e.op == "not":
+            return not v
+        return [-x for x in v] if isinstance(v, list) else -v
     if isinstance(e, ast.Binary) and e.op in ("+", "-", "*", "/"):
-        a, b = _evaluate(e.left, model, known), _evaluate(e.right, model, known)
-        if e.op == "/" and isinstance(a, int) and isinstance(b, int):
-            q = abs(a) // abs(b)
-            return q if (a >= 0) == (b >= 0) else -q
-        return {"+": a + b, "-": a - b, "*": a * b, "/": Fraction(a) / Fraction(b) if not (isinstance(a, int) and isinstance(b, int)) else None}[e.op]
+        return _arith(e.op, _evaluate(e.left, model, known), _evaluate(e.right, model, known))
     raise KeyError(type(e).__name__)
 
 

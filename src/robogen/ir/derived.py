@@ -59,8 +59,11 @@ class DerivedLowering:
 
     def _identity(self, t: T.Type, name: str, e: ast.Call) -> ir.Expr:
         """The identity relation on the finite type of ``t``'s pairs, as a set enumeration (of a
-        type the call does not tell, the identity the value it is used as takes: ``conv``)."""
-        if isinstance(t.element.field("_1"), (T.TypeVarT, T.UnknownT)):  # type: ignore[attr-defined]
+        type the call does not tell, ``id()`` whose checked type keeps its ``?X``, the identity
+        the value it is used as takes: ``conv``)."""
+        checked = self.model.type_of(e) if name == "id" else None  # type: ignore[attr-defined]
+        if isinstance(checked, T.FunctionT) and isinstance(checked.domain, (T.TypeVarT, T.UnknownT)) or \
+                isinstance(t.element.field("_1"), (T.TypeVarT, T.UnknownT)):  # type: ignore[attr-defined]
             return ir.Coll(T.SetT(T.UNKNOWN), "identity", (), expr_text(e), e.span)
         return identity(t, name, expr_text(e), e.span)
 

@@ -11,7 +11,7 @@ from dataclasses import replace
 from fractions import Fraction
 from typing import TYPE_CHECKING
 
-from robogen.diagnostics import Span, working_on
+from robogen.diagnostics import RobogenError, Span, working_on
 from robogen.ir import linear
 from robogen.ir import model as ir
 from robogen.ir.collections import RELATION_OPS
@@ -28,9 +28,26 @@ from robogen.syntax.printer import expr as expr_text
 if TYPE_CHECKING:  # the attributes MachineLowering provides
     from robogen.semantics.model import SemanticModel
 
-_UNSUPPORTED = {
-    ast.MatrixOp: "inverse/transpose",
-}
+
+def _unknown_inside(t: T.Type) -> bool:
+    """Does ``t`` hold the type of elements nothing gave a type (``{}``, ``<>``, a toolkit result's
+    ``?Y`` that such an argument leaves open)?"""
+    if isinstance(t, (T.UnknownT, T.TypeVarT)):
+        return True
+    if isinstance(t, (T.SetT, T.SeqT)):
+        return _unknown_inside(t.element)
+    if isinstance(t, T.ProductT):
+        return any(_unknown_inside(x) for x in t.items)
+    return False
+
+
+# collection operations whose result holds elements of their collection arguments (of one type;
+# extract's second argument holds positions)
+_ELEMENTWISE = ("union", "inter", "diff", "symdiff", "cat", "reverse", "tail", "front", "filter", "elems", "extract")
+
+# relation operations whose result is empty when their relation is ({} nothing types), or, for
+# override({}, s), the other relation (not iter(0, {}), the identity)
+_EMPTY_IN_EMPTY_OUT = ("dom", "ran", "rinv", "dres", "dsub", "rres", "rsub", "rimage", "relcomp", "squash", "closure", "roverride")
 
 _BINARY = {
     "iff": "iff", "=>": "implies", "\\/": "or", "/\\": "and",
@@ -89,7 +106,7 @@ class ExpressionLowering:
         with working_on(e.span):
             step = getattr(self, "_e_" + type(e).__name__, None)
             if step is None:
-                raise not_supported(_UNSUPPORTED.get(type(e), type(e).__name__), e.span)
+                raise not_supported(type(e).__name__, e.span)
             return step(e, graph)
 
     def lvalue(self, e: ast.Expr, graph: Graph) -> ir.Expr:
@@ -131,6 +148,8 @@ class ExpressionLowering:
             return ir.Conv(t, e)
         if isinstance(t, (T.VectorT, T.MatrixT)) and isinstance(e, ir.VectorLit):
             return ir.VectorLit(t, tuple(self.conv(x, t.element, span) for x in e.items))
+        if isinstance(t, (T.VectorT, T.MatrixT)) and type(e.type) is type(t) and e.type.element != t.element:  # type: ignore[attr-defined]
+            return self._conv_linear(e, t, span)
         if isinstance(t, T.RecordT) and isinstance(e.type, T.RecordT) and t.qname != e.type.qname \
                 and base_name(t.qname) == base_name(e.type.qname):
             return self._reshape(e, t, span)  # a recursive type at another level (robogen.ir.supported.Shapes)
@@ -144,7 +163,32 @@ class ExpressionLowering:
             return self._conv_collection(e, t, span)  # type: ignore[arg-type]
         if isinstance(t, (T.RecordT, T.VectorT, T.MatrixT)) and not isinstance(e, ir.VectorLit) and convertible(e.type, t):
             return ir.Coll(t, "conv", (e,), self._conv_text(e.type, t), span)  # collections of other capacities inside
+        if isinstance(t, T.RecordT) and isinstance(e.type, T.RecordT) and e.type != t and isinstance(e, ir.Cond):
+            return ir.Cond(t, e.cond, self.conv(e.then, t, span), self.conv(e.otherwise, t, span))
+        if isinstance(t, T.RecordT) and isinstance(e.type, T.RecordT) and e.type != t and \
+                [n for n, _ in t.fields] == [n for n, _ in e.type.fields]:  # a tuple of nats as one of ints: field by field
+            return ir.RecordLit(t, tuple((n, self.conv(ir.FieldOf(e.type.field(n), e, n), ft, span)) for n, ft in t.fields))  # type: ignore[arg-type]
         return e
+
+    def _conv_linear(self, e: ir.Expr, t: T.VectorT | T.MatrixT, span: Span | None) -> ir.Expr:
+        """A vector or matrix as one of another number type (`vector(nat, 2)` used as a
+        `vector(int, 2)`): the branches of a conditional converted, else each element."""
+        if isinstance(e, ir.Cond):
+            return ir.Cond(t, e.cond, self.conv(e.then, t, span), self.conv(e.otherwise, t, span))
+        if isinstance(t, T.VectorT):
+            places = [(ir.Lit(T.INT, i + 1),) for i in range(t.size or 0)]
+        else:
+            places = [(ir.Lit(T.INT, r + 1), ir.Lit(T.INT, c + 1)) for r in range(t.rows or 0) for c in range(t.columns or 0)]
+        source = e.type.element  # type: ignore[attr-defined]
+        return ir.VectorLit(t, tuple(self.conv(ir.IndexOf(source, e, at), t.element, span) for at in places))
+
+    def converted(self, e: ir.Expr, t: T.Type, span: Span | None) -> ir.Expr | None:
+        """``e`` as a value of ``t``, or None when it cannot be one."""
+        try:
+            value = self.conv(e, t, span)
+        except RobogenError:
+            return None
+        return value if value.type == t else None
 
     def _reshape(self, e: ir.Expr, t: T.RecordT, span: Span | None) -> ir.Expr:
         """A value of a recursive type as one of another level: field by field; a field ``t``
@@ -187,6 +231,20 @@ class ExpressionLowering:
             return e
         if convertible(e.type, t):
             return ir.Coll(t, "conv", (e,), self._conv_text(e.type, t), span)
+        # a value built from enumerations (`if c then {} else {} end`, `union({}, {})`, whose
+        # elements nothing typed): built from the enumerations as the type it is used as
+        if isinstance(e, ir.Cond):
+            return ir.Cond(t, e.cond, self.conv(e.then, t, span), self.conv(e.otherwise, t, span))
+        if isinstance(e, ir.Coll) and e.op in _ELEMENTWISE:
+            args = tuple(self.conv(a, replace(a.type, element=t.element), span) if is_collection(a.type)  # type: ignore[union-attr]
+                         and a.type.element == source and (e.op != "extract" or k == 0) else a  # type: ignore[attr-defined]
+                         for k, a in enumerate(e.args))
+            return ir.Coll(t, e.op, args, e.text, e.span)
+        if isinstance(e, ir.Coll) and e.op in ("dconcat", "Union", "Inter") and is_collection(e.args[0].type) \
+                and is_collection(e.args[0].type.element) and e.args[0].type.element.element == source:  # type: ignore[attr-defined]
+            outer = e.args[0].type  # of the collections whose elements make the result: each of them converted
+            inner = replace(outer.element, element=t.element)  # type: ignore[attr-defined]
+            return ir.Coll(t, e.op, (self.conv(e.args[0], replace(outer, element=inner), span),), e.text, e.span)
         raise not_supported(f"using a {e.type.show()} as a {t.show()}", span)
 
     @staticmethod
@@ -307,7 +365,7 @@ class ExpressionLowering:
         if e.op == "in":
             b = self._as_relation(b, e.right)
             return self.coll(T.BOOLEAN, "in", self.member(a, b, e.left.span, e.right.span), e)
-        t = self._type(e)
+        t = self._known(e, ((e.left, a), (e.right, b)))
         if t == T.STRING:  # two strings: only literals, joined here (a string is a number at run time)
             if isinstance(a, ir.Lit) and isinstance(b, ir.Lit):
                 return ir.Lit(T.STRING, str(a.value) + str(b.value))
@@ -336,26 +394,49 @@ class ExpressionLowering:
             raise not_supported(f"comparing values of type {a.type.show()}", e.span)
         if a.type != b.type and isinstance(a.type, (T.SetT, T.SeqT, T.RecordT)) and convertible(a.type, b.type):
             a, b = self.common(a, b, (e.left.span, e.right.span))  # into the one of the greater capacities
-        if a.type != b.type:  # a literal takes the type of the other side: [| 0, 0 |] is vector(nat, 2)
-            if self.conv(b, a.type, e.right.span).type == a.type:
-                b = self.conv(b, a.type, e.right.span)
-            elif self.conv(a, b.type, e.left.span).type == b.type:
-                a = self.conv(a, b.type, e.left.span)
-            else:
-                raise not_supported(f"comparing a {a.type.show()} with a {b.type.show()}", e.span)
+        a, b = self._one_type(a, b, e.span)
         return ir.Bin(T.BOOLEAN, op, a, b)
 
-    def equal(self, a: ir.Expr, b: ir.Expr) -> ir.Expr:
-        """a == b, numbers compared in their common type."""
+    def _one_type(self, a: ir.Expr, b: ir.Expr, span: Span | None) -> tuple[ir.Expr, ir.Expr]:
+        """Two values to compare, of one type: a literal takes the type of the other side
+        ([| 0, 0 |] is vector(nat, 2)), the narrower side the wider one's."""
+        if a.type == b.type:
+            return a, b
+        b_as_a = self.converted(b, a.type, span)
+        if b_as_a is not None:
+            return a, b_as_a
+        a_as_b = self.converted(a, b.type, span)
+        if a_as_b is not None:
+            return a_as_b, b
+        raise not_supported(f"comparing a {a.type.show()} with a {b.type.show()}", span)
+
+    def equal(self, a: ir.Expr, b: ir.Expr, span: Span | None = None) -> ir.Expr:
+        """a == b, numbers compared in their common type, other values as one type."""
         if a.type in T.NUMERIC and b.type in T.NUMERIC:
             t = T.REAL if T.REAL in (a.type, b.type) else T.INT
             return ir.Bin(T.BOOLEAN, "eq", self.conv(a, t, None), self.conv(b, t, None))
-        return ir.Bin(T.BOOLEAN, "eq", a, b)
+        return ir.Bin(T.BOOLEAN, "eq", *self._one_type(a, b, span))
 
     def _e_IfExpr(self, e: ast.IfExpr, graph: Graph) -> ir.Expr:
+        cond, then, other = self.expr(e.cond, graph), self.expr(e.then, graph), self.expr(e.otherwise, graph)
+        t = self._known(e, ((e.then, then), (e.otherwise, other)))
+        return ir.Cond(t, cond, self.conv(then, t, e.then.span), self.conv(other, t, e.otherwise.span))
+
+    def _known(self, e: ast.Expr, parts) -> T.Type:
+        """The type of ``e``; where the checker left its elements unknown (``if c then <> else
+        <true> end``, ``<> ^ <true>``), that of the first of its ``parts`` (ast, lowered) whose
+        elements are known."""
+        if not _unknown_inside(self.model.type_of(e)):
+            return self._type(e)
+        known = [x.type for a, x in parts if not _unknown_inside(self.model.type_of(a))]
+        return known[0] if known else self._type(e)
+
+    def _e_MatrixOp(self, e: ast.MatrixOp, graph: Graph) -> ir.Expr:
+        if e.op != "transpose":
+            raise not_supported(f"the {e.op} of a matrix", e.span)
         t = self._type(e)
-        return ir.Cond(t, self.expr(e.cond, graph), self.conv(self.expr(e.then, graph), t, e.then.span),
-                       self.conv(self.expr(e.otherwise, graph), t, e.otherwise.span))
+        assert isinstance(t, T.MatrixT)
+        return linear.transpose(self.expr(e.operand, graph), t, self.conv, e.span)
 
     def _e_Cast(self, e: ast.Cast, graph: Graph) -> ir.Expr:
         t = self._norm(self.model.type_of(e.type))
@@ -503,13 +584,17 @@ class ExpressionLowering:
         elif op == "extract":  # extract(a, q): the sequence first in the IR, as for filter(q, a)
             args = [self.conv(args[1], t, e.args[1].span), self.conv(args[0], T.SetT(T.INT), e.args[0].span)]
         elif is_collection(t) and op not in ("elems", "indices"):
-            # the collections the result is made from have its type ({} and <> take it)
-            args = [self.conv(a, t, x.span) if is_collection(a.type) else a for a, x in zip(args, e.args)]
+            # the collections the result is made from have its elements ({} and <> take them; the
+            # set that filters a sequence stays a set)
+            args = [self.conv(a, replace(a.type, element=t.element), x.span) if is_collection(a.type) else a  # type: ignore[union-attr]
+                    for a, x in zip(args, e.args)]
         elif op == "notin":  # an element (of any form) and a set
             args[0], args[1] = self.member(args[0], args[1], e.args[0].span, e.args[1].span)
         elif len(args) == 2 and all(is_collection(a.type) for a in args):
-            common = args[1].type if isinstance(args[0].type.element, T.UnknownT) else args[0].type  # type: ignore[union-attr]
+            common = args[1].type if _unknown_inside(self.model.type_of(e.args[0])) else args[0].type  # (prefix(<>, q))
             args = [self.conv(a, replace(a.type, element=common.element), x.span) for a, x in zip(args, e.args)]  # type: ignore[union-attr, call-arg]
+        elif op in ("min", "max"):  # of a Set(int): a set of nats is converted (its C function gives an int)
+            args = [self.conv(args[0], replace(args[0].type, element=T.INT), e.args[0].span)]  # type: ignore[arg-type]
         if isinstance(t, (T.SetT, T.SeqT)):
             check_codegen_type(t, e.span, f"the result of '{sym.name}'")
         return self.coll(t, op, args, e)
@@ -525,6 +610,10 @@ class ExpressionLowering:
         at = 1 if op in ("dres", "dsub", "iter") else 0
         pair = args[at].type.element  # type: ignore[attr-defined]
         if not (isinstance(pair, TupleT) and len(pair.fields) == 2):
+            if op in _EMPTY_IN_EMPTY_OUT and _unknown_inside(self.model.type_of(e.args[at])):  # {}: an empty relation nothing typed
+                if op == "roverride":
+                    return self.conv(args[1], t, e.span)  # override({}, s) is s
+                return ir.Coll(t, "set" if isinstance(t, T.SetT) else "seq", (), expr_text(e), e.span)  # the result is empty too
             raise not_supported(f"'{sym.name}' of {args[at].type.show()} (a relation is a set of pairs)", e.span)
         x, y = pair.field("_1"), pair.field("_2")
         if op == "iter":  # iter(n, r)

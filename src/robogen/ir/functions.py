@@ -219,8 +219,8 @@ class FunctionValues:
 
     def atoms(self) -> list[tuple[FunMapT, ast.Expr]]:
         """(type, value) of the static function values the FMU's state machines write as values
-        (not applied where written), numbered from 1 in the order written: those of the machines
-        and of the functions the model declares (their postconditions). One numbering for the
+        (not applied where written), numbered from 1 in the order written: those of the machines,
+        of the functions the model declares (their postconditions) and of its operations. One numbering for the
         FMU, so that machines may pass function values to one another; a function value of a
         type takes the numbers of those that fit it (:func:`_fits`)."""
         ctx = self.ctx
@@ -230,6 +230,7 @@ class FunctionValues:
             roots = [v.init for scope in scopes for v in scope.vars.values() if v.init is not None]
             roots += [scope.node for scope in scopes]
             roots += [m for f in self.model.files for d in f.items if isinstance(d, ast.FunctionDef) for m in d.members]
+            roots += _operations(self.model.files)  # inlined where the machines call them
             texts: set[str] = set()
             for root in roots:
                 for node in _values(root):
@@ -309,6 +310,16 @@ def _reads_state(model, value: ast.Expr) -> ast.Name | None:
             if isinstance(sym, VarSym) and sym.kind != "const" and id(sym.decl) not in own:
                 return node
     return None
+
+
+def _operations(files) -> list[ast.OperationDef]:
+    """The operation definitions of ``files``, at the top level and in controllers."""
+    found = []
+    for f in files:
+        for d in f.items:
+            members = d.members if isinstance(d, ast.Controller) else (d,)
+            found += [m for m in members if isinstance(m, ast.OperationDef)]
+    return found
 
 
 def _values(node, applied: bool = False):

@@ -3,7 +3,7 @@
 RoboChart types ``+``, ``-`` and ``*`` on vectors and matrices as :mod:`robogen.semantics.algebra`
 says: element-wise sums and differences of equal shapes, a number times a vector or matrix,
 matrix × matrix, matrix × vector, a vector times a one-row matrix, and the dot product of two
-vectors (a number); unary ``-`` negates each element. The IR has no vector operations: each
+vectors (a number); unary ``-`` negates each element; ``transpose`` swaps rows and columns. The IR has no vector operations: each
 becomes a vector (or matrix) literal whose items are the scalar expressions of its elements, in
 the element type of the result (row-major for matrices), so the C emitter and the interpreter
 compute them with the scalar arithmetic they already share (wrapping integers, real division
@@ -81,4 +81,14 @@ def arithmetic(op: str, a: ir.Expr, b: ir.Expr, t: T.Type, conv: Conv, span: Spa
     return ir.VectorLit(t, tuple(items))
 
 
-__all__ = ["arithmetic", "negate", "elements"]
+def transpose(e: ir.Expr, t: T.MatrixT, conv: Conv, span: Span | None) -> ir.Expr:
+    """``transpose(e)`` of type ``t``: element [i, j] is e's [j, i]; of a vector (a column), the
+    matrix of one row that holds its elements (RoboTool's TransposeExp)."""
+    xs, el = elements(e), t.element
+    rows, cols = t.rows or 0, t.columns or 0
+    if isinstance(e.type, T.VectorT):
+        return ir.VectorLit(t, tuple(conv(x, el, span) for x in xs))
+    return ir.VectorLit(t, tuple(conv(xs[j * rows + i], el, span) for i in range(rows) for j in range(cols)))
+
+
+__all__ = ["arithmetic", "negate", "elements", "transpose"]

@@ -297,7 +297,9 @@ class StatementLowering:
         for name, v in op.vars.items():
             if v.kind in ("var", "const") and not v.shared and v.init is not None:
                 var = sub.env[name]
-                cur.stmts.append(ir.Assign(v.span, ir.Ref(var.type, var), self.conv(self.expr(v.init, sub), var.type, v.init.span)))
+                value = self.fvalue(v.init, var.type, sub) if isinstance(var.type, FunMapT) \
+                    else self.conv(self.expr(v.init, sub), var.type, v.init.span)  # type: ignore[attr-defined]
+                cur.stmts.append(ir.Assign(v.span, ir.Ref(var.type, var), value))
         caller_node = self.node_now
         self.inline_stack.append(op.name)
         try:

@@ -314,6 +314,8 @@ def normalise(t: T.Type, given: str = "int", shapes: Shapes = _PLAIN, within: tu
         return t  # already concrete
     if isinstance(t, T.Given):
         return T.PRIMITIVES[given]
+    if isinstance(t, (T.UnknownT, T.TypeVarT)):  # the elements of a set or sequence nothing gives a type (a
+        return T.INT  # toolkit result's ?Y that an empty argument leaves open): it is empty
 
     def norm(x: T.Type, inner: int = 0) -> T.Type:  # a part, ``inner`` collections further in
         return normalise(x, given, shapes, within, path, level + inner)

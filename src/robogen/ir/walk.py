@@ -22,7 +22,9 @@ from robogen.semantics import types as T
 
 
 def _children(node: object) -> Iterator[object]:
-    """The IR nodes (expressions, statements, terminators, cases) directly inside ``node``."""
+    """The IR nodes (expressions, statements, terminators, cases, and the domains of a
+    quantifier's bound variables, which hold expressions: ``forall x: nat | x in {first((| 3, e |))}``
+    has a tuple type only its domain's set names) directly inside ``node``."""
     for f in fields(node):  # type: ignore[arg-type]
         if f.name in ("span", "type", "var", "state"):
             continue  # not sub-expressions (a Ref's Var is walked with its machine)
@@ -30,7 +32,7 @@ def _children(node: object) -> Iterator[object]:
         stack = [value]
         while stack:
             v = stack.pop()
-            if isinstance(v, (ir.Expr, ir.Stmt, ir.Terminator, ir.Case)):
+            if isinstance(v, (ir.Expr, ir.Stmt, ir.Terminator, ir.Case, ir.Domain)):
                 yield v
             elif isinstance(v, (tuple, list)):
                 stack.extend(reversed(v))

@@ -33,6 +33,12 @@ class Where:
     pre: bool = False  # pre/postcondition (result allowed)
 
 
+def _untyped_empty(t: T.Type) -> bool:
+    """Is ``t`` the type of ``{}`` or ``<>``, a set or sequence whose elements nothing typed?"""
+    t = T.single(t)
+    return isinstance(t, (T.SetT, T.SeqT)) and isinstance(T.single(t.element), T.UnknownT)
+
+
 class ExprChecker(Calls, DollarForms):
     def __init__(
         self,
@@ -376,6 +382,8 @@ class ExprChecker(Calls, DollarForms):
         if not T.is_boolean(c):
             self._err(f"the condition of 'if' must be boolean, not {c.show()}", e.cond)
         a, b = self.expr(e.then), self.expr(e.otherwise)
+        if _untyped_empty(a) and T.assignable(a, b):  # if c then {} else {(| 2, 0 |)} end: the other branch's type
+            return b
         if T.assignable(b, a):
             return a if not (a == T.NAT and b == T.INT) else b
         if T.assignable(a, b):
@@ -459,12 +467,21 @@ class ExprChecker(Calls, DollarForms):
             return T.UNKNOWN
         t = ts[0]
         for i, it in zip(items[1:], ts[1:]):
-            if T.assignable(it, t):
-                continue
-            if T.assignable(t, it):
-                t = it
-                continue
-            self._err(f"the elements of a {what} must have one type: {t.show()} and {it.show()}", i)
+            t = self._wider(t, it, i, what)
+        return t
+
+    def _wider(self, t: T.Type, it: T.Type, at: ast.Node, what: str) -> T.Type:
+        """The type of the elements of an enumeration whose elements so far are of type ``t``,
+        and the next of type ``it``: numbers widen (<0, -1> is a Seq(int), not a Seq(nat) that
+        would wrap -1), other types must fit one in the other: as RoboTool's type provider
+        (``typeFor(SetExp)``), the next element's type where the type so far widens to it
+        (``{ {1}, {-1} }`` is a Set(Set(int))), else the type so far where the next fits in it."""
+        if _untyped_empty(t) and T.assignable(t, it):  # { {}, {1} }: the elements' type is the typed one's
+            return it
+        joined = T.element_join(t, it)
+        if joined is not None:
+            return joined
+        self._err(f"the elements of a {what} must have one type: {t.show()} and {it.show()}", at)
         return t
 
     def _e_SeqLit(self, e: ast.SeqLit) -> T.Type:
@@ -511,7 +528,10 @@ class ExprChecker(Calls, DollarForms):
         widths = {len(r) for r in e.rows}
         if len(widths) != 1:
             return self._err("the rows of a matrix literal must have the same length", e)
-        return T.MatrixT(elements[0], len(e.rows), widths.pop())
+        element = elements[0]
+        for row, t in zip(e.rows[1:], elements[1:]):  # the elements of every row, not the first row's alone
+            element = self._wider(element, t, row[0], "matrix")
+        return T.MatrixT(element, len(e.rows), widths.pop())
 
     def _e_Since(self, e: ast.Since) -> T.Type:
         self._timed_allowed(e, "since")

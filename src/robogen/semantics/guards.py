@@ -189,7 +189,11 @@ class Guards:
             literals.add(real_value(e.text))
         elif isinstance(e, (ast.BoolLit, ast.StringLit)):
             pass
-        elif isinstance(e, ast.Unary) and e.op in ("not", "-"):
+        elif isinstance(e, ast.Unary) and e.op == "-":  # `-10.0`: the samples must reach below -10
+            inner: set[Number] = set()
+            self._visit(e.operand, order, inner)
+            literals.update(inner, (-v for v in inner))
+        elif isinstance(e, ast.Unary) and e.op == "not":
             self._visit(e.operand, order, literals)
         elif isinstance(e, ast.Binary) and e.op in _VISITED:
             first, links = ast.chain(e, _VISITED)

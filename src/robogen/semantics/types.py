@@ -210,38 +210,56 @@ def same(a: Type, b: Type) -> bool:
     return False
 
 
-def assignable(value: Type, target: Type) -> bool:
+def assignable(value: Type, target: Type, narrow: bool = True) -> bool:
     """May a value of type ``value`` be stored where ``target`` is expected?
 
     Numbers widen (nat -> int -> real) and int narrows to nat (checked at run time, as
-    RoboChart models write ``n = n - 1`` for a nat ``n``); real never narrows to an integer type.
+    RoboChart models write ``n = n - 1`` for a nat ``n``; not with ``narrow`` False, which is
+    RoboTool's ``typeCompatible``: numbers only widen); real never narrows to an integer type.
     Types of different forms are compared through their general forms.
     """
     value, target = single(value), single(target)
     if value is target:  # every rule below holds for a type and itself (the common case: one symbol's type)
         return True
     if value in NUMERIC and target in NUMERIC:
-        return not (value == REAL and target != REAL)
+        return not (value == REAL and target != REAL) and (narrow or not (value == INT and target == NAT))
     if isinstance(value, VectorT) and isinstance(target, VectorT):
-        return assignable(value.element, target.element) and (
+        return assignable(value.element, target.element, narrow) and (
             value.size is None or target.size is None or value.size == target.size
         )
     if isinstance(value, MatrixT) and isinstance(target, MatrixT):
-        return assignable(value.element, target.element) and all(
+        return assignable(value.element, target.element, narrow) and all(
             a is None or b is None or a == b for a, b in ((value.rows, target.rows), (value.columns, target.columns))
         )
     if isinstance(value, (SetT, SeqT)) and type(value) is type(target):
-        return assignable(value.element, target.element)  # type: ignore[attr-defined]
+        return assignable(value.element, target.element, narrow)  # type: ignore[attr-defined]
     if isinstance(value, ProductT) and isinstance(target, ProductT):
-        return len(value.items) == len(target.items) and all(assignable(v, t) for v, t in zip(value.items, target.items))
+        return len(value.items) == len(target.items) and all(assignable(v, t, narrow) for v, t in zip(value.items, target.items))
     if isinstance(value, FunctionT) and isinstance(target, FunctionT):
-        return assignable(value.domain, target.domain) and assignable(value.range, target.range)
+        return assignable(value.domain, target.domain, narrow) and assignable(value.range, target.range, narrow)
     if same(value, target):
         return True
     general_value, general_target = general(value), general(target)
     if (general_value, general_target) != (value, target) and type(general_value) is type(general_target):
-        return assignable(general_value, general_target)
+        return assignable(general_value, general_target, narrow)
     return False
+
+
+def element_join(t: Type, it: Type) -> Type | None:
+    """The type of the elements of an enumeration (``{a, b}``, ``<a, b>``) whose elements so far
+    have type ``t`` and whose next one has type ``it``, or None if they have none: numbers join
+    (``<0, -1>`` is a Seq(int), not a Seq(nat) that would wrap -1); other types as RoboTool's type
+    provider (``typeFor(SetExp)``): the next element's type where the type so far widens to it
+    (``{ {1}, {-1} }`` is a Set(Set(int))), else the type so far where the next fits in it."""
+    if t in NUMERIC and it in NUMERIC:
+        return numeric_join(t, it)
+    if assignable(t, it, narrow=False):
+        return it
+    if assignable(it, t):
+        return t
+    if assignable(t, it):
+        return it
+    return None
 
 
 def widens(a: Type, b: Type) -> bool:

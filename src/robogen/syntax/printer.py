@@ -233,6 +233,8 @@ def stmt(s: ast.Stmt) -> str:
     if isinstance(s, ast.CallStmt):
         return _expr(s.call)
     if isinstance(s, ast.Communicate):
+        if not s.send and s.comm.kind == "." and s.comm.filter is None and not _sync_value(s.comm.value):
+            return f"{_id(s.comm.event)}.({_expr(s.comm.value)})"  # type: ignore[arg-type]
         return ("send " if s.send else "") + communication(s.comm)
     if isinstance(s, ast.StmtDeadline):
         inner = stmt(s.stmt)
@@ -248,6 +250,20 @@ def stmt(s: ast.Stmt) -> str:
     if isinstance(s, ast.DollarAssign):
         return f"${_path(s.qualifier, s.var)} = {_expr(s.value)}"
     raise TypeError(f"cannot print {type(s).__name__}")  # pragma: no cover
+
+
+# The atoms that need no parentheses after the `.` of a synchronisation written without `send`
+# (`e.v`): the grammar reads a name, or a call, there (`sync_value`), not a record literal or a
+# field selection (`e.r.f` would be an assignment target).
+_SYNC_ATOMS = (ast.Name, ast.IntLit, ast.RealLit, ast.StringLit, ast.BoolLit, ast.SetLit, ast.SeqLit, ast.SetRange,
+               ast.SetComprehension, ast.TupleLit, ast.VectorLit, ast.Range, ast.Since, ast.SinceEntry, ast.MatrixOp)
+
+
+def _sync_value(e: ast.Expr | None) -> bool:
+    """Does the value of an unprefixed synchronisation print as the grammar reads it back?"""
+    if isinstance(e, ast.Call):
+        return isinstance(e.func, ast.Name) or _level(e.func) < _ATOM
+    return isinstance(e, _SYNC_ATOMS) or isinstance(e, ast.Keyword) and e.word in ("result", "from", "to")
 
 
 def _stmt_in_seq(s: ast.Stmt) -> str:

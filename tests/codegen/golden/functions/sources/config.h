@@ -8,7 +8,7 @@
 #include <stdint.h>
 
 #define RG_MODEL_IDENTIFIER "Fun"
-#define RG_INSTANTIATION_TOKEN "{3d55a4d7-c34b-0c1e-2c0f-c801ddf67096}"
+#define RG_INSTANTIATION_TOKEN "{08d9aa46-717e-94f1-0f13-c1aae483cd40}"
 #define RG_NUM_VARIABLES 14
 #define RG_NUM_CLOCKS 5
 #define RG_MIGHT_RETURN_EARLY 0

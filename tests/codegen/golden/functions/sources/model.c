@@ -238,7 +238,7 @@ static int rg_run_0(rg_instance *inst)
                     m->v_f = ((rg_fun_tup2_u_i){ .pairs = rg_make_set_tup2_u_i(d, 2, 0, NULL), .base = INT64_C(3) });
                     if (d->fault) return rg_fault_0(inst);
                 } else {
-                    m->v_f = ((rg_fun_tup2_u_i){ .pairs = rg_roverride_set_tup2_u_i_set_tup2_u_i(d, 8, rg_make_set_tup2_u_i(d, 4, 0, NULL), rg_make_set_tup2_u_i(d, 6, 2, (const rg_tup2_u_i[]){ ((rg_tup2_u_i){ ._1 = UINT64_C(2), ._2 = INT64_C(100) }), ((rg_tup2_u_i){ ._1 = UINT64_C(3), ._2 = rg_u_to_i(((uint64_t)rg_i_neg(INT64_C(3)))) }) })), .base = INT64_C(2) });
+                    m->v_f = ((rg_fun_tup2_u_i){ .pairs = rg_roverride_set_tup2_u_i_set_tup2_u_i(d, 8, rg_make_set_tup2_u_i(d, 4, 0, NULL), rg_make_set_tup2_u_i(d, 6, 2, (const rg_tup2_u_i[]){ ((rg_tup2_u_i){ ._1 = UINT64_C(2), ._2 = INT64_C(100) }), ((rg_tup2_u_i){ ._1 = UINT64_C(3), ._2 = rg_i_neg(INT64_C(3)) }) })), .base = INT64_C(2) });
                     if (d->fault) return rg_fault_0(inst);
                 }
             }

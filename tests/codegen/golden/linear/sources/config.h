@@ -8,7 +8,7 @@
 #include <stdint.h>
 
 #define RG_MODEL_IDENTIFIER "Lin"
-#define RG_INSTANTIATION_TOKEN "{ff1c8dc6-f889-80f8-9ed8-53f02fefc72c}"
+#define RG_INSTANTIATION_TOKEN "{aff9fc92-f6d1-df5f-bebb-8e782850d739}"
 #define RG_NUM_VARIABLES 46
 #define RG_NUM_CLOCKS 15
 #define RG_MIGHT_RETURN_EARLY 0

@@ -267,7 +267,7 @@ static fmi3Status rg_model_exit_initialization(rg_instance *inst)
     rg_model_data *d = &inst->s.data;
     {
         rg_machine_0 *m = &d->m0;
-        m->v_u = ((rg_vec_i_2){ { INT64_C(3), rg_u_to_i(((uint64_t)rg_i_neg(INT64_C(4)))) } });  /* initial value of u */
+        m->v_u = ((rg_vec_i_2){ { INT64_C(3), rg_i_neg(INT64_C(4)) } });  /* initial value of u */
         m->v_r = ((rg_vec_r_2){ { 0.5, 1.5 } });  /* initial value of r */
         m->v_q = 0.0;  /* initial value of q */
         m->v_n = UINT64_C(0);  /* initial value of n */

@@ -2,6 +2,10 @@
  * Build: cc -std=c99 -shared -fPIC -I. -I<fmi3 headers> Filter.c -lm */
 #include "config.h"
 #include "robogen_runtime.h"
-#include "user_functions.c"  /* the model's user functions (robogen --functions) */
+/* the model's user functions (robogen --functions); the file may define more than the model calls */
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Wunused-function"
+#include "user_functions.c"
+#pragma GCC diagnostic pop
 #include "model.c"
 #include "robogen_runtime.c"
