@@ -70,7 +70,9 @@ def is_parquet(path: str | Path) -> bool:
 
 class ParquetSink:
     """Rows to a Parquet file at ``path``, one row group per batch (``batch_rows``, by default
-    :data:`BATCH_CELLS` values' worth of rows)."""
+    :data:`BATCH_CELLS` values' worth of rows). Rows come as lists (:meth:`write`,
+    :meth:`write_rows`) or as chunks of columns (:meth:`write_arrays`); a batch is held as a
+    table's columns (:class:`TableBuilder`) whichever way its rows came."""
 
     def __init__(self, path: Path, columns: Sequence[str], types: Sequence[str], batch_rows: int | None = None):
         import pyarrow as pa  # only for Parquet output: the import takes a while
@@ -80,24 +82,44 @@ class ParquetSink:
         arrow = [pa.float64(), pa.int64(), *(getattr(pa, ARROW_TYPES[t])() for t in types)]
         self.schema = pa.schema([pa.field(name, kind) for name, kind in zip(columns, arrow)])
         self._writer = pq.ParquetWriter(str(path), self.schema)
-        self._rows: list[Sequence] = []
+        self._names, self._types = list(columns), [*LEADING_TYPES, *types]
         self.batch_rows = batch_rows or max(MIN_BATCH_ROWS, BATCH_CELLS // len(self.schema))
+        self._batch = TableBuilder(self._names, self._types, self.batch_rows)
+        self._rows: list[Sequence] = []  # rows after the batch's columns, not in them yet
 
     def write(self, row: Sequence) -> None:
         self._rows.append(row)
-        if len(self._rows) >= self.batch_rows:
+        if self._batch.rows + len(self._rows) >= self.batch_rows:
             self._write_batch()
 
     def write_rows(self, rows: list[Sequence]) -> None:
         for row in rows:
             self.write(row)
 
-    def _write_batch(self) -> None:
+    def write_arrays(self, columns: Sequence, valid: Sequence, count: int) -> None:
+        """``count`` rows as columns (:meth:`TableBuilder.append_arrays`)."""
+        self._settle()
+        done = 0
+        while done < count:
+            take = min(count - done, self.batch_rows - self._batch.rows)
+            part = slice(done, done + take)
+            self._batch.append_arrays([c[part] for c in columns], [None if ok is None else ok[part] for ok in valid], take)
+            done += take
+            if self._batch.rows >= self.batch_rows:
+                self._write_batch()
+
+    def _settle(self) -> None:
         rows, self._rows = self._rows, []
-        if not rows:
+        self._batch.append_rows(rows)
+
+    def _write_batch(self) -> None:
+        self._settle()
+        if not self._batch.rows:
             return
+        table, self._batch = self._batch.finish(), TableBuilder(self._names, self._types, self.batch_rows)
         pa = self._pa
-        columns = [pa.array(column, type=field.type) for column, field in zip(zip(*rows), self.schema)]
+        columns = [pa.array(a, type=field.type, mask=None if ok is None else ~ok, from_pandas=False)
+                   for a, ok, field in zip(table.arrays, table.valid, self.schema)]
         self._writer.write_batch(pa.RecordBatch.from_arrays(columns, schema=self.schema))
 
     def close(self) -> None:
@@ -241,20 +263,16 @@ class TableBuilder:
         self._room(count)
         n = self.rows
         for c, (values, ok) in enumerate(zip(columns, valid)):
+            empty = ok is not None and not ok.all()
             if self._objects[c]:
                 self._arrays[c].extend(values)
-            else:
-                self._arrays[c][n:n + count] = values
-            if ok is not None and (self._valid[c] is not None or not ok.all()):
-                self._set_valid(c, n, ok, count)
+            else:  # an empty cell's value is 0 (what its slot held is nothing the FMU said)
+                self._arrays[c][n:n + count] = np.where(ok, values, 0) if empty else values
+            if empty or (ok is not None and self._valid[c] is not None):
+                if self._valid[c] is None:
+                    self._valid[c] = np.ones(self._capacity, bool)
+                self._valid[c][n:n + count] = ok
         self.rows = n + count
-
-    def _set_valid(self, c: int, n: int, ok: np.ndarray, count: int) -> None:
-        if self._valid[c] is None:
-            self._valid[c] = np.ones(self._capacity, bool)
-        self._valid[c][n:n + count] = ok
-        if not self._objects[c]:
-            self._arrays[c][n:n + count][~ok[:count]] = 0  # an empty cell's value: nothing the FMU said
 
     def append_rows(self, rows: list[list]) -> None:
         """Rows given as lists ([time, superdense, values...], None for an empty cell)."""

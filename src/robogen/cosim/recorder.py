@@ -206,13 +206,16 @@ class Recorder:
         """``count`` plain rows as columns (the engine's chunk: an array or list per column, and
         per column where its cells have a value, or None: everywhere); ``rows()`` gives them as
         lists, for the results file. The same as append_rows(rows())."""
-        if self.every is not None or not self.keep_rows:
+        if self.every is not None:
             self.append_rows(rows())
             return
-        self._settle()
-        self._kept.append_arrays(columns, valid, count)
+        if self.keep_rows:
+            self._settle()
+            self._kept.append_arrays(columns, valid, count)
         self.recorded += count
-        if self._writer is not None or self._table is not None:
+        if self._table is not None:
+            self._table.write_arrays(columns, valid, count)
+        if self._writer is not None:
             self._write_rows(rows())
 
     def append_rows(self, rows: list[list]) -> None:
@@ -231,7 +234,7 @@ class Recorder:
         """Plain rows to the results file, if any."""
         if self._table is not None:
             self._table.write_rows(rows)
-        if self._writer is not None and rows:
+        elif self._writer is not None and rows:
             if self._cells is None:
                 self._writer.writerows(rows)
             else:
