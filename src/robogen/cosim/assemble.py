@@ -85,9 +85,10 @@ def build_master(path: Path, *, stop=None, step=None, output=None, events=None, 
 
 
 def _rows_expected(options: RunOptions) -> int:
-    """The rows a run records at least: one per communication point (the table makes room for them)."""
+    """The rows a run records at least: one per communication point and the start's event
+    iteration's second (the table makes room for them at once)."""
     points = (options.stop - options.start) / options.step if options.step > 0 else 0.0
-    return int(points) + 2 if math.isfinite(points) and points >= 0 else 0
+    return math.ceil(points) + 2 if math.isfinite(points) and points >= 0 else 0
 
 
 def check_system(system: System, cache: FmuCache, warn: Callable[[Diagnostic], None]) -> dict[str, ModelDescription]:
