@@ -8,7 +8,7 @@ import numpy as np
 import pyarrow as pa
 import pytest
 
-from robogen.cosim import SimulationResult, simulate_system
+from robogen.cosim import RunError, SimulationResult, simulate_system
 from robogen.cosim.columnar import Table
 from robogen.cosim.recorder import Recorder
 
@@ -119,3 +119,20 @@ def test_rows_and_chunks_of_columns_join_in_order():
     table = recorder.table()
     assert table.rows == [[0.0, 0, 0.5, 1, "x"], [0.1, 0, 0.25, 0, None], [0.2, 0, 3.0, 1, "y"], [0.3, 1, None, 0, None]]
     assert table.array("a.x").dtype == np.float32 and table.validity("a.x").tolist() == [True, True, True, False]
+
+
+def test_an_event_iteration_longer_than_a_chunk_keeps_every_column_in_place(monkeypatch, write_system):
+    # 6,000 instants at t = 0.5 in one call of the engine: its rows outgrow the chunk's 4,096,
+    # and the engine moves each column's values to its place in the larger chunk
+    path = write_system('[experiment]\nstop = 3.0\nstep = 0.1\nmax_event_iterations = 6000\n[instances.z]\nfmu = "{zeno}"\n'
+                        '[instances.k]\nfmu = "{ticker}"\n')
+    tables = []
+    for loop in ("Python", "C"):
+        monkeypatch.setenv("ROBOGEN_REFERENCE_LOOP", "1") if loop == "Python" else monkeypatch.delenv("ROBOGEN_REFERENCE_LOOP", raising=False)
+        with pytest.raises(RunError, match="did not settle after 6000 super-dense instants"):
+            simulate_system(path, keep_rows=True, output=path.with_suffix(f".{loop}.csv"))
+        tables.append(path.with_suffix(f".{loop}.csv").read_bytes())
+    assert tables[0] == tables[1]
+    lines = tables[1].decode().splitlines()
+    assert len(lines) > 6000 and lines[-1].startswith("0.5,5999,")
+    assert len(lines[0].split(",")) > 3  # columns beyond time and superdense, each moved

@@ -247,15 +247,15 @@ class Engine:
         view the engine's chunk, lists of Strings and Binaries), and per column where its cells
         have a value (None: everywhere)."""
         out, columns_of = self.e.rows, self.flat.columns
-        width = len(columns_of)
-        slots = np.frombuffer(ffi.buffer(out.slots, count * width * 8), np.uint64).reshape(count, width)
-        present = np.frombuffer(ffi.buffer(out.present, count * width), np.bool_).reshape(count, width)
+        width, capacity = len(columns_of), out.capacity  # the engine stores the chunk by column
+        slots = np.frombuffer(ffi.buffer(out.slots, capacity * width * 8), np.uint64).reshape(width, capacity)[:, :count]
+        present = np.frombuffer(ffi.buffer(out.present, capacity * width), np.bool_).reshape(width, capacity)[:, :count]
         columns: list = [np.frombuffer(ffi.buffer(out.times, count * 8), np.float64),
                          np.frombuffer(ffi.buffer(out.index, count * 4), np.int32)]
         valid: list = [None, None]
         for c, (column_kind, slot_kind) in enumerate(columns_of):
-            values = slots[:, c]
-            ok = present[:, c] if column_kind == ColumnKind.CLOCKED else None
+            values = slots[c]
+            ok = present[c] if column_kind == ColumnKind.CLOCKED else None
             if column_kind != ColumnKind.CLOCK:
                 values = values.view(_SLOT_TYPES[SLOT_FORMAT[slot_kind]])
             if slot_kind in (Kind.STRING, Kind.BINARY) and column_kind != ColumnKind.CLOCK:
