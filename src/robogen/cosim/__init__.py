@@ -9,6 +9,7 @@ Python API::
     result.table            # the results in columns: one NumPy array per column (robogen.cosim.columnar.Table)
     result.array("time")    # one column's array (numpy.float64; result.table.validity(name): its non-empty cells)
     result.table.to_numpy() # a structured array, as fmpy.simulate_fmu returns; .to_arrow(): a pyarrow.Table
+                            # sharing the numeric columns' memory (pandas: result.table.to_arrow().to_pandas())
     result.rows             # one list per recorded row (clocks 0/1, inactive clocked values None), made when asked
     result.stats            # steps, event_iterations, instants, early_returns, end_time, terminated_by, realtime,
                             # stretch (the quiet stretches' loop: "C", "Python" or None)
