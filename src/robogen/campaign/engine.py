@@ -12,6 +12,9 @@
   when its worker is lost: the local cluster reports that at once (``allowed-failures`` 0) and
   the run is submitted again, at most ``retries`` times; a cluster started by the user applies its
   own ``distributed.scheduler.allowed-failures`` first. A run still without a result is "lost".
+- Dask's dashboard (bokeh, a dependency of robogen) is served on 127.0.0.1 by a local cluster;
+  its address is printed, with that of the page showing the campaign's progress
+  (:mod:`robogen.campaign.dashboard`), which the terminal's progress line also shows.
 """
 
 from __future__ import annotations
@@ -23,6 +26,7 @@ import sys
 import time
 from contextlib import contextmanager
 from typing import Callable, Iterator
+from urllib.parse import urljoin
 
 from robogen.campaign.plan import CampaignPlan, Run
 from robogen.campaign.worker import execute_run, prepare
@@ -75,42 +79,68 @@ def connect(workers: int | None, scheduler: str | None, echo: Callable[[str], No
 
 
 def dashboard(client) -> str:
-    """The dashboard's address, or why there is none (its pages need the bokeh package)."""
+    """The dashboard's address and that of robogen's progress page, or why there is none (its
+    pages need the bokeh package)."""
     if "dashboard" not in client.scheduler_info().get("services", {}):
         return "off (the scheduler serves none)"
     if importlib.util.find_spec("bokeh") is None:
-        return f"off ({client.dashboard_link} needs the bokeh package here: pip install 'bokeh>=3.1')"
-    return client.dashboard_link
+        return f"off ({client.dashboard_link} needs the bokeh package here: pip install 'bokeh>=3.1.0')"
+    from robogen.campaign.dashboard import add_page
+
+    try:
+        path = client.run_on_scheduler(add_page)
+    except Exception as exc:  # a scheduler elsewhere without robogen, or one that refuses: Dask's pages only
+        return f"{client.dashboard_link} (robogen's progress page: off, the scheduler cannot serve it: {type(exc).__name__}: {exc})"
+    return f"{client.dashboard_link} (the campaign's progress: {urljoin(client.dashboard_link, path.lstrip('/'))})"
 
 
 class Progress:
-    """One line on a terminal: done / failed / running, runs per second, time left."""
+    """The campaign's progress: done / failed / running, runs per second, time left. Drawn as one
+    line on a terminal (``enabled``), and handed to ``publish`` (Dask's dashboard:
+    :mod:`robogen.campaign.dashboard`) at most once a second and at the end."""
 
-    def __init__(self, total: int, enabled: bool, stream=sys.stderr) -> None:
+    def __init__(self, total: int, enabled: bool, stream=sys.stderr, title: str = "",
+                 publish: Callable[[dict], None] | None = None) -> None:
         self.total, self.enabled, self.stream = total, enabled, stream
+        self.title, self.publish = title, publish
         self.started = time.monotonic()
         self.done = self.failed = self.running = 0
-        self.drawn = 0.0
+        self.drawn = self.published = 0.0
 
-    def update(self, force: bool = False) -> None:
+    @property
+    def watched(self) -> bool:
+        """Whether anyone looks at the progress (a terminal, the dashboard)."""
+        return self.enabled or self.publish is not None
+
+    def state(self, finished: bool = False) -> dict:
+        """The progress as numbers (JSON): runs total, done, failed, running; runs per second,
+        seconds elapsed, time left (m:ss, or None while unknown)."""
+        elapsed = max(time.monotonic() - self.started, 1e-9)
+        rate = self.done / elapsed
+        left = (self.total - self.done) / rate if rate > 0 else None
+        eta = None if left is None else f"{int(left // 60)}:{int(left % 60):02d}"
+        return {"title": self.title, "total": self.total, "done": self.done, "failed": self.failed,
+                "running": self.running, "rate": rate, "elapsed": elapsed, "eta": eta, "finished": finished}
+
+    def update(self, force: bool = False, finished: bool = False) -> None:
         now = time.monotonic()
+        if self.publish is not None and (force or now - self.published >= 1.0):
+            self.published = now
+            self.publish(self.state(finished))
         if not self.enabled or (not force and now - self.drawn < 0.2):
             return
         self.drawn = now
-        elapsed = max(now - self.started, 1e-9)
-        rate = self.done / elapsed
-        left = (self.total - self.done) / rate if rate > 0 else float("nan")
-        eta = f"{int(left // 60)}:{int(left % 60):02d}" if left == left else "--:--"
+        state = self.state(finished)
         width = 24
         filled = int(width * self.done / self.total) if self.total else width
         bar = "#" * filled + "." * (width - filled)
         self.stream.write(f"\r[{bar}] {self.done}/{self.total} done, {self.failed} failed, {self.running} running, "
-                          f"{rate:.1f} runs/s, ETA {eta}  ")
+                          f"{state['rate']:.1f} runs/s, ETA {state['eta'] or '--:--'}  ")
         self.stream.flush()
 
     def close(self) -> None:
+        self.update(force=True, finished=True)
         if self.enabled:
-            self.update(force=True)
             self.stream.write("\n")
             self.stream.flush()
 
@@ -126,6 +156,7 @@ def execute(plan: CampaignPlan, todo: list[Run], client, *, retries: int, record
     except RuntimeError as exc:
         raise RobogenError.at(f"a worker cannot prepare for the campaign: {exc}", plan.campaign.span("preload")) from None
     progress.started = time.monotonic()
+    progress.update(force=True)
     context = client.scatter(plan.context, hash=False)
     digests = sorted({d for run in todo for d in run.spec.fmus.values()})
     shipped = dict(zip(digests, client.scatter([plan.fmu_files[d].read_bytes() for d in digests], hash=False)))
@@ -158,7 +189,7 @@ def execute(plan: CampaignPlan, todo: list[Run], client, *, retries: int, record
             progress.done += 1
             progress.failed += 1
         future.release()
-        if progress.enabled and time.monotonic() - processing_seen > 0.5:
+        if progress.watched and time.monotonic() - processing_seen > 0.5:
             processing_seen = time.monotonic()
             nthreads = client.nthreads()
             progress.running = sum(min(len(keys), nthreads.get(w, 1)) for w, keys in client.processing().items())

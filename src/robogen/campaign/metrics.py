@@ -49,18 +49,27 @@ def enumeration_names(fmus: dict[str, Path]) -> dict[str, dict[int, str]]:
 
 
 class Table:
-    """Column access over a result's rows, with clear errors for what was not recorded."""
+    """Column access over a result's rows (or its columns: :meth:`of`), with clear errors for
+    what was not recorded."""
 
     def __init__(self, columns: list[str], rows: list[list]) -> None:
         self.index = {name: i for i, name in enumerate(columns)}
-        self.rows = rows
-        self.time = [row[0] for row in rows]
+        self._column: Callable[[int], list] = lambda i: [row[i] for row in rows]
+        self.time = self._column(0)
+
+    @classmethod
+    def of(cls, result) -> "Table":
+        """The table of a :class:`robogen.cosim.SimulationResult`, read column by column (its
+        rows are never made)."""
+        table = cls(result.columns, [])
+        table._column = lambda i: result.column(result.columns[i])
+        table.time = table._column(0)
+        return table
 
     def values(self, name: str) -> list:
         if name not in self.index:
             raise MetricError(f"'{name}' is not recorded in the results (see [record] in the system file)")
-        i = self.index[name]
-        return [row[i] for row in self.rows]
+        return self._column(self.index[name])
 
     def tick_times(self, clock: str) -> list[float]:
         return [t for t, v in zip(self.time, self.values(clock)) if v == 1]
@@ -115,7 +124,7 @@ def user_metrics(function: Callable, result, where: str) -> dict[str, Scalar]:
 def compute(metrics: tuple[Metric, ...], result, enums: dict[str, dict[int, str]],
             functions: dict[str, Callable]) -> dict[str, Value | None]:
     """Every metric of the campaign over one result, in declaration order."""
-    table = Table(result.columns, result.rows)
+    table = Table.of(result)
     out: dict[str, Value | None] = {}
     for metric in metrics:
         if metric.kind != "function":

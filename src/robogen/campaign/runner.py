@@ -119,6 +119,7 @@ def run_campaign(path: str | Path, out: str | Path | None = None, *, workers: in
 
 
 def _run(plan: CampaignPlan, folder: Path, journal: Journal, workers, scheduler, retries, progress, echo) -> CampaignResult:
+    from robogen.campaign.dashboard import publisher
     from robogen.campaign.engine import Progress, connect, execute
     from robogen.campaign.report import write_report
 
@@ -133,7 +134,8 @@ def _run(plan: CampaignPlan, folder: Path, journal: Journal, workers, scheduler,
     execution = 0.0
     if todo:
         with connect(workers, scheduler, echo) as client:
-            bar = Progress(len(todo), sys.stderr.isatty() if progress is None else progress)
+            bar = Progress(len(todo), sys.stderr.isatty() if progress is None else progress, title=plan.campaign.title,
+                           publish=publisher(client))
             try:
                 lost = execute(plan, todo, client, retries=retries, record=_recorder(plan, folder, journal), progress=bar)
                 execution = time.monotonic() - bar.started

@@ -6,7 +6,11 @@ Python API::
     result = simulate_system("models/ur5e/system.toml", stop=100.0, output="results.csv",
                              events="events.jsonl", realtime=1.0)
     result.columns          # ["time", "superdense", "controller.moveDiscreteCommand", ...]
-    result.rows             # one list per recorded row (clocks 0/1, inactive clocked values None)
+    result.table            # the results in columns: one NumPy array per column (robogen.cosim.columnar.Table)
+    result.array("time")    # one column's array (numpy.float64; result.table.validity(name): its non-empty cells)
+    result.table.to_numpy() # a structured array, as fmpy.simulate_fmu returns; .to_arrow(): a pyarrow.Table
+                            # sharing the numeric columns' memory (pandas: result.table.to_arrow().to_pandas())
+    result.rows             # one list per recorded row (clocks 0/1, inactive clocked values None), made when asked
     result.stats            # steps, event_iterations, instants, early_returns, end_time, terminated_by, realtime,
                             # stretch (the quiet stretches' loop: "C", "Python" or None)
 
@@ -39,27 +43,38 @@ system file format is described in docs/system-toml.md; the algorithm in :mod:`r
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Callable
 
+from robogen.cosim.columnar import Table
 from robogen.diagnostics import RobogenError
 
 __all__ = ["simulate_system", "SimulationResult", "RunError"]
 
 
-@dataclass
 class SimulationResult:
-    columns: list[str]
-    rows: list[list]
-    stats: "object"
-    output: Path | None = None
-    events: Path | None = None
-    notes: list[str] = field(default_factory=list)
+    """A run's results: ``columns`` (names), ``table`` (the values in columns), ``stats``, the
+    files written. ``rows`` may be given as a Table or as lists (then kept as they are)."""
+
+    def __init__(self, columns: list[str], rows: "Table | list[list]", stats: "object", output: Path | None = None,
+                 events: Path | None = None, notes: list[str] | None = None):
+        self.columns = list(columns)
+        self.table = rows if isinstance(rows, Table) else Table.from_rows(self.columns, rows)
+        self.stats, self.output, self.events = stats, output, events
+        self.notes = [] if notes is None else notes
+
+    @property
+    def rows(self) -> list[list]:
+        """One list per row (made from the columns when first asked)."""
+        return self.table.rows
 
     def column(self, name: str) -> list:
-        i = self.columns.index(name)
-        return [r[i] for r in self.rows]
+        """A column's values as Python values (None for an empty cell)."""
+        return self.table.column(name)
+
+    def array(self, name: str):
+        """A column's values as its NumPy array (0 or None in an empty cell)."""
+        return self.table.array(name)
 
 
 class RunError(RobogenError):
@@ -101,5 +116,5 @@ def simulate_system(system_toml_path: str | Path, *, stop: float | None = None, 
     finally:
         with deferred():
             watcher.close()
-    return SimulationResult(recorder.columns, recorder.rows, stats,
+    return SimulationResult(recorder.columns, recorder.table(), stats,
                             Path(output) if output else None, Path(events) if events else None)

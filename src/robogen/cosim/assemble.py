@@ -74,7 +74,7 @@ def build_master(path: Path, *, stop=None, step=None, output=None, events=None, 
         record = [(by_name[n], v) for n, v in record_list(system, models)]
         recorder = Recorder([f"{u.name}.{n}" for u, v in record for n in u.md.element_names(v)], output, events, keep_rows,
                             [v.type for u, v in record for _n in u.md.element_names(v)],
-                            every=system.record_every, start=options.start)
+                            every=system.record_every, start=options.start, rows_hint=_rows_expected(options))
         plan = make_plan(instances, links, record, start=options.start, step=options.step, stop=options.stop,
                          max_iterations=system.max_event_iterations, events_logged=recorder.recording_events,
                          resolution=_resolution(system, models, options.step))
@@ -82,6 +82,13 @@ def build_master(path: Path, *, stop=None, step=None, output=None, events=None, 
     except BaseException:
         cache.close()
         raise
+
+
+def _rows_expected(options: RunOptions) -> int:
+    """The rows a run records at least: one per communication point and the start's event
+    iteration's second (the table makes room for them at once)."""
+    points = (options.stop - options.start) / options.step if options.step > 0 else 0.0
+    return math.ceil(points) + 2 if math.isfinite(points) and points >= 0 else 0
 
 
 def check_system(system: System, cache: FmuCache, warn: Callable[[Diagnostic], None]) -> dict[str, ModelDescription]:

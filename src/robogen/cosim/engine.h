@@ -81,8 +81,8 @@ typedef struct {
     double *times;
     int32_t *index;          /* the super-dense index */
     uint8_t *event;          /* a row of an event iteration (decimation keeps it) */
-    uint64_t *slots;         /* STORE_SLOTS: n_columns per row */
-    uint8_t *present;        /* STORE_SLOTS: n_columns per row; 0 is an empty cell */
+    uint64_t *slots;         /* STORE_SLOTS: by column, capacity slots each (column c, row i at c * capacity + i) */
+    uint8_t *present;        /* STORE_SLOTS: the same layout; 0 is an empty cell */
 } rg_rows;
 
 typedef struct {

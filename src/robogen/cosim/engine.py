@@ -25,6 +25,8 @@ import struct
 import time
 from pathlib import Path
 
+import numpy as np
+
 from robogen.cosim.cbuild import cached_library, package_source
 from robogen.cosim.fmi3 import FUNCTIONS
 from robogen.cosim.flat import flatten
@@ -37,7 +39,8 @@ SOURCES = ("engine_values.c", "engine_run.c", "engine_events.c")
 
 #: Rows the engine stores before it hands them to the recorder.
 CHUNK = 4096
-_SIZE = struct.Struct("N")  # the length before each copy in the arena (size_t)
+_SIZE = struct.Struct("N")
+_SLOT_TYPES = {"d": np.float64, "q": np.int64, "Q": np.uint64}  # a slot's NumPy type, by its SLOT_FORMAT  # the length before each copy in the arena (size_t)
 
 
 def load():
@@ -229,39 +232,41 @@ class Engine:
         if store == Store.TEXT:
             recorder.append_text(ffi.buffer(self.e.text.data, self.e.text.used)[:].decode("utf-8", "replace"), count)
             return
-        rows = self._rows(count)
+        columns, valid = self._columns(count)
         if recorder.every is None:
-            recorder.append_rows(rows)
+            recorder.append_chunk(columns, valid, count, lambda: _as_rows(columns, valid, count))
             return
-        for row, event in zip(rows, ffi.unpack(self.e.rows.event, count)):
+        for row, event in zip(_as_rows(columns, valid, count), ffi.unpack(self.e.rows.event, count)):
             if event:
                 recorder.append_event_row(row)
             else:
                 recorder.append_row(row)
 
-    def _rows(self, count: int) -> list[list]:
-        """The first ``count`` stored rows as result rows: [t, k, values...]."""
+    def _columns(self, count: int) -> tuple[list, list]:
+        """The first ``count`` stored rows as columns ([times, indices, values...]: arrays that
+        view the engine's chunk, lists of Strings and Binaries), and per column where its cells
+        have a value (None: everywhere)."""
         out, columns_of = self.e.rows, self.flat.columns
-        width = len(columns_of)
-        raw = memoryview(ffi.buffer(out.slots, count * width * 8))
-        views = {f: raw.cast(f) for f in ("d", "q", "Q")}
-        present = ffi.buffer(out.present, count * width)[:]
-        columns = [ffi.unpack(out.times, count), ffi.unpack(out.index, count)]
+        width, capacity = len(columns_of), out.capacity  # the engine stores the chunk by column
+        slots = np.frombuffer(ffi.buffer(out.slots, capacity * width * 8), np.uint64).reshape(width, capacity)[:, :count]
+        present = np.frombuffer(ffi.buffer(out.present, capacity * width), np.bool_).reshape(width, capacity)[:, :count]
+        columns: list = [np.frombuffer(ffi.buffer(out.times, count * 8), np.float64),
+                         np.frombuffer(ffi.buffer(out.index, count * 4), np.int32)]
+        valid: list = [None, None]
         for c, (column_kind, slot_kind) in enumerate(columns_of):
-            if column_kind == ColumnKind.CLOCK:
-                columns.append(views["Q"][c:count * width:width].tolist())
-                continue
-            values = views[SLOT_FORMAT[slot_kind]][c:count * width:width].tolist()
-            if column_kind == ColumnKind.CLOCKED:  # an empty cell's slot holds nothing
-                values = [v if p else None for v, p in zip(values, present[c::width])]
-            if slot_kind == Kind.BOOL:
-                values = [v if v is None else bool(v) for v in values]
-            elif slot_kind in (Kind.STRING, Kind.BINARY):
-                shown = [v for v in values if v is not None]
-                copies = iter(self._copies(shown, slot_kind == Kind.STRING))
-                values = [v if v is None else next(copies) for v in values]
+            values = slots[c]
+            ok = present[c] if column_kind == ColumnKind.CLOCKED else None
+            if column_kind != ColumnKind.CLOCK:
+                values = values.view(_SLOT_TYPES[SLOT_FORMAT[slot_kind]])
+            if slot_kind in (Kind.STRING, Kind.BINARY) and column_kind != ColumnKind.CLOCK:
+                shown = values.tolist() if ok is None else [v if p else None for v, p in zip(values.tolist(), ok.tolist())]
+                copies = iter(self._copies([v for v in shown if v is not None], slot_kind == Kind.STRING))
+                values = [v if v is None else next(copies) for v in shown]
+            elif slot_kind == Kind.BOOL and column_kind != ColumnKind.CLOCK:
+                values = values != 0
             columns.append(values)
-        return list(map(list, zip(*columns)))
+            valid.append(ok)
+        return columns, valid
 
     def _copies(self, offsets: list[int], text: bool) -> list:
         """The Strings (``text``) or Binaries at these offsets of the arena."""
@@ -272,6 +277,17 @@ class Engine:
             data = arena[start:start + _SIZE.unpack_from(arena, offset)[0]]
             out.append(data.decode("utf-8", "replace") if text else data)
         return out
+
+
+def _as_rows(columns: list, valid: list, count: int) -> list[list]:
+    """The rows of a chunk of columns (Engine._columns) as lists, None for an empty cell."""
+    values = []
+    for column, ok in zip(columns, valid):
+        cells = column.tolist() if isinstance(column, np.ndarray) else column
+        if ok is not None:
+            cells = [v if p else None for v, p in zip(cells, ok.tolist())]
+        values.append(cells)
+    return list(map(list, zip(*values)))
 
 
 def _store(recorder) -> Store:

@@ -178,29 +178,36 @@ static bool text_line(rg_engine *r, double t, int k)
     return true;
 }
 
-static void slot_line(rg_engine *r, uint64_t *slots, uint8_t *present)
+/* The row's values into their columns: column c's slot of this row at slots[c * stride]. */
+static void slot_line(rg_engine *r, uint64_t *slots, uint8_t *present, size_t stride)
 {
     rg_engine *s = r;
     int c;
-    for (c = 0; c < r->p->n_columns; c++) {
+    for (c = 0; c < r->p->n_columns; c++, slots += stride, present += stride) {
         int ref = r->p->column_ref[c], read = r->p->column_read[c];
-        present[c] = 1;
+        *present = 1;
         if (r->p->column_kind[c] == COL_VALUE) {
             size_t i = (size_t)r->p->column_index[c];
-            slots[c] = is_bytes(r->p->kind[read]) ? s->copies[read][i] : slot_of(r->p->kind[read], r->p->buffer[read], i);
+            *slots = is_bytes(r->p->kind[read]) ? s->copies[read][i] : slot_of(r->p->kind[read], r->p->buffer[read], i);
         } else if (r->p->column_kind[c] == COL_CLOCK) {
-            slots[c] = ref >= 0 && r->active[ref];
-        } else if ((present[c] = r->cell_live[ref]) != 0) {
-            slots[c] = is_bytes(r->p->cell_kind[ref]) ? r->cell_raw[ref] : slot_of(r->p->cell_kind[ref], &r->cell_raw[ref], 0);
+            *slots = ref >= 0 && r->active[ref];
+        } else if ((*present = r->cell_live[ref]) != 0) {
+            *slots = is_bytes(r->p->cell_kind[ref]) ? r->cell_raw[ref] : slot_of(r->p->cell_kind[ref], &r->cell_raw[ref], 0);
+        } else {
+            *slots = 0; /* an empty cell */
         }
     }
 }
 
-/* Room for twice as many rows; false when memory runs out. */
+/* Room for twice as many rows, each column's slots moved to its place at the new capacity
+ * (the last column first: a column moves to a higher place than any column before it held);
+ * false when memory runs out. */
 static bool grow_rows(rg_rows *out, int width)
 {
     long capacity = out->capacity ? 2 * out->capacity : 4096;
-    size_t n = (size_t)capacity, cells = (size_t)capacity * (size_t)(width > 0 ? width : 1);
+    size_t n = (size_t)capacity, old = (size_t)out->capacity, cells = (size_t)capacity * (size_t)(width > 0 ? width : 1);
+    size_t rows = (size_t)out->rows;
+    int c;
     double *times = (double *)realloc(out->times, n * sizeof(double));
     int32_t *index = times ? (int32_t *)realloc(out->index, n * sizeof(int32_t)) : NULL;
     uint8_t *event = index ? (uint8_t *)realloc(out->event, n) : NULL;
@@ -212,6 +219,10 @@ static bool grow_rows(rg_rows *out, int width)
     if (slots) out->slots = slots;
     if (present == NULL) return false;
     out->present = present;
+    for (c = width - 1; c > 0 && rows > 0; c--) {
+        memmove(out->slots + (size_t)c * n, out->slots + (size_t)c * old, rows * sizeof(uint64_t));
+        memmove(out->present + (size_t)c * n, out->present + (size_t)c * old, rows);
+    }
     out->capacity = capacity;
     return true;
 }
@@ -235,8 +246,7 @@ static int record(rg_engine *r, rg_rows *out, double t, int k, bool event)
         }
         r->text_rows++;
     } else if (r->p->store == STORE_SLOTS) {
-        size_t at = (size_t)row * (size_t)r->p->n_columns;
-        slot_line(r, out->slots + at, out->present + at);
+        slot_line(r, out->slots + row, out->present + row, (size_t)out->capacity);
     }
     out->times[row] = t;
     out->index[row] = k;

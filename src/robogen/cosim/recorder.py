@@ -18,9 +18,11 @@ however it was stepped) is kept when it is the first row of its interval, so a k
 makes the plain rows after it in its interval redundant; and the last row of the run is kept
 whatever it is, so the results end where the run ended. Without ``every``, every row is kept.
 
-Rows arrive one at a time (:meth:`Recorder.append_row`, :meth:`Recorder.append_event_row`) or
-in batches of plain rows (:meth:`Recorder.append_rows`: a loop that stores rows and hands them
-over as lists, as the C stretch does); each goes to the results file and to ``rows``.
+Rows arrive one at a time (:meth:`Recorder.append_row`, :meth:`Recorder.append_event_row`:
+the reference loop), in batches of plain rows (:meth:`Recorder.append_rows`), or as a chunk of
+columns (:meth:`Recorder.append_chunk`: the engine's rows, as arrays); each goes to the results
+file and to the table kept in memory (:meth:`Recorder.table`, a
+:class:`~robogen.cosim.columnar.Table`: one array per column, whichever way the rows came).
 
 Each file is written under a temporary name next to it and renamed over it when the recorder
 closes (:func:`robogen.outputs.replacing`): a run that recorded rows, however it ended, leaves
@@ -44,10 +46,12 @@ from typing import Callable, Sequence
 
 from robogen.cosim.clocks import grid_index
 from robogen.fmu.fmi import tolerance
-from robogen.cosim.columnar import ParquetSink, is_parquet
+from robogen.cosim.columnar import LEADING_TYPES, ParquetSink, Table, TableBuilder, is_parquet
 from robogen.outputs import replacing
 
 FLUSH_SECONDS = 0.2
+#: Rows the reference loop's rows are kept as lists before they join the table's columns.
+PENDING_ROWS = 4096
 #: A communication point reached later than this after it was due counts as an overrun.
 OVERRUN_SECONDS = 1e-3
 
@@ -81,18 +85,20 @@ class _Discarded(Exception):
 
 
 class Recorder:
-    """Where result rows go: kept in ``rows`` (``keep_rows``), written to the CSV, or both.
+    """Where result rows go: kept in memory as a table (``keep_rows``), written to the CSV, or both.
 
     ``types`` are the FMI types of the recorded columns (after ``time`` and ``superdense``);
+    ``rows_hint`` the rows the run is expected to record (the table makes room for them at once);
     ``files`` lists (temporary path, final path) of each file being written, for a process that
     must rename them after this one died (:mod:`robogen.cosim.crash`).
     """
 
     def __init__(self, columns: list[str], output: Path | None, events: Path | None, keep_rows: bool = True,
-                 types: Sequence[str] = (), every: float | None = None, start: float = 0.0):
+                 types: Sequence[str] = (), every: float | None = None, start: float = 0.0, rows_hint: int = 0):
         self.columns = ["time", "superdense", *columns]
-        self.rows: list[list] = []
         self.keep_rows = keep_rows
+        self._kept = TableBuilder(self.columns, [*LEADING_TYPES, *types], rows_hint if keep_rows else 0)
+        self._pending: list[list] = []  # rows kept, not yet in the table's columns
         self.recorded = 0  # rows recorded so far (counted where there is a file: it is kept if any)
         self.kept: Path | None = None  # the results file, once closed with rows in it
         self.files: list[tuple[Path, Path]] = []
@@ -156,7 +162,7 @@ class Recorder:
             self._next_kept = max(self._next_kept, grid_index(self.start, self.every, t, tolerance(t, self.every)) + 1)
         self.recorded += 1
         if self.keep_rows:
-            self.rows.append(row)
+            self._keep(row)
         if self._writer is not None:
             self._write(row)
             if _time.monotonic() > self._flush_due:
@@ -168,12 +174,49 @@ class Recorder:
         """A row with String or Binary columns, each cell in its format."""
         self._file.write(",".join([cell(v) for cell, v in zip(self._cells, row)]) + "\n")
 
+    def _keep(self, row: list) -> None:
+        """A row kept: with the others pending, which join the table's columns by the thousand."""
+        self._pending.append(row)
+        if len(self._pending) >= PENDING_ROWS:
+            self._settle()
+
+    def _settle(self) -> None:
+        """The pending rows into the table's columns."""
+        rows, self._pending = self._pending, []
+        self._kept.append_rows(rows)
+
+    def table(self) -> Table:
+        """The rows kept (``keep_rows``), as columns; once asked, no more rows may be recorded."""
+        self._settle()
+        return self._kept.finish()
+
+    @property
+    def rows(self) -> list[list]:
+        """The rows kept, as lists (:attr:`Table.rows`)."""
+        return self.table().rows
+
     def row_sink(self) -> Callable[[list], None]:
-        """append_row as the cheapest callable for where the rows go (the kept list's own append
-        when there is no file and no decimation), for a loop that records a row at every step."""
+        """append_row as the cheapest callable for where the rows go, for a loop that records a
+        row at every step."""
         if self._writer is not None or self._table is not None or self.every is not None:
             return self.append_row
-        return self.rows.append if self.keep_rows else _discard  # no file: nothing to keep or rename
+        return self._keep if self.keep_rows else _discard  # no file: nothing to keep or rename
+
+    def append_chunk(self, columns: Sequence, valid: Sequence, count: int, rows: Callable[[], list[list]]) -> None:
+        """``count`` plain rows as columns (the engine's chunk: an array or list per column, and
+        per column where its cells have a value, or None: everywhere); ``rows()`` gives them as
+        lists, for the results file. The same as append_rows(rows())."""
+        if self.every is not None:
+            self.append_rows(rows())
+            return
+        if self.keep_rows:
+            self._settle()
+            self._kept.append_arrays(columns, valid, count)
+        self.recorded += count
+        if self._table is not None:
+            self._table.write_arrays(columns, valid, count)
+        if self._writer is not None:
+            self._write_rows(rows())
 
     def append_rows(self, rows: list[list]) -> None:
         """Several plain rows at once (the C stretch's chunks); the same as append_row on each."""
@@ -183,10 +226,15 @@ class Recorder:
             return
         self.recorded += len(rows)
         if self.keep_rows:
-            self.rows.extend(rows)
+            self._settle()
+            self._kept.append_rows(rows)
+        self._write_rows(rows)
+
+    def _write_rows(self, rows: list[list]) -> None:
+        """Plain rows to the results file, if any."""
         if self._table is not None:
             self._table.write_rows(rows)
-        if self._writer is not None and rows:
+        elif self._writer is not None and rows:
             if self._cells is None:
                 self._writer.writerows(rows)
             else:
