@@ -245,6 +245,18 @@ def assignable(value: Type, target: Type, narrow: bool = True) -> bool:
     return False
 
 
+def _holds_unknown(t: Type) -> bool:
+    """Does ``t`` hold the element type of ``{}`` or ``<>`` (``Seq(Seq(?))`` of ``<<>>``)?"""
+    t = single(t)
+    if isinstance(t, UnknownT):
+        return True
+    if isinstance(t, (SetT, SeqT)):
+        return _holds_unknown(t.element)
+    if isinstance(t, ProductT):
+        return any(_holds_unknown(x) for x in t.items)
+    return False
+
+
 def element_join(t: Type, it: Type) -> Type | None:
     """The type of the elements of an enumeration (``{a, b}``, ``<a, b>``) whose elements so far
     have type ``t`` and whose next one has type ``it``, or None if they have none: numbers join
@@ -253,6 +265,10 @@ def element_join(t: Type, it: Type) -> Type | None:
     (``{ {1}, {-1} }`` is a Set(Set(int))), else the type so far where the next fits in it."""
     if t in NUMERIC and it in NUMERIC:
         return numeric_join(t, it)
+    if _holds_unknown(it) and assignable(it, t):  # <q, <<>>>: an empty collection takes the typed one's type
+        return t
+    if _holds_unknown(t) and assignable(t, it):
+        return it
     if assignable(t, it, narrow=False):
         return it
     if assignable(it, t):
