@@ -1,0 +1,68 @@
+"""Code generation bugs the model fuzzer found (docs/fuzzing.md, "Regressions found"), each with
+a hand-calculated run of a small machine (the interpreter's trace is the same: run_checked).
+
+- A type that only a quantifier's domain names still gets its C declaration: the set a bound
+  variable ranges over is an expression of the quantifier (robogen.ir.model.Domain), and the walk
+  of every type the C code uses (robogen.ir.walk) goes into it (model 1.19,
+  tests/fuzz/regressions/package_compile_1_19.rct: ``'rg_tup2_u_i' undeclared``).
+- An enumeration whose elements include an empty collection nothing types (``<<>>``, a
+  ``Seq(Seq(?))``) has the typed elements' type, whichever comes first
+  (robogen.semantics.types.element_join; models 1.357, 1.416: ``dconcat(<q ^ <<true, false>>,
+  <<>>>)`` was "using a Seq(Seq(boolean)) as a Seq(Seq(int))")."""
+
+from __future__ import annotations
+
+from support.codegen_driver import Tick, build_text, outputs_by_instant
+
+from robogen.ir.supported import tuple_type
+from robogen.ir.walk import value_types
+from robogen.semantics import types as T
+
+GO = Tick("go", {})
+
+
+def machine(declarations: str, action: str) -> str:
+    """A machine whose ``go`` runs ``action`` (imports: every toolkit)."""
+    return f"""\
+import relation_toolkit::*
+import sequence_toolkit::*
+import set_toolkit::*
+
+enumeration E {{ a b }}
+
+stm M {{
+    {declarations}
+    event go
+    initial i
+    state S {{ }}
+    transition t0 {{ from i to S }}
+    transition t1 {{ from S to S trigger go action {action} }}
+}}
+"""
+
+
+def test_a_tuple_type_only_a_quantifier_domain_holds_is_declared_and_runs(tmp_path):
+    text = machine("event ok: nat", "if forall q: nat | q in {first((| 3, E::a |)), 1} @ q > 0 then ok!4 else ok!0 end")
+    built = build_text(tmp_path, "quantdomain", text)
+    pair = tuple_type((T.NAT, next(t for t in value_types(built.fmu) if isinstance(t, T.EnumT))))
+    assert any(t == pair for t in value_types(built.fmu))
+    # {first((| 3, a |)), 1} = {3, 1}: every element is above 0, so go gives ok!4 each time
+    outputs, _ = outputs_by_instant(built, {1: GO, 3: GO}, 4)
+    assert outputs == {0: {}, 1: {"ok": {"ok.value": 4}}, 2: {}, 3: {"ok": {"ok.value": 4}}}
+
+
+def test_an_empty_nested_collection_beside_a_typed_one_takes_its_type():
+    typed, untyped = T.SeqT(T.SeqT(T.BOOLEAN)), T.SeqT(T.SeqT(T.UNKNOWN))
+    assert T.element_join(typed, untyped) == typed
+    assert T.element_join(untyped, typed) == typed
+
+
+def test_dconcat_of_a_sequence_and_an_empty_one_runs(tmp_path):
+    text = machine("var q: Seq(Seq(boolean)) = <<true>>\n    event n: nat\n    event last: nat",
+                   "q = dconcat(<q ^ <<false>>, <<>>>) ; n!size(q) ; last!size(q[size(q)])")
+    built = build_text(tmp_path, "untyped", text)
+    # <<true>> ^ <<false>> = <<true>, <false>>; dconcat(< that, <<>> >) = <<true>, <false>, <>>: 3
+    # elements, the last empty; the next go: <<true>, <false>, <>, <false>> then <>: 5
+    outputs, _ = outputs_by_instant(built, {1: GO, 2: GO}, 3)
+    assert outputs[1] == {"n": {"n.value": 3}, "last": {"last.value": 0}}
+    assert outputs[2] == {"n": {"n.value": 5}, "last": {"last.value": 0}}
