@@ -8,7 +8,14 @@ a hand-calculated run of a small machine (the interpreter's trace is the same: r
 - An enumeration whose elements include an empty collection nothing types (``<<>>``, a
   ``Seq(Seq(?))``) has the typed elements' type, whichever comes first
   (robogen.semantics.types.element_join; models 1.357, 1.416: ``dconcat(<q ^ <<true, false>>,
-  <<>>>)`` was "using a Seq(Seq(boolean)) as a Seq(Seq(int))")."""
+  <<>>>)`` was "using a Seq(Seq(boolean)) as a Seq(Seq(int))").
+- A relation operation works on the pairs of its result: ``rsub({(| 1, 7 |)}, s)`` of a
+  ``Set(int)`` s is a ``nat <-> int``, the literal's ``nat * nat`` pairs converted, never ``s``
+  narrowed to nats (model 1.922: "incompatible types ... 'rg_tup2_u_i' from 'rg_tup2_u_u'").
+- A comparison of a collection's size with itself (``size(q) >= size(q)``) is its known value,
+  as ``x == x`` was (model 1.637: gcc's -Wtautological-compare).
+- A one-element vector in a record inside a collection is copied to its FMI view element by
+  element like any vector (model 1.963: "assigning to type 'int64_t' from type 'rg_vec_i_1'")."""
 
 from __future__ import annotations
 
@@ -66,3 +73,25 @@ def test_dconcat_of_a_sequence_and_an_empty_one_runs(tmp_path):
     outputs, _ = outputs_by_instant(built, {1: GO, 2: GO}, 3)
     assert outputs[1] == {"n": {"n.value": 3}, "last": {"last.value": 0}}
     assert outputs[2] == {"n": {"n.value": 5}, "last": {"last.value": 0}}
+
+
+def test_a_relation_operation_converts_the_relation_to_its_result_pairs(tmp_path):
+    image = "rimage(rsub({(| 1, 7 |), (| 3, 5 |)}, s), {3, -1})"
+    text = machine("var s: Set(int) = {7, -1}\n    event n: nat\n    event has: boolean",
+                   f"n!size({image}) ; has!(5 in {image})")
+    built = build_text(tmp_path, "relations", text)
+    # rsub drops the pairs whose second is in s = {7, -1}: {(3, 5)}; its image of {3, -1}: {5}
+    outputs, _ = outputs_by_instant(built, {1: GO}, 2)
+    assert outputs[1] == {"n": {"n.value": 1}, "has": {"has.value": True}}
+
+
+def test_a_size_compared_with_itself_and_a_one_element_vector_in_a_sequence(tmp_path):
+    text = "datatype R { f: vector(int, 1) }\n" + machine(
+        "var q: Seq(R)\n    event n: nat\n    event b: boolean",
+        "q = q ^ <R(| f = [| 5 |] |)> ; n!size(q) ; b!(size(q) >= size(q))")
+    built = build_text(tmp_path, "sizes", text)
+    outputs, trace = outputs_by_instant(built, {1: GO, 2: GO}, 3)
+    assert outputs[1] == {"n": {"n.value": 1}, "b": {"b.value": True}}
+    assert outputs[2] == {"n": {"n.value": 2}, "b": {"b.value": True}}
+    views = {k: v for k, v in trace.steps[-1].variables.items() if ".f" in k}
+    assert views and all(list(v)[:2] == [5, 5] for v in views.values()), views  # every element's f: [| 5 |]

@@ -14,6 +14,7 @@ that makes C names from model names (:class:`CNames`): the IR keeps the model's 
 
 from __future__ import annotations
 
+import re
 from dataclasses import dataclass
 
 from robogen.codegen.cnames import ctype, elem_tag, literal, mangle, tag
@@ -56,6 +57,10 @@ def _against_zero(op: str, t: T.Type, a: str, b: str) -> str | None:
     if a == zero and op in ("gt", "le"):
         return f"((void)({b}), {'false' if op == 'gt' else 'true'})"
     return None
+
+
+# a C call in an expression's text (a name, then its arguments' parenthesis)
+_CALL = re.compile(r"[A-Za-z0-9_]\s*\(")
 
 
 def _exact(t: T.Type) -> bool:
@@ -327,8 +332,9 @@ class Emitter:
             return f"({a} ? {b} : !{b})" if op != "ne" else f"({a} ? !{b} : {b})"
         if op == "iff":
             return f"(!{a} == !{b})"
-        if op in _COMPARISONS and a == b and "(" not in a and _exact(e.left.type):
-            # a variable compared with itself (`x == x`): its value, as C's -Wtautological-compare
+        if op in _COMPARISONS and a == b and not _CALL.search(a) and _exact(e.left.type):
+            # a variable compared with itself (`x == x`, `size(q) >= size(q)`: no call in it, so
+            # nothing it reads changes between the two): its value, as C's -Wtautological-compare
             # rejects the comparison (reals are compared: a NaN differs from itself)
             return "true" if op in ("eq", "le", "ge") else "false"
         if op in ("eq", "ne"):

@@ -58,7 +58,7 @@ def _write(t, source: str, path, index, depth: int, target: str, capacity_of, in
         n = _entries(t)
         if index is None:
             return [f"{indent}{target} = {source};"]
-        if n == 1:
+        if not isinstance(t, (T.VectorT, T.MatrixT)):  # (a vector of one element is a struct all the same)
             return [f"{indent}{target}.a[{index}] = {source};"]
         return [f"{indent}for (j = 0; j < {n}; j++) {target}.a[({index}) * {n} + j] = {source}.a[j];"]
     p = path[0]
@@ -122,7 +122,7 @@ def _read(t, target: str, path, index, depth: int, fields, capacity_of, canon, i
     n = _entries(t)
     if index is None:
         return [f"{indent}{target} = {member};"]
-    if n == 1:
+    if not isinstance(t, (T.VectorT, T.MatrixT)):
         return [f"{indent}{target} = {member}.a[{index}];"]
     return [f"{indent}for (j = 0; j < {n}; j++) {target}.a[j] = {member}.a[({index}) * {n} + j];"]
 

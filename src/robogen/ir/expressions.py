@@ -618,6 +618,18 @@ class ExpressionLowering:
         x, y = pair.field("_1"), pair.field("_2")
         if op == "iter":  # iter(n, r)
             return self.coll(args[1].type, op, (self.conv(args[0], T.INT, e.args[0].span), args[1]), e)
+        # the pairs the operation works on: the result's where it is a relation (rsub({(| 1, 7 |)}, s)
+        # of a Set(int) s is a nat <-> int: the relation is converted, never the set narrowed), for
+        # rimage the relation's with a domain as wide as the set's elements
+        result_pair = t.element if isinstance(t, T.SetT) else None  # type: ignore[attr-defined]
+        if op != "rimage" and isinstance(result_pair, TupleT) and len(result_pair.fields) == 2 and result_pair != pair:
+            x, y = result_pair.field("_1"), result_pair.field("_2")
+            args[at] = self.conv(args[at], T.SetT(result_pair), e.args[at].span)
+        elif op == "rimage" and isinstance(args[1].type, T.SetT):
+            wide = T.element_join(x, args[1].type.element)  # type: ignore[attr-defined]
+            if wide is not None and wide != x and isinstance(t, T.SetT):
+                x = wide
+                args[0] = self.conv(args[0], T.SetT(tuple_type((x, t.element))), e.args[0].span)  # type: ignore[attr-defined]
         wanted = {"dres": (T.SetT(x), None), "dsub": (T.SetT(x), None), "rres": (None, T.SetT(y)),
                   "rsub": (None, T.SetT(y)), "rimage": (None, T.SetT(x)), "roverride": (None, args[0].type)}.get(op, (None, None))
         args = [self.conv(a, w, x_.span) if w is not None else a for a, w, x_ in zip(args, wanted, e.args)]
