@@ -95,3 +95,17 @@ def test_a_size_compared_with_itself_and_a_one_element_vector_in_a_sequence(tmp_
     assert outputs[2] == {"n": {"n.value": 2}, "b": {"b.value": True}}
     views = {k: v for k, v in trace.steps[-1].variables.items() if ".f" in k}
     assert views and all(list(v)[:2] == [5, 5] for v in views.values()), views  # every element's f: [| 5 |]
+
+
+def test_a_comprehension_of_empty_sequences_beside_a_typed_branch_takes_its_type(tmp_path):
+    """``if c then {x: nat | x in s @ <>} else {<"a">, <"b">} end``: the comprehension's elements
+    (``<>``, nothing types them) are the other branch's ``Seq(string)`` (model 1.769: "using a
+    Set(Seq(int)) as a Set(Seq(string))")."""
+    text = machine("var q: Set(Seq(string))\n    var k: nat = 0\n    event n: nat\n    event has: boolean",
+                   'q = if k == 0 then {x: nat | x in {1, 2} @ <>} else {<"a">, <"b">} end ; '
+                   "k = k + 1 ; n!size(q) ; has!(<> in q)")
+    built = build_text(tmp_path, "comprehension", text)
+    # first go: {<>, <>} = {<>}, one element, the empty sequence; then {<"a">, <"b">}
+    outputs, _ = outputs_by_instant(built, {1: GO, 2: GO}, 3)
+    assert outputs[1] == {"n": {"n.value": 1}, "has": {"has.value": True}}
+    assert outputs[2] == {"n": {"n.value": 2}, "has": {"has.value": False}}

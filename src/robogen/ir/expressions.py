@@ -235,6 +235,9 @@ class ExpressionLowering:
         # elements nothing typed): built from the enumerations as the type it is used as
         if isinstance(e, ir.Cond):
             return ir.Cond(t, e.cond, self.conv(e.then, t, span), self.conv(e.otherwise, t, span))
+        if isinstance(e, ir.Quant) and e.kind == "set" and isinstance(e.body, ir.Coll) and e.body.op in ("set", "seq") \
+                and not e.body.args:  # {x: T | p @ <>}: a set of one empty collection, of the type it is used as
+            return replace(e, type=t, body=self.conv(e.body, t.element, span))
         if isinstance(e, ir.Coll) and e.op in _ELEMENTWISE:
             args = tuple(self.conv(a, replace(a.type, element=t.element), span) if is_collection(a.type)  # type: ignore[union-attr]
                          and a.type.element == source and (e.op != "extract" or k == 0) else a  # type: ignore[attr-defined]

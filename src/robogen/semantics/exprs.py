@@ -384,10 +384,9 @@ class ExprChecker(Calls, DollarForms):
         a, b = self.expr(e.then), self.expr(e.otherwise)
         if _untyped_empty(a) and T.assignable(a, b):  # if c then {} else {(| 2, 0 |)} end: the other branch's type
             return b
-        if T.assignable(b, a):
-            return a if not (a == T.NAT and b == T.INT) else b
-        if T.assignable(a, b):
-            return b
+        joined = T.element_join(a, b)  # (as an enumeration's two elements: {x: real | ... @ <>} beside a Set(Seq(string)))
+        if joined is not None:
+            return joined
         return self._err(f"the branches of 'if' have different types: {a.show()} and {b.show()}", e)
 
     def _e_Cast(self, e: ast.Cast) -> T.Type:
