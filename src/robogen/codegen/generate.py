@@ -559,8 +559,9 @@ class _Layout:
 
     def _build(self) -> None:
         fmu = self.fmu
-        if not fmu.time_free:  # the periodic clock (a time-free FMU counts its tocks itself)
-            clock = FmiVar(fmu.clock_name, self._next_vr(), "Clock", "input", "discrete",
+        vr = self._next_vr()  # the periodic clock's; a time-free FMU, which counts its tocks, leaves it unused so
+        if not fmu.time_free:  # that both RoboChart variants number the other variables alike
+            clock = FmiVar(fmu.clock_name, vr, "Clock", "input", "discrete",
                            interval_variability="constant", interval=_decimal(fmu.clock_interval), shift="0",
                            description=("one RoboSim cycle" if fmu.language == "robosim" else "one RoboChart time unit (tock)"))
             self._add_clock(clock, "RG_CLOCK_INPUT_CONSTANT")
@@ -587,7 +588,7 @@ class _Layout:
                 initial="exact", start=str(m.initial_node), declared_type=enum_name,
                 description=f"the node where state machine {m.name} rests"))
         self.variables.append(FmiVar("cycles", self._next_vr(), "UInt64", "output", "discrete", "cycles", initial="exact", start="0",
-                                     description=f"ticks of {fmu.clock_name} processed"))
+                                     description=f"ticks of {fmu.clock_name} processed" + (" (counted by the FMU: no clock)" if fmu.time_free else "")))
         self.variables.append(FmiVar("dropped_events", self._next_vr(), "UInt64", "output", "discrete", "dropped_events", initial="exact", start="0",
                                      description="input events overwritten by a newer one before a machine used them"))
         self.variables.append(FmiVar("deadline_misses", self._next_vr(), "UInt64", "output", "discrete", "deadline_misses", initial="exact", start="0",
