@@ -267,7 +267,7 @@ class FmuRunner:
         self.inst.fmi3FreeInstance()
         self.library.close()
 
-    def _set_tick(self, tick: Tick) -> None:
+    def set_tick(self, tick: Tick) -> None:
         d = self.desc
         self.inst.fmi3SetClock(fmi3.vr_array([d.by_name[tick.clock].vr]), 1, self.one_clock)
         for name, value in tick.payload.items():
@@ -289,7 +289,7 @@ class FmuRunner:
                 pos += v.size
         return out
 
-    def _observe(self, instant: int, k: int) -> Step:
+    def observe(self, instant: int, k: int) -> Step:
         d = self.desc
         outputs: dict[str, dict[str, object]] = {}
         if d.output_clocks:
@@ -333,14 +333,14 @@ class FmuRunner:
                 if step.periodic and d.periodic is not None:  # a time-free FMU's tock is due by time
                     inst.fmi3SetClock(fmi3.vr_array([d.by_name[d.periodic].vr]), 1, self.one_clock)
                 for tick in step.early:
-                    self._set_tick(tick)
+                    self.set_tick(tick)
                 while True:
                     where = "read"
-                    record = self._observe(instant, k)
+                    record = self.observe(instant, k)
                     where = "late"
                     for tick in step.late:
                         if tick.at == k:
-                            self._set_tick(tick)
+                            self.set_tick(tick)
                     where = "fmi3UpdateDiscreteStates"
                     need = inst.fmi3UpdateDiscreteStates()[0]
                     record.need = bool(need)
@@ -484,11 +484,11 @@ def run_in_time(folder: Path, events: list[Timed], units: int, parameters: dict[
                 inst.fmi3SetClock(fmi3.vr_array([d.by_name[d.periodic].vr]), 1, runner.one_clock)
             while pending and pending[0].half == half:
                 for tick in pending.pop(0).ticks:
-                    runner._set_tick(tick)
+                    runner.set_tick(tick)
             k = 0
             while True:
                 runner.messages = []
-                step = runner._observe(half, k)
+                step = runner.observe(half, k)
                 trace.records += [("transition", half, k, text) for text in runner.messages if text.startswith(tuple(names))]
                 now = (canonical(step.states), canonical(step.variables), step.dropped, step.misses)
                 if step.outputs or now != shown:
