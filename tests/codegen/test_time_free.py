@@ -194,3 +194,40 @@ def test_ticking_and_skipping_agree_on_fuzzed_models(index, tmp_path):
     except RobogenError as exc:  # a construct code generation refuses: the fuzzer's table counts them
         pytest.skip(f"not supported: {exc}")
     _same_traces(pair, random.Random(index), units=30, runs=2)
+
+
+SCENARIO = """
+model = "timers.rct"
+stop = 40.0
+step = 40.0
+events = [
+  { at = 1.5, event = "press" },
+  { at = 5.5, event = "set", value = 3 },
+  { at = 12.0, event = "press" },
+  { at = 19.5, event = "press" },
+  { at = 27.0, event = "cancel" },
+]
+[[expect]]          # by hand: armed at 1.5 (since(D) = 1), C reset there (2 tocks counted), since(C) >= 2 at tock 3
+event = "ring"
+within = [3.0, 3.0]
+value = 1
+"""
+
+
+def test_the_reference_interpreter_announces_the_same_next_event_times(tmp_path, monkeypatch, capsys):
+    """robogen test --compare runs the scenario on the time-free FMU and on the reference
+    interpreter (robogen.scenarios.reference, which counts tocks and looks ahead in Python) under
+    the master, whose communication step is the whole run: every row is an event iteration at an
+    input event or an announced next event time, so different announcements give different rows."""
+    from robogen.cli import main
+
+    monkeypatch.setenv("ROBOGEN_CACHE", str(tmp_path / "cache"))
+    (tmp_path / "timers.rct").write_text(TEST_MODELS["timers"].path.read_text(encoding="utf-8"), encoding="utf-8")
+    scenario = tmp_path / "alarm.toml"
+    scenario.write_text(SCENARIO, encoding="utf-8")
+    assert main(["test", str(scenario), "--compare"]) == 0
+    assert f"{scenario}:1:1: PASS  the FMU and the reference interpreter give the same results" in capsys.readouterr().out
+    out = tmp_path / "alarm.csv"
+    assert main(["simulate", str(scenario), "-o", str(out), "--no-progress"]) == 0
+    times = sorted({float(line.split(",")[0]) for line in out.read_text().splitlines()[1:]})
+    assert len(times) < 25 and 40.0 in times  # not one row per time unit: idle time was skipped
