@@ -174,6 +174,39 @@ def test_ticking_and_skipping_agree_on_the_sprinkler(semantics, tmp_path):
     _same_traces(_pair(tmp_path, [ROOT / "examples" / "scenarios" / "sprinkler.rct"], semantics), random.Random(7))
 
 
+POLLING = """
+interface Outs { event done: nat }
+interface Ins { event kick }
+stm Busy {
+	uses Outs uses Ins
+	var n: nat = 0
+	clock C
+	initial i
+	state Counting { during n = n + 1 ; send done!n }
+	state Waiting { entry wait([1, 3]) ; wait(2) ; send done!0 }
+	state Polling { }
+	transition t0 { from i to Waiting }
+	transition t1 { from Waiting to Counting trigger kick }
+	transition t2 { from Counting to Polling condition sinceEntry(Counting) >= 4 action #C }
+	transition t3 { from Polling to Counting condition since(C) % 3 == 1 /\\ n > 2 }
+	transition t4 { from Polling to Waiting trigger kick }
+}
+"""
+
+
+def test_ticking_and_skipping_agree_where_time_is_read_otherwise(tmp_path):
+    """A resume point that tests since(C) % 3 (not monotone) runs at every tock in both; the
+    others are skipped: same trace, fewer instants."""
+    model = tmp_path / "busy.rct"
+    model.write_text(POLLING, encoding="utf-8")
+    pair = _pair(tmp_path, [model], "exhaustive")
+    events = [Timed(3, (Tick("kick", {}),)), Timed(40, (Tick("kick", {}),)), Timed(51, (Tick("kick", {}),))]
+    ticking, skipping = run_in_time(pair["tick"].folder, events, 40), run_in_time(pair["skip"].folder, events, 40)
+    assert first_time_difference(ticking, skipping) is None
+    assert any(r[0] == "step" and r[3] for r in skipping.records if r[1] > 20)  # Polling -> Counting again
+    assert skipping.instants < ticking.instants
+
+
 FUZZED = [i for i in range(40) if generate(model_seed(22, i), DEFAULT).language == "robochart"][:12]
 
 
