@@ -30,7 +30,7 @@ def lookahead_code(fmu: ir.Fmu, em: Emitter, line_comments: bool) -> list[str]:
         block = m.blocks[b]
         where = f" ({fmu.place(block.span)})" if line_comments and block.span is not None else ""
         functions.append(_probe(em, b, la.tests, f"b{b}: {block.label}{where}"))
-        lines = [f"    case {b}: /* b{b}: {c_comment(block.label)} */",
+        lines = [f"    case {b}: /* the resume point b{b}, {c_comment(block.label)} */",
                  f"        if (rg_probe_{i}_{b}(inst)) return 1;"]
         for a in la.atoms:
             if a not in atoms:

@@ -646,7 +646,7 @@ static uint64_t rg_wake_0(rg_instance *inst)
     uint64_t wake = RG_NEVER;
     if (m->in_cycle) return 1;
     switch (m->pc) {
-    case 1: /* b1: EVAL Idle */
+    case 1: /* the resume point b1, EVAL Idle */
         if (rg_probe_0_1(inst)) return 1;
         break;
     default: /* a resume point that cannot be looked ahead of: it runs at every tock */

@@ -365,7 +365,7 @@ static uint64_t rg_wake_0(rg_instance *inst)
     uint64_t wake = RG_NEVER;
     if (m->in_cycle) return 1;
     switch (m->pc) {
-    case 1: /* b1: EVAL Idle */
+    case 1: /* the resume point b1, EVAL Idle */
         if (rg_probe_0_1(inst)) return 1;
         break;
     default: /* a resume point that cannot be looked ahead of: it runs at every tock */
@@ -419,10 +419,10 @@ static uint64_t rg_wake_1(rg_instance *inst)
     uint64_t wake = RG_NEVER;
     if (m->in_cycle) return 1;
     switch (m->pc) {
-    case 1: /* b1: EVAL Ready */
+    case 1: /* the resume point b1, EVAL Ready */
         if (rg_probe_1_1(inst)) return 1;
         break;
-    case 3: /* b3: wait */
+    case 3: /* the resume point b3, wait */
         if (rg_probe_1_3(inst)) return 1;
         wake = rg_first_change(inst, rg_atom_1_0, wake);
         break;
@@ -452,7 +452,7 @@ static uint64_t rg_wake_2(rg_instance *inst)
     uint64_t wake = RG_NEVER;
     if (m->in_cycle) return 1;
     switch (m->pc) {
-    case 1: /* b1: EVAL Listening */
+    case 1: /* the resume point b1, EVAL Listening */
         if (rg_probe_2_1(inst)) return 1;
         break;
     default: /* a resume point that cannot be looked ahead of: it runs at every tock */

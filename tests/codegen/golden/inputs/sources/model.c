@@ -451,18 +451,18 @@ static uint64_t rg_wake_0(rg_instance *inst)
     uint64_t wake = RG_NEVER;
     if (m->in_cycle) return 1;
     switch (m->pc) {
-    case 1: /* b1: EVAL Parked */
+    case 1: /* the resume point b1, EVAL Parked */
         if (rg_probe_0_1(inst)) return 1;
         break;
-    case 5: /* b5: EVAL Driving.Confirming */
+    case 5: /* the resume point b5, EVAL Driving.Confirming */
         if (rg_probe_0_5(inst)) return 1;
         wake = rg_first_change(inst, rg_atom_0_0, wake);
         break;
-    case 11: /* b11: EVAL Driving.Parked2 */
+    case 11: /* the resume point b11, EVAL Driving.Parked2 */
         if (rg_probe_0_11(inst)) return 1;
         wake = rg_first_change(inst, rg_atom_0_0, wake);
         break;
-    case 15: /* b15: EVAL Driving.Moving */
+    case 15: /* the resume point b15, EVAL Driving.Moving */
         if (rg_probe_0_15(inst)) return 1;
         wake = rg_first_change(inst, rg_atom_0_0, wake);
         break;

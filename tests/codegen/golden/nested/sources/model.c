@@ -569,41 +569,41 @@ static uint64_t rg_wake_0(rg_instance *inst)
     uint64_t wake = RG_NEVER;
     if (m->in_cycle) return 1;
     switch (m->pc) {
-    case 1: /* b1: wait */
+    case 1: /* the resume point b1, wait */
         if (rg_probe_0_1(inst)) return 1;
         wake = rg_first_change(inst, rg_atom_0_0, wake);
         break;
-    case 3: /* b3: EVAL A */
+    case 3: /* the resume point b3, EVAL A */
         if (rg_probe_0_3(inst)) return 1;
         break;
-    case 9: /* b9: wait */
+    case 9: /* the resume point b9, wait */
         if (rg_probe_0_9(inst)) return 1;
         wake = rg_first_change(inst, rg_atom_0_0, wake);
         break;
-    case 12: /* b12: EVAL outer#1.W */
+    case 12: /* the resume point b12, EVAL outer#1.W */
         if (rg_probe_0_12(inst)) return 1;
         break;
-    case 15: /* b15: EVAL B.B1 */
+    case 15: /* the resume point b15, EVAL B.B1 */
         if (rg_probe_0_15(inst)) return 1;
         wake = rg_first_change(inst, rg_atom_0_1, wake);
         wake = rg_first_change(inst, rg_atom_0_2, wake);
         break;
-    case 17: /* b17: wait */
+    case 17: /* the resume point b17, wait */
         if (rg_probe_0_17(inst)) return 1;
         wake = rg_first_change(inst, rg_atom_0_0, wake);
         break;
-    case 26: /* b26: wait */
+    case 26: /* the resume point b26, wait */
         if (rg_probe_0_26(inst)) return 1;
         wake = rg_first_change(inst, rg_atom_0_0, wake);
         break;
-    case 29: /* b29: EVAL outer#3.W */
+    case 29: /* the resume point b29, EVAL outer#3.W */
         if (rg_probe_0_29(inst)) return 1;
         break;
-    case 37: /* b37: wait */
+    case 37: /* the resume point b37, wait */
         if (rg_probe_0_37(inst)) return 1;
         wake = rg_first_change(inst, rg_atom_0_0, wake);
         break;
-    case 40: /* b40: EVAL outer#5.W */
+    case 40: /* the resume point b40, EVAL outer#5.W */
         if (rg_probe_0_40(inst)) return 1;
         break;
     default: /* a resume point that cannot be looked ahead of: it runs at every tock */

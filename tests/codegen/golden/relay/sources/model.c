@@ -441,10 +441,10 @@ static uint64_t rg_wake_0(rg_instance *inst)
     uint64_t wake = RG_NEVER;
     if (m->in_cycle) return 1;
     switch (m->pc) {
-    case 1: /* b1: EVAL Ready */
+    case 1: /* the resume point b1, EVAL Ready */
         if (rg_probe_0_1(inst)) return 1;
         break;
-    case 3: /* b3: EVAL Waiting */
+    case 3: /* the resume point b3, EVAL Waiting */
         if (rg_probe_0_3(inst)) return 1;
         break;
     default: /* a resume point that cannot be looked ahead of: it runs at every tock */
@@ -561,24 +561,24 @@ static uint64_t rg_wake_1(rg_instance *inst)
     uint64_t wake = RG_NEVER;
     if (m->in_cycle) return 1;
     switch (m->pc) {
-    case 1: /* b1: EVAL Idle */
+    case 1: /* the resume point b1, EVAL Idle */
         if (rg_probe_1_1(inst)) return 1;
         break;
-    case 5: /* b5: EVAL process#1.Loop */
+    case 5: /* the resume point b5, EVAL process#1.Loop */
         if (rg_probe_1_5(inst)) return 1;
         break;
-    case 11: /* b11: EVAL pause#2.Waiting */
+    case 11: /* the resume point b11, EVAL pause#2.Waiting */
         if (rg_probe_1_11(inst)) return 1;
         wake = rg_first_change(inst, rg_atom_1_0, wake);
         break;
-    case 13: /* b13: wait */
+    case 13: /* the resume point b13, wait */
         if (rg_probe_1_13(inst)) return 1;
         wake = rg_first_change(inst, rg_atom_1_1, wake);
         break;
-    case 18: /* b18: EVAL process#3.Loop */
+    case 18: /* the resume point b18, EVAL process#3.Loop */
         if (rg_probe_1_18(inst)) return 1;
         break;
-    case 22: /* b22: EVAL Busy */
+    case 22: /* the resume point b22, EVAL Busy */
         if (rg_probe_1_22(inst)) return 1;
         break;
     default: /* a resume point that cannot be looked ahead of: it runs at every tock */

@@ -437,10 +437,10 @@ static uint64_t rg_wake_0(rg_instance *inst)
     uint64_t wake = RG_NEVER;
     if (m->in_cycle) return 1;
     switch (m->pc) {
-    case 1: /* b1: EVAL Wait */
+    case 1: /* the resume point b1, EVAL Wait */
         if (rg_probe_0_1(inst)) return 1;
         break;
-    case 5: /* b5: wait for far */
+    case 5: /* the resume point b5, wait for far */
         if (rg_probe_0_5(inst)) return 1;
         break;
     default: /* a resume point that cannot be looked ahead of: it runs at every tock */
@@ -469,7 +469,7 @@ static uint64_t rg_wake_1(rg_instance *inst)
     uint64_t wake = RG_NEVER;
     if (m->in_cycle) return 1;
     switch (m->pc) {
-    case 1: /* b1: EVAL Idle */
+    case 1: /* the resume point b1, EVAL Idle */
         if (rg_probe_1_1(inst)) return 1;
         break;
     default: /* a resume point that cannot be looked ahead of: it runs at every tock */
@@ -498,7 +498,7 @@ static uint64_t rg_wake_2(rg_instance *inst)
     uint64_t wake = RG_NEVER;
     if (m->in_cycle) return 1;
     switch (m->pc) {
-    case 1: /* b1: EVAL Idle */
+    case 1: /* the resume point b1, EVAL Idle */
         if (rg_probe_2_1(inst)) return 1;
         break;
     default: /* a resume point that cannot be looked ahead of: it runs at every tock */

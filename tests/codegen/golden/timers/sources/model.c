@@ -492,36 +492,36 @@ static uint64_t rg_wake_0(rg_instance *inst)
     uint64_t wake = RG_NEVER;
     if (m->in_cycle) return 1;
     switch (m->pc) {
-    case 1: /* b1: EVAL Off */
+    case 1: /* the resume point b1, EVAL Off */
         if (rg_probe_0_1(inst)) return 1;
         wake = rg_first_change(inst, rg_atom_0_0, wake);
         break;
-    case 3: /* b3: EVAL Armed */
+    case 3: /* the resume point b3, EVAL Armed */
         if (rg_probe_0_3(inst)) return 1;
         wake = rg_first_change(inst, rg_atom_0_1, wake);
         wake = rg_first_change(inst, rg_atom_0_2, wake);
         break;
-    case 5: /* b5: wait */
+    case 5: /* the resume point b5, wait */
         if (rg_probe_0_5(inst)) return 1;
         wake = rg_first_change(inst, rg_atom_0_3, wake);
         break;
-    case 7: /* b7: EVAL Ringing */
+    case 7: /* the resume point b7, EVAL Ringing */
         if (rg_probe_0_7(inst)) return 1;
         wake = rg_first_change(inst, rg_atom_0_4, wake);
         break;
-    case 9: /* b9: wait */
+    case 9: /* the resume point b9, wait */
         if (rg_probe_0_9(inst)) return 1;
         wake = rg_first_change(inst, rg_atom_0_3, wake);
         break;
-    case 11: /* b11: wait */
+    case 11: /* the resume point b11, wait */
         if (rg_probe_0_11(inst)) return 1;
         wake = rg_first_change(inst, rg_atom_0_3, wake);
         break;
-    case 13: /* b13: EVAL Snooze */
+    case 13: /* the resume point b13, EVAL Snooze */
         if (rg_probe_0_13(inst)) return 1;
         wake = rg_first_change(inst, rg_atom_0_5, wake);
         break;
-    case 15: /* b15: wait */
+    case 15: /* the resume point b15, wait */
         if (rg_probe_0_15(inst)) return 1;
         wake = rg_first_change(inst, rg_atom_0_3, wake);
         break;

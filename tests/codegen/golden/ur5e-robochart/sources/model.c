@@ -398,20 +398,20 @@ static uint64_t rg_wake_0(rg_instance *inst)
     uint64_t wake = RG_NEVER;
     if (m->in_cycle) return 1;
     switch (m->pc) {
-    case 1: /* b1: EVAL Idle */
+    case 1: /* the resume point b1, EVAL Idle */
         if (rg_probe_0_1(inst)) return 1;
         break;
-    case 3: /* b3: EVAL ArmMove */
+    case 3: /* the resume point b3, EVAL ArmMove */
         if (rg_probe_0_3(inst)) return 1;
         break;
-    case 5: /* b5: EVAL ArmMoving */
+    case 5: /* the resume point b5, EVAL ArmMoving */
         if (rg_probe_0_5(inst)) return 1;
         wake = rg_first_change(inst, rg_atom_0_0, wake);
         break;
-    case 7: /* b7: EVAL ArmStop */
+    case 7: /* the resume point b7, EVAL ArmStop */
         if (rg_probe_0_7(inst)) return 1;
         break;
-    case 9: /* b9: EVAL ArmStopping */
+    case 9: /* the resume point b9, EVAL ArmStopping */
         if (rg_probe_0_9(inst)) return 1;
         break;
     default: /* a resume point that cannot be looked ahead of: it runs at every tock */
