@@ -110,14 +110,23 @@ def _started(folder: Path):
     return runner
 
 
-def test_a_step_past_the_next_event_time_is_refused(waiter):
-    from robogen.cosim import fmi3
+def test_a_step_past_the_next_event_time_is_warned_and_taken_late(waiter):
+    """An importer that ignores nextEventTime (fmpy's simulate_fmu): the step from 0 to 6 passes
+    the wait's end at 5, with a warning; the machine takes it at the next Event Mode, at 6."""
+    from robogen.differential import FmuRunner
 
-    runner = _started(waiter["skip"].folder)
+    runner = FmuRunner(waiter["skip"].folder, logging=True)
     try:
-        with pytest.raises(fmi3.FMI3Error):
-            runner.inst.fmi3DoStep(0.0, 6.0)
-        assert any("would pass the next event time t=5" in e for e in runner.errors), runner.errors
+        runner.inst.fmi3EnterInitializationMode(None, 0.0, None)
+        runner.inst.fmi3ExitInitializationMode()
+        runner.inst.fmi3UpdateDiscreteStates()
+        runner.inst.fmi3EnterStepMode()
+        runner.inst.fmi3DoStep(0.0, 6.0)
+        assert any("passes the next event time t=5" in m for m in runner.messages), runner.messages
+        runner.inst.fmi3EnterEventMode()
+        step = runner.observe(0, 0)
+        assert step.outputs == {"done": {}} and step.cycles == 7
+        assert not runner.inst.fmi3UpdateDiscreteStates().next_event_time_defined
     finally:
         runner.close()
 

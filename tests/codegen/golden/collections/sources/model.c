@@ -675,8 +675,9 @@ static bool rg_tock_now(rg_instance *inst)
     return due > d->cycles;
 }
 
-/* The step passes idle tocks only: those before the next event time, which it may reach but not
- * pass. */
+/* The step counts the idle tocks it passes: those before the next event time, which a master
+ * reaches and handles in Event Mode. An importer that ignores nextEventTime (fmpy's simulate_fmu)
+ * passes it: warned, the machines take that tock at its next Event Mode, late. */
 static fmi3Status rg_model_do_step(rg_instance *inst, double t_end, bool *event_handling_needed,
                                    bool *terminate_simulation, double *last_successful_time)
 {
@@ -686,16 +687,18 @@ static fmi3Status rg_model_do_step(rg_instance *inst, double t_end, bool *event_
     (void)terminate_simulation;
     (void)last_successful_time;
     if (!inst->event_mode_used) return fmi3OK; /* without Event Mode no machine runs, as with a tock clock */
-    if (d->next_tock != RG_NEVER && rg_tock_time(inst, d->next_tock) < t_end &&
-        !rg_time_equal(rg_tock_time(inst, d->next_tock), t_end)) {
-        rg_log(inst, RG_LOG_ERROR, fmi3Error, "fmi3DoStep: the step to t=%.17g would pass the next event time t=%.17g "
-               "(tock %llu) that fmi3UpdateDiscreteStates announced: step to it and enter Event Mode there",
-               t_end, rg_tock_time(inst, d->next_tock), (unsigned long long)d->next_tock);
-        return fmi3Error;
-    }
     due = rg_tocks_by(inst, t_end);
     if (due > d->next_tock) due = d->next_tock; /* the tock at the next event time is Event Mode's */
     if (due > d->cycles) rg_pass_idle(d, due - d->cycles);
+    if (d->next_tock != RG_NEVER && rg_tock_time(inst, d->next_tock) < t_end &&
+        !rg_time_equal(rg_tock_time(inst, d->next_tock), t_end)) {
+        rg_log(inst, RG_LOG_WARNING, fmi3Warning, "fmi3DoStep: the step to t=%.17g passes the next event time t=%.17g "
+               "(tock %llu) that fmi3UpdateDiscreteStates announced: the machines take it at the next Event Mode, late "
+               "(step to the next event time and enter Event Mode there)",
+               t_end, rg_tock_time(inst, d->next_tock), (unsigned long long)d->next_tock);
+        d->next_tock = RG_NEVER; /* warned once; the next Event Mode counts the tocks up to its time */
+        return fmi3Warning;
+    }
     return fmi3OK;
 }
 
