@@ -154,15 +154,20 @@ class Description:
                                  enum_items.get(v.declaredType, 0) if v.declaredType else 0, bool(v.dimensions)))
         self.by_name = {v.name: v for v in self.vars}
         clocks = [v for v in self.vars if v.type == "Clock"]
-        self.periodic = clocks[0].name  # rg_clocks index 0: cycle or tock
-        self.input_clocks = [v.name for v in clocks[1:] if v.causality == "input"]
+        root = ElementTree.parse(folder / "modelDescription.xml").getroot()
+        periodic = [e.get("name") for e in root.iter("Clock") if e.get("intervalVariability") == "constant"]
+        # rg_clocks index 0: cycle or tock; None for a RoboChart FMU compiled with --time skip
+        self.periodic: str | None = periodic[0] if periodic else None
+        self.input_clocks = [v.name for v in clocks if v.causality == "input" and v.name != self.periodic]
         self.output_clocks = [v.name for v in clocks if v.causality == "output"]
         self.clocked = {c.name: [v for v in self.vars if v.clock == c.name] for c in clocks}
         self.states = [v for v in self.vars if v.name.endswith(".state") and v.type == "Enumeration"]
         self.observed = [v for v in self.vars if v.type != "Clock" and v.clock is None and v.causality in ("local", "parameter")]
-        root = ElementTree.parse(folder / "modelDescription.xml").getroot()
-        clock = next(e for e in root.iter("Clock") if e.get("name") == self.periodic)
-        self.interval = float(clock.get("intervalDecimal"))  # fmpy does not read it
+        if self.periodic is not None:
+            clock = next(e for e in root.iter("Clock") if e.get("name") == self.periodic)
+            self.interval = float(clock.get("intervalDecimal"))  # type: ignore[arg-type]  # fmpy does not read it
+        else:  # a time-free FMU's time unit: its default step
+            self.interval = float(md.defaultExperiment.stepSize)
 
 
 # ---------------------------------------------------------------------------- random scenarios
@@ -231,13 +236,16 @@ COUNTERS = ("cycles", "dropped_events", "deadline_misses")
 class FmuRunner:
     """One instance of a generated FMU, reset between scenarios."""
 
-    def __init__(self, folder: Path, name: str = "driver"):
+    def __init__(self, folder: Path, name: str = "driver", logging: bool = False):
+        """``logging``: every message of the FMU is kept in ``messages`` (from fmi3InstantiateCoSimulation on)."""
         self.desc = Description(folder)
         so = folder / "binaries" / PLATFORM_TUPLE / f"{self.desc.identifier}.so"
         self.library = fmi3.Library(str(so))
         self.errors: list[str] = []  # the FMU's error messages in the current run
+        self.messages: list[str] = []
+        self.logging = logging
         self.inst = fmi3.Binding(self.library, name, log=self._log)
-        self.inst.fmi3InstantiateCoSimulation(self.desc.token, None, loggingOn=False, eventModeUsed=True)
+        self.inst.fmi3InstantiateCoSimulation(self.desc.token, None, loggingOn=logging, eventModeUsed=True)
         self.fresh = True
         d = self.desc
         self._vr_cache: dict[tuple[str, ...], object] = {}
@@ -249,6 +257,8 @@ class FmuRunner:
         self.clocked_out = {c: _group(d.clocked[c]) for c in d.output_clocks}
 
     def _log(self, name: str, status: int, text: str) -> None:
+        if self.logging:
+            self.messages.append(text)
         if status >= ERROR:
             self.errors.append(text)
 
@@ -257,7 +267,7 @@ class FmuRunner:
         self.inst.fmi3FreeInstance()
         self.library.close()
 
-    def _set_tick(self, tick: Tick) -> None:
+    def set_tick(self, tick: Tick) -> None:
         d = self.desc
         self.inst.fmi3SetClock(fmi3.vr_array([d.by_name[tick.clock].vr]), 1, self.one_clock)
         for name, value in tick.payload.items():
@@ -279,7 +289,7 @@ class FmuRunner:
                 pos += v.size
         return out
 
-    def _observe(self, instant: int, k: int) -> Step:
+    def observe(self, instant: int, k: int) -> Step:
         d = self.desc
         outputs: dict[str, dict[str, object]] = {}
         if d.output_clocks:
@@ -320,17 +330,17 @@ class FmuRunner:
                     inst.fmi3DoStep((instant - 1) * h, h)
                     inst.fmi3EnterEventMode()
                 where = "fmi3SetClock"
-                if step.periodic:
+                if step.periodic and d.periodic is not None:  # a time-free FMU's tock is due by time
                     inst.fmi3SetClock(fmi3.vr_array([d.by_name[d.periodic].vr]), 1, self.one_clock)
                 for tick in step.early:
-                    self._set_tick(tick)
+                    self.set_tick(tick)
                 while True:
                     where = "read"
-                    record = self._observe(instant, k)
+                    record = self.observe(instant, k)
                     where = "late"
                     for tick in step.late:
                         if tick.at == k:
-                            self._set_tick(tick)
+                            self.set_tick(tick)
                     where = "fmi3UpdateDiscreteStates"
                     need = inst.fmi3UpdateDiscreteStates()[0]
                     record.need = bool(need)
@@ -414,6 +424,113 @@ def _fmi_values(values: dict[str, object]) -> dict[str, object]:
     return out
 
 
+# ---------------------------------------------------------------------------- time: ticking against skipping
+
+
+@dataclass(frozen=True)
+class Timed:
+    """Input clock ticks at a time, ``half`` half time units after the start."""
+
+    half: int
+    ticks: tuple[Tick, ...]
+
+
+def timed_events(rng: random.Random, desc: Description, units: int, *, rate: float = 0.05,
+                 choices: dict[str, list] | None = None) -> list[Timed]:
+    """Random input events over ``units`` time units: at each half unit, each input clock ticks
+    with probability ``rate`` (with a random payload)."""
+    out = []
+    for half in range(1, 2 * units):
+        ticks = [Tick(c, {v.name: random_value(rng, v, choices) for v in desc.clocked[c]})
+                 for c in desc.input_clocks if rng.random() < rate]
+        if ticks:
+            out.append(Timed(half, tuple(ticks)))
+    return out
+
+
+@dataclass
+class TimedTrace:
+    """What a run in time shows: each transition and deadline miss (the FMU's logTransitions and
+    warning messages of its machines), and each super-dense step where an output clock ticks or
+    a state, variable or counter other than ``cycles`` changes, keyed by (time, k); and the
+    number of Event Mode instants the run took."""
+
+    records: list[tuple] = field(default_factory=list)
+    instants: int = 0
+
+
+def run_in_time(folder: Path, events: list[Timed], units: int, parameters: dict[str, object] | None = None,
+                max_k: int = 2000) -> TimedTrace:
+    """Drive the FMU in ``folder`` from 0 to ``units`` time units as a master does: Event Mode
+    at each input event, and at each tick of ``tock`` (a ticking FMU) or at the next event time
+    the FMU announces (a time-free one); DoStep in between."""
+    runner = FmuRunner(folder, logging=True)
+    d, inst = runner.desc, runner.inst
+    names = [f"{inst.name}: {v.name[:-len('.state')]}: " for v in d.states]  # the machines' messages
+    half_unit = d.interval / 2
+    trace = TimedTrace()
+    shown: tuple | None = None
+    try:
+        inst.fmi3EnterInitializationMode(None, 0.0, None)
+        for name, value in (parameters or {}).items():
+            var = d.by_name[name]
+            buf, _, _keep = fmi3.encode(var.type, value if isinstance(value, list) else [value])
+            inst.set(var.type, fmi3.vr_array([var.vr]), 1, buf, n_values=len(value) if isinstance(value, list) else 1)
+        inst.fmi3ExitInitializationMode()
+        half, pending, announced = 0, list(events), None
+        while True:
+            trace.instants += 1
+            if d.periodic is not None and half % 2 == 0:
+                inst.fmi3SetClock(fmi3.vr_array([d.by_name[d.periodic].vr]), 1, runner.one_clock)
+            while pending and pending[0].half == half:
+                for tick in pending.pop(0).ticks:
+                    runner.set_tick(tick)
+            k = 0
+            while True:
+                runner.messages = []
+                step = runner.observe(half, k)
+                trace.records += [("transition", half, k, text) for text in runner.messages if text.startswith(tuple(names))]
+                now = (canonical(step.states), canonical(step.variables), step.dropped, step.misses)
+                if step.outputs or now != shown:
+                    trace.records.append(("step", half, k, canonical(step.outputs), *now, step.cycles))
+                shown = now
+                states = inst.fmi3UpdateDiscreteStates()
+                if not states.discrete_states_need_update:
+                    break
+                k += 1
+                if k > max_k:
+                    raise TooManySteps(f"more than {max_k} super-dense steps at t={half * half_unit}")
+            if d.periodic is None:
+                announced = round(states.next_event_time / half_unit) if states.next_event_time_defined else None
+            candidates = [h for h in (pending[0].half if pending else None, announced,
+                                      half + 2 - half % 2 if d.periodic is not None else None, 2 * units) if h is not None]
+            target = min(candidates)
+            if half >= 2 * units:
+                break
+            if target <= half:
+                trace.records.append(("error", "nextEventTime", f"{states.next_event_time} is not after t={half * half_unit}"))
+                break
+            inst.fmi3EnterStepMode()
+            inst.fmi3DoStep(half * half_unit, (target - half) * half_unit)
+            inst.fmi3EnterEventMode()
+            half = target
+    except fmi3.FMI3Error as exc:
+        trace.records.append(("error", exc.function, " | ".join(runner.errors)))
+    finally:
+        runner.close()
+    return trace
+
+
+def first_time_difference(ticking: TimedTrace, skipping: TimedTrace) -> str | None:
+    """Where the traces of the ticking and the time-free FMU part (None: they are the same)."""
+    for i, (x, y) in enumerate(zip(ticking.records, skipping.records)):
+        if x != y:
+            return f"record {i}:\n  ticking  {x}\n  skipping {y}"
+    if len(ticking.records) != len(skipping.records):
+        return f"lengths differ: ticking {len(ticking.records)} records, skipping {len(skipping.records)}"
+    return None
+
+
 # ---------------------------------------------------------------------------- building
 
 
@@ -469,5 +586,6 @@ def compare(runner: FmuRunner, fmu: ir.Fmu, scenario: Scenario, *, parameters: d
     return got, first_difference(got, expected)
 
 
-__all__ = ["Tick", "Instant", "Scenario", "canonical", "Step", "Error", "Trace", "Var", "Description", "FmuRunner",
+__all__ = ["Timed", "timed_events", "TimedTrace", "run_in_time", "first_time_difference",
+           "Tick", "Instant", "Scenario", "canonical", "Step", "Error", "Trace", "Var", "Description", "FmuRunner",
            "interpret", "random_value", "random_scenario", "build", "Built", "first_difference", "compare", "TooManySteps"]

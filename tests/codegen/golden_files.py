@@ -37,6 +37,7 @@ class Case:
     settings: dict[str, str] = field(default_factory=dict)
     functions: str | None = None  # the C file of the model's user functions, relative to the root
     capacities: tuple[int, ...] = ()  # of collections, per nesting level (default: 32 at every level)
+    time: str = "skip"  # RoboChart time (--time)
 
 
 def _fixture(name: str, semantics: str = "exhaustive") -> Case:
@@ -54,6 +55,7 @@ CASES: dict[str, Case] = {
     "declared": Case("tests/codegen/models/declared.rct", functions="tests/codegen/models/declared.c"),
     "recursive": Case("tests/codegen/models/recursive.rct"),
     "mixed": Case("tests/codegen/models/mixed.rct"),
+    "timers-tick": Case("tests/codegen/models/timers.rct", time="tick"),
 }
 
 
@@ -65,7 +67,7 @@ def render(case: str, root: Path) -> dict[str, str]:
     """The generated files of ``case`` by relative path (the sources of the FMU, no binary)."""
     c = CASES[case]
     model, boundary = front_end([root / c.model])
-    options = LoweringOptions(semantics=c.semantics, settings=dict(c.settings))
+    options = LoweringOptions(semantics=c.semantics, settings=dict(c.settings), time=c.time)
     if c.capacities:
         options.capacity, options.capacities = c.capacities[0], c.capacities
     fmu = lower(model, boundary, options)

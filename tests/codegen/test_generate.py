@@ -168,7 +168,8 @@ def test_config_lists_exactly_the_hooks_model_c_implements(built, name):
         listed = re.search(rf"^#define {macro}\b", config_h, re.M) is not None
         defined = re.search(rf"^static \w+ {hook}\(", model_c, re.M) is not None
         assert listed == defined, (macro, listed, defined)
-    assert "RG_HAS_DO_STEP" not in config_h  # the machines react only in Event Mode
+    # the machines react only in Event Mode; a time-free RoboChart FMU counts the tocks a step passes
+    assert ("RG_HAS_DO_STEP" in config_h) == b.fmu.time_free
     assert "RG_HAS_EVALUATE" in config_h
     if any(v.init is not None for m in b.fmu.machines for v in m.vars if v.kind == "var"):
         assert "#define RG_HAS_EXIT_INITIALIZATION" in config_h

@@ -25,6 +25,10 @@ def add_model_options(p: argparse.ArgumentParser) -> None:
                    help="RoboSim: run a cycle at each tick of 'cycle' (default), or also at any instant an input clock ticks")
     p.add_argument("--time-unit", metavar="SECONDS", default="1",
                    help="seconds per model time unit: the RoboSim period p becomes a clock interval of p x SECONDS; the RoboChart tock period (default 1)")
+    p.add_argument("--time", choices=("skip", "tick"), default="skip",
+                   help="RoboChart time: skip (default) - the FMU counts its tocks itself and announces as nextEventTime the "
+                        "next time unit at which anything can happen, so a master steps over idle time; tick - an input "
+                        "clock tock that the master ticks every time unit (RoboSim FMUs always tick their cycle clock)")
     p.add_argument("--set", metavar="NAME=VALUE", action="append", default=[],
                    help="value of a model constant (repeatable); a constant the model leaves without a value is otherwise an FMU "
                         "parameter that starts at its type's default (0, 0.0, false, the first literal), set by the importer")
@@ -66,6 +70,7 @@ def options_from(args: argparse.Namespace) -> LoweringOptions:
         capacity=capacities[0],
         capacities=capacities if len(capacities) > 1 else (),
         enum_depth=enum_depth,
+        time=args.time,
     )
 
 

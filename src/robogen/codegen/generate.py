@@ -30,6 +30,7 @@ from robogen.codegen.c import (
 from robogen.codegen.collections import CollectionCode, typedef as collection_typedef
 from robogen.codegen.description import model_description
 from robogen.codegen.layout_code import read, views as write_views
+from robogen.codegen.lookahead_code import lookahead_code
 from robogen.diagnostics import DiagnosticSink, Note, RobogenError, Span, error
 from robogen.fmu.modeldesc import Dimension, Variable, instantiation_token
 from robogen.fmu.modeldesc_writer import write_model_description
@@ -558,11 +559,12 @@ class _Layout:
 
     def _build(self) -> None:
         fmu = self.fmu
-        # the periodic clock
-        clock = FmiVar(fmu.clock_name, self._next_vr(), "Clock", "input", "discrete",
-                       interval_variability="constant", interval=_decimal(fmu.clock_interval), shift="0",
-                       description=("one RoboSim cycle" if fmu.language == "robosim" else "one RoboChart time unit (tock)"))
-        self._add_clock(clock, "RG_CLOCK_INPUT_CONSTANT")
+        vr = self._next_vr()  # the periodic clock's; a time-free FMU, which counts its tocks, leaves it unused so
+        if not fmu.time_free:  # that both RoboChart variants number the other variables alike
+            clock = FmiVar(fmu.clock_name, vr, "Clock", "input", "discrete",
+                           interval_variability="constant", interval=_decimal(fmu.clock_interval), shift="0",
+                           description=("one RoboSim cycle" if fmu.language == "robosim" else "one RoboChart time unit (tock)"))
+            self._add_clock(clock, "RG_CLOCK_INPUT_CONSTANT")
         for port in fmu.inputs:
             self._port(port, "input")
         for port in fmu.outputs:
@@ -586,7 +588,7 @@ class _Layout:
                 initial="exact", start=str(m.initial_node), declared_type=enum_name,
                 description=f"the node where state machine {m.name} rests"))
         self.variables.append(FmiVar("cycles", self._next_vr(), "UInt64", "output", "discrete", "cycles", initial="exact", start="0",
-                                     description=f"ticks of {fmu.clock_name} processed"))
+                                     description=f"ticks of {fmu.clock_name} processed" + (" (counted by the FMU: no clock)" if fmu.time_free else "")))
         self.variables.append(FmiVar("dropped_events", self._next_vr(), "UInt64", "output", "discrete", "dropped_events", initial="exact", start="0",
                                      description="input events overwritten by a newer one before a machine used them"))
         self.variables.append(FmiVar("deadline_misses", self._next_vr(), "UInt64", "output", "discrete", "deadline_misses", initial="exact", start="0",
@@ -715,9 +717,10 @@ def _machine_code(fmu: ir.Fmu, em: Emitter, line_comments: bool) -> dict:
             value = em.expr(v.init)
             inits.append((f"m->v_{em.names.vars[v]}", value, em.fallible, v.name))
     labels = [c_string(f"b{b.id}: {b.label}" + (f" ({fmu.place(b.span)})" if b.span else "")) for b in m.blocks]
+    lookahead = lookahead_code(fmu, em, line_comments) if fmu.time_free else []
     parts = [cases[k:k + PART_SIZE] for k in range(0, len(cases), PART_SIZE)]
     return dict(machine=m, names=em.own, cases=cases, parts=parts, part_size=PART_SIZE, inits=inits, labels=labels,
-                equalities=em.equalities, texts=em.texts, helpers=em.helpers,
+                lookahead=lookahead, equalities=em.equalities, texts=em.texts, helpers=em.helpers,
                 event_types=[(e.index, ctype(e.type) if e.type is not None else None) for e in m.events])
 
 
@@ -731,7 +734,10 @@ def _hooks(fmu: ir.Fmu, machines: list[dict]) -> list[tuple[str, str]]:
     if any(p.routes for p in fmu.inputs):
         hooks.append(("RG_HAS_LATCH", "input clocks carry events to the state machines"))
     hooks.append(("RG_HAS_EVALUATE", "the state machines run in Event Mode"))
-    hooks.append(("RG_HAS_UPDATE", "a stepwise cycle, or an event waiting, needs another instant"))
+    hooks.append(("RG_HAS_UPDATE", "a stepwise cycle, or an event waiting, needs another instant" +
+                  ("; the next tock at which anything can happen is the next event time" if fmu.time_free else "")))
+    if fmu.time_free:
+        hooks.append(("RG_HAS_DO_STEP", "the tocks a step passes are counted (none of them can do anything)"))
     return hooks
 
 

@@ -50,11 +50,14 @@ def script(desc: differential.Description, scenarios: list[differential.Scenario
     for c in desc.output_clocks:
         lines.append(f"clock {desc.by_name[c].vr}")
         lines += _group("clocked", desc.clocked[c])
+    # a time-free RoboChart FMU (--time skip) has no periodic clock: its tocks are due by time, on
+    # the grid the replay steps on, and nothing is set for them (vr 0 stands for the clock unused)
+    ticking = desc.periodic is not None
     for scenario in scenarios:
-        lines.append(f"periodic {desc.by_name[desc.periodic].vr} {float(desc.interval).hex()} {int(scenario.half)}")
+        lines.append(f"periodic {desc.by_name[desc.periodic].vr if ticking else 0} {float(desc.interval).hex()} {int(scenario.half)}")
         lines.append("scenario")
         for instant in scenario:
-            lines.append(f"instant {int(instant.periodic)}")
+            lines.append(f"instant {int(instant.periodic and ticking)}")
             for tick, at in [(t, -1) for t in instant.early] + [(t, t.at) for t in instant.late]:
                 lines.append(f"tick {at} {desc.by_name[tick.clock].vr}")
                 for name, value in tick.payload.items():

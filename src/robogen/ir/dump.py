@@ -22,7 +22,8 @@ def dump(fmu: ir.Fmu) -> str:
     out = [
         f"fmu {fmu.name} ({fmu.model_identifier}) {fmu.language} {fmu.semantics}"
         + (f" trigger={fmu.trigger}" if fmu.language == "robosim" else ""),
-        f"  clock {fmu.clock_name}: every {_num(fmu.period)} time unit(s) x {_num(fmu.time_unit)} s = {_num(fmu.clock_interval)} s",
+        f"  {'time' if fmu.time_free else 'clock'} {fmu.clock_name}: every {_num(fmu.period)} time unit(s) x "
+        f"{_num(fmu.time_unit)} s = {_num(fmu.clock_interval)} s" + (", idle ones skipped" if fmu.time_free else ""),
     ]
     for p in fmu.inputs:
         out.append(f"  input {p.name}" + _fields(p) + "".join(f" -> m{m}.e{e}" for m, e in p.routes))

@@ -37,6 +37,7 @@ from robogen.ir import finite
 from robogen.ir import model as ir
 from robogen.ir.constants import default_value
 from robogen.ir.layout import build, gather, leaves
+from robogen.ir.lookahead import first_change, lookaheads
 from robogen.ir.supported import ArrayT
 from robogen.semantics import types as T
 
@@ -133,6 +134,7 @@ class Interpreter:
         self.active: dict[str, dict[str, object]] = {}
         self.evaluated = False
         self.trace: list[str] = []  # transitions taken (the logTransitions messages)
+        self._lookaheads = [lookaheads(m) for m in fmu.machines] if fmu.robochart else []
         self.reset()
 
     # ------------------------------------------------------------------ life cycle
@@ -290,6 +292,55 @@ class Interpreter:
         self.active = {}
         self.evaluated = False
         return need
+
+    # ------------------------------------------------------------------ time for free (RoboChart, --time skip)
+
+    def idle_tocks(self) -> int | None:
+        """After an instant that needs no other: in how many tocks from the last one counted
+        something can happen (robogen.ir.lookahead; at least 1), None for never (until an event
+        comes). The generated FMU announces that tock's time as nextEventTime."""
+        wakes = [self._wake(m, ms) for m, ms in zip(self.fmu.machines, self.machines)]
+        known = [w for w in wakes if w is not None]
+        return min(known) if known else None
+
+    def pass_idle(self, tocks: int) -> None:
+        """``tocks`` tocks at which nothing can happen: counted as the ticking FMU counts them
+        (``cycles``, each machine's ticks and wait), with no machine run."""
+        self.cycles += tocks
+        for ms in self.machines:
+            ms.ticks += tocks
+            if ms.wait_left > 0:
+                ms.wait_left = max(0, ms.wait_left - tocks)
+
+    def _wake(self, m: ir.Machine, ms: MachineState) -> int | None:
+        la = self._lookaheads[m.index].get(ms.pc)
+        if la is None or ms.in_cycle:
+            return 1
+        try:
+            if any(self._shifted(ms, 1, lambda t=t: self._eval(t, m, ms)) for t in la.tests):
+                return 1
+            wake = None
+            for atom in la.atoms:
+                def sign(k: int, atom: ir.Bin = atom) -> int:
+                    a, b = self._shifted(ms, k, lambda: (self._eval(atom.left, m, ms), self._eval(atom.right, m, ms)))
+                    return (a > b) - (a < b)
+                k = first_change(sign)
+                wake = k if wake is None else min(wake, k)
+        except RuntimeFault:
+            return 1
+        return wake
+
+    @staticmethod
+    def _shifted(ms: MachineState, k: int, compute):
+        """``compute()`` as ``k`` tocks from now would see it."""
+        ticks, wait = ms.ticks, ms.wait_left
+        ms.ticks += k
+        if wait > 0:
+            ms.wait_left = max(0, wait - k)
+        try:
+            return compute()
+        finally:
+            ms.ticks, ms.wait_left = ticks, wait
 
     def _instant(self) -> Instant:
         return Instant(dict(self.active), tuple(ms.node for ms in self.machines))

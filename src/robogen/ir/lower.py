@@ -37,6 +37,7 @@ class LoweringOptions:
     capacity: int = 32  # the most elements a set or sequence holds
     capacities: tuple[int, ...] = ()  # per nesting level, outermost first (--capacity 32,8); empty: capacity at every level
     enum_depth: int = ENUM_DEPTH  # the levels of a recursive enumeration's values (robogen.ir.supported.Shapes)
+    time: str = "skip"  # RoboChart: skip (the FMU announces its next event time) | tick (the tock clock)
 
 
 def lower(model: SemanticModel, boundary: Boundary, options: LoweringOptions | None = None) -> ir.Fmu:
@@ -80,6 +81,7 @@ def _header(model: SemanticModel, b: Boundary, options: LoweringOptions) -> ir.F
         capacity=options.capacities[0] if options.capacities else options.capacity,
         capacities=options.capacities if len(set(options.capacities)) > 1 else (),
         root=model.root,
+        time=options.time if language == "robochart" else "tick",
     )
 
 

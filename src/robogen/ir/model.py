@@ -581,6 +581,10 @@ class Fmu:
     # level; ``--capacity 32,8``); empty: ``capacity`` at every level
     capacities: tuple[int, ...] = ()
     root: str = ""  # the workspace root (absolute), to which generated files name model files
+    # RoboChart time (robogen compile --time): "skip", tocks are the FMU's own and it announces the
+    # next time anything can happen as nextEventTime (robogen.ir.lookahead); "tick", the master
+    # ticks the periodic clock tock every time unit. RoboSim FMUs always tick their cycle clock.
+    time: str = "tick"
     # what lowering warns about (constants that become parameters without a value, renamed
     # ports); the front end prints them. Not in the dump: they restate the model's meaning.
     warnings: list = field(default_factory=list)
@@ -620,3 +624,8 @@ class Fmu:
     @property
     def robochart(self) -> bool:
         return self.language == "robochart"
+
+    @property
+    def time_free(self) -> bool:
+        """A RoboChart FMU whose tocks are its own (no tock clock): ``time == "skip"``."""
+        return self.language == "robochart" and self.time == "skip"

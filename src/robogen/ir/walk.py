@@ -38,6 +38,11 @@ def _children(node: object) -> Iterator[object]:
                 stack.extend(reversed(v))
 
 
+def children(node: object) -> Iterator[object]:
+    """The IR nodes directly inside ``node`` (for the other passes that walk expressions)."""
+    return _children(node)
+
+
 def expressions(fmu: ir.Fmu) -> Iterator[ir.Expr]:
     """Every expression node of every machine (variable initialisers, statements, guards),
     outermost first."""
@@ -75,4 +80,4 @@ def value_types(fmu: ir.Fmu) -> Iterator[T.Type]:
         yield e.type
 
 
-__all__ = ["expressions", "value_types"]
+__all__ = ["children", "expressions", "value_types"]

@@ -312,4 +312,91 @@ static inline double rg_random_real(uint64_t *state)
     return (double)(rg_random_next(state) >> 11) * (1.0 / 9007199254740992.0);
 }
 
+/* ---- RoboChart time for free (robogen compile --time skip; robogen.ir.lookahead) ------------ */
+#ifdef RG_TIME_FREE
+/* config.h defines RG_TIME_FREE and RG_TOCK_SECONDS (one time unit in seconds); the FMU has no
+ * tock clock: tock k is due at start + k * RG_TOCK_SECONDS, and rg_model_data.cycles counts those
+ * processed. After each event iteration the FMU announces as nextEventTime the first tock at which
+ * a machine may do something (rg_wake_<i>); the tocks before it pass idle: counted, no machine run. */
+
+#define RG_NEVER UINT64_MAX                        /* no tock: nothing happens until an event comes */
+#define RG_LOOKAHEAD_HORIZON (UINT64_C(1) << 40)   /* the most tocks looked ahead (robogen.ir.lookahead.HORIZON) */
+
+static double rg_tock_time(const rg_instance *inst, uint64_t k) RG_MAYBE_UNUSED;
+static double rg_tock_time(const rg_instance *inst, uint64_t k)
+{
+    return inst->s.start_time + (double)k * RG_TOCK_SECONDS; /* rg_tick_time's grid, shift 0 */
+}
+
+/* The number of tocks due by time t: those at or before it (under the time tolerance), >= 1. */
+static uint64_t rg_tocks_by(const rg_instance *inst, double t) RG_MAYBE_UNUSED;
+static uint64_t rg_tocks_by(const rg_instance *inst, double t)
+{
+    double n = floor((t - inst->s.start_time) / RG_TOCK_SECONDS);
+    uint64_t k = n < 0.0 ? 0 : (n > 4.0e18 ? UINT64_C(4000000000000000000) : (uint64_t)n);
+    while (k > 0 && !(rg_tock_time(inst, k) <= t || rg_time_equal(rg_tock_time(inst, k), t))) --k;
+    while (rg_tock_time(inst, k + 1) <= t || rg_time_equal(rg_tock_time(inst, k + 1), t)) ++k;
+    return k + 1;
+}
+
+/* A machine's tick count and wait counter as k tocks from now would show them, and back. */
+typedef struct {
+    uint64_t ticks;
+    int64_t wait_left;
+} rg_tock_shift;
+
+static rg_tock_shift rg_shift_tocks(uint64_t *ticks, int64_t *wait_left, uint64_t k) RG_MAYBE_UNUSED;
+static rg_tock_shift rg_shift_tocks(uint64_t *ticks, int64_t *wait_left, uint64_t k)
+{
+    rg_tock_shift saved;
+    saved.ticks = *ticks;
+    saved.wait_left = *wait_left;
+    *ticks += k;
+    if (*wait_left > 0) *wait_left = (uint64_t)*wait_left > k ? *wait_left - (int64_t)k : 0;
+    return saved;
+}
+
+static void rg_unshift_tocks(uint64_t *ticks, int64_t *wait_left, rg_tock_shift saved) RG_MAYBE_UNUSED;
+static void rg_unshift_tocks(uint64_t *ticks, int64_t *wait_left, rg_tock_shift saved)
+{
+    *ticks = saved.ticks;
+    *wait_left = saved.wait_left;
+}
+
+/* The result of a look-ahead that evaluated model expressions: a run-time error in them means the
+ * machine must run at the next tock (where the ticking FMU meets the same error). */
+static bool rg_lookahead_fault(rg_model_data *d) RG_MAYBE_UNUSED;
+static bool rg_lookahead_fault(rg_model_data *d)
+{
+    if (d->fault == RG_FAULT_NONE) return false;
+    d->fault = RG_FAULT_NONE;
+    return true;
+}
+
+/* min(wake, the least k >= 2 at which sign(inst, k) differs from sign(inst, 1)), sign being
+ * monotone in k; RG_LOOKAHEAD_HORIZON if it does not change up to there. Doubling, then bisection:
+ * robogen.ir.lookahead.first_change, step for step. */
+static uint64_t rg_first_change(rg_instance *inst, int (*sign)(rg_instance *, uint64_t), uint64_t wake) RG_MAYBE_UNUSED;
+static uint64_t rg_first_change(rg_instance *inst, int (*sign)(rg_instance *, uint64_t), uint64_t wake)
+{
+    int first = sign(inst, 1);
+    uint64_t low = 1, high = 2, found;
+    while (high <= RG_LOOKAHEAD_HORIZON && sign(inst, high) == first) {
+        low = high;
+        high *= 2;
+    }
+    if (high > RG_LOOKAHEAD_HORIZON) {
+        found = RG_LOOKAHEAD_HORIZON;
+    } else {
+        while (high - low > 1) {
+            uint64_t mid = low + (high - low) / 2;
+            if (sign(inst, mid) == first) low = mid;
+            else high = mid;
+        }
+        found = high;
+    }
+    return found < wake ? found : wake;
+}
+#endif /* RG_TIME_FREE */
+
 #endif /* ROBOGEN_MACHINE_H */

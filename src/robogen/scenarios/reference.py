@@ -8,7 +8,10 @@ scenario on both and reports the first row where the results differ (:func:`firs
 
 An instant is computed at its first read (a Get or GetClock) or at ``fmi3UpdateDiscreteStates``,
 as the generated runtime does: the input clocks set before it (with their clocked values) are
-latched, the periodic clock (``cycle`` or ``tock``) makes it a periodic instant.
+latched, the periodic clock (``cycle`` or ``tock``) makes it a periodic instant. A time-free
+RoboChart FMU (``--time skip``) has no tock clock: the binding counts the tocks by time as the
+generated C does (a tock due at the instant's time makes it periodic, those a step passes are idle)
+and announces the interpreter's look-ahead (:meth:`Interpreter.idle_tocks`) as nextEventTime.
 """
 
 from __future__ import annotations
@@ -18,7 +21,7 @@ from fractions import Fraction
 from typing import Sequence
 
 from robogen.cosim.fmi3 import FUNCTION_CODE, UNLISTED, CallNotes, DiscreteStates, FMI3Error, StepResult
-from robogen.fmu.fmi import ERROR
+from robogen.fmu.fmi import ERROR, same_time
 from robogen.fmu.modeldesc import ModelDescription
 from robogen.ir import model as ir
 from robogen.ir.interp import Instant, Interpreter, RuntimeFault
@@ -45,6 +48,8 @@ class InterpreterBinding:
         self.event_mode = False  # reads compute the instant only in Event Mode,
         self.open = False  # and only while an instant is open (not after an update that needs no other)
         self.last_message = ""
+        self.start = self.time = 0.0  # a time-free FMU's tocks: at start + k * unit
+        self.next_tock: int | None = 0  # the first tock at which anything can happen (None: none before an event)
 
     # -- what the master asks of a binding -------------------------------------------------------
     @property
@@ -72,6 +77,7 @@ class InterpreterBinding:
         self._instantiated = False
 
     def fmi3EnterInitializationMode(self, tolerance, startTime: float, stopTime: float | None) -> int:
+        self.start = self.time = startTime
         return 0
 
     def fmi3ExitInitializationMode(self) -> int:
@@ -97,6 +103,8 @@ class InterpreterBinding:
 
     def fmi3Reset(self) -> int:
         self.interp, self.shown, self.ticking = None, None, {}
+        self.start = self.time = 0.0
+        self.next_tock = 0
         return 0
 
     # -- instants --------------------------------------------------------------------------------
@@ -111,7 +119,7 @@ class InterpreterBinding:
             try:
                 for clock, payload in self.ticking.items():
                     self.interp.latch(clock, payload)
-                self.shown = self.interp.evaluate(self.tick_periodic)
+                self.shown = self.interp.evaluate(self.tick_periodic or self._tock_now())
             except RuntimeFault as exc:
                 raise self._fault(function, exc) from None
         return self.shown
@@ -123,12 +131,48 @@ class InterpreterBinding:
         except RuntimeFault as exc:
             raise self._fault("fmi3UpdateDiscreteStates", exc) from None
         self.shown, self.ticking, self.tick_periodic, self.open = None, {}, False, need
-        return DiscreteStates(need, False, False, 0.0)
+        if need or not self.fmu.time_free:
+            return DiscreteStates(need, False, False, 0.0)
+        wake = self.interp.idle_tocks()
+        self.next_tock = None if wake is None else self.interp.cycles - 1 + wake
+        return DiscreteStates(False, False, wake is not None, self._tock_time(self.next_tock or 0))
 
     def fmi3DoStep(self, currentCommunicationPoint: float, communicationStepSize: float,
                    noSetFMUStatePriorToCurrentPoint: bool = True) -> StepResult:
         end = currentCommunicationPoint + communicationStepSize
+        if self.fmu.time_free and self.interp is not None:
+            due = self._tocks_by(end)
+            if self.next_tock is not None:
+                due = min(due, self.next_tock)
+            if due > self.interp.cycles:
+                self.interp.pass_idle(due - self.interp.cycles)
+            if self.next_tock is not None and self._tock_time(self.next_tock) < end and \
+                    not same_time(self._tock_time(self.next_tock), end):
+                self.next_tock = None  # passed (the generated C warns): taken late, at the next Event Mode
+        self.time = end
         return StepResult(False, False, False, end)
+
+    # -- a time-free FMU's tocks (robogen_machine.h's rg_tocks_by, rg_tock_now) -------------------
+    def _tock_time(self, k: int) -> float:
+        return self.start + k * float(self.fmu.clock_interval)
+
+    def _tocks_by(self, t: float) -> int:
+        """The tocks due by time t: those at or before it, under the time tolerance."""
+        k = max(0, math.floor((t - self.start) / float(self.fmu.clock_interval)))
+        while k > 0 and not (self._tock_time(k) <= t or same_time(self._tock_time(k), t)):
+            k -= 1
+        while self._tock_time(k + 1) <= t or same_time(self._tock_time(k + 1), t):
+            k += 1
+        return k + 1
+
+    def _tock_now(self) -> bool:
+        """Is a tock of a time-free FMU due at this instant's time (the idle ones before it counted)?"""
+        if not self.fmu.time_free or self.interp is None:
+            return False
+        due = self._tocks_by(self.time)
+        if due > self.interp.cycles + 1:
+            self.interp.pass_idle(due - 1 - self.interp.cycles)
+        return due > self.interp.cycles
 
     def fmi3SetClock(self, vrs, n: int, values) -> int:
         self.open = True

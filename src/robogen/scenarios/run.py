@@ -4,7 +4,8 @@
 one instance, ``model``, driven by the scenario (``[instances.model] scenario = ...``, see
 :mod:`robogen.cosim.player`), and runs it with :func:`robogen.cosim.simulate_system`. The
 experiment: ``stop`` and ``step`` from the command line, else from the scenario file; the step
-defaults to the interval of the FMU's periodic clock (``cycle`` or ``tock``), else 0.1 s.
+defaults to the interval of the FMU's periodic clock (``cycle`` or ``tock``), else the step of its
+default experiment (a time-free RoboChart FMU's time unit), else 0.1 s.
 """
 
 from __future__ import annotations
@@ -77,7 +78,9 @@ def experiment(scenario: Scenario, md: ModelDescription, stop: float | None, ste
         step = scenario.number("step")
     if step is None:
         periodic = [v.interval for v in md.variables if v.is_clock and v.causality == "input" and v.interval]
-        step = min(periodic, default=DEFAULT_STEP)
+        default = md.default_experiment.step_size if md.default_experiment is not None else None
+        # a RoboChart FMU without its tock clock (--time skip) gives its time unit as the default step
+        step = min(periodic) if periodic else float(default) if default else DEFAULT_STEP
     return stop, step
 
 

@@ -232,23 +232,21 @@ static rg_set_i rg_canon_set_i(rg_model_data *d, rg_set_i s)
 
 /* indices into rg_clocks */
 enum {
-    CLOCK_tock = 0,  /* one RoboChart time unit (tock) */
-    CLOCK_add = 1,  /* input event add */
-    CLOCK_drop = 2,  /* input event drop */
-    CLOCK_pick = 3,  /* input event pick */
-    CLOCK_pair = 4,  /* input event pair */
-    CLOCK_clear = 5,  /* input event clear */
-    CLOCK_load = 6,  /* input event load */
-    CLOCK_count = 7,  /* output event count */
-    CLOCK_items = 8,  /* output event items */
-    CLOCK_members = 9,  /* output event members */
-    CLOCK_first = 10,  /* output event first */
-    CLOCK_found = 11,  /* output event found */
-    CLOCK_swapped = 12,  /* output event swapped */
+    CLOCK_add = 0,  /* input event add */
+    CLOCK_drop = 1,  /* input event drop */
+    CLOCK_pick = 2,  /* input event pick */
+    CLOCK_pair = 3,  /* input event pair */
+    CLOCK_clear = 4,  /* input event clear */
+    CLOCK_load = 5,  /* input event load */
+    CLOCK_count = 6,  /* output event count */
+    CLOCK_items = 7,  /* output event items */
+    CLOCK_members = 8,  /* output event members */
+    CLOCK_first = 9,  /* output event first */
+    CLOCK_found = 10,  /* output event found */
+    CLOCK_swapped = 11,  /* output event swapped */
 };
 
 static const rg_clock rg_clocks[RG_CLOCK_ARRAY_SIZE] = {
-    { 1, "tock", RG_CLOCK_INPUT_CONSTANT, 1, 0.0 },
     { 2, "add", RG_CLOCK_INPUT_TRIGGERED, 0.0, 0.0 },
     { 4, "drop", RG_CLOCK_INPUT_TRIGGERED, 0.0, 0.0 },
     { 6, "pick", RG_CLOCK_INPUT_TRIGGERED, 0.0, 0.0 },
@@ -264,35 +262,34 @@ static const rg_clock rg_clocks[RG_CLOCK_ARRAY_SIZE] = {
 };
 
 static const rg_variable rg_variables[RG_NUM_VARIABLES] = {
-    { 1, "tock", RG_CLOCK, RG_INPUT, RG_DISCRETE, -1, 0, 1, true },
     { 2, "add", RG_CLOCK, RG_INPUT, RG_DISCRETE, -1, 0, 1, true },
-    { 3, "add.value", RG_INT64, RG_INPUT, RG_DISCRETE, 1, offsetof(rg_model_data, in_add_value), 1, true },
+    { 3, "add.value", RG_INT64, RG_INPUT, RG_DISCRETE, 0, offsetof(rg_model_data, in_add_value), 1, true },
     { 4, "drop", RG_CLOCK, RG_INPUT, RG_DISCRETE, -1, 0, 1, true },
-    { 5, "drop.value", RG_INT64, RG_INPUT, RG_DISCRETE, 2, offsetof(rg_model_data, in_drop_value), 1, true },
+    { 5, "drop.value", RG_INT64, RG_INPUT, RG_DISCRETE, 1, offsetof(rg_model_data, in_drop_value), 1, true },
     { 6, "pick", RG_CLOCK, RG_INPUT, RG_DISCRETE, -1, 0, 1, true },
-    { 7, "pick.value", RG_UINT64, RG_INPUT, RG_DISCRETE, 3, offsetof(rg_model_data, in_pick_value), 1, true },
+    { 7, "pick.value", RG_UINT64, RG_INPUT, RG_DISCRETE, 2, offsetof(rg_model_data, in_pick_value), 1, true },
     { 8, "pair", RG_CLOCK, RG_INPUT, RG_DISCRETE, -1, 0, 1, true },
-    { 9, "pair._1", RG_UINT64, RG_INPUT, RG_DISCRETE, 4, offsetof(rg_model_data, in_pair__1), 1, true },
-    { 10, "pair._2", RG_INT64, RG_INPUT, RG_DISCRETE, 4, offsetof(rg_model_data, in_pair__2), 1, true },
+    { 9, "pair._1", RG_UINT64, RG_INPUT, RG_DISCRETE, 3, offsetof(rg_model_data, in_pair__1), 1, true },
+    { 10, "pair._2", RG_INT64, RG_INPUT, RG_DISCRETE, 3, offsetof(rg_model_data, in_pair__2), 1, true },
     { 11, "clear", RG_CLOCK, RG_INPUT, RG_DISCRETE, -1, 0, 1, true },
     { 12, "load", RG_CLOCK, RG_INPUT, RG_DISCRETE, -1, 0, 1, true },
-    { 13, "load.value.elements", RG_INT64, RG_INPUT, RG_DISCRETE, 6, offsetof(rg_model_data, in_load_value_elements), 32, true },
-    { 14, "load.value.size", RG_UINT64, RG_INPUT, RG_DISCRETE, 6, offsetof(rg_model_data, in_load_value_size), 1, true },
+    { 13, "load.value.elements", RG_INT64, RG_INPUT, RG_DISCRETE, 5, offsetof(rg_model_data, in_load_value_elements), 32, true },
+    { 14, "load.value.size", RG_UINT64, RG_INPUT, RG_DISCRETE, 5, offsetof(rg_model_data, in_load_value_size), 1, true },
     { 15, "count", RG_CLOCK, RG_OUTPUT, RG_DISCRETE, -1, 0, 1, false },
-    { 16, "count.value", RG_UINT64, RG_OUTPUT, RG_DISCRETE, 7, offsetof(rg_model_data, out_count_value), 1, false },
+    { 16, "count.value", RG_UINT64, RG_OUTPUT, RG_DISCRETE, 6, offsetof(rg_model_data, out_count_value), 1, false },
     { 17, "items", RG_CLOCK, RG_OUTPUT, RG_DISCRETE, -1, 0, 1, false },
-    { 18, "items.value.elements", RG_INT64, RG_OUTPUT, RG_DISCRETE, 8, offsetof(rg_model_data, out_items_value_elements), 32, false },
-    { 19, "items.value.size", RG_UINT64, RG_OUTPUT, RG_DISCRETE, 8, offsetof(rg_model_data, out_items_value_size), 1, false },
+    { 18, "items.value.elements", RG_INT64, RG_OUTPUT, RG_DISCRETE, 7, offsetof(rg_model_data, out_items_value_elements), 32, false },
+    { 19, "items.value.size", RG_UINT64, RG_OUTPUT, RG_DISCRETE, 7, offsetof(rg_model_data, out_items_value_size), 1, false },
     { 20, "members", RG_CLOCK, RG_OUTPUT, RG_DISCRETE, -1, 0, 1, false },
-    { 21, "members.value.elements", RG_INT64, RG_OUTPUT, RG_DISCRETE, 9, offsetof(rg_model_data, out_members_value_elements), 32, false },
-    { 22, "members.value.size", RG_UINT64, RG_OUTPUT, RG_DISCRETE, 9, offsetof(rg_model_data, out_members_value_size), 1, false },
+    { 21, "members.value.elements", RG_INT64, RG_OUTPUT, RG_DISCRETE, 8, offsetof(rg_model_data, out_members_value_elements), 32, false },
+    { 22, "members.value.size", RG_UINT64, RG_OUTPUT, RG_DISCRETE, 8, offsetof(rg_model_data, out_members_value_size), 1, false },
     { 23, "first", RG_CLOCK, RG_OUTPUT, RG_DISCRETE, -1, 0, 1, false },
-    { 24, "first.value", RG_INT64, RG_OUTPUT, RG_DISCRETE, 10, offsetof(rg_model_data, out_first_value), 1, false },
+    { 24, "first.value", RG_INT64, RG_OUTPUT, RG_DISCRETE, 9, offsetof(rg_model_data, out_first_value), 1, false },
     { 25, "found", RG_CLOCK, RG_OUTPUT, RG_DISCRETE, -1, 0, 1, false },
-    { 26, "found.value", RG_BOOLEAN, RG_OUTPUT, RG_DISCRETE, 11, offsetof(rg_model_data, out_found_value), 1, false },
+    { 26, "found.value", RG_BOOLEAN, RG_OUTPUT, RG_DISCRETE, 10, offsetof(rg_model_data, out_found_value), 1, false },
     { 27, "swapped", RG_CLOCK, RG_OUTPUT, RG_DISCRETE, -1, 0, 1, false },
-    { 28, "swapped._1", RG_INT64, RG_OUTPUT, RG_DISCRETE, 12, offsetof(rg_model_data, out_swapped__1), 1, false },
-    { 29, "swapped._2", RG_UINT64, RG_OUTPUT, RG_DISCRETE, 12, offsetof(rg_model_data, out_swapped__2), 1, false },
+    { 28, "swapped._1", RG_INT64, RG_OUTPUT, RG_DISCRETE, 11, offsetof(rg_model_data, out_swapped__1), 1, false },
+    { 29, "swapped._2", RG_UINT64, RG_OUTPUT, RG_DISCRETE, 11, offsetof(rg_model_data, out_swapped__2), 1, false },
     { 30, "Bag.state", RG_INT64, RG_OUTPUT, RG_DISCRETE, -1, offsetof(rg_model_data, m0.node), 1, false },
     { 31, "cycles", RG_UINT64, RG_OUTPUT, RG_DISCRETE, -1, offsetof(rg_model_data, cycles), 1, false },
     { 32, "dropped_events", RG_UINT64, RG_OUTPUT, RG_DISCRETE, -1, offsetof(rg_model_data, dropped_events), 1, false },
@@ -621,10 +618,94 @@ static void rg_model_latch(rg_instance *inst, int clock_index)
     }
 }
 
+/* ---- time for free (robogen.ir.lookahead): the FMU counts its tocks --------------------------- */
+
+/* b1: EVAL Idle (collections.rct:42): is a test true one tock from now (or in error)? */
+static bool rg_probe_0_1(rg_instance *inst)
+{
+    rg_model_data *d = &inst->s.data;
+    rg_machine_0 *m = &d->m0;
+    rg_tock_shift saved = rg_shift_tocks(&m->ticks, &m->wait_left, 1);
+    bool any = false;
+    any = any || ((m->smp_present[Bag_Event_add] && (((m->v_q).n) < UINT64_C(4))));  /* (present(e0) /\ (size<nat>(q) @line 44 < 4)) */
+    any = any || ((m->smp_present[Bag_Event_add] && (((m->v_q).n) >= UINT64_C(4))));  /* (present(e0) /\ (size<nat>(q) @line 46 >= 4)) */
+    any = any || (m->smp_present[Bag_Event_drop]);  /* present(e1) */
+    any = any || (m->smp_present[Bag_Event_pick]);  /* present(e2) */
+    any = any || (m->smp_present[Bag_Event_pair]);  /* present(e3) */
+    any = any || (m->smp_present[Bag_Event_load]);  /* present(e5) */
+    any = any || ((m->smp_present[Bag_Event_clear] && ((((m->v_q).n) > UINT64_C(0)) || ((m->v_v == INT64_C(5)) && (m->v_k == UINT64_C(5))))));  /* (present(e4) /\ ((size<nat>(q) @line 57 > 0) \/ ((v == 5) /\ (k == 5)))) */
+    rg_unshift_tocks(&m->ticks, &m->wait_left, saved);
+    return rg_lookahead_fault(d) || any;
+}
+
+/* Tocks from the last one counted to the first at which Bag may do something (at least 1),
+ * RG_NEVER if none comes before an event (robogen.ir.lookahead). */
+static uint64_t rg_wake_0(rg_instance *inst)
+{
+    rg_machine_0 *m = &inst->s.data.m0;
+    uint64_t wake = RG_NEVER;
+    if (m->in_cycle) return 1;
+    switch (m->pc) {
+    case 1: /* the resume point b1, EVAL Idle */
+        if (rg_probe_0_1(inst)) return 1;
+        break;
+    default: /* a resume point that cannot be looked ahead of: it runs at every tock */
+        return 1;
+    }
+    return rg_lookahead_fault(&inst->s.data) ? 1 : wake;
+}
+
+/* `tocks` tocks at which no machine can do anything: counted as the ticking FMU counts them, no
+ * machine run (they all rest where the last look-ahead saw them). */
+static void rg_pass_idle(rg_model_data *d, uint64_t tocks)
+{
+    d->cycles += tocks;
+    d->m0.ticks += tocks;
+    if (d->m0.wait_left > 0)
+        d->m0.wait_left = (uint64_t)d->m0.wait_left > tocks ? d->m0.wait_left - (int64_t)tocks : 0;
+}
+
+/* Is a tock due at this instant's time? The tocks due before it are idle ones a step passed (the
+ * importer steps no further than the next event time), counted here if the step did not. */
+static bool rg_tock_now(rg_instance *inst)
+{
+    rg_model_data *d = &inst->s.data;
+    uint64_t due = rg_tocks_by(inst, inst->s.time);
+    if (due > d->cycles + 1) rg_pass_idle(d, due - 1 - d->cycles);
+    return due > d->cycles;
+}
+
+/* The step counts the idle tocks it passes: those before the next event time, which a master
+ * reaches and handles in Event Mode. An importer that ignores nextEventTime (fmpy's simulate_fmu)
+ * passes it: warned, the machines take that tock at its next Event Mode, late. */
+static fmi3Status rg_model_do_step(rg_instance *inst, double t_end, bool *event_handling_needed,
+                                   bool *terminate_simulation, double *last_successful_time)
+{
+    rg_model_data *d = &inst->s.data;
+    uint64_t due;
+    (void)event_handling_needed;
+    (void)terminate_simulation;
+    (void)last_successful_time;
+    if (!inst->event_mode_used) return fmi3OK; /* without Event Mode no machine runs, as with a tock clock */
+    due = rg_tocks_by(inst, t_end);
+    if (due > d->next_tock) due = d->next_tock; /* the tock at the next event time is Event Mode's */
+    if (due > d->cycles) rg_pass_idle(d, due - d->cycles);
+    if (d->next_tock != RG_NEVER && rg_tock_time(inst, d->next_tock) < t_end &&
+        !rg_time_equal(rg_tock_time(inst, d->next_tock), t_end)) {
+        rg_log(inst, RG_LOG_WARNING, fmi3Warning, "fmi3DoStep: the step to t=%.17g passes the next event time t=%.17g "
+               "(tock %llu) that fmi3UpdateDiscreteStates announced: the machines take it at the next Event Mode, late "
+               "(step to the next event time and enter Event Mode there)",
+               t_end, rg_tock_time(inst, d->next_tock), (unsigned long long)d->next_tock);
+        d->next_tock = RG_NEVER; /* warned once; the next Event Mode counts the tocks up to its time */
+        return fmi3Warning;
+    }
+    return fmi3OK;
+}
+
 static fmi3Status rg_model_evaluate(rg_instance *inst)
 {
     rg_model_data *d = &inst->s.data;
-    bool periodic = inst->s.clock_active[CLOCK_tock];
+    bool periodic = rg_tock_now(inst);
     d->fault = RG_FAULT_NONE;
     if (periodic) d->cycles++;
     {
@@ -653,16 +734,24 @@ static fmi3Status rg_model_update(rg_instance *inst, bool *discrete_states_need_
                                   bool *terminate_simulation, bool *next_event_time_defined,
                                   double *next_event_time)
 {
-    const rg_model_data *d = &inst->s.data;
+    rg_model_data *d = &inst->s.data;
+    uint64_t wake = RG_NEVER;
     bool need = false;
     (void)terminate_simulation;
-    (void)next_event_time_defined;
-    (void)next_event_time;
     need = need || d->m0.in_cycle;
     {
         size_t e;
         for (e = 0; e < 12; e++) need = need || d->m0.reg_present[e];
     }
     *discrete_states_need_update = need;
+    if (need) return fmi3OK; /* the machines are not at rest yet */
+    {
+        uint64_t w = rg_wake_0(inst);
+        if (w < wake) wake = w;
+    }
+    /* tocks 0 .. cycles-1 are counted: the first that can do something is cycles - 1 + wake */
+    d->next_tock = wake == RG_NEVER ? RG_NEVER : d->cycles - 1 + wake;
+    *next_event_time_defined = wake != RG_NEVER;
+    *next_event_time = wake == RG_NEVER ? 0.0 : rg_tock_time(inst, d->next_tock);
     return fmi3OK;
 }

@@ -15,18 +15,16 @@
 
 /* indices into rg_clocks */
 enum {
-    CLOCK_tock = 0,  /* one RoboChart time unit (tock) */
-    CLOCK_go = 1,  /* input event go */
-    CLOCK_confirm = 2,  /* input event confirm */
-    CLOCK_amount = 3,  /* input event amount */
-    CLOCK_abort = 4,  /* input event abort */
-    CLOCK_heading = 5,  /* output event heading */
-    CLOCK_moved = 6,  /* output event moved */
-    CLOCK_report = 7,  /* output event report */
+    CLOCK_go = 0,  /* input event go */
+    CLOCK_confirm = 1,  /* input event confirm */
+    CLOCK_amount = 2,  /* input event amount */
+    CLOCK_abort = 3,  /* input event abort */
+    CLOCK_heading = 4,  /* output event heading */
+    CLOCK_moved = 5,  /* output event moved */
+    CLOCK_report = 6,  /* output event report */
 };
 
 static const rg_clock rg_clocks[RG_CLOCK_ARRAY_SIZE] = {
-    { 1, "tock", RG_CLOCK_INPUT_CONSTANT, 1, 0.0 },
     { 2, "go", RG_CLOCK_INPUT_TRIGGERED, 0.0, 0.0 },
     { 5, "confirm", RG_CLOCK_INPUT_TRIGGERED, 0.0, 0.0 },
     { 7, "amount", RG_CLOCK_INPUT_TRIGGERED, 0.0, 0.0 },
@@ -37,22 +35,21 @@ static const rg_clock rg_clocks[RG_CLOCK_ARRAY_SIZE] = {
 };
 
 static const rg_variable rg_variables[RG_NUM_VARIABLES] = {
-    { 1, "tock", RG_CLOCK, RG_INPUT, RG_DISCRETE, -1, 0, 1, true },
     { 2, "go", RG_CLOCK, RG_INPUT, RG_DISCRETE, -1, 0, 1, true },
-    { 3, "go.dir", RG_INT64, RG_INPUT, RG_DISCRETE, 1, offsetof(rg_model_data, in_go_dir), 1, true },
-    { 4, "go.steps", RG_INT64, RG_INPUT, RG_DISCRETE, 1, offsetof(rg_model_data, in_go_steps), 1, true },
+    { 3, "go.dir", RG_INT64, RG_INPUT, RG_DISCRETE, 0, offsetof(rg_model_data, in_go_dir), 1, true },
+    { 4, "go.steps", RG_INT64, RG_INPUT, RG_DISCRETE, 0, offsetof(rg_model_data, in_go_steps), 1, true },
     { 5, "confirm", RG_CLOCK, RG_INPUT, RG_DISCRETE, -1, 0, 1, true },
-    { 6, "confirm.value", RG_BOOLEAN, RG_INPUT, RG_DISCRETE, 2, offsetof(rg_model_data, in_confirm_value), 1, true },
+    { 6, "confirm.value", RG_BOOLEAN, RG_INPUT, RG_DISCRETE, 1, offsetof(rg_model_data, in_confirm_value), 1, true },
     { 7, "amount", RG_CLOCK, RG_INPUT, RG_DISCRETE, -1, 0, 1, true },
-    { 8, "amount.value", RG_INT64, RG_INPUT, RG_DISCRETE, 3, offsetof(rg_model_data, in_amount_value), 1, true },
+    { 8, "amount.value", RG_INT64, RG_INPUT, RG_DISCRETE, 2, offsetof(rg_model_data, in_amount_value), 1, true },
     { 9, "abort", RG_CLOCK, RG_INPUT, RG_DISCRETE, -1, 0, 1, true },
     { 10, "heading", RG_CLOCK, RG_OUTPUT, RG_DISCRETE, -1, 0, 1, false },
-    { 11, "heading.value", RG_INT64, RG_OUTPUT, RG_DISCRETE, 5, offsetof(rg_model_data, out_heading_value), 1, false },
+    { 11, "heading.value", RG_INT64, RG_OUTPUT, RG_DISCRETE, 4, offsetof(rg_model_data, out_heading_value), 1, false },
     { 12, "moved", RG_CLOCK, RG_OUTPUT, RG_DISCRETE, -1, 0, 1, false },
-    { 13, "moved.value", RG_INT64, RG_OUTPUT, RG_DISCRETE, 6, offsetof(rg_model_data, out_moved_value), 1, false },
+    { 13, "moved.value", RG_INT64, RG_OUTPUT, RG_DISCRETE, 5, offsetof(rg_model_data, out_moved_value), 1, false },
     { 14, "report", RG_CLOCK, RG_OUTPUT, RG_DISCRETE, -1, 0, 1, false },
-    { 15, "report.dir", RG_INT64, RG_OUTPUT, RG_DISCRETE, 7, offsetof(rg_model_data, out_report_dir), 1, false },
-    { 16, "report.steps", RG_INT64, RG_OUTPUT, RG_DISCRETE, 7, offsetof(rg_model_data, out_report_steps), 1, false },
+    { 15, "report.dir", RG_INT64, RG_OUTPUT, RG_DISCRETE, 6, offsetof(rg_model_data, out_report_dir), 1, false },
+    { 16, "report.steps", RG_INT64, RG_OUTPUT, RG_DISCRETE, 6, offsetof(rg_model_data, out_report_steps), 1, false },
     { 17, "Rover.state", RG_INT64, RG_OUTPUT, RG_DISCRETE, -1, offsetof(rg_model_data, m0.node), 1, false },
     { 18, "cycles", RG_UINT64, RG_OUTPUT, RG_DISCRETE, -1, offsetof(rg_model_data, cycles), 1, false },
     { 19, "dropped_events", RG_UINT64, RG_OUTPUT, RG_DISCRETE, -1, offsetof(rg_model_data, dropped_events), 1, false },
@@ -377,10 +374,155 @@ static void rg_model_latch(rg_instance *inst, int clock_index)
     }
 }
 
+/* ---- time for free (robogen.ir.lookahead): the FMU counts its tocks --------------------------- */
+
+/* b1: EVAL Parked (inputs.rct:32): is a test true one tock from now (or in error)? */
+static bool rg_probe_0_1(rg_instance *inst)
+{
+    rg_model_data *d = &inst->s.data;
+    rg_machine_0 *m = &d->m0;
+    rg_tock_shift saved = rg_shift_tocks(&m->ticks, &m->wait_left, 1);
+    bool any = false;
+    any = any || (m->smp_present[Rover_Event_go]);  /* present(e0) */
+    any = any || (m->smp_present[Rover_Event_amount]);  /* present(e2) */
+    rg_unshift_tocks(&m->ticks, &m->wait_left, saved);
+    return rg_lookahead_fault(d) || any;
+}
+
+/* b5: EVAL Driving.Confirming (inputs.rct:39): is a test true one tock from now (or in error)? */
+static bool rg_probe_0_5(rg_instance *inst)
+{
+    rg_model_data *d = &inst->s.data;
+    rg_machine_0 *m = &d->m0;
+    rg_tock_shift saved = rg_shift_tocks(&m->ticks, &m->wait_left, 1);
+    bool any = false;
+    any = any || (m->smp_present[Rover_Event_abort]);  /* present(e3) */
+    any = any || (((((m->ticks - m->entered[Rover_Node_Driving]) * UINT64_C(1)) >= UINT64_C(4)) && (m->v_total > INT64_C(100))));  /* ((sinceEntry(n2) >= 4) /\ (total > 100)) */
+    any = any || (true);  /* true */
+    rg_unshift_tocks(&m->ticks, &m->wait_left, saved);
+    return rg_lookahead_fault(d) || any;
+}
+
+/* (sinceEntry(n2) >= 4): how its sides compare k tocks from now (-1, 0, 1) */
+static int rg_atom_0_0(rg_instance *inst, uint64_t k)
+{
+    rg_model_data *d = &inst->s.data;
+    rg_machine_0 *m = &d->m0;
+    rg_tock_shift saved = rg_shift_tocks(&m->ticks, &m->wait_left, k);
+    uint64_t left = ((m->ticks - m->entered[Rover_Node_Driving]) * UINT64_C(1));
+    uint64_t right = UINT64_C(4);
+    rg_unshift_tocks(&m->ticks, &m->wait_left, saved);
+    (void)d;
+    return (left > right) - (left < right);
+}
+
+/* b11: EVAL Driving.Parked2 (inputs.rct:54): is a test true one tock from now (or in error)? */
+static bool rg_probe_0_11(rg_instance *inst)
+{
+    rg_model_data *d = &inst->s.data;
+    rg_machine_0 *m = &d->m0;
+    rg_tock_shift saved = rg_shift_tocks(&m->ticks, &m->wait_left, 1);
+    bool any = false;
+    any = any || (m->smp_present[Rover_Event_abort]);  /* present(e3) */
+    any = any || (((((m->ticks - m->entered[Rover_Node_Driving]) * UINT64_C(1)) >= UINT64_C(4)) && (m->v_total > INT64_C(100))));  /* ((sinceEntry(n2) >= 4) /\ (total > 100)) */
+    rg_unshift_tocks(&m->ticks, &m->wait_left, saved);
+    return rg_lookahead_fault(d) || any;
+}
+
+/* b15: EVAL Driving.Moving (inputs.rct:43): is a test true one tock from now (or in error)? */
+static bool rg_probe_0_15(rg_instance *inst)
+{
+    rg_model_data *d = &inst->s.data;
+    rg_machine_0 *m = &d->m0;
+    rg_tock_shift saved = rg_shift_tocks(&m->ticks, &m->wait_left, 1);
+    bool any = false;
+    any = any || (m->smp_present[Rover_Event_abort]);  /* present(e3) */
+    any = any || (((((m->ticks - m->entered[Rover_Node_Driving]) * UINT64_C(1)) >= UINT64_C(4)) && (m->v_total > INT64_C(100))));  /* ((sinceEntry(n2) >= 4) /\ (total > 100)) */
+    any = any || ((m->smp_present[Rover_Event_go] && (m->v_o.steps > INT64_C(0))));  /* (present(e0) /\ (o.steps > 0)) */
+    rg_unshift_tocks(&m->ticks, &m->wait_left, saved);
+    return rg_lookahead_fault(d) || any;
+}
+
+/* Tocks from the last one counted to the first at which Rover may do something (at least 1),
+ * RG_NEVER if none comes before an event (robogen.ir.lookahead). */
+static uint64_t rg_wake_0(rg_instance *inst)
+{
+    rg_machine_0 *m = &inst->s.data.m0;
+    uint64_t wake = RG_NEVER;
+    if (m->in_cycle) return 1;
+    switch (m->pc) {
+    case 1: /* the resume point b1, EVAL Parked */
+        if (rg_probe_0_1(inst)) return 1;
+        break;
+    case 5: /* the resume point b5, EVAL Driving.Confirming */
+        if (rg_probe_0_5(inst)) return 1;
+        wake = rg_first_change(inst, rg_atom_0_0, wake);
+        break;
+    case 11: /* the resume point b11, EVAL Driving.Parked2 */
+        if (rg_probe_0_11(inst)) return 1;
+        wake = rg_first_change(inst, rg_atom_0_0, wake);
+        break;
+    case 15: /* the resume point b15, EVAL Driving.Moving */
+        if (rg_probe_0_15(inst)) return 1;
+        wake = rg_first_change(inst, rg_atom_0_0, wake);
+        break;
+    default: /* a resume point that cannot be looked ahead of: it runs at every tock */
+        return 1;
+    }
+    return rg_lookahead_fault(&inst->s.data) ? 1 : wake;
+}
+
+/* `tocks` tocks at which no machine can do anything: counted as the ticking FMU counts them, no
+ * machine run (they all rest where the last look-ahead saw them). */
+static void rg_pass_idle(rg_model_data *d, uint64_t tocks)
+{
+    d->cycles += tocks;
+    d->m0.ticks += tocks;
+    if (d->m0.wait_left > 0)
+        d->m0.wait_left = (uint64_t)d->m0.wait_left > tocks ? d->m0.wait_left - (int64_t)tocks : 0;
+}
+
+/* Is a tock due at this instant's time? The tocks due before it are idle ones a step passed (the
+ * importer steps no further than the next event time), counted here if the step did not. */
+static bool rg_tock_now(rg_instance *inst)
+{
+    rg_model_data *d = &inst->s.data;
+    uint64_t due = rg_tocks_by(inst, inst->s.time);
+    if (due > d->cycles + 1) rg_pass_idle(d, due - 1 - d->cycles);
+    return due > d->cycles;
+}
+
+/* The step counts the idle tocks it passes: those before the next event time, which a master
+ * reaches and handles in Event Mode. An importer that ignores nextEventTime (fmpy's simulate_fmu)
+ * passes it: warned, the machines take that tock at its next Event Mode, late. */
+static fmi3Status rg_model_do_step(rg_instance *inst, double t_end, bool *event_handling_needed,
+                                   bool *terminate_simulation, double *last_successful_time)
+{
+    rg_model_data *d = &inst->s.data;
+    uint64_t due;
+    (void)event_handling_needed;
+    (void)terminate_simulation;
+    (void)last_successful_time;
+    if (!inst->event_mode_used) return fmi3OK; /* without Event Mode no machine runs, as with a tock clock */
+    due = rg_tocks_by(inst, t_end);
+    if (due > d->next_tock) due = d->next_tock; /* the tock at the next event time is Event Mode's */
+    if (due > d->cycles) rg_pass_idle(d, due - d->cycles);
+    if (d->next_tock != RG_NEVER && rg_tock_time(inst, d->next_tock) < t_end &&
+        !rg_time_equal(rg_tock_time(inst, d->next_tock), t_end)) {
+        rg_log(inst, RG_LOG_WARNING, fmi3Warning, "fmi3DoStep: the step to t=%.17g passes the next event time t=%.17g "
+               "(tock %llu) that fmi3UpdateDiscreteStates announced: the machines take it at the next Event Mode, late "
+               "(step to the next event time and enter Event Mode there)",
+               t_end, rg_tock_time(inst, d->next_tock), (unsigned long long)d->next_tock);
+        d->next_tock = RG_NEVER; /* warned once; the next Event Mode counts the tocks up to its time */
+        return fmi3Warning;
+    }
+    return fmi3OK;
+}
+
 static fmi3Status rg_model_evaluate(rg_instance *inst)
 {
     rg_model_data *d = &inst->s.data;
-    bool periodic = inst->s.clock_active[CLOCK_tock];
+    bool periodic = rg_tock_now(inst);
     d->fault = RG_FAULT_NONE;
     if (periodic) d->cycles++;
     {
@@ -409,16 +551,24 @@ static fmi3Status rg_model_update(rg_instance *inst, bool *discrete_states_need_
                                   bool *terminate_simulation, bool *next_event_time_defined,
                                   double *next_event_time)
 {
-    const rg_model_data *d = &inst->s.data;
+    rg_model_data *d = &inst->s.data;
+    uint64_t wake = RG_NEVER;
     bool need = false;
     (void)terminate_simulation;
-    (void)next_event_time_defined;
-    (void)next_event_time;
     need = need || d->m0.in_cycle;
     {
         size_t e;
         for (e = 0; e < 7; e++) need = need || d->m0.reg_present[e];
     }
     *discrete_states_need_update = need;
+    if (need) return fmi3OK; /* the machines are not at rest yet */
+    {
+        uint64_t w = rg_wake_0(inst);
+        if (w < wake) wake = w;
+    }
+    /* tocks 0 .. cycles-1 are counted: the first that can do something is cycles - 1 + wake */
+    d->next_tock = wake == RG_NEVER ? RG_NEVER : d->cycles - 1 + wake;
+    *next_event_time_defined = wake != RG_NEVER;
+    *next_event_time = wake == RG_NEVER ? 0.0 : rg_tock_time(inst, d->next_tock);
     return fmi3OK;
 }

@@ -1070,29 +1070,27 @@ static rg_set_tup2_i_i rg_iter_set_tup2_i_i(rg_model_data *d, int32_t site, int6
 
 /* indices into rg_clocks */
 enum {
-    CLOCK_tock = 0,  /* one RoboChart time unit (tock) */
-    CLOCK_cube = 1,  /* input event cube */
-    CLOCK_words = 2,  /* input event words */
-    CLOCK_frames = 3,  /* input event frames */
-    CLOCK_names = 4,  /* input event names */
-    CLOCK_cmds = 5,  /* input event cmds */
-    CLOCK_power = 6,  /* input event power */
-    CLOCK_flat = 7,  /* output event flat */
-    CLOCK_shape = 8,  /* output event shape */
-    CLOCK_sorted = 9,  /* output event sorted */
-    CLOCK_common = 10,  /* output event common */
-    CLOCK_pixels = 11,  /* output event pixels */
-    CLOCK_bright = 12,  /* output event bright */
-    CLOCK_kept = 13,  /* output event kept */
-    CLOCK_known = 14,  /* output event known */
-    CLOCK_moving = 15,  /* output event moving */
-    CLOCK_steps = 16,  /* output event steps */
-    CLOCK_every = 17,  /* output event every */
-    CLOCK_some = 18,  /* output event some */
+    CLOCK_cube = 0,  /* input event cube */
+    CLOCK_words = 1,  /* input event words */
+    CLOCK_frames = 2,  /* input event frames */
+    CLOCK_names = 3,  /* input event names */
+    CLOCK_cmds = 4,  /* input event cmds */
+    CLOCK_power = 5,  /* input event power */
+    CLOCK_flat = 6,  /* output event flat */
+    CLOCK_shape = 7,  /* output event shape */
+    CLOCK_sorted = 8,  /* output event sorted */
+    CLOCK_common = 9,  /* output event common */
+    CLOCK_pixels = 10,  /* output event pixels */
+    CLOCK_bright = 11,  /* output event bright */
+    CLOCK_kept = 12,  /* output event kept */
+    CLOCK_known = 13,  /* output event known */
+    CLOCK_moving = 14,  /* output event moving */
+    CLOCK_steps = 15,  /* output event steps */
+    CLOCK_every = 16,  /* output event every */
+    CLOCK_some = 17,  /* output event some */
 };
 
 static const rg_clock rg_clocks[RG_CLOCK_ARRAY_SIZE] = {
-    { 1, "tock", RG_CLOCK_INPUT_CONSTANT, 1, 0.0 },
     { 2, "cube", RG_CLOCK_INPUT_TRIGGERED, 0.0, 0.0 },
     { 7, "words", RG_CLOCK_INPUT_TRIGGERED, 0.0, 0.0 },
     { 11, "frames", RG_CLOCK_INPUT_TRIGGERED, 0.0, 0.0 },
@@ -1114,76 +1112,75 @@ static const rg_clock rg_clocks[RG_CLOCK_ARRAY_SIZE] = {
 };
 
 static const rg_variable rg_variables[RG_NUM_VARIABLES] = {
-    { 1, "tock", RG_CLOCK, RG_INPUT, RG_DISCRETE, -1, 0, 1, true },
     { 2, "cube", RG_CLOCK, RG_INPUT, RG_DISCRETE, -1, 0, 1, true },
-    { 3, "cube.value.elements.elements.elements", RG_INT64, RG_INPUT, RG_DISCRETE, 1, offsetof(rg_model_data, in_cube_value_elements_elements_elements), 36, true },
-    { 4, "cube.value.elements.elements.size", RG_UINT64, RG_INPUT, RG_DISCRETE, 1, offsetof(rg_model_data, in_cube_value_elements_elements_size), 18, true },
-    { 5, "cube.value.elements.size", RG_UINT64, RG_INPUT, RG_DISCRETE, 1, offsetof(rg_model_data, in_cube_value_elements_size), 6, true },
-    { 6, "cube.value.size", RG_UINT64, RG_INPUT, RG_DISCRETE, 1, offsetof(rg_model_data, in_cube_value_size), 1, true },
+    { 3, "cube.value.elements.elements.elements", RG_INT64, RG_INPUT, RG_DISCRETE, 0, offsetof(rg_model_data, in_cube_value_elements_elements_elements), 36, true },
+    { 4, "cube.value.elements.elements.size", RG_UINT64, RG_INPUT, RG_DISCRETE, 0, offsetof(rg_model_data, in_cube_value_elements_elements_size), 18, true },
+    { 5, "cube.value.elements.size", RG_UINT64, RG_INPUT, RG_DISCRETE, 0, offsetof(rg_model_data, in_cube_value_elements_size), 6, true },
+    { 6, "cube.value.size", RG_UINT64, RG_INPUT, RG_DISCRETE, 0, offsetof(rg_model_data, in_cube_value_size), 1, true },
     { 7, "words", RG_CLOCK, RG_INPUT, RG_DISCRETE, -1, 0, 1, true },
-    { 8, "words.value.elements.elements", RG_INT64, RG_INPUT, RG_DISCRETE, 2, offsetof(rg_model_data, in_words_value_elements_elements), 18, true },
-    { 9, "words.value.elements.size", RG_UINT64, RG_INPUT, RG_DISCRETE, 2, offsetof(rg_model_data, in_words_value_elements_size), 6, true },
-    { 10, "words.value.size", RG_UINT64, RG_INPUT, RG_DISCRETE, 2, offsetof(rg_model_data, in_words_value_size), 1, true },
+    { 8, "words.value.elements.elements", RG_INT64, RG_INPUT, RG_DISCRETE, 1, offsetof(rg_model_data, in_words_value_elements_elements), 18, true },
+    { 9, "words.value.elements.size", RG_UINT64, RG_INPUT, RG_DISCRETE, 1, offsetof(rg_model_data, in_words_value_elements_size), 6, true },
+    { 10, "words.value.size", RG_UINT64, RG_INPUT, RG_DISCRETE, 1, offsetof(rg_model_data, in_words_value_size), 1, true },
     { 11, "frames", RG_CLOCK, RG_INPUT, RG_DISCRETE, -1, 0, 1, true },
-    { 12, "frames.value.elements.img.elements._1", RG_UINT64, RG_INPUT, RG_DISCRETE, 3, offsetof(rg_model_data, in_frames_value_elements_img_elements__1), 18, true },
-    { 13, "frames.value.elements.img.elements._2", RG_UINT64, RG_INPUT, RG_DISCRETE, 3, offsetof(rg_model_data, in_frames_value_elements_img_elements__2), 18, true },
-    { 14, "frames.value.elements.img.elements._3", RG_UINT64, RG_INPUT, RG_DISCRETE, 3, offsetof(rg_model_data, in_frames_value_elements_img_elements__3), 18, true },
-    { 15, "frames.value.elements.img.size", RG_UINT64, RG_INPUT, RG_DISCRETE, 3, offsetof(rg_model_data, in_frames_value_elements_img_size), 6, true },
-    { 16, "frames.value.elements.name", RG_STRING, RG_INPUT, RG_DISCRETE, 3, offsetof(rg_model_data, in_frames_value_elements_name), 6, true },
-    { 17, "frames.value.elements.v", RG_FLOAT64, RG_INPUT, RG_DISCRETE, 3, offsetof(rg_model_data, in_frames_value_elements_v), 12, true },
-    { 18, "frames.value.size", RG_UINT64, RG_INPUT, RG_DISCRETE, 3, offsetof(rg_model_data, in_frames_value_size), 1, true },
+    { 12, "frames.value.elements.img.elements._1", RG_UINT64, RG_INPUT, RG_DISCRETE, 2, offsetof(rg_model_data, in_frames_value_elements_img_elements__1), 18, true },
+    { 13, "frames.value.elements.img.elements._2", RG_UINT64, RG_INPUT, RG_DISCRETE, 2, offsetof(rg_model_data, in_frames_value_elements_img_elements__2), 18, true },
+    { 14, "frames.value.elements.img.elements._3", RG_UINT64, RG_INPUT, RG_DISCRETE, 2, offsetof(rg_model_data, in_frames_value_elements_img_elements__3), 18, true },
+    { 15, "frames.value.elements.img.size", RG_UINT64, RG_INPUT, RG_DISCRETE, 2, offsetof(rg_model_data, in_frames_value_elements_img_size), 6, true },
+    { 16, "frames.value.elements.name", RG_STRING, RG_INPUT, RG_DISCRETE, 2, offsetof(rg_model_data, in_frames_value_elements_name), 6, true },
+    { 17, "frames.value.elements.v", RG_FLOAT64, RG_INPUT, RG_DISCRETE, 2, offsetof(rg_model_data, in_frames_value_elements_v), 12, true },
+    { 18, "frames.value.size", RG_UINT64, RG_INPUT, RG_DISCRETE, 2, offsetof(rg_model_data, in_frames_value_size), 1, true },
     { 19, "names", RG_CLOCK, RG_INPUT, RG_DISCRETE, -1, 0, 1, true },
-    { 20, "names.value.elements", RG_STRING, RG_INPUT, RG_DISCRETE, 4, offsetof(rg_model_data, in_names_value_elements), 6, true },
-    { 21, "names.value.size", RG_UINT64, RG_INPUT, RG_DISCRETE, 4, offsetof(rg_model_data, in_names_value_size), 1, true },
+    { 20, "names.value.elements", RG_STRING, RG_INPUT, RG_DISCRETE, 3, offsetof(rg_model_data, in_names_value_elements), 6, true },
+    { 21, "names.value.size", RG_UINT64, RG_INPUT, RG_DISCRETE, 3, offsetof(rg_model_data, in_names_value_size), 1, true },
     { 22, "cmds", RG_CLOCK, RG_INPUT, RG_DISCRETE, -1, 0, 1, true },
-    { 23, "cmds.value.elements.tag", RG_INT64, RG_INPUT, RG_DISCRETE, 5, offsetof(rg_model_data, in_cmds_value_elements_tag), 6, true },
-    { 24, "cmds.value.elements.Move_1", RG_FLOAT64, RG_INPUT, RG_DISCRETE, 5, offsetof(rg_model_data, in_cmds_value_elements_Move_1), 6, true },
-    { 25, "cmds.value.elements.Turn_1", RG_UINT64, RG_INPUT, RG_DISCRETE, 5, offsetof(rg_model_data, in_cmds_value_elements_Turn_1), 6, true },
-    { 26, "cmds.value.elements.Turn_2", RG_BOOLEAN, RG_INPUT, RG_DISCRETE, 5, offsetof(rg_model_data, in_cmds_value_elements_Turn_2), 6, true },
-    { 27, "cmds.value.size", RG_UINT64, RG_INPUT, RG_DISCRETE, 5, offsetof(rg_model_data, in_cmds_value_size), 1, true },
+    { 23, "cmds.value.elements.tag", RG_INT64, RG_INPUT, RG_DISCRETE, 4, offsetof(rg_model_data, in_cmds_value_elements_tag), 6, true },
+    { 24, "cmds.value.elements.Move_1", RG_FLOAT64, RG_INPUT, RG_DISCRETE, 4, offsetof(rg_model_data, in_cmds_value_elements_Move_1), 6, true },
+    { 25, "cmds.value.elements.Turn_1", RG_UINT64, RG_INPUT, RG_DISCRETE, 4, offsetof(rg_model_data, in_cmds_value_elements_Turn_1), 6, true },
+    { 26, "cmds.value.elements.Turn_2", RG_BOOLEAN, RG_INPUT, RG_DISCRETE, 4, offsetof(rg_model_data, in_cmds_value_elements_Turn_2), 6, true },
+    { 27, "cmds.value.size", RG_UINT64, RG_INPUT, RG_DISCRETE, 4, offsetof(rg_model_data, in_cmds_value_size), 1, true },
     { 28, "power", RG_CLOCK, RG_INPUT, RG_DISCRETE, -1, 0, 1, true },
-    { 29, "power.value", RG_INT64, RG_INPUT, RG_DISCRETE, 6, offsetof(rg_model_data, in_power_value), 1, true },
+    { 29, "power.value", RG_INT64, RG_INPUT, RG_DISCRETE, 5, offsetof(rg_model_data, in_power_value), 1, true },
     { 30, "flat", RG_CLOCK, RG_OUTPUT, RG_DISCRETE, -1, 0, 1, false },
-    { 31, "flat.value.elements", RG_INT64, RG_OUTPUT, RG_DISCRETE, 7, offsetof(rg_model_data, out_flat_value_elements), 6, false },
-    { 32, "flat.value.size", RG_UINT64, RG_OUTPUT, RG_DISCRETE, 7, offsetof(rg_model_data, out_flat_value_size), 1, false },
+    { 31, "flat.value.elements", RG_INT64, RG_OUTPUT, RG_DISCRETE, 6, offsetof(rg_model_data, out_flat_value_elements), 6, false },
+    { 32, "flat.value.size", RG_UINT64, RG_OUTPUT, RG_DISCRETE, 6, offsetof(rg_model_data, out_flat_value_size), 1, false },
     { 33, "shape", RG_CLOCK, RG_OUTPUT, RG_DISCRETE, -1, 0, 1, false },
-    { 34, "shape.value.elements.elements.elements", RG_INT64, RG_OUTPUT, RG_DISCRETE, 8, offsetof(rg_model_data, out_shape_value_elements_elements_elements), 36, false },
-    { 35, "shape.value.elements.elements.size", RG_UINT64, RG_OUTPUT, RG_DISCRETE, 8, offsetof(rg_model_data, out_shape_value_elements_elements_size), 18, false },
-    { 36, "shape.value.elements.size", RG_UINT64, RG_OUTPUT, RG_DISCRETE, 8, offsetof(rg_model_data, out_shape_value_elements_size), 6, false },
-    { 37, "shape.value.size", RG_UINT64, RG_OUTPUT, RG_DISCRETE, 8, offsetof(rg_model_data, out_shape_value_size), 1, false },
+    { 34, "shape.value.elements.elements.elements", RG_INT64, RG_OUTPUT, RG_DISCRETE, 7, offsetof(rg_model_data, out_shape_value_elements_elements_elements), 36, false },
+    { 35, "shape.value.elements.elements.size", RG_UINT64, RG_OUTPUT, RG_DISCRETE, 7, offsetof(rg_model_data, out_shape_value_elements_elements_size), 18, false },
+    { 36, "shape.value.elements.size", RG_UINT64, RG_OUTPUT, RG_DISCRETE, 7, offsetof(rg_model_data, out_shape_value_elements_size), 6, false },
+    { 37, "shape.value.size", RG_UINT64, RG_OUTPUT, RG_DISCRETE, 7, offsetof(rg_model_data, out_shape_value_size), 1, false },
     { 38, "sorted", RG_CLOCK, RG_OUTPUT, RG_DISCRETE, -1, 0, 1, false },
-    { 39, "sorted.value.elements.elements", RG_INT64, RG_OUTPUT, RG_DISCRETE, 9, offsetof(rg_model_data, out_sorted_value_elements_elements), 18, false },
-    { 40, "sorted.value.elements.size", RG_UINT64, RG_OUTPUT, RG_DISCRETE, 9, offsetof(rg_model_data, out_sorted_value_elements_size), 6, false },
-    { 41, "sorted.value.size", RG_UINT64, RG_OUTPUT, RG_DISCRETE, 9, offsetof(rg_model_data, out_sorted_value_size), 1, false },
+    { 39, "sorted.value.elements.elements", RG_INT64, RG_OUTPUT, RG_DISCRETE, 8, offsetof(rg_model_data, out_sorted_value_elements_elements), 18, false },
+    { 40, "sorted.value.elements.size", RG_UINT64, RG_OUTPUT, RG_DISCRETE, 8, offsetof(rg_model_data, out_sorted_value_elements_size), 6, false },
+    { 41, "sorted.value.size", RG_UINT64, RG_OUTPUT, RG_DISCRETE, 8, offsetof(rg_model_data, out_sorted_value_size), 1, false },
     { 42, "common", RG_CLOCK, RG_OUTPUT, RG_DISCRETE, -1, 0, 1, false },
-    { 43, "common.value.elements", RG_INT64, RG_OUTPUT, RG_DISCRETE, 10, offsetof(rg_model_data, out_common_value_elements), 6, false },
-    { 44, "common.value.size", RG_UINT64, RG_OUTPUT, RG_DISCRETE, 10, offsetof(rg_model_data, out_common_value_size), 1, false },
+    { 43, "common.value.elements", RG_INT64, RG_OUTPUT, RG_DISCRETE, 9, offsetof(rg_model_data, out_common_value_elements), 6, false },
+    { 44, "common.value.size", RG_UINT64, RG_OUTPUT, RG_DISCRETE, 9, offsetof(rg_model_data, out_common_value_size), 1, false },
     { 45, "pixels", RG_CLOCK, RG_OUTPUT, RG_DISCRETE, -1, 0, 1, false },
-    { 46, "pixels.value", RG_UINT64, RG_OUTPUT, RG_DISCRETE, 11, offsetof(rg_model_data, out_pixels_value), 1, false },
+    { 46, "pixels.value", RG_UINT64, RG_OUTPUT, RG_DISCRETE, 10, offsetof(rg_model_data, out_pixels_value), 1, false },
     { 47, "bright", RG_CLOCK, RG_OUTPUT, RG_DISCRETE, -1, 0, 1, false },
-    { 48, "bright.value.elements", RG_UINT64, RG_OUTPUT, RG_DISCRETE, 12, offsetof(rg_model_data, out_bright_value_elements), 6, false },
-    { 49, "bright.value.size", RG_UINT64, RG_OUTPUT, RG_DISCRETE, 12, offsetof(rg_model_data, out_bright_value_size), 1, false },
+    { 48, "bright.value.elements", RG_UINT64, RG_OUTPUT, RG_DISCRETE, 11, offsetof(rg_model_data, out_bright_value_elements), 6, false },
+    { 49, "bright.value.size", RG_UINT64, RG_OUTPUT, RG_DISCRETE, 11, offsetof(rg_model_data, out_bright_value_size), 1, false },
     { 50, "kept", RG_CLOCK, RG_OUTPUT, RG_DISCRETE, -1, 0, 1, false },
-    { 51, "kept.value.elements.img.elements._1", RG_UINT64, RG_OUTPUT, RG_DISCRETE, 13, offsetof(rg_model_data, out_kept_value_elements_img_elements__1), 18, false },
-    { 52, "kept.value.elements.img.elements._2", RG_UINT64, RG_OUTPUT, RG_DISCRETE, 13, offsetof(rg_model_data, out_kept_value_elements_img_elements__2), 18, false },
-    { 53, "kept.value.elements.img.elements._3", RG_UINT64, RG_OUTPUT, RG_DISCRETE, 13, offsetof(rg_model_data, out_kept_value_elements_img_elements__3), 18, false },
-    { 54, "kept.value.elements.img.size", RG_UINT64, RG_OUTPUT, RG_DISCRETE, 13, offsetof(rg_model_data, out_kept_value_elements_img_size), 6, false },
-    { 55, "kept.value.elements.name", RG_STRING, RG_OUTPUT, RG_DISCRETE, 13, offsetof(rg_model_data, out_kept_value_elements_name), 6, false },
-    { 56, "kept.value.elements.v", RG_FLOAT64, RG_OUTPUT, RG_DISCRETE, 13, offsetof(rg_model_data, out_kept_value_elements_v), 12, false },
-    { 57, "kept.value.size", RG_UINT64, RG_OUTPUT, RG_DISCRETE, 13, offsetof(rg_model_data, out_kept_value_size), 1, false },
+    { 51, "kept.value.elements.img.elements._1", RG_UINT64, RG_OUTPUT, RG_DISCRETE, 12, offsetof(rg_model_data, out_kept_value_elements_img_elements__1), 18, false },
+    { 52, "kept.value.elements.img.elements._2", RG_UINT64, RG_OUTPUT, RG_DISCRETE, 12, offsetof(rg_model_data, out_kept_value_elements_img_elements__2), 18, false },
+    { 53, "kept.value.elements.img.elements._3", RG_UINT64, RG_OUTPUT, RG_DISCRETE, 12, offsetof(rg_model_data, out_kept_value_elements_img_elements__3), 18, false },
+    { 54, "kept.value.elements.img.size", RG_UINT64, RG_OUTPUT, RG_DISCRETE, 12, offsetof(rg_model_data, out_kept_value_elements_img_size), 6, false },
+    { 55, "kept.value.elements.name", RG_STRING, RG_OUTPUT, RG_DISCRETE, 12, offsetof(rg_model_data, out_kept_value_elements_name), 6, false },
+    { 56, "kept.value.elements.v", RG_FLOAT64, RG_OUTPUT, RG_DISCRETE, 12, offsetof(rg_model_data, out_kept_value_elements_v), 12, false },
+    { 57, "kept.value.size", RG_UINT64, RG_OUTPUT, RG_DISCRETE, 12, offsetof(rg_model_data, out_kept_value_size), 1, false },
     { 58, "known", RG_CLOCK, RG_OUTPUT, RG_DISCRETE, -1, 0, 1, false },
-    { 59, "known.value.elements", RG_STRING, RG_OUTPUT, RG_DISCRETE, 14, offsetof(rg_model_data, out_known_value_elements), 6, false },
-    { 60, "known.value.size", RG_UINT64, RG_OUTPUT, RG_DISCRETE, 14, offsetof(rg_model_data, out_known_value_size), 1, false },
+    { 59, "known.value.elements", RG_STRING, RG_OUTPUT, RG_DISCRETE, 13, offsetof(rg_model_data, out_known_value_elements), 6, false },
+    { 60, "known.value.size", RG_UINT64, RG_OUTPUT, RG_DISCRETE, 13, offsetof(rg_model_data, out_known_value_size), 1, false },
     { 61, "moving", RG_CLOCK, RG_OUTPUT, RG_DISCRETE, -1, 0, 1, false },
-    { 62, "moving.value", RG_BOOLEAN, RG_OUTPUT, RG_DISCRETE, 15, offsetof(rg_model_data, out_moving_value), 1, false },
+    { 62, "moving.value", RG_BOOLEAN, RG_OUTPUT, RG_DISCRETE, 14, offsetof(rg_model_data, out_moving_value), 1, false },
     { 63, "steps", RG_CLOCK, RG_OUTPUT, RG_DISCRETE, -1, 0, 1, false },
-    { 64, "steps.value.elements._1", RG_INT64, RG_OUTPUT, RG_DISCRETE, 16, offsetof(rg_model_data, out_steps_value_elements__1), 6, false },
-    { 65, "steps.value.elements._2", RG_INT64, RG_OUTPUT, RG_DISCRETE, 16, offsetof(rg_model_data, out_steps_value_elements__2), 6, false },
-    { 66, "steps.value.size", RG_UINT64, RG_OUTPUT, RG_DISCRETE, 16, offsetof(rg_model_data, out_steps_value_size), 1, false },
+    { 64, "steps.value.elements._1", RG_INT64, RG_OUTPUT, RG_DISCRETE, 15, offsetof(rg_model_data, out_steps_value_elements__1), 6, false },
+    { 65, "steps.value.elements._2", RG_INT64, RG_OUTPUT, RG_DISCRETE, 15, offsetof(rg_model_data, out_steps_value_elements__2), 6, false },
+    { 66, "steps.value.size", RG_UINT64, RG_OUTPUT, RG_DISCRETE, 15, offsetof(rg_model_data, out_steps_value_size), 1, false },
     { 67, "every", RG_CLOCK, RG_OUTPUT, RG_DISCRETE, -1, 0, 1, false },
-    { 68, "every.value", RG_BOOLEAN, RG_OUTPUT, RG_DISCRETE, 17, offsetof(rg_model_data, out_every_value), 1, false },
+    { 68, "every.value", RG_BOOLEAN, RG_OUTPUT, RG_DISCRETE, 16, offsetof(rg_model_data, out_every_value), 1, false },
     { 69, "some", RG_CLOCK, RG_OUTPUT, RG_DISCRETE, -1, 0, 1, false },
-    { 70, "some.value", RG_BOOLEAN, RG_OUTPUT, RG_DISCRETE, 18, offsetof(rg_model_data, out_some_value), 1, false },
+    { 70, "some.value", RG_BOOLEAN, RG_OUTPUT, RG_DISCRETE, 17, offsetof(rg_model_data, out_some_value), 1, false },
     { 71, "Shapes.state", RG_INT64, RG_OUTPUT, RG_DISCRETE, -1, offsetof(rg_model_data, m0.node), 1, false },
     { 72, "cycles", RG_UINT64, RG_OUTPUT, RG_DISCRETE, -1, offsetof(rg_model_data, cycles), 1, false },
     { 73, "dropped_events", RG_UINT64, RG_OUTPUT, RG_DISCRETE, -1, offsetof(rg_model_data, dropped_events), 1, false },
@@ -2040,10 +2037,93 @@ static void rg_model_latch(rg_instance *inst, int clock_index)
     }
 }
 
+/* ---- time for free (robogen.ir.lookahead): the FMU counts its tocks --------------------------- */
+
+/* b1: EVAL Idle (nesting.rct:57): is a test true one tock from now (or in error)? */
+static bool rg_probe_0_1(rg_instance *inst)
+{
+    rg_model_data *d = &inst->s.data;
+    rg_machine_0 *m = &d->m0;
+    rg_tock_shift saved = rg_shift_tocks(&m->ticks, &m->wait_left, 1);
+    bool any = false;
+    any = any || (m->smp_present[Shapes_Event_cube]);  /* present(e0) */
+    any = any || (m->smp_present[Shapes_Event_words]);  /* present(e1) */
+    any = any || (m->smp_present[Shapes_Event_frames]);  /* present(e2) */
+    any = any || (m->smp_present[Shapes_Event_names]);  /* present(e3) */
+    any = any || (m->smp_present[Shapes_Event_cmds]);  /* present(e4) */
+    any = any || (m->smp_present[Shapes_Event_power]);  /* present(e5) */
+    rg_unshift_tocks(&m->ticks, &m->wait_left, saved);
+    return rg_lookahead_fault(d) || any;
+}
+
+/* Tocks from the last one counted to the first at which Shapes may do something (at least 1),
+ * RG_NEVER if none comes before an event (robogen.ir.lookahead). */
+static uint64_t rg_wake_0(rg_instance *inst)
+{
+    rg_machine_0 *m = &inst->s.data.m0;
+    uint64_t wake = RG_NEVER;
+    if (m->in_cycle) return 1;
+    switch (m->pc) {
+    case 1: /* the resume point b1, EVAL Idle */
+        if (rg_probe_0_1(inst)) return 1;
+        break;
+    default: /* a resume point that cannot be looked ahead of: it runs at every tock */
+        return 1;
+    }
+    return rg_lookahead_fault(&inst->s.data) ? 1 : wake;
+}
+
+/* `tocks` tocks at which no machine can do anything: counted as the ticking FMU counts them, no
+ * machine run (they all rest where the last look-ahead saw them). */
+static void rg_pass_idle(rg_model_data *d, uint64_t tocks)
+{
+    d->cycles += tocks;
+    d->m0.ticks += tocks;
+    if (d->m0.wait_left > 0)
+        d->m0.wait_left = (uint64_t)d->m0.wait_left > tocks ? d->m0.wait_left - (int64_t)tocks : 0;
+}
+
+/* Is a tock due at this instant's time? The tocks due before it are idle ones a step passed (the
+ * importer steps no further than the next event time), counted here if the step did not. */
+static bool rg_tock_now(rg_instance *inst)
+{
+    rg_model_data *d = &inst->s.data;
+    uint64_t due = rg_tocks_by(inst, inst->s.time);
+    if (due > d->cycles + 1) rg_pass_idle(d, due - 1 - d->cycles);
+    return due > d->cycles;
+}
+
+/* The step counts the idle tocks it passes: those before the next event time, which a master
+ * reaches and handles in Event Mode. An importer that ignores nextEventTime (fmpy's simulate_fmu)
+ * passes it: warned, the machines take that tock at its next Event Mode, late. */
+static fmi3Status rg_model_do_step(rg_instance *inst, double t_end, bool *event_handling_needed,
+                                   bool *terminate_simulation, double *last_successful_time)
+{
+    rg_model_data *d = &inst->s.data;
+    uint64_t due;
+    (void)event_handling_needed;
+    (void)terminate_simulation;
+    (void)last_successful_time;
+    if (!inst->event_mode_used) return fmi3OK; /* without Event Mode no machine runs, as with a tock clock */
+    due = rg_tocks_by(inst, t_end);
+    if (due > d->next_tock) due = d->next_tock; /* the tock at the next event time is Event Mode's */
+    if (due > d->cycles) rg_pass_idle(d, due - d->cycles);
+    if (d->next_tock != RG_NEVER && rg_tock_time(inst, d->next_tock) < t_end &&
+        !rg_time_equal(rg_tock_time(inst, d->next_tock), t_end)) {
+        rg_log(inst, RG_LOG_WARNING, fmi3Warning, "fmi3DoStep: the step to t=%.17g passes the next event time t=%.17g "
+               "(tock %llu) that fmi3UpdateDiscreteStates announced: the machines take it at the next Event Mode, late "
+               "(step to the next event time and enter Event Mode there)",
+               t_end, rg_tock_time(inst, d->next_tock), (unsigned long long)d->next_tock);
+        d->next_tock = RG_NEVER; /* warned once; the next Event Mode counts the tocks up to its time */
+        return fmi3Warning;
+    }
+    return fmi3OK;
+}
+
 static fmi3Status rg_model_evaluate(rg_instance *inst)
 {
     rg_model_data *d = &inst->s.data;
-    bool periodic = inst->s.clock_active[CLOCK_tock];
+    bool periodic = rg_tock_now(inst);
     d->fault = RG_FAULT_NONE;
     if (periodic) d->cycles++;
     {
@@ -2073,16 +2153,24 @@ static fmi3Status rg_model_update(rg_instance *inst, bool *discrete_states_need_
                                   bool *terminate_simulation, bool *next_event_time_defined,
                                   double *next_event_time)
 {
-    const rg_model_data *d = &inst->s.data;
+    rg_model_data *d = &inst->s.data;
+    uint64_t wake = RG_NEVER;
     bool need = false;
     (void)terminate_simulation;
-    (void)next_event_time_defined;
-    (void)next_event_time;
     need = need || d->m0.in_cycle;
     {
         size_t e;
         for (e = 0; e < 18; e++) need = need || d->m0.reg_present[e];
     }
     *discrete_states_need_update = need;
+    if (need) return fmi3OK; /* the machines are not at rest yet */
+    {
+        uint64_t w = rg_wake_0(inst);
+        if (w < wake) wake = w;
+    }
+    /* tocks 0 .. cycles-1 are counted: the first that can do something is cycles - 1 + wake */
+    d->next_tock = wake == RG_NEVER ? RG_NEVER : d->cycles - 1 + wake;
+    *next_event_time_defined = wake != RG_NEVER;
+    *next_event_time = wake == RG_NEVER ? 0.0 : rg_tock_time(inst, d->next_tock);
     return fmi3OK;
 }

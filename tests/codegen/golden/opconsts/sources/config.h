@@ -8,18 +8,21 @@
 #include <stdint.h>
 
 #define RG_MODEL_IDENTIFIER "Clamper"
-#define RG_INSTANTIATION_TOKEN "{2d059ec1-e5bc-e888-02d7-f6285f2ff8ff}"
-#define RG_NUM_VARIABLES 14
-#define RG_NUM_CLOCKS 4
+#define RG_INSTANTIATION_TOKEN "{a339b3d2-1aed-630b-987e-daad40e3ac75}"
+#define RG_NUM_VARIABLES 13
+#define RG_NUM_CLOCKS 3
 #define RG_MIGHT_RETURN_EARLY 0
 #define RG_STEPWISE 0  /* 1: stepwise semantics, one transition per fmi3UpdateDiscreteStates */
 #define RG_MAX_TRANSITIONS 1000UL  /* transitions per cycle before a runaway is reported */
+#define RG_TIME_FREE 1  /* --time skip: no tock clock; the FMU counts its tocks and announces the next event time */
+#define RG_TOCK_SECONDS ((double)1)  /* one RoboChart time unit, in seconds */
 
 /* ---- the hooks model.c implements (the runtime's defaults stand in for the others) ------ */
 #define RG_HAS_EXIT_INITIALIZATION  /* variables with initial values computed from the parameters */
 #define RG_HAS_LATCH  /* input clocks carry events to the state machines */
 #define RG_HAS_EVALUATE  /* the state machines run in Event Mode */
-#define RG_HAS_UPDATE  /* a stepwise cycle, or an event waiting, needs another instant */
+#define RG_HAS_UPDATE  /* a stepwise cycle, or an event waiting, needs another instant; the next tock at which anything can happen is the next event time */
+#define RG_HAS_DO_STEP  /* the tocks a step passes are counted (none of them can do anything) */
 
 /* ---- types of the model ---------------------------------------------------------------- */
 
@@ -75,6 +78,7 @@ typedef struct {
     uint64_t cycles;          /* FMI output cycles */
     uint64_t dropped_events;  /* FMI output dropped_events */
     uint64_t deadline_misses; /* FMI output deadline_misses */
+    uint64_t next_tock;       /* the first tock at which a machine may do something (RG_NEVER: none before an event) */
     int32_t fault;            /* run-time error code of the current instant (0: none) */
     rg_machine_0 m0;
 } rg_model_data;

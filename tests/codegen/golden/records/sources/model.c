@@ -106,17 +106,15 @@ static rg_set_rec_records_Reading rg_canon_set_rec_records_Reading(rg_model_data
 
 /* indices into rg_clocks */
 enum {
-    CLOCK_tock = 0,  /* one RoboChart time unit (tock) */
-    CLOCK_gas = 1,  /* input event gas */
-    CLOCK_seen = 2,  /* input event seen */
-    CLOCK_strongest = 3,  /* output event strongest */
-    CLOCK_kept = 4,  /* output event kept */
-    CLOCK_members = 5,  /* output event members */
-    CLOCK_distinct = 6,  /* output event distinct */
+    CLOCK_gas = 0,  /* input event gas */
+    CLOCK_seen = 1,  /* input event seen */
+    CLOCK_strongest = 2,  /* output event strongest */
+    CLOCK_kept = 3,  /* output event kept */
+    CLOCK_members = 4,  /* output event members */
+    CLOCK_distinct = 5,  /* output event distinct */
 };
 
 static const rg_clock rg_clocks[RG_CLOCK_ARRAY_SIZE] = {
-    { 1, "tock", RG_CLOCK_INPUT_CONSTANT, 1, 0.0 },
     { 2, "gas", RG_CLOCK_INPUT_TRIGGERED, 0.0, 0.0 },
     { 8, "seen", RG_CLOCK_INPUT_TRIGGERED, 0.0, 0.0 },
     { 14, "strongest", RG_CLOCK_OUTPUT_TRIGGERED, 0.0, 0.0 },
@@ -126,35 +124,34 @@ static const rg_clock rg_clocks[RG_CLOCK_ARRAY_SIZE] = {
 };
 
 static const rg_variable rg_variables[RG_NUM_VARIABLES] = {
-    { 1, "tock", RG_CLOCK, RG_INPUT, RG_DISCRETE, -1, 0, 1, true },
     { 2, "gas", RG_CLOCK, RG_INPUT, RG_DISCRETE, -1, 0, 1, true },
-    { 3, "gas.value.elements.c", RG_INT64, RG_INPUT, RG_DISCRETE, 1, offsetof(rg_model_data, in_gas_value_elements_c), 32, true },
-    { 4, "gas.value.elements.i", RG_UINT64, RG_INPUT, RG_DISCRETE, 1, offsetof(rg_model_data, in_gas_value_elements_i), 32, true },
-    { 5, "gas.value.elements.at.x", RG_FLOAT64, RG_INPUT, RG_DISCRETE, 1, offsetof(rg_model_data, in_gas_value_elements_at_x), 32, true },
-    { 6, "gas.value.elements.at.y", RG_FLOAT64, RG_INPUT, RG_DISCRETE, 1, offsetof(rg_model_data, in_gas_value_elements_at_y), 32, true },
-    { 7, "gas.value.size", RG_UINT64, RG_INPUT, RG_DISCRETE, 1, offsetof(rg_model_data, in_gas_value_size), 1, true },
+    { 3, "gas.value.elements.c", RG_INT64, RG_INPUT, RG_DISCRETE, 0, offsetof(rg_model_data, in_gas_value_elements_c), 32, true },
+    { 4, "gas.value.elements.i", RG_UINT64, RG_INPUT, RG_DISCRETE, 0, offsetof(rg_model_data, in_gas_value_elements_i), 32, true },
+    { 5, "gas.value.elements.at.x", RG_FLOAT64, RG_INPUT, RG_DISCRETE, 0, offsetof(rg_model_data, in_gas_value_elements_at_x), 32, true },
+    { 6, "gas.value.elements.at.y", RG_FLOAT64, RG_INPUT, RG_DISCRETE, 0, offsetof(rg_model_data, in_gas_value_elements_at_y), 32, true },
+    { 7, "gas.value.size", RG_UINT64, RG_INPUT, RG_DISCRETE, 0, offsetof(rg_model_data, in_gas_value_size), 1, true },
     { 8, "seen", RG_CLOCK, RG_INPUT, RG_DISCRETE, -1, 0, 1, true },
-    { 9, "seen.value.elements.c", RG_INT64, RG_INPUT, RG_DISCRETE, 2, offsetof(rg_model_data, in_seen_value_elements_c), 32, true },
-    { 10, "seen.value.elements.i", RG_UINT64, RG_INPUT, RG_DISCRETE, 2, offsetof(rg_model_data, in_seen_value_elements_i), 32, true },
-    { 11, "seen.value.elements.at.x", RG_FLOAT64, RG_INPUT, RG_DISCRETE, 2, offsetof(rg_model_data, in_seen_value_elements_at_x), 32, true },
-    { 12, "seen.value.elements.at.y", RG_FLOAT64, RG_INPUT, RG_DISCRETE, 2, offsetof(rg_model_data, in_seen_value_elements_at_y), 32, true },
-    { 13, "seen.value.size", RG_UINT64, RG_INPUT, RG_DISCRETE, 2, offsetof(rg_model_data, in_seen_value_size), 1, true },
+    { 9, "seen.value.elements.c", RG_INT64, RG_INPUT, RG_DISCRETE, 1, offsetof(rg_model_data, in_seen_value_elements_c), 32, true },
+    { 10, "seen.value.elements.i", RG_UINT64, RG_INPUT, RG_DISCRETE, 1, offsetof(rg_model_data, in_seen_value_elements_i), 32, true },
+    { 11, "seen.value.elements.at.x", RG_FLOAT64, RG_INPUT, RG_DISCRETE, 1, offsetof(rg_model_data, in_seen_value_elements_at_x), 32, true },
+    { 12, "seen.value.elements.at.y", RG_FLOAT64, RG_INPUT, RG_DISCRETE, 1, offsetof(rg_model_data, in_seen_value_elements_at_y), 32, true },
+    { 13, "seen.value.size", RG_UINT64, RG_INPUT, RG_DISCRETE, 1, offsetof(rg_model_data, in_seen_value_size), 1, true },
     { 14, "strongest", RG_CLOCK, RG_OUTPUT, RG_DISCRETE, -1, 0, 1, false },
-    { 15, "strongest.value", RG_UINT64, RG_OUTPUT, RG_DISCRETE, 3, offsetof(rg_model_data, out_strongest_value), 1, false },
+    { 15, "strongest.value", RG_UINT64, RG_OUTPUT, RG_DISCRETE, 2, offsetof(rg_model_data, out_strongest_value), 1, false },
     { 16, "kept", RG_CLOCK, RG_OUTPUT, RG_DISCRETE, -1, 0, 1, false },
-    { 17, "kept.value.elements.c", RG_INT64, RG_OUTPUT, RG_DISCRETE, 4, offsetof(rg_model_data, out_kept_value_elements_c), 32, false },
-    { 18, "kept.value.elements.i", RG_UINT64, RG_OUTPUT, RG_DISCRETE, 4, offsetof(rg_model_data, out_kept_value_elements_i), 32, false },
-    { 19, "kept.value.elements.at.x", RG_FLOAT64, RG_OUTPUT, RG_DISCRETE, 4, offsetof(rg_model_data, out_kept_value_elements_at_x), 32, false },
-    { 20, "kept.value.elements.at.y", RG_FLOAT64, RG_OUTPUT, RG_DISCRETE, 4, offsetof(rg_model_data, out_kept_value_elements_at_y), 32, false },
-    { 21, "kept.value.size", RG_UINT64, RG_OUTPUT, RG_DISCRETE, 4, offsetof(rg_model_data, out_kept_value_size), 1, false },
+    { 17, "kept.value.elements.c", RG_INT64, RG_OUTPUT, RG_DISCRETE, 3, offsetof(rg_model_data, out_kept_value_elements_c), 32, false },
+    { 18, "kept.value.elements.i", RG_UINT64, RG_OUTPUT, RG_DISCRETE, 3, offsetof(rg_model_data, out_kept_value_elements_i), 32, false },
+    { 19, "kept.value.elements.at.x", RG_FLOAT64, RG_OUTPUT, RG_DISCRETE, 3, offsetof(rg_model_data, out_kept_value_elements_at_x), 32, false },
+    { 20, "kept.value.elements.at.y", RG_FLOAT64, RG_OUTPUT, RG_DISCRETE, 3, offsetof(rg_model_data, out_kept_value_elements_at_y), 32, false },
+    { 21, "kept.value.size", RG_UINT64, RG_OUTPUT, RG_DISCRETE, 3, offsetof(rg_model_data, out_kept_value_size), 1, false },
     { 22, "members", RG_CLOCK, RG_OUTPUT, RG_DISCRETE, -1, 0, 1, false },
-    { 23, "members.value.elements.c", RG_INT64, RG_OUTPUT, RG_DISCRETE, 5, offsetof(rg_model_data, out_members_value_elements_c), 32, false },
-    { 24, "members.value.elements.i", RG_UINT64, RG_OUTPUT, RG_DISCRETE, 5, offsetof(rg_model_data, out_members_value_elements_i), 32, false },
-    { 25, "members.value.elements.at.x", RG_FLOAT64, RG_OUTPUT, RG_DISCRETE, 5, offsetof(rg_model_data, out_members_value_elements_at_x), 32, false },
-    { 26, "members.value.elements.at.y", RG_FLOAT64, RG_OUTPUT, RG_DISCRETE, 5, offsetof(rg_model_data, out_members_value_elements_at_y), 32, false },
-    { 27, "members.value.size", RG_UINT64, RG_OUTPUT, RG_DISCRETE, 5, offsetof(rg_model_data, out_members_value_size), 1, false },
+    { 23, "members.value.elements.c", RG_INT64, RG_OUTPUT, RG_DISCRETE, 4, offsetof(rg_model_data, out_members_value_elements_c), 32, false },
+    { 24, "members.value.elements.i", RG_UINT64, RG_OUTPUT, RG_DISCRETE, 4, offsetof(rg_model_data, out_members_value_elements_i), 32, false },
+    { 25, "members.value.elements.at.x", RG_FLOAT64, RG_OUTPUT, RG_DISCRETE, 4, offsetof(rg_model_data, out_members_value_elements_at_x), 32, false },
+    { 26, "members.value.elements.at.y", RG_FLOAT64, RG_OUTPUT, RG_DISCRETE, 4, offsetof(rg_model_data, out_members_value_elements_at_y), 32, false },
+    { 27, "members.value.size", RG_UINT64, RG_OUTPUT, RG_DISCRETE, 4, offsetof(rg_model_data, out_members_value_size), 1, false },
     { 28, "distinct", RG_CLOCK, RG_OUTPUT, RG_DISCRETE, -1, 0, 1, false },
-    { 29, "distinct.value", RG_UINT64, RG_OUTPUT, RG_DISCRETE, 6, offsetof(rg_model_data, out_distinct_value), 1, false },
+    { 29, "distinct.value", RG_UINT64, RG_OUTPUT, RG_DISCRETE, 5, offsetof(rg_model_data, out_distinct_value), 1, false },
     { 30, "Sensor.state", RG_INT64, RG_OUTPUT, RG_DISCRETE, -1, offsetof(rg_model_data, m0.node), 1, false },
     { 31, "cycles", RG_UINT64, RG_OUTPUT, RG_DISCRETE, -1, offsetof(rg_model_data, cycles), 1, false },
     { 32, "dropped_events", RG_UINT64, RG_OUTPUT, RG_DISCRETE, -1, offsetof(rg_model_data, dropped_events), 1, false },
@@ -429,10 +426,89 @@ static void rg_model_latch(rg_instance *inst, int clock_index)
     }
 }
 
+/* ---- time for free (robogen.ir.lookahead): the FMU counts its tocks --------------------------- */
+
+/* b1: EVAL Idle (records.rct:35): is a test true one tock from now (or in error)? */
+static bool rg_probe_0_1(rg_instance *inst)
+{
+    rg_model_data *d = &inst->s.data;
+    rg_machine_0 *m = &d->m0;
+    rg_tock_shift saved = rg_shift_tocks(&m->ticks, &m->wait_left, 1);
+    bool any = false;
+    any = any || (m->smp_present[Sensor_Event_gas]);  /* present(e0) */
+    any = any || (m->smp_present[Sensor_Event_seen]);  /* present(e1) */
+    rg_unshift_tocks(&m->ticks, &m->wait_left, saved);
+    return rg_lookahead_fault(d) || any;
+}
+
+/* Tocks from the last one counted to the first at which Sensor may do something (at least 1),
+ * RG_NEVER if none comes before an event (robogen.ir.lookahead). */
+static uint64_t rg_wake_0(rg_instance *inst)
+{
+    rg_machine_0 *m = &inst->s.data.m0;
+    uint64_t wake = RG_NEVER;
+    if (m->in_cycle) return 1;
+    switch (m->pc) {
+    case 1: /* the resume point b1, EVAL Idle */
+        if (rg_probe_0_1(inst)) return 1;
+        break;
+    default: /* a resume point that cannot be looked ahead of: it runs at every tock */
+        return 1;
+    }
+    return rg_lookahead_fault(&inst->s.data) ? 1 : wake;
+}
+
+/* `tocks` tocks at which no machine can do anything: counted as the ticking FMU counts them, no
+ * machine run (they all rest where the last look-ahead saw them). */
+static void rg_pass_idle(rg_model_data *d, uint64_t tocks)
+{
+    d->cycles += tocks;
+    d->m0.ticks += tocks;
+    if (d->m0.wait_left > 0)
+        d->m0.wait_left = (uint64_t)d->m0.wait_left > tocks ? d->m0.wait_left - (int64_t)tocks : 0;
+}
+
+/* Is a tock due at this instant's time? The tocks due before it are idle ones a step passed (the
+ * importer steps no further than the next event time), counted here if the step did not. */
+static bool rg_tock_now(rg_instance *inst)
+{
+    rg_model_data *d = &inst->s.data;
+    uint64_t due = rg_tocks_by(inst, inst->s.time);
+    if (due > d->cycles + 1) rg_pass_idle(d, due - 1 - d->cycles);
+    return due > d->cycles;
+}
+
+/* The step counts the idle tocks it passes: those before the next event time, which a master
+ * reaches and handles in Event Mode. An importer that ignores nextEventTime (fmpy's simulate_fmu)
+ * passes it: warned, the machines take that tock at its next Event Mode, late. */
+static fmi3Status rg_model_do_step(rg_instance *inst, double t_end, bool *event_handling_needed,
+                                   bool *terminate_simulation, double *last_successful_time)
+{
+    rg_model_data *d = &inst->s.data;
+    uint64_t due;
+    (void)event_handling_needed;
+    (void)terminate_simulation;
+    (void)last_successful_time;
+    if (!inst->event_mode_used) return fmi3OK; /* without Event Mode no machine runs, as with a tock clock */
+    due = rg_tocks_by(inst, t_end);
+    if (due > d->next_tock) due = d->next_tock; /* the tock at the next event time is Event Mode's */
+    if (due > d->cycles) rg_pass_idle(d, due - d->cycles);
+    if (d->next_tock != RG_NEVER && rg_tock_time(inst, d->next_tock) < t_end &&
+        !rg_time_equal(rg_tock_time(inst, d->next_tock), t_end)) {
+        rg_log(inst, RG_LOG_WARNING, fmi3Warning, "fmi3DoStep: the step to t=%.17g passes the next event time t=%.17g "
+               "(tock %llu) that fmi3UpdateDiscreteStates announced: the machines take it at the next Event Mode, late "
+               "(step to the next event time and enter Event Mode there)",
+               t_end, rg_tock_time(inst, d->next_tock), (unsigned long long)d->next_tock);
+        d->next_tock = RG_NEVER; /* warned once; the next Event Mode counts the tocks up to its time */
+        return fmi3Warning;
+    }
+    return fmi3OK;
+}
+
 static fmi3Status rg_model_evaluate(rg_instance *inst)
 {
     rg_model_data *d = &inst->s.data;
-    bool periodic = inst->s.clock_active[CLOCK_tock];
+    bool periodic = rg_tock_now(inst);
     d->fault = RG_FAULT_NONE;
     if (periodic) d->cycles++;
     {
@@ -462,16 +538,24 @@ static fmi3Status rg_model_update(rg_instance *inst, bool *discrete_states_need_
                                   bool *terminate_simulation, bool *next_event_time_defined,
                                   double *next_event_time)
 {
-    const rg_model_data *d = &inst->s.data;
+    rg_model_data *d = &inst->s.data;
+    uint64_t wake = RG_NEVER;
     bool need = false;
     (void)terminate_simulation;
-    (void)next_event_time_defined;
-    (void)next_event_time;
     need = need || d->m0.in_cycle;
     {
         size_t e;
         for (e = 0; e < 6; e++) need = need || d->m0.reg_present[e];
     }
     *discrete_states_need_update = need;
+    if (need) return fmi3OK; /* the machines are not at rest yet */
+    {
+        uint64_t w = rg_wake_0(inst);
+        if (w < wake) wake = w;
+    }
+    /* tocks 0 .. cycles-1 are counted: the first that can do something is cycles - 1 + wake */
+    d->next_tock = wake == RG_NEVER ? RG_NEVER : d->cycles - 1 + wake;
+    *next_event_time_defined = wake != RG_NEVER;
+    *next_event_time = wake == RG_NEVER ? 0.0 : rg_tock_time(inst, d->next_tock);
     return fmi3OK;
 }

@@ -25,18 +25,16 @@ static const char *const rg_strings[RG_NUM_STRINGS] = {
 
 /* indices into rg_clocks */
 enum {
-    CLOCK_tock = 0,  /* one RoboChart time unit (tock) */
-    CLOCK_ping = 1,  /* input event ping */
-    CLOCK_ask = 2,  /* input event ask */
-    CLOCK_go = 3,  /* input event go */
-    CLOCK_goFar = 4,  /* input event goFar */
-    CLOCK_who = 5,  /* output event who */
-    CLOCK_whoName = 6,  /* output event whoName */
-    CLOCK_got = 7,  /* output event got */
+    CLOCK_ping = 0,  /* input event ping */
+    CLOCK_ask = 1,  /* input event ask */
+    CLOCK_go = 2,  /* input event go */
+    CLOCK_goFar = 3,  /* input event goFar */
+    CLOCK_who = 4,  /* output event who */
+    CLOCK_whoName = 5,  /* output event whoName */
+    CLOCK_got = 6,  /* output event got */
 };
 
 static const rg_clock rg_clocks[RG_CLOCK_ARRAY_SIZE] = {
-    { 1, "tock", RG_CLOCK_INPUT_CONSTANT, 1, 0.0 },
     { 2, "ping", RG_CLOCK_INPUT_TRIGGERED, 0.0, 0.0 },
     { 4, "ask", RG_CLOCK_INPUT_TRIGGERED, 0.0, 0.0 },
     { 5, "go", RG_CLOCK_INPUT_TRIGGERED, 0.0, 0.0 },
@@ -47,20 +45,19 @@ static const rg_clock rg_clocks[RG_CLOCK_ARRAY_SIZE] = {
 };
 
 static const rg_variable rg_variables[RG_NUM_VARIABLES] = {
-    { 1, "tock", RG_CLOCK, RG_INPUT, RG_DISCRETE, -1, 0, 1, true },
     { 2, "ping", RG_CLOCK, RG_INPUT, RG_DISCRETE, -1, 0, 1, true },
-    { 3, "ping.value", RG_UINT64, RG_INPUT, RG_DISCRETE, 1, offsetof(rg_model_data, in_ping_value), 1, true },
+    { 3, "ping.value", RG_UINT64, RG_INPUT, RG_DISCRETE, 0, offsetof(rg_model_data, in_ping_value), 1, true },
     { 4, "ask", RG_CLOCK, RG_INPUT, RG_DISCRETE, -1, 0, 1, true },
     { 5, "go", RG_CLOCK, RG_INPUT, RG_DISCRETE, -1, 0, 1, true },
-    { 6, "go.value", RG_UINT64, RG_INPUT, RG_DISCRETE, 3, offsetof(rg_model_data, in_go_value), 1, true },
+    { 6, "go.value", RG_UINT64, RG_INPUT, RG_DISCRETE, 2, offsetof(rg_model_data, in_go_value), 1, true },
     { 7, "goFar", RG_CLOCK, RG_INPUT, RG_DISCRETE, -1, 0, 1, true },
-    { 8, "goFar.value", RG_UINT64, RG_INPUT, RG_DISCRETE, 4, offsetof(rg_model_data, in_goFar_value), 1, true },
+    { 8, "goFar.value", RG_UINT64, RG_INPUT, RG_DISCRETE, 3, offsetof(rg_model_data, in_goFar_value), 1, true },
     { 9, "who", RG_CLOCK, RG_OUTPUT, RG_DISCRETE, -1, 0, 1, false },
-    { 10, "who.value", RG_UINT64, RG_OUTPUT, RG_DISCRETE, 5, offsetof(rg_model_data, out_who_value), 1, false },
+    { 10, "who.value", RG_UINT64, RG_OUTPUT, RG_DISCRETE, 4, offsetof(rg_model_data, out_who_value), 1, false },
     { 11, "whoName", RG_CLOCK, RG_OUTPUT, RG_DISCRETE, -1, 0, 1, false },
-    { 12, "whoName.value", RG_STRING, RG_OUTPUT, RG_DISCRETE, 6, offsetof(rg_model_data, out_whoName_value), 1, false },
+    { 12, "whoName.value", RG_STRING, RG_OUTPUT, RG_DISCRETE, 5, offsetof(rg_model_data, out_whoName_value), 1, false },
     { 13, "got", RG_CLOCK, RG_OUTPUT, RG_DISCRETE, -1, 0, 1, false },
-    { 14, "got.value", RG_UINT64, RG_OUTPUT, RG_DISCRETE, 7, offsetof(rg_model_data, out_got_value), 1, false },
+    { 14, "got.value", RG_UINT64, RG_OUTPUT, RG_DISCRETE, 6, offsetof(rg_model_data, out_got_value), 1, false },
     { 15, "Hub.state", RG_INT64, RG_OUTPUT, RG_DISCRETE, -1, offsetof(rg_model_data, m0.node), 1, false },
     { 16, "ctl.a.state", RG_INT64, RG_OUTPUT, RG_DISCRETE, -1, offsetof(rg_model_data, m1.node), 1, false },
     { 17, "far.c.state", RG_INT64, RG_OUTPUT, RG_DISCRETE, -1, offsetof(rg_model_data, m2.node), 1, false },
@@ -404,10 +401,169 @@ static void rg_model_latch(rg_instance *inst, int clock_index)
     }
 }
 
+/* ---- time for free (robogen.ir.lookahead): the FMU counts its tocks --------------------------- */
+
+/* b1: EVAL Wait (senders.rct:33): is a test true one tock from now (or in error)? */
+static bool rg_probe_0_1(rg_instance *inst)
+{
+    rg_model_data *d = &inst->s.data;
+    rg_machine_0 *m = &d->m0;
+    rg_tock_shift saved = rg_shift_tocks(&m->ticks, &m->wait_left, 1);
+    bool any = false;
+    any = any || ((m->smp_present[Hub_Event_ping] && (m->smp_e_ping.from > UINT64_C(0))));  /* (present(e0) /\ (value(e0).from > 0)) */
+    any = any || (m->smp_present[Hub_Event_ping]);  /* present(e0) */
+    any = any || (m->smp_present[Hub_Event_ask]);  /* present(e2) */
+    rg_unshift_tocks(&m->ticks, &m->wait_left, saved);
+    return rg_lookahead_fault(d) || any;
+}
+
+/* b5: wait for far (senders.rct:37): is a test true one tock from now (or in error)? */
+static bool rg_probe_0_5(rg_instance *inst)
+{
+    rg_model_data *d = &inst->s.data;
+    rg_machine_0 *m = &d->m0;
+    rg_tock_shift saved = rg_shift_tocks(&m->ticks, &m->wait_left, 1);
+    bool any = false;
+    any = any || (m->smp_present[Hub_Event_far]);  /* present(e1) */
+    rg_unshift_tocks(&m->ticks, &m->wait_left, saved);
+    return rg_lookahead_fault(d) || any;
+}
+
+/* Tocks from the last one counted to the first at which Hub may do something (at least 1),
+ * RG_NEVER if none comes before an event (robogen.ir.lookahead). */
+static uint64_t rg_wake_0(rg_instance *inst)
+{
+    rg_machine_0 *m = &inst->s.data.m0;
+    uint64_t wake = RG_NEVER;
+    if (m->in_cycle) return 1;
+    switch (m->pc) {
+    case 1: /* the resume point b1, EVAL Wait */
+        if (rg_probe_0_1(inst)) return 1;
+        break;
+    case 5: /* the resume point b5, wait for far */
+        if (rg_probe_0_5(inst)) return 1;
+        break;
+    default: /* a resume point that cannot be looked ahead of: it runs at every tock */
+        return 1;
+    }
+    return rg_lookahead_fault(&inst->s.data) ? 1 : wake;
+}
+
+/* b1: EVAL Idle (senders.rct:45): is a test true one tock from now (or in error)? */
+static bool rg_probe_1_1(rg_instance *inst)
+{
+    rg_model_data *d = &inst->s.data;
+    rg_machine_1 *m = &d->m1;
+    rg_tock_shift saved = rg_shift_tocks(&m->ticks, &m->wait_left, 1);
+    bool any = false;
+    any = any || (m->smp_present[ctl_a_Event_go]);  /* present(e3) */
+    rg_unshift_tocks(&m->ticks, &m->wait_left, saved);
+    return rg_lookahead_fault(d) || any;
+}
+
+/* Tocks from the last one counted to the first at which ctl.a may do something (at least 1),
+ * RG_NEVER if none comes before an event (robogen.ir.lookahead). */
+static uint64_t rg_wake_1(rg_instance *inst)
+{
+    rg_machine_1 *m = &inst->s.data.m1;
+    uint64_t wake = RG_NEVER;
+    if (m->in_cycle) return 1;
+    switch (m->pc) {
+    case 1: /* the resume point b1, EVAL Idle */
+        if (rg_probe_1_1(inst)) return 1;
+        break;
+    default: /* a resume point that cannot be looked ahead of: it runs at every tock */
+        return 1;
+    }
+    return rg_lookahead_fault(&inst->s.data) ? 1 : wake;
+}
+
+/* b1: EVAL Idle (senders.rct:45): is a test true one tock from now (or in error)? */
+static bool rg_probe_2_1(rg_instance *inst)
+{
+    rg_model_data *d = &inst->s.data;
+    rg_machine_2 *m = &d->m2;
+    rg_tock_shift saved = rg_shift_tocks(&m->ticks, &m->wait_left, 1);
+    bool any = false;
+    any = any || (m->smp_present[far_c_Event_go]);  /* present(e3) */
+    rg_unshift_tocks(&m->ticks, &m->wait_left, saved);
+    return rg_lookahead_fault(d) || any;
+}
+
+/* Tocks from the last one counted to the first at which far.c may do something (at least 1),
+ * RG_NEVER if none comes before an event (robogen.ir.lookahead). */
+static uint64_t rg_wake_2(rg_instance *inst)
+{
+    rg_machine_2 *m = &inst->s.data.m2;
+    uint64_t wake = RG_NEVER;
+    if (m->in_cycle) return 1;
+    switch (m->pc) {
+    case 1: /* the resume point b1, EVAL Idle */
+        if (rg_probe_2_1(inst)) return 1;
+        break;
+    default: /* a resume point that cannot be looked ahead of: it runs at every tock */
+        return 1;
+    }
+    return rg_lookahead_fault(&inst->s.data) ? 1 : wake;
+}
+
+/* `tocks` tocks at which no machine can do anything: counted as the ticking FMU counts them, no
+ * machine run (they all rest where the last look-ahead saw them). */
+static void rg_pass_idle(rg_model_data *d, uint64_t tocks)
+{
+    d->cycles += tocks;
+    d->m0.ticks += tocks;
+    if (d->m0.wait_left > 0)
+        d->m0.wait_left = (uint64_t)d->m0.wait_left > tocks ? d->m0.wait_left - (int64_t)tocks : 0;
+    d->m1.ticks += tocks;
+    if (d->m1.wait_left > 0)
+        d->m1.wait_left = (uint64_t)d->m1.wait_left > tocks ? d->m1.wait_left - (int64_t)tocks : 0;
+    d->m2.ticks += tocks;
+    if (d->m2.wait_left > 0)
+        d->m2.wait_left = (uint64_t)d->m2.wait_left > tocks ? d->m2.wait_left - (int64_t)tocks : 0;
+}
+
+/* Is a tock due at this instant's time? The tocks due before it are idle ones a step passed (the
+ * importer steps no further than the next event time), counted here if the step did not. */
+static bool rg_tock_now(rg_instance *inst)
+{
+    rg_model_data *d = &inst->s.data;
+    uint64_t due = rg_tocks_by(inst, inst->s.time);
+    if (due > d->cycles + 1) rg_pass_idle(d, due - 1 - d->cycles);
+    return due > d->cycles;
+}
+
+/* The step counts the idle tocks it passes: those before the next event time, which a master
+ * reaches and handles in Event Mode. An importer that ignores nextEventTime (fmpy's simulate_fmu)
+ * passes it: warned, the machines take that tock at its next Event Mode, late. */
+static fmi3Status rg_model_do_step(rg_instance *inst, double t_end, bool *event_handling_needed,
+                                   bool *terminate_simulation, double *last_successful_time)
+{
+    rg_model_data *d = &inst->s.data;
+    uint64_t due;
+    (void)event_handling_needed;
+    (void)terminate_simulation;
+    (void)last_successful_time;
+    if (!inst->event_mode_used) return fmi3OK; /* without Event Mode no machine runs, as with a tock clock */
+    due = rg_tocks_by(inst, t_end);
+    if (due > d->next_tock) due = d->next_tock; /* the tock at the next event time is Event Mode's */
+    if (due > d->cycles) rg_pass_idle(d, due - d->cycles);
+    if (d->next_tock != RG_NEVER && rg_tock_time(inst, d->next_tock) < t_end &&
+        !rg_time_equal(rg_tock_time(inst, d->next_tock), t_end)) {
+        rg_log(inst, RG_LOG_WARNING, fmi3Warning, "fmi3DoStep: the step to t=%.17g passes the next event time t=%.17g "
+               "(tock %llu) that fmi3UpdateDiscreteStates announced: the machines take it at the next Event Mode, late "
+               "(step to the next event time and enter Event Mode there)",
+               t_end, rg_tock_time(inst, d->next_tock), (unsigned long long)d->next_tock);
+        d->next_tock = RG_NEVER; /* warned once; the next Event Mode counts the tocks up to its time */
+        return fmi3Warning;
+    }
+    return fmi3OK;
+}
+
 static fmi3Status rg_model_evaluate(rg_instance *inst)
 {
     rg_model_data *d = &inst->s.data;
-    bool periodic = inst->s.clock_active[CLOCK_tock];
+    bool periodic = rg_tock_now(inst);
     d->fault = RG_FAULT_NONE;
     if (periodic) d->cycles++;
     {
@@ -474,11 +630,10 @@ static fmi3Status rg_model_update(rg_instance *inst, bool *discrete_states_need_
                                   bool *terminate_simulation, bool *next_event_time_defined,
                                   double *next_event_time)
 {
-    const rg_model_data *d = &inst->s.data;
+    rg_model_data *d = &inst->s.data;
+    uint64_t wake = RG_NEVER;
     bool need = false;
     (void)terminate_simulation;
-    (void)next_event_time_defined;
-    (void)next_event_time;
     need = need || d->m0.in_cycle;
     {
         size_t e;
@@ -495,5 +650,22 @@ static fmi3Status rg_model_update(rg_instance *inst, bool *discrete_states_need_
         for (e = 0; e < 4; e++) need = need || d->m2.reg_present[e];
     }
     *discrete_states_need_update = need;
+    if (need) return fmi3OK; /* the machines are not at rest yet */
+    {
+        uint64_t w = rg_wake_0(inst);
+        if (w < wake) wake = w;
+    }
+    {
+        uint64_t w = rg_wake_1(inst);
+        if (w < wake) wake = w;
+    }
+    {
+        uint64_t w = rg_wake_2(inst);
+        if (w < wake) wake = w;
+    }
+    /* tocks 0 .. cycles-1 are counted: the first that can do something is cycles - 1 + wake */
+    d->next_tock = wake == RG_NEVER ? RG_NEVER : d->cycles - 1 + wake;
+    *next_event_time_defined = wake != RG_NEVER;
+    *next_event_time = wake == RG_NEVER ? 0.0 : rg_tock_time(inst, d->next_tock);
     return fmi3OK;
 }

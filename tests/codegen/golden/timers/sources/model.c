@@ -15,17 +15,15 @@
 
 /* indices into rg_clocks */
 enum {
-    CLOCK_tock = 0,  /* one RoboChart time unit (tock) */
-    CLOCK_press = 1,  /* input event press */
-    CLOCK_set = 2,  /* input event set */
-    CLOCK_cancel = 3,  /* input event cancel */
-    CLOCK_ring = 4,  /* output event ring */
-    CLOCK_tick = 5,  /* output event tick */
-    CLOCK_armed = 6,  /* output event armed */
+    CLOCK_press = 0,  /* input event press */
+    CLOCK_set = 1,  /* input event set */
+    CLOCK_cancel = 2,  /* input event cancel */
+    CLOCK_ring = 3,  /* output event ring */
+    CLOCK_tick = 4,  /* output event tick */
+    CLOCK_armed = 5,  /* output event armed */
 };
 
 static const rg_clock rg_clocks[RG_CLOCK_ARRAY_SIZE] = {
-    { 1, "tock", RG_CLOCK_INPUT_CONSTANT, 1, 0.0 },
     { 2, "press", RG_CLOCK_INPUT_TRIGGERED, 0.0, 0.0 },
     { 3, "set", RG_CLOCK_INPUT_TRIGGERED, 0.0, 0.0 },
     { 5, "cancel", RG_CLOCK_INPUT_TRIGGERED, 0.0, 0.0 },
@@ -35,16 +33,15 @@ static const rg_clock rg_clocks[RG_CLOCK_ARRAY_SIZE] = {
 };
 
 static const rg_variable rg_variables[RG_NUM_VARIABLES] = {
-    { 1, "tock", RG_CLOCK, RG_INPUT, RG_DISCRETE, -1, 0, 1, true },
     { 2, "press", RG_CLOCK, RG_INPUT, RG_DISCRETE, -1, 0, 1, true },
     { 3, "set", RG_CLOCK, RG_INPUT, RG_DISCRETE, -1, 0, 1, true },
-    { 4, "set.value", RG_UINT64, RG_INPUT, RG_DISCRETE, 2, offsetof(rg_model_data, in_set_value), 1, true },
+    { 4, "set.value", RG_UINT64, RG_INPUT, RG_DISCRETE, 1, offsetof(rg_model_data, in_set_value), 1, true },
     { 5, "cancel", RG_CLOCK, RG_INPUT, RG_DISCRETE, -1, 0, 1, true },
     { 6, "ring", RG_CLOCK, RG_OUTPUT, RG_DISCRETE, -1, 0, 1, false },
-    { 7, "ring.value", RG_UINT64, RG_OUTPUT, RG_DISCRETE, 4, offsetof(rg_model_data, out_ring_value), 1, false },
+    { 7, "ring.value", RG_UINT64, RG_OUTPUT, RG_DISCRETE, 3, offsetof(rg_model_data, out_ring_value), 1, false },
     { 8, "tick", RG_CLOCK, RG_OUTPUT, RG_DISCRETE, -1, 0, 1, false },
     { 9, "armed", RG_CLOCK, RG_OUTPUT, RG_DISCRETE, -1, 0, 1, false },
-    { 10, "armed.value", RG_UINT64, RG_OUTPUT, RG_DISCRETE, 6, offsetof(rg_model_data, out_armed_value), 1, false },
+    { 10, "armed.value", RG_UINT64, RG_OUTPUT, RG_DISCRETE, 5, offsetof(rg_model_data, out_armed_value), 1, false },
     { 11, "Alarm.state", RG_INT64, RG_OUTPUT, RG_DISCRETE, -1, offsetof(rg_model_data, m0.node), 1, false },
     { 12, "cycles", RG_UINT64, RG_OUTPUT, RG_DISCRETE, -1, offsetof(rg_model_data, cycles), 1, false },
     { 13, "dropped_events", RG_UINT64, RG_OUTPUT, RG_DISCRETE, -1, offsetof(rg_model_data, dropped_events), 1, false },
@@ -306,10 +303,285 @@ static void rg_model_latch(rg_instance *inst, int clock_index)
     }
 }
 
+/* ---- time for free (robogen.ir.lookahead): the FMU counts its tocks --------------------------- */
+
+/* b1: EVAL Off (timers.rct:27): is a test true one tock from now (or in error)? */
+static bool rg_probe_0_1(rg_instance *inst)
+{
+    rg_model_data *d = &inst->s.data;
+    rg_machine_0 *m = &d->m0;
+    rg_tock_shift saved = rg_shift_tocks(&m->ticks, &m->wait_left, 1);
+    bool any = false;
+    any = any || ((m->smp_present[Alarm_Event_press] && (((m->ticks - m->clock_reset[1]) * UINT64_C(1)) >= UINT64_C(1))));  /* (present(e0) /\ (since(c1) >= 1)) */
+    any = any || (m->smp_present[Alarm_Event_set]);  /* present(e1) */
+    rg_unshift_tocks(&m->ticks, &m->wait_left, saved);
+    return rg_lookahead_fault(d) || any;
+}
+
+/* (since(c1) >= 1): how its sides compare k tocks from now (-1, 0, 1) */
+static int rg_atom_0_0(rg_instance *inst, uint64_t k)
+{
+    rg_model_data *d = &inst->s.data;
+    rg_machine_0 *m = &d->m0;
+    rg_tock_shift saved = rg_shift_tocks(&m->ticks, &m->wait_left, k);
+    uint64_t left = ((m->ticks - m->clock_reset[1]) * UINT64_C(1));
+    uint64_t right = UINT64_C(1);
+    rg_unshift_tocks(&m->ticks, &m->wait_left, saved);
+    (void)d;
+    return (left > right) - (left < right);
+}
+
+/* b3: EVAL Armed (timers.rct:30): is a test true one tock from now (or in error)? */
+static bool rg_probe_0_3(rg_instance *inst)
+{
+    rg_model_data *d = &inst->s.data;
+    rg_machine_0 *m = &d->m0;
+    rg_tock_shift saved = rg_shift_tocks(&m->ticks, &m->wait_left, 1);
+    bool any = false;
+    any = any || (((!m->v_t4_deadline) && (rg_u_to_i(((m->ticks - m->entered[Alarm_Node_Armed]) * UINT64_C(1))) > INT64_C(3))));  /* ((not t4.deadline) /\ (int(sinceEntry(n2)) > 3)) */
+    any = any || ((((m->ticks - m->clock_reset[0]) * UINT64_C(1)) >= m->v_delay));  /* (since(c0) >= delay) */
+    any = any || (m->smp_present[Alarm_Event_cancel]);  /* present(e2) */
+    rg_unshift_tocks(&m->ticks, &m->wait_left, saved);
+    return rg_lookahead_fault(d) || any;
+}
+
+/* (int(sinceEntry(n2)) > 3): how its sides compare k tocks from now (-1, 0, 1) */
+static int rg_atom_0_1(rg_instance *inst, uint64_t k)
+{
+    rg_model_data *d = &inst->s.data;
+    rg_machine_0 *m = &d->m0;
+    rg_tock_shift saved = rg_shift_tocks(&m->ticks, &m->wait_left, k);
+    int64_t left = rg_u_to_i(((m->ticks - m->entered[Alarm_Node_Armed]) * UINT64_C(1)));
+    int64_t right = INT64_C(3);
+    rg_unshift_tocks(&m->ticks, &m->wait_left, saved);
+    (void)d;
+    return (left > right) - (left < right);
+}
+
+/* (since(c0) >= delay): how its sides compare k tocks from now (-1, 0, 1) */
+static int rg_atom_0_2(rg_instance *inst, uint64_t k)
+{
+    rg_model_data *d = &inst->s.data;
+    rg_machine_0 *m = &d->m0;
+    rg_tock_shift saved = rg_shift_tocks(&m->ticks, &m->wait_left, k);
+    uint64_t left = ((m->ticks - m->clock_reset[0]) * UINT64_C(1));
+    uint64_t right = m->v_delay;
+    rg_unshift_tocks(&m->ticks, &m->wait_left, saved);
+    (void)d;
+    return (left > right) - (left < right);
+}
+
+/* b5: wait (timers.rct:34): is a test true one tock from now (or in error)? */
+static bool rg_probe_0_5(rg_instance *inst)
+{
+    rg_model_data *d = &inst->s.data;
+    rg_machine_0 *m = &d->m0;
+    rg_tock_shift saved = rg_shift_tocks(&m->ticks, &m->wait_left, 1);
+    bool any = false;
+    any = any || ((m->wait_left <= INT64_C(0)));  /* (wait_left <= 0) */
+    rg_unshift_tocks(&m->ticks, &m->wait_left, saved);
+    return rg_lookahead_fault(d) || any;
+}
+
+/* (wait_left <= 0): how its sides compare k tocks from now (-1, 0, 1) */
+static int rg_atom_0_3(rg_instance *inst, uint64_t k)
+{
+    rg_model_data *d = &inst->s.data;
+    rg_machine_0 *m = &d->m0;
+    rg_tock_shift saved = rg_shift_tocks(&m->ticks, &m->wait_left, k);
+    int64_t left = m->wait_left;
+    int64_t right = INT64_C(0);
+    rg_unshift_tocks(&m->ticks, &m->wait_left, saved);
+    (void)d;
+    return (left > right) - (left < right);
+}
+
+/* b7: EVAL Ringing (timers.rct:33): is a test true one tock from now (or in error)? */
+static bool rg_probe_0_7(rg_instance *inst)
+{
+    rg_model_data *d = &inst->s.data;
+    rg_machine_0 *m = &d->m0;
+    rg_tock_shift saved = rg_shift_tocks(&m->ticks, &m->wait_left, 1);
+    bool any = false;
+    any = any || (m->smp_present[Alarm_Event_press]);  /* present(e0) */
+    any = any || (m->smp_present[Alarm_Event_cancel]);  /* present(e2) */
+    any = any || ((((m->ticks - m->entered[Alarm_Node_Ringing]) * UINT64_C(1)) >= UINT64_C(5)));  /* (sinceEntry(n3) >= 5) */
+    rg_unshift_tocks(&m->ticks, &m->wait_left, saved);
+    return rg_lookahead_fault(d) || any;
+}
+
+/* (sinceEntry(n3) >= 5): how its sides compare k tocks from now (-1, 0, 1) */
+static int rg_atom_0_4(rg_instance *inst, uint64_t k)
+{
+    rg_model_data *d = &inst->s.data;
+    rg_machine_0 *m = &d->m0;
+    rg_tock_shift saved = rg_shift_tocks(&m->ticks, &m->wait_left, k);
+    uint64_t left = ((m->ticks - m->entered[Alarm_Node_Ringing]) * UINT64_C(1));
+    uint64_t right = UINT64_C(5);
+    rg_unshift_tocks(&m->ticks, &m->wait_left, saved);
+    (void)d;
+    return (left > right) - (left < right);
+}
+
+/* b9: wait (timers.rct:44): is a test true one tock from now (or in error)? */
+static bool rg_probe_0_9(rg_instance *inst)
+{
+    rg_model_data *d = &inst->s.data;
+    rg_machine_0 *m = &d->m0;
+    rg_tock_shift saved = rg_shift_tocks(&m->ticks, &m->wait_left, 1);
+    bool any = false;
+    any = any || ((m->wait_left <= INT64_C(0)));  /* (wait_left <= 0) */
+    rg_unshift_tocks(&m->ticks, &m->wait_left, saved);
+    return rg_lookahead_fault(d) || any;
+}
+
+/* b11: wait (timers.rct:37): is a test true one tock from now (or in error)? */
+static bool rg_probe_0_11(rg_instance *inst)
+{
+    rg_model_data *d = &inst->s.data;
+    rg_machine_0 *m = &d->m0;
+    rg_tock_shift saved = rg_shift_tocks(&m->ticks, &m->wait_left, 1);
+    bool any = false;
+    any = any || ((m->wait_left <= INT64_C(0)));  /* (wait_left <= 0) */
+    rg_unshift_tocks(&m->ticks, &m->wait_left, saved);
+    return rg_lookahead_fault(d) || any;
+}
+
+/* b13: EVAL Snooze (timers.rct:36): is a test true one tock from now (or in error)? */
+static bool rg_probe_0_13(rg_instance *inst)
+{
+    rg_model_data *d = &inst->s.data;
+    rg_machine_0 *m = &d->m0;
+    rg_tock_shift saved = rg_shift_tocks(&m->ticks, &m->wait_left, 1);
+    bool any = false;
+    any = any || ((((m->ticks - m->clock_reset[0]) * UINT64_C(1)) >= UINT64_C(1)));  /* (since(c0) >= 1) */
+    rg_unshift_tocks(&m->ticks, &m->wait_left, saved);
+    return rg_lookahead_fault(d) || any;
+}
+
+/* (since(c0) >= 1): how its sides compare k tocks from now (-1, 0, 1) */
+static int rg_atom_0_5(rg_instance *inst, uint64_t k)
+{
+    rg_model_data *d = &inst->s.data;
+    rg_machine_0 *m = &d->m0;
+    rg_tock_shift saved = rg_shift_tocks(&m->ticks, &m->wait_left, k);
+    uint64_t left = ((m->ticks - m->clock_reset[0]) * UINT64_C(1));
+    uint64_t right = UINT64_C(1);
+    rg_unshift_tocks(&m->ticks, &m->wait_left, saved);
+    (void)d;
+    return (left > right) - (left < right);
+}
+
+/* b15: wait (timers.rct:34): is a test true one tock from now (or in error)? */
+static bool rg_probe_0_15(rg_instance *inst)
+{
+    rg_model_data *d = &inst->s.data;
+    rg_machine_0 *m = &d->m0;
+    rg_tock_shift saved = rg_shift_tocks(&m->ticks, &m->wait_left, 1);
+    bool any = false;
+    any = any || ((m->wait_left <= INT64_C(0)));  /* (wait_left <= 0) */
+    rg_unshift_tocks(&m->ticks, &m->wait_left, saved);
+    return rg_lookahead_fault(d) || any;
+}
+
+/* Tocks from the last one counted to the first at which Alarm may do something (at least 1),
+ * RG_NEVER if none comes before an event (robogen.ir.lookahead). */
+static uint64_t rg_wake_0(rg_instance *inst)
+{
+    rg_machine_0 *m = &inst->s.data.m0;
+    uint64_t wake = RG_NEVER;
+    if (m->in_cycle) return 1;
+    switch (m->pc) {
+    case 1: /* the resume point b1, EVAL Off */
+        if (rg_probe_0_1(inst)) return 1;
+        wake = rg_first_change(inst, rg_atom_0_0, wake);
+        break;
+    case 3: /* the resume point b3, EVAL Armed */
+        if (rg_probe_0_3(inst)) return 1;
+        wake = rg_first_change(inst, rg_atom_0_1, wake);
+        wake = rg_first_change(inst, rg_atom_0_2, wake);
+        break;
+    case 5: /* the resume point b5, wait */
+        if (rg_probe_0_5(inst)) return 1;
+        wake = rg_first_change(inst, rg_atom_0_3, wake);
+        break;
+    case 7: /* the resume point b7, EVAL Ringing */
+        if (rg_probe_0_7(inst)) return 1;
+        wake = rg_first_change(inst, rg_atom_0_4, wake);
+        break;
+    case 9: /* the resume point b9, wait */
+        if (rg_probe_0_9(inst)) return 1;
+        wake = rg_first_change(inst, rg_atom_0_3, wake);
+        break;
+    case 11: /* the resume point b11, wait */
+        if (rg_probe_0_11(inst)) return 1;
+        wake = rg_first_change(inst, rg_atom_0_3, wake);
+        break;
+    case 13: /* the resume point b13, EVAL Snooze */
+        if (rg_probe_0_13(inst)) return 1;
+        wake = rg_first_change(inst, rg_atom_0_5, wake);
+        break;
+    case 15: /* the resume point b15, wait */
+        if (rg_probe_0_15(inst)) return 1;
+        wake = rg_first_change(inst, rg_atom_0_3, wake);
+        break;
+    default: /* a resume point that cannot be looked ahead of: it runs at every tock */
+        return 1;
+    }
+    return rg_lookahead_fault(&inst->s.data) ? 1 : wake;
+}
+
+/* `tocks` tocks at which no machine can do anything: counted as the ticking FMU counts them, no
+ * machine run (they all rest where the last look-ahead saw them). */
+static void rg_pass_idle(rg_model_data *d, uint64_t tocks)
+{
+    d->cycles += tocks;
+    d->m0.ticks += tocks;
+    if (d->m0.wait_left > 0)
+        d->m0.wait_left = (uint64_t)d->m0.wait_left > tocks ? d->m0.wait_left - (int64_t)tocks : 0;
+}
+
+/* Is a tock due at this instant's time? The tocks due before it are idle ones a step passed (the
+ * importer steps no further than the next event time), counted here if the step did not. */
+static bool rg_tock_now(rg_instance *inst)
+{
+    rg_model_data *d = &inst->s.data;
+    uint64_t due = rg_tocks_by(inst, inst->s.time);
+    if (due > d->cycles + 1) rg_pass_idle(d, due - 1 - d->cycles);
+    return due > d->cycles;
+}
+
+/* The step counts the idle tocks it passes: those before the next event time, which a master
+ * reaches and handles in Event Mode. An importer that ignores nextEventTime (fmpy's simulate_fmu)
+ * passes it: warned, the machines take that tock at its next Event Mode, late. */
+static fmi3Status rg_model_do_step(rg_instance *inst, double t_end, bool *event_handling_needed,
+                                   bool *terminate_simulation, double *last_successful_time)
+{
+    rg_model_data *d = &inst->s.data;
+    uint64_t due;
+    (void)event_handling_needed;
+    (void)terminate_simulation;
+    (void)last_successful_time;
+    if (!inst->event_mode_used) return fmi3OK; /* without Event Mode no machine runs, as with a tock clock */
+    due = rg_tocks_by(inst, t_end);
+    if (due > d->next_tock) due = d->next_tock; /* the tock at the next event time is Event Mode's */
+    if (due > d->cycles) rg_pass_idle(d, due - d->cycles);
+    if (d->next_tock != RG_NEVER && rg_tock_time(inst, d->next_tock) < t_end &&
+        !rg_time_equal(rg_tock_time(inst, d->next_tock), t_end)) {
+        rg_log(inst, RG_LOG_WARNING, fmi3Warning, "fmi3DoStep: the step to t=%.17g passes the next event time t=%.17g "
+               "(tock %llu) that fmi3UpdateDiscreteStates announced: the machines take it at the next Event Mode, late "
+               "(step to the next event time and enter Event Mode there)",
+               t_end, rg_tock_time(inst, d->next_tock), (unsigned long long)d->next_tock);
+        d->next_tock = RG_NEVER; /* warned once; the next Event Mode counts the tocks up to its time */
+        return fmi3Warning;
+    }
+    return fmi3OK;
+}
+
 static fmi3Status rg_model_evaluate(rg_instance *inst)
 {
     rg_model_data *d = &inst->s.data;
-    bool periodic = inst->s.clock_active[CLOCK_tock];
+    bool periodic = rg_tock_now(inst);
     d->fault = RG_FAULT_NONE;
     if (periodic) d->cycles++;
     {
@@ -338,16 +610,24 @@ static fmi3Status rg_model_update(rg_instance *inst, bool *discrete_states_need_
                                   bool *terminate_simulation, bool *next_event_time_defined,
                                   double *next_event_time)
 {
-    const rg_model_data *d = &inst->s.data;
+    rg_model_data *d = &inst->s.data;
+    uint64_t wake = RG_NEVER;
     bool need = false;
     (void)terminate_simulation;
-    (void)next_event_time_defined;
-    (void)next_event_time;
     need = need || d->m0.in_cycle;
     {
         size_t e;
         for (e = 0; e < 6; e++) need = need || d->m0.reg_present[e];
     }
     *discrete_states_need_update = need;
+    if (need) return fmi3OK; /* the machines are not at rest yet */
+    {
+        uint64_t w = rg_wake_0(inst);
+        if (w < wake) wake = w;
+    }
+    /* tocks 0 .. cycles-1 are counted: the first that can do something is cycles - 1 + wake */
+    d->next_tock = wake == RG_NEVER ? RG_NEVER : d->cycles - 1 + wake;
+    *next_event_time_defined = wake != RG_NEVER;
+    *next_event_time = wake == RG_NEVER ? 0.0 : rg_tock_time(inst, d->next_tock);
     return fmi3OK;
 }

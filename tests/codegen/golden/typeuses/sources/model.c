@@ -52,20 +52,18 @@ static rg_seq_rec_typeuses_Step rg_make_seq_rec_typeuses_Step(rg_model_data *d, 
 
 /* indices into rg_clocks */
 enum {
-    CLOCK_tock = 0,  /* one RoboChart time unit (tock) */
-    CLOCK_go = 1,  /* input event go */
-    CLOCK_pose = 2,  /* output event pose */
-    CLOCK_pair = 3,  /* output event pair */
-    CLOCK_drive = 4,  /* output event drive */
-    CLOCK_path = 5,  /* output event path */
-    CLOCK_force = 6,  /* output event force */
-    CLOCK_home = 7,  /* output event home */
-    CLOCK_spot = 8,  /* output event spot */
-    CLOCK_cmd_vel = 9,  /* call of platform operation cmd_vel */
+    CLOCK_go = 0,  /* input event go */
+    CLOCK_pose = 1,  /* output event pose */
+    CLOCK_pair = 2,  /* output event pair */
+    CLOCK_drive = 3,  /* output event drive */
+    CLOCK_path = 4,  /* output event path */
+    CLOCK_force = 5,  /* output event force */
+    CLOCK_home = 6,  /* output event home */
+    CLOCK_spot = 7,  /* output event spot */
+    CLOCK_cmd_vel = 8,  /* call of platform operation cmd_vel */
 };
 
 static const rg_clock rg_clocks[RG_CLOCK_ARRAY_SIZE] = {
-    { 1, "tock", RG_CLOCK_INPUT_CONSTANT, 1, 0.0 },
     { 2, "go", RG_CLOCK_INPUT_TRIGGERED, 0.0, 0.0 },
     { 4, "pose", RG_CLOCK_OUTPUT_TRIGGERED, 0.0, 0.0 },
     { 10, "pair", RG_CLOCK_OUTPUT_TRIGGERED, 0.0, 0.0 },
@@ -78,40 +76,39 @@ static const rg_clock rg_clocks[RG_CLOCK_ARRAY_SIZE] = {
 };
 
 static const rg_variable rg_variables[RG_NUM_VARIABLES] = {
-    { 1, "tock", RG_CLOCK, RG_INPUT, RG_DISCRETE, -1, 0, 1, true },
     { 2, "go", RG_CLOCK, RG_INPUT, RG_DISCRETE, -1, 0, 1, true },
-    { 3, "go.value", RG_FLOAT64, RG_INPUT, RG_DISCRETE, 1, offsetof(rg_model_data, in_go_value), 1, true },
+    { 3, "go.value", RG_FLOAT64, RG_INPUT, RG_DISCRETE, 0, offsetof(rg_model_data, in_go_value), 1, true },
     { 4, "pose", RG_CLOCK, RG_OUTPUT, RG_DISCRETE, -1, 0, 1, false },
-    { 5, "pose.s.a.u", RG_FLOAT64, RG_OUTPUT, RG_DISCRETE, 2, offsetof(rg_model_data, out_pose_s_a_u), 1, false },
-    { 6, "pose.s.a.w", RG_FLOAT64, RG_OUTPUT, RG_DISCRETE, 2, offsetof(rg_model_data, out_pose_s_a_w), 1, false },
-    { 7, "pose.s.b.u", RG_FLOAT64, RG_OUTPUT, RG_DISCRETE, 2, offsetof(rg_model_data, out_pose_s_b_u), 1, false },
-    { 8, "pose.s.b.w", RG_FLOAT64, RG_OUTPUT, RG_DISCRETE, 2, offsetof(rg_model_data, out_pose_s_b_w), 1, false },
-    { 9, "pose.n", RG_UINT64, RG_OUTPUT, RG_DISCRETE, 2, offsetof(rg_model_data, out_pose_n), 1, false },
+    { 5, "pose.s.a.u", RG_FLOAT64, RG_OUTPUT, RG_DISCRETE, 1, offsetof(rg_model_data, out_pose_s_a_u), 1, false },
+    { 6, "pose.s.a.w", RG_FLOAT64, RG_OUTPUT, RG_DISCRETE, 1, offsetof(rg_model_data, out_pose_s_a_w), 1, false },
+    { 7, "pose.s.b.u", RG_FLOAT64, RG_OUTPUT, RG_DISCRETE, 1, offsetof(rg_model_data, out_pose_s_b_u), 1, false },
+    { 8, "pose.s.b.w", RG_FLOAT64, RG_OUTPUT, RG_DISCRETE, 1, offsetof(rg_model_data, out_pose_s_b_w), 1, false },
+    { 9, "pose.n", RG_UINT64, RG_OUTPUT, RG_DISCRETE, 1, offsetof(rg_model_data, out_pose_n), 1, false },
     { 10, "pair", RG_CLOCK, RG_OUTPUT, RG_DISCRETE, -1, 0, 1, false },
-    { 11, "pair._1", RG_UINT64, RG_OUTPUT, RG_DISCRETE, 3, offsetof(rg_model_data, out_pair__1), 1, false },
-    { 12, "pair._2.px", RG_FLOAT64, RG_OUTPUT, RG_DISCRETE, 3, offsetof(rg_model_data, out_pair__2_px), 1, false },
-    { 13, "pair._2.py", RG_FLOAT64, RG_OUTPUT, RG_DISCRETE, 3, offsetof(rg_model_data, out_pair__2_py), 1, false },
+    { 11, "pair._1", RG_UINT64, RG_OUTPUT, RG_DISCRETE, 2, offsetof(rg_model_data, out_pair__1), 1, false },
+    { 12, "pair._2.px", RG_FLOAT64, RG_OUTPUT, RG_DISCRETE, 2, offsetof(rg_model_data, out_pair__2_px), 1, false },
+    { 13, "pair._2.py", RG_FLOAT64, RG_OUTPUT, RG_DISCRETE, 2, offsetof(rg_model_data, out_pair__2_py), 1, false },
     { 14, "drive", RG_CLOCK, RG_OUTPUT, RG_DISCRETE, -1, 0, 1, false },
-    { 15, "drive.tag", RG_INT64, RG_OUTPUT, RG_DISCRETE, 4, offsetof(rg_model_data, out_drive_tag), 1, false },
-    { 16, "drive.Drive_1.along.px", RG_FLOAT64, RG_OUTPUT, RG_DISCRETE, 4, offsetof(rg_model_data, out_drive_Drive_1_along_px), 1, false },
-    { 17, "drive.Drive_1.along.py", RG_FLOAT64, RG_OUTPUT, RG_DISCRETE, 4, offsetof(rg_model_data, out_drive_Drive_1_along_py), 1, false },
+    { 15, "drive.tag", RG_INT64, RG_OUTPUT, RG_DISCRETE, 3, offsetof(rg_model_data, out_drive_tag), 1, false },
+    { 16, "drive.Drive_1.along.px", RG_FLOAT64, RG_OUTPUT, RG_DISCRETE, 3, offsetof(rg_model_data, out_drive_Drive_1_along_px), 1, false },
+    { 17, "drive.Drive_1.along.py", RG_FLOAT64, RG_OUTPUT, RG_DISCRETE, 3, offsetof(rg_model_data, out_drive_Drive_1_along_py), 1, false },
     { 18, "path", RG_CLOCK, RG_OUTPUT, RG_DISCRETE, -1, 0, 1, false },
-    { 19, "path.value.elements.dx", RG_INT64, RG_OUTPUT, RG_DISCRETE, 5, offsetof(rg_model_data, out_path_value_elements_dx), 32, false },
-    { 20, "path.value.elements.dy", RG_INT64, RG_OUTPUT, RG_DISCRETE, 5, offsetof(rg_model_data, out_path_value_elements_dy), 32, false },
-    { 21, "path.value.size", RG_UINT64, RG_OUTPUT, RG_DISCRETE, 5, offsetof(rg_model_data, out_path_value_size), 1, false },
+    { 19, "path.value.elements.dx", RG_INT64, RG_OUTPUT, RG_DISCRETE, 4, offsetof(rg_model_data, out_path_value_elements_dx), 32, false },
+    { 20, "path.value.elements.dy", RG_INT64, RG_OUTPUT, RG_DISCRETE, 4, offsetof(rg_model_data, out_path_value_elements_dy), 32, false },
+    { 21, "path.value.size", RG_UINT64, RG_OUTPUT, RG_DISCRETE, 4, offsetof(rg_model_data, out_path_value_size), 1, false },
     { 22, "force", RG_CLOCK, RG_OUTPUT, RG_DISCRETE, -1, 0, 1, false },
-    { 23, "force.value", RG_FLOAT64, RG_OUTPUT, RG_DISCRETE, 6, offsetof(rg_model_data, out_force_value), 1, false },
+    { 23, "force.value", RG_FLOAT64, RG_OUTPUT, RG_DISCRETE, 5, offsetof(rg_model_data, out_force_value), 1, false },
     { 24, "home", RG_CLOCK, RG_OUTPUT, RG_DISCRETE, -1, 0, 1, false },
-    { 25, "home.value", RG_FLOAT64, RG_OUTPUT, RG_DISCRETE, 7, offsetof(rg_model_data, out_home_value), 1, false },
+    { 25, "home.value", RG_FLOAT64, RG_OUTPUT, RG_DISCRETE, 6, offsetof(rg_model_data, out_home_value), 1, false },
     { 26, "spot", RG_CLOCK, RG_OUTPUT, RG_DISCRETE, -1, 0, 1, false },
-    { 27, "spot.value", RG_FLOAT64, RG_OUTPUT, RG_DISCRETE, 8, offsetof(rg_model_data, out_spot_value), 1, false },
+    { 27, "spot.value", RG_FLOAT64, RG_OUTPUT, RG_DISCRETE, 7, offsetof(rg_model_data, out_spot_value), 1, false },
     { 28, "cmd_vel", RG_CLOCK, RG_OUTPUT, RG_DISCRETE, -1, 0, 1, false },
-    { 29, "cmd_vel.t.linear.x", RG_FLOAT64, RG_OUTPUT, RG_DISCRETE, 9, offsetof(rg_model_data, out_cmd_vel_t_linear_x), 1, false },
-    { 30, "cmd_vel.t.linear.y", RG_FLOAT64, RG_OUTPUT, RG_DISCRETE, 9, offsetof(rg_model_data, out_cmd_vel_t_linear_y), 1, false },
-    { 31, "cmd_vel.t.linear.z", RG_FLOAT64, RG_OUTPUT, RG_DISCRETE, 9, offsetof(rg_model_data, out_cmd_vel_t_linear_z), 1, false },
-    { 32, "cmd_vel.t.angular.x", RG_FLOAT64, RG_OUTPUT, RG_DISCRETE, 9, offsetof(rg_model_data, out_cmd_vel_t_angular_x), 1, false },
-    { 33, "cmd_vel.t.angular.y", RG_FLOAT64, RG_OUTPUT, RG_DISCRETE, 9, offsetof(rg_model_data, out_cmd_vel_t_angular_y), 1, false },
-    { 34, "cmd_vel.t.angular.z", RG_FLOAT64, RG_OUTPUT, RG_DISCRETE, 9, offsetof(rg_model_data, out_cmd_vel_t_angular_z), 1, false },
+    { 29, "cmd_vel.t.linear.x", RG_FLOAT64, RG_OUTPUT, RG_DISCRETE, 8, offsetof(rg_model_data, out_cmd_vel_t_linear_x), 1, false },
+    { 30, "cmd_vel.t.linear.y", RG_FLOAT64, RG_OUTPUT, RG_DISCRETE, 8, offsetof(rg_model_data, out_cmd_vel_t_linear_y), 1, false },
+    { 31, "cmd_vel.t.linear.z", RG_FLOAT64, RG_OUTPUT, RG_DISCRETE, 8, offsetof(rg_model_data, out_cmd_vel_t_linear_z), 1, false },
+    { 32, "cmd_vel.t.angular.x", RG_FLOAT64, RG_OUTPUT, RG_DISCRETE, 8, offsetof(rg_model_data, out_cmd_vel_t_angular_x), 1, false },
+    { 33, "cmd_vel.t.angular.y", RG_FLOAT64, RG_OUTPUT, RG_DISCRETE, 8, offsetof(rg_model_data, out_cmd_vel_t_angular_y), 1, false },
+    { 34, "cmd_vel.t.angular.z", RG_FLOAT64, RG_OUTPUT, RG_DISCRETE, 8, offsetof(rg_model_data, out_cmd_vel_t_angular_z), 1, false },
     { 35, "Mover.state", RG_INT64, RG_OUTPUT, RG_DISCRETE, -1, offsetof(rg_model_data, m0.node), 1, false },
     { 36, "cycles", RG_UINT64, RG_OUTPUT, RG_DISCRETE, -1, offsetof(rg_model_data, cycles), 1, false },
     { 37, "dropped_events", RG_UINT64, RG_OUTPUT, RG_DISCRETE, -1, offsetof(rg_model_data, dropped_events), 1, false },
@@ -300,10 +297,88 @@ static void rg_model_latch(rg_instance *inst, int clock_index)
     }
 }
 
+/* ---- time for free (robogen.ir.lookahead): the FMU counts its tocks --------------------------- */
+
+/* b1: EVAL Idle (typeuses.rct:114): is a test true one tock from now (or in error)? */
+static bool rg_probe_0_1(rg_instance *inst)
+{
+    rg_model_data *d = &inst->s.data;
+    rg_machine_0 *m = &d->m0;
+    rg_tock_shift saved = rg_shift_tocks(&m->ticks, &m->wait_left, 1);
+    bool any = false;
+    any = any || (m->smp_present[Mover_Event_go]);  /* present(e0) */
+    rg_unshift_tocks(&m->ticks, &m->wait_left, saved);
+    return rg_lookahead_fault(d) || any;
+}
+
+/* Tocks from the last one counted to the first at which Mover may do something (at least 1),
+ * RG_NEVER if none comes before an event (robogen.ir.lookahead). */
+static uint64_t rg_wake_0(rg_instance *inst)
+{
+    rg_machine_0 *m = &inst->s.data.m0;
+    uint64_t wake = RG_NEVER;
+    if (m->in_cycle) return 1;
+    switch (m->pc) {
+    case 1: /* the resume point b1, EVAL Idle */
+        if (rg_probe_0_1(inst)) return 1;
+        break;
+    default: /* a resume point that cannot be looked ahead of: it runs at every tock */
+        return 1;
+    }
+    return rg_lookahead_fault(&inst->s.data) ? 1 : wake;
+}
+
+/* `tocks` tocks at which no machine can do anything: counted as the ticking FMU counts them, no
+ * machine run (they all rest where the last look-ahead saw them). */
+static void rg_pass_idle(rg_model_data *d, uint64_t tocks)
+{
+    d->cycles += tocks;
+    d->m0.ticks += tocks;
+    if (d->m0.wait_left > 0)
+        d->m0.wait_left = (uint64_t)d->m0.wait_left > tocks ? d->m0.wait_left - (int64_t)tocks : 0;
+}
+
+/* Is a tock due at this instant's time? The tocks due before it are idle ones a step passed (the
+ * importer steps no further than the next event time), counted here if the step did not. */
+static bool rg_tock_now(rg_instance *inst)
+{
+    rg_model_data *d = &inst->s.data;
+    uint64_t due = rg_tocks_by(inst, inst->s.time);
+    if (due > d->cycles + 1) rg_pass_idle(d, due - 1 - d->cycles);
+    return due > d->cycles;
+}
+
+/* The step counts the idle tocks it passes: those before the next event time, which a master
+ * reaches and handles in Event Mode. An importer that ignores nextEventTime (fmpy's simulate_fmu)
+ * passes it: warned, the machines take that tock at its next Event Mode, late. */
+static fmi3Status rg_model_do_step(rg_instance *inst, double t_end, bool *event_handling_needed,
+                                   bool *terminate_simulation, double *last_successful_time)
+{
+    rg_model_data *d = &inst->s.data;
+    uint64_t due;
+    (void)event_handling_needed;
+    (void)terminate_simulation;
+    (void)last_successful_time;
+    if (!inst->event_mode_used) return fmi3OK; /* without Event Mode no machine runs, as with a tock clock */
+    due = rg_tocks_by(inst, t_end);
+    if (due > d->next_tock) due = d->next_tock; /* the tock at the next event time is Event Mode's */
+    if (due > d->cycles) rg_pass_idle(d, due - d->cycles);
+    if (d->next_tock != RG_NEVER && rg_tock_time(inst, d->next_tock) < t_end &&
+        !rg_time_equal(rg_tock_time(inst, d->next_tock), t_end)) {
+        rg_log(inst, RG_LOG_WARNING, fmi3Warning, "fmi3DoStep: the step to t=%.17g passes the next event time t=%.17g "
+               "(tock %llu) that fmi3UpdateDiscreteStates announced: the machines take it at the next Event Mode, late "
+               "(step to the next event time and enter Event Mode there)",
+               t_end, rg_tock_time(inst, d->next_tock), (unsigned long long)d->next_tock);
+        d->next_tock = RG_NEVER; /* warned once; the next Event Mode counts the tocks up to its time */
+        return fmi3Warning;
+    }
+    return fmi3OK;
+}
+
 static fmi3Status rg_model_evaluate(rg_instance *inst)
 {
     rg_model_data *d = &inst->s.data;
-    bool periodic = inst->s.clock_active[CLOCK_tock];
+    bool periodic = rg_tock_now(inst);
     d->fault = RG_FAULT_NONE;
     if (periodic) d->cycles++;
     {
@@ -332,16 +407,24 @@ static fmi3Status rg_model_update(rg_instance *inst, bool *discrete_states_need_
                                   bool *terminate_simulation, bool *next_event_time_defined,
                                   double *next_event_time)
 {
-    const rg_model_data *d = &inst->s.data;
+    rg_model_data *d = &inst->s.data;
+    uint64_t wake = RG_NEVER;
     bool need = false;
     (void)terminate_simulation;
-    (void)next_event_time_defined;
-    (void)next_event_time;
     need = need || d->m0.in_cycle;
     {
         size_t e;
         for (e = 0; e < 8; e++) need = need || d->m0.reg_present[e];
     }
     *discrete_states_need_update = need;
+    if (need) return fmi3OK; /* the machines are not at rest yet */
+    {
+        uint64_t w = rg_wake_0(inst);
+        if (w < wake) wake = w;
+    }
+    /* tocks 0 .. cycles-1 are counted: the first that can do something is cycles - 1 + wake */
+    d->next_tock = wake == RG_NEVER ? RG_NEVER : d->cycles - 1 + wake;
+    *next_event_time_defined = wake != RG_NEVER;
+    *next_event_time = wake == RG_NEVER ? 0.0 : rg_tock_time(inst, d->next_tock);
     return fmi3OK;
 }

@@ -15,22 +15,20 @@
 
 /* indices into rg_clocks */
 enum {
-    CLOCK_tock = 0,  /* one RoboChart time unit (tock) */
-    CLOCK_moveDiscreteCommand = 1,  /* input event moveDiscreteCommand */
-    CLOCK_feasibleMoveDiscreteCommand = 2,  /* input event feasibleMoveDiscreteCommand */
-    CLOCK_nonfeasibleMoveDiscreteCommand = 3,  /* input event nonfeasibleMoveDiscreteCommand */
-    CLOCK_moveCompleted = 4,  /* input event moveCompleted */
-    CLOCK_robotStopped = 5,  /* input event robotStopped */
-    CLOCK_collision = 6,  /* input event collision */
-    CLOCK_movecartesian = 7,  /* call of platform operation movecartesian */
-    CLOCK_movediscrete = 8,  /* call of platform operation movediscrete */
-    CLOCK_movejoint = 9,  /* call of platform operation movejoint */
-    CLOCK_stop = 10,  /* call of platform operation stop */
-    CLOCK_setvelocity = 11,  /* call of platform operation setvelocity */
+    CLOCK_moveDiscreteCommand = 0,  /* input event moveDiscreteCommand */
+    CLOCK_feasibleMoveDiscreteCommand = 1,  /* input event feasibleMoveDiscreteCommand */
+    CLOCK_nonfeasibleMoveDiscreteCommand = 2,  /* input event nonfeasibleMoveDiscreteCommand */
+    CLOCK_moveCompleted = 3,  /* input event moveCompleted */
+    CLOCK_robotStopped = 4,  /* input event robotStopped */
+    CLOCK_collision = 5,  /* input event collision */
+    CLOCK_movecartesian = 6,  /* call of platform operation movecartesian */
+    CLOCK_movediscrete = 7,  /* call of platform operation movediscrete */
+    CLOCK_movejoint = 8,  /* call of platform operation movejoint */
+    CLOCK_stop = 9,  /* call of platform operation stop */
+    CLOCK_setvelocity = 10,  /* call of platform operation setvelocity */
 };
 
 static const rg_clock rg_clocks[RG_CLOCK_ARRAY_SIZE] = {
-    { 1, "tock", RG_CLOCK_INPUT_CONSTANT, 1, 0.0 },
     { 2, "moveDiscreteCommand", RG_CLOCK_INPUT_TRIGGERED, 0.0, 0.0 },
     { 6, "feasibleMoveDiscreteCommand", RG_CLOCK_INPUT_TRIGGERED, 0.0, 0.0 },
     { 7, "nonfeasibleMoveDiscreteCommand", RG_CLOCK_INPUT_TRIGGERED, 0.0, 0.0 },
@@ -45,37 +43,36 @@ static const rg_clock rg_clocks[RG_CLOCK_ARRAY_SIZE] = {
 };
 
 static const rg_variable rg_variables[RG_NUM_VARIABLES] = {
-    { 1, "tock", RG_CLOCK, RG_INPUT, RG_DISCRETE, -1, 0, 1, true },
     { 2, "moveDiscreteCommand", RG_CLOCK, RG_INPUT, RG_DISCRETE, -1, 0, 1, true },
-    { 3, "moveDiscreteCommand.target_X", RG_INT64, RG_INPUT, RG_DISCRETE, 1, offsetof(rg_model_data, in_moveDiscreteCommand_target_X), 1, true },
-    { 4, "moveDiscreteCommand.target_Y", RG_INT64, RG_INPUT, RG_DISCRETE, 1, offsetof(rg_model_data, in_moveDiscreteCommand_target_Y), 1, true },
-    { 5, "moveDiscreteCommand.target_Z", RG_INT64, RG_INPUT, RG_DISCRETE, 1, offsetof(rg_model_data, in_moveDiscreteCommand_target_Z), 1, true },
+    { 3, "moveDiscreteCommand.target_X", RG_INT64, RG_INPUT, RG_DISCRETE, 0, offsetof(rg_model_data, in_moveDiscreteCommand_target_X), 1, true },
+    { 4, "moveDiscreteCommand.target_Y", RG_INT64, RG_INPUT, RG_DISCRETE, 0, offsetof(rg_model_data, in_moveDiscreteCommand_target_Y), 1, true },
+    { 5, "moveDiscreteCommand.target_Z", RG_INT64, RG_INPUT, RG_DISCRETE, 0, offsetof(rg_model_data, in_moveDiscreteCommand_target_Z), 1, true },
     { 6, "feasibleMoveDiscreteCommand", RG_CLOCK, RG_INPUT, RG_DISCRETE, -1, 0, 1, true },
     { 7, "nonfeasibleMoveDiscreteCommand", RG_CLOCK, RG_INPUT, RG_DISCRETE, -1, 0, 1, true },
     { 8, "moveCompleted", RG_CLOCK, RG_INPUT, RG_DISCRETE, -1, 0, 1, true },
     { 9, "robotStopped", RG_CLOCK, RG_INPUT, RG_DISCRETE, -1, 0, 1, true },
     { 10, "collision", RG_CLOCK, RG_INPUT, RG_DISCRETE, -1, 0, 1, true },
     { 11, "movecartesian", RG_CLOCK, RG_OUTPUT, RG_DISCRETE, -1, 0, 1, false },
-    { 12, "movecartesian.target_x", RG_FLOAT64, RG_OUTPUT, RG_DISCRETE, 7, offsetof(rg_model_data, out_movecartesian_target_x), 1, false },
-    { 13, "movecartesian.target_y", RG_FLOAT64, RG_OUTPUT, RG_DISCRETE, 7, offsetof(rg_model_data, out_movecartesian_target_y), 1, false },
-    { 14, "movecartesian.target_z", RG_FLOAT64, RG_OUTPUT, RG_DISCRETE, 7, offsetof(rg_model_data, out_movecartesian_target_z), 1, false },
-    { 15, "movecartesian.target_rx", RG_FLOAT64, RG_OUTPUT, RG_DISCRETE, 7, offsetof(rg_model_data, out_movecartesian_target_rx), 1, false },
-    { 16, "movecartesian.target_ry", RG_FLOAT64, RG_OUTPUT, RG_DISCRETE, 7, offsetof(rg_model_data, out_movecartesian_target_ry), 1, false },
-    { 17, "movecartesian.target_rz", RG_FLOAT64, RG_OUTPUT, RG_DISCRETE, 7, offsetof(rg_model_data, out_movecartesian_target_rz), 1, false },
+    { 12, "movecartesian.target_x", RG_FLOAT64, RG_OUTPUT, RG_DISCRETE, 6, offsetof(rg_model_data, out_movecartesian_target_x), 1, false },
+    { 13, "movecartesian.target_y", RG_FLOAT64, RG_OUTPUT, RG_DISCRETE, 6, offsetof(rg_model_data, out_movecartesian_target_y), 1, false },
+    { 14, "movecartesian.target_z", RG_FLOAT64, RG_OUTPUT, RG_DISCRETE, 6, offsetof(rg_model_data, out_movecartesian_target_z), 1, false },
+    { 15, "movecartesian.target_rx", RG_FLOAT64, RG_OUTPUT, RG_DISCRETE, 6, offsetof(rg_model_data, out_movecartesian_target_rx), 1, false },
+    { 16, "movecartesian.target_ry", RG_FLOAT64, RG_OUTPUT, RG_DISCRETE, 6, offsetof(rg_model_data, out_movecartesian_target_ry), 1, false },
+    { 17, "movecartesian.target_rz", RG_FLOAT64, RG_OUTPUT, RG_DISCRETE, 6, offsetof(rg_model_data, out_movecartesian_target_rz), 1, false },
     { 18, "movediscrete", RG_CLOCK, RG_OUTPUT, RG_DISCRETE, -1, 0, 1, false },
-    { 19, "movediscrete.target_X", RG_INT64, RG_OUTPUT, RG_DISCRETE, 8, offsetof(rg_model_data, out_movediscrete_target_X), 1, false },
-    { 20, "movediscrete.target_Y", RG_INT64, RG_OUTPUT, RG_DISCRETE, 8, offsetof(rg_model_data, out_movediscrete_target_Y), 1, false },
-    { 21, "movediscrete.target_Z", RG_INT64, RG_OUTPUT, RG_DISCRETE, 8, offsetof(rg_model_data, out_movediscrete_target_Z), 1, false },
+    { 19, "movediscrete.target_X", RG_INT64, RG_OUTPUT, RG_DISCRETE, 7, offsetof(rg_model_data, out_movediscrete_target_X), 1, false },
+    { 20, "movediscrete.target_Y", RG_INT64, RG_OUTPUT, RG_DISCRETE, 7, offsetof(rg_model_data, out_movediscrete_target_Y), 1, false },
+    { 21, "movediscrete.target_Z", RG_INT64, RG_OUTPUT, RG_DISCRETE, 7, offsetof(rg_model_data, out_movediscrete_target_Z), 1, false },
     { 22, "movejoint", RG_CLOCK, RG_OUTPUT, RG_DISCRETE, -1, 0, 1, false },
-    { 23, "movejoint.target_q0", RG_FLOAT64, RG_OUTPUT, RG_DISCRETE, 9, offsetof(rg_model_data, out_movejoint_target_q0), 1, false },
-    { 24, "movejoint.target_q1", RG_FLOAT64, RG_OUTPUT, RG_DISCRETE, 9, offsetof(rg_model_data, out_movejoint_target_q1), 1, false },
-    { 25, "movejoint.target_q2", RG_FLOAT64, RG_OUTPUT, RG_DISCRETE, 9, offsetof(rg_model_data, out_movejoint_target_q2), 1, false },
-    { 26, "movejoint.target_q3", RG_FLOAT64, RG_OUTPUT, RG_DISCRETE, 9, offsetof(rg_model_data, out_movejoint_target_q3), 1, false },
-    { 27, "movejoint.target_q4", RG_FLOAT64, RG_OUTPUT, RG_DISCRETE, 9, offsetof(rg_model_data, out_movejoint_target_q4), 1, false },
-    { 28, "movejoint.target_q5", RG_FLOAT64, RG_OUTPUT, RG_DISCRETE, 9, offsetof(rg_model_data, out_movejoint_target_q5), 1, false },
+    { 23, "movejoint.target_q0", RG_FLOAT64, RG_OUTPUT, RG_DISCRETE, 8, offsetof(rg_model_data, out_movejoint_target_q0), 1, false },
+    { 24, "movejoint.target_q1", RG_FLOAT64, RG_OUTPUT, RG_DISCRETE, 8, offsetof(rg_model_data, out_movejoint_target_q1), 1, false },
+    { 25, "movejoint.target_q2", RG_FLOAT64, RG_OUTPUT, RG_DISCRETE, 8, offsetof(rg_model_data, out_movejoint_target_q2), 1, false },
+    { 26, "movejoint.target_q3", RG_FLOAT64, RG_OUTPUT, RG_DISCRETE, 8, offsetof(rg_model_data, out_movejoint_target_q3), 1, false },
+    { 27, "movejoint.target_q4", RG_FLOAT64, RG_OUTPUT, RG_DISCRETE, 8, offsetof(rg_model_data, out_movejoint_target_q4), 1, false },
+    { 28, "movejoint.target_q5", RG_FLOAT64, RG_OUTPUT, RG_DISCRETE, 8, offsetof(rg_model_data, out_movejoint_target_q5), 1, false },
     { 29, "stop", RG_CLOCK, RG_OUTPUT, RG_DISCRETE, -1, 0, 1, false },
     { 30, "setvelocity", RG_CLOCK, RG_OUTPUT, RG_DISCRETE, -1, 0, 1, false },
-    { 31, "setvelocity.target_v", RG_FLOAT64, RG_OUTPUT, RG_DISCRETE, 11, offsetof(rg_model_data, out_setvelocity_target_v), 1, false },
+    { 31, "setvelocity.target_v", RG_FLOAT64, RG_OUTPUT, RG_DISCRETE, 10, offsetof(rg_model_data, out_setvelocity_target_v), 1, false },
     { 32, "ArmMovement.MOVE_TIMEOUT", RG_UINT64, RG_PARAMETER, RG_FIXED, -1, offsetof(rg_model_data, m0.v_MOVE_TIMEOUT), 1, true },
     { 33, "ArmMovement.state", RG_INT64, RG_OUTPUT, RG_DISCRETE, -1, offsetof(rg_model_data, m0.node), 1, false },
     { 34, "cycles", RG_UINT64, RG_OUTPUT, RG_DISCRETE, -1, offsetof(rg_model_data, cycles), 1, false },
@@ -312,10 +309,168 @@ static void rg_model_latch(rg_instance *inst, int clock_index)
     }
 }
 
+/* ---- time for free (robogen.ir.lookahead): the FMU counts its tocks --------------------------- */
+
+/* b1: EVAL Idle (ur5e.rct:79): is a test true one tock from now (or in error)? */
+static bool rg_probe_0_1(rg_instance *inst)
+{
+    rg_model_data *d = &inst->s.data;
+    rg_machine_0 *m = &d->m0;
+    rg_tock_shift saved = rg_shift_tocks(&m->ticks, &m->wait_left, 1);
+    bool any = false;
+    any = any || (m->smp_present[ArmMovement_Event_moveDiscreteCommand]);  /* present(e0) */
+    any = any || (m->smp_present[ArmMovement_Event_moveCompleted]);  /* present(e3) */
+    any = any || (m->smp_present[ArmMovement_Event_robotStopped]);  /* present(e4) */
+    any = any || (m->smp_present[ArmMovement_Event_collision]);  /* present(e5) */
+    rg_unshift_tocks(&m->ticks, &m->wait_left, saved);
+    return rg_lookahead_fault(d) || any;
+}
+
+/* b3: EVAL ArmMove (ur5e.rct:80): is a test true one tock from now (or in error)? */
+static bool rg_probe_0_3(rg_instance *inst)
+{
+    rg_model_data *d = &inst->s.data;
+    rg_machine_0 *m = &d->m0;
+    rg_tock_shift saved = rg_shift_tocks(&m->ticks, &m->wait_left, 1);
+    bool any = false;
+    any = any || (m->smp_present[ArmMovement_Event_feasibleMoveDiscreteCommand]);  /* present(e1) */
+    any = any || (m->smp_present[ArmMovement_Event_nonfeasibleMoveDiscreteCommand]);  /* present(e2) */
+    rg_unshift_tocks(&m->ticks, &m->wait_left, saved);
+    return rg_lookahead_fault(d) || any;
+}
+
+/* b5: EVAL ArmMoving (ur5e.rct:81): is a test true one tock from now (or in error)? */
+static bool rg_probe_0_5(rg_instance *inst)
+{
+    rg_model_data *d = &inst->s.data;
+    rg_machine_0 *m = &d->m0;
+    rg_tock_shift saved = rg_shift_tocks(&m->ticks, &m->wait_left, 1);
+    bool any = false;
+    any = any || (m->smp_present[ArmMovement_Event_moveCompleted]);  /* present(e3) */
+    any = any || (m->smp_present[ArmMovement_Event_collision]);  /* present(e5) */
+    any = any || ((((m->ticks - m->clock_reset[0]) * UINT64_C(1)) >= m->v_MOVE_TIMEOUT));  /* (since(c0) >= MOVE_TIMEOUT) */
+    rg_unshift_tocks(&m->ticks, &m->wait_left, saved);
+    return rg_lookahead_fault(d) || any;
+}
+
+/* (since(c0) >= MOVE_TIMEOUT): how its sides compare k tocks from now (-1, 0, 1) */
+static int rg_atom_0_0(rg_instance *inst, uint64_t k)
+{
+    rg_model_data *d = &inst->s.data;
+    rg_machine_0 *m = &d->m0;
+    rg_tock_shift saved = rg_shift_tocks(&m->ticks, &m->wait_left, k);
+    uint64_t left = ((m->ticks - m->clock_reset[0]) * UINT64_C(1));
+    uint64_t right = m->v_MOVE_TIMEOUT;
+    rg_unshift_tocks(&m->ticks, &m->wait_left, saved);
+    (void)d;
+    return (left > right) - (left < right);
+}
+
+/* b7: EVAL ArmStop (ur5e.rct:82): is a test true one tock from now (or in error)? */
+static bool rg_probe_0_7(rg_instance *inst)
+{
+    rg_model_data *d = &inst->s.data;
+    rg_machine_0 *m = &d->m0;
+    rg_tock_shift saved = rg_shift_tocks(&m->ticks, &m->wait_left, 1);
+    bool any = false;
+    any = any || (true);  /* true */
+    rg_unshift_tocks(&m->ticks, &m->wait_left, saved);
+    return rg_lookahead_fault(d) || any;
+}
+
+/* b9: EVAL ArmStopping (ur5e.rct:83): is a test true one tock from now (or in error)? */
+static bool rg_probe_0_9(rg_instance *inst)
+{
+    rg_model_data *d = &inst->s.data;
+    rg_machine_0 *m = &d->m0;
+    rg_tock_shift saved = rg_shift_tocks(&m->ticks, &m->wait_left, 1);
+    bool any = false;
+    any = any || (m->smp_present[ArmMovement_Event_robotStopped]);  /* present(e4) */
+    rg_unshift_tocks(&m->ticks, &m->wait_left, saved);
+    return rg_lookahead_fault(d) || any;
+}
+
+/* Tocks from the last one counted to the first at which ArmMovement may do something (at least 1),
+ * RG_NEVER if none comes before an event (robogen.ir.lookahead). */
+static uint64_t rg_wake_0(rg_instance *inst)
+{
+    rg_machine_0 *m = &inst->s.data.m0;
+    uint64_t wake = RG_NEVER;
+    if (m->in_cycle) return 1;
+    switch (m->pc) {
+    case 1: /* the resume point b1, EVAL Idle */
+        if (rg_probe_0_1(inst)) return 1;
+        break;
+    case 3: /* the resume point b3, EVAL ArmMove */
+        if (rg_probe_0_3(inst)) return 1;
+        break;
+    case 5: /* the resume point b5, EVAL ArmMoving */
+        if (rg_probe_0_5(inst)) return 1;
+        wake = rg_first_change(inst, rg_atom_0_0, wake);
+        break;
+    case 7: /* the resume point b7, EVAL ArmStop */
+        if (rg_probe_0_7(inst)) return 1;
+        break;
+    case 9: /* the resume point b9, EVAL ArmStopping */
+        if (rg_probe_0_9(inst)) return 1;
+        break;
+    default: /* a resume point that cannot be looked ahead of: it runs at every tock */
+        return 1;
+    }
+    return rg_lookahead_fault(&inst->s.data) ? 1 : wake;
+}
+
+/* `tocks` tocks at which no machine can do anything: counted as the ticking FMU counts them, no
+ * machine run (they all rest where the last look-ahead saw them). */
+static void rg_pass_idle(rg_model_data *d, uint64_t tocks)
+{
+    d->cycles += tocks;
+    d->m0.ticks += tocks;
+    if (d->m0.wait_left > 0)
+        d->m0.wait_left = (uint64_t)d->m0.wait_left > tocks ? d->m0.wait_left - (int64_t)tocks : 0;
+}
+
+/* Is a tock due at this instant's time? The tocks due before it are idle ones a step passed (the
+ * importer steps no further than the next event time), counted here if the step did not. */
+static bool rg_tock_now(rg_instance *inst)
+{
+    rg_model_data *d = &inst->s.data;
+    uint64_t due = rg_tocks_by(inst, inst->s.time);
+    if (due > d->cycles + 1) rg_pass_idle(d, due - 1 - d->cycles);
+    return due > d->cycles;
+}
+
+/* The step counts the idle tocks it passes: those before the next event time, which a master
+ * reaches and handles in Event Mode. An importer that ignores nextEventTime (fmpy's simulate_fmu)
+ * passes it: warned, the machines take that tock at its next Event Mode, late. */
+static fmi3Status rg_model_do_step(rg_instance *inst, double t_end, bool *event_handling_needed,
+                                   bool *terminate_simulation, double *last_successful_time)
+{
+    rg_model_data *d = &inst->s.data;
+    uint64_t due;
+    (void)event_handling_needed;
+    (void)terminate_simulation;
+    (void)last_successful_time;
+    if (!inst->event_mode_used) return fmi3OK; /* without Event Mode no machine runs, as with a tock clock */
+    due = rg_tocks_by(inst, t_end);
+    if (due > d->next_tock) due = d->next_tock; /* the tock at the next event time is Event Mode's */
+    if (due > d->cycles) rg_pass_idle(d, due - d->cycles);
+    if (d->next_tock != RG_NEVER && rg_tock_time(inst, d->next_tock) < t_end &&
+        !rg_time_equal(rg_tock_time(inst, d->next_tock), t_end)) {
+        rg_log(inst, RG_LOG_WARNING, fmi3Warning, "fmi3DoStep: the step to t=%.17g passes the next event time t=%.17g "
+               "(tock %llu) that fmi3UpdateDiscreteStates announced: the machines take it at the next Event Mode, late "
+               "(step to the next event time and enter Event Mode there)",
+               t_end, rg_tock_time(inst, d->next_tock), (unsigned long long)d->next_tock);
+        d->next_tock = RG_NEVER; /* warned once; the next Event Mode counts the tocks up to its time */
+        return fmi3Warning;
+    }
+    return fmi3OK;
+}
+
 static fmi3Status rg_model_evaluate(rg_instance *inst)
 {
     rg_model_data *d = &inst->s.data;
-    bool periodic = inst->s.clock_active[CLOCK_tock];
+    bool periodic = rg_tock_now(inst);
     d->fault = RG_FAULT_NONE;
     if (periodic) d->cycles++;
     {
@@ -344,16 +499,24 @@ static fmi3Status rg_model_update(rg_instance *inst, bool *discrete_states_need_
                                   bool *terminate_simulation, bool *next_event_time_defined,
                                   double *next_event_time)
 {
-    const rg_model_data *d = &inst->s.data;
+    rg_model_data *d = &inst->s.data;
+    uint64_t wake = RG_NEVER;
     bool need = false;
     (void)terminate_simulation;
-    (void)next_event_time_defined;
-    (void)next_event_time;
     need = need || d->m0.in_cycle;
     {
         size_t e;
         for (e = 0; e < 6; e++) need = need || d->m0.reg_present[e];
     }
     *discrete_states_need_update = need;
+    if (need) return fmi3OK; /* the machines are not at rest yet */
+    {
+        uint64_t w = rg_wake_0(inst);
+        if (w < wake) wake = w;
+    }
+    /* tocks 0 .. cycles-1 are counted: the first that can do something is cycles - 1 + wake */
+    d->next_tock = wake == RG_NEVER ? RG_NEVER : d->cycles - 1 + wake;
+    *next_event_time_defined = wake != RG_NEVER;
+    *next_event_time = wake == RG_NEVER ? 0.0 : rg_tock_time(inst, d->next_tock);
     return fmi3OK;
 }

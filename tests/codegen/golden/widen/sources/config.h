@@ -8,12 +8,14 @@
 #include <stdint.h>
 
 #define RG_MODEL_IDENTIFIER "Widen"
-#define RG_INSTANTIATION_TOKEN "{6f655c00-feea-470a-b02f-9f12c8139787}"
-#define RG_NUM_VARIABLES 20
-#define RG_NUM_CLOCKS 7
+#define RG_INSTANTIATION_TOKEN "{ef19c2a5-d9bc-32f2-401e-d3cffcdd7cdd}"
+#define RG_NUM_VARIABLES 19
+#define RG_NUM_CLOCKS 6
 #define RG_MIGHT_RETURN_EARLY 0
 #define RG_STEPWISE 0  /* 1: stepwise semantics, one transition per fmi3UpdateDiscreteStates */
 #define RG_MAX_TRANSITIONS 1000UL  /* transitions per cycle before a runaway is reported */
+#define RG_TIME_FREE 1  /* --time skip: no tock clock; the FMU counts its tocks and announces the next event time */
+#define RG_TOCK_SECONDS ((double)1)  /* one RoboChart time unit, in seconds */
 #define RG_STRING_VARIABLES 1  /* String variables: numbers of strings (robogen_runtime_values.c) */
 #define RG_NUM_STRINGS 2  /* the model's strings, rg_strings in model.c */
 #define RG_FOREIGN_STRINGS 32  /* other strings an importer may set (the capacity) */
@@ -23,7 +25,8 @@
 #define RG_HAS_EXIT_INITIALIZATION  /* variables with initial values computed from the parameters */
 #define RG_HAS_LATCH  /* input clocks carry events to the state machines */
 #define RG_HAS_EVALUATE  /* the state machines run in Event Mode */
-#define RG_HAS_UPDATE  /* a stepwise cycle, or an event waiting, needs another instant */
+#define RG_HAS_UPDATE  /* a stepwise cycle, or an event waiting, needs another instant; the next tock at which anything can happen is the next event time */
+#define RG_HAS_DO_STEP  /* the tocks a step passes are counted (none of them can do anything) */
 
 /* ---- types of the model ---------------------------------------------------------------- */
 
@@ -111,6 +114,7 @@ typedef struct {
     uint64_t cycles;          /* FMI output cycles */
     uint64_t dropped_events;  /* FMI output dropped_events */
     uint64_t deadline_misses; /* FMI output deadline_misses */
+    uint64_t next_tock;       /* the first tock at which a machine may do something (RG_NEVER: none before an event) */
     int32_t fault;            /* run-time error code of the current instant (0: none) */
     uint64_t n_foreign;       /* strings set by the importer that are none of the model's */
     char foreign[RG_FOREIGN_STRINGS][RG_STRING_BYTES];  /* their texts: string RG_NUM_STRINGS + i */
