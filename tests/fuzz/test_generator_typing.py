@@ -76,3 +76,16 @@ def _text(e) -> str:
     from robogen.syntax.printer import expr
 
     return expr(e)
+
+
+def test_an_enumeration_keeps_only_elements_the_checker_accepts_together():
+    """model 2.107: ``override(f, {(| fn1(10, 3), 1.0 / 2.0 |), (| 0.25, fn1(7, 100) |)})`` put an
+    ``int * real`` beside a ``real * int``: the second is written again as the first."""
+    from robogen.fuzz.exprs import chained
+    from robogen.syntax import ast
+
+    first, second = ast.TupleLit((ast.IntLit(1), ast.RealLit("0.5"))), ast.TupleLit((ast.RealLit("0.25"), ast.IntLit(7)))
+    items, element = chained([(first, T.ProductT((T.INT, T.REAL))), (second, T.ProductT((T.REAL, T.INT)))])
+    assert items == (first, first) and element == T.ProductT((T.INT, T.REAL))
+    items, element = chained([(first, T.ProductT((T.NAT, T.REAL))), (second, T.ProductT((T.REAL, T.REAL)))])
+    assert items == (first, second) and element == T.ProductT((T.REAL, T.REAL))

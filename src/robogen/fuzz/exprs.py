@@ -162,10 +162,9 @@ class Exprs(ToolkitForms):
             return ast.RecordLit(name(t.qname), tuple(ast.FieldValue(n, self.literal(ft, sc)) for n, ft in t.fields))
         if isinstance(t, T.ProductT):
             return ast.TupleLit(tuple(self.literal(x, sc) for x in t.items))
-        if isinstance(t, T.SetT):
-            return ast.SetLit(tuple(self.literal(t.element, sc) for _ in range(rng.choice((0, 1, 2)))))
-        if isinstance(t, T.SeqT):
-            return ast.SeqLit(tuple(self.literal(t.element, sc) for _ in range(rng.choice((0, 1, 2)))))
+        if isinstance(t, (T.SetT, T.SeqT)):
+            items = [(x, _literal_type(x, t.element)) for x in (self.literal(t.element, sc) for _ in range(rng.choice((0, 1, 2))))]
+            return (ast.SetLit if isinstance(t, T.SetT) else ast.SeqLit)(chained(items)[0])
         if isinstance(t, T.VectorT):
             return ast.VectorLit((tuple(self.number(t.element) for _ in range(t.size)),))  # type: ignore[arg-type]
         if isinstance(t, T.MatrixT):
@@ -541,19 +540,8 @@ class Exprs(ToolkitForms):
         the next, and rejects an element of neither a wider nor a narrower type: ``(| 2.0, 0 |)``
         (``real * nat``) beside ``(| -1, 0.5 |)`` (``int * real``). Such an element is written again
         as a copy of the first one (found by the fuzzer: 1.281)."""
-        items: list[ast.Expr] = []
-        element: T.Type = t
-        for _ in range(self.rng.choice((0, 1, 2, 3))):
-            e, et = item(t, sc, d)
-            if items:
-                wider = T.element_join(element, et)
-                if wider is None:
-                    e, wider = items[0], element
-                element = wider
-            else:
-                element = et
-            items.append(e)
-        return tuple(items), element
+        items, element = chained([item(t, sc, d) for _ in range(self.rng.choice((0, 1, 2, 3)))])
+        return items, element if items else t
 
     def exact_set(self, e: T.Type, sc: Scope, d: int) -> ast.Expr:
         """A set whose type is exactly ``Set(e)``, for ``x in s`` with ``x: e`` (RoboTool's type
@@ -678,6 +666,24 @@ def fits_bind(event: T.Type, var: T.Type) -> bool:
     return fits(event, var) and not isinstance(event, T.FunctionT)
 
 
+def chained(items: list[tuple[ast.Expr, T.Type]]) -> tuple[tuple[ast.Expr, ...], T.Type | None]:
+    """The elements of an enumeration (each with its type) that the checker accepts together, and
+    their type (None: no element): an element whose type is neither wider nor narrower than the
+    others' so far (``(| 2.0, 0 |)`` beside ``(| -1, 0.5 |)``) is replaced by a copy of the first."""
+    out: list[ast.Expr] = []
+    element: T.Type | None = None
+    for e, et in items:
+        if element is None:
+            element = et
+        else:
+            wider = T.element_join(element, et)
+            if wider is None:
+                e, wider = out[0], element
+            element = wider
+        out.append(e)
+    return tuple(out), element
+
+
 def join(a: T.Type, *others: T.Type) -> T.Type:
     """The type of ``if c then a else b end`` (of the elements of a literal)."""
     for b in others:
@@ -686,4 +692,4 @@ def join(a: T.Type, *others: T.Type) -> T.Type:
     return a
 
 
-__all__ = ["Exprs", "Scope", "Sym", "UserFn", "fits", "fits_bind", "join", "is_tagged"]
+__all__ = ["Exprs", "Scope", "Sym", "UserFn", "chained", "fits", "fits_bind", "join", "is_tagged"]

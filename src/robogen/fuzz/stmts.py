@@ -6,7 +6,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field, replace
 
-from robogen.fuzz.exprs import Exprs, Scope, Sym, fits, fits_bind
+from robogen.fuzz.exprs import Exprs, Scope, Sym, chained, fits, fits_bind
 from robogen.fuzz.typegen import NUMBERS
 from robogen.semantics import types as T
 from robogen.syntax import ast
@@ -104,9 +104,11 @@ class Stmts:
         """``override(f, {(| k, v |), ...})``: function variable ``f`` updated at one or two
         arguments by the relation toolkit (the later pair of one argument wins)."""
         self.x.toolkits.add("relation_toolkit")
-        pairs = tuple(ast.TupleLit((self.x.expr(t.domain, sc, 1)[0], self.x.expr(t.range, sc, 1)[0]))
-                      for _ in range(self.rng.choice((1, 2))))
-        return ast.Call(ast.Name(("override",)), (f, ast.SetLit(pairs)))
+        pairs = []
+        for _ in range(self.rng.choice((1, 2))):
+            (k, kt), (v, vt) = self.x.expr(t.domain, sc, 1), self.x.expr(t.range, sc, 1)
+            pairs.append((ast.TupleLit((k, v)), T.ProductT((kt, vt))))
+        return ast.Call(ast.Name(("override",)), (f, ast.SetLit(chained(pairs)[0])))  # (model 2.107)
 
     def _dollar_assign(self, p: Place, d: int) -> ast.Stmt:
         s = self.rng.choice(p.dollar_writes)
