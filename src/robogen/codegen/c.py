@@ -59,6 +59,9 @@ def _against_zero(op: str, t: T.Type, a: str, b: str) -> str | None:
     return None
 
 
+# a C literal or name that needs no parentheses (UINT64_C(0), true, m_x)
+_ATOM = re.compile(r"\w+(\(\w*\))?")
+
 # a C call in an expression's text (a name, then its arguments' parenthesis)
 _CALL = re.compile(r"[A-Za-z0-9_]\s*\(")
 
@@ -326,17 +329,17 @@ class Emitter:
             return f"({a} || {b})"
         if op == "implies":
             return f"(!{a} || {b})"
+        if op in (*_COMPARISONS, "iff") and a == b and not _CALL.search(a) and _exact(e.left.type):
+            # a variable compared with itself (`x == x`, `size(q) >= size(q)`, `b iff b`: no call in
+            # it, so nothing it reads changes between the two): its value, as C's
+            # -Wtautological-compare rejects the comparison (reals are compared: a NaN differs from itself)
+            return "true" if op in ("eq", "le", "ge", "iff") else "false"
         if op in ("iff", "eq", "ne") and e.left.type == T.BOOLEAN and (_binds(e.left) or _binds(e.right)):
             # `$e?x iff $f?y`: the binding on the left before the right's, as the interpreter reads
             # them (C does not order the operands of ==: gcc's -Wsequence-point)
             return f"({a} ? {b} : !{b})" if op != "ne" else f"({a} ? !{b} : {b})"
         if op == "iff":
             return f"(!{a} == !{b})"
-        if op in _COMPARISONS and a == b and not _CALL.search(a) and _exact(e.left.type):
-            # a variable compared with itself (`x == x`, `size(q) >= size(q)`: no call in it, so
-            # nothing it reads changes between the two): its value, as C's -Wtautological-compare
-            # rejects the comparison (reals are compared: a NaN differs from itself)
-            return "true" if op in ("eq", "le", "ge") else "false"
         if op in ("eq", "ne"):
             t = e.left.type
             if isinstance(t, (T.RecordT, T.VectorT, T.MatrixT, T.SetT, T.SeqT)):
@@ -369,7 +372,11 @@ class Emitter:
         return integral_cast(a, source, target)
 
     def _Cond(self, e: ir.Cond) -> str:
-        return f"({self.expr(e.cond)} ? {self.expr(e.then)} : {self.expr(e.otherwise)})"
+        cond, then, otherwise = self.expr(e.cond), self.expr(e.then), self.expr(e.otherwise)
+        if cond in ("true", "false"):  # `if false then 10 else 0 end <= n`: the branch (C's -Wtype-limits
+            chosen = then if cond == "true" else otherwise  # sees a constant 0 against a nat; a literal
+            return chosen if _ATOM.fullmatch(chosen) else f"({chosen})"  # bare, for _against_zero)
+        return f"({cond} ? {then} : {otherwise})"
 
     def _present(self, event: int) -> str:
         return f"m->smp_present[{self.own.events[event]}]"

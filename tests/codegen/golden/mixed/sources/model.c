@@ -260,7 +260,7 @@ static int rg_run_0(rg_instance *inst)
             m->v_t = ((rg_tup3_tup2_b_b_mat_i_2_2_r){ ._1 = ((rg_tup2_b_b){ ._1 = true, ._2 = false }), ._2 = ((rg_mat_i_2_2){ { INT64_C(1), INT64_C(2), INT64_C(3), INT64_C(4) } }), ._3 = 0.5 });
             d->out_cell_value = m->v_t._2.a[2];
             rg_activate_output_clock(inst, CLOCK_cell);
-            m->v_p = rg_conv_tup3_i_i_set_i_from_tup3_u_u_set_u(d, 4, (true ? ((rg_tup3_u_u_set_u){ ._1 = UINT64_C(2), ._2 = UINT64_C(0), ._3 = rg_make_set_u(d, 0, 1, (const uint64_t[]){ UINT64_C(5) }) }) : ((rg_tup3_u_u_set_u){ ._1 = UINT64_C(1), ._2 = UINT64_C(3), ._3 = rg_make_set_u(d, 2, 0, NULL) })));
+            m->v_p = rg_conv_tup3_i_i_set_i_from_tup3_u_u_set_u(d, 4, (((rg_tup3_u_u_set_u){ ._1 = UINT64_C(2), ._2 = UINT64_C(0), ._3 = rg_make_set_u(d, 0, 1, (const uint64_t[]){ UINT64_C(5) }) })));
             if (d->fault) return rg_fault_0(inst);
             m->v_r.f2 = ((rg_tup3_i_b_i){ ._1 = rg_u_to_i(rg_u_mod(d, UINT64_C(7), UINT64_C(5))), ._2 = (INT64_C(1) != rg_i_neg(INT64_C(100))), ._3 = INT64_C(1) });
             if (d->fault) return rg_fault_0(inst);
