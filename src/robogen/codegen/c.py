@@ -62,6 +62,19 @@ def _against_zero(op: str, t: T.Type, a: str, b: str) -> str | None:
 # a C literal or name that needs no parentheses (UINT64_C(0), true, m_x)
 _ATOM = re.compile(r"\w+(\(\w*\))?")
 
+def _bare(text: str) -> str:
+    """A C expression's text without the parentheses around all of it (``(m->x)`` is ``m->x``)."""
+    while text.startswith("(") and text.endswith(")"):
+        depth = 0
+        for k, ch in enumerate(text):
+            depth += ch == "("
+            depth -= ch == ")"
+            if depth == 0 and k < len(text) - 1:
+                return text  # the first parenthesis closes before the end: (a) + (b)
+        text = text[1:-1]
+    return text
+
+
 # a C call in an expression's text (a name, then its arguments' parenthesis)
 _CALL = re.compile(r"[A-Za-z0-9_]\s*\(")
 
@@ -329,7 +342,7 @@ class Emitter:
             return f"({a} || {b})"
         if op == "implies":
             return f"(!{a} || {b})"
-        if op in (*_COMPARISONS, "iff") and a == b and not _CALL.search(a) and _exact(e.left.type):
+        if op in (*_COMPARISONS, "iff") and _bare(a) == _bare(b) and not _CALL.search(a) and _exact(e.left.type):
             # a variable compared with itself (`x == x`, `size(q) >= size(q)`, `b iff b`: no call in
             # it, so nothing it reads changes between the two): its value, as C's
             # -Wtautological-compare rejects the comparison (reals are compared: a NaN differs from itself)
