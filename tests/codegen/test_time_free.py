@@ -133,19 +133,32 @@ def test_a_step_past_the_next_event_time_is_warned_and_taken_late(waiter):
 
 def test_idle_tocks_are_counted_in_the_step(waiter):
     """Up to the next event time (5), then 100 units with nothing announced: 'cycles' counts every
-    tock, 0 to 105, as the ticking FMU does."""
+    tock the step passes, 0 to 104, as the ticking FMU does. The tock at the step's end (105)
+    belongs to an Event Mode there, where an event may come with it (the ticking FMU runs its
+    machines at that tock after the event's machine): counted by that Event Mode, 106, or by the
+    next step."""
     from robogen.cosim import fmi3
 
     runner = _started(waiter["skip"].folder)
+
+    def cycles() -> int:
+        value = fmi3.value_array("UInt64", 1)
+        runner.inst.get("UInt64", fmi3.vr_array([runner.desc.by_name["cycles"].vr]), 1, value, n_values=1)
+        return value[0]
+
     try:
         runner.inst.fmi3DoStep(0.0, 5.0)
         runner.inst.fmi3EnterEventMode()
         runner.inst.fmi3UpdateDiscreteStates()  # 'done' at 5; nothing announced after it
         runner.inst.fmi3EnterStepMode()
         runner.inst.fmi3DoStep(5.0, 100.0)
-        value = fmi3.value_array("UInt64", 1)
-        runner.inst.get("UInt64", fmi3.vr_array([runner.desc.by_name["cycles"].vr]), 1, value, n_values=1)
-        assert value[0] == 106
+        assert cycles() == 105
+        runner.inst.fmi3EnterEventMode()
+        runner.inst.fmi3UpdateDiscreteStates()
+        assert cycles() == 106
+        runner.inst.fmi3EnterStepMode()
+        runner.inst.fmi3DoStep(105.0, 10.0)  # 105 counted, 106 to 114 passed, 115 left to an Event Mode
+        assert cycles() == 115
     finally:
         runner.close()
 
@@ -275,3 +288,58 @@ def test_the_reference_interpreter_announces_the_same_next_event_times(tmp_path,
     assert main(["simulate", str(scenario), "-o", str(out), "--no-progress"]) == 0
     times = sorted({float(line.split(",")[0]) for line in out.read_text().splitlines()[1:]})
     assert len(times) < 25 and 40.0 in times  # not one row per time unit: idle time was skipped
+
+
+# Two machines sharing a variable: Setter stores the value of 'go' in 'armed'; Watcher, declared
+# after it, leaves Waiting at the first tock at which 'armed' holds.
+SHARED = """
+package share
+interface Flag { var armed: boolean }
+robotic platform P { event go: boolean }
+stm Setter {
+	event go: boolean
+	requires Flag
+	initial i
+	state Idle { }
+	state Done { }
+	transition t0 { from i to Idle }
+	transition t1 { from Idle to Done trigger go?armed }
+}
+stm Watcher {
+	requires Flag
+	initial i
+	state Waiting { }
+	state Seen { }
+	transition t0 { from i to Waiting }
+	transition t1 { from Waiting to Seen condition armed }
+}
+module Mod {
+	rref p = P
+	controller Ctl {
+		event go: boolean
+		sref s = Setter
+		sref w = Watcher
+		connection Ctl on go to s on go
+	}
+	connection p on go to Ctl on go ( _async )
+}
+"""
+
+
+def test_an_event_at_a_tock_is_taken_with_that_tock(tmp_path):
+    """By hand: 'go' (true) comes at t=3, a tock's time. The ticking FMU runs both machines at
+    that tock: Setter takes t1 and stores true in 'armed', then Watcher, at the same tock, sees
+    'armed' and takes t1, at t=3. Watcher was idle (its test false, no time in it), so the step
+    to 3 must not pass the tock at 3 as idle: it belongs to the Event Mode the event opens there
+    (it did, and Watcher moved at the next tock, t=4: found by make fuzz SEED=1, models 1.523 and
+    1.692, regressions differential_difference_1_523 and 1_692)."""
+    model = tmp_path / "share.rct"
+    model.write_text(SHARED, encoding="utf-8")
+    pair = _pair(tmp_path, [model], "exhaustive")
+    events = [Timed(6, (Tick("go", {"go.value": True}),))]
+    traces = {t: run_in_time(pair[t].folder, events, 10) for t in ("tick", "skip")}
+    assert first_time_difference(traces["tick"], traces["skip"]) is None
+    for trace in traces.values():
+        moves = [(r[1] / 2, r[3].split(": ", 1)[1]) for r in trace.records if r[0] == "transition"]
+        assert moves == [(0.0, "Setter: t0: i -> Idle"), (0.0, "Watcher: t0: i -> Waiting"),
+                         (3.0, "Setter: t1: Idle -> Done"), (3.0, "Watcher: t1: Waiting -> Seen")]

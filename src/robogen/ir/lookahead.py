@@ -15,7 +15,9 @@ a ``Suspend``; a tock runs the block there. That run does nothing when
   tests (a stored value or a drawn number changes the state).
 
 A test reads the state (unchanged while idle), the event buffer (unchanged: an arriving event
-opens an Event Mode, where the FMU first counts the idle tocks before it) and time. Time enters
+opens an Event Mode, where the FMU first counts the idle tocks before it, strictly: a tock at
+the event's own time is run with the event, since the event's machine may change what the
+others' tests read, a shared variable) and time. Time enters
 only through comparisons this module recognises, its *atoms*: a quantity that grows or shrinks
 with the tocks (``since``, ``sinceEntry``, the tick count ``now``, ``wait_left``, converted, or
 plus/minus a literal) compared with a value that does not depend on time. Such a comparison's

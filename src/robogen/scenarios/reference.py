@@ -142,6 +142,8 @@ class InterpreterBinding:
         end = currentCommunicationPoint + communicationStepSize
         if self.fmu.time_free and self.interp is not None:
             due = self._tocks_by(end)
+            if same_time(self._tock_time(due - 1), end):
+                due -= 1  # a tock at the step's end is Event Mode's if one comes there (the generated C's rule)
             if self.next_tock is not None:
                 due = min(due, self.next_tock)
             if due > self.interp.cycles:

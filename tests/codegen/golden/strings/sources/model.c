@@ -234,6 +234,10 @@ static fmi3Status rg_model_do_step(rg_instance *inst, double t_end, bool *event_
     (void)last_successful_time;
     if (!inst->event_mode_used) return fmi3OK; /* without Event Mode no machine runs, as with a tock clock */
     due = rg_tocks_by(inst, t_end);
+    /* a tock at t_end is Event Mode's if the importer enters it there: an event at t_end may change
+     * what the machines' tests read, and the ticking FMU runs them at that tock after the event's
+     * machine (the next step passes it if no Event Mode comes) */
+    if (rg_time_equal(rg_tock_time(inst, due - 1), t_end)) due--;
     if (due > d->next_tock) due = d->next_tock; /* the tock at the next event time is Event Mode's */
     if (due > d->cycles) rg_pass_idle(d, due - d->cycles);
     if (d->next_tock != RG_NEVER && rg_tock_time(inst, d->next_tock) < t_end &&
