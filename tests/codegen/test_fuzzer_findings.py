@@ -15,7 +15,9 @@ a hand-calculated run of a small machine (the interpreter's trace is the same: r
 - A comparison of a collection's size with itself (``size(q) >= size(q)``) is its known value,
   as ``x == x`` was (model 1.637: gcc's -Wtautological-compare).
 - A one-element vector in a record inside a collection is copied to its FMI view element by
-  element like any vector (model 1.963: "assigning to type 'int64_t' from type 'rg_vec_i_1'")."""
+  element like any vector (model 1.963: "assigning to type 'int64_t' from type 'rg_vec_i_1'").
+- ``rinv`` converts its relation to its result's pairs swapped (model 2.1348), and ``iter(n, {})``
+  of a relation nothing types is empty or the identity (model 2.1506); both were "not supported"."""
 
 from __future__ import annotations
 
@@ -109,3 +111,30 @@ def test_a_comprehension_of_empty_sequences_beside_a_typed_branch_takes_its_type
     outputs, _ = outputs_by_instant(built, {1: GO, 2: GO}, 3)
     assert outputs[1] == {"n": {"n.value": 1}, "has": {"has.value": True}}
     assert outputs[2] == {"n": {"n.value": 2}, "has": {"has.value": False}}
+
+
+def test_rinv_converts_its_relation_to_the_swapped_pairs_of_its_result(tmp_path):
+    """rinv(rsub(R, {2.0})) stored in a Set(real * boolean): R's boolean * real pairs are the
+    result's swapped, never the result's own (model 2.1348: "using a Set(boolean * real) as a
+    Set(real * boolean)"). dom of a relation of pairs is a set of pairs, not the relation's."""
+    inverse = "rinv(rsub({(| false, -0.5 |), (| true, 2.0 |)}, {2.0}))"
+    text = machine("var v: Set(real * boolean) = {}\n    var d: Set(int * int) = {}\n    event n: nat\n"
+                   "    event has: boolean\n    event first: boolean",
+                   f"v = {inverse} ; d = dom({{(| (| 1, -2 |), 3 |)}}) ; n!size(v) ; has!((| -0.5, false |) in v) ;"
+                   " first!((| 1, -2 |) in d)")
+    built = build_text(tmp_path, "inverse", text)
+    # rsub drops the pairs whose second is 2.0: {(false, -0.5)}; rinv: {(-0.5, false)};
+    # dom({((1, -2), 3)}) = {(1, -2)}
+    outputs, _ = outputs_by_instant(built, {1: GO}, 2)
+    assert outputs[1] == {"n": {"n.value": 1}, "has": {"has.value": True}, "first": {"first.value": True}}
+
+
+def test_iter_of_an_empty_relation_nothing_types(tmp_path):
+    """iter(2, {}) is empty and iter(0, {}) the identity, each of the type it is stored as
+    (model 2.1506: "'iter' of Set(int) (a relation is a set of pairs)")."""
+    text = machine("var r: Set(int * int) = {(| 1, 1 |)}\n    var q: Set(E * E) = {}\n    event n: nat\n    event m: nat",
+                   "r = iter(2, (lambda x: nat @ {})(0)) ; q = iter(0, {}) ; n!size(r) ; m!size(q)")
+    built = build_text(tmp_path, "iterempty", text)
+    # iter(2, {}) = {} (r had one pair); iter(0, {}) on E = {(a, a), (b, b)}
+    outputs, _ = outputs_by_instant(built, {1: GO}, 2)
+    assert outputs[1] == {"n": {"n.value": 0}, "m": {"m.value": 2}}

@@ -49,6 +49,10 @@ _ELEMENTWISE = ("union", "inter", "diff", "symdiff", "cat", "reverse", "tail", "
 # override({}, s), the other relation (not iter(0, {}), the identity)
 _EMPTY_IN_EMPTY_OUT = ("dom", "ran", "rinv", "dres", "dsub", "rres", "rsub", "rimage", "relcomp", "squash", "closure", "roverride")
 
+# relation operations whose result holds pairs of its relation argument (rinv: swapped); the
+# others' results are sets of the pairs' fields (dom, ran, rimage) or pairs of two relations (relcomp)
+_SAME_PAIRS = ("dres", "dsub", "rres", "rsub", "roverride", "closure", "rinv")
+
 _BINARY = {
     "iff": "iff", "=>": "implies", "\\/": "or", "/\\": "and",
     "==": "eq", "!=": "ne", "<": "lt", "<=": "le", ">": "gt", ">=": "ge",
@@ -617,6 +621,14 @@ class ExpressionLowering:
                 if op == "roverride":
                     return self.conv(args[1], t, e.span)  # override({}, s) is s
                 return ir.Coll(t, "set" if isinstance(t, T.SetT) else "seq", (), expr_text(e), e.span)  # the result is empty too
+            times = args[0]
+            if op == "iter" and isinstance(times, ir.Lit) and isinstance(times.value, int) and times.value >= 0 \
+                    and _unknown_inside(self.model.type_of(e.args[1])):
+                # iter(n, {}) of a relation nothing typed: for n >= 1 empty, iter(0, {}) the identity,
+                # each of the type it is used as
+                if times.value == 0:
+                    return ir.Coll(T.SetT(T.UNKNOWN), "identity", (), expr_text(e), e.span)
+                return ir.Coll(T.SetT(T.UNKNOWN), "set", (), expr_text(e), e.span)
             raise not_supported(f"'{sym.name}' of {args[at].type.show()} (a relation is a set of pairs)", e.span)
         x, y = pair.field("_1"), pair.field("_2")
         if op == "iter":  # iter(n, r)
@@ -625,7 +637,9 @@ class ExpressionLowering:
         # of a Set(int) s is a nat <-> int: the relation is converted, never the set narrowed), for
         # rimage the relation's with a domain as wide as the set's elements
         result_pair = t.element if isinstance(t, T.SetT) else None  # type: ignore[attr-defined]
-        if op != "rimage" and isinstance(result_pair, TupleT) and len(result_pair.fields) == 2 and result_pair != pair:
+        if op == "rinv" and isinstance(result_pair, TupleT) and len(result_pair.fields) == 2:
+            result_pair = tuple_type((result_pair.field("_2"), result_pair.field("_1")))  # the pairs of its argument, swapped
+        if op in _SAME_PAIRS and isinstance(result_pair, TupleT) and len(result_pair.fields) == 2 and result_pair != pair:
             x, y = result_pair.field("_1"), result_pair.field("_2")
             args[at] = self.conv(args[at], T.SetT(result_pair), e.args[at].span)
         elif op == "rimage" and isinstance(args[1].type, T.SetT):
