@@ -89,9 +89,10 @@ class SharedFmus:
             return self._libraries[path]
 
     def _folder(self) -> Path:
-        """The folder of extracted Python FMUs: made at the first one (again if it was removed),
-        removed at the exit of the process that made it."""
-        if self._root is None or not self._root.is_dir():
+        """The folder of extracted Python FMUs: made at the first one (again if it was removed,
+        and in a forked child, whose own FMUs go to its own temporary folder: a campaign's run
+        folder, removed with the run), removed at the exit of the process that made it."""
+        if self._root is None or self._owner != os.getpid() or not self._root.is_dir():
             self._root, self._owner = Path(tempfile.mkdtemp(prefix="robogen-pyfmus-")), os.getpid()
             root, owner = self._root, self._owner
             atexit.register(lambda: os.getpid() == owner and shutil.rmtree(root, ignore_errors=True))
