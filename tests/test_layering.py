@@ -121,7 +121,7 @@ def test_no_import_cycle_between_robogen_modules():
 COSIM_LAYERS = (
     ("signals", "clocks", "columnar", "tomlspan", "watch", "cbuild", "xmltree", "units"),  # no other module of cosim
     ("fmi3", "system", "scenario", "ssp_schema"),  # the FMI 3.0 binding; the system file; scenario files; the SSP schemas' rules
-    ("instances", "recorder", "proxy", "worker", "crash", "schema", "adapters", "player",  # one instance, one row
+    ("instances", "recorder", "proxy", "worker", "crash", "schema", "adapters", "player", "shared",  # one instance, one row; Python FMUs once per process
      "ssp_model", "ssp_package", "system_data"),  # an SSD's elements; an SSP's files; a system as TOML data
     ("wiring", "interfaces", "ssp_params"),  # who reads what, which clock goes where; the interface adapters; SSP parameters
     ("plan", "ssp_flatten"),  # the run's plan: what both loops execute; an SSP hierarchy flattened

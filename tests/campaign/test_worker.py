@@ -53,3 +53,44 @@ def test_the_zygote_is_warmed_only_after_a_run_succeeded(campaign_dir, campaign_
     row = execute(ok_2)
     assert (row["status"], row["metrics"]) == ("ok", {"y": 4.0})
     assert state.zygote.process.pid == zygote and state.zygote.process.poll() is None
+
+
+RAMP_SYSTEM = """\
+[experiment]
+stop = 2.0
+step = 0.25
+
+[instances.ramp]
+fmu = "ramp.fmu"
+"""
+RAMP_CAMPAIGN = """\
+system = "system.toml"
+timeout = 30.0
+
+[grid]
+"ramp.gain" = [1.0, 2.0, 3.0]
+
+[metrics]
+y = { final = "ramp.y" }
+"""
+
+
+def test_a_warmed_zygote_keeps_the_python_fmus_for_its_children(tmp_path, state):
+    # the zygote extracts and loads a Python FMU once, in the worker's folder, and its children
+    # (the later runs) use that copy: robogen.cosim.shared
+    from support.campaign import write_campaign_folder
+
+    from robogen.pyfmu.build import package
+
+    ramp = package("pyfmu_ramp:Ramp", tmp_path / "built" / "ramp.fmu").path
+    plan = make_plan(load_campaign(write_campaign_folder(tmp_path, {"ramp": ramp}, RAMP_CAMPAIGN, RAMP_SYSTEM)))
+    fmus = {digest: path.read_bytes() for digest, path in plan.fmu_files.items()}
+    rows = []
+    for run in plan.runs:
+        rows.append(worker.execute_run(plan.context, run.spec, fmus))
+        if run is plan.runs[0]:
+            assert not list(state.folder.glob("robogen-pyfmus-*"))  # the zygote is warmed by the next run
+    assert [(r["status"], r["metrics"]) for r in rows] == [("ok", {"y": 2.0}), ("ok", {"y": 4.0}), ("ok", {"y": 6.0})]
+    assert len(state.rehearsed) == 1
+    kept = list(state.folder.glob("robogen-pyfmus-*/*/resources/pyfmu.json"))
+    assert len(kept) == 1  # extracted once, in the zygote, and still there for its children

@@ -120,3 +120,27 @@ def test_rotation_vector_of_rows_is_rotation_vector_bit_for_bit():
         matrix = rotation_from_vector(v)
         expected = tuple(float(x) for x in rotation_vector(matrix))
         assert rotation_vector_of_rows(tuple(matrix.ravel())) == expected
+
+
+@pytest.mark.parametrize("cell", [SCENARIO[1], (0, 0, 0)])
+def test_a_search_done_once_per_process_gives_the_result_bit_for_bit(cell, monkeypatch):
+    # a later instance of the platform (the next run, a campaign's next run) asks for the same
+    # poses: the searches are not repeated, and what it gets is what the search gives
+    from robogen.platforms import kinematics
+
+    position, rotation = grid_pose(*cell)
+    now = (0.3, -1.0, 1.2, -0.5, 0.4, 0.1)  # the arm's joints at the command
+    monkeypatch.setattr(kinematics, "_SOLVED", {})
+    first = inverse(position, rotation, seeds=(IK_SEED, now))
+    searches = len(kinematics._SOLVED)
+    assert searches == (1 if cell == SCENARIO[1] else 6)  # converged from the first seed; or every seed tried (4 spares)
+
+    def no_search(*_args):
+        raise AssertionError("searched again")
+
+    monkeypatch.setattr(kinematics, "_levenberg_marquardt", no_search)
+    again = inverse(position.copy(), rotation.copy(), seeds=(IK_SEED, now))
+    assert again == first and again.q == first.q
+    monkeypatch.undo()
+    monkeypatch.setattr(kinematics, "_SOLVED", {})
+    assert inverse(position, rotation, seeds=(IK_SEED, now)) == first  # searched anew: the same doubles

@@ -98,10 +98,15 @@ def rehearsal(context: Context, spec: RunSpec, fmus: dict[str, Path], folder: Pa
     does in itself once per combination of FMUs, after a run of them succeeded in a child, to
     warm itself (:func:`robogen.campaign.isolate.serve`); a step, so that the master's stepping
     loop has been through its first use too."""
+    from robogen.cosim.shared import SHARED
+
     experiment = tomllib.loads(context.system_text).get("experiment", {})
     step = context.step or experiment.get("step") or 0.0
     stop = experiment.get("start", 0.0) + step
     load_functions(context)  # user metric modules shipped as source: compiled once, here
+    tempfile.tempdir = str(cache)  # the worker's folder, the zygote's as long as it lives (run() sets the run's)
+    for path in fmus.values():
+        SHARED.load(path)  # its Python FMUs, extracted and loaded for every later child (robogen.cosim.shared)
     return run(replace(context, stop=stop, metrics=(), keep="metrics"), spec, fmus, folder, cache)
 
 

@@ -92,6 +92,7 @@ def simulate_system(system_toml_path: str | Path, *, stop: float | None = None, 
                     watch: bool = False, warn: Callable | None = None, bindings: dict | None = None) -> SimulationResult:
     from robogen.cosim.assemble import FmuCache, build_master
     from robogen.cosim.crash import watch_run
+    from robogen.cosim.shared import SHARED
     from robogen.cosim.signals import Interrupted, deferred
 
     watcher, recorder = watch_run(watch), None
@@ -102,7 +103,7 @@ def simulate_system(system_toml_path: str | Path, *, stop: float | None = None, 
                                      realtime=realtime, progress=progress, trace=trace, keep_rows=keep_rows,
                                      isolate=isolate, cache=cache, notes=watcher.notes, warn=warn, bindings=bindings)
         recorder = master.recorder
-        watcher.publish(temp=cache.root, files=recorder.files, output=output)
+        watcher.publish(temp=cache.root, shared=SHARED.root, files=recorder.files, output=output)
         try:
             stats = master.run()
         except RobogenError as exc:

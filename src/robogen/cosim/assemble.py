@@ -26,6 +26,7 @@ from robogen.cosim.proxy import ProxyBinding
 from robogen.cosim.recorder import Recorder
 from robogen.cosim.ssp_read import is_ssp, load_ssp
 from robogen.cosim.scenario import load_scenario, timeline
+from robogen.cosim.shared import SHARED
 from robogen.cosim.system import Link, System, load_system, record_list, resolve
 from robogen.cosim.clocks import PERIODIC
 from robogen.diagnostics import Diagnostic, DiagnosticSink, Note, RobogenError, SourceMap, Span, did_you_mean, render, warning
@@ -237,7 +238,8 @@ def _check_event_mode(system: System, models: dict[str, ModelDescription]) -> No
 
 class FmuCache:
     """Extracts each distinct .fmu once per run, loads each binary once, starts the worker
-    processes of isolated instances, and removes it all in :meth:`close`."""
+    processes of isolated instances, and removes it all in :meth:`close`; a Python FMU is
+    extracted and loaded once per process (:mod:`robogen.cosim.shared`)."""
 
     def __init__(self) -> None:
         self.root = Path(tempfile.mkdtemp(prefix="robogen-sim-"))
@@ -251,9 +253,13 @@ class FmuCache:
         if key not in self.folders:
             if not fmu.is_file():
                 raise RobogenError.at(f"FMU file not found: {fmu}", span)
-            folder = extract_fmu(fmu, self.root / str(len(self.folders)), wanted=needed_to_run)
-            self.folders[key] = folder
-            self.models[key] = load_model_description(folder, f"{fmu}/modelDescription.xml")
+            shared = SHARED.load(fmu)  # a Python FMU: once per process
+            if shared is not None:
+                self.folders[key], self.models[key] = shared
+            else:
+                folder = extract_fmu(fmu, self.root / str(len(self.folders)), wanted=needed_to_run)
+                self.folders[key] = folder
+                self.models[key] = load_model_description(folder, f"{fmu}/modelDescription.xml")
         return self.folders[key], self.models[key]
 
     def binary(self, folder: Path, md: ModelDescription, span: Span) -> Path:
@@ -269,6 +275,11 @@ class FmuCache:
 
     def library(self, folder: Path, md: ModelDescription, span: Span) -> Library:
         key = str(self.binary(folder, md, span))
+        if SHARED.holds(folder):
+            try:
+                return SHARED.library(key)
+            except LoadError as exc:
+                raise RobogenError.at(str(exc), span) from None
         if key not in self.libraries:
             try:
                 self.libraries[key] = Library(key)

@@ -64,11 +64,14 @@ class Watch:
         self._faulthandler_was_on = faulthandler.is_enabled()
         faulthandler.enable(file=self._pipe, all_threads=False)
 
-    def publish(self, *, temp: Path | None = None, files=(), output: Path | None = None) -> None:
-        """What the watcher needs after a crash: the instances the notes number, the folder to
-        remove, the (temporary, final) names of the results files."""
+    def publish(self, *, temp: Path | None = None, shared: Path | None = None, files=(),
+                output: Path | None = None) -> None:
+        """What the watcher needs after a crash: the instances the notes number, the folders to
+        remove (the run's extracted FMUs, the process's shared ones: robogen.cosim.shared), the
+        (temporary, final) names of the results files."""
         info = {"instances": self.notes.instances, "functions": list(FUNCTIONS),
-                "temp": str(temp) if temp else None, "files": [[str(a), str(b)] for a, b in files],
+                "temp": str(temp) if temp else None, "shared": str(shared) if shared else None,
+                "files": [[str(a), str(b)] for a, b in files],
                 "output": str(output) if output else None}
         data = json.dumps(info).encode("utf-8")[:watch.SIZE - watch.INFO_OFFSET]
         self._memory[watch.INFO_OFFSET:watch.INFO_OFFSET + len(data)] = data

@@ -85,12 +85,14 @@ def report(memory: bytes, fault: str) -> tuple[str, dict]:
 
 
 def clean_up(info: dict) -> None:
-    """Rename the results files to their names, remove the extracted FMUs."""
+    """Rename the results files to their names, remove the extracted FMUs (the run's, and the
+    Python FMUs the dead process kept for its later runs)."""
     for temporary, target in info.get("files", []):
         if os.path.exists(temporary):
             os.replace(temporary, target)
-    if info.get("temp"):
-        shutil.rmtree(info["temp"], ignore_errors=True)
+    for folder in (info.get("temp"), info.get("shared")):
+        if folder:
+            shutil.rmtree(folder, ignore_errors=True)
 
 
 def main(argv: list[str]) -> int:

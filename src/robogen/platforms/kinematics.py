@@ -235,9 +235,10 @@ def inverse(position: Sequence[float], rotation: np.ndarray, seeds: Iterable[Seq
     """A joint vector placing the flange at (position, rotation), trying each seed in turn and
     then a fixed set of spare starts; the first converged solution wins (else the best one)."""
     position = np.asarray(position, dtype=float)
+    rotation = np.asarray(rotation, dtype=float)
     best: IKResult | None = None
     for seed in [*seeds, *_SPARE_SEEDS]:
-        q, err, iterations = _levenberg_marquardt(position, rotation, np.asarray(seed, dtype=float), max_iterations)
+        q, err, iterations = _solved(position, rotation, np.asarray(seed, dtype=float), max_iterations)
         p_err, r_err = float(np.linalg.norm(err[:3])), float(np.linalg.norm(err[3:]))
         result = IKResult(tuple(float(v) for v in q), p_err, r_err,
                           p_err < POSITION_TOLERANCE and r_err < ORIENTATION_TOLERANCE, iterations)
@@ -247,6 +248,28 @@ def inverse(position: Sequence[float], rotation: np.ndarray, seeds: Iterable[Seq
             best = result
     assert best is not None
     return best
+
+
+#: the searches done in this process: (position, rotation, seed, max_iterations) as bytes -> result
+_SOLVED: dict[tuple[bytes, bytes, bytes, int], tuple[np.ndarray, np.ndarray, int]] = {}
+_SOLVED_MAX = 4096
+
+
+def _solved(position: np.ndarray, rotation: np.ndarray, seed: np.ndarray,
+            max_iterations: int) -> tuple[np.ndarray, np.ndarray, int]:
+    """:func:`_levenberg_marquardt`, each search done once per process: a pure function of its
+    arguments (the same doubles give the same iterations), so a platform FMU instantiated again
+    (a later run, a campaign's next run) does not repeat its searches for the poses it solved."""
+    key = (position.tobytes(), rotation.tobytes(), seed.tobytes(), max_iterations)
+    found = _SOLVED.get(key)
+    if found is None:
+        q, err, iterations = _levenberg_marquardt(position, rotation, seed, max_iterations)
+        q.setflags(write=False)
+        err.setflags(write=False)
+        if len(_SOLVED) >= _SOLVED_MAX:
+            _SOLVED.clear()
+        found = _SOLVED[key] = q, err, iterations
+    return found
 
 
 _SPARE_SEEDS = (

@@ -296,7 +296,8 @@ class Slave:
         origin = self.model.start_time + self.model_class.clock_seconds(clock.shift)
         interval = self.model_class.clock_seconds(clock.interval)  # type: ignore[arg-type]
         k = max(0, round((self.model.time - origin) / interval))
-        if not same_time(self.model.time, origin + k * interval, self._resolution):
+        due = origin + k * interval
+        if self.model.time != due and not same_time(self.model.time, due, self._resolution):
             raise FmiUsageError(f"fmi3SetClock: periodic clock '{clock.name}' is not due at t={self.model.time!r}: "
                                 f"it ticks at {origin!r} + k * {interval!r}")
 
@@ -352,7 +353,7 @@ class Slave:
     def do_step(self, t: float, h: float) -> StepResult:
         self._require("fmi3DoStep", State.STEP)
         model = self.model
-        if not same_time(t, model.time, self._resolution):
+        if not (t == model.time and math.isfinite(t)) and not same_time(t, model.time, self._resolution):
             raise FmiUsageError(f"fmi3DoStep: currentCommunicationPoint {t!r} is not the FMU's time {model.time!r}")
         if not h > 0:
             raise FmiUsageError(f"fmi3DoStep: communicationStepSize must be > 0, got {h!r}")
@@ -366,7 +367,7 @@ class Slave:
         reached = result.time
         if reached > target and not same_time(reached, target, self._resolution):
             raise RuntimeError(f"{type(model).__name__}.do_step went past t + h ({reached!r} > {target!r})")
-        early = not same_time(reached, target, self._resolution) and reached < target
+        early = reached < target and not same_time(reached, target, self._resolution)
         if early and not self.early_return_allowed:
             raise RuntimeError(f"{type(model).__name__}.do_step returned early although earlyReturnAllowed is false")
         model.time = reached if early else target
