@@ -17,7 +17,8 @@ a hand-calculated run of a small machine (the interpreter's trace is the same: r
 - A one-element vector in a record inside a collection is copied to its FMI view element by
   element like any vector (model 1.963: "assigning to type 'int64_t' from type 'rg_vec_i_1'").
 - ``rinv`` converts its relation to its result's pairs swapped (model 2.1348), and ``iter(n, {})``
-  of a relation nothing types is empty or the identity (model 2.1506); both were "not supported"."""
+  of a relation nothing types is empty or the identity (model 2.1506), ``relcomp(r, {})`` empty
+  (model 2.1967); all three were "not supported"."""
 
 from __future__ import annotations
 
@@ -133,8 +134,12 @@ def test_iter_of_an_empty_relation_nothing_types(tmp_path):
     """iter(2, {}) is empty and iter(0, {}) the identity, each of the type it is stored as
     (model 2.1506: "'iter' of Set(int) (a relation is a set of pairs)")."""
     text = machine("var r: Set(int * int) = {(| 1, 1 |)}\n    var q: Set(E * E) = {}\n    event n: nat\n    event m: nat",
-                   "r = iter(2, (lambda x: nat @ {})(0)) ; q = iter(0, {}) ; n!size(r) ; m!size(q)")
+                   "r = iter(2, (lambda x: nat @ {})(0)) ; q = iter(0, {}) ; n!size(r) ; m!size(q) ;"
+                   " w = relcomp(union(w, w), (lambda x: int @ {})(-7)) ; k!size(w)")
+    text = text.replace("event n: nat", "var w: Set(boolean * boolean) = {(| true, false |)}\n    event k: nat\n    event n: nat")
     built = build_text(tmp_path, "iterempty", text)
-    # iter(2, {}) = {} (r had one pair); iter(0, {}) on E = {(a, a), (b, b)}
+    # iter(2, {}) = {} (r had one pair); iter(0, {}) on E = {(a, a), (b, b)}; the composition of
+    # w with the empty relation is empty (model 2.1967: "using a Set(boolean * boolean) as a
+    # Set(boolean * int)")
     outputs, _ = outputs_by_instant(built, {1: GO}, 2)
-    assert outputs[1] == {"n": {"n.value": 0}, "m": {"m.value": 2}}
+    assert outputs[1] == {"n": {"n.value": 0}, "m": {"m.value": 2}, "k": {"k.value": 0}}

@@ -615,6 +615,8 @@ class ExpressionLowering:
     def _relation_call(self, sym: FuncSym, op: str, args: list[ir.Expr], t: T.Type, e: ast.Call) -> ir.Expr:
         """A relation operation: every relation is a set of pairs (robogen.ir.collections)."""
         at = 1 if op in ("dres", "dsub", "iter") else 0
+        if op == "relcomp" and _unknown_inside(self.model.type_of(e.args[1])):  # relcomp(r, {}): empty, whatever r is
+            return ir.Coll(t, "set", (), expr_text(e), e.span)
         pair = args[at].type.element  # type: ignore[attr-defined]
         if not (isinstance(pair, TupleT) and len(pair.fields) == 2):
             if op in _EMPTY_IN_EMPTY_OUT and _unknown_inside(self.model.type_of(e.args[at])):  # {}: an empty relation nothing typed
