@@ -18,7 +18,9 @@ a hand-calculated run of a small machine (the interpreter's trace is the same: r
   element like any vector (model 1.963: "assigning to type 'int64_t' from type 'rg_vec_i_1'").
 - ``rinv`` converts its relation to its result's pairs swapped (model 2.1348), and ``iter(n, {})``
   of a relation nothing types is empty or the identity (model 2.1506), ``relcomp(r, {})`` empty
-  (model 2.1967); all three were "not supported"."""
+  (model 2.1967); all three were "not supported".
+- A conditional on a literal condition writes only its branch: the other's quantifier functions
+  would be unused (model 3.261, -Wunused-function)."""
 
 from __future__ import annotations
 
@@ -143,3 +145,16 @@ def test_iter_of_an_empty_relation_nothing_types(tmp_path):
     # Set(boolean * int)")
     outputs, _ = outputs_by_instant(built, {1: GO}, 2)
     assert outputs[1] == {"n": {"n.value": 0}, "m": {"m.value": 2}, "k": {"k.value": 0}}
+
+
+def test_a_conditional_on_a_literal_writes_only_its_branch(tmp_path):
+    """`if true then {3} else {x: nat | x in {1, 2} @ x} end`: the comprehension's C function is
+    not written, since no call of it would be (model 3.261: "'rg_quant_947' defined but not used",
+    -Wunused-function); on `if false` it is, and runs."""
+    text = machine("event n: nat\n    event m: nat",
+                   "n!size(if true then {3} else {x: nat | x in {1, 2} @ x} end) ;"
+                   " m!size(if false then {3} else {x: nat | x in {1, 2, 5} @ x % 2} end)")
+    built = build_text(tmp_path, "literalcond", text)
+    # {3} has 1 element; {x % 2 | x in {1, 2, 5}} = {1, 0, 1} = {0, 1}: 2
+    outputs, _ = outputs_by_instant(built, {1: GO}, 2)
+    assert outputs[1] == {"n": {"n.value": 1}, "m": {"m.value": 2}}

@@ -16,8 +16,6 @@
 static const char *const rg_sites[] = {
     "more than 32 elements (the capacity) in {5} at mixed.rct:22",
     "",
-    "more than 32 elements (the capacity) in {} at mixed.rct:22",
-    "",
     "more than 32 elements (the capacity) in nat * nat * Set(nat) as int * int * Set(int) at mixed.rct:22",
     "",
     "",
@@ -260,24 +258,24 @@ static int rg_run_0(rg_instance *inst)
             m->v_t = ((rg_tup3_tup2_b_b_mat_i_2_2_r){ ._1 = ((rg_tup2_b_b){ ._1 = true, ._2 = false }), ._2 = ((rg_mat_i_2_2){ { INT64_C(1), INT64_C(2), INT64_C(3), INT64_C(4) } }), ._3 = 0.5 });
             d->out_cell_value = m->v_t._2.a[2];
             rg_activate_output_clock(inst, CLOCK_cell);
-            m->v_p = rg_conv_tup3_i_i_set_i_from_tup3_u_u_set_u(d, 4, (((rg_tup3_u_u_set_u){ ._1 = UINT64_C(2), ._2 = UINT64_C(0), ._3 = rg_make_set_u(d, 0, 1, (const uint64_t[]){ UINT64_C(5) }) })));
+            m->v_p = rg_conv_tup3_i_i_set_i_from_tup3_u_u_set_u(d, 2, (((rg_tup3_u_u_set_u){ ._1 = UINT64_C(2), ._2 = UINT64_C(0), ._3 = rg_make_set_u(d, 0, 1, (const uint64_t[]){ UINT64_C(5) }) })));
             if (d->fault) return rg_fault_0(inst);
             m->v_r.f2 = ((rg_tup3_i_b_i){ ._1 = rg_u_to_i(rg_u_mod(d, UINT64_C(7), UINT64_C(5))), ._2 = (INT64_C(1) != rg_i_neg(INT64_C(100))), ._3 = INT64_C(1) });
             if (d->fault) return rg_fault_0(inst);
             {
-                int64_t a0_ = rg_i_add(rg_i_add(((((m->v_s).n) > UINT64_C(0)) ? rg_u_to_i(rg_min_set_u(d, 6, m->v_s)) : INT64_C(0)), m->v_p._1), m->v_r.f2._1);
+                int64_t a0_ = rg_i_add(rg_i_add(((((m->v_s).n) > UINT64_C(0)) ? rg_u_to_i(rg_min_set_u(d, 4, m->v_s)) : INT64_C(0)), m->v_p._1), m->v_r.f2._1);
                 if (d->fault) return rg_fault_0(inst);
                 d->out_low_value = a0_;
                 rg_activate_output_clock(inst, CLOCK_low);
             }
             {
-                bool a0_ = ((void)(((((rg_make_seq_u(d, 8, 2, (const uint64_t[]){ UINT64_C(0), UINT64_C(2) })).n) > UINT64_C(0)) ? rg_make_seq_u(d, 10, 2, (const uint64_t[]){ UINT64_C(0), UINT64_C(2) }).a[rg_index(d, INT64_C(1), (int64_t)rg_make_seq_u(d, 10, 2, (const uint64_t[]){ UINT64_C(0), UINT64_C(2) }).n)] : UINT64_C(3))), false);
+                bool a0_ = ((void)(((((rg_make_seq_u(d, 6, 2, (const uint64_t[]){ UINT64_C(0), UINT64_C(2) })).n) > UINT64_C(0)) ? rg_make_seq_u(d, 8, 2, (const uint64_t[]){ UINT64_C(0), UINT64_C(2) }).a[rg_index(d, INT64_C(1), (int64_t)rg_make_seq_u(d, 8, 2, (const uint64_t[]){ UINT64_C(0), UINT64_C(2) }).n)] : UINT64_C(3))), false);
                 if (d->fault) return rg_fault_0(inst);
                 d->out_decided_value = a0_;
                 rg_activate_output_clock(inst, CLOCK_decided);
             }
             {
-                rg_tup2_vec_u_2_seq_i a0_ = ((rg_tup2_vec_u_2_seq_i){ ._1 = ((rg_vec_u_2){ { UINT64_C(2), UINT64_C(2) } }), ._2 = rg_make_seq_i(d, 12, 1, (const int64_t[]){ INT64_C(7) }) });
+                rg_tup2_vec_u_2_seq_i a0_ = ((rg_tup2_vec_u_2_seq_i){ ._1 = ((rg_vec_u_2){ { UINT64_C(2), UINT64_C(2) } }), ._2 = rg_make_seq_i(d, 10, 1, (const int64_t[]){ INT64_C(7) }) });
                 if (d->fault) return rg_fault_0(inst);
                 d->out_pair__1 = a0_._1;
                 memcpy(d->out_pair__2_elements.a, a0_._2.a, sizeof d->out_pair__2_elements.a);
@@ -306,7 +304,7 @@ static fmi3Status rg_model_exit_initialization(rg_instance *inst)
     rg_model_data *d = &inst->s.data;
     {
         rg_machine_0 *m = &d->m0;
-        m->v_s = rg_make_set_u(d, 14, 2, (const uint64_t[]){ UINT64_C(100), UINT64_C(1) });  /* initial value of s */
+        m->v_s = rg_make_set_u(d, 12, 2, (const uint64_t[]){ UINT64_C(100), UINT64_C(1) });  /* initial value of s */
         if (d->fault) {
             rg_log(inst, RG_LOG_ERROR, fmi3Error, "initial value of s: %s", RG_FAULT_MESSAGE(d));
             return fmi3Error;
