@@ -20,7 +20,9 @@ a hand-calculated run of a small machine (the interpreter's trace is the same: r
   of a relation nothing types is empty or the identity (model 2.1506), ``relcomp(r, {})`` empty
   (model 2.1967); all three were "not supported".
 - A conditional on a literal condition writes only its branch: the other's quantifier functions
-  would be unused (model 3.261, -Wunused-function)."""
+  would be unused (model 3.261, -Wunused-function).
+- A type variable bound by an argument that leaves a type open (`<<>>`) takes the type of a later
+  argument that decides it: concat(<<>>, q) of a Seq(Seq(E)) (model 3.592)."""
 
 from __future__ import annotations
 
@@ -158,3 +160,17 @@ def test_a_conditional_on_a_literal_writes_only_its_branch(tmp_path):
     # {3} has 1 element; {x % 2 | x in {1, 2, 5}} = {1, 0, 1} = {0, 1}: 2
     outputs, _ = outputs_by_instant(built, {1: GO}, 2)
     assert outputs[1] == {"n": {"n.value": 1}, "m": {"m.value": 2}}
+
+
+def test_a_generic_call_takes_its_type_variable_from_the_typed_argument(tmp_path):
+    """concat(<<>>, q) of a Seq(Seq(E)): ?X is bound by <<>> to a Seq(?) first, then q decides it
+    (Seq(E)); it had stayed open and become an int, "using a Seq(Seq(E)) as a Seq(Seq(int))"
+    (model 3.592)."""
+    text = machine("var q: Seq(Seq(E)) = <<E::a>>\n    event n: nat\n    event m: nat",
+                   "q = concat(<<>>, q) ; n!size(q) ; m!size(dconcat(q))")
+    built = build_text(tmp_path, "generic", text)
+    # concat(<<>>, <<a>>) = <<>, <a>>: 2 elements, their concatenation <a>: 1; the next go
+    # puts another <> in front: 3 and 1
+    outputs, _ = outputs_by_instant(built, {1: GO, 2: GO}, 3)
+    assert outputs[1] == {"n": {"n.value": 2}, "m": {"m.value": 1}}
+    assert outputs[2] == {"n": {"n.value": 3}, "m": {"m.value": 1}}

@@ -348,6 +348,8 @@ def unify(param: Type, arg: Type, bindings: dict[str, Type]) -> bool:
             bindings[param.name] = numeric_join(bound, arg)
             return True
         if assignable(arg, bound):
+            if _holds_unknown(bound) and not _holds_unknown(arg):
+                bindings[param.name] = arg  # concat(<<>>, q): the typed argument decides what <<>> left open
             return True
         if assignable(bound, arg):
             bindings[param.name] = arg
