@@ -55,6 +55,12 @@ stm M {{
 """
 
 
+def two_goes(tmp_path, name: str, text: str) -> tuple[dict, dict]:
+    """The outputs of the machine ``text`` at its first and second go (instants 1 and 2)."""
+    outputs, _ = outputs_by_instant(build_text(tmp_path, name, text), {1: GO, 2: GO}, 3)
+    return outputs[1], outputs[2]
+
+
 def test_a_tuple_type_only_a_quantifier_domain_holds_is_declared_and_runs(tmp_path):
     text = machine("event ok: nat", "if forall q: nat | q in {first((| 3, E::a |)), 1} @ q > 0 then ok!4 else ok!0 end")
     built = build_text(tmp_path, "quantdomain", text)
@@ -74,12 +80,10 @@ def test_an_empty_nested_collection_beside_a_typed_one_takes_its_type():
 def test_dconcat_of_a_sequence_and_an_empty_one_runs(tmp_path):
     text = machine("var q: Seq(Seq(boolean)) = <<true>>\n    event n: nat\n    event last: nat",
                    "q = dconcat(<q ^ <<false>>, <<>>>) ; n!size(q) ; last!size(q[size(q)])")
-    built = build_text(tmp_path, "untyped", text)
     # <<true>> ^ <<false>> = <<true>, <false>>; dconcat(< that, <<>> >) = <<true>, <false>, <>>: 3
     # elements, the last empty; the next go: <<true>, <false>, <>, <false>> then <>: 5
-    outputs, _ = outputs_by_instant(built, {1: GO, 2: GO}, 3)
-    assert outputs[1] == {"n": {"n.value": 3}, "last": {"last.value": 0}}
-    assert outputs[2] == {"n": {"n.value": 5}, "last": {"last.value": 0}}
+    assert two_goes(tmp_path, "untyped", text) == ({"n": {"n.value": 3}, "last": {"last.value": 0}},
+                                                   {"n": {"n.value": 5}, "last": {"last.value": 0}})
 
 
 def test_a_relation_operation_converts_the_relation_to_its_result_pairs(tmp_path):
@@ -168,9 +172,7 @@ def test_a_generic_call_takes_its_type_variable_from_the_typed_argument(tmp_path
     (model 3.592)."""
     text = machine("var q: Seq(Seq(E)) = <<E::a>>\n    event n: nat\n    event m: nat",
                    "q = concat(<<>>, q) ; n!size(q) ; m!size(dconcat(q))")
-    built = build_text(tmp_path, "generic", text)
     # concat(<<>>, <<a>>) = <<>, <a>>: 2 elements, their concatenation <a>: 1; the next go
     # puts another <> in front: 3 and 1
-    outputs, _ = outputs_by_instant(built, {1: GO, 2: GO}, 3)
-    assert outputs[1] == {"n": {"n.value": 2}, "m": {"m.value": 1}}
-    assert outputs[2] == {"n": {"n.value": 3}, "m": {"m.value": 1}}
+    assert two_goes(tmp_path, "generic", text) == ({"n": {"n.value": 2}, "m": {"m.value": 1}},
+                                                   {"n": {"n.value": 3}, "m": {"m.value": 1}})
