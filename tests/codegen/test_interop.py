@@ -34,10 +34,11 @@ def test_simulate_fmu_with_event_mode_records_the_unclocked_outputs(built, name)
     assert not any("Terminated" in text for text in messages)
     if b.fmu.time_free:  # RoboChart, --time skip: no clock to set; the FMU counts its tocks and runs at
         # each Event Mode simulate_fmu opens (at the start: tock 0). It announces tock 2 (since(D) >= 1
-        # can change there), which a step counts up to but not past (1 at 0.5, 2 from 1.0); the step
-        # from 2.0 passes it (warned: the tock is left to the next Event Mode, which never comes), and
-        # the next step counts tocks 2 and 3 as they pass
-        assert [int(c) for c in result["cycles"]] == [1, 1, 2, 2, 2, 2, 4]
+        # can change there), which a step counts up to but not past. A step counts the tocks before
+        # its end, leaving a tock at its end to an Event Mode there (1 at 0.5 and 1.0, 2 from 1.5);
+        # the step from 2.0 passes tock 2 (warned: it is left to the next Event Mode, which never
+        # comes), and the step to 3.0 counts tock 2, leaving tock 3 at its end
+        assert [int(c) for c in result["cycles"]] == [1, 1, 1, 2, 2, 2, 3]
         assert any("passes the next event time t=2" in text for text in messages), messages
         return
     for m in b.fmu.machines:
