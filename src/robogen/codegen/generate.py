@@ -38,7 +38,7 @@ from robogen.ir import model as ir
 from robogen.ir.dump import dump
 from robogen.ir.layout import leaves, nested
 from robogen.ir.supported import ArrayT, FunMapT, literal_conditions
-from robogen.ir.walk import value_types
+from robogen.ir.walk import initial_order, value_types
 from robogen.semantics import types as T
 
 FMI_TYPE = {"int64_t": "Int64", "uint64_t": "UInt64", "double": "Float64", "bool": "Boolean"}
@@ -711,11 +711,10 @@ def _machine_code(fmu: ir.Fmu, em: Emitter, line_comments: bool) -> dict:
         lines += em.terminator(b.term, "            ")
         cases.append("\n".join(lines))
     inits = []
-    for v in m.vars:
-        if v.init is not None:  # variables, computed constants and the generator's state
-            em.fallible = False
-            value = em.expr(v.init)
-            inits.append((f"m->v_{em.names.vars[v]}", value, em.fallible, v.name))
+    for v in initial_order(m):  # variables, computed constants and the generator's state
+        em.fallible = False
+        value = em.expr(v.init)
+        inits.append((f"m->v_{em.names.vars[v]}", value, em.fallible, v.name))
     labels = [c_string(f"b{b.id}: {b.label}" + (f" ({fmu.place(b.span)})" if b.span else "")) for b in m.blocks]
     lookahead = lookahead_code(fmu, em, line_comments) if fmu.time_free else []
     parts = [cases[k:k + PART_SIZE] for k in range(0, len(cases), PART_SIZE)]

@@ -67,11 +67,8 @@ FEATURES: tuple[Feature, ...] = (
     Feature("iter_dconcat", True, "the toolkit's iter and dconcat"),
     Feature("union_inter", True, "the toolkit's Union and Inter (sets of sets)"),
     Feature("strings_in_collections", True, "sets and sequences of strings"),
-    # ---- off
-    Feature("constant_expressions", False, "constants of scalar, vector and matrix types whose value is any expression "
-            "(else literals, other constants and + - *)",
-            "code generation on main computes such a constant's start value when it generates the FMU, and stops "
-            "with an error that is not 'not supported' on other forms (see docs/fuzzing.md)"),
+    Feature("constant_expressions", True, "constants of scalar, vector and matrix types whose value is any expression "
+            "(off: literals, other constants and + - *)"),
 )
 
 BY_NAME = {f.name: f for f in FEATURES}

@@ -39,6 +39,7 @@ from robogen.ir.constants import default_value
 from robogen.ir.layout import build, gather, leaves
 from robogen.ir.lookahead import first_change, lookaheads
 from robogen.ir.supported import ArrayT
+from robogen.ir.walk import initial_order
 from robogen.semantics import types as T
 
 MASK = (1 << 64) - 1
@@ -164,9 +165,8 @@ class Interpreter:
     def exit_initialization(self) -> None:
         """Initial values of variables (they may read parameters)."""
         for m, ms in zip(self.fmu.machines, self.machines):
-            for v in m.vars:
-                if v.init is not None:  # variables, computed constants and the generator's state
-                    ms.vars[v.name] = copy.deepcopy(self._eval(v.init, m, ms))
+            for v in initial_order(m):  # variables, computed constants and the generator's state
+                ms.vars[v.name] = copy.deepcopy(self._eval(v.init, m, ms))
 
     # ------------------------------------------------------------------ instants
 

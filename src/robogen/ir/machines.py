@@ -196,10 +196,10 @@ class MachineLowering(StatementLowering, BindingLowering, BinderLowering, Derive
             mine = [p for p in fmu.params if p.machine == self.machine.index]
             value = constant_value(v.init, var.type, self.model, {p.var.name: p.value for p in mine if not p.free})
             if value is None:
-                free = [p.var.name for p in mine if p.free]
-                self.ctx.sink.error(f"the value of constant '{v.name}' must be computable from literals and other constants", v.init.span,
-                                    *([Note("constants without a value in the model (" + ", ".join(free) + ") are known only "
-                                            "when the importer sets them: give them with --set")] if free else []))
+                # Not computable here (a conditional, a collection, a function, a constant the
+                # importer sets): the FMU computes it when Initialization Mode ends, from the
+                # parameters' values then, as a constant of a collection type (build()).
+                return
         else:
             value = default_value(var.type)
             if not any(w.span == v.span for w in self.ctx.sink.warnings):  # one per constant, however many machines use it

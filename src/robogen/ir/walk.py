@@ -60,6 +60,32 @@ def expressions(fmu: ir.Fmu) -> Iterator[ir.Expr]:
             stack.extend(reversed(list(_children(node))))
 
 
+def initial_order(m: ir.Machine) -> list[ir.Var]:
+    """The variables of ``m`` that have an initial value, in the order Initialization Mode's end
+    computes them: the constants first, then the others (variables, the generator's state) in
+    declaration order, each after the ones its initialiser reads. A constant's value does not
+    depend on where the model declares it (``var x: int = k + 1`` before ``const k: int = ...``
+    reads k's value); a cycle (two variables reading each other) keeps declaration order."""
+    own = {id(v): v for v in m.vars if v.init is not None}
+    order: list[ir.Var] = []
+    seen: set[int] = set()
+
+    def visit(v: ir.Var) -> None:
+        seen.add(id(v))
+        stack: list[object] = [v.init]
+        while stack:  # the variables of m this initialiser reads, outermost first
+            node = stack.pop()
+            if isinstance(node, ir.Ref) and id(node.var) in own and id(node.var) not in seen:
+                visit(node.var)
+            stack.extend(reversed(list(_children(node))))
+        order.append(v)
+
+    for v in sorted(own.values(), key=lambda v: v.kind != "const"):  # stable: declaration order within each
+        if id(v) not in seen:
+            visit(v)
+    return order
+
+
 def value_types(fmu: ir.Fmu) -> Iterator[T.Type]:
     """The type of every value the FMU holds or passes: its ports' payloads and operation
     parameters, its user functions' parameters and results, each machine's variables and events,

@@ -48,11 +48,11 @@ static const char *const rg_sites[] = {
     "'front' of an empty collection in front(q) at collections.rct:58",
     "more than 32 elements (the capacity) in ran(q) at collections.rct:58",
     "",
+    "more than 32 elements (the capacity) in {1, 2, 3} at collections.rct:40",
+    "",
     "more than 32 elements (the capacity) in {3, 1, 3} at collections.rct:35",
     "",
     "more than 32 elements (the capacity) in <> at collections.rct:36",
-    "",
-    "more than 32 elements (the capacity) in {1, 2, 3} at collections.rct:40",
     "",
 };
 #define RG_FAULT_MESSAGE(d) ((d)->fault == RG_FAULT_COLLECTION ? rg_sites[(d)->fault_site] : rg_fault_text((d)->fault))
@@ -551,12 +551,17 @@ static fmi3Status rg_model_exit_initialization(rg_instance *inst)
     rg_model_data *d = &inst->s.data;
     {
         rg_machine_0 *m = &d->m0;
-        m->v_s = rg_make_set_i(d, 34, 3, (const int64_t[]){ INT64_C(3), INT64_C(1), INT64_C(3) });  /* initial value of s */
+        m->v_base = rg_make_set_i(d, 34, 3, (const int64_t[]){ INT64_C(1), INT64_C(2), INT64_C(3) });  /* initial value of base */
+        if (d->fault) {
+            rg_log(inst, RG_LOG_ERROR, fmi3Error, "initial value of base: %s", RG_FAULT_MESSAGE(d));
+            return fmi3Error;
+        }
+        m->v_s = rg_make_set_i(d, 36, 3, (const int64_t[]){ INT64_C(3), INT64_C(1), INT64_C(3) });  /* initial value of s */
         if (d->fault) {
             rg_log(inst, RG_LOG_ERROR, fmi3Error, "initial value of s: %s", RG_FAULT_MESSAGE(d));
             return fmi3Error;
         }
-        m->v_q = rg_make_seq_i(d, 36, 0, NULL);  /* initial value of q */
+        m->v_q = rg_make_seq_i(d, 38, 0, NULL);  /* initial value of q */
         if (d->fault) {
             rg_log(inst, RG_LOG_ERROR, fmi3Error, "initial value of q: %s", RG_FAULT_MESSAGE(d));
             return fmi3Error;
@@ -564,11 +569,6 @@ static fmi3Status rg_model_exit_initialization(rg_instance *inst)
         m->v_p = ((rg_tup2_u_i){ ._1 = UINT64_C(0), ._2 = INT64_C(0) });  /* initial value of p */
         m->v_k = UINT64_C(0);  /* initial value of k */
         m->v_v = INT64_C(0);  /* initial value of v */
-        m->v_base = rg_make_set_i(d, 38, 3, (const int64_t[]){ INT64_C(1), INT64_C(2), INT64_C(3) });  /* initial value of base */
-        if (d->fault) {
-            rg_log(inst, RG_LOG_ERROR, fmi3Error, "initial value of base: %s", RG_FAULT_MESSAGE(d));
-            return fmi3Error;
-        }
     }
     return fmi3OK;
 }
