@@ -12,9 +12,10 @@ from __future__ import annotations
 
 import re
 
-from support.codegen_driver import Tick, build_text, outputs_by_instant
+from support.codegen_driver import Instant, Scenario, Tick, build_text, outputs_by_instant, run_checked
 
 from robogen.codegen.api import lower_paths
+from robogen.ir.lower import LoweringOptions
 
 GO = Tick("go", {})
 
@@ -61,8 +62,6 @@ def test_an_initialiser_generation_cannot_compute_is_computed_by_the_fmu(tmp_pat
 
 
 def test_a_computable_initialiser_still_gives_a_parameter_and_set_overrides_a_computed_one(tmp_path):
-    from robogen.ir.lower import LoweringOptions
-
     path = tmp_path / "m.rct"
     path.write_text(MODEL)
     fmu, _ = lower_paths([path], options=LoweringOptions(settings={"k": "4"}))
@@ -71,8 +70,6 @@ def test_a_computable_initialiser_still_gives_a_parameter_and_set_overrides_a_co
 
 
 def test_a_failing_initialiser_is_an_error_when_initialization_ends(tmp_path):
-    from support.codegen_driver import Instant, Scenario, run_checked
-
     built = build_text(tmp_path, "failing", MODEL.replace("const j: int = k * 2", "const j: int = <1, 2>[k]"))
     # <1, 2>[10]: the sequence has 2 elements; the FMU (and the interpreter) fail when
     # Initialization Mode ends, before any instant

@@ -175,7 +175,9 @@ class MachineLowering(StatementLowering, BindingLowering, BinderLowering, Derive
     def _constant(self, var: ir.Var, v: VarSym, fmi_name: str) -> None:
         """A constant is an FMU parameter; its start value comes from --set, its initialiser, or
         (a constant the model leaves without a value) the default value of its type, with a
-        warning: the importer sets it in Initialization Mode."""
+        warning: the importer sets it in Initialization Mode. A constant whose initialiser is not
+        computable here, or of a collection type, is no parameter: the FMU computes it when
+        Initialization Mode ends (build(), in robogen.ir.walk.initial_order's order)."""
         fmu = self.ctx.fmu
         settable = is_scalar(var.type) or var.type == T.STRING
         for name in (fmi_name, v.name):
