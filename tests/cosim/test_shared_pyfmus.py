@@ -68,3 +68,18 @@ def test_a_folder_removed_from_under_the_registry_is_extracted_again(tmp_path, m
 
 def test_c_fmus_are_still_extracted_per_run(fmus):
     assert SHARED.load(Path(fmus["ticker"])) is None
+
+
+def test_an_archive_rewritten_in_place_is_read_again(tmp_path, misbehaving):
+    # the registry hashes an archive again only when its file changed: the same path with another
+    # content (another size) is another FMU, and a C FMU written over a Python one is no Python FMU
+    fmu = tmp_path / "rewritten.fmu"
+    shutil.copyfile(misbehaving, fmu)
+    first = SHARED.load(fmu)
+    assert first == SHARED.load(misbehaving)
+    with zipfile.ZipFile(fmu, "a") as archive:
+        archive.writestr("documentation/notes.txt", "rewritten where it was")
+    assert SHARED.load(fmu)[0] != first[0]
+    with zipfile.ZipFile(fmu, "w") as archive:  # no resources/pyfmu.json any more
+        archive.writestr("modelDescription.xml", "<fmiModelDescription/>")
+    assert SHARED.load(fmu) is None

@@ -49,14 +49,24 @@ class SharedFmus:
         self._loaded: dict[str, tuple[Path, ModelDescription]] = {}
         self._folders: set[Path] = set()
         self._libraries: dict[str, Library] = {}
+        #: what an archive file was when last read: its identity (_identity) -> its digest, or
+        #: None for an archive that is not a Python FMU
+        self._digests: dict[tuple, str | None] = {}
 
     def load(self, fmu: Path) -> tuple[Path, ModelDescription] | None:
         """The extracted folder and model description of the Python FMU at ``fmu``, extracted
         at its first use in this process; None when ``fmu`` is not a Python FMU (or not a zip
-        archive: the caller's extraction reports that)."""
-        if not _is_python_fmu(fmu):
+        archive: the caller's extraction reports that). An archive is read and hashed again
+        only when its file changed (path, device, inode, size, modification time)."""
+        identity = _identity(fmu)
+        if identity is not None and identity in self._digests:
+            digest = self._digests[identity]
+        else:
+            digest = hashlib.sha256(fmu.read_bytes()).hexdigest() if _is_python_fmu(fmu) else None
+            if identity is not None:
+                self._digests[identity] = digest
+        if digest is None:
             return None
-        digest = hashlib.sha256(fmu.read_bytes()).hexdigest()
         with self._lock:
             entry = self._loaded.get(digest)
             if entry is None or not entry[0].is_dir():
@@ -100,6 +110,16 @@ class SharedFmus:
 
     def after_fork(self) -> None:
         self._lock = threading.Lock()  # another thread may have held it at the fork
+
+
+def _identity(fmu: Path) -> tuple | None:
+    """What tells that a file is unchanged since it was last read: its absolute path, device,
+    inode, size and modification time (ns); None when it cannot be read."""
+    try:
+        st = os.stat(fmu)
+    except OSError:
+        return None
+    return os.path.abspath(fmu), st.st_dev, st.st_ino, st.st_size, st.st_mtime_ns
 
 
 def _is_python_fmu(fmu: Path) -> bool:

@@ -111,7 +111,8 @@ class PlanController(Model):
             if event in clocks:
                 name = f"received_{event}"
                 self.set(name, self.get(name) + 1)
-                self.log(f"t={self.time:.9g}: received {event}")
+                if self.logging():  # a sample's events come at every sample: no message formatted in vain
+                    self.log(f"t={self.time:.9g}: received {event}")
         if self._due() and not self._emitted:
             command = self._next
             assert command is not None

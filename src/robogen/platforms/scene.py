@@ -72,7 +72,7 @@ class ArmScene:
         self.target = tuple(float(q) for q in q_initial)
         self.apply_targets(self.target)
         self.steps = 0  # physics steps done; the owner steps the client (a hot loop) and counts
-        self._queried: tuple[int, bool] | None = None  # (steps, in_collision) when collides() last ran
+        self._collision = (-1, False)  # (steps, in_collision()) of the last answer, kept for that step
         self._states_at = -1  # the steps count of self._states, the last joint_states()
         self._states: tuple[tuple[float, ...], tuple[float, ...]] = ((), ())
 
@@ -100,10 +100,13 @@ class ArmScene:
         return self._states
 
     def in_collision(self) -> bool:
-        """Whether the last physics step found the arm touching the plane or itself."""
-        if self._queried is not None and self._queried[0] == self.steps:
-            return self._queried[1]  # a query since that step replaced the contacts PyBullet holds
-        return self._contact()
+        """Whether the last physics step found the arm touching the plane or itself (asked of
+        PyBullet once per step: a :meth:`collides` query since then replaced the contacts it holds)."""
+        steps, hit = self._collision
+        if steps != self.steps:
+            hit = self._contact()
+            self._collision = (self.steps, hit)
+        return hit
 
     def _contact(self) -> bool:
         for contact in pybullet.getContactPoints(bodyA=self.robot, physicsClientId=self.client):
@@ -116,8 +119,7 @@ class ArmScene:
         arm's joint positions and velocities are restored bit for bit afterwards, and
         :meth:`in_collision` answers for the arm's own pose until the next step."""
         cid, robot = self.client, self.robot
-        if self._queried is None or self._queried[0] != self.steps:
-            self._queried = (self.steps, self._contact())
+        self.in_collision()  # the arm's own answer for this step, kept before the query replaces it
         states = pybullet.getJointStates(robot, JOINTS, physicsClientId=cid)
         for j, value in zip(JOINTS, q):
             pybullet.resetJointState(robot, j, value, 0.0, physicsClientId=cid)

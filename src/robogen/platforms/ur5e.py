@@ -63,6 +63,7 @@ from robogen.pyfmu import Clock, Float64, FmiUsageError, Int64, Model, Setting, 
 COMPLETION_TOLERANCE = 0.005  # rad, every joint
 STOPPED_SPEED = 0.1  # rad/s, every joint
 EVENTS = ("moveCompleted", "robotStopped", "collision")
+_STOPPED = EVENTS.index("robotStopped")
 _Q, _DQ = tuple(f"q{i}" for i in range(6)), tuple(f"dq{i}" for i in range(6))
 _NONE: frozenset[str] = frozenset()
 _CLOSE, _SLOW = COMPLETION_TOLERANCE.__gt__, STOPPED_SPEED.__gt__  # x < tolerance (false for NaN)
@@ -178,7 +179,7 @@ class UR5ePlatform(Model):
         self._discrete: tuple[int, int, int] | None = None  # the current movediscrete command
         self._discrete_feasible = False
         self._ik: dict[tuple[int, int, int], tuple[float, ...]] = {}  # grid cell -> IK solution
-        self._holds = dict.fromkeys(EVENTS, False)
+        self._holds = (False, False, False)               # the EVENTS' conditions, in that order
         self._edges: set[str] = set()                     # conditions that became true in a step
 
     def _urdf(self) -> Path:
@@ -239,23 +240,24 @@ class UR5ePlatform(Model):
 
     # -- events ---------------------------------------------------------------------------------
 
-    def _evaluate(self, q, dq, colliding: bool) -> set[str]:
-        """Update the three conditions from the current state; return those that became true."""
+    def _evaluate(self, q, dq, colliding: bool) -> frozenset[str]:
+        """Update the three conditions (EVENTS' order) from the current state; return those that
+        became true. Evaluated after every watched physics step: tuples, no dict."""
         target = self._commanded
         completed = target is not None and _within(q, target)
         if completed:
             self._pending = False
         stopped = not self._pending and all(map(_SLOW, map(abs, dq)))
-        now = {"moveCompleted": completed, "robotStopped": stopped, "collision": colliding}
-        if now == self._holds:
+        now = (completed, stopped, colliding)
+        held = self._holds
+        if now == held:
             return _NONE
-        rising = {name for name, holds in now.items() if holds and not self._holds[name]}
         self._holds = now
-        return rising
+        return frozenset(name for name, holds, before in zip(EVENTS, now, held) if holds and not before)
 
     def _watching(self) -> bool:
         """Whether a condition can become true: a motion under way or an arm still moving."""
-        return self._pending or not self._holds["robotStopped"]
+        return self._pending or not self._holds[_STOPPED]
 
     def react(self, clocks: frozenset[str]) -> None:
         scene = self._scene
@@ -281,8 +283,8 @@ class UR5ePlatform(Model):
             # command made false is not reported.
             q, dq = scene.joint_states()
             self._evaluate(q, dq, scene.in_collision())
-            for name in EVENTS:
-                if self._holds[name] and (sampled or name in self._edges):
+            for name, holds in zip(EVENTS, self._holds):
+                if holds and (sampled or name in self._edges):
                     self.raise_clock(name)
             self._edges.clear()
 
@@ -391,7 +393,7 @@ class UR5ePlatform(Model):
         early = self.early_return_allowed
         step, client = pybullet.stepSimulation, scene.client  # the hot loop: no method lookups
         while scene.steps < last:
-            if not self._watching():
+            if not (self._pending or not self._holds[_STOPPED]):  # not self._watching(), inlined
                 # Only a command makes a condition rise again: the rest of the step unobserved.
                 for _ in range(last - scene.steps):
                     step(physicsClientId=client)

@@ -17,9 +17,8 @@ from __future__ import annotations
 import enum
 import math
 import operator
-from dataclasses import dataclass
 from pathlib import Path
-from typing import Any, Callable, Iterable, Sequence
+from typing import Any, Callable, Iterable, NamedTuple, Sequence
 
 from robogen.fmu.fmi import INTERVAL_UNCHANGED, PYTHON_FMU_LOG_CATEGORIES, same_time, time_resolution
 from robogen.pyfmu.model import Clock, FmiUsageError, Model, Step, Update, Var
@@ -36,16 +35,14 @@ class State(enum.Enum):
     TERMINATED = "Terminated"
 
 
-@dataclass(frozen=True)
-class StepResult:
+class StepResult(NamedTuple):  # a named tuple: made at every fmi3DoStep, and cheap to make
     event_handling_needed: bool
     terminate: bool
     early_return: bool
     last_successful_time: float
 
 
-@dataclass(frozen=True)
-class UpdateResult:
+class UpdateResult(NamedTuple):
     discrete_states_need_update: bool
     terminate: bool
     next_event_time_defined: bool
@@ -76,6 +73,11 @@ class Slave:
         self.logger = logger
         self._by_vr: dict[int, Var] = {v.vr: v for v in model_class.variables()}
         self._clocks = [v for v in model_class.variables() if isinstance(v, Clock)]
+        self._clock_by_vr: dict[int, Clock] = {c.vr: c for c in self._clocks}
+        #: a periodic clock's first tick after the start and its interval, in seconds
+        self._ticks = {c.name: (model_class.clock_seconds(c.shift), model_class.clock_seconds(c.interval))
+                       for c in self._clocks if c.periodic}
+        self._get_clock_plans: dict[tuple[int, ...], list[str]] = {}
         #: the time resolution of its periodic clocks (robogen.fmu.fmi.time_resolution): caps the time tolerance
         self._resolution = time_resolution(model_class.clock_seconds(x) for c in self._clocks if c.periodic
                                            for x in (c.interval, c.shift) if x)
@@ -145,14 +147,16 @@ class Slave:
         self.state = State.EVENT if self.event_mode_used else State.STEP
 
     def enter_event_mode(self) -> None:
-        self._require("fmi3EnterEventMode", State.STEP)
+        if self.state is not State.STEP:
+            self._require("fmi3EnterEventMode", State.STEP)
         if not self.event_mode_used:
             raise FmiUsageError("fmi3EnterEventMode: the instance was created with eventModeUsed = false")
         self._reset_event_bookkeeping()
         self.state = State.EVENT
 
     def enter_step_mode(self) -> None:
-        self._require("fmi3EnterStepMode", State.EVENT)
+        if self.state is not State.EVENT:
+            self._require("fmi3EnterStepMode", State.EVENT)
         if not self._updated_in_event_mode:
             raise FmiUsageError("fmi3EnterStepMode: call fmi3UpdateDiscreteStates at least once per event instant")
         if self._update_pending:
@@ -266,35 +270,41 @@ class Slave:
     # -- clocks ---------------------------------------------------------------------------------
 
     def _clock(self, function: str, vr: int) -> Clock:
-        var = self._variable(function, vr, "Clock")
-        assert isinstance(var, Clock)
-        return var
+        clock = self._clock_by_vr.get(vr)
+        if clock is None:
+            self._variable(function, vr, "Clock")  # raises: unknown, or not a clock
+        assert clock is not None
+        return clock
 
     def set_clock(self, vrs: Sequence[int], values: Sequence[bool]) -> None:
-        self._require("fmi3SetClock", State.EVENT)
+        if self.state is not State.EVENT:
+            self._require("fmi3SetClock", State.EVENT)
         clocks = [self._clock("fmi3SetClock", vr) for vr in vrs]
+        model = self.model
+        active = model.active_clocks  # what model.clock_active reads
         for clock, value in zip(clocks, values):
             if clock.causality != "input":
                 raise FmiUsageError(f"fmi3SetClock: '{clock.name}' is an {clock.causality} clock")
             if not value:
                 raise FmiUsageError(f"fmi3SetClock: '{clock.name}' cannot be deactivated (canBeDeactivated=false)")
-            if clock.periodic and not self.model.clock_active(clock.name):
+            if clock.periodic and clock.name not in active:
                 self._check_tick(clock)
         for clock in clocks:
-            if not self.model.clock_active(clock.name):
-                self.model.active_clocks.add(clock.name)
-                self._new_input_clocks.add(clock.name)
+            name = clock.name
+            if name not in active:
+                active.add(name)
+                self._new_input_clocks.add(name)
                 if clock.periodic:
-                    self._periodic_ticked.add(clock.name)
-                if self.model.logging():
-                    self.model.log(f"t={self.model.time:.9g}: input clock {clock.name} active")
+                    self._periodic_ticked.add(name)
+                if model.logging():
+                    model.log(f"t={model.time:.9g}: input clock {name} active")
 
     def _check_tick(self, clock: Clock) -> None:
         """A periodic clock ticks at t_k = start + shift + k * interval, once per Event Mode."""
         if clock.name in self._periodic_ticked:
             raise FmiUsageError(f"fmi3SetClock: periodic clock '{clock.name}' was already active in this Event Mode")
-        origin = self.model.start_time + self.model_class.clock_seconds(clock.shift)
-        interval = self.model_class.clock_seconds(clock.interval)  # type: ignore[arg-type]
+        shift, interval = self._ticks[clock.name]
+        origin = self.model.start_time + shift
         k = max(0, round((self.model.time - origin) / interval))
         due = origin + k * interval
         if self.model.time != due and not same_time(self.model.time, due, self._resolution):
@@ -302,15 +312,24 @@ class Slave:
                                 f"it ticks at {origin!r} + k * {interval!r}")
 
     def get_clock(self, vrs: Sequence[int]) -> list[bool]:
-        self._require("fmi3GetClock", State.INITIALIZATION, State.EVENT)
-        clocks = [self._clock("fmi3GetClock", vr) for vr in vrs]
-        for clock in clocks:
-            if clock.causality == "input":
-                raise FmiUsageError(f"fmi3GetClock: '{clock.name}' is an input clock")
-        if self.state is State.INITIALIZATION:
-            return [False] * len(clocks)
+        state = self.state
+        if state is not State.EVENT:
+            self._require("fmi3GetClock", State.INITIALIZATION, State.EVENT)
+        key = tuple(vrs)
+        names = self._get_clock_plans.get(key)
+        if names is None:  # checked once, kept for the next same call
+            clocks = [self._clock("fmi3GetClock", vr) for vr in vrs]
+            for clock in clocks:
+                if clock.causality == "input":
+                    raise FmiUsageError(f"fmi3GetClock: '{clock.name}' is an input clock")
+            if len(self._get_clock_plans) >= MAX_GET_PLANS:
+                self._get_clock_plans.clear()
+            names = self._get_clock_plans[key] = [c.name for c in clocks]
+        if state is State.INITIALIZATION:
+            return [False] * len(names)
         self._react_if_needed()
-        return [self.model.clock_active(c.name) for c in clocks]
+        active = self.model.active_clocks
+        return [name in active for name in names]
 
     def get_interval_decimal(self, vrs: Sequence[int]) -> tuple[list[float], list[int]]:
         self._require("fmi3GetIntervalDecimal", State.INITIALIZATION, State.EVENT)
@@ -336,7 +355,8 @@ class Slave:
     # -- event instants and steps ---------------------------------------------------------------
 
     def update_discrete_states(self) -> UpdateResult:
-        self._require("fmi3UpdateDiscreteStates", State.EVENT)
+        if self.state is not State.EVENT:
+            self._require("fmi3UpdateDiscreteStates", State.EVENT)
         self._react_if_needed()
         update = self.model.update_discrete_states() or Update()
         if not isinstance(update, Update):
@@ -351,7 +371,8 @@ class Slave:
         return UpdateResult(update.need_update, update.terminate, defined, float(next_time) if defined else 0.0)
 
     def do_step(self, t: float, h: float) -> StepResult:
-        self._require("fmi3DoStep", State.STEP)
+        if self.state is not State.STEP:
+            self._require("fmi3DoStep", State.STEP)
         model = self.model
         if not (t == model.time and math.isfinite(t)) and not same_time(t, model.time, self._resolution):
             raise FmiUsageError(f"fmi3DoStep: currentCommunicationPoint {t!r} is not the FMU's time {model.time!r}")
