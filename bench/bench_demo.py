@@ -17,6 +17,11 @@ Then the cost of the Python FMUs' shim per FMI call: fmi3GetFloat64 of one value
 fmi3DoStep through the same ctypes functions, on the platform FMU vs robogen's C test FMU
 'ticker' (bench_platform.py's measurement, fewer calls).
 
+Then the Python FMUs' calls inside one more co-simulation, per FMU and FMI function: how many,
+the fastest and the median time (the slave's methods timed where the C engine calls them; the
+FMUs run on this process's robogen modules). The fastest is a call with warm caches; the median
+includes the first calls after each stretch of physics, which find the interpreter's data evicted.
+
 Targets (issue 12): co-simulation / bare <= 1.2, and >= 100x faster than real time.
 
     python bench/bench_demo.py [--quick]
@@ -36,6 +41,7 @@ from bench_platform import joint_targets, per_call_figures, run_bare  # the same
 from robogen.cosim import simulate_system
 from robogen.platforms.plan import load_plan
 from robogen.platforms.urdf import ur5e_urdf
+from robogen.pyfmu.slave import Slave
 
 ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT))  # the UR5e example is repository code (examples/ur5e), not installed
@@ -77,9 +83,43 @@ def main() -> int:
         print(f"  bare PyBullet loop ({steps} physics steps):  median {b:.3f} s wall, {b_cpu:.3f} s CPU of {REPEAT}")
         print(f"  ratio co-simulation / bare: {c / b:.2f} wall, {c_cpu / b_cpu:.2f} CPU  (target <= 1.2)")
         print(f"  load average: {', '.join(f'{x:.2f}' for x in os.getloadavg())}")
+        print("== the Python FMUs' calls inside one co-simulation (fastest and median; the fastest has warm caches)")
+        calls_inside(system, folder / "calls.csv")
         print("== the Python FMUs' shim per FMI call: platform FMU vs a C FMU (same ctypes calls, same run)")
         per_call_figures(built.folder / "platform.fmu", folder / "calls", 20_000)
     return 0
+
+
+CALLS = ("set_clock", "get_clock", "get", "update_discrete_states", "enter_event_mode", "enter_step_mode", "do_step")
+
+
+def calls_inside(system: Path, output: Path) -> None:
+    """Time the slave's methods of both Python FMUs during one co-simulation (then restore them)."""
+    times: dict[tuple[str, str], list[float]] = {}
+    originals = {name: getattr(Slave, name) for name in CALLS}
+
+    def timed(name, method):
+        def call(self, *args):
+            t0 = time.perf_counter()
+            try:
+                return method(self, *args)
+            finally:
+                times.setdefault((type(self.model).__name__, name), []).append(time.perf_counter() - t0)
+        return call
+
+    for name, method in originals.items():
+        setattr(Slave, name, timed(name, method))
+    try:
+        simulate_system(system, output=output, keep_rows=False)
+    finally:
+        for name, method in originals.items():
+            setattr(Slave, name, method)
+    total = 0.0
+    for (model, name), values in sorted(times.items()):
+        total += sum(values) if name != "do_step" else 0.0
+        print(f"  {model:15s} {name:24s} {len(values):5d} calls: fastest {min(values) * 1e6:7.2f} us, "
+              f"median {statistics.median(values) * 1e6:7.2f} us")
+    print(f"  every call but fmi3DoStep, in all: {total * 1e3:.1f} ms a run")
 
 
 if __name__ == "__main__":

@@ -432,6 +432,22 @@ def test_every_fmi_type_is_recorded_byte_for_byte_alike_by_the_c_and_the_python_
     assert lines[2].endswith(",,,,,,,,,,,,,,")  # (0, 1): the clocked values are gone with their clock
 
 
+def test_the_integers_at_the_ends_of_their_types_are_written_alike_by_the_c_and_the_python_loop(loops, write_system):
+    # After the first step y = derive(u, 1): i8 = u - 1, u8 = u + 37, i16 = u - 300, u16 = u + 1000,
+    # i32 = u - 100000, u32 = u + 3e9, i64 = u - 1000000007, u64 = u + 2^63 + 1: these starts put
+    # every y at the end of its type (the C loop writes integers without printf)
+    starts = {"u_i8": -127, "u_u8": 218, "u_i16": -32468, "u_u16": 64535, "u_i32": -2147383648, "u_u32": 1294967295,
+              "u_i64": -9223372036854775808 + 1000000007, "u_u64": 2**63 - 2}
+    text = alltypes(0.1, connected=False) + "start = { " + ", ".join(f"{k} = {v}" for k, v in starts.items()) + " }\n"
+    python, c = loops(write_system(text, name="ends.toml"))
+    assert c.output.read_bytes() == python.output.read_bytes()
+    row = dict(zip(python.columns, python.rows[2]))
+    assert [row[f"a.y_{t}"] for t in ("i8", "u8", "i16", "u16", "i32", "u32", "i64", "u64")] == [
+        -128, 255, -32768, 65535, -2147483648, 4294967295, -9223372036854775808, 18446744073709551615]
+    line = c.output.read_text().splitlines()[3]
+    assert ",-128,255,-32768,65535,-2147483648,4294967295,-9223372036854775808,18446744073709551615," in line
+
+
 @pytest.mark.parametrize("step", [0.1, 0.7], ids=["step-shorter-than-the-clock", "step-longer-than-the-clock"])
 def test_every_fmi_type_travels_through_connections(monkeypatch, write_system, tmp_path, step):
     path = write_system(alltypes(step, connected=True), name="connected.toml")

@@ -167,7 +167,8 @@ static bool text_line(rg_engine *r, double t, int k)
     int c;
     if (!reserve(&s->text, 48)) return false;
     s->text.used += rg_format_double(s->text.data + s->text.used, t);
-    s->text.used += (size_t)sprintf(s->text.data + s->text.used, ",%d", k);
+    put(&s->text, ",", 1);
+    s->text.used += format_integer(s->text.data + s->text.used, (uint64_t)k, false); /* k >= 0 */
     for (c = 0; c < r->p->n_columns; c++) {
         if (!reserve(&s->text, 1)) return false;
         put(&s->text, ",", 1);

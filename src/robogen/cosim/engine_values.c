@@ -480,6 +480,22 @@ static void put(rg_bytes *b, const char *text, size_t n)
     b->used += n;
 }
 
+/* The decimal digits of an integer (a '-' first when `negative`, `magnitude` its absolute value)
+ * into out (at least 21 bytes); their count. What "%lld" and "%llu" print, without printf: a CSV
+ * line has one in every row (the superdense index). */
+static size_t format_integer(char *out, uint64_t magnitude, bool negative)
+{
+    char digits[20];
+    size_t n = 0, k = 0;
+    do {
+        digits[k++] = (char)('0' + magnitude % 10);
+        magnitude /= 10;
+    } while (magnitude != 0);
+    if (negative) out[n++] = '-';
+    while (k > 0) out[n++] = digits[--k];
+    return n;
+}
+
 /* The CSV cell of value i of a buffer of numbers or Booleans of this kind; false when memory
  * runs out. */
 static bool number_cell(rg_bytes *b, int kind, const void *buffer, size_t i)
@@ -489,11 +505,10 @@ static bool number_cell(rg_bytes *b, int kind, const void *buffer, size_t i)
         b->used += rg_format_double(b->data + b->used, real_of(kind, buffer, i));
     } else {
         uint64_t v = integer_of(kind, buffer, i);
+        bool negative = (kind == K_I64 || kind == K_I32 || kind == K_I16 || kind == K_I8) && (int64_t)v < 0;
         if (!reserve(b, 24)) return false;
         if (kind == K_BOOL) put(b, v ? "True" : "False", v ? 4 : 5);
-        else if (kind == K_I64 || kind == K_I32 || kind == K_I16 || kind == K_I8)
-            b->used += (size_t)sprintf(b->data + b->used, "%lld", (long long)(int64_t)v);
-        else b->used += (size_t)sprintf(b->data + b->used, "%llu", (unsigned long long)v);
+        else b->used += format_integer(b->data + b->used, negative ? 0 - v : v, negative);
     }
     return true;
 }
