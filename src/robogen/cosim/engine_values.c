@@ -25,6 +25,7 @@
  * and time. A chunk also ends at a wall-clock deadline, so the rows reach the results file at
  * least that often however slow the FMUs are. */
 #define _POSIX_C_SOURCE 199309L
+#define __STDC_WANT_IEC_60559_BFP_EXT__ 1 /* strfromd (ISO/IEC TS 18661-1), where the C library has it */
 #include <errno.h>
 #include <float.h>
 #include <math.h>
@@ -84,13 +85,44 @@ static uint64_t keep_bytes(rg_bytes *arena, const void *data, size_t size)
  * there are several), in positional form for decimal exponents -4 <= e < 16 (with ".0" when it
  * is whole), else as d.ddde+XX with at least two exponent digits. */
 
-/* The digits of |x| rounded to `precision` significant digits, into `digits` (NUL-terminated,
- * trailing zeros kept), and the decimal exponent of the first. */
+/* glibc's printf family takes its slow path (printf_positional: about twice the work) in a process
+ * where any library registered a printf handler, as libquadmath does when NumPy's OpenBLAS loads
+ * it; strfromd formats one double without that machinery. */
+#if defined(__GLIBC__) && (__GLIBC__ > 2 || (__GLIBC__ == 2 && __GLIBC_MINOR__ >= 25))
+#define RG_STRFROMD 1
+#endif
+
+/* The decimal digits of an integer (a '-' first when `negative`, `magnitude` its absolute value)
+ * into out (at least 21 bytes); their count. What "%lld" and "%llu" print, without printf (see
+ * above): a CSV line has one in every row (the superdense index). */
+static size_t format_integer(char *out, uint64_t magnitude, bool negative)
+{
+    char digits[20];
+    size_t n = 0, k = 0;
+    do {
+        digits[k++] = (char)('0' + magnitude % 10);
+        magnitude /= 10;
+    } while (magnitude != 0);
+    if (negative) out[n++] = '-';
+    while (k > 0) out[n++] = digits[--k];
+    return n;
+}
+
+/* The digits of |x| rounded to `precision` (1 to 17) significant digits, into `digits`
+ * (NUL-terminated, trailing zeros kept), and the decimal exponent of the first. */
 static int round_digits(double x, int precision, char *digits)
 {
     char buffer[40];
     int i, k = 0;
+#ifdef RG_STRFROMD
+    char format[8] = "%.";
+    size_t at = 2 + format_integer(format + 2, (uint64_t)(precision - 1), false);
+    format[at] = 'e';
+    format[at + 1] = '\0';
+    strfromd(buffer, sizeof buffer, format, fabs(x));
+#else
     snprintf(buffer, sizeof buffer, "%.*e", precision - 1, fabs(x));
+#endif
     for (i = 0; buffer[i] != 'e'; i++)
         if (buffer[i] != '.') digits[k++] = buffer[i];
     digits[k] = '\0';
@@ -110,7 +142,9 @@ static double digits_value(const char *digits, int exponent)
     buffer[0] = '0';
     buffer[1] = '.';
     memcpy(buffer + 2, digits, k);
-    sprintf(buffer + 2 + k, "e%d", exponent + 1);
+    buffer[2 + k] = 'e';
+    buffer[3 + k + format_integer(buffer + 3 + k, (uint64_t)(exponent + 1 < 0 ? -(exponent + 1) : exponent + 1),
+                                  exponent + 1 < 0)] = '\0';
     return strtod(buffer, NULL);
 }
 
@@ -256,7 +290,12 @@ RG_EXPORT size_t rg_format_double(char *out, double x)
             memcpy(out + n, digits + 1, (size_t)(k - 1));
             n += k - 1;
         }
-        return (size_t)(n + sprintf(out + n, "e%c%02d", exponent < 0 ? '-' : '+', abs(exponent)));
+        out[n++] = 'e';
+        out[n++] = exponent < 0 ? '-' : '+';
+        if (abs(exponent) < 10) out[n++] = '0'; /* two exponent digits at least */
+        n += (int)format_integer(out + n, (uint64_t)abs(exponent), false);
+        out[n] = '\0';
+        return (size_t)n;
     }
     if (exponent < 0) {
         out[n++] = '0';
@@ -478,22 +517,6 @@ static void put(rg_bytes *b, const char *text, size_t n)
 {
     memcpy(b->data + b->used, text, n);
     b->used += n;
-}
-
-/* The decimal digits of an integer (a '-' first when `negative`, `magnitude` its absolute value)
- * into out (at least 21 bytes); their count. What "%lld" and "%llu" print, without printf: a CSV
- * line has one in every row (the superdense index). */
-static size_t format_integer(char *out, uint64_t magnitude, bool negative)
-{
-    char digits[20];
-    size_t n = 0, k = 0;
-    do {
-        digits[k++] = (char)('0' + magnitude % 10);
-        magnitude /= 10;
-    } while (magnitude != 0);
-    if (negative) out[n++] = '-';
-    while (k > 0) out[n++] = digits[--k];
-    return n;
 }
 
 /* The CSV cell of value i of a buffer of numbers or Booleans of this kind; false when memory
