@@ -1,26 +1,25 @@
-/* The master's quiet stretches in C: consecutive plain communication steps with no event and no
- * early return (robogen.cosim.stretch describes the contract; robogen.cosim.stepper.CStretch
- * drives this loop).
+/* The engine's values and rows: the first of its three files, compiled as one unit with
+ * engine_run.c (the run: stretches, general steps, rg_engine_run) and engine_events.c (Event Mode)
+ * by robogen.cosim.engine, with the system C compiler, once per source (robogen.cosim.cbuild), and
+ * called through cffi. The plan it reads (rg_plan) is defined by engine.h.
  *
- * Built once with the system C compiler (robogen.cosim.stepper) and called through cffi. Each
- * step does exactly what the Python stretch does, in the same order and with the same arithmetic:
- * t_next = start + n * h; fmi3DoStep of every FMU from t with step t_next - t; then, unless an FMU
- * asked for Event Mode, the exchange and the recording: the operations in `op` (in dependency
- * order: a connected FMU's fmi3Get<Type> calls, then the values it forwards, one fmi3Set<Type>
- * call per target FMU and type for the inputs whose value changed since they were last set; then
- * the Get calls of the recorded FMUs that forward nothing), and one row of the recorded columns.
+ * Here: Python's repr of a double (rg_format_double); the values of a connection on their way
+ * from an fmi3Get<Type> to an fmi3Set<Type> (converted, checked against the input's type, set only
+ * when changed); the operations after a step in dependency order (a connected FMU's Get calls,
+ * then the values it forwards, one Set call per target FMU and type; then the Gets of the
+ * recorded FMUs that forward nothing); and the row of the recorded columns.
  *
- * A row is stored in one of three ways (rg_stretch.mode):
+ * A row is stored in one of three ways (rg_plan.store, enum rg_store):
  *   STORE_SLOTS  8-byte slots, one per recorded value (reals as doubles, signed integers as int64,
  *               unsigned ones as uint64, Booleans as 0/1, Strings and Binaries as the offset of a
- *               copy in the arena: a size_t length, then the bytes); Python builds the rows.
+ *               copy in the arena: a size_t length, then the bytes); Python builds the columns.
  *   STORE_TEXT   the CSV line the recorder would write (robogen.cosim.recorder): reals in the
  *               shortest form that reads back to the same double, as Python's repr; integers in
  *               decimal; True/False; Strings in double quotes, a quote doubled; Binaries as 0x
- *               and lowercase hexadecimal.
+ *               and lowercase hexadecimal. No printf-family call on this path (see round_digits).
  *   STORE_NONE   nothing (the rows go nowhere).
  *
- * Before each FMI call the loop notes it (rg_stretch.note_call/note_time, the master's
+ * Before each FMI call the engine notes it (rg_plan.note_call/note_time, the master's
  * robogen.cosim.fmi3.CallNotes), so a crash inside an FMU can be reported by instance, function
  * and time. A chunk also ends at a wall-clock deadline, so the rows reach the results file at
  * least that often however slow the FMUs are. */
