@@ -393,7 +393,7 @@ class UR5ePlatform(Model):
         early = self.early_return_allowed
         step, client = pybullet.stepSimulation, scene.client  # the hot loop: no method lookups
         while scene.steps < last:
-            if not (self._pending or not self._holds[_STOPPED]):  # not self._watching(), inlined
+            if not self._watching():
                 # Only a command makes a condition rise again: the rest of the step unobserved.
                 for _ in range(last - scene.steps):
                     step(physicsClientId=client)

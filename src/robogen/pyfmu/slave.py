@@ -147,16 +147,14 @@ class Slave:
         self.state = State.EVENT if self.event_mode_used else State.STEP
 
     def enter_event_mode(self) -> None:
-        if self.state is not State.STEP:
-            self._require("fmi3EnterEventMode", State.STEP)
+        self._require("fmi3EnterEventMode", State.STEP)
         if not self.event_mode_used:
             raise FmiUsageError("fmi3EnterEventMode: the instance was created with eventModeUsed = false")
         self._reset_event_bookkeeping()
         self.state = State.EVENT
 
     def enter_step_mode(self) -> None:
-        if self.state is not State.EVENT:
-            self._require("fmi3EnterStepMode", State.EVENT)
+        self._require("fmi3EnterStepMode", State.EVENT)
         if not self._updated_in_event_mode:
             raise FmiUsageError("fmi3EnterStepMode: call fmi3UpdateDiscreteStates at least once per event instant")
         if self._update_pending:
@@ -277,8 +275,7 @@ class Slave:
         return clock
 
     def set_clock(self, vrs: Sequence[int], values: Sequence[bool]) -> None:
-        if self.state is not State.EVENT:
-            self._require("fmi3SetClock", State.EVENT)
+        self._require("fmi3SetClock", State.EVENT)
         clocks = [self._clock("fmi3SetClock", vr) for vr in vrs]
         model = self.model
         active = model.active_clocks  # what model.clock_active reads
@@ -312,9 +309,8 @@ class Slave:
                                 f"it ticks at {origin!r} + k * {interval!r}")
 
     def get_clock(self, vrs: Sequence[int]) -> list[bool]:
+        self._require("fmi3GetClock", State.INITIALIZATION, State.EVENT)
         state = self.state
-        if state is not State.EVENT:
-            self._require("fmi3GetClock", State.INITIALIZATION, State.EVENT)
         key = tuple(vrs)
         names = self._get_clock_plans.get(key)
         if names is None:  # checked once, kept for the next same call
@@ -355,8 +351,7 @@ class Slave:
     # -- event instants and steps ---------------------------------------------------------------
 
     def update_discrete_states(self) -> UpdateResult:
-        if self.state is not State.EVENT:
-            self._require("fmi3UpdateDiscreteStates", State.EVENT)
+        self._require("fmi3UpdateDiscreteStates", State.EVENT)
         self._react_if_needed()
         update = self.model.update_discrete_states() or Update()
         if not isinstance(update, Update):
@@ -371,8 +366,7 @@ class Slave:
         return UpdateResult(update.need_update, update.terminate, defined, float(next_time) if defined else 0.0)
 
     def do_step(self, t: float, h: float) -> StepResult:
-        if self.state is not State.STEP:
-            self._require("fmi3DoStep", State.STEP)
+        self._require("fmi3DoStep", State.STEP)
         model = self.model
         if not (t == model.time and math.isfinite(t)) and not same_time(t, model.time, self._resolution):
             raise FmiUsageError(f"fmi3DoStep: currentCommunicationPoint {t!r} is not the FMU's time {model.time!r}")
