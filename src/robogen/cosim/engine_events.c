@@ -394,7 +394,8 @@ static int log_event(rg_engine *r, int u, int c, double t, int k)
     if (!reserve(b, 64)) return -1;
     put(b, "{\"time\": ", 9);
     if (!json_number(b, K_F64, &t) || !reserve(b, 32)) return -1;
-    b->used += (size_t)sprintf(b->data + b->used, ", \"index\": %d", k);
+    put(b, ", \"index\": ", 11);
+    b->used += format_integer(b->data + b->used, (uint64_t)k, false); /* k >= 0 */
     if (!put_text(b, r->p->event_head[c])) return -1;
     for (i = first; i < first + r->p->event_count[c]; i++) {
         int cell = r->p->event_cell[i];

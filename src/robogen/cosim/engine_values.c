@@ -271,14 +271,22 @@ static int shortest_digits(double x, char *digits)
     return e15;
 }
 
+/* A short constant text into out, NUL-terminated; its length. */
+static size_t copy_text(char *out, const char *text)
+{
+    size_t n = strlen(text);
+    memcpy(out, text, n + 1);
+    return n;
+}
+
 /* repr(x) into out (at least 32 bytes); its length. */
 RG_EXPORT size_t rg_format_double(char *out, double x)
 {
     char digits[24];
     int exponent, k, i, n = 0;
-    if (isnan(x)) return (size_t)sprintf(out, "nan");
-    if (isinf(x)) return (size_t)sprintf(out, x < 0 ? "-inf" : "inf");
-    if (x == 0) return (size_t)sprintf(out, signbit(x) ? "-0.0" : "0.0");
+    if (isnan(x)) return copy_text(out, "nan");
+    if (isinf(x)) return copy_text(out, x < 0 ? "-inf" : "inf");
+    if (x == 0) return copy_text(out, signbit(x) ? "-0.0" : "0.0");
     exponent = shortest_digits(x, digits);
     k = (int)strlen(digits);
     if (x < 0) out[n++] = '-';
