@@ -86,16 +86,7 @@ def tolerance(t: float, resolution: float | None = None) -> float:
 
 
 def same_time(a: float, b: float, resolution: float | None = None) -> bool:
-    """Whether ``a`` and ``b`` are one time: ``|a - b| <= tolerance(max(|a|, |b|), resolution)``,
-    computed inline (the Python FMUs ask at every step and event)."""
-    difference = abs(a - b)
-    if difference == 0.0:
-        return True
-    scale = max(1.0, abs(a), abs(b))
-    close = TIME_TOLERANCE * scale
-    if resolution is not None and close > resolution / 4:
-        close = resolution / 4
-    return difference <= max(close, TIME_ULPS * math.ulp(scale))
+    return abs(a - b) <= tolerance(max(abs(a), abs(b)), resolution)
 
 
 def resolvable(step: float, t: float) -> bool:

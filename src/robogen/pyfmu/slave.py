@@ -77,10 +77,8 @@ class Slave:
         #: a periodic clock's first tick after the start and its interval, in seconds
         self._ticks = {c.name: (model_class.clock_seconds(c.shift), model_class.clock_seconds(c.interval))
                        for c in self._clocks if c.periodic}
-        self._get_clock_plans: dict[tuple[int, ...], list[str]] = {}
         #: the time resolution of its periodic clocks (robogen.fmu.fmi.time_resolution): caps the time tolerance
-        self._resolution = time_resolution(model_class.clock_seconds(x) for c in self._clocks if c.periodic
-                                           for x in (c.interval, c.shift) if x)
+        self._resolution = time_resolution(x for pair in self._ticks.values() for x in pair if x)
         self._get_plans: dict[tuple, tuple[Callable[[Model], list[Any]], bool, list[Var]]] = {}
         self._plain_get = model_class.get is Model.get  # values read from the model's dict directly
         if self._clocks and not event_mode_used:
@@ -310,22 +308,15 @@ class Slave:
 
     def get_clock(self, vrs: Sequence[int]) -> list[bool]:
         self._require("fmi3GetClock", State.INITIALIZATION, State.EVENT)
-        state = self.state
-        key = tuple(vrs)
-        names = self._get_clock_plans.get(key)
-        if names is None:  # checked once, kept for the next same call
-            clocks = [self._clock("fmi3GetClock", vr) for vr in vrs]
-            for clock in clocks:
-                if clock.causality == "input":
-                    raise FmiUsageError(f"fmi3GetClock: '{clock.name}' is an input clock")
-            if len(self._get_clock_plans) >= MAX_GET_PLANS:
-                self._get_clock_plans.clear()
-            names = self._get_clock_plans[key] = [c.name for c in clocks]
-        if state is State.INITIALIZATION:
-            return [False] * len(names)
+        clocks = [self._clock("fmi3GetClock", vr) for vr in vrs]
+        for clock in clocks:
+            if clock.causality == "input":
+                raise FmiUsageError(f"fmi3GetClock: '{clock.name}' is an input clock")
+        if self.state is State.INITIALIZATION:
+            return [False] * len(clocks)
         self._react_if_needed()
-        active = self.model.active_clocks
-        return [name in active for name in names]
+        active = self.model.active_clocks  # what model.clock_active reads
+        return [c.name in active for c in clocks]
 
     def get_interval_decimal(self, vrs: Sequence[int]) -> tuple[list[float], list[int]]:
         self._require("fmi3GetIntervalDecimal", State.INITIALIZATION, State.EVENT)
