@@ -211,6 +211,8 @@ typedef struct {
 
 typedef struct {
     const rg_plan *p;
+    int n_links, n_reads;    /* the plan's, kept: rg_engine_free reads nothing of the plan, which
+                              * its owner may have freed first */
     /* -- where the run is, between calls ------------------------------------------------ */
     int phase;               /* 0: the start's row or event iteration is due */
     int stage;

@@ -495,6 +495,8 @@ RG_EXPORT rg_engine *rg_engine_new(const rg_plan *p)
     rg_engine *r = (rg_engine *)zeroed(1, sizeof(rg_engine), &ok);
     if (r == NULL) return NULL;
     r->p = p;
+    r->n_links = p->n_links;
+    r->n_reads = p->n_reads;
     r->term_who = -1;
     r->range_link = -1;
     r->next_time = INFINITY;
@@ -553,9 +555,9 @@ RG_EXPORT void rg_engine_free(rg_engine *r)
 {
     int k;
     if (r == NULL) return;
-    for (k = 0; k < r->p->n_links; k++)
+    for (k = 0; k < r->n_links; k++)
         if (r->last_bytes != NULL) free(r->last_bytes[k]);
-    for (k = 0; k < r->p->n_reads; k++)
+    for (k = 0; k < r->n_reads; k++)
         if (r->copies != NULL) free(r->copies[k]);
     free(r->time); free(r->has_next); free(r->next_event); free(r->needs); free(r->p_k); free(r->a_next);
     free(r->a_ticked); free(r->ticked); free(r->woke); free(r->last); free(r->last_valid); free(r->last_bytes);

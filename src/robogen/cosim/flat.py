@@ -13,6 +13,7 @@ from __future__ import annotations
 
 import json
 import math
+import weakref
 from itertools import accumulate
 from typing import NamedTuple
 
@@ -168,17 +169,8 @@ class Flat:
         p.events_fd = recorder.events_file()
         p.note_call = self.ffi.cast("int32_t *", int(fmi_ffi.cast("uintptr_t", master.notes.call)))
         p.note_time = self.ffi.cast("double *", int(fmi_ffi.cast("uintptr_t", master.notes.time)))
-        self._json = self.ffi.callback("rg_json_string_fn", self._json_string)
+        self._json = self.ffi.callback("rg_json_string_fn", _json_string(self.ffi, weakref.ref(self)))
         p.json_string = self._json
-
-    def _json_string(self, data, size, out, out_size) -> int:
-        try:
-            text = json.dumps(self.ffi.unpack(data, size).decode("utf-8", "replace")).encode()
-            self._json_text = self.ffi.new("char[]", text)
-            out[0], out_size[0] = self._json_text, len(text)
-            return 0
-        except Exception:
-            return -1
 
     def _instances(self, p, plan: Plan) -> None:
         instances, index = plan.instances, self.index
@@ -427,6 +419,24 @@ class Flat:
         p.event_cell = self.array("int[]", cells)
         p.event_head = self.array("char *[]", [self.new("char[]", h.encode()) for h in heads])
         p.event_key = self.array("char *[]", [self.new("char[]", k.encode()) for k in keys])
+
+
+def _json_string(ffi, flat_ref):
+    """The engine's rg_json_string_fn: a string as JSON text, in a buffer the Flat keeps until the
+    next call. It holds the Flat weakly: a callback bound to the Flat would make a reference cycle
+    (Flat -> callback -> Flat) that only Python's cyclic collector frees."""
+    def json_string(data, size, out, out_size) -> int:
+        flat = flat_ref()
+        if flat is None:
+            return -1
+        try:
+            text = json.dumps(ffi.unpack(data, size).decode("utf-8", "replace")).encode()
+            flat._json_text = ffi.new("char[]", text)
+            out[0], out_size[0] = flat._json_text, len(text)
+            return 0
+        except Exception:
+            return -1
+    return json_string
 
 
 def flatten(plan: Plan, master, ffi, store: int) -> Flat:

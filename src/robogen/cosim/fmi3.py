@@ -28,6 +28,7 @@ access, so that every call is seen.
 
 from __future__ import annotations
 
+import weakref
 from typing import Callable, NamedTuple, Sequence
 
 import cffi
@@ -264,7 +265,9 @@ class Library:
 @signals.callback
 def _log_message(env, status, category, message):
     try:
-        inst = ffi.from_handle(env)
+        inst = ffi.from_handle(env)()  # a weak reference to the binding (see Binding.__init__)
+        if inst is None:
+            return
         text = ffi.string(message).decode("utf-8", "replace") if message != ffi.NULL else ""
         inst.receive_log(status, text)
     except Exception:  # a logger must never raise into C
@@ -341,7 +344,10 @@ class Binding:
         self.notes = notes if notes is not None else CallNotes()
         self.note_base = self.notes.base(name)
         self._note = self.notes.call
-        self._env = ffi.new_handle(self)
+        # The instance environment: a handle to a weak reference, so that the binding and its
+        # handle make no reference cycle. A run leaves nothing for Python's cyclic collector,
+        # whose full collections walk the whole heap in the middle of a later run.
+        self._env = ffi.new_handle(weakref.ref(self))
         self._b4 = ffi.new("bool[6]")
         self._d1 = ffi.new("double[1]")
         self._state = ffi.new("fmi3FMUState*")
