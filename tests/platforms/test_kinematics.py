@@ -12,7 +12,7 @@ from hypothesis import strategies as st
 
 from robogen.platforms.kinematics import (
     GRID_ORIENTATION, HOME, IK_SEED, forward, grid_in_table, grid_pose, grid_position, inverse, jacobian,
-    nearest_equivalent, rotation_from_vector, rotation_vector, rotation_vector_of_rows, wrap,
+    nearest_equivalent, rotation_from_vector, rotation_vector, rotation_vector_of_quaternion, wrap,
 )
 
 SCENARIO = [(0, 23, 1), (3, 20, 2), (8, 10, 0), (1, 13, 0)]
@@ -111,15 +111,47 @@ def test_wrap_and_whole_turns():
         [3.0 - 2 * math.pi, 0, 3.0, 0, 0, 0])
 
 
-def test_rotation_vector_of_rows_is_rotation_vector_bit_for_bit():
+def quaternion(v) -> tuple[float, float, float, float]:
+    """The unit quaternion (x, y, z, w) of the rotation vector v: sin(angle/2) * axis, cos(angle/2)."""
+    angle = float(np.linalg.norm(v))
+    if angle == 0.0:
+        return (0.0, 0.0, 0.0, 1.0)
+    x, y, z = np.asarray(v) / angle * math.sin(angle / 2)
+    return (float(x), float(y), float(z), math.cos(angle / 2))
+
+
+def test_rotation_vector_of_quaternion_by_hand():
+    r = math.sqrt(0.5)
+    assert rotation_vector_of_quaternion(0.0, 0.0, 0.0, 1.0) == (0.0, 0.0, 0.0)
+    assert rotation_vector_of_quaternion(0.0, 0.0, r, r) == pytest.approx((0.0, 0.0, math.pi / 2), abs=1e-15)
+    assert rotation_vector_of_quaternion(0.0, 0.0, -r, -r) == pytest.approx((0.0, 0.0, math.pi / 2), abs=1e-15)  # -q
+    assert rotation_vector_of_quaternion(1.0, 0.0, 0.0, 0.0) == (math.pi, 0.0, 0.0)  # a half turn about x
+    # 120 degrees about (1, 1, 1): sin 60 / sqrt 3 = 1/2 each, cos 60 = 1/2
+    third = 2 * math.pi / 3 / math.sqrt(3)
+    assert rotation_vector_of_quaternion(0.5, 0.5, 0.5, 0.5) == pytest.approx((third, third, third), abs=1e-15)
+
+
+def test_rotation_vector_of_quaternion_inverts_the_quaternion_of_a_rotation_vector():
     rng = np.random.default_rng(7)
-    cases = [rng.normal(size=3) * s for s in (1e-3, 1.0, 2.0)] + [np.array([0.0, math.pi - 1e-3, 0.0]), np.zeros(3)]
-    for _ in range(200):
-        cases.append(rng.normal(size=3))
-    for v in cases:
-        matrix = rotation_from_vector(v)
-        expected = tuple(float(x) for x in rotation_vector(matrix))
-        assert rotation_vector_of_rows(tuple(matrix.ravel())) == expected
+    axes = [n / np.linalg.norm(n) for n in rng.normal(size=(100, 3))]
+    angles = [1e-9, 1e-3, 1.0, 2.0, 3.0, math.pi - 1e-3, math.pi - 1e-9]  # near a half turn too
+    for n in axes:
+        for angle in angles:
+            v = n * angle
+            assert rotation_vector_of_quaternion(*quaternion(v)) == pytest.approx(tuple(v), rel=1e-12, abs=1e-15)
+            # past a half turn: the same rotation, the other way round (angle in [0, pi]); not
+            # for tiny angles, whose quaternion near a whole turn has too few digits left
+            if angle < 1e-3:
+                continue
+            w = n * (2 * math.pi - angle)
+            assert rotation_vector_of_quaternion(*quaternion(w)) == pytest.approx(tuple(-v), rel=1e-9, abs=1e-15)
+
+
+def test_rotation_vector_of_quaternion_agrees_with_rotation_vector_of_its_matrix():
+    rng = np.random.default_rng(11)
+    for v in rng.normal(size=(200, 3)):
+        expected = rotation_vector(rotation_from_vector(v))
+        assert rotation_vector_of_quaternion(*quaternion(v)) == pytest.approx(tuple(expected), rel=1e-9, abs=1e-12)
 
 
 @pytest.mark.parametrize("cell", [SCENARIO[1], (0, 0, 0)])

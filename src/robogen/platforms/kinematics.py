@@ -121,22 +121,19 @@ def rotation_vector(rotation: np.ndarray) -> np.ndarray:
     return axis / np.linalg.norm(axis) * angle
 
 
-def rotation_vector_of_rows(m: Sequence[float]) -> tuple[float, float, float]:
-    """:func:`rotation_vector` of a rotation matrix given as its 9 entries row by row (as
-    PyBullet's getMatrixFromQuaternion returns it), in plain floats: the same operations in the
-    same order, so the same result, without building arrays (the platform reads the flange's
-    pose at every event)."""
-    skew = (m[7] - m[5], m[2] - m[6], m[3] - m[1])
-    cos_angle = (m[0] + m[4] + m[8] - 1.0) / 2.0
-    sin_angle = math.sqrt(skew[0] * skew[0] + skew[1] * skew[1] + skew[2] * skew[2]) / 2.0
-    angle = math.atan2(sin_angle, cos_angle)
-    if angle < 1e-15:
+def rotation_vector_of_quaternion(x: float, y: float, z: float, w: float) -> tuple[float, float, float]:
+    """The axis-angle vector (angle in [0, pi]) of a unit quaternion (x, y, z, w), PyBullet's
+    order, in plain floats (the platform reads the flange's pose at every event). The angle is
+    2 atan2(|v|, w) with w >= 0, accurate everywhere, near a half turn too, where the matrix's
+    skew part vanishes (:func:`rotation_vector` needs a second formula there). At exactly a half
+    turn, axis * pi and -axis * pi are the same rotation: this keeps the quaternion's sign."""
+    if w < 0.0:  # q and -q are the same rotation; w >= 0 gives the angle in [0, pi]
+        x, y, z, w = -x, -y, -z, -w
+    s = math.sqrt(x * x + y * y + z * z)
+    if s == 0.0:
         return (0.0, 0.0, 0.0)
-    if cos_angle > -0.9:
-        scale = angle / (2.0 * sin_angle)
-        return (skew[0] * scale, skew[1] * scale, skew[2] * scale)
-    x, y, z = rotation_vector(np.array(m, dtype=float).reshape(3, 3))  # near a half turn
-    return (float(x), float(y), float(z))
+    scale = 2.0 * math.atan2(s, w) / s
+    return (x * scale, y * scale, z * scale)
 
 
 def rotation_from_vector(vector: Sequence[float]) -> np.ndarray:

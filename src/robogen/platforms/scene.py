@@ -129,11 +129,11 @@ class ArmScene:
             pybullet.resetJointState(robot, j, state[0], state[1], physicsClientId=cid)
         return hit
 
-    def flange(self) -> tuple[tuple[float, float, float], tuple[float, ...]]:
-        """Position and rotation matrix (row-major 9-tuple) of tool0 in the base frame."""
+    def flange(self) -> tuple[tuple[float, float, float], tuple[float, float, float, float]]:
+        """Position and orientation (unit quaternion x, y, z, w) of tool0 in the base frame."""
         state = pybullet.getLinkState(self.robot, TOOL_LINK, computeForwardKinematics=True,
                                       physicsClientId=self.client)
-        return state[4], pybullet.getMatrixFromQuaternion(state[5], physicsClientId=self.client)
+        return state[4], state[5]
 
     def close(self) -> None:
         if self.client >= 0:

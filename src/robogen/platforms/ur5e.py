@@ -54,7 +54,7 @@ import pybullet
 
 from robogen.platforms.kinematics import (
     HOME, IK_SEED, JOINT_LIMIT, MAX_JOINT_SPEED, forward, grid_in_table, grid_pose, inverse, nearest_equivalent,
-    rotation_from_vector, rotation_vector, rotation_vector_of_rows,
+    rotation_from_vector, rotation_vector, rotation_vector_of_quaternion,
 )
 from robogen.platforms.scene import ArmScene, speed_ok
 from robogen.platforms.urdf import ur5e_urdf
@@ -227,8 +227,8 @@ class UR5ePlatform(Model):
             steps = 0
         else:
             q, dq = self._scene.joint_states()
-            position, matrix = self._scene.flange()
-            rotation = rotation_vector_of_rows(matrix)
+            position, orientation = self._scene.flange()
+            rotation = rotation_vector_of_quaternion(*orientation)
             steps = self._scene.steps
         for i in range(6):
             values[_Q[i]], values[_DQ[i]] = float(q[i]), float(dq[i])
