@@ -4,14 +4,17 @@ the same physics, measured in the same run (interleaved, medians). Prints, never
 - co-simulation: `robogen.cosim.simulate_system(models/ur5e/system.toml)` — controller FMU,
   generated d-model FMU, PyBullet platform FMU, 100 s, step 0.5 s, results streamed to a CSV;
   the wall time includes reading the system, loading the C FMU and instantiating the three FMUs.
-  The two Python FMUs are extracted and loaded once per process (robogen.cosim.shared), by the
-  first run, whose time is also printed on its own.
+  The two Python FMUs are extracted and loaded once per process (robogen.cosim.shared), by a
+  first run before the measured ones, whose time is printed on its own.
 - peer: one PyBullet client in this process, the same URDF, motors, physics step (1/240 s),
   the same 16 joint-space targets applied at the command times, joint states read every 0.5 s;
-  the wall time includes connecting and loading the URDF.
+  the wall time includes connecting, loading the URDF and disconnecting.
 
-Each run's wall time and CPU time of this process (``time.process_time``: the figure that other
-processes on a loaded machine disturb least) are measured; the ratios are of the medians.
+A first co-simulation and a first bare loop warm up (the co-simulation's first run loads the
+Python FMUs; both figures printed on their own), then REPEAT pairs, the order within a pair
+alternating. Each run's wall time and CPU time of this process (``time.process_time``: the figure
+that other processes on a loaded machine disturb least) are measured; the ratios are of the
+medians, and each pair's ratio is printed too (the machine's speed drifts between pairs).
 
 Then the cost of the Python FMUs' shim per FMI call: fmi3GetFloat64 of one value and an empty
 fmi3DoStep through the same ctypes functions, on the platform FMU vs robogen's C test FMU
@@ -48,7 +51,7 @@ sys.path.insert(0, str(ROOT))  # the UR5e example is repository code (examples/u
 from examples.ur5e.build import build_all  # noqa: E402
 
 QUICK = "--quick" in sys.argv
-REPEAT = 3 if QUICK else 7
+REPEAT = 3 if QUICK else 11
 STOP = 100.0
 
 
@@ -64,24 +67,44 @@ def main() -> int:
         urdf.write_text(ur5e_urdf())
         commands = [(c.time, c.target) for c in load_plan(ROOT / "models" / "ur5e" / "plan.toml").events(until=STOP)]
         targets = joint_targets(commands)
-        cosim, peer, cosim_cpu, peer_cpu = [], [], [], []
-        for i in range(REPEAT):
+
+        def cosim_run(i: int) -> tuple[float, float, object]:
             t0, c0 = time.perf_counter(), time.process_time()
             result = simulate_system(system, output=folder / f"results-{i}.csv", keep_rows=False)
-            cosim.append(time.perf_counter() - t0)
-            cosim_cpu.append(time.process_time() - c0)
+            return time.perf_counter() - t0, time.process_time() - c0, result
+
+        def bare_run() -> tuple[float, float, int]:
             c0 = time.process_time()
             wall, steps = run_bare(urdf, targets, include_setup=True)
-            peer.append(wall)
-            peer_cpu.append(time.process_time() - c0)
+            return wall, time.process_time() - c0, steps
+
+        first = cosim_run(-1)  # loads the Python FMUs (once per process); its own figure, not in the medians
+        first_bare = bare_run()
+        cosim, peer, cosim_cpu, peer_cpu, pairs = [], [], [], [], []
+        for i in range(REPEAT):
+            # one pair a repetition, the order alternating: a drift of the machine's speed during
+            # a pair favours neither side
+            if i % 2 == 0:
+                wall, cpu, result = cosim_run(i)
+                bare_wall, bare_cpu, steps = bare_run()
+            else:
+                bare_wall, bare_cpu, steps = bare_run()
+                wall, cpu, result = cosim_run(i)
+            cosim.append(wall)
+            cosim_cpu.append(cpu)
+            peer.append(bare_wall)
+            peer_cpu.append(bare_cpu)
+            pairs.append(wall / bare_wall)
         c, b = statistics.median(cosim), statistics.median(peer)
         c_cpu, b_cpu = statistics.median(cosim_cpu), statistics.median(peer_cpu)
         s = result.stats
         print(f"  co-simulation (3 FMUs, {s.steps} steps, {s.event_iterations} event iterations, {s.early_returns} early returns):"
               f" median {c:.3f} s wall, {c_cpu:.3f} s CPU of {REPEAT}  -> {STOP / c:.0f}x faster than real time")
-        print(f"  the first co-simulation, which loads the Python FMUs: {cosim[0]:.3f} s wall, {cosim_cpu[0]:.3f} s CPU")
         print(f"  bare PyBullet loop ({steps} physics steps):  median {b:.3f} s wall, {b_cpu:.3f} s CPU of {REPEAT}")
         print(f"  ratio co-simulation / bare: {c / b:.2f} wall, {c_cpu / b_cpu:.2f} CPU  (target <= 1.2)")
+        print(f"  each pair's ratio: {', '.join(f'{x:.2f}' for x in sorted(pairs))} (median {statistics.median(pairs):.2f})")
+        print(f"  before the {REPEAT} pairs, the first co-simulation, which loads the Python FMUs: {first[0]:.3f} s wall, "
+              f"{first[1]:.3f} s CPU; the first bare loop: {first_bare[0]:.3f} s wall")
         print(f"  load average: {', '.join(f'{x:.2f}' for x in os.getloadavg())}")
         print("== the Python FMUs' calls inside one co-simulation (fastest and median; the fastest has warm caches)")
         calls_inside(system, folder / "calls.csv")
