@@ -13,7 +13,6 @@ from __future__ import annotations
 
 import json
 import math
-import weakref
 from itertools import accumulate
 from typing import NamedTuple
 
@@ -169,7 +168,8 @@ class Flat:
         p.events_fd = recorder.events_file()
         p.note_call = self.ffi.cast("int32_t *", int(fmi_ffi.cast("uintptr_t", master.notes.call)))
         p.note_time = self.ffi.cast("double *", int(fmi_ffi.cast("uintptr_t", master.notes.time)))
-        self._json = self.ffi.callback("rg_json_string_fn", _json_string(self.ffi, weakref.ref(self)))
+        self._json_text = [self.ffi.NULL]  # the last text the callback gave the engine, kept alive here
+        self._json = self.ffi.callback("rg_json_string_fn", _json_string(self.ffi, self._json_text))
         p.json_string = self._json
 
     def _instances(self, p, plan: Plan) -> None:
@@ -421,18 +421,15 @@ class Flat:
         p.event_key = self.array("char *[]", [self.new("char[]", k.encode()) for k in keys])
 
 
-def _json_string(ffi, flat_ref):
-    """The engine's rg_json_string_fn: a string as JSON text, in a buffer the Flat keeps until the
-    next call. It holds the Flat weakly: a callback bound to the Flat would make a reference cycle
-    (Flat -> callback -> Flat) that only Python's cyclic collector frees."""
+def _json_string(ffi, kept: list):
+    """The engine's rg_json_string_fn: a string as JSON text, in a buffer ``kept[0]`` holds until
+    the next call. The callback holds that list, not the Flat: one bound to the Flat would make a
+    reference cycle (Flat -> callback -> Flat) that only Python's cyclic collector frees."""
     def json_string(data, size, out, out_size) -> int:
-        flat = flat_ref()
-        if flat is None:
-            return -1
         try:
             text = json.dumps(ffi.unpack(data, size).decode("utf-8", "replace")).encode()
-            flat._json_text = ffi.new("char[]", text)
-            out[0], out_size[0] = flat._json_text, len(text)
+            kept[0] = ffi.new("char[]", text)
+            out[0], out_size[0] = kept[0], len(text)
             return 0
         except Exception:
             return -1
