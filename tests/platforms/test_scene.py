@@ -7,7 +7,7 @@ import pybullet
 import pytest
 
 from robogen.platforms.kinematics import HOME, MAX_JOINT_SPEED
-from robogen.platforms.scene import ArmScene
+from robogen.platforms.scene import ArmScene, step_stretch, stretch_is_exact
 from support import ROOT
 
 URDF = ROOT / "models" / "ur5e" / "ur5e.urdf"
@@ -75,3 +75,46 @@ def test_a_query_while_pressing_on_the_plane_keeps_the_contact_and_the_physics()
     undisturbed = run(None)
     assert undisturbed[1]
     assert run(300) == undisturbed
+
+
+def test_a_stretch_in_one_call_is_exact_only_where_bullet_would_do_m_substeps_of_dt():
+    assert all(stretch_is_exact(m, 0.25) for m in range(1, 1000))  # a power of two: every product exact
+    # 3 * 0.1 = 0.30000000000000004, and that / 3 = 0.10000000000000002: not the step
+    assert 3 * 0.1 / 3 != 0.1 and not stretch_is_exact(3, 0.1)
+    assert stretch_is_exact(2, 0.1)  # 0.2 / 2 = 0.1
+
+
+def _stepped(dt: float, schedule, stretched: bool):
+    """Joint states (positions, velocities, reaction forces, motor torques) and contacts after
+    each chunk of the schedule, a chunk's steps as one stretch (step_stretch) or a call a step."""
+    scene = ArmScene(URDF, dt, HOME, MAX_JOINT_SPEED)
+    cid, seen = scene.client, []
+    try:
+        for target, n in schedule:
+            if target is not None:
+                scene.apply_targets(target)
+            if stretched:
+                step_stretch(cid, dt, n)
+            else:
+                for _ in range(n):
+                    pybullet.stepSimulation(physicsClientId=cid)
+            seen.append((pybullet.getJointStates(scene.robot, range(6), physicsClientId=cid),
+                         pybullet.getContactPoints(bodyA=scene.robot, physicsClientId=cid)))
+        return seen
+    finally:
+        scene.close()
+
+
+@pytest.mark.parametrize("dt", [1.0 / 240.0, 0.001, 0.002])
+def test_a_stretch_in_one_call_is_the_same_physics_as_a_call_a_step(dt):
+    away = (HOME[0] + 1.0, HOME[1], HOME[2] - 0.5, *HOME[3:])
+    # stretches of every length around the cut-off and the sampling interval, single steps in
+    # between, a motion started and changed mid-way, and the arm pressing on the plane (contacts)
+    lengths = [1, 2, 3, 4, 5, 7, 13, 119, 120, 121, 240, 241, 1, 1, 60, 2, 500]
+    schedule = [(away if k == 0 else INTO_PLANE if k == 9 else HOME if k == 14 else None, n)
+                for k, n in enumerate(lengths)]
+    single = _stepped(dt, schedule, stretched=False)
+    assert any(contacts for _, contacts in single)  # the plane was touched: contacts compared too
+    # the arm moving fast when a long stretch began
+    assert any(lengths[i] >= 100 and max(abs(s[1]) for s in single[i - 1][0]) > 0.1 for i in range(1, len(lengths)))
+    assert _stepped(dt, schedule, stretched=True) == single  # bit for bit, after every chunk

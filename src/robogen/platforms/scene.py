@@ -46,6 +46,40 @@ _POSITION, _VELOCITY = itemgetter(0), itemgetter(1)  # of a getJointStates entry
 
 SELF_COLLISION = pybullet.URDF_USE_SELF_COLLISION | pybullet.URDF_USE_SELF_COLLISION_EXCLUDE_PARENT
 
+# A stretch this long or longer is stepped in one call (see step_stretch); a shorter one, a call a step.
+STRETCH_MIN = 4
+
+
+def stretch_is_exact(m: int, dt: float) -> bool:
+    """Whether Bullet, asked for one step of m * dt in m substeps (PyBullet's numSubSteps), does m
+    substeps of exactly dt: its substep is (m * dt) / m, and it counts int(time / substep) of them
+    (btDiscreteDynamicsWorld::stepSimulation, the time starting from 0 after a single step).
+    Python's float arithmetic is the same IEEE double arithmetic as Bullet's."""
+    total = m * dt
+    substep = total / m
+    return substep == dt and int(total / substep) >= m
+
+
+def step_stretch(client: int, dt: float, n: int) -> None:
+    """n physics steps of dt, the same physics bit for bit as n calls of stepSimulation, in three
+    PyBullet calls where that holds (:func:`stretch_is_exact`): n - 1 substeps of one call, then one
+    single step, which also sets Bullet's time remainder back to zero for the next stretch. A call
+    of PyBullet costs about a tenth of a physics step of the UR5e besides the step itself
+    (bench/bench_demo.py measures it). Motor targets, gravity and the contacts are the world's
+    between calls; no external force is applied (PyBullet clears those after each call) and the
+    arm's joints have no damping (PyBullet applies it once per call), so nothing of a call is
+    lost between its substeps. tests/platforms/test_scene.py compares both ways step for step."""
+    step = pybullet.stepSimulation
+    m = n - 1
+    if n < STRETCH_MIN or not stretch_is_exact(m, dt):
+        for _ in range(n):
+            step(physicsClientId=client)
+        return
+    pybullet.setPhysicsEngineParameter(fixedTimeStep=m * dt, numSubSteps=m, physicsClientId=client)
+    step(physicsClientId=client)
+    pybullet.setPhysicsEngineParameter(fixedTimeStep=dt, numSubSteps=0, physicsClientId=client)
+    step(physicsClientId=client)
+
 
 def _load_arm(client: int, urdf: Path, flags: int) -> tuple[int, int]:
     """The arm (base fixed at the origin) and the mounting plane in ``client``: (robot, plane)."""
