@@ -144,10 +144,12 @@ def joint_targets(commands) -> list[tuple[float, tuple[float, ...]]]:
     return out
 
 
-def run_bare(urdf: Path, targets, include_setup: bool = False) -> tuple[float, int]:
+def run_bare(urdf: Path, targets, include_setup: bool = False, stretches: bool = False) -> tuple[float, int]:
     """The same physics without the FMU: PyBullet calls only. The wall time covers the loop, or
     also connecting, loading the URDF and disconnecting (``include_setup``, to compare with a whole
-    co-simulation, which frees its platform's client)."""
+    co-simulation, which frees its platform's client). ``stretches``: each 0.5 s of physics in one
+    PyBullet call where that is the same physics (``scene.step_stretch``, as the platform steps
+    where it watches nothing), instead of a call a physics step."""
     t_setup = time.perf_counter()
     cid = pybullet.connect(pybullet.DIRECT)
     pybullet.setTimeStep(PHYSICS_STEP, physicsClientId=cid)
@@ -177,8 +179,11 @@ def run_bare(urdf: Path, targets, include_setup: bool = False) -> tuple[float, i
     for k in range(round(STOP / SAMPLE)):
         if pending and abs(pending[0][0] - k * SAMPLE) < 1e-9:
             command(pending.pop(0)[1])
-        for _ in range(per_interval):
-            pybullet.stepSimulation(physicsClientId=cid)
+        if stretches:
+            scene.step_stretch(cid, PHYSICS_STEP, per_interval)
+        else:
+            for _ in range(per_interval):
+                pybullet.stepSimulation(physicsClientId=cid)
         steps += per_interval
         pybullet.getJointStates(robot, range(6), physicsClientId=cid)
     if include_setup:
