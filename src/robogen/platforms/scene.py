@@ -61,9 +61,10 @@ def stretch_is_exact(m: int, dt: float) -> bool:
 
 
 def step_stretch(client: int, dt: float, n: int) -> None:
-    """n physics steps of dt, the same physics bit for bit as n calls of stepSimulation, in three
-    PyBullet calls where that holds (:func:`stretch_is_exact`): n - 1 substeps of one call, then one
-    single step, which also sets Bullet's time remainder back to zero for the next stretch. A call
+    """n physics steps of dt, the same physics bit for bit as n calls of stepSimulation, in two
+    steps where that holds (:func:`stretch_is_exact`): n - 1 substeps of one call, then one single
+    step, which also sets Bullet's time remainder back to zero for the next stretch (with the two
+    calls that set the substeps and set them back, four PyBullet calls). A call
     of PyBullet costs about a tenth of a physics step of the UR5e besides the step itself
     (bench/bench_demo.py measures it). Motor targets, gravity and the contacts are the world's
     between calls; no external force is applied (PyBullet clears those after each call) and the
